@@ -1,0 +1,98 @@
+"""Write sympy expressions as numpy-vectorised Python functions, deterministically.
+
+The output must be byte-for-byte reproducible on any machine with the pinned sympy minor series
+(see pyproject.toml): expressions are printed with sympy's NumPyPrinter after common-subexpression
+elimination, no floats are introduced (coefficients stay rational), and nothing depends on
+dictionary or set order.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import sympy as sp
+from sympy.printing.numpy import NumPyPrinter
+
+HEADER = '''\
+"""{title}
+
+GENERATED CODE - DO NOT EDIT.
+Written by derivations/{script} with sympy {sympy_version}.
+Regenerate with `slosh-bif derive` (or `python derivations/generate.py`); `slosh-bif derive --check`
+fails when this file is stale. Equations are cited in the hand-written modules that use it.
+"""
+# fmt: off
+# ruff: noqa
+import numpy
+
+'''
+
+
+@dataclasses.dataclass(frozen=True)
+class Function:
+    """One generated function.
+
+    ``vector_args`` are (name, symbols) pairs unpacked from an array argument (leading axis);
+    ``scalar_args`` are symbols passed as they are. ``outputs`` is a sympy Matrix; the function
+    returns an array of shape ``outputs.shape + broadcast shape`` of the vector components and
+    of the time ``tau`` when it is an argument (a column matrix is returned as a vector).
+    """
+
+    name: str
+    doc: str
+    vector_args: tuple
+    scalar_args: tuple
+    outputs: sp.Matrix
+
+
+class _Printer(NumPyPrinter):
+    def __init__(self):
+        super().__init__({"fully_qualified_modules": True, "inline": True, "allow_unknown_functions": False})
+
+    def _print_Max(self, expr):
+        # Max only guards integer exponents (see models.guard_zero_power): Python's max suffices.
+        return f"max({', '.join(self._print(a) for a in expr.args)})"
+
+
+def _body(fn: Function) -> list[str]:
+    printer = _Printer()
+    shape = fn.outputs.shape
+    flat = list(fn.outputs)
+    names = sp.numbered_symbols("x")
+    replacements, reduced = sp.cse(flat, symbols=names, optimizations="basic", order="canonical")
+    lines = []
+    for name, vector in fn.vector_args:
+        lines.append(f"    {', '.join(str(s) for s in vector)} = {name}")
+    for sym, expr in replacements:
+        lines.append(f"    {sym} = {printer.doprint(expr)}")
+    varying = [str(s) for _, vector in fn.vector_args for s in vector]
+    varying += [str(s) for s in fn.scalar_args if str(s) == "tau"]
+    shape_expr = f"numpy.broadcast({', '.join(varying)}).shape" if varying else "()"
+    lines.append(f"    shape = {shape_expr}")
+    if shape == (1, 1):
+        out_shape, targets = "", ["out[...]"]
+    elif shape[1] == 1:
+        out_shape, targets = f"({shape[0]},) + ", [f"out[{i}]" for i in range(shape[0])]
+    else:
+        out_shape = f"{shape!r} + "
+        targets = [f"out[{i}, {j}]" for i in range(shape[0]) for j in range(shape[1])]
+    lines.append(f"    out = numpy.zeros({out_shape}shape)")
+    for target, expr in zip(targets, reduced):
+        if expr == 0:
+            continue
+        lines.append(f"    {target} = {printer.doprint(expr)}")
+    lines.append("    return out")
+    return lines
+
+
+def render_module(title: str, script: str, functions: list[Function]) -> str:
+    """Source text of a module holding ``functions``."""
+    text = HEADER.format(title=title, script=script, sympy_version=sp.__version__)
+    for fn in functions:
+        scalars = [str(s) for s in fn.scalar_args]
+        time = [name for name in scalars if name == "tau"]  # tau first, as in scipy's fun(t, y)
+        args = time + [name for name, _ in fn.vector_args] + [name for name in scalars if name != "tau"]
+        text += f"\ndef {fn.name}({', '.join(args)}):\n"
+        text += f'    """{fn.doc}"""\n'
+        text += "\n".join(_body(fn)) + "\n\n"
+    return text.rstrip("\n") + "\n"

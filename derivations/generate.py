@@ -1,0 +1,87 @@
+"""Regenerate every generated module of slosh_bif (and, with --check, verify they are fresh).
+
+Usage:  python derivations/generate.py [--check] [--out DIR]
+        slosh-bif derive [--check]
+
+Each derivation module builds sympy expressions; this script turns them into numpy code under
+``slosh_bif/_generated/``. ``--check`` renders into memory and compares byte for byte with the
+committed files, exiting 1 (and naming the stale files) when they differ.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+if str(HERE) not in sys.path:
+    sys.path.insert(0, str(HERE))
+
+import codegen  # noqa: E402
+import models as m  # noqa: E402
+
+PACKAGE_DIR = HERE.parent / "slosh_bif" / "_generated"
+SCRIPT = "generate.py"
+
+
+def _models_module() -> str:
+    m.check_energy_balances()
+    state = (("y", m.STATE),)
+    full = (m.tau,) + m.PARAMS
+    F = codegen.Function
+    smooth = m.smooth_rhs()
+    impact = m.impact_rhs()
+    # Model (8) between impacts is y' = M y + F cos(tau): read M and F off the right-hand side.
+    impact_matrix = impact.jacobian(sp_matrix(m.STATE))
+    impact_forcing = impact.diff(m.Abar).subs(m.tau, 0) * m.Abar
+    functions = [
+        F("smooth_rhs", "Right-hand side of the smooth model (9); y = [X, X', w, w'].", state, full, smooth),
+        F("smooth_jac", "Jacobian d(rhs)/dy of the smooth model (9), shape (4, 4, ...).", state, full, m.jacobian(smooth)),
+        F("smooth_energy", "Energy H of the smooth model (9).", state, m.PARAMS, sp_matrix([m.smooth_energy()])),
+        F("smooth_power", "dH/dtau of the smooth model (9) along solutions.", state, full, sp_matrix([m.smooth_power()])),
+        F("impact_matrix", "Matrix M of the linear flow y' = M y + F cos(tau) of model (8).", (), m.LINEAR_PARAMS, impact_matrix),
+        F("impact_forcing", "Forcing vector F of the linear flow of model (8).", (), (m.eps, m.Abar), impact_forcing),
+        F("impact_weight", "Weight mu of the w-row in the energy of model (8).", (), (m.eps, m.beta, m.sigma), sp_matrix([m.impact_weight()])),
+        F("impact_energy", "Energy H of model (8) between impacts.", state, m.LINEAR_PARAMS, sp_matrix([m.impact_energy()])),
+        F("impact_power", "dH/dtau of model (8) between impacts.", state, (m.tau,) + m.LINEAR_PARAMS + (m.Abar,), sp_matrix([m.impact_power()])),
+    ]
+    return codegen.render_module("Right-hand sides, Jacobians and energies of models (8) and (9).", SCRIPT, functions)
+
+
+def sp_matrix(items):
+    import sympy as sp
+
+    return sp.Matrix(list(items))
+
+
+def render_all() -> dict[str, str]:
+    """File name -> source text of every generated module."""
+    return {
+        "__init__.py": '"""Generated code: written by derivations/generate.py, never edited by hand."""\n',
+        "models.py": _models_module(),
+    }
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--check", action="store_true", help="exit 1 if the committed generated code is stale")
+    parser.add_argument("--out", type=Path, default=PACKAGE_DIR, help="folder to write (default: the package's _generated/)")
+    args = parser.parse_args(argv)
+    rendered = render_all()
+    if args.check:
+        stale = [name for name, text in rendered.items() if not (args.out / name).is_file() or (args.out / name).read_text() != text]
+        if stale:
+            print(f"stale generated code in {args.out}: {', '.join(stale)}; run `slosh-bif derive`", file=sys.stderr)
+            return 1
+        print(f"generated code in {args.out} is fresh ({len(rendered)} files)")
+        return 0
+    args.out.mkdir(parents=True, exist_ok=True)
+    for name, text in rendered.items():
+        (args.out / name).write_text(text)
+    print(f"wrote {len(rendered)} files to {args.out}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

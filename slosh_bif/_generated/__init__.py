@@ -1,0 +1,1 @@
+"""Generated code: written by derivations/generate.py, never edited by hand."""

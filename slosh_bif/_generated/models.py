@@ -1,0 +1,134 @@
+"""Right-hand sides, Jacobians and energies of models (8) and (9).
+
+GENERATED CODE - DO NOT EDIT.
+Written by derivations/generate.py with sympy 1.14.0.
+Regenerate with `slosh-bif derive` (or `python derivations/generate.py`); `slosh-bif derive --check`
+fails when this file is stale. Equations are cited in the hand-written modules that use it.
+"""
+# fmt: off
+# ruff: noqa
+import numpy
+
+
+def smooth_rhs(tau, y, eps, beta, gamma, sigma, Abar, lam, chi, n, p):
+    """Right-hand side of the smooth model (9); y = [X, X', w, w']."""
+    X, Xd, w, wd = y
+    x0 = eps*sigma - 1
+    x1 = beta**2
+    x2 = x1 - 1
+    x3 = (eps*x1 + 1)**(-1.0)
+    x4 = -Abar*eps*numpy.cos(tau) + Xd*eps*gamma + eps**2*gamma*wd
+    shape = numpy.broadcast(X, Xd, w, wd, tau).shape
+    out = numpy.zeros((4,) + shape)
+    out[0] = Xd
+    out[1] = X*x0 - eps*w*x0*x2*x3 - x4
+    out[2] = wd
+    out[3] = -X*x0*x2*x3 - chi*w**(2*n + 1) - lam*w**(2*p)*wd + w*x0*x3*(eps + x1) - x4
+    return out
+
+
+def smooth_jac(tau, y, eps, beta, gamma, sigma, Abar, lam, chi, n, p):
+    """Jacobian d(rhs)/dy of the smooth model (9), shape (4, 4, ...)."""
+    X, Xd, w, wd = y
+    x0 = eps*sigma - 1
+    x1 = -eps*gamma
+    x2 = beta**2
+    x3 = (eps*x2 + 1)**(-1.0)
+    x4 = x0*x3*(x2 - 1)
+    x5 = eps**2*gamma
+    x6 = 2*n
+    x7 = 2*p
+    shape = numpy.broadcast(X, Xd, w, wd, tau).shape
+    out = numpy.zeros((4, 4) + shape)
+    out[0, 1] = 1
+    out[1, 0] = x0
+    out[1, 1] = x1
+    out[1, 2] = -eps*x4
+    out[1, 3] = -x5
+    out[2, 3] = 1
+    out[3, 0] = -x4
+    out[3, 1] = x1
+    out[3, 2] = -chi*w**x6*(x6 + 1) - lam*w**max(0, x7 - 1)*wd*x7 + x0*x3*(eps + x2)
+    out[3, 3] = -lam*w**x7 - x5
+    return out
+
+
+def smooth_energy(y, eps, beta, gamma, sigma, Abar, lam, chi, n, p):
+    """Energy H of the smooth model (9)."""
+    X, Xd, w, wd = y
+    x0 = (1/2)*eps
+    x1 = eps*sigma - 1
+    x2 = beta**2
+    x3 = x1/(eps*x2 + 1)
+    shape = numpy.broadcast(X, Xd, w, wd).shape
+    out = numpy.zeros(shape)
+    out[...] = -1/2*X**2*x1 + X*eps*w*x3*(x2 - 1) + (1/2)*Xd**2 + chi*w**(2*n + 2)*x0/(n + 1) - w**2*x0*x3*(eps + x2) + wd**2*x0
+    return out
+
+
+def smooth_power(tau, y, eps, beta, gamma, sigma, Abar, lam, chi, n, p):
+    """dH/dtau of the smooth model (9) along solutions."""
+    X, Xd, w, wd = y
+    x0 = Xd + eps*wd
+    shape = numpy.broadcast(X, Xd, w, wd, tau).shape
+    out = numpy.zeros(shape)
+    out[...] = eps*(Abar*x0*numpy.cos(tau) - gamma*x0**2 - lam*w**(2*p)*wd**2)
+    return out
+
+
+def impact_matrix(eps, beta, gamma, sigma):
+    """Matrix M of the linear flow y' = M y + F cos(tau) of model (8)."""
+    x0 = eps*sigma
+    x1 = -eps*gamma
+    x2 = beta**2
+    x3 = beta**4*eps + x0*x2 - x2
+    shape = ()
+    out = numpy.zeros((4, 4) + shape)
+    out[0, 1] = 1
+    out[1, 0] = x0 - 1
+    out[1, 1] = x1
+    out[1, 2] = eps*(x2 - 1)
+    out[2, 3] = 1
+    out[3, 0] = eps*sigma + eps*x2 - x3 - 1
+    out[3, 1] = x1
+    out[3, 2] = -eps + x3
+    return out
+
+
+def impact_forcing(eps, Abar):
+    """Forcing vector F of the linear flow of model (8)."""
+    x0 = Abar*eps
+    shape = ()
+    out = numpy.zeros((4,) + shape)
+    out[1] = x0
+    out[3] = x0
+    return out
+
+
+def impact_weight(eps, beta, sigma):
+    """Weight mu of the w-row in the energy of model (8)."""
+    shape = ()
+    out = numpy.zeros(shape)
+    out[...] = -eps/(beta**2*eps + eps*sigma - 1)
+    return out
+
+
+def impact_energy(y, eps, beta, gamma, sigma):
+    """Energy H of model (8) between impacts."""
+    X, Xd, w, wd = y
+    x0 = beta**2
+    x1 = eps*sigma
+    x2 = x1 - 1
+    shape = numpy.broadcast(X, Xd, w, wd).shape
+    out = numpy.zeros(shape)
+    out[...] = -1/2*X**2*x2 - X*eps*w*(x0 - 1) + (1/2)*Xd**2 - 1/2*eps*(-w**2*(beta**4*eps - eps + x0*x1 - x0) + wd**2)/(eps*x0 + x2)
+    return out
+
+
+def impact_power(tau, y, eps, beta, gamma, sigma, Abar):
+    """dH/dtau of model (8) between impacts."""
+    X, Xd, w, wd = y
+    shape = numpy.broadcast(X, Xd, w, wd, tau).shape
+    out = numpy.zeros(shape)
+    out[...] = eps*(Xd - eps*wd/(beta**2*eps + eps*sigma - 1))*(Abar*numpy.cos(tau) - Xd*gamma)
+    return out
