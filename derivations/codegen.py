@@ -35,7 +35,8 @@ class Function:
     ``vector_args`` are (name, symbols) pairs unpacked from an array argument (leading axis);
     ``scalar_args`` are symbols passed as they are. ``outputs`` is a sympy Matrix; the function
     returns an array of shape ``outputs.shape + broadcast shape`` of the vector components and
-    of the time ``tau`` when it is an argument (a column matrix is returned as a vector).
+    of the arguments named in ``broadcast`` (a column matrix is returned as a vector, a 1x1
+    matrix as an array of the broadcast shape).
     """
 
     name: str
@@ -43,6 +44,7 @@ class Function:
     vector_args: tuple
     scalar_args: tuple
     outputs: sp.Matrix
+    broadcast: tuple = ("tau",)
 
 
 class _Printer(NumPyPrinter):
@@ -66,7 +68,7 @@ def _body(fn: Function) -> list[str]:
     for sym, expr in replacements:
         lines.append(f"    {sym} = {printer.doprint(expr)}")
     varying = [str(s) for _, vector in fn.vector_args for s in vector]
-    varying += [str(s) for s in fn.scalar_args if str(s) == "tau"]
+    varying += [str(s) for s in fn.scalar_args if str(s) in fn.broadcast]
     shape_expr = f"numpy.broadcast({', '.join(varying)}).shape" if varying else "()"
     lines.append(f"    shape = {shape_expr}")
     if shape == (1, 1):

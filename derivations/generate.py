@@ -4,8 +4,9 @@ Usage:  python derivations/generate.py [--check] [--out DIR]
         slosh-bif derive [--check]
 
 Each derivation module builds sympy expressions; this script turns them into numpy code under
-``slosh_bif/_generated/``. ``--check`` renders into memory and compares byte for byte with the
-committed files, exiting 1 (and naming the stale files) when they differ.
+``slosh_bif/_generated/`` and writes ``derivations/REPORT.md`` (printed against derived equations).
+``--check`` renders into memory and compares byte for byte with the committed files, exiting 1
+(and naming the stale files) when they differ. ``--out`` names another root to write or check.
 """
 
 from __future__ import annotations
@@ -20,8 +21,11 @@ if str(HERE) not in sys.path:
 
 import codegen  # noqa: E402
 import models as m  # noqa: E402
+import report  # noqa: E402
+import slow_flow  # noqa: E402
 
-PACKAGE_DIR = HERE.parent / "slosh_bif" / "_generated"
+ROOT = HERE.parent
+GENERATED = Path("slosh_bif") / "_generated"
 SCRIPT = "generate.py"
 
 
@@ -55,31 +59,37 @@ def sp_matrix(items):
     return sp.Matrix(list(items))
 
 
-def render_all() -> dict[str, str]:
-    """File name -> source text of every generated module."""
+def render_all() -> dict[Path, str]:
+    """Path (relative to the repository root) -> text of every generated file."""
     return {
-        "__init__.py": '"""Generated code: written by derivations/generate.py, never edited by hand."""\n',
-        "models.py": _models_module(),
+        GENERATED / "__init__.py": '"""Generated code: written by derivations/generate.py, never edited by hand."""\n',
+        GENERATED / "models.py": _models_module(),
+        GENERATED / "slow_flow.py": codegen.render_module(
+            "The slow invariant manifold (36), slow flow (45), steady states (46) and kappa on the manifold (39).",
+            SCRIPT,
+            slow_flow.generated_functions(codegen.Function),
+        ),
+        Path("derivations") / "REPORT.md": report.render(),
     }
 
 
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--check", action="store_true", help="exit 1 if the committed generated code is stale")
-    parser.add_argument("--out", type=Path, default=PACKAGE_DIR, help="folder to write (default: the package's _generated/)")
+    parser.add_argument("--out", type=Path, default=ROOT, help="repository root to write or check (default: this checkout)")
     args = parser.parse_args(argv)
     rendered = render_all()
     if args.check:
-        stale = [name for name, text in rendered.items() if not (args.out / name).is_file() or (args.out / name).read_text() != text]
+        stale = [str(path) for path, text in rendered.items() if not (args.out / path).is_file() or (args.out / path).read_text() != text]
         if stale:
-            print(f"stale generated code in {args.out}: {', '.join(stale)}; run `slosh-bif derive`", file=sys.stderr)
+            print(f"stale generated code under {args.out}: {', '.join(stale)}; run `slosh-bif derive`", file=sys.stderr)
             return 1
-        print(f"generated code in {args.out} is fresh ({len(rendered)} files)")
+        print(f"generated code under {args.out} is fresh ({len(rendered)} files)")
         return 0
-    args.out.mkdir(parents=True, exist_ok=True)
-    for name, text in rendered.items():
-        (args.out / name).write_text(text)
-    print(f"wrote {len(rendered)} files to {args.out}")
+    for path, text in rendered.items():
+        (args.out / path).parent.mkdir(parents=True, exist_ok=True)
+        (args.out / path).write_text(text)
+    print(f"wrote {len(rendered)} files under {args.out}")
     return 0
 
 
