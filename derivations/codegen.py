@@ -13,11 +13,22 @@ import dataclasses
 import sympy as sp
 from sympy.printing.numpy import NumPyPrinter
 
+SYMPY_RANGE = ">=1.14,<1.15"
+
+
+def check_sympy_version():
+    """Refuse to write code with a sympy outside the pinned series: the output would differ."""
+    major, minor = (int(x) for x in sp.__version__.split(".")[:2])
+    if (major, minor) != (1, 14):
+        raise RuntimeError(f"sympy {sp.__version__} is outside the pinned series {SYMPY_RANGE}; install it from pyproject.toml")
+
+
 HEADER = '''\
 """{title}
 
 GENERATED CODE - DO NOT EDIT.
-Written by derivations/{script} with sympy {sympy_version}.
+Written by derivations/{script} with sympy {sympy_range} (pinned in pyproject.toml: the printer's
+output, including its float spellings such as ``**(-1.0)``, is only reproducible within one series).
 Regenerate with `slosh-bif derive` (or `python derivations/generate.py`); `slosh-bif derive --check`
 fails when this file is stale. Equations are cited in the hand-written modules that use it.
 """
@@ -89,7 +100,7 @@ def _body(fn: Function) -> list[str]:
 
 def render_module(title: str, script: str, functions: list[Function]) -> str:
     """Source text of a module holding ``functions``."""
-    text = HEADER.format(title=title, script=script, sympy_version=sp.__version__)
+    text = HEADER.format(title=title, script=script, sympy_range=SYMPY_RANGE)
     for fn in functions:
         scalars = [str(s) for s in fn.scalar_args]
         time = [name for name in scalars if name == "tau"]  # tau first, as in scipy's fun(t, y)

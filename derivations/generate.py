@@ -19,6 +19,8 @@ HERE = Path(__file__).resolve().parent
 if str(HERE) not in sys.path:
     sys.path.insert(0, str(HERE))
 
+import sympy as sp  # noqa: E402
+
 import codegen  # noqa: E402
 import models as m  # noqa: E402
 import report  # noqa: E402
@@ -31,6 +33,8 @@ SCRIPT = "generate.py"
 
 def _models_module() -> str:
     m.check_energy_balances()
+    phi = sp_matrix(sp.symbols("phi0:16", real=True)).reshape(4, 4)
+    variational = sp_matrix(list(m.smooth_rhs()) + list(m.jacobian(m.smooth_rhs()) * phi))
     state = (("y", m.STATE),)
     full = (m.tau,) + m.PARAMS
     F = codegen.Function
@@ -42,6 +46,13 @@ def _models_module() -> str:
     functions = [
         F("smooth_rhs", "Right-hand side of the smooth model (9); y = [X, X', w, w'].", state, full, smooth),
         F("smooth_jac", "Jacobian d(rhs)/dy of the smooth model (9), shape (4, 4, ...).", state, full, m.jacobian(smooth)),
+        F(
+            "smooth_variational",
+            "Variational equations of (9): d/dtau [y, Phi] = [f(y), J(y) Phi], Phi row-major (16,).",
+            state + (("Phi", tuple(phi)),),
+            full,
+            variational,
+        ),
         F("smooth_energy", "Energy H of the smooth model (9).", state, m.PARAMS, sp_matrix([m.smooth_energy()])),
         F("smooth_power", "dH/dtau of the smooth model (9) along solutions.", state, full, sp_matrix([m.smooth_power()])),
         F("impact_matrix", "Matrix M of the linear flow y' = M y + F cos(tau) of model (8).", (), m.LINEAR_PARAMS, impact_matrix),
@@ -54,8 +65,6 @@ def _models_module() -> str:
 
 
 def sp_matrix(items):
-    import sympy as sp
-
     return sp.Matrix(list(items))
 
 
@@ -78,6 +87,7 @@ def main(argv=None) -> int:
     parser.add_argument("--check", action="store_true", help="exit 1 if the committed generated code is stale")
     parser.add_argument("--out", type=Path, default=ROOT, help="repository root to write or check (default: this checkout)")
     args = parser.parse_args(argv)
+    codegen.check_sympy_version()
     rendered = render_all()
     if args.check:
         stale = [str(path) for path, text in rendered.items() if not (args.out / path).is_file() or (args.out / path).read_text() != text]

@@ -53,6 +53,10 @@ class SmoothModel:
         """d(rhs)/dy, shape ``(4, 4) + y.shape[1:]``."""
         return gen.smooth_jac(tau, y, *self._args)
 
+    def variational(self, tau, z):
+        """d/dtau of ``z = [y, Phi.ravel()]`` (20,): the flow and its fundamental matrix Phi' = J Phi."""
+        return gen.smooth_variational(tau, z[:4], z[4:], *self._args)
+
     def energy(self, y):
         """Energy H (see the module docstring)."""
         return gen.smooth_energy(y, *self._args)

@@ -1,7 +1,8 @@
 """Right-hand sides, Jacobians and energies of models (8) and (9).
 
 GENERATED CODE - DO NOT EDIT.
-Written by derivations/generate.py with sympy 1.14.0.
+Written by derivations/generate.py with sympy >=1.14,<1.15 (pinned in pyproject.toml: the printer's
+output, including its float spellings such as ``**(-1.0)``, is only reproducible within one series).
 Regenerate with `slosh-bif derive` (or `python derivations/generate.py`); `slosh-bif derive --check`
 fails when this file is stale. Equations are cited in the hand-written modules that use it.
 """
@@ -50,6 +51,55 @@ def smooth_jac(tau, y, eps, beta, gamma, sigma, Abar, lam, chi, n, p):
     out[3, 1] = x1
     out[3, 2] = -chi*w**x6*(x6 + 1) - lam*w**max(0, x7 - 1)*wd*x7 + x0*x3*(eps + x2)
     out[3, 3] = -lam*w**x7 - x5
+    return out
+
+
+def smooth_variational(tau, y, Phi, eps, beta, gamma, sigma, Abar, lam, chi, n, p):
+    """Variational equations of (9): d/dtau [y, Phi] = [f(y), J(y) Phi], Phi row-major (16,)."""
+    X, Xd, w, wd = y
+    phi0, phi1, phi2, phi3, phi4, phi5, phi6, phi7, phi8, phi9, phi10, phi11, phi12, phi13, phi14, phi15 = Phi
+    x0 = eps*sigma - 1
+    x1 = beta**2
+    x2 = (eps*x1 + 1)**(-1.0)
+    x3 = x2*(x1 - 1)
+    x4 = eps*x3
+    x5 = eps*gamma
+    x6 = eps**2*gamma
+    x7 = -Abar*eps*numpy.cos(tau) + Xd*x5 + wd*x6
+    x8 = 2*n
+    x9 = x8 + 1
+    x10 = 2*p
+    x11 = lam*w**x10
+    x12 = eps + x1
+    x13 = phi4*x5
+    x14 = x0*x4
+    x15 = phi5*x5
+    x16 = phi6*x5
+    x17 = phi7*x5
+    x18 = x11 + x6
+    x19 = chi*w**x8*x9 + lam*w**max(0, x10 - 1)*wd*x10 - x0*x12*x2
+    shape = numpy.broadcast(X, Xd, w, wd, phi0, phi1, phi2, phi3, phi4, phi5, phi6, phi7, phi8, phi9, phi10, phi11, phi12, phi13, phi14, phi15, tau).shape
+    out = numpy.zeros((20,) + shape)
+    out[0] = Xd
+    out[1] = X*x0 - w*x0*x4 - x7
+    out[2] = wd
+    out[3] = -X*x0*x3 - chi*w**x9 + w*x0*x12*x2 - wd*x11 - x7
+    out[4] = phi4
+    out[5] = phi5
+    out[6] = phi6
+    out[7] = phi7
+    out[8] = phi0*x0 - phi12*x6 - phi8*x14 - x13
+    out[9] = phi1*x0 - phi13*x6 - phi9*x14 - x15
+    out[10] = -phi10*x14 - phi14*x6 + phi2*x0 - x16
+    out[11] = -phi11*x14 - phi15*x6 + phi3*x0 - x17
+    out[12] = phi12
+    out[13] = phi13
+    out[14] = phi14
+    out[15] = phi15
+    out[16] = -phi0*x0*x3 - phi12*x18 - phi8*x19 - x13
+    out[17] = -phi1*x0*x3 - phi13*x18 - phi9*x19 - x15
+    out[18] = -phi10*x19 - phi14*x18 - phi2*x0*x3 - x16
+    out[19] = -phi11*x19 - phi15*x18 - phi3*x0*x3 - x17
     return out
 
 

@@ -1,7 +1,8 @@
 """The slow invariant manifold (36), slow flow (45), steady states (46) and kappa on the manifold (39).
 
 GENERATED CODE - DO NOT EDIT.
-Written by derivations/generate.py with sympy 1.14.0.
+Written by derivations/generate.py with sympy >=1.14,<1.15 (pinned in pyproject.toml: the printer's
+output, including its float spellings such as ``**(-1.0)``, is only reproducible within one series).
 Regenerate with `slosh-bif derive` (or `python derivations/generate.py`); `slosh-bif derive --check`
 fails when this file is stale. Equations are cited in the hand-written modules that use it.
 """

@@ -1,0 +1,44 @@
+"""All matplotlib lives here: the manifold (36) with trajectories projected on it, time histories.
+
+Functions draw on an ``Axes`` they are given and return it, so callers compose figures freely.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from . import manifold
+
+__all__ = ["plot_manifold", "plot_projection", "plot_time_history"]
+
+
+def plot_manifold(ax, rho, A_max=None, *, color="tab:blue", label="SIM"):
+    """Both branches of the slow invariant manifold (36) in the (A, alpha) plane: S+ solid, S- dashed."""
+    A_end = float(manifold.a_min(rho))
+    A_max = A_max if A_max is not None else max(3.0, 3 * A_end)
+    # Cluster points at the fold, where alpha has a square-root singularity.
+    A = A_end + (A_max - A_end) * np.linspace(0, 1, 400) ** 2
+    ax.plot(A, manifold.alpha(A, rho, manifold.STABLE), "-", color=color, label=f"{label} stable branch")
+    ax.plot(A, manifold.alpha(A, rho, manifold.UNSTABLE), "--", color=color, label=f"{label} unstable branch")
+    ax.plot([A_end], [manifold.alpha_min(rho)], "o", color=color, ms=4)
+    ax.set_xlabel("amplitude A of X")
+    ax.set_ylabel(r"triangle-wave amplitude $\alpha$")
+    return ax
+
+
+def plot_projection(ax, projection, *, label="simulation"):
+    """A trajectory projected on the manifold's plane: red dots joined by a thin black line."""
+    ax.plot(projection.A, projection.alpha, "-", color="k", lw=0.5)
+    ax.plot(projection.A, projection.alpha, ".", color="tab:red", ms=4, label=label)
+    return ax
+
+
+def plot_time_history(ax, t, y, *, envelope=None):
+    """X (blue) and w (red) against tau; optionally a slow-flow envelope ``(tau, A)`` in black."""
+    ax.plot(t, y[0], color="tab:blue", lw=0.6, label="X")
+    ax.plot(t, y[2], color="tab:red", lw=0.6, label="w")
+    if envelope is not None:
+        ax.plot(envelope[0], envelope[1], color="k", lw=1.5, label="slow flow A")
+        ax.plot(envelope[0], -np.asarray(envelope[1]), color="k", lw=1.5)
+    ax.set_xlabel(r"$\tau$")
+    return ax
