@@ -1,0 +1,332 @@
+"""Pseudo-arclength continuation (Keller), knowing nothing about sloshing.
+
+A problem is any object with
+
+* ``names`` - names of the n state components;
+* ``residual(x, p)`` -> (n,), ``jacobian(x, p)`` -> (n, n), ``dparam(x, p)`` -> (n,);
+* optionally ``in_domain(x, p)`` -> bool (points outside are never evaluated), and
+  ``eigenvalues(x, p)`` -> (n,) complex (stable when all real parts are negative).
+
+With ``u = (x, p)`` and the unit tangent ``t`` of the curve F(u) = 0, each step predicts
+``u + h t`` and corrects by Newton on the bordered system ``[F(u); t . (u - u_pred)] = 0``,
+whose matrix ``[[F_x, F_p], [t^T]]`` stays regular through folds. The step h grows after easy
+corrections and shrinks after slow or failed ones (or when a point leaves the domain), between
+``step_min`` and ``step_max``.
+
+Test functions along the branch: the parameter component of the tangent, ``t_p``, changes sign
+at a fold (LP); the determinant of the bordered matrix changes sign at a simple branch point
+(BP), and not at a fold. Both are located by Brent's method on the arclength from the last point
+before the sign change, each evaluation a full corrector solve.
+
+Each direction ends at a parameter bound (the end is computed on the bound), at the domain's
+edge, on closing a loop, after ``max_steps``, or when the step falls below ``step_min``.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+from scipy import optimize
+
+from .branch import BRANCH_POINT, END, FOLD, Branch, SpecialPoint
+
+__all__ = ["ContinuationOptions", "ConvergenceError", "continuation", "newton"]
+
+# End reasons of one direction; "ok" ones make a complete branch.
+_BOUND, _EDGE, _LOOP = "parameter bound", "domain edge", "closed loop"
+_STEPS, _STALL = "step limit", "step below minimum"
+_COMPLETE = (_BOUND, _EDGE, _LOOP)
+
+
+class ConvergenceError(RuntimeError):
+    """The starting point could not be corrected onto the solution curve."""
+
+
+@dataclasses.dataclass(frozen=True)
+class ContinuationOptions:
+    """Step control and tolerances; validated on construction (errors name the option).
+
+    step, step_min, step_max : initial, smallest and largest arclength step
+    max_steps : accepted steps per direction at most
+    p_min, p_max : bounds of the continued parameter
+    tol : Newton stops when |F| <= tol and the update <= tol * (1 + |u|)
+    max_newton : corrector iterations before a step counts as failed
+    growth : step factor after an easy step (<= 3 iterations)
+    direction : "both", "forward" (increasing p at the start) or "backward"
+    detect_folds, detect_branch_points : locate LP / BP
+    locate_tol : arclength tolerance when locating a special point
+    """
+
+    step: float = 0.05
+    step_min: float = 1e-9
+    step_max: float = 0.5
+    max_steps: int = 5000
+    p_min: float = -math.inf
+    p_max: float = math.inf
+    tol: float = 1e-11
+    max_newton: int = 12
+    growth: float = 1.6
+    direction: str = "both"
+    detect_folds: bool = True
+    detect_branch_points: bool = True
+    locate_tol: float = 1e-13
+
+    def __post_init__(self):
+        def need(ok, name, allowed):
+            if not ok:
+                raise ValueError(f"option {name} must be {allowed}; got {getattr(self, name)!r}")
+
+        need(0 < self.step_min <= self.step <= self.step_max < math.inf, "step", "in [step_min, step_max], all positive and finite")
+        need(isinstance(self.max_steps, int) and self.max_steps >= 1, "max_steps", "an integer >= 1")
+        need(self.p_min < self.p_max, "p_min", "< p_max")
+        need(0 < self.tol < 1e-2, "tol", "in (0, 1e-2)")
+        need(isinstance(self.max_newton, int) and self.max_newton >= 2, "max_newton", "an integer >= 2")
+        need(1 < self.growth <= 4, "growth", "in (1, 4]")
+        need(self.direction in ("both", "forward", "backward"), "direction", "'both', 'forward' or 'backward'")
+        need(0 < self.locate_tol < 1e-3, "locate_tol", "in (0, 1e-3)")
+
+
+@dataclasses.dataclass
+class _Point:
+    u: np.ndarray
+    t: np.ndarray
+    iterations: int
+    kind: str = ""
+    message: str = ""
+    bracket: tuple = ()
+
+
+# -- linear algebra of the bordered system ---------------------------------------------------------
+
+
+def _in_domain(problem, u):
+    check = getattr(problem, "in_domain", None)
+    return bool(np.all(np.isfinite(u))) and (check is None or bool(check(u[:-1], u[-1])))
+
+
+def _bordered(problem, u, t):
+    x, p = u[:-1], u[-1]
+    top = np.column_stack([problem.jacobian(x, p), problem.dparam(x, p)])
+    return np.vstack([top, t])
+
+
+def _solve(M, b):
+    """Solve M z = b; at an exact branch point M is singular but the system consistent: least squares."""
+    try:
+        return np.linalg.solve(M, b)
+    except np.linalg.LinAlgError:
+        return np.linalg.lstsq(M, b, rcond=None)[0]
+
+
+def _tangent(problem, u, t_prev):
+    """Unit tangent at u, oriented along t_prev."""
+    rhs = np.zeros(len(u))
+    rhs[-1] = 1.0
+    t = _solve(_bordered(problem, u, t_prev), rhs)
+    t /= np.linalg.norm(t)
+    return t if t @ t_prev >= 0 else -t
+
+
+def _initial_tangent(problem, u, forward: bool):
+    x, p = u[:-1], u[-1]
+    top = np.column_stack([problem.jacobian(x, p), problem.dparam(x, p)])
+    t = np.linalg.svd(top)[2][-1]  # null vector of [F_x, F_p]
+    if t[-1] < 0 or (t[-1] == 0 and t[0] < 0):
+        t = -t
+    return t if forward else -t
+
+
+def _correct(problem, u_pred, t, opts):
+    """Newton on [F(u); t . (u - u_pred)] = 0. Returns (u, iterations) or (None, iterations)."""
+    u = u_pred.copy()
+    for k in range(1, opts.max_newton + 1):
+        if not _in_domain(problem, u):
+            return None, k
+        F = problem.residual(u[:-1], u[-1])
+        H = np.append(F, t @ (u - u_pred))
+        du = _solve(_bordered(problem, u, t), -H)
+        u = u + du
+        if np.linalg.norm(du) <= opts.tol * (1 + np.linalg.norm(u)) and _in_domain(problem, u):
+            if np.linalg.norm(problem.residual(u[:-1], u[-1])) <= max(opts.tol, 1e3 * np.finfo(float).eps * (1 + np.linalg.norm(u))):
+                return u, k
+    return None, opts.max_newton
+
+
+def newton(problem, x0, p, *, tol=1e-11, max_iter=30):
+    """Newton at fixed parameter p from x0; raises :class:`ConvergenceError` with the reason."""
+    x = np.asarray(x0, dtype=float).copy()
+    for k in range(max_iter):
+        if not _in_domain(problem, np.append(x, p)):
+            raise ConvergenceError(f"Newton left the problem's domain at iteration {k} (x = {x}, p = {p})")
+        F = problem.residual(x, p)
+        dx = np.linalg.solve(problem.jacobian(x, p), -F)
+        x = x + dx
+        if np.linalg.norm(dx) <= tol * (1 + np.linalg.norm(x)):
+            return x
+    raise ConvergenceError(f"Newton did not converge in {max_iter} iterations at p = {p} (last |F| = {np.linalg.norm(F):.3g})")
+
+
+# -- test functions and their location -------------------------------------------------------------
+
+
+def _tests(problem, u, t):
+    return t[-1], np.linalg.det(_bordered(problem, u, t))
+
+
+def _locate(problem, a: _Point, h, which, opts):
+    """Brent on the arclength s in (0, h) from point a for a zero of test function ``which``."""
+
+    def point(s):
+        u, _ = _correct(problem, a.u + s * a.t, a.t, opts)
+        if u is None:
+            raise ConvergenceError("corrector failed while locating a special point")
+        return u, _tangent(problem, u, a.t)
+
+    def test(s):
+        return _tests(problem, *point(s))[which]
+
+    s = optimize.brentq(test, 0.0, h, xtol=opts.locate_tol, rtol=4 * np.finfo(float).eps)
+    u, t = point(s)
+    return u, t
+
+
+# -- one direction ---------------------------------------------------------------------------------
+
+
+def _end_on_bound(problem, a: _Point, b_u, bound, opts):
+    """The point with p = bound between a and the overshooting b_u (Newton at fixed p)."""
+    w = (bound - a.u[-1]) / (b_u[-1] - a.u[-1])
+    try:
+        x = newton(problem, (1 - w) * a.u[:-1] + w * b_u[:-1], bound, tol=opts.tol)
+    except (ConvergenceError, np.linalg.LinAlgError):
+        x = (1 - w) * a.u[:-1] + w * b_u[:-1]  # a fold on the bound: keep the interpolated point
+    u = np.append(x, bound)
+    return _Point(u, _tangent(problem, u, a.t), 0, END, f"{_BOUND} {'p_max' if bound == opts.p_max else 'p_min'} = {bound}", (a.u[-1], b_u[-1]))
+
+
+def _run(problem, start: _Point, opts, loop_guard: bool):
+    points = [start]
+    h = opts.step
+    edge_hits = 0
+    while True:
+        if len(points) > opts.max_steps:
+            points[-1].kind, points[-1].message = END, f"{_STEPS} ({opts.max_steps} steps)"
+            return points, _STEPS
+        a = points[-1]
+        u, iters = _correct(problem, a.u + h * a.t, a.t, opts)
+        if u is None:
+            edge_hits += not _in_domain(problem, a.u + h * a.t) or iters < opts.max_newton
+            h *= 0.5
+            if h < opts.step_min:
+                reason = _EDGE if edge_hits else _STALL
+                a.kind, a.message, a.bracket = END, f"{reason}: last step {2 * h:.3g} failed", (a.u[-1], (a.u + 2 * h * a.t)[-1])
+                return points, reason
+            continue
+        edge_hits = 0
+        if not opts.p_min <= u[-1] <= opts.p_max:
+            bound = opts.p_max if u[-1] > opts.p_max else opts.p_min
+            points.append(_end_on_bound(problem, a, u, bound, opts))
+            return points, _BOUND
+        b = _Point(u, _tangent(problem, u, a.t), iters)
+        points.extend(_special_between(problem, a, b, h, opts))
+        points.append(b)
+        if loop_guard and len(points) > 3 and _passes(start, a.u, u, h):
+            b.kind, b.message = END, f"{_LOOP}: back at the start point"
+            return points, _LOOP
+        h = min(h * opts.growth, opts.step_max) if iters <= 3 else (h * 0.6 if iters >= 6 else h)
+        h = max(h, opts.step_min)
+
+
+def _passes(start: _Point, ua, ub, h):
+    """Whether the step from ua to ub runs through the start point in the start's direction."""
+    seg = ub - ua
+    w = np.clip((start.u - ua) @ seg / (seg @ seg), 0.0, 1.0)
+    return np.linalg.norm(ua + w * seg - start.u) < 0.1 * h and seg @ start.t > 0
+
+
+def _special_between(problem, a: _Point, b: _Point, h, opts):
+    found = []
+    ta, tb = _tests(problem, a.u, a.t), _tests(problem, b.u, b.t)
+    for which, kind, enabled in ((0, FOLD, opts.detect_folds), (1, BRANCH_POINT, opts.detect_branch_points)):
+        if enabled and np.sign(ta[which]) * np.sign(tb[which]) < 0:
+            try:
+                u, t = _locate(problem, a, h, which, opts)
+            except (ConvergenceError, ValueError) as err:
+                u, t = b.u, b.t
+                message = f"{'fold' if kind == FOLD else 'branch point'} detected, not located: {err}"
+            else:
+                message = "fold: the tangent's parameter component changes sign" if kind == FOLD else (
+                    "branch point: the bordered Jacobian's determinant changes sign"
+                )
+            found.append(_Point(u, t, 0, kind, message, (a.u[-1], b.u[-1])))
+    found.sort(key=lambda q: (q.u - a.u) @ a.t)
+    return found
+
+
+# -- the driver ------------------------------------------------------------------------------------
+
+
+def continuation(problem, x0, p0, *, param="p", options: ContinuationOptions | None = None) -> Branch:
+    """Trace the solution curve of ``problem`` through ``(x0, p0)``; returns a :class:`Branch`.
+
+    ``x0`` is corrected at fixed ``p0`` first (a :class:`ConvergenceError` says why when it
+    cannot be). Mid-branch failures do not raise: the branch ends there with the reason.
+    """
+    opts = options or ContinuationOptions()
+    if not opts.p_min <= p0 <= opts.p_max:
+        raise ValueError(f"start parameter {param} = {p0} lies outside [p_min, p_max] = [{opts.p_min}, {opts.p_max}]")
+    x0 = np.atleast_1d(np.asarray(x0, dtype=float))
+    if len(x0) != len(problem.names) or not np.all(np.isfinite(x0)):
+        raise ValueError(f"x0 must be {len(problem.names)} finite numbers ({', '.join(problem.names)}); got {x0}")
+    u0 = np.append(newton(problem, x0, p0, tol=opts.tol), p0)
+
+    runs = {}
+    closed = False
+    for forward in (True, False):
+        if opts.direction == ("backward" if forward else "forward") or closed:
+            continue
+        start = _Point(u0, _initial_tangent(problem, u0, forward), 0)
+        runs[forward] = _run(problem, start, opts, loop_guard=True)
+        closed = runs[forward][1] == _LOOP
+    back, back_reason = runs.get(False, ([], None))
+    ahead, ahead_reason = runs.get(True, ([], None))
+    if back and ahead:
+        if ahead[0].kind and not back[0].kind:  # the forward run ended at its first point
+            back[0].kind, back[0].message = ahead[0].kind, ahead[0].message
+        points = back[::-1] + ahead[1:]
+    else:
+        points = back[::-1] or ahead
+    reasons = [r for r in (back_reason, ahead_reason) if r is not None]
+    status = "ok" if all(r in _COMPLETE for r in reasons) else next(r for r in reasons if r not in _COMPLETE)
+    message = "; ".join(f"{name}: {r}" for name, r in (("backward", back_reason), ("forward", ahead_reason)) if r)
+    return _assemble(problem, points, param, status, message, opts)
+
+
+def _assemble(problem, points, param, status, message, opts) -> Branch:
+    u = np.array([q.u for q in points])
+    steps = np.linalg.norm(np.diff(u, axis=0), axis=1)
+    eig_fn = getattr(problem, "eigenvalues", None)
+    n = u.shape[1] - 1
+    eigenvalues = np.array([eig_fn(q.u[:-1], q.u[-1]) for q in points]) if eig_fn else np.full((len(points), n), np.nan + 0j)
+    stable = np.all(eigenvalues.real < 0, axis=1) if eig_fn else np.ones(len(points), dtype=bool)
+    special = tuple(
+        SpecialPoint(q.kind, i, float(q.u[-1]), q.u[:-1].copy(), tuple(float(v) for v in q.bracket), q.message)
+        for i, q in enumerate(points)
+        if q.kind
+    )
+    return Branch(
+        param=param,
+        names=tuple(problem.names),
+        p=u[:, -1].copy(),
+        x=u[:, :-1].copy(),
+        stable=stable,
+        eigenvalues=eigenvalues.astype(complex),
+        newton_iterations=np.array([q.iterations for q in points]),
+        arclength=np.concatenate([[0.0], np.cumsum(steps)]),
+        special=special,
+        status=status,
+        message=message,
+        options=dataclasses.asdict(opts),
+    )
