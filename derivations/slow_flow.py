@@ -210,6 +210,14 @@ def generated_functions(Function):
         Function("sim_alpha_min", "alpha at the manifold's end, eq. (36).", (), (rho,), sp.Matrix([ic["alpha_min"]]), A_only),
         Function("slow_rhs", "Forced slow flow (45) on S+: [D1 A, D1 psi].", (), (A, psi, rho) + slow, rhs, ("A", "psi")),
         Function("slow_jac", "Jacobian of (45) in (A, psi); rho = rho(A) with slope drho.", (), (A, psi, rho, drho) + slow, jac, ("A", "psi")),
+        Function(
+            "slow_dparams",
+            "Derivatives of (45) in the parameters: columns d/dsigma, d/dAbar.",
+            (),
+            (A, psi, rho) + slow,
+            sp.Matrix([[sp.diff(e, sigma), sp.diff(e, Abar)] for e in rhs]),
+            ("A", "psi"),
+        ),
         Function("steady_residual", "Steady-state residual (46) on S+ (derived sign).", (), (A, rho) + slow, sp.Matrix([residual]), A_only),
         Function(
             "steady_residual_grad",

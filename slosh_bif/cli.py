@@ -2,8 +2,10 @@
 
 Subcommands:
 
-* ``info``   - a preset's parameters and the derived restitution quantities (eqs. 21, 31, 36, 40);
-* ``derive`` - regenerate the generated code from the sympy derivations (``--check``: verify it).
+* ``info``     - a preset's parameters and the derived restitution quantities (eqs. 21, 31, 36, 40);
+* ``frc``      - the frequency-response curve of the slow flow (45)/(46) by continuation in sigma;
+* ``critical`` - the critical forcing Abar_b(sigma) by continuation of the fold and end conditions;
+* ``derive``   - regenerate the generated code from the sympy derivations (``--check``: verify it).
 """
 
 from __future__ import annotations
@@ -13,6 +15,8 @@ import importlib.util
 import json
 import sys
 from pathlib import Path
+
+import numpy as np
 
 from . import manifold, restitution
 from .presets import PRESETS, get_preset
@@ -30,6 +34,12 @@ def _add_params_options(parser):
         metavar="NAME=VALUE",
         help="override one parameter (repeatable), e.g. --set Abar=2 --set n=10",
     )
+
+
+def _add_range_options(parser):
+    parser.add_argument("--sigma-min", type=float, default=None, help="lower end of the sigma range (default -6)")
+    parser.add_argument("--sigma-max", type=float, default=None, help="upper end of the sigma range (default 8)")
+    parser.add_argument("--out", type=Path, required=True, help="output folder (created if missing)")
 
 
 def _params(args):
@@ -72,6 +82,48 @@ def _info(args) -> int:
     return 0
 
 
+def _sigma_range(args, default=(-6.0, 8.0)):
+    lo = default[0] if args.sigma_min is None else args.sigma_min
+    hi = default[1] if args.sigma_max is None else args.sigma_max
+    if not lo < hi:
+        raise ValueError(f"--sigma-min must be below --sigma-max; got {lo} and {hi}")
+    return lo, hi
+
+
+def _frc(args) -> int:
+    from .frc_output import plot_frc, write_frc_csv
+    from .steady_states import frequency_response
+
+    params = _params(args)
+    lo, hi = _sigma_range(args)
+    args.out.mkdir(parents=True, exist_ok=True)
+    fr = frequency_response(params, sigma_min=lo, sigma_max=hi)
+    csv_path, png_path = write_frc_csv(fr, args.out / "frc.csv"), plot_frc(fr, args.out / "frc.png")
+    for k, branch in enumerate(fr.branches):
+        branch.save(args.out / f"frc_branch{k}.npz")
+        specials = ", ".join(f"{s.kind} at sigma = {s.p:.10g} (A = {s.x[0]:.6g})" for s in branch.special)
+        print(f"component {k}: {len(branch)} points, {branch.message}; {specials}")
+    print(f"wrote {csv_path}, {png_path}")
+    return 0
+
+
+def _critical(args) -> int:
+    from .critical import critical_curve
+    from .frc_output import plot_critical, write_critical_csv
+
+    params = _params(args)
+    lo, hi = _sigma_range(args)
+    args.out.mkdir(parents=True, exist_ok=True)
+    curve = critical_curve(params, lo, hi)
+    csv_path, png_path = write_critical_csv(curve, args.out / "critical.csv"), plot_critical(curve, args.out / "critical.png")
+    at = float(np.interp(params.sigma, curve.sigma, curve.Abar_b)) if curve.sigma[0] <= params.sigma <= curve.sigma[-1] else None
+    if at is not None:
+        verdict = "steady states on S+ exist" if params.Abar >= at else "no steady state on S+ (expect a strongly modulated or non-resonant response)"
+        print(f"at the preset's sigma = {params.sigma:g}: Abar_b = {at:.6g}; Abar = {params.Abar:g}: {verdict}")
+    print(f"{len(curve.sigma)} points ({len(curve.fold_branches)} fold curve(s)); wrote {csv_path}, {png_path}")
+    return 0
+
+
 def _derivations_dir() -> Path:
     return Path(__file__).resolve().parent.parent / "derivations"
 
@@ -103,6 +155,16 @@ def build_parser() -> argparse.ArgumentParser:
     _add_params_options(info)
     info.add_argument("--json", action="store_true", help="print JSON instead of text")
     info.set_defaults(run=_info)
+
+    frc = sub.add_parser("frc", help="frequency-response curve A(sigma) of the slow flow by pseudo-arclength continuation")
+    _add_params_options(frc)
+    _add_range_options(frc)
+    frc.set_defaults(run=_frc)
+
+    critical = sub.add_parser("critical", help="critical forcing Abar_b(sigma) below which no steady state exists on S+")
+    _add_params_options(critical)
+    _add_range_options(critical)
+    critical.set_defaults(run=_critical)
 
     derive = sub.add_parser("derive", help="regenerate slosh_bif/_generated from the sympy derivations")
     derive.add_argument("--check", action="store_true", help="exit 1 if the committed generated code is stale")

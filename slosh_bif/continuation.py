@@ -4,7 +4,9 @@ A problem is any object with
 
 * ``names`` - names of the n state components;
 * ``residual(x, p)`` -> (n,), ``jacobian(x, p)`` -> (n, n), ``dparam(x, p)`` -> (n,);
-* optionally ``in_domain(x, p)`` -> bool (points outside are never evaluated), and
+* optionally ``in_domain(x, p)`` -> bool (points outside are never evaluated),
+  ``edge_point(x, p)`` -> ``(x, p)`` or None: the exact point where the branch through (x, p)
+  leaves the domain, appended as the branch's end when it gets there, and
   ``eigenvalues(x, p)`` -> (n,) complex (stable when all real parts are negative).
 
 With ``u = (x, p)`` and the unit tangent ``t`` of the curve F(u) = 0, each step predicts
@@ -221,7 +223,12 @@ def _run(problem, start: _Point, opts, loop_guard: bool):
             h *= 0.5
             if h < opts.step_min:
                 reason = _EDGE if edge_hits else _STALL
-                a.kind, a.message, a.bracket = END, f"{reason}: last step {2 * h:.3g} failed", (a.u[-1], (a.u + 2 * h * a.t)[-1])
+                bracket = (a.u[-1], (a.u + 2 * h * a.t)[-1])
+                edge = _edge_point(problem, a, opts) if reason == _EDGE else None
+                if edge is not None:
+                    points.append(_Point(edge, a.t, 0, END, f"{reason}: {getattr(problem, 'edge_name', 'boundary')}", bracket))
+                else:
+                    a.kind, a.message, a.bracket = END, f"{reason}: last step {2 * h:.3g} failed", bracket
                 return points, reason
             continue
         edge_hits = 0
@@ -237,6 +244,16 @@ def _run(problem, start: _Point, opts, loop_guard: bool):
             return points, _LOOP
         h = min(h * opts.growth, opts.step_max) if iters <= 3 else (h * 0.6 if iters >= 6 else h)
         h = max(h, opts.step_min)
+
+
+def _edge_point(problem, a: _Point, opts):
+    """The problem's exact edge point near a, if it offers one within the parameter bounds."""
+    hook = getattr(problem, "edge_point", None)
+    edge = hook(a.u[:-1], a.u[-1]) if hook else None
+    if edge is None:
+        return None
+    u = np.append(edge[0], edge[1])
+    return u if opts.p_min <= u[-1] <= opts.p_max and np.all(np.isfinite(u)) else None
 
 
 def _passes(start: _Point, ua, ub, h):

@@ -42,3 +42,26 @@ def plot_time_history(ax, t, y, *, envelope=None):
         ax.plot(envelope[0], -np.asarray(envelope[1]), color="k", lw=1.5)
     ax.set_xlabel(r"$\tau$")
     return ax
+
+
+def _runs(mask):
+    """(start, stop) index pairs of the runs of equal values in a boolean array (stop inclusive)."""
+    change = np.flatnonzero(np.diff(mask.astype(int))) + 1
+    bounds = np.concatenate([[0], change, [len(mask)]])
+    return [(a, min(b, len(mask) - 1)) for a, b in zip(bounds[:-1], bounds[1:])]
+
+
+def plot_branch(ax, branch, y, *, x=None, color="tab:blue", label=None):
+    """A branch: stable runs solid, unstable dashed, special points marked and labelled.
+
+    ``y`` (and optionally ``x``, default the continued parameter) are arrays along the branch.
+    """
+    x = branch.p if x is None else x
+    for a, b in _runs(branch.stable):
+        ax.plot(x[a : b + 1], y[a : b + 1], "-" if branch.stable[a] else "--", color=color, lw=1.4, label=label if a == 0 else None)
+    markers = {"LP": ("o", "tab:red"), "BP": ("s", "tab:green"), "END": ("x", "k")}
+    for s in branch.special:
+        marker, mcolor = markers[s.kind]
+        ax.plot(x[s.index], y[s.index], marker, color=mcolor, ms=6, mfc="none" if s.kind == "LP" else mcolor)
+        ax.annotate(s.kind, (x[s.index], y[s.index]), textcoords="offset points", xytext=(5, 5), fontsize=8, color=mcolor)
+    return ax

@@ -109,16 +109,24 @@ class SlowFlow:
             raise ValueError(f"amplitude A must be finite and >= A_min = {self.A_min:.10g} (the end of S+); got {A}")
         return A
 
-    def rhs(self, A, psi):
-        """[D1 A, D1 psi] of (45), shape ``(2,) + broadcast(A, psi).shape``."""
-        A = self._check_on_manifold(A)
-        return gen.slow_rhs(A, psi, self.rho(A)[0], *self._slow)
+    def rhs(self, A, psi, sigma=None, Abar=None):
+        """[D1 A, D1 psi] of (45), shape ``(2,) + broadcast(A, psi).shape``.
 
-    def jac(self, A, psi):
+        ``sigma`` and ``Abar`` override the parameter set's values (this and the methods below).
+        """
+        A = self._check_on_manifold(A)
+        return gen.slow_rhs(A, psi, self.rho(A)[0], *self._slow_with(sigma, Abar))
+
+    def jac(self, A, psi, sigma=None, Abar=None):
         """Jacobian of (45) in (A, psi), shape ``(2, 2) + ...``; its eigenvalues give stability."""
         A = self._check_on_manifold(A)
         r, dr = self.rho(A)
-        return gen.slow_jac(A, psi, r, dr, *self._slow)
+        return gen.slow_jac(A, psi, r, dr, *self._slow_with(sigma, Abar))
+
+    def dparams(self, A, psi, sigma=None, Abar=None):
+        """d(45)/d(sigma, Abar), shape ``(2, 2) + ...`` (columns sigma, Abar)."""
+        A = self._check_on_manifold(A)
+        return gen.slow_dparams(A, psi, self.rho(A)[0], *self._slow_with(sigma, Abar))
 
     def steady_residual(self, A, sigma=None, Abar=None):
         """Residual of (46) at amplitude(s) A (optionally at other sigma, Abar)."""

@@ -114,6 +114,16 @@ def slow_jac(A, psi, rho, drho, beta, gamma, sigma, Abar):
     return out
 
 
+def slow_dparams(A, psi, rho, beta, gamma, sigma, Abar):
+    """Derivatives of (45) in the parameters: columns d/dsigma, d/dAbar."""
+    shape = numpy.broadcast(A, psi).shape
+    out = numpy.zeros((2, 2) + shape)
+    out[0, 1] = (1/2)*numpy.cos(psi)
+    out[1, 0] = -1/2
+    out[1, 1] = -1/2*numpy.sin(psi)/A
+    return out
+
+
 def steady_residual(A, rho, beta, gamma, sigma, Abar):
     """Steady-state residual (46) on S+ (derived sign)."""
     x0 = A**2

@@ -1,0 +1,105 @@
+"""Writing frequency-response curves and critical-forcing curves as CSV and PNG.
+
+CSV rows follow branch order; ``stable`` is 1 or 0 and ``special`` is empty or one of LP, BP, END.
+"""
+
+from __future__ import annotations
+
+import csv
+from pathlib import Path
+
+import numpy as np
+
+from .slow_flow import SlowFlow
+from .steady_states import FrequencyResponse
+
+__all__ = ["write_frc_csv", "plot_frc", "write_critical_csv", "plot_critical"]
+
+FRC_COLUMNS = ("component", "sigma", "Abar", "A", "psi", "alpha", "stable", "special")
+
+
+def frc_rows(fr: FrequencyResponse):
+    flow = SlowFlow(fr.params)
+    for component, branch in enumerate(fr.branches):
+        alpha = flow.alpha(branch.x[:, 0])
+        labels = branch.special_labels()
+        for i in range(len(branch)):
+            sigma, Abar = (branch.p[i], fr.params.Abar) if branch.param == "sigma" else (fr.params.sigma, branch.p[i])
+            psi = (branch.x[i, 1] + np.pi) % (2 * np.pi) - np.pi
+            yield dict(component=component, sigma=sigma, Abar=Abar, A=branch.x[i, 0], psi=psi, alpha=alpha[i], stable=int(branch.stable[i]), special=labels[i])
+
+
+def write_frc_csv(fr: FrequencyResponse, path) -> Path:
+    path = Path(path)
+    with open(path, "w", newline="") as fh:
+        writer = csv.DictWriter(fh, fieldnames=FRC_COLUMNS)
+        writer.writeheader()
+        for row in frc_rows(fr):
+            writer.writerow({k: (f"{v:.17g}" if isinstance(v, float) else v) for k, v in row.items()})
+    return path
+
+
+def plot_frc(fr: FrequencyResponse, path, *, title=None) -> Path:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from .plotting import plot_branch
+
+    fig, ax = plt.subplots(figsize=(8, 5.5))
+    for k, branch in enumerate(fr.branches):
+        plot_branch(ax, branch, branch.x[:, 0], color=f"C{k}", label=f"component {k}" if len(fr.branches) > 1 else None)
+    ax.axhline(fr.A_min, color="0.5", lw=0.8, ls=":")
+    ax.annotate("A_min (manifold end)", (ax.get_xlim()[0], fr.A_min), textcoords="offset points", xytext=(4, 4), fontsize=8, color="0.4")
+    ax.plot([], [], "k-", label="stable")
+    ax.plot([], [], "k--", label="unstable")
+    ax.set_xlabel(r"detuning $\sigma$")
+    ax.set_ylabel("amplitude A of X (slow flow, eq. 46)")
+    P = fr.params
+    ax.set_title(title or f"Frequency response on S+: Abar = {P.Abar:g}, gamma = {P.gamma:g}, beta = {P.beta:g}, n = {P.n}, pbar = {P.pbar}")
+    ax.legend(fontsize=8)
+    ax.grid(alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return Path(path)
+
+
+def write_critical_csv(curve, path) -> Path:
+    path = Path(path)
+    with open(path, "w", newline="") as fh:
+        writer = csv.writer(fh)
+        writer.writerow(["sigma", "Abar_b", "A", "kind"])
+        for row in zip(curve.sigma, curve.Abar_b, curve.A, curve.kind):
+            writer.writerow([f"{row[0]:.17g}", f"{row[1]:.17g}", f"{row[2]:.17g}", row[3]])
+    return path
+
+
+def plot_critical(curve, path, *, title=None) -> Path:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(8, 5.5))
+    end = curve.end_branch
+    ax.plot(end.p, end.x[:, 0], ":", color="0.5", lw=1, label="end-point condition (A = A_min)")
+    for k, b in enumerate(curve.fold_branches):
+        ax.plot(b.p, b.x[:, 1], "--", color="0.5", lw=1, label="fold of A(Abar)" if k == 0 else None)
+    for kind, color, label in (("END", "tab:blue", "Abar_b at the manifold end"), ("LP", "tab:red", "Abar_b at an interior fold")):
+        sel = curve.kind == kind
+        ax.plot(curve.sigma[sel], curve.Abar_b[sel], ".", color=color, ms=5, label=label)
+    ax.plot(curve.sigma, curve.Abar_b, "-", color="k", lw=1.2, label=r"critical forcing $\bar A_b(\sigma)$")
+    P = curve.params
+    ax.set_xlabel(r"detuning $\sigma$")
+    ax.set_ylabel(r"forcing amplitude $\bar A$")
+    ax.set_ylim(0, 2.0 * max(curve.Abar_b.max(), 1e-3))
+    ax.set_title(title or f"Critical forcing for steady states on S+: gamma = {P.gamma:g}, beta = {P.beta:g}, n = {P.n}, pbar = {P.pbar}")
+    ax.text(0.02, 0.95, "below the curve: no steady state on S+", transform=ax.transAxes, fontsize=8, va="top")
+    ax.legend(fontsize=8, loc="upper right")
+    ax.grid(alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return Path(path)
