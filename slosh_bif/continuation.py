@@ -56,6 +56,8 @@ class ContinuationOptions:
     tol : Newton stops when |F| <= tol and the update <= tol * (1 + |u|)
     max_newton : corrector iterations before a step counts as failed
     growth : step factor after an easy step (<= 3 iterations)
+    max_angle : a step whose tangent turns by more than this (radians) is redone at half the
+        length, so curves stay smooth through sharp peaks
     direction : "both", "forward" (increasing p at the start) or "backward"
     detect_folds, detect_branch_points : locate LP / BP
     locate_tol : arclength tolerance when locating a special point
@@ -70,6 +72,7 @@ class ContinuationOptions:
     tol: float = 1e-11
     max_newton: int = 12
     growth: float = 1.6
+    max_angle: float = 0.1
     direction: str = "both"
     detect_folds: bool = True
     detect_branch_points: bool = True
@@ -86,6 +89,7 @@ class ContinuationOptions:
         need(0 < self.tol < 1e-2, "tol", "in (0, 1e-2)")
         need(isinstance(self.max_newton, int) and self.max_newton >= 2, "max_newton", "an integer >= 2")
         need(1 < self.growth <= 4, "growth", "in (1, 4]")
+        need(0 < self.max_angle <= math.pi / 2, "max_angle", "in (0, pi/2]")
         need(self.direction in ("both", "forward", "backward"), "direction", "'both', 'forward' or 'backward'")
         need(0 < self.locate_tol < 1e-3, "locate_tol", "in (0, 1e-3)")
 
@@ -237,6 +241,9 @@ def _run(problem, start: _Point, opts, loop_guard: bool):
             points.append(_end_on_bound(problem, a, u, bound, opts))
             return points, _BOUND
         b = _Point(u, _tangent(problem, u, a.t), iters)
+        if b.t @ a.t < math.cos(opts.max_angle) and h > 2 * opts.step_min:
+            h *= 0.5  # turned too sharply: redo shorter
+            continue
         points.extend(_special_between(problem, a, b, h, opts))
         points.append(b)
         if loop_guard and len(points) > 3 and _passes(start, a.u, u, h):

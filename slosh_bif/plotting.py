@@ -51,7 +51,7 @@ def _runs(mask):
     return [(a, min(b, len(mask) - 1)) for a, b in zip(bounds[:-1], bounds[1:])]
 
 
-def plot_branch(ax, branch, y, *, x=None, color="tab:blue", label=None):
+def plot_branch(ax, branch, y, *, x=None, color="tab:blue", label=None, label_ends=True):
     """A branch: stable runs solid, unstable dashed, special points marked and labelled.
 
     ``y`` (and optionally ``x``, default the continued parameter) are arrays along the branch.
@@ -63,5 +63,7 @@ def plot_branch(ax, branch, y, *, x=None, color="tab:blue", label=None):
     for s in branch.special:
         marker, mcolor = markers[s.kind]
         ax.plot(x[s.index], y[s.index], marker, color=mcolor, ms=6, mfc="none" if s.kind == "LP" else mcolor)
+        if s.kind == "END" and not label_ends:
+            continue
         ax.annotate(s.kind, (x[s.index], y[s.index]), textcoords="offset points", xytext=(5, 5), fontsize=8, color=mcolor)
     return ax

@@ -35,3 +35,36 @@ def test_help_explains_itself(argv, capsys):
         main(argv)
     assert exc.value.code == 0
     assert "usage: slosh-bif" in capsys.readouterr().out
+
+
+def test_frc_writes_csv_png_and_branches(tmp_path, capsys):
+    import csv
+
+    from slosh_bif.branch import Branch
+
+    assert main(["frc", "--preset", "fig13", "--sigma-min", "-2", "--sigma-max", "3", "--out", str(tmp_path)]) == 0
+    rows = list(csv.DictReader(open(tmp_path / "frc.csv")))
+    assert {"sigma", "A", "psi", "alpha", "stable", "special"} <= set(rows[0])
+    assert {r["stable"] for r in rows} <= {"0", "1"} and {r["special"] for r in rows} <= {"", "LP", "BP", "END"}
+    assert rows[0]["special"] == "END" and float(rows[0]["sigma"]) in (-2.0, 3.0)
+    assert (tmp_path / "frc.png").stat().st_size > 10_000
+    branch = Branch.load(tmp_path / "frc_branch0.npz")
+    assert len(branch) == sum(r["component"] == "0" for r in rows)
+    assert "component 0" in capsys.readouterr().out
+
+
+def test_critical_writes_csv_and_png(tmp_path, capsys):
+    import csv
+
+    assert main(["critical", "--preset", "fig12", "--sigma-min", "-1", "--sigma-max", "2", "--out", str(tmp_path)]) == 0
+    rows = list(csv.DictReader(open(tmp_path / "critical.csv")))
+    assert list(rows[0])[:3] == ["sigma", "Abar_b", "A"]
+    sigmas = [float(r["sigma"]) for r in rows]
+    assert sigmas == sorted(sigmas) and sigmas[0] == -1.0 and sigmas[-1] == 2.0
+    assert (tmp_path / "critical.png").stat().st_size > 10_000
+    assert "no steady state on S+" in capsys.readouterr().out  # Fig. 12: Abar = 0.5 < Abar_b(1) = 0.705
+
+
+def test_range_options_are_checked(tmp_path, capsys):
+    assert main(["frc", "--preset", "fig10", "--sigma-min", "3", "--sigma-max", "1", "--out", str(tmp_path)]) == 2
+    assert "--sigma-min must be below --sigma-max" in capsys.readouterr().err
