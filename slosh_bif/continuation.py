@@ -7,7 +7,9 @@ A problem is any object with
 * optionally ``in_domain(x, p)`` -> bool (points outside are never evaluated),
   ``edge_point(x, p)`` -> ``(x, p)`` or None: the exact point where the branch through (x, p)
   leaves the domain, appended as the branch's end when it gets there, and
-  ``eigenvalues(x, p)`` -> (n,) complex (stable when all real parts are negative).
+  ``eigenvalues(x, p)`` -> (n,) complex (stable when all real parts are negative); a problem
+  whose stability is that of its own Jacobian sets ``stability_from_jacobian = True`` instead,
+  and the engine reuses the Jacobian it already has at each point.
 
 With ``u = (x, p)`` and the unit tangent ``t`` of the curve F(u) = 0, each step predicts
 ``u + h t`` and corrects by Newton on the bordered system ``[F(u); t . (u - u_pred)] = 0``,
@@ -56,8 +58,9 @@ class ContinuationOptions:
     tol : Newton stops when |F| <= tol and the update <= tol * (1 + |u|)
     max_newton : corrector iterations before a step counts as failed
     growth : step factor after an easy step (<= 3 iterations)
-    max_angle : a step whose tangent turns by more than this (radians) is redone at half the
-        length, so curves stay smooth through sharp peaks
+    max_angle : the tangent may turn by about this much (radians) per step: the next step is
+        scaled to it, and a step turning by more than twice as much is redone, so curves stay
+        smooth through sharp peaks
     direction : "both", "forward" (increasing p at the start) or "backward"
     detect_folds, detect_branch_points : locate LP / BP
     locate_tol : arclength tolerance when locating a special point
@@ -102,6 +105,8 @@ class _Point:
     kind: str = ""
     message: str = ""
     bracket: tuple = ()
+    tests: tuple = ()  # (fold test t_p, branch-point test det) at this point
+    jac: np.ndarray | None = None  # F_x here, kept for stability
 
 
 # -- linear algebra of the bordered system ---------------------------------------------------------
@@ -126,13 +131,18 @@ def _solve(M, b):
         return np.linalg.lstsq(M, b, rcond=None)[0]
 
 
-def _tangent(problem, u, t_prev):
-    """Unit tangent at u, oriented along t_prev."""
+def _point(problem, u, t_prev, iterations=0, **extra):
+    """A point at u with its unit tangent (oriented along t_prev) and test functions, from one F_x, F_p."""
+    x, p = u[:-1], u[-1]
+    J = problem.jacobian(x, p)
+    top = np.column_stack([J, problem.dparam(x, p)])
     rhs = np.zeros(len(u))
     rhs[-1] = 1.0
-    t = _solve(_bordered(problem, u, t_prev), rhs)
+    t = _solve(np.vstack([top, t_prev]), rhs)
     t /= np.linalg.norm(t)
-    return t if t @ t_prev >= 0 else -t
+    t = t if t @ t_prev >= 0 else -t
+    tests = (t[-1], np.linalg.det(np.vstack([top, t])))
+    return _Point(u, t, iterations, tests=tests, jac=J, **extra)
 
 
 def _initial_tangent(problem, u, forward: bool):
@@ -145,18 +155,26 @@ def _initial_tangent(problem, u, forward: bool):
 
 
 def _correct(problem, u_pred, t, opts):
-    """Newton on [F(u); t . (u - u_pred)] = 0. Returns (u, iterations) or (None, iterations)."""
+    """Newton on [F(u); t . (u - u_pred)] = 0. Returns (u, iterations) or (None, iterations).
+
+    Converged when |F| is at the tolerance and the last update, or the next one predicted from
+    quadratic convergence (|du_k|^2 / |du_k-1|), is below ``tol * (1 + |u|)``.
+    """
     u = u_pred.copy()
-    for k in range(1, opts.max_newton + 1):
+    step = previous = math.inf
+    for k in range(opts.max_newton + 1):
         if not _in_domain(problem, u):
             return None, k
         F = problem.residual(u[:-1], u[-1])
-        H = np.append(F, t @ (u - u_pred))
-        du = _solve(_bordered(problem, u, t), -H)
-        u = u + du
-        if np.linalg.norm(du) <= opts.tol * (1 + np.linalg.norm(u)) and _in_domain(problem, u):
-            if np.linalg.norm(problem.residual(u[:-1], u[-1])) <= max(opts.tol, 1e3 * np.finfo(float).eps * (1 + np.linalg.norm(u))):
+        scale = 1.0 + np.linalg.norm(u)
+        if k > 0 and np.linalg.norm(F) <= max(opts.tol, 1e3 * np.finfo(float).eps * scale):
+            if step <= opts.tol * scale or (k > 1 and step * step / previous <= opts.tol * scale):
                 return u, k
+        if k == opts.max_newton:
+            break
+        du = _solve(_bordered(problem, u, t), -np.append(F, t @ (u - u_pred)))
+        previous, step = step, np.linalg.norm(du)
+        u = u + du
     return None, opts.max_newton
 
 
@@ -174,11 +192,7 @@ def newton(problem, x0, p, *, tol=1e-11, max_iter=30):
     raise ConvergenceError(f"Newton did not converge in {max_iter} iterations at p = {p} (last |F| = {np.linalg.norm(F):.3g})")
 
 
-# -- test functions and their location -------------------------------------------------------------
-
-
-def _tests(problem, u, t):
-    return t[-1], np.linalg.det(_bordered(problem, u, t))
+# -- location of special points --------------------------------------------------------------------
 
 
 def _locate(problem, a: _Point, h, which, opts):
@@ -188,14 +202,10 @@ def _locate(problem, a: _Point, h, which, opts):
         u, _ = _correct(problem, a.u + s * a.t, a.t, opts)
         if u is None:
             raise ConvergenceError("corrector failed while locating a special point")
-        return u, _tangent(problem, u, a.t)
+        return _point(problem, u, a.t)
 
-    def test(s):
-        return _tests(problem, *point(s))[which]
-
-    s = optimize.brentq(test, 0.0, h, xtol=opts.locate_tol, rtol=4 * np.finfo(float).eps)
-    u, t = point(s)
-    return u, t
+    s = optimize.brentq(lambda s: point(s).tests[which], 0.0, h, xtol=opts.locate_tol, rtol=4 * np.finfo(float).eps)
+    return point(s)
 
 
 # -- one direction ---------------------------------------------------------------------------------
@@ -209,7 +219,7 @@ def _end_on_bound(problem, a: _Point, b_u, bound, opts):
     except (ConvergenceError, np.linalg.LinAlgError):
         x = (1 - w) * a.u[:-1] + w * b_u[:-1]  # a fold on the bound: keep the interpolated point
     u = np.append(x, bound)
-    return _Point(u, _tangent(problem, u, a.t), 0, END, f"{_BOUND} {'p_max' if bound == opts.p_max else 'p_min'} = {bound}", (a.u[-1], b_u[-1]))
+    return _point(problem, u, a.t, kind=END, message=f"{_BOUND} {'p_max' if bound == opts.p_max else 'p_min'} = {bound}", bracket=(a.u[-1], b_u[-1]))
 
 
 def _run(problem, start: _Point, opts, loop_guard: bool):
@@ -230,7 +240,7 @@ def _run(problem, start: _Point, opts, loop_guard: bool):
                 bracket = (a.u[-1], (a.u + 2 * h * a.t)[-1])
                 edge = _edge_point(problem, a, opts) if reason == _EDGE else None
                 if edge is not None:
-                    points.append(_Point(edge, a.t, 0, END, f"{reason}: {getattr(problem, 'edge_name', 'boundary')}", bracket))
+                    points.append(_Point(edge, a.t, 0, END, f"{reason}: {getattr(problem, 'edge_name', 'boundary')}", bracket, a.tests))
                 else:
                     a.kind, a.message, a.bracket = END, f"{reason}: last step {2 * h:.3g} failed", bracket
                 return points, reason
@@ -240,9 +250,10 @@ def _run(problem, start: _Point, opts, loop_guard: bool):
             bound = opts.p_max if u[-1] > opts.p_max else opts.p_min
             points.append(_end_on_bound(problem, a, u, bound, opts))
             return points, _BOUND
-        b = _Point(u, _tangent(problem, u, a.t), iters)
-        if b.t @ a.t < math.cos(opts.max_angle) and h > 2 * opts.step_min:
-            h *= 0.5  # turned too sharply: redo shorter
+        b = _point(problem, u, a.t, iters)
+        angle = math.acos(min(1.0, max(-1.0, float(b.t @ a.t))))
+        if angle > 2 * opts.max_angle and h > 2 * opts.step_min:
+            h *= 0.5 * opts.max_angle / angle + 0.25  # turned far too sharply: redo shorter
             continue
         points.extend(_special_between(problem, a, b, h, opts))
         points.append(b)
@@ -250,6 +261,8 @@ def _run(problem, start: _Point, opts, loop_guard: bool):
             b.kind, b.message = END, f"{_LOOP}: back at the start point"
             return points, _LOOP
         h = min(h * opts.growth, opts.step_max) if iters <= 3 else (h * 0.6 if iters >= 6 else h)
+        if angle > opts.max_angle:
+            h *= opts.max_angle / angle
         h = max(h, opts.step_min)
 
 
@@ -272,19 +285,19 @@ def _passes(start: _Point, ua, ub, h):
 
 def _special_between(problem, a: _Point, b: _Point, h, opts):
     found = []
-    ta, tb = _tests(problem, a.u, a.t), _tests(problem, b.u, b.t)
     for which, kind, enabled in ((0, FOLD, opts.detect_folds), (1, BRANCH_POINT, opts.detect_branch_points)):
-        if enabled and np.sign(ta[which]) * np.sign(tb[which]) < 0:
+        if enabled and np.sign(a.tests[which]) * np.sign(b.tests[which]) < 0:
             try:
-                u, t = _locate(problem, a, h, which, opts)
+                q = _locate(problem, a, h, which, opts)
             except (ConvergenceError, ValueError) as err:
-                u, t = b.u, b.t
-                message = f"{'fold' if kind == FOLD else 'branch point'} detected, not located: {err}"
+                q = dataclasses.replace(b, iterations=0)
+                q.message = f"{'fold' if kind == FOLD else 'branch point'} detected, not located: {err}"
             else:
-                message = "fold: the tangent's parameter component changes sign" if kind == FOLD else (
+                q.message = "fold: the tangent's parameter component changes sign" if kind == FOLD else (
                     "branch point: the bordered Jacobian's determinant changes sign"
                 )
-            found.append(_Point(u, t, 0, kind, message, (a.u[-1], b.u[-1])))
+            q.kind, q.bracket = kind, (a.u[-1], b.u[-1])
+            found.append(q)
     found.sort(key=lambda q: (q.u - a.u) @ a.t)
     return found
 
@@ -311,7 +324,7 @@ def continuation(problem, x0, p0, *, param="p", options: ContinuationOptions | N
     for forward in (True, False):
         if opts.direction == ("backward" if forward else "forward") or closed:
             continue
-        start = _Point(u0, _initial_tangent(problem, u0, forward), 0)
+        start = _point(problem, u0, _initial_tangent(problem, u0, forward))
         runs[forward] = _run(problem, start, opts, loop_guard=True)
         closed = runs[forward][1] == _LOOP
     back, back_reason = runs.get(False, ([], None))
@@ -328,13 +341,23 @@ def continuation(problem, x0, p0, *, param="p", options: ContinuationOptions | N
     return _assemble(problem, points, param, status, message, opts)
 
 
+def _eigenvalues(problem, q: _Point):
+    n = len(q.u) - 1
+    if getattr(problem, "stability_from_jacobian", False):
+        J = q.jac if q.jac is not None else problem.jacobian(q.u[:-1], q.u[-1])
+        return np.linalg.eigvals(J) if np.all(np.isfinite(J)) else np.full(n, np.nan + 0j)
+    if hasattr(problem, "eigenvalues"):
+        return problem.eigenvalues(q.u[:-1], q.u[-1])
+    return np.full(n, np.nan + 0j)
+
+
 def _assemble(problem, points, param, status, message, opts) -> Branch:
     u = np.array([q.u for q in points])
     steps = np.linalg.norm(np.diff(u, axis=0), axis=1)
-    eig_fn = getattr(problem, "eigenvalues", None)
     n = u.shape[1] - 1
-    eigenvalues = np.array([eig_fn(q.u[:-1], q.u[-1]) for q in points]) if eig_fn else np.full((len(points), n), np.nan + 0j)
-    stable = np.all(eigenvalues.real < 0, axis=1) if eig_fn else np.ones(len(points), dtype=bool)
+    eigenvalues = np.array([_eigenvalues(problem, q) for q in points])
+    given = getattr(problem, "stability_from_jacobian", False) or hasattr(problem, "eigenvalues")
+    stable = np.all(eigenvalues.real < 0, axis=1) if given else np.ones(len(points), dtype=bool)
     special = tuple(
         SpecialPoint(q.kind, i, float(q.u[-1]), q.u[:-1].copy(), tuple(float(v) for v in q.bracket), q.message)
         for i, q in enumerate(points)

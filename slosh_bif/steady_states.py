@@ -40,6 +40,7 @@ class SteadyStateProblem:
 
     names = ("A", "psi")
     edge_name = "manifold end A = A_min"
+    stability_from_jacobian = True  # the residual is the slow flow: its Jacobian decides stability
 
     def __init__(self, params: Params, param: str = "sigma"):
         if param not in PARAMS:
@@ -49,25 +50,28 @@ class SteadyStateProblem:
         self.flow = SlowFlow(params)
         self.A_edge = self.flow.A_min * (1 + EDGE_MARGIN)
         self._column = PARAMS.index(param)
+        # The engine only evaluates inside the domain (A >= A_edge), so the generated functions are
+        # called directly, without SlowFlow's per-call input checks; rho is a constant at pbar = 0.
+        self._rho0 = (self.flow.rho(1.0)[0].item(), 0.0) if self.flow.newtonian else None
 
-    def _kw(self, p):
-        return {self.param: p}
+    def _rho(self, A):
+        return self._rho0 if self._rho0 is not None else tuple(float(v) for v in self.flow.rho(A))
+
+    def _slow(self, p):
+        P = self.params
+        return (P.beta, P.gamma, p, P.Abar) if self.param == "sigma" else (P.beta, P.gamma, P.sigma, p)
 
     def residual(self, x, p):
-        return self.flow.rhs(x[0], x[1], **self._kw(p))
+        return gen.slow_rhs(x[0], x[1], self._rho(x[0])[0], *self._slow(p))
 
     def jacobian(self, x, p):
-        return self.flow.jac(x[0], x[1], **self._kw(p))
+        return gen.slow_jac(x[0], x[1], *self._rho(x[0]), *self._slow(p))
 
     def dparam(self, x, p):
-        return self.flow.dparams(x[0], x[1], **self._kw(p))[:, self._column]
+        return gen.slow_dparams(x[0], x[1], self._rho(x[0])[0], *self._slow(p))[:, self._column]
 
     def in_domain(self, x, p):
         return bool(x[0] >= self.A_edge)
-
-    def eigenvalues(self, x, p):
-        J = self.jacobian(x, p)
-        return np.linalg.eigvals(J) if np.all(np.isfinite(J)) else np.full(2, np.nan + 0j)
 
     def edge_point(self, x, p):
         """The steady state with A on the manifold's end (A_min(1 + EDGE_MARGIN)) near (x, p)."""
