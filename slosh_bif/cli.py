@@ -114,7 +114,7 @@ def _critical(args) -> int:
     params = _params(args)
     lo, hi = _sigma_range(args)
     args.out.mkdir(parents=True, exist_ok=True)
-    curve = critical_curve(params, lo, hi)
+    curve = critical_curve(params, lo, hi, progress=lambda message: print(f"  {message}", file=sys.stderr, flush=True))
     csv_path, png_path = write_critical_csv(curve, args.out / "critical.csv"), plot_critical(curve, args.out / "critical.png")
     at = float(np.interp(params.sigma, curve.sigma, curve.Abar_b)) if curve.sigma[0] <= params.sigma <= curve.sigma[-1] else None
     if at is not None:

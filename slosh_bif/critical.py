@@ -184,25 +184,32 @@ def _trace(problem, x0, sigma0, lo, hi, options):
     return cont.continuation(problem, x0, sigma0, param="sigma", options=opts)
 
 
-def critical_curve(params: Params, sigma_min: float, sigma_max: float, *, seeds: int = 7, options: cont.ContinuationOptions | None = None) -> CriticalCurve:
+def critical_curve(
+    params: Params, sigma_min: float, sigma_max: float, *, seeds: int = 7, options: cont.ContinuationOptions | None = None, progress=None
+) -> CriticalCurve:
     """Abar_b(sigma) over [sigma_min, sigma_max] by continuation of the fold and end-point conditions.
 
     Folds are seeded by :func:`critical_forcing` at ``seeds`` values of sigma; each fold curve is
-    then traced by continuation (a seed on an already traced curve is skipped).
+    then traced by continuation (a seed on an already traced curve is skipped). ``progress``, if
+    given, is called with a short message after each stage.
     """
+    report = progress or (lambda message: None)
     if not sigma_min < sigma_max:
         raise ValueError(f"need sigma_min < sigma_max; got {sigma_min} and {sigma_max}")
     opts = options or _DEFAULT
     r = _Residual46(params)
     end_problem = EndProblem(params)
     end = _trace(end_problem, [r.abar_at(r.A_edge, sigma_min)], float(sigma_min), sigma_min, sigma_max, opts)
+    report(f"end-point curve: {len(end)} points")
     fold_problem = FoldProblem(params)
     folds = []
-    for sigma in np.linspace(sigma_min, sigma_max, seeds):
+    for k, sigma in enumerate(np.linspace(sigma_min, sigma_max, seeds)):
         for lp in abar_branch(params, sigma, options=opts).special_of("LP"):
             x = np.array([lp.x[0], lp.p])
             if not any(_on_branch(b, x, sigma) for b in folds):
                 folds.append(_trace(fold_problem, x, float(sigma), sigma_min, sigma_max, opts))
+                report(f"fold curve {len(folds)}: {len(folds[-1])} points ({folds[-1].message})")
+        report(f"seed {k + 1}/{seeds} at sigma = {sigma:.4g} done")
     return _envelope(params, end, tuple(folds), fold_problem)
 
 

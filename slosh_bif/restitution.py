@@ -142,15 +142,18 @@ def _solve_manifold_kappa(A, delta1, exponent, xtol):
     grid = np.linspace(1.0, k_low, 65)[:-1]
     grid = np.append(grid, k_low + (grid[-1] - k_low) * 1e-9)
     grid = grid[grid > 0]
-    values = np.array([_manifold_residual(k, A, delta1, exponent) for k in grid])
+    values = _manifold_residual(grid, A, delta1, exponent)  # one vectorised pass over the scan
     # Scanning down from kappa = 1 (where the residual is > 0) picks the root nearest the elastic
     # limit: the one reached continuously from small dissipation.
-    for i in range(len(grid) - 1):
-        if values[i] == 0.0:
-            return grid[i]
-        if np.sign(values[i]) != np.sign(values[i + 1]):
-            return optimize.brentq(_manifold_residual, grid[i + 1], grid[i], args=(A, delta1, exponent), xtol=xtol)
-    return np.nan
+    sign_change = np.flatnonzero(np.sign(values[:-1]) != np.sign(values[1:]))
+    if values[0] == 0.0:
+        return grid[0]
+    if len(sign_change) == 0:
+        return np.nan
+    i = sign_change[0]
+    if values[i + 1] == 0.0:
+        return grid[i + 1]
+    return optimize.brentq(lambda k: float(_manifold_residual(k, A, delta1, exponent)), grid[i + 1], grid[i], xtol=xtol)
 
 
 def kappa_on_manifold(A, lam, chi, n, pbar, *, strict=True, xtol=1e-14) -> ManifoldKappa:
