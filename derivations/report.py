@@ -73,10 +73,8 @@ def _kappa21_printed(speed=v0):
 
 def entries() -> list[Entry]:
     ic, sf, ss, tf = s.impact_conditions(), s.slow_flow(), s.steady_state(), s.triangle_fourier()
-    a_S = sp.Symbol("alpha_S")
     wall = {n: (1, 60), pbar: (-0.9, 4), lam: (0.01, 0.1), chi: (0.5, 2), v0: (0.2, 3)}
     j = sp.Symbol("j", integer=True, positive=True)
-    theta = sp.Symbol("theta")
     forced_printed = [
         -gamma * A / 2 - 4 * rho * alpha**2 * (1 - beta**2) / (sp.pi**2 * A) + Abar / 2 * sp.cos(psi),
         -(sigma - (1 - beta**2)) / 2 + 4 * alpha * (1 - alpha) * (1 - beta**2) / (sp.pi**2 * A**2) - Abar / (2 * A) * sp.sin(psi),

@@ -124,6 +124,7 @@ def impact_conditions():
         "cos_phase": rho * alpha / A,
         "sin_phase": (1 - alpha) / A,
         "impulse_30": impulse,
+        "wall_32": wall,
         "alpha_stable": stable,
         "alpha_unstable": unstable,
         "A_min": sp.simplify(a_min),

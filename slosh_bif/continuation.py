@@ -354,7 +354,6 @@ def _eigenvalues(problem, q: _Point):
 def _assemble(problem, points, param, status, message, opts) -> Branch:
     u = np.array([q.u for q in points])
     steps = np.linalg.norm(np.diff(u, axis=0), axis=1)
-    n = u.shape[1] - 1
     eigenvalues = np.array([_eigenvalues(problem, q) for q in points])
     given = getattr(problem, "stability_from_jacobian", False) or hasattr(problem, "eigenvalues")
     stable = np.all(eigenvalues.real < 0, axis=1) if given else np.ones(len(points), dtype=bool)
