@@ -117,10 +117,15 @@ def _in_domain(problem, u):
     return bool(np.all(np.isfinite(u))) and (check is None or bool(check(u[:-1], u[-1])))
 
 
-def _bordered(problem, u, t):
+def _top(problem, u):
+    """F_x and the n x (n+1) matrix [F_x, F_p] at u."""
     x, p = u[:-1], u[-1]
-    top = np.column_stack([problem.jacobian(x, p), problem.dparam(x, p)])
-    return np.vstack([top, t])
+    J = problem.jacobian(x, p)
+    return J, np.column_stack([J, problem.dparam(x, p)])
+
+
+def _bordered(problem, u, t):
+    return np.vstack([_top(problem, u)[1], t])
 
 
 def _solve(M, b):
@@ -133,9 +138,7 @@ def _solve(M, b):
 
 def _point(problem, u, t_prev, iterations=0, **extra):
     """A point at u with its unit tangent (oriented along t_prev) and test functions, from one F_x, F_p."""
-    x, p = u[:-1], u[-1]
-    J = problem.jacobian(x, p)
-    top = np.column_stack([J, problem.dparam(x, p)])
+    J, top = _top(problem, u)
     rhs = np.zeros(len(u))
     rhs[-1] = 1.0
     t = _solve(np.vstack([top, t_prev]), rhs)
@@ -146,9 +149,7 @@ def _point(problem, u, t_prev, iterations=0, **extra):
 
 
 def _initial_tangent(problem, u, forward: bool):
-    x, p = u[:-1], u[-1]
-    top = np.column_stack([problem.jacobian(x, p), problem.dparam(x, p)])
-    t = np.linalg.svd(top)[2][-1]  # null vector of [F_x, F_p]
+    t = np.linalg.svd(_top(problem, u)[1])[2][-1]  # null vector of [F_x, F_p]
     if t[-1] < 0 or (t[-1] == 0 and t[0] < 0):
         t = -t
     return t if forward else -t

@@ -21,7 +21,6 @@ import dataclasses
 import numpy as np
 
 from . import continuation as cont
-from ._generated import slow_flow as gen
 from .params import Params
 from .slow_flow import SlowFlow
 from .steady_states import EDGE_MARGIN, SteadyStateProblem
@@ -38,17 +37,14 @@ class _Residual46:
 
     def __init__(self, params: Params):
         self.flow = SlowFlow(params)
-        P = params
-        self.beta, self.gamma = P.beta, P.gamma
         self.A_edge = self.flow.A_min * (1 + EDGE_MARGIN)
 
     def R(self, A, sigma, Abar):
-        return float(gen.steady_residual(A, self.flow.rho(A)[0], self.beta, self.gamma, sigma, Abar))
+        return float(self.flow.steady_residual(A, sigma, Abar))
 
     def grad(self, A, sigma, Abar):
         """[R_A, R_sigma, R_Abar]."""
-        r, dr = self.flow.rho(A)
-        return np.asarray(gen.steady_residual_grad(A, r, dr, self.beta, self.gamma, sigma, Abar), dtype=float)
+        return np.asarray(self.flow.steady_residual_grad(A, sigma, Abar), dtype=float)
 
     def hess_row(self, A, sigma, Abar):
         """[R_AA, R_Asigma, R_AAbar] by central differences of the analytic R_A."""
@@ -64,7 +60,7 @@ class _Residual46:
 
     def abar_at(self, A, sigma):
         """The (unique, non-negative) Abar of the steady state of amplitude A at sigma."""
-        E, Phi = gen.steady_balances(A, self.flow.rho(A)[0], self.beta, self.gamma, sigma, 1.0)
+        E, Phi = self.flow.steady_balances(A, sigma=sigma, Abar=1.0)
         return float(np.hypot(E, Phi) / (np.pi**2 * A))
 
 

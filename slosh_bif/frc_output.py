@@ -10,7 +10,6 @@ from pathlib import Path
 
 import numpy as np
 
-from .slow_flow import SlowFlow
 from .steady_states import FrequencyResponse
 
 __all__ = ["write_frc_csv", "plot_frc", "write_critical_csv", "plot_critical"]
@@ -19,9 +18,8 @@ FRC_COLUMNS = ("component", "sigma", "Abar", "A", "psi", "alpha", "stable", "spe
 
 
 def frc_rows(fr: FrequencyResponse):
-    flow = SlowFlow(fr.params)
     for component, branch in enumerate(fr.branches):
-        alpha = flow.alpha(branch.x[:, 0])
+        alpha = fr.alpha(branch)
         labels = branch.special_labels()
         for i in range(len(branch)):
             sigma, Abar = (branch.p[i], fr.params.Abar) if branch.param == "sigma" else (fr.params.sigma, branch.p[i])

@@ -32,6 +32,8 @@ import dataclasses
 import math
 import numbers
 
+from .restitution import dissipation_at_unit_speed
+
 __all__ = ["Params", "FIELDS"]
 
 FIELDS = ("eps", "beta", "gamma", "sigma", "Abar", "lam", "chi", "n", "pbar")
@@ -105,10 +107,6 @@ class Params:
         self._check_restitution()
 
     def _check_restitution(self):
-        # Imported here: restitution imports nothing from this module, but keeping the
-        # dependency one-way at import time keeps `params` importable on its own.
-        from .restitution import dissipation_at_unit_speed
-
         delta = dissipation_at_unit_speed(self.lam, self.chi, self.n, self.pbar)
         if not delta < 1.0:
             kappa_sq = 1.0 - delta

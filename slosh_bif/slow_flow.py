@@ -139,10 +139,17 @@ class SlowFlow:
         r, dr = self.rho(A)
         return gen.steady_residual_grad(A, r, dr, *self._slow_with(sigma, Abar))
 
+    def steady_balances(self, A, sigma=None, Abar=None):
+        """(E, Phi) of (46) at amplitude A: at a steady state pi^2 A Abar (cos psi, sin psi) = (E, Phi).
+
+        E (the energy balance) does not depend on sigma or Abar; Phi is linear in sigma.
+        """
+        A = self._check_on_manifold(A)
+        return gen.steady_balances(A, self.rho(A)[0], *self._slow_with(sigma, Abar))
+
     def steady_phase(self, A, sigma=None, Abar=None):
         """psi of the steady state of amplitude A (requires Abar > 0)."""
-        A = self._check_on_manifold(A)
-        energy, phase = gen.steady_balances(A, self.rho(A)[0], *self._slow_with(sigma, Abar))
+        energy, phase = self.steady_balances(A, sigma, Abar)
         return np.arctan2(phase, energy)
 
     def _slow_with(self, sigma, Abar):

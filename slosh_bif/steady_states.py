@@ -87,16 +87,10 @@ class SteadyStateProblem:
         return None
 
 
-def _energy_and_phase(flow: SlowFlow, A, sigma):
-    """E and Phi of (46) at amplitude(s) A: pi^2 A Abar cos psi = E, pi^2 A Abar sin psi = Phi."""
-    P = flow.params
-    return gen.steady_balances(A, flow.rho(A)[0], P.beta, P.gamma, sigma, P.Abar)
-
-
 def sigma_on_curve(flow: SlowFlow, A):
     """Both roots sigma(A) of (46) at amplitude(s) A (NaN where pi^2 A Abar < E)."""
     A = np.asarray(A, dtype=float)
-    E, Phi0 = _energy_and_phase(flow, A, 0.0)  # Phi is Phi0 - pi^2 A^2 sigma
+    E, Phi0 = flow.steady_balances(A, sigma=0.0)  # Phi is Phi0 - pi^2 A^2 sigma
     disc = (np.pi**2 * A * flow.params.Abar) ** 2 - E**2
     root = np.sqrt(np.where(disc >= 0, disc, np.nan))
     scale = np.pi**2 * A**2
@@ -128,6 +122,7 @@ class FrequencyResponse:
     A_min: float
 
     def alpha(self, branch: Branch):
+        """alpha_S+ along a branch (its A column)."""
         return SlowFlow(self.params).alpha(branch.x[:, 0])
 
 
