@@ -98,6 +98,33 @@ def _body(fn: Function) -> list[str]:
     return lines
 
 
+def _kernel_body(fn: Function) -> list[str]:
+    """Scalar statements writing ``fn.outputs`` (a column) into ``out`` in place."""
+    printer = _Printer()
+    replacements, reduced = sp.cse(list(fn.outputs), symbols=sp.numbered_symbols("x"), optimizations="basic", order="canonical")
+    lines = [f"    {s} = pars[{i}]" for i, s in enumerate(fn.scalar_args)]
+    for name, vector in fn.vector_args:
+        lines += [f"    {s} = {name}[{i}]" for i, s in enumerate(vector)]
+    lines += [f"    {sym} = {printer.doprint(expr)}" for sym, expr in replacements]
+    lines += [f"    out[{i}] = {printer.doprint(expr)}" for i, expr in enumerate(reduced)]
+    return lines
+
+
+def render_kernels(title: str, script: str, functions: list[Function]) -> str:
+    """Source text of scalar, allocation-free kernels ``name(tau, <vector args>, out, pars)``.
+
+    Every output component is written (zeros included) so that ``out`` may be uninitialised;
+    ``pars`` holds ``fn.scalar_args`` in order. Plain Python that numba compiles unchanged.
+    """
+    text = HEADER.format(title=title, script=script, sympy_range=SYMPY_RANGE)
+    for fn in functions:
+        args = ["tau"] + [name for name, _ in fn.vector_args] + ["out", "pars"]
+        text += f"\ndef {fn.name}({', '.join(args)}):\n"
+        text += f'    """{fn.doc}"""\n'
+        text += "\n".join(_kernel_body(fn)) + "\n\n"
+    return text.rstrip("\n") + "\n"
+
+
 def render_module(title: str, script: str, functions: list[Function]) -> str:
     """Source text of a module holding ``functions``."""
     text = HEADER.format(title=title, script=script, sympy_range=SYMPY_RANGE)

@@ -64,6 +64,40 @@ def _models_module() -> str:
     return codegen.render_module("Right-hand sides, Jacobians and energies of models (8) and (9).", SCRIPT, functions)
 
 
+def _kernels_module() -> str:
+    """Kernels for the compiled integrator: (9) alone, and (9) with everything shooting needs.
+
+    The shooting state is z = [y (4), Phi (16, row-major), dy/dsigma (4), dy/dAbar (4), int tr J]:
+    the orbit, its monodromy, its sensitivities to the two continued parameters and the
+    Liouville integral, all from one integration.
+    """
+    f = m.smooth_rhs()
+    J = m.jacobian(f)
+    phi = sp_matrix(sp.symbols("phi0:16", real=True)).reshape(4, 4)
+    s_sigma = sp_matrix(sp.symbols("s0:4", real=True))
+    s_abar = sp_matrix(sp.symbols("q0:4", real=True))
+    shooting = sp_matrix(
+        list(f) + list(J * phi) + list(J * s_sigma + f.diff(m.sigma)) + list(J * s_abar + f.diff(m.Abar)) + [J.trace()]
+    )
+    state = (("y", m.STATE),)
+    augmented = (("z", tuple(m.STATE) + tuple(phi) + tuple(s_sigma) + tuple(s_abar) + (sp.Symbol("trace"),)),)
+    F = codegen.Function
+    return codegen.render_kernels(
+        "Scalar kernels of the smooth model (9) for the compiled integrator (slosh_bif.integrator).",
+        SCRIPT,
+        [
+            F("smooth_rhs_kernel", "out = f(tau, y) of (9); pars = (eps, beta, gamma, sigma, Abar, lam, chi, n, p).", state, m.PARAMS, f),
+            F(
+                "smooth_shooting_kernel",
+                "out = d/dtau [y, Phi, dy/dsigma, dy/dAbar, int tr J] for (9), 29 components.",
+                augmented,
+                m.PARAMS,
+                shooting,
+            ),
+        ],
+    )
+
+
 def sp_matrix(items):
     return sp.Matrix(list(items))
 
@@ -73,6 +107,7 @@ def render_all() -> dict[Path, str]:
     return {
         GENERATED / "__init__.py": '"""Generated code: written by derivations/generate.py, never edited by hand."""\n',
         GENERATED / "models.py": _models_module(),
+        GENERATED / "kernels.py": _kernels_module(),
         GENERATED / "slow_flow.py": codegen.render_module(
             "The slow invariant manifold (36), slow flow (45), steady states (46) and kappa on the manifold (39).",
             SCRIPT,

@@ -14,16 +14,18 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["Branch", "SpecialPoint", "FOLD", "BRANCH_POINT", "END"]
+__all__ = ["Branch", "SpecialPoint", "FOLD", "BRANCH_POINT", "PERIOD_DOUBLING", "NEIMARK_SACKER", "END"]
 
 FOLD, BRANCH_POINT, END = "LP", "BP", "END"
+PERIOD_DOUBLING, NEIMARK_SACKER = "PD", "NS"  # located through a problem's own test functions
 
 
 @dataclasses.dataclass(frozen=True)
 class SpecialPoint:
     """A located special point.
 
-    ``kind`` is ``"LP"`` (fold), ``"BP"`` (branch point) or ``"END"``; ``index`` the branch point
+    ``kind`` is ``"LP"`` (fold), ``"BP"`` (branch point), ``"END"``, or a kind of the problem's
+    own test functions (``"PD"`` period doubling, ``"NS"`` Neimark-Sacker for periodic orbits); ``index`` the branch point
     after which it lies; ``p`` and ``x`` where it is; ``bracket`` the parameter values of the two
     branch points (or located end points) it was found between; ``message`` says what it is.
     """

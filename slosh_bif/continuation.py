@@ -9,7 +9,11 @@ A problem is any object with
   leaves the domain, appended as the branch's end when it gets there, and
   ``eigenvalues(x, p)`` -> (n,) complex (stable when all real parts are negative); a problem
   whose stability is that of its own Jacobian sets ``stability_from_jacobian = True`` instead,
-  and the engine reuses the Jacobian it already has at each point.
+  and the engine reuses the Jacobian it already has at each point; ``is_stable(eigenvalues)``
+  -> bool replaces the default rule (all real parts negative), e.g. by Floquet multipliers;
+  ``test_kinds`` (names) with ``test_functions(x, p)`` -> one real value per kind: further
+  special points at sign changes, located like folds; ``confirm(kind, x, p)`` -> message, or
+  None to drop a located point that is not what the kind means (e.g. a neutral saddle for NS).
 
 With ``u = (x, p)`` and the unit tangent ``t`` of the curve F(u) = 0, each step predicts
 ``u + h t`` and corrects by Newton on the bordered system ``[F(u); t . (u - u_pred)] = 0``,
@@ -21,6 +25,9 @@ Test functions along the branch: the parameter component of the tangent, ``t_p``
 at a fold (LP); the determinant of the bordered matrix changes sign at a simple branch point
 (BP), and not at a fold. Both are located by Brent's method on the arclength from the last point
 before the sign change, each evaluation a full corrector solve.
+
+:func:`switch_branch` starts a new branch at a located branch point, along the direction of the
+two-dimensional null space of ``[F_x, F_p]`` that the old branch does not take.
 
 Each direction ends at a parameter bound (the end is computed on the bound), at the domain's
 edge, on closing a loop, after ``max_steps``, or when the step falls below ``step_min``.
@@ -36,7 +43,7 @@ from scipy import optimize
 
 from .branch import BRANCH_POINT, END, FOLD, Branch, SpecialPoint
 
-__all__ = ["ContinuationOptions", "ConvergenceError", "continuation", "newton"]
+__all__ = ["ContinuationOptions", "ConvergenceError", "continuation", "newton", "switch_branch"]
 
 # End reasons of one direction; "ok" ones make a complete branch.
 _BOUND, _EDGE, _LOOP = "parameter bound", "domain edge", "closed loop"
@@ -145,12 +152,16 @@ def _point(problem, u, t_prev, iterations=0, **extra):
     t /= np.linalg.norm(t)
     t = t if t @ t_prev >= 0 else -t
     tests = (t[-1], np.linalg.det(np.vstack([top, t])))
+    if hasattr(problem, "test_functions"):
+        tests += tuple(float(v) for v in problem.test_functions(u[:-1], u[-1]))
     return _Point(u, t, iterations, tests=tests, jac=J, **extra)
 
 
-def _initial_tangent(problem, u, forward: bool):
+def _initial_tangent(problem, u, forward: bool, orient=None):
     t = np.linalg.svd(_top(problem, u)[1])[2][-1]  # null vector of [F_x, F_p]
-    if t[-1] < 0 or (t[-1] == 0 and t[0] < 0):
+    if orient is not None:
+        t = t if t @ orient >= 0 else -t
+    elif t[-1] < 0 or (t[-1] == 0 and t[0] < 0):
         t = -t
     return t if forward else -t
 
@@ -168,8 +179,13 @@ def _correct(problem, u_pred, t, opts):
             return None, k
         F = problem.residual(u[:-1], u[-1])
         scale = 1.0 + np.linalg.norm(u)
-        if k > 0 and np.linalg.norm(F) <= max(opts.tol, 1e3 * np.finfo(float).eps * scale):
+        residual = np.linalg.norm(F)
+        if k > 0 and residual <= max(opts.tol, 1e3 * np.finfo(float).eps * scale):
             if step <= opts.tol * scale or (k > 1 and step * step / previous <= opts.tol * scale):
+                return u, k
+            if k > 2 and residual <= 1e-2 * opts.tol:
+                # Near a branch point the bordered matrix is nearly singular and the updates are
+                # rounding noise amplified by its condition number; the residual still says done.
                 return u, k
         if k == opts.max_newton:
             break
@@ -197,16 +213,32 @@ def newton(problem, x0, p, *, tol=1e-11, max_iter=30):
 
 
 def _locate(problem, a: _Point, h, which, opts):
-    """Brent on the arclength s in (0, h) from point a for a zero of test function ``which``."""
+    """Brent on the arclength s in (0, h) from point a for a zero of test function ``which``.
+
+    Returns (point, note). Exactly at a branch point the corrector's matrix is singular, and
+    Brent may step so close that the correction fails: then the best point found so far is
+    returned, with a note of how far from the zero it may be.
+    """
+    seen = {}
 
     def point(s):
         u, _ = _correct(problem, a.u + s * a.t, a.t, opts)
         if u is None:
             raise ConvergenceError("corrector failed while locating a special point")
-        return _point(problem, u, a.t)
+        seen[s] = _point(problem, u, a.t)
+        return seen[s]
 
-    s = optimize.brentq(lambda s: point(s).tests[which], 0.0, h, xtol=opts.locate_tol, rtol=4 * np.finfo(float).eps)
-    return point(s)
+    try:
+        s = optimize.brentq(lambda s: point(s).tests[which], 0.0, h, xtol=opts.locate_tol, rtol=4 * np.finfo(float).eps)
+        return point(s), ""
+    except ConvergenceError:
+        if not seen:
+            raise
+        left = [s for s in seen if np.sign(seen[s].tests[which]) == np.sign(a.tests[which])] + [0.0]
+        right = [s for s in seen if s not in left] + [h]
+        gap = min(right) - max(left)
+        best = min(seen, key=lambda s: abs(seen[s].tests[which]))
+        return seen[best], f" (located to within arclength {gap:.2g}: the corrector fails closer in)"
 
 
 # -- one direction ---------------------------------------------------------------------------------
@@ -284,19 +316,31 @@ def _passes(start: _Point, ua, ub, h):
     return np.linalg.norm(ua + w * seg - start.u) < 0.1 * h and seg @ start.t > 0
 
 
+_TEST_MEANING = {
+    FOLD: "fold: the tangent's parameter component changes sign",
+    BRANCH_POINT: "branch point: the bordered Jacobian's determinant changes sign",
+}
+
+
 def _special_between(problem, a: _Point, b: _Point, h, opts):
     found = []
-    for which, kind, enabled in ((0, FOLD, opts.detect_folds), (1, BRANCH_POINT, opts.detect_branch_points)):
+    tests = [(0, FOLD, opts.detect_folds), (1, BRANCH_POINT, opts.detect_branch_points)]
+    tests += [(2 + i, kind, True) for i, kind in enumerate(getattr(problem, "test_kinds", ()))]
+    confirm = getattr(problem, "confirm", None)
+    for which, kind, enabled in tests:
         if enabled and np.sign(a.tests[which]) * np.sign(b.tests[which]) < 0:
             try:
-                q = _locate(problem, a, h, which, opts)
+                q, note = _locate(problem, a, h, which, opts)
             except (ConvergenceError, ValueError) as err:
                 q = dataclasses.replace(b, iterations=0)
-                q.message = f"{'fold' if kind == FOLD else 'branch point'} detected, not located: {err}"
+                q.message = f"{kind} detected, not located: {err}"
             else:
-                q.message = "fold: the tangent's parameter component changes sign" if kind == FOLD else (
-                    "branch point: the bordered Jacobian's determinant changes sign"
-                )
+                q.message = _TEST_MEANING.get(kind, f"{kind}: test function changes sign")
+                if confirm is not None and which >= 2:
+                    q.message = confirm(kind, q.u[:-1], q.u[-1])
+                    if q.message is None:
+                        continue
+                q.message += note
             q.kind, q.bracket = kind, (a.u[-1], b.u[-1])
             found.append(q)
     found.sort(key=lambda q: (q.u - a.u) @ a.t)
@@ -306,11 +350,13 @@ def _special_between(problem, a: _Point, b: _Point, h, opts):
 # -- the driver ------------------------------------------------------------------------------------
 
 
-def continuation(problem, x0, p0, *, param="p", options: ContinuationOptions | None = None) -> Branch:
+def continuation(problem, x0, p0, *, param="p", options: ContinuationOptions | None = None, orient=None) -> Branch:
     """Trace the solution curve of ``problem`` through ``(x0, p0)``; returns a :class:`Branch`.
 
     ``x0`` is corrected at fixed ``p0`` first (a :class:`ConvergenceError` says why when it
     cannot be). Mid-branch failures do not raise: the branch ends there with the reason.
+    ``orient`` (a vector in (x, p)) makes "forward" the direction along it instead of along
+    increasing p (needed where the branch runs across the parameter, as after a pitchfork).
     """
     opts = options or ContinuationOptions()
     if not opts.p_min <= p0 <= opts.p_max:
@@ -319,13 +365,45 @@ def continuation(problem, x0, p0, *, param="p", options: ContinuationOptions | N
     if len(x0) != len(problem.names) or not np.all(np.isfinite(x0)):
         raise ValueError(f"x0 must be {len(problem.names)} finite numbers ({', '.join(problem.names)}); got {x0}")
     u0 = np.append(newton(problem, x0, p0, tol=opts.tol), p0)
+    return _trace(problem, u0, param, opts, orient)
 
+
+def switch_branch(problem, point, *, param="p", options: ContinuationOptions | None = None, along=None, step=None) -> Branch:
+    """The branch that crosses the old one at a located branch point, traced away from it.
+
+    ``point`` is a :class:`SpecialPoint` (or an ``(x, p)`` pair) at a simple branch point of
+    ``problem``: the null space of ``[F_x, F_p]`` there is two-dimensional. ``along`` is the old
+    branch's tangent (or any vector in that null space to avoid); the new direction is the null
+    vector orthogonal to it. The first point is ``u_BP + step * t_new`` corrected on the
+    hyperplane through it normal to t_new; the branch is traced forward from there (away from
+    the branch point; the part behind it is, for a symmetry-breaking pitchfork, the mirror image).
+    Raises :class:`ConvergenceError` when no new branch is found.
+    """
+    opts = options or ContinuationOptions()
+    x, p = (point.x, point.p) if hasattr(point, "x") else point
+    u = np.append(np.asarray(x, dtype=float), float(p))
+    null = np.linalg.svd(_top(problem, u)[1])[2][-2:]  # the two smallest right singular vectors
+    if along is None:
+        raise ValueError("switch_branch needs along= (the old branch's tangent at the branch point)")
+    coef = null @ np.asarray(along, dtype=float)  # the old direction, in the null space's basis
+    t_new = null.T @ np.array([-coef[1], coef[0]])
+    t_new /= np.linalg.norm(t_new)
+    h = step if step is not None else opts.step
+    for _ in range(6):
+        u_new, _ = _correct(problem, u + h * t_new, t_new, opts)
+        if u_new is not None and np.linalg.norm(u_new - u) > 0.25 * h:
+            return _trace(problem, u_new, param, dataclasses.replace(opts, direction="forward"), orient=t_new)
+        h *= 0.5
+    raise ConvergenceError(f"no new branch found at the branch point {param} = {p:.8g} (corrector failed or fell back)")
+
+
+def _trace(problem, u0, param, opts, orient=None) -> Branch:
     runs = {}
     closed = False
     for forward in (True, False):
         if opts.direction == ("backward" if forward else "forward") or closed:
             continue
-        start = _point(problem, u0, _initial_tangent(problem, u0, forward))
+        start = _point(problem, u0, _initial_tangent(problem, u0, forward, orient))
         runs[forward] = _run(problem, start, opts, loop_guard=True)
         closed = runs[forward][1] == _LOOP
     back, back_reason = runs.get(False, ([], None))
@@ -357,7 +435,8 @@ def _assemble(problem, points, param, status, message, opts) -> Branch:
     steps = np.linalg.norm(np.diff(u, axis=0), axis=1)
     eigenvalues = np.array([_eigenvalues(problem, q) for q in points])
     given = getattr(problem, "stability_from_jacobian", False) or hasattr(problem, "eigenvalues")
-    stable = np.all(eigenvalues.real < 0, axis=1) if given else np.ones(len(points), dtype=bool)
+    rule = getattr(problem, "is_stable", lambda ev: bool(np.all(ev.real < 0)))
+    stable = np.array([rule(ev) for ev in eigenvalues]) if given else np.ones(len(points), dtype=bool)
     special = tuple(
         SpecialPoint(q.kind, i, float(q.u[-1]), q.u[:-1].copy(), tuple(float(v) for v in q.bracket), q.message)
         for i, q in enumerate(points)
