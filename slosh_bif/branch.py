@@ -85,6 +85,22 @@ class Branch:
             labels[s.index] = s.kind
         return labels
 
+    def head(self, stop: int, reason: str) -> "Branch":
+        """The branch up to and including point ``stop``, ending there for ``reason``."""
+        keep = slice(0, stop + 1)
+        return dataclasses.replace(
+            self,
+            p=self.p[keep].copy(),
+            x=self.x[keep].copy(),
+            stable=self.stable[keep].copy(),
+            eigenvalues=self.eigenvalues[keep].copy(),
+            newton_iterations=self.newton_iterations[keep].copy(),
+            arclength=self.arclength[keep].copy(),
+            special=tuple(sp for sp in self.special if sp.index <= stop),
+            status="ok",
+            message=f"{self.message}; cut at point {stop}: {reason}",
+        )
+
     # -- persistence ----------------------------------------------------------------------------
 
     def save(self, path) -> Path:

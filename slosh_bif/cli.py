@@ -5,6 +5,9 @@ Subcommands:
 * ``info``     - a preset's parameters and the derived restitution quantities (eqs. 21, 31, 36, 40);
 * ``frc``      - the frequency-response curve of the slow flow (45)/(46) by continuation in sigma;
 * ``critical`` - the critical forcing Abar_b(sigma) by continuation of the fold and end conditions;
+* ``shoot``    - periodic orbits of the smooth model (9) by shooting, continued in sigma, with
+  folds, branch points, period doublings and Neimark-Sacker points, and the branches born there;
+* ``compare``  - the slow-flow curve (46) against the shooting branches over the same sigma range;
 * ``derive``   - regenerate the generated code from the sympy derivations (``--check``: verify it).
 """
 
@@ -124,6 +127,95 @@ def _critical(args) -> int:
     return 0
 
 
+def _progress(message):
+    print(f"  {message}", file=sys.stderr, flush=True)
+
+
+def _throttled(report, every=1.0):
+    """A progress callback that passes on at most one message a second (and every new branch)."""
+    import time
+
+    last = [-1e9]
+
+    def callback(message):
+        now = time.monotonic()
+        if now - last[0] >= every or "point" not in message:
+            last[0] = now
+            report(message)
+
+    return callback
+
+
+def _start_orbit(params, args):
+    """A converged 2pi-orbit near --guess, or near the strobe states of a simulation from the
+    preset's initial state (the last of --settle periods, then up to 49 before it)."""
+    from .integrator import integrate_grid
+    from .shooting import ShootingProblem, orbit_at
+
+    problem = ShootingProblem(params, segments=args.segments)
+    if args.guess is not None:
+        guesses = [np.array(args.guess, dtype=float)]
+    else:
+        strobes = integrate_grid(params, get_preset(args.preset).state0, 2 * np.pi * np.arange(args.settle + 1))
+        guesses = list(strobes[::-1][:50])
+    for k, y0 in enumerate(guesses):
+        orbit = orbit_at(problem, problem.initial_states(y0), params.sigma, tol=1e-9)
+        if orbit.converged:
+            _progress(f"start orbit at sigma = {params.sigma:g}: |X(0)| = {abs(orbit.y0[0]):.4g}, multipliers |mu| = " + ", ".join(f"{abs(m):.4g}" for m in orbit.multipliers) + f" ({orbit.message})")
+            return orbit.y0
+    where = "--guess" if args.guess is not None else f"the last strobe states of a {args.settle}-period simulation"
+    raise ValueError(f"no periodic orbit found near {where} at sigma = {params.sigma:g}; pass --guess X,Xd,w,wd or change --settle")
+
+
+def _family(args, params):
+    from .orbits import trace_orbits
+
+    lo, hi = _sigma_range(args)
+    y0 = _start_orbit(params, args)
+    return trace_orbits(params, y0, p_min=lo, p_max=hi, segments=args.segments, switch=not args.no_switch, max_branches=args.max_branches, progress=_throttled(_progress))
+
+
+def _shoot(args) -> int:
+    from .orbit_output import plot_family, write_branch_csv
+
+    params = _params(args)
+    _sigma_range(args)
+    args.out.mkdir(parents=True, exist_ok=True)
+    family = _family(args, params)
+    csv_path, png_path = write_branch_csv(family, args.out / "branch.csv"), plot_family(family, args.out / "branch.png")
+    for k, ob in enumerate(family.branches):
+        ob.branch.save(args.out / f"branch{k}_{ob.name}.npz")
+    print(family.summary())
+    print(f"wrote {csv_path}, {png_path}")
+    return 0
+
+
+def _compare(args) -> int:
+    from .orbit_output import compare_rows, compare_table, plot_compare, write_compare_csv
+    from .steady_states import frequency_response
+
+    params = _params(args)
+    lo, hi = _sigma_range(args)
+    args.out.mkdir(parents=True, exist_ok=True)
+    fr = frequency_response(params, sigma_min=lo, sigma_max=hi)
+    family = _family(args, params)
+    rows = list(compare_rows(family, fr, np.linspace(lo, hi, args.grid)))
+    csv_path, png_path = write_compare_csv(rows, args.out / "compare.csv"), plot_compare(family, fr, rows, args.out / "compare.png")
+    table = compare_table(rows)
+    (args.out / "compare.txt").write_text(table + "\n")
+    print(table)
+    print(f"wrote {csv_path}, {png_path}, {args.out / 'compare.txt'}")
+    return 0
+
+
+def _add_shooting_options(parser):
+    parser.add_argument("--segments", type=int, default=4, help="arcs of multiple shooting per period (default 4)")
+    parser.add_argument("--guess", type=lambda s: [float(v) for v in s.split(",")], default=None, metavar="X,Xd,w,wd", help="state at tau = 0 near the start orbit (default: from a simulation)")
+    parser.add_argument("--settle", type=int, default=150, help="periods simulated from the preset's initial state for the start guess (default 150)")
+    parser.add_argument("--max-branches", type=int, default=6, help="branches traced at most, the primary one included (default 6)")
+    parser.add_argument("--no-switch", action="store_true", help="trace the primary branch only")
+
+
 def _derivations_dir() -> Path:
     return Path(__file__).resolve().parent.parent / "derivations"
 
@@ -165,6 +257,19 @@ def build_parser() -> argparse.ArgumentParser:
     _add_params_options(critical)
     _add_range_options(critical)
     critical.set_defaults(run=_critical)
+
+    shoot = sub.add_parser("shoot", help="periodic orbits of the smooth model (9) by shooting, continued in sigma, with their bifurcations")
+    _add_params_options(shoot)
+    _add_range_options(shoot)
+    _add_shooting_options(shoot)
+    shoot.set_defaults(run=_shoot)
+
+    compare = sub.add_parser("compare", help="slow-flow curve (46) against the shooting branches of (9) over the same sigma range")
+    _add_params_options(compare)
+    _add_range_options(compare)
+    _add_shooting_options(compare)
+    compare.add_argument("--grid", type=int, default=141, help="sigma values compared (default 141)")
+    compare.set_defaults(run=_compare)
 
     derive = sub.add_parser("derive", help="regenerate slosh_bif/_generated from the sympy derivations")
     derive.add_argument("--check", action="store_true", help="exit 1 if the committed generated code is stale")

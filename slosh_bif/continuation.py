@@ -255,7 +255,7 @@ def _end_on_bound(problem, a: _Point, b_u, bound, opts):
     return _point(problem, u, a.t, kind=END, message=f"{_BOUND} {'p_max' if bound == opts.p_max else 'p_min'} = {bound}", bracket=(a.u[-1], b_u[-1]))
 
 
-def _run(problem, start: _Point, opts, loop_guard: bool):
+def _run(problem, start: _Point, opts, loop_guard: bool, callback=None):
     points = [start]
     h = opts.step
     edge_hits = 0
@@ -290,6 +290,8 @@ def _run(problem, start: _Point, opts, loop_guard: bool):
             continue
         points.extend(_special_between(problem, a, b, h, opts))
         points.append(b)
+        if callback is not None:
+            callback(float(u[-1]), u[:-1])
         if loop_guard and len(points) > 3 and _passes(start, a.u, u, h):
             b.kind, b.message = END, f"{_LOOP}: back at the start point"
             return points, _LOOP
@@ -350,13 +352,14 @@ def _special_between(problem, a: _Point, b: _Point, h, opts):
 # -- the driver ------------------------------------------------------------------------------------
 
 
-def continuation(problem, x0, p0, *, param="p", options: ContinuationOptions | None = None, orient=None) -> Branch:
+def continuation(problem, x0, p0, *, param="p", options: ContinuationOptions | None = None, orient=None, callback=None) -> Branch:
     """Trace the solution curve of ``problem`` through ``(x0, p0)``; returns a :class:`Branch`.
 
     ``x0`` is corrected at fixed ``p0`` first (a :class:`ConvergenceError` says why when it
     cannot be). Mid-branch failures do not raise: the branch ends there with the reason.
     ``orient`` (a vector in (x, p)) makes "forward" the direction along it instead of along
     increasing p (needed where the branch runs across the parameter, as after a pitchfork).
+    ``callback(p, x)``, if given, is called after every accepted point (for progress reports).
     """
     opts = options or ContinuationOptions()
     if not opts.p_min <= p0 <= opts.p_max:
@@ -365,10 +368,10 @@ def continuation(problem, x0, p0, *, param="p", options: ContinuationOptions | N
     if len(x0) != len(problem.names) or not np.all(np.isfinite(x0)):
         raise ValueError(f"x0 must be {len(problem.names)} finite numbers ({', '.join(problem.names)}); got {x0}")
     u0 = np.append(newton(problem, x0, p0, tol=opts.tol), p0)
-    return _trace(problem, u0, param, opts, orient)
+    return _trace(problem, u0, param, opts, orient, callback)
 
 
-def switch_branch(problem, point, *, param="p", options: ContinuationOptions | None = None, along=None, step=None) -> Branch:
+def switch_branch(problem, point, *, param="p", options: ContinuationOptions | None = None, along=None, step=None, callback=None) -> Branch:
     """The branch that crosses the old one at a located branch point, traced away from it.
 
     ``point`` is a :class:`SpecialPoint` (or an ``(x, p)`` pair) at a simple branch point of
@@ -392,19 +395,19 @@ def switch_branch(problem, point, *, param="p", options: ContinuationOptions | N
     for _ in range(6):
         u_new, _ = _correct(problem, u + h * t_new, t_new, opts)
         if u_new is not None and np.linalg.norm(u_new - u) > 0.25 * h:
-            return _trace(problem, u_new, param, dataclasses.replace(opts, direction="forward"), orient=t_new)
+            return _trace(problem, u_new, param, dataclasses.replace(opts, direction="forward"), t_new, callback)
         h *= 0.5
     raise ConvergenceError(f"no new branch found at the branch point {param} = {p:.8g} (corrector failed or fell back)")
 
 
-def _trace(problem, u0, param, opts, orient=None) -> Branch:
+def _trace(problem, u0, param, opts, orient=None, callback=None) -> Branch:
     runs = {}
     closed = False
     for forward in (True, False):
         if opts.direction == ("backward" if forward else "forward") or closed:
             continue
         start = _point(problem, u0, _initial_tangent(problem, u0, forward, orient))
-        runs[forward] = _run(problem, start, opts, loop_guard=True)
+        runs[forward] = _run(problem, start, opts, loop_guard=True, callback=callback)
         closed = runs[forward][1] == _LOOP
     back, back_reason = runs.get(False, ([], None))
     ahead, ahead_reason = runs.get(True, ([], None))

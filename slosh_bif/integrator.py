@@ -75,7 +75,9 @@ class Integration:
 
 def _jit(function):
     """numba.njit with an on-disk cache when numba is there; the plain function otherwise."""
-    return numba.njit(cache=True)(function) if HAVE_NUMBA else function
+    # error_model="numpy": a division by zero in a trial step gives inf/NaN (then the step is rejected)
+    # instead of raising, as in the scipy path.
+    return numba.njit(cache=True, error_model="numpy")(function) if HAVE_NUMBA else function
 
 
 @_jit
@@ -85,6 +87,20 @@ def _rms(v, scale):
         r = v[i] / scale[i]
         total += r * r
     return math.sqrt(total / v.shape[0])
+
+
+@_jit
+def _grid_loop(which, taus, z0, pars, rtol, atol, max_steps, A, B, C, E3, E5):
+    """States at every time of ``taus``, the step size carried from one interval to the next."""
+    out = np.empty((taus.shape[0], z0.shape[0]))
+    out[0] = z0
+    h = 0.0
+    for k in range(1, taus.shape[0]):
+        z, steps, rejected, nfev, h, status = _dop853_loop(which, taus[k - 1], taus[k], out[k - 1], pars, rtol, atol, h, max_steps, A, B, C, E3, E5)
+        if status != 0:
+            return out, k, status
+        out[k] = z
+    return out, taus.shape[0], 0
 
 
 _RAW = {"plain": _kernels.smooth_rhs_kernel, "shooting": _kernels.smooth_shooting_kernel}
@@ -293,10 +309,7 @@ def integrate_grid(params: Params, y0, taus, *, rtol: float = 1e-10, atol: float
         if not sol.success:
             raise RuntimeError(f"integration of (9) failed near tau = {sol.t[-1]:.6g}: {sol.message}")
         return sol.y.T.copy()
-    h = 0.0
-    for k in range(1, len(taus)):
-        step = integrate(params, out[k - 1], taus[k - 1], taus[k], rtol=rtol, atol=atol, h0=h, backend="numba")
-        if not step.success:
-            raise RuntimeError(f"integration of (9) failed between tau = {taus[k - 1]:.6g} and {taus[k]:.6g}: {step.message}")
-        out[k], h = step.z, step.h_next
-    return out
+    states, reached, status = _grid_loop(0, taus, out[0], _pars(params), float(rtol), float(atol), 2_000_000, _A, _B, _C, _E3, _E5)
+    if status != _OK:
+        raise RuntimeError(f"integration of (9) failed between tau = {taus[reached - 1]:.6g} and {taus[reached]:.6g}: {_MESSAGES[int(status)]}")
+    return states

@@ -51,7 +51,18 @@ def _runs(mask):
     return [(a, min(b, len(mask) - 1)) for a, b in zip(bounds[:-1], bounds[1:])]
 
 
-def plot_branch(ax, branch, y, *, x=None, color="tab:blue", label=None, label_ends=True):
+SPECIAL_MARKERS = {"LP": ("o", "tab:red"), "BP": ("s", "tab:green"), "PD": ("D", "tab:purple"), "NS": ("^", "tab:orange"), "END": ("x", "k")}
+SPECIAL_NAMES = {"LP": "fold (LP)", "BP": "branch point (BP)", "PD": "period doubling (PD)", "NS": "Neimark-Sacker (NS)", "END": "end"}
+
+
+def special_legend(ax, kinds=("LP", "BP", "PD", "NS")):
+    """Legend entries for the special-point markers (when points are not annotated)."""
+    for kind in kinds:
+        marker, color = SPECIAL_MARKERS[kind]
+        ax.plot([], [], marker, color=color, mfc="none" if kind == "LP" else color, ls="none", label=SPECIAL_NAMES[kind])
+
+
+def plot_branch(ax, branch, y, *, x=None, color="tab:blue", label=None, label_ends=True, annotate=True):
     """A branch: stable runs solid, unstable dashed, special points marked and labelled.
 
     ``y`` (and optionally ``x``, default the continued parameter) are arrays along the branch.
@@ -59,11 +70,10 @@ def plot_branch(ax, branch, y, *, x=None, color="tab:blue", label=None, label_en
     x = branch.p if x is None else x
     for a, b in _runs(branch.stable):
         ax.plot(x[a : b + 1], y[a : b + 1], "-" if branch.stable[a] else "--", color=color, lw=1.4, label=label if a == 0 else None)
-    markers = {"LP": ("o", "tab:red"), "BP": ("s", "tab:green"), "END": ("x", "k")}
     for s in branch.special:
-        marker, mcolor = markers[s.kind]
+        marker, mcolor = SPECIAL_MARKERS[s.kind]
         ax.plot(x[s.index], y[s.index], marker, color=mcolor, ms=6, mfc="none" if s.kind == "LP" else mcolor)
-        if s.kind == "END" and not label_ends:
+        if (s.kind == "END" and not label_ends) or not annotate:
             continue
         ax.annotate(s.kind, (x[s.index], y[s.index]), textcoords="offset points", xytext=(5, 5), fontsize=8, color=mcolor)
     return ax

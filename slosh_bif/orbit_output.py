@@ -1,0 +1,192 @@
+"""Writing families of periodic orbits, and their comparison with the slow flow, as CSV, PNG and text.
+
+``branch.csv``: one row per point in branch order, branches one after another, columns
+``sigma, Abar, A1, max_abs_X, max_abs_w, stable, max_abs_multiplier, liouville_error,
+symmetry_defect, special, branch``. ``compare.csv``: on a sigma grid, the slow-flow amplitude A of
+eq. (46) on each stable/unstable state against the first-harmonic amplitude A1 of the nearest
+orbit of the shooting branches, with the relative difference.
+"""
+
+from __future__ import annotations
+
+import csv
+from pathlib import Path
+
+import numpy as np
+
+from .orbits import OrbitFamily
+from .steady_states import FrequencyResponse
+
+__all__ = ["BRANCH_COLUMNS", "COMPARE_COLUMNS", "write_branch_csv", "plot_family", "compare_rows", "write_compare_csv", "compare_table", "plot_compare"]
+
+BRANCH_COLUMNS = ("sigma", "Abar", "A1", "max_abs_X", "max_abs_w", "stable", "max_abs_multiplier", "liouville_error", "symmetry_defect", "special", "branch")
+COMPARE_COLUMNS = ("sigma", "A_slow_flow", "slow_flow_stable", "A1_shooting", "shooting_stable", "shooting_branch", "relative_difference")
+
+
+def _fmt(v):
+    return f"{v:.12g}" if isinstance(v, float) else v
+
+
+def family_rows(family: OrbitFamily):
+    for ob in family.branches:
+        b, m = ob.branch, ob.measures
+        labels = b.special_labels()
+        for i in range(len(b)):
+            sigma, Abar = (b.p[i], family.params.Abar) if b.param == "sigma" else (family.params.sigma, b.p[i])
+            yield {
+                "sigma": float(sigma),
+                "Abar": float(Abar),
+                **{k: float(m[k][i]) for k in ("A1", "max_abs_X", "max_abs_w", "max_abs_multiplier", "liouville_error", "symmetry_defect")},
+                "stable": int(b.stable[i]),
+                "special": labels[i],
+                "branch": ob.name,
+            }
+
+
+def _write(rows, columns, path) -> Path:
+    path = Path(path)
+    with open(path, "w", newline="") as fh:
+        writer = csv.DictWriter(fh, fieldnames=columns)
+        writer.writeheader()
+        for row in rows:
+            writer.writerow({k: _fmt(row[k]) for k in columns})
+    return path
+
+
+def write_branch_csv(family: OrbitFamily, path) -> Path:
+    return _write(family_rows(family), BRANCH_COLUMNS, path)
+
+
+def _figure():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+def plot_family(family: OrbitFamily, path, *, slow_flow: FrequencyResponse | None = None, title=None) -> Path:
+    """A1 against the parameter for every branch (stable solid, unstable dashed, special points
+    marked), with the slow-flow curve in grey when given; the largest multiplier below."""
+    from .plotting import plot_branch, special_legend
+
+    plt = _figure()
+    fig, (ax, axm) = plt.subplots(2, 1, figsize=(9, 8), sharex=True, gridspec_kw={"height_ratios": [3, 1.2]})
+    if slow_flow is not None:
+        for k, branch in enumerate(slow_flow.branches):
+            ax.plot(branch.p, branch.x[:, 0], color="0.6", lw=3, alpha=0.6, label="slow flow (46)" if k == 0 else None)
+    for k, ob in enumerate(family.branches):
+        b = ob.branch
+        plot_branch(ax, b, ob.measures["A1"], color=f"C{k}", label=f"{ob.name}" + (f" ({ob.origin})" if ob.origin else ""), label_ends=False, annotate=len(b.special) <= 12)
+        axm.semilogy(b.p, ob.measures["max_abs_multiplier"], color=f"C{k}", lw=1)
+    ax.plot([], [], "k-", label="stable")
+    ax.plot([], [], "k--", label="unstable")
+    special_legend(ax)
+    axm.axhline(1, color="k", lw=0.8)
+    axm.set_ylabel("max |multiplier|")
+    axm.set_xlabel(rf"$\{family.param}$" if family.param == "sigma" else r"$\bar A$")
+    ax.set_ylabel("A1: first-harmonic amplitude of X")
+    P = family.params
+    ax.set_title(title or f"Periodic orbits of (9) by shooting: eps = {P.eps:g}, beta = {P.beta:g}, gamma = {P.gamma:g}, Abar = {P.Abar:g}, n = {P.n}")
+    ax.legend(fontsize=7, loc="best")
+    ax.grid(alpha=0.3)
+    axm.grid(alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(path, dpi=130)
+    plt.close(fig)
+    return Path(path)
+
+
+def compare_rows(family: OrbitFamily, fr: FrequencyResponse, sigmas):
+    """For each sigma and each slow-flow state there: the orbit (on any traced 2pi branch) whose
+    A1 is nearest, and the relative difference |A1 - A| / A."""
+    two_pi = [ob for ob in family.branches if ob.problem.period_multiple == 1]
+    for sigma in sigmas:
+        slow = [(float(np.interp(sigma, b.p[s], b.x[s, 0])), bool(b.stable[s][i])) for b in fr.branches for s, i in _crossings(b.p, sigma)]
+        orbits = [(float(ob.measures["A1"][s][0] + (ob.measures["A1"][s][1] - ob.measures["A1"][s][0]) * w), bool(ob.branch.stable[s][0] and ob.branch.stable[s][1]), ob.name) for ob in two_pi for s, w in _segments(ob.branch.p, sigma)]
+        for A, stable in slow:
+            if not orbits:
+                yield dict(sigma=float(sigma), A_slow_flow=A, slow_flow_stable=int(stable), A1_shooting=float("nan"), shooting_stable="", shooting_branch="", relative_difference=float("nan"))
+                continue
+            A1, ostable, name = min(orbits, key=lambda o: abs(o[0] - A))
+            yield dict(sigma=float(sigma), A_slow_flow=A, slow_flow_stable=int(stable), A1_shooting=A1, shooting_stable=int(ostable), shooting_branch=name, relative_difference=abs(A1 - A) / A)
+
+
+def _segments(p, value):
+    """(slice of two indices, weight) for each branch segment that crosses p = value."""
+    for i in range(len(p) - 1):
+        lo, hi = p[i], p[i + 1]
+        if (lo - value) * (hi - value) <= 0 and lo != hi:
+            yield slice(i, i + 2), (value - lo) / (hi - lo)
+
+
+def _crossings(p, value):
+    for s, w in _segments(p, value):
+        yield s, 0 if w < 0.5 else 1
+
+
+def write_compare_csv(rows, path) -> Path:
+    return _write(rows, COMPARE_COLUMNS, path)
+
+
+def compare_table(rows, *, agree: float = 0.05) -> str:
+    """Sigma intervals where the slow flow's stable states agree with the nearest orbit to
+    within ``agree`` (relative), and where not, with the largest differences."""
+    rows = [r for r in rows if r["slow_flow_stable"]]
+    if not rows:
+        return "no stable slow-flow state in the range"
+    lines = [f"{'sigma range':>24s}  {'verdict':28s} {'max rel. diff':>13s}  {'orbit stable?':>13s}"]
+    run = [rows[0]]
+
+    def verdict(r):
+        d = r["relative_difference"]
+        return "no orbit" if not np.isfinite(d) else ("agree" if d <= agree else "differ")
+
+    def flush(run):
+        d = [r["relative_difference"] for r in run if np.isfinite(r["relative_difference"])]
+        stable = {r["shooting_stable"] for r in run} - {""}
+        st = "yes" if stable == {1} else ("no" if stable == {0} else ("mixed" if stable else "-"))
+        text = f"{verdict(run[0])} (within {agree:.0%})" if verdict(run[0]) == "agree" else verdict(run[0])
+        lines.append(f"[{run[0]['sigma']:9.4f}, {run[-1]['sigma']:9.4f}]  {text:28s} {max(d) if d else float('nan'):13.3%}  {st:>13s}")
+
+    for r in rows[1:]:
+        if verdict(r) == verdict(run[-1]):
+            run.append(r)
+        else:
+            flush(run)
+            run = [r]
+    flush(run)
+    return "\n".join(lines)
+
+
+def plot_compare(family: OrbitFamily, fr: FrequencyResponse, rows, path) -> Path:
+    plt = _figure()
+    fig, (ax, axd) = plt.subplots(2, 1, figsize=(9, 7.5), sharex=True, gridspec_kw={"height_ratios": [3, 1.3]})
+    for k, b in enumerate(fr.branches):
+        for st, ls in ((True, "-"), (False, "--")):
+            y = np.where(b.stable == st, b.x[:, 0], np.nan)
+            ax.plot(b.p, y, ls, color="k", lw=2, label=("slow flow (46), stable" if st else "slow flow (46), unstable") if k == 0 else None)
+    for k, ob in enumerate(ob for ob in family.branches if ob.problem.period_multiple == 1):
+        b = ob.branch
+        for st, marker in ((True, "o"), (False, ".")):
+            mask = b.stable == st
+            ax.plot(b.p[mask], ob.measures["A1"][mask], marker, ms=3 if st else 2, color=f"C{k}", label=f"shooting (9), {ob.name}, {'stable' if st else 'unstable'}")
+    ax.set_ylabel("amplitude of X (A; A1 for orbits)")
+    P = family.params
+    ax.set_title(f"Slow flow (46) against periodic orbits of (9): eps = {P.eps:g}, beta = {P.beta:g}, Abar = {P.Abar:g}, n = {P.n}")
+    ax.legend(fontsize=7)
+    ax.grid(alpha=0.3)
+    s = np.array([r["sigma"] for r in rows])
+    d = np.array([r["relative_difference"] for r in rows])
+    st = np.array([bool(r["slow_flow_stable"]) for r in rows])
+    axd.semilogy(s[st], d[st], "k.", ms=3, label="stable slow-flow states")
+    axd.semilogy(s[~st], d[~st], ".", color="0.6", ms=3, label="unstable slow-flow states")
+    axd.set_ylabel("|A1 - A| / A")
+    axd.set_xlabel(r"$\sigma$")
+    axd.legend(fontsize=7)
+    axd.grid(alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(path, dpi=130)
+    plt.close(fig)
+    return Path(path)
