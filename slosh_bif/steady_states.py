@@ -151,12 +151,18 @@ def frequency_response(params: Params, *, sigma_min=None, sigma_max=None, option
     opts = dataclasses.replace(options or cont.ContinuationOptions(), p_min=float(sigma_min), p_max=float(sigma_max))
     branches = []
     for lo, hi in intervals:
-        A0 = np.sqrt(lo * hi)
-        sigma0 = sigma_on_curve(flow, A0)[1]
-        if not sigma_min <= sigma0 <= sigma_max:
-            sigma0 = sigma_on_curve(flow, A0)[0]
-            if not sigma_min <= sigma0 <= sigma_max:
-                continue  # this component lies outside the requested range
-        psi0 = float(flow.steady_phase(A0, sigma=sigma0))
-        branches.append(cont.continuation(problem, [A0, psi0], float(sigma0), param="sigma", options=opts))
+        # Start points: samples of the component (both roots of (46)) inside the range, the middle
+        # one first; each further piece of the component inside the range gets its own branch.
+        A_s = np.geomspace(lo, hi, 203)[1:-1]
+        candidates = []
+        for root in sigma_on_curve(flow, A_s):
+            candidates += [(A, sg) for A, sg in zip(A_s, root) if np.isfinite(sg) and sigma_min < sg < sigma_max]
+        candidates.sort(key=lambda c: abs(c[0] - np.sqrt(lo * hi)))
+        while candidates:
+            A0, sigma0 = candidates.pop(0)
+            psi0 = float(flow.steady_phase(A0, sigma=sigma0))
+            branch = cont.continuation(problem, [A0, psi0], float(sigma0), param="sigma", options=opts)
+            branches.append(branch)
+            near = lambda c: np.min(np.hypot(branch.x[:, 0] - c[0], branch.p - c[1])) < 2 * opts.step_max  # noqa: E731
+            candidates = [c for c in candidates if not near(c)]
     return FrequencyResponse(params=params, branches=tuple(branches), A_min=flow.A_min)

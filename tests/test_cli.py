@@ -68,3 +68,34 @@ def test_critical_writes_csv_and_png(tmp_path, capsys):
 def test_range_options_are_checked(tmp_path, capsys):
     assert main(["frc", "--preset", "fig10", "--sigma-min", "3", "--sigma-max", "1", "--out", str(tmp_path)]) == 2
     assert "--sigma-min must be below --sigma-max" in capsys.readouterr().err
+
+
+def test_shoot_writes_branch_csv_and_png(tmp_path, capsys):
+    """Far above resonance (fig10 set at sigma = 7.5) the symmetric orbits are stable and the
+    branch over [7, 8] is quick; every row is a converged orbit with its Liouville check."""
+    import csv
+
+    out = tmp_path / "shoot"
+    argv = ["shoot", "--preset", "fig10", "--set", "sigma=7.5", "--sigma-min", "7", "--sigma-max", "8", "--out", str(out)]
+    assert main(argv + ["--no-switch"]) == 0
+    rows = list(csv.DictReader(open(out / "branch.csv")))
+    assert {"sigma", "A1", "max_abs_X", "max_abs_w", "stable", "max_abs_multiplier", "special", "branch"} <= set(rows[0])
+    assert rows[0]["special"] == "END" and rows[-1]["special"] == "END"
+    assert all(r["branch"] == "symmetric" and r["stable"] == "1" for r in rows)
+    assert max(float(r["liouville_error"]) for r in rows) < 1e-8
+    assert (out / "branch.png").stat().st_size > 10_000
+    assert "start orbit at sigma = 7.5" in capsys.readouterr().err
+
+
+def test_compare_writes_table_and_reports_agreement(tmp_path, capsys):
+    out = tmp_path / "cmp"
+    argv = ["compare", "--preset", "fig10", "--set", "sigma=7.5", "--sigma-min", "7", "--sigma-max", "8", "--grid", "11", "--no-switch", "--out", str(out)]
+    assert main(argv) == 0
+    text = (out / "compare.txt").read_text()
+    assert "sigma range" in text and (out / "compare.png").is_file() and (out / "compare.csv").is_file()
+
+
+def test_shoot_without_an_orbit_near_the_guess_says_so(tmp_path, capsys):
+    argv = ["shoot", "--preset", "fig10", "--guess", "50,0,0,0", "--settle", "1", "--sigma-min", "0", "--sigma-max", "2", "--out", str(tmp_path)]
+    assert main(argv) == 2
+    assert "no periodic orbit found near --guess" in capsys.readouterr().err

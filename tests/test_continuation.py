@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from slosh_bif.branch import Branch
-from slosh_bif.continuation import ContinuationOptions, ConvergenceError, continuation
+from slosh_bif.continuation import ContinuationOptions, ConvergenceError, continuation, switch_branch
 
 
 @dataclasses.dataclass
@@ -146,3 +146,15 @@ def test_branch_round_trips_through_npz(tmp_path):
     assert (loaded.param, loaded.names, loaded.status, loaded.message, loaded.options) == (
         branch.param, branch.names, branch.status, branch.message, branch.options
     )
+
+
+def test_switch_branch_leaves_the_trivial_branch_onto_the_parabola():
+    """At the pitchfork (0, 0) of p x - x^3 the crossing branch is x^2 = p: every point of the
+    switched branch satisfies it, and it starts along x (the new direction, not along p)."""
+    opts = ContinuationOptions(p_min=-1.0, p_max=1.0, step=0.07)
+    branch = continuation(Pitchfork(), [0.0], -0.5, options=opts)
+    bp = branch.special_of("BP")[0]
+    new = switch_branch(Pitchfork(), bp, options=opts, along=np.array([0.0, 1.0]))
+    assert len(new) > 5 and new.status == "ok"
+    np.testing.assert_allclose(new.x[:, 0] ** 2, new.p, atol=1e-10)
+    assert abs(new.x[1, 0]) > 0.01 and new.p.max() == pytest.approx(1.0)
