@@ -117,7 +117,7 @@ def _critical(args) -> int:
     params = _params(args)
     lo, hi = _sigma_range(args)
     args.out.mkdir(parents=True, exist_ok=True)
-    curve = critical_curve(params, lo, hi, progress=lambda message: print(f"  {message}", file=sys.stderr, flush=True))
+    curve = critical_curve(params, lo, hi, progress=_progress)
     csv_path, png_path = write_critical_csv(curve, args.out / "critical.csv"), plot_critical(curve, args.out / "critical.png")
     at = float(np.interp(params.sigma, curve.sigma, curve.Abar_b)) if curve.sigma[0] <= params.sigma <= curve.sigma[-1] else None
     if at is not None:
@@ -167,10 +167,9 @@ def _start_orbit(params, args):
     raise ValueError(f"no periodic orbit found near {where} at sigma = {params.sigma:g}; pass --guess X,Xd,w,wd or change --settle")
 
 
-def _family(args, params):
+def _family(args, params, lo, hi):
     from .orbits import trace_orbits
 
-    lo, hi = _sigma_range(args)
     y0 = _start_orbit(params, args)
     return trace_orbits(params, y0, p_min=lo, p_max=hi, segments=args.segments, switch=not args.no_switch, max_branches=args.max_branches, progress=_throttled(_progress))
 
@@ -179,9 +178,9 @@ def _shoot(args) -> int:
     from .orbit_output import plot_family, write_branch_csv
 
     params = _params(args)
-    _sigma_range(args)
+    lo, hi = _sigma_range(args)
     args.out.mkdir(parents=True, exist_ok=True)
-    family = _family(args, params)
+    family = _family(args, params, lo, hi)
     csv_path, png_path = write_branch_csv(family, args.out / "branch.csv"), plot_family(family, args.out / "branch.png")
     for k, ob in enumerate(family.branches):
         ob.branch.save(args.out / f"branch{k}_{ob.name}.npz")
@@ -198,7 +197,7 @@ def _compare(args) -> int:
     lo, hi = _sigma_range(args)
     args.out.mkdir(parents=True, exist_ok=True)
     fr = frequency_response(params, sigma_min=lo, sigma_max=hi)
-    family = _family(args, params)
+    family = _family(args, params, lo, hi)
     rows = list(compare_rows(family, fr, np.linspace(lo, hi, args.grid)))
     csv_path, png_path = write_compare_csv(rows, args.out / "compare.csv"), plot_compare(family, fr, rows, args.out / "compare.png")
     table = compare_table(rows)

@@ -382,12 +382,12 @@ def switch_branch(problem, point, *, param="p", options: ContinuationOptions | N
     the branch point; the part behind it is, for a symmetry-breaking pitchfork, the mirror image).
     Raises :class:`ConvergenceError` when no new branch is found.
     """
+    if along is None:
+        raise ValueError("switch_branch needs along= (the old branch's tangent at the branch point)")
     opts = options or ContinuationOptions()
     x, p = (point.x, point.p) if hasattr(point, "x") else point
     u = np.append(np.asarray(x, dtype=float), float(p))
     null = np.linalg.svd(_top(problem, u)[1])[2][-2:]  # the two smallest right singular vectors
-    if along is None:
-        raise ValueError("switch_branch needs along= (the old branch's tangent at the branch point)")
     coef = null @ np.asarray(along, dtype=float)  # the old direction, in the null space's basis
     t_new = null.T @ np.array([-coef[1], coef[0]])
     t_new /= np.linalg.norm(t_new)

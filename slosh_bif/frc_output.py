@@ -38,14 +38,9 @@ def write_frc_csv(fr: FrequencyResponse, path) -> Path:
 
 
 def plot_frc(fr: FrequencyResponse, path, *, title=None) -> Path:
-    import matplotlib
+    from .plotting import plot_branch, pyplot, save_figure
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    from .plotting import plot_branch
-
-    fig, ax = plt.subplots(figsize=(8, 5.5))
+    fig, ax = pyplot().subplots(figsize=(8, 5.5))
     for k, branch in enumerate(fr.branches):
         plot_branch(ax, branch, branch.x[:, 0], color=f"C{k}", label=f"component {k}" if len(fr.branches) > 1 else None)
     ax.axhline(fr.A_min, color="0.5", lw=0.8, ls=":")
@@ -58,10 +53,7 @@ def plot_frc(fr: FrequencyResponse, path, *, title=None) -> Path:
     ax.set_title(title or f"Frequency response on S+: Abar = {P.Abar:g}, gamma = {P.gamma:g}, beta = {P.beta:g}, n = {P.n}, pbar = {P.pbar}")
     ax.legend(fontsize=8)
     ax.grid(alpha=0.3)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return Path(path)
+    return save_figure(fig, path, dpi=120)
 
 
 def write_critical_csv(curve, path) -> Path:
@@ -75,12 +67,9 @@ def write_critical_csv(curve, path) -> Path:
 
 
 def plot_critical(curve, path, *, title=None) -> Path:
-    import matplotlib
+    from .plotting import pyplot, save_figure
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, ax = plt.subplots(figsize=(8, 5.5))
+    fig, ax = pyplot().subplots(figsize=(8, 5.5))
     end = curve.end_branch
     ax.plot(end.p, end.x[:, 0], ":", color="0.5", lw=1, label="end-point condition (A = A_min)")
     for k, b in enumerate(curve.fold_branches):
@@ -97,7 +86,4 @@ def plot_critical(curve, path, *, title=None) -> Path:
     ax.text(0.02, 0.95, "below the curve: no steady state on S+", transform=ax.transAxes, fontsize=8, va="top")
     ax.legend(fontsize=8, loc="upper right")
     ax.grid(alpha=0.3)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return Path(path)
+    return save_figure(fig, path, dpi=120)

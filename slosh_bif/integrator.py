@@ -105,8 +105,8 @@ def _grid_loop(which, taus, z0, pars, rtol, atol, max_steps, A, B, C, E3, E5):
 
 _RAW = {"plain": _kernels.smooth_rhs_kernel, "shooting": _kernels.smooth_shooting_kernel}
 _WHICH = {"plain": 0, "shooting": 1}
-_plain_kernel = _jit(_kernels.smooth_rhs_kernel)
-_shooting_kernel = _jit(_kernels.smooth_shooting_kernel)
+_plain_kernel = _jit(_RAW["plain"])
+_shooting_kernel = _jit(_RAW["shooting"])
 
 
 @_jit
@@ -249,6 +249,18 @@ def _pars(params: Params):
     return np.array([q.eps, q.beta, q.gamma, q.sigma, q.Abar, q.lam, q.chi, q.n, q.p], dtype=float)
 
 
+def _scipy_rhs(which, pars):
+    """The generated kernel as scipy's ``fun(t, y)`` (the fallback path: same equations)."""
+    raw = _RAW[which]
+
+    def fun(tau, z):
+        out = np.empty(len(z))
+        raw(tau, z, out, pars)
+        return out
+
+    return fun
+
+
 def integrate(
     params: Params,
     z0,
@@ -273,13 +285,7 @@ def integrate(
     if resolve_backend(backend) == "numba":
         z, steps, rejected, nfev, h, status = _dop853_loop(_WHICH[which], float(tau0), float(tau1), z0, pars, float(rtol), float(atol), float(h0), int(max_steps), _A, _B, _C, _E3, _E5)
         return Integration(z, int(steps), int(rejected), int(nfev), float(h), status == _OK, _MESSAGES[int(status)])
-    raw = _RAW[which]
-
-    def fun(tau, z):
-        out = np.empty(len(z))
-        raw(tau, z, out, pars)
-        return out
-
+    fun = _scipy_rhs(which, pars)
     with np.errstate(over="ignore", invalid="ignore"):  # trial steps deep in the wall may overflow
         sol = solve_ivp(fun, (tau0, tau1), z0, method="DOP853", rtol=rtol, atol=atol, first_step=h0 or None)
     steps = len(sol.t) - 1
@@ -297,15 +303,8 @@ def integrate_grid(params: Params, y0, taus, *, rtol: float = 1e-10, atol: float
     out = np.empty((len(taus), 4))
     out[0] = _check(params, y0, taus[0], taus[1], rtol, atol, 4)
     if resolve_backend(backend) == "scipy":
-        raw, pars = _RAW["plain"], _pars(params)
-
-        def fun(tau, z):
-            res = np.empty(4)
-            raw(tau, z, res, pars)
-            return res
-
         with np.errstate(over="ignore", invalid="ignore"):
-            sol = solve_ivp(fun, (taus[0], taus[-1]), out[0], method="DOP853", rtol=rtol, atol=atol, t_eval=taus)
+            sol = solve_ivp(_scipy_rhs("plain", _pars(params)), (taus[0], taus[-1]), out[0], method="DOP853", rtol=rtol, atol=atol, t_eval=taus)
         if not sol.success:
             raise RuntimeError(f"integration of (9) failed near tau = {sol.t[-1]:.6g}: {sol.message}")
         return sol.y.T.copy()

@@ -57,22 +57,12 @@ def write_branch_csv(family: OrbitFamily, path) -> Path:
     return _write(family_rows(family), BRANCH_COLUMNS, path)
 
 
-def _figure():
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    return plt
-
-
 def plot_family(family: OrbitFamily, path, *, slow_flow: FrequencyResponse | None = None, title=None) -> Path:
     """A1 against the parameter for every branch (stable solid, unstable dashed, special points
     marked), with the slow-flow curve in grey when given; the largest multiplier below."""
-    from .plotting import plot_branch, special_legend
+    from .plotting import plot_branch, pyplot, save_figure, special_legend
 
-    plt = _figure()
-    fig, (ax, axm) = plt.subplots(2, 1, figsize=(9, 8), sharex=True, gridspec_kw={"height_ratios": [3, 1.2]})
+    fig, (ax, axm) = pyplot().subplots(2, 1, figsize=(9, 8), sharex=True, gridspec_kw={"height_ratios": [3, 1.2]})
     if slow_flow is not None:
         for k, branch in enumerate(slow_flow.branches):
             ax.plot(branch.p, branch.x[:, 0], color="0.6", lw=3, alpha=0.6, label="slow flow (46)" if k == 0 else None)
@@ -92,10 +82,7 @@ def plot_family(family: OrbitFamily, path, *, slow_flow: FrequencyResponse | Non
     ax.legend(fontsize=7, loc="best")
     ax.grid(alpha=0.3)
     axm.grid(alpha=0.3)
-    fig.tight_layout()
-    fig.savefig(path, dpi=130)
-    plt.close(fig)
-    return Path(path)
+    return save_figure(fig, path)
 
 
 def compare_rows(family: OrbitFamily, fr: FrequencyResponse, sigmas):
@@ -161,8 +148,9 @@ def compare_table(rows, *, agree: float = 0.05) -> str:
 
 
 def plot_compare(family: OrbitFamily, fr: FrequencyResponse, rows, path) -> Path:
-    plt = _figure()
-    fig, (ax, axd) = plt.subplots(2, 1, figsize=(9, 7.5), sharex=True, gridspec_kw={"height_ratios": [3, 1.3]})
+    from .plotting import pyplot, save_figure
+
+    fig, (ax, axd) = pyplot().subplots(2, 1, figsize=(9, 7.5), sharex=True, gridspec_kw={"height_ratios": [3, 1.3]})
     for k, b in enumerate(fr.branches):
         for st, ls in ((True, "-"), (False, "--")):
             y = np.where(b.stable == st, b.x[:, 0], np.nan)
@@ -186,7 +174,4 @@ def plot_compare(family: OrbitFamily, fr: FrequencyResponse, rows, path) -> Path
     axd.set_xlabel(r"$\sigma$")
     axd.legend(fontsize=7)
     axd.grid(alpha=0.3)
-    fig.tight_layout()
-    fig.savefig(path, dpi=130)
-    plt.close(fig)
-    return Path(path)
+    return save_figure(fig, path)

@@ -5,11 +5,31 @@ Functions draw on an ``Axes`` they are given and return it, so callers compose f
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 
 from . import manifold
 
-__all__ = ["plot_manifold", "plot_projection", "plot_time_history"]
+__all__ = ["plot_manifold", "plot_projection", "plot_time_history", "plot_branch", "pyplot", "save_figure"]
+
+
+def pyplot():
+    """matplotlib.pyplot on the file-only Agg backend (no display needed on a server or in CI)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+def save_figure(fig, path, *, dpi=130) -> Path:
+    """Lay out, write and close ``fig``; returns the path."""
+    fig.tight_layout()
+    fig.savefig(path, dpi=dpi)
+    pyplot().close(fig)
+    return Path(path)
 
 
 def plot_manifold(ax, rho, A_max=None, *, color="tab:blue", label="SIM"):

@@ -158,7 +158,10 @@ class ShootingProblem:
         self.backend = integrator.resolve_backend(backend)
         self.names = tuple(f"{c}{k}" for k in range(segments) for c in _STATE)
         self.evaluations = 0  # arc integrations so far (cost accounting)
-        self._cache: dict = {}
+        self._cache: dict = {}  # the last few full arc results
+        # (M, int tr J) of every (x, p) ever integrated: 17 numbers each, so that the stability and
+        # Liouville check of a branch's points, asked for after the branch is done, integrate nothing.
+        self._floquet: dict = {}
 
     def params_at(self, p: float) -> Params:
         return self.params.replace(**{self.param: float(p)})
@@ -197,6 +200,10 @@ class ShootingProblem:
         if len(self._cache) > 8:
             self._cache.clear()
         self._cache[key] = result
+        M = np.eye(4)
+        for Phi in mats:
+            M = Phi @ M
+        self._floquet[key] = (M, trace)
         return result
 
     # -- the continuation problem ------------------------------------------------------------
@@ -219,10 +226,13 @@ class ShootingProblem:
         return self._arcs(x, p)[2].ravel()
 
     def monodromy(self, x, p):
-        M = np.eye(4)
-        for Phi in self._arcs(x, p)[1]:
-            M = Phi @ M
-        return M
+        return self._monodromy_and_trace(x, p)[0]
+
+    def _monodromy_and_trace(self, x, p):
+        key = (x.tobytes(), float(p))
+        if key not in self._floquet:
+            self._arcs(x, p)
+        return self._floquet[key]
 
     def eigenvalues(self, x, p):
         """The Floquet multipliers, largest modulus first."""
@@ -238,8 +248,9 @@ class ShootingProblem:
 
     def liouville_error(self, x, p) -> float:
         """|det M - exp(int tr J)| / exp(int tr J): zero up to the integration error."""
-        expected = np.exp(self._arcs(x, p)[3])
-        return float(abs(np.linalg.det(self.monodromy(x, p)) - expected) / expected)
+        M, trace = self._monodromy_and_trace(x, p)
+        expected = np.exp(trace)
+        return float(abs(np.linalg.det(M) - expected) / expected)
 
     def test_functions(self, x, p):
         mu = self.eigenvalues(x, p)
@@ -312,7 +323,8 @@ def orbit_at(problem: ShootingProblem, x, p, *, tol=1e-10, max_iter=20) -> Perio
         if not np.all(np.isfinite(x)):
             message = "Newton diverged (non-finite iterate)"
             break
-    finite = np.all(np.isfinite(problem.residual(x, p))) if np.all(np.isfinite(x)) else False
+    F = problem.residual(x, p) if np.all(np.isfinite(x)) else np.full(len(x), np.nan)
+    finite = bool(np.all(np.isfinite(F)))
     mu = problem.eigenvalues(x, p) if finite else np.full(4, np.nan + 0j)
     return PeriodicOrbit(
         y0=x[:4].copy(),
@@ -321,7 +333,7 @@ def orbit_at(problem: ShootingProblem, x, p, *, tol=1e-10, max_iter=20) -> Perio
         multipliers=mu,
         stable=problem.is_stable(mu),
         liouville_error=problem.liouville_error(x, p) if finite else np.nan,
-        residual=float(np.linalg.norm(problem.residual(x, p))) if finite else np.nan,
+        residual=float(np.linalg.norm(F)),
         iterations=k - 1 if converged else k,
         converged=converged,
         message=message,

@@ -163,6 +163,5 @@ def frequency_response(params: Params, *, sigma_min=None, sigma_max=None, option
             psi0 = float(flow.steady_phase(A0, sigma=sigma0))
             branch = cont.continuation(problem, [A0, psi0], float(sigma0), param="sigma", options=opts)
             branches.append(branch)
-            near = lambda c: np.min(np.hypot(branch.x[:, 0] - c[0], branch.p - c[1])) < 2 * opts.step_max  # noqa: E731
-            candidates = [c for c in candidates if not near(c)]
+            candidates = [(A, sg) for A, sg in candidates if np.min(np.hypot(branch.x[:, 0] - A, branch.p - sg)) >= 2 * opts.step_max]
     return FrequencyResponse(params=params, branches=tuple(branches), A_min=flow.A_min)

@@ -87,7 +87,7 @@ def test_shoot_writes_branch_csv_and_png(tmp_path, capsys):
     assert "start orbit at sigma = 7.5" in capsys.readouterr().err
 
 
-def test_compare_writes_table_and_reports_agreement(tmp_path, capsys):
+def test_compare_writes_csv_png_and_table(tmp_path, capsys):
     out = tmp_path / "cmp"
     argv = ["compare", "--preset", "fig10", "--set", "sigma=7.5", "--sigma-min", "7", "--sigma-max", "8", "--grid", "11", "--no-switch", "--out", str(out)]
     assert main(argv) == 0

@@ -1,11 +1,12 @@
-"""Shooting: closed-form periodic response of a linear oscillator, monodromy, Liouville, failures."""
+"""Shooting and the compiled integrator: closed forms, differences, scipy, long simulation, failures."""
 
 import numpy as np
 import pytest
 from scipy import linalg
 
-from slosh_bif import SmoothModel, get_preset
-from slosh_bif.shooting import period_map, periodic_orbit, shoot
+from slosh_bif import SmoothModel, get_preset, integrator
+from slosh_bif.continuation import ContinuationOptions, continuation
+from slosh_bif.shooting import ShootingProblem, orbit_at, orbit_measures, period_map, periodic_orbit, shoot
 
 ZETA, OMEGA = 0.05, 1.3
 A_LIN = np.array([[0.0, 1.0], [-(OMEGA**2), -2 * ZETA]])
@@ -63,10 +64,6 @@ def test_shooting_reports_non_convergence_instead_of_raising():
 
 
 # -- the compiled integrator and the shooting problem -------------------------------------------
-
-from slosh_bif import integrator  # noqa: E402
-from slosh_bif.continuation import ContinuationOptions, continuation  # noqa: E402
-from slosh_bif.shooting import ShootingProblem, orbit_at, orbit_measures  # noqa: E402
 
 needs_numba = pytest.mark.skipif(not integrator.HAVE_NUMBA, reason="the compiled backend needs numba (the test extra installs it)")
 
