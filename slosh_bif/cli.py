@@ -8,6 +8,9 @@ Subcommands:
 * ``shoot``    - periodic orbits of the smooth model (9) by shooting, continued in sigma, with
   folds, branch points, period doublings and Neimark-Sacker points, and the branches born there;
 * ``compare``  - the slow-flow curve (46) against the shooting branches over the same sigma range;
+* ``simulate`` - a time response of the smooth model (9) or the vibro-impact model (8), optionally
+  with the noise of (47), classified into a response regime;
+* ``regimes``  - a map of response regimes over (sigma, Abar), computed in parallel;
 * ``derive``   - regenerate the generated code from the sympy derivations (``--check``: verify it).
 """
 
@@ -131,15 +134,16 @@ def _progress(message):
     print(f"  {message}", file=sys.stderr, flush=True)
 
 
-def _throttled(report, every=1.0):
-    """A progress callback that passes on at most one message a second (and every new branch)."""
+def _throttled(report, every=1.0, *, passes=lambda message: "point" not in message):
+    """A progress callback that passes on at most one message a second (and every message for
+    which ``passes`` is true: by default each that is not about a single point, e.g. a new branch)."""
     import time
 
     last = [-1e9]
 
     def callback(message):
         now = time.monotonic()
-        if now - last[0] >= every or "point" not in message:
+        if now - last[0] >= every or passes(message):
             last[0] = now
             report(message)
 
@@ -215,6 +219,66 @@ def _add_shooting_options(parser):
     parser.add_argument("--no-switch", action="store_true", help="trace the primary branch only")
 
 
+def _simulate(args) -> int:
+    from .regimes import classify
+    from .sim_output import plot_simulation, write_summary, write_trajectory
+    from .simulate import simulate
+
+    preset = get_preset(args.preset)
+    params = _params(args)
+    tmax = args.tmax if args.tmax is not None else float(preset.t_window[1])
+    noise = preset.noise_std if args.noise is None else args.noise
+    if args.transient is not None and not (0 <= args.transient < tmax):
+        raise ValueError(f"--transient must be in [0, tmax = {tmax:g}); got {args.transient}")
+    args.out.mkdir(parents=True, exist_ok=True)
+    report = _throttled(_progress, passes=lambda message: message.startswith("simulated 100"))
+    sim = simulate(
+        params, preset.state0, tmax, model=args.model, noise_std=noise, seed=args.seed, noise_cutoff=args.noise_cutoff,
+        progress=lambda f: report(f"simulated {100 * f:.0f} % of tau in [0, {tmax:g}]"),
+    )
+    if not sim.success and sim.status != "sticking":
+        print(f"slosh-bif simulate: the run stopped early: {sim.message}", file=sys.stderr)
+    transient = args.transient if args.transient is not None and args.transient < sim.t[-1] else None
+    summary = classify(sim, transient=transient)
+    paths = [
+        write_trajectory(sim, args.out / "trajectory.npz"),
+        write_summary(sim, summary, args.out / "summary.json"),
+        plot_simulation(sim, summary, args.out / "simulate.png", title=f"{preset.name} ({args.model} model): {summary.regime}"),
+    ]
+    print(f"regime: {summary.regime} ({summary.reason}); {sim.message}; {sim.seconds:.2f} s")
+    print("wrote " + ", ".join(str(p) for p in paths))
+    return 0
+
+
+def _regimes(args) -> int:
+    from .critical import critical_curve
+    from .regimes import regime_map
+    from .sim_output import plot_regime_map, write_regime_csv
+
+    params = _params(args)
+    lo, hi = _sigma_range(args, default=(-2.0, 4.0))
+    if not (0 <= args.abar_min < args.abar_max):
+        raise ValueError(f"need 0 <= --abar-min < --abar-max; got {args.abar_min}, {args.abar_max}")
+    n_sigma, n_abar = args.grid
+    if n_sigma < 1 or n_abar < 1:
+        raise ValueError(f"--grid takes two positive integers N M (sigma points, Abar points); got {args.grid}")
+    if args.workers is not None and args.workers < 1:
+        raise ValueError(f"--workers must be a positive integer; got {args.workers}")
+    args.out.mkdir(parents=True, exist_ok=True)
+    report = _throttled(_progress, passes=lambda message: False)
+    rmap = regime_map(
+        params, get_preset(args.preset).state0, np.linspace(lo, hi, n_sigma), np.linspace(args.abar_min, args.abar_max, n_abar),
+        tmax=args.tmax, model=args.model, max_workers=args.workers,
+        progress=lambda done, total: report(f"classified {done} of {total} grid points"),
+    )
+    curve = critical_curve(params, lo, hi)
+    paths = [write_regime_csv(rmap, args.out / "regimes.csv"), plot_regime_map(rmap, args.out / "regimes.png", critical=curve)]
+    counts = {r: int(np.sum(rmap.regime == r)) for r in sorted(set(rmap.regime.ravel()))}
+    print("regimes: " + ", ".join(f"{r} {c}" for r, c in counts.items()))
+    print("wrote " + ", ".join(str(p) for p in paths))
+    return 0
+
+
 def _derivations_dir() -> Path:
     return Path(__file__).resolve().parent.parent / "derivations"
 
@@ -269,6 +333,28 @@ def build_parser() -> argparse.ArgumentParser:
     _add_shooting_options(compare)
     compare.add_argument("--grid", type=int, default=141, help="sigma values compared (default 141)")
     compare.set_defaults(run=_compare)
+
+    sim = sub.add_parser("simulate", help="time response of the smooth model (9) or the vibro-impact model (8), with its response regime")
+    _add_params_options(sim)
+    sim.add_argument("--model", choices=("smooth", "impact"), default="smooth", help="(9) with the wall potential, or (8) with impacts (default smooth)")
+    sim.add_argument("--tmax", type=float, default=None, help="end time tau (default: the end of the preset's figure window)")
+    sim.add_argument("--noise", type=float, default=None, metavar="STD", help="standard deviation sigma_bar of the noise of eq. 47 (default: the preset's, 0 for most)")
+    sim.add_argument("--seed", type=int, default=0, help="seed of the noise (default 0); the same seed gives the same run bit for bit")
+    sim.add_argument("--noise-cutoff", type=float, default=10.0, help="highest angular frequency of the band-limited noise (default 10)")
+    sim.add_argument("--transient", type=float, default=None, help="tau after which the regime is judged (default: half the run)")
+    sim.add_argument("--out", type=Path, required=True, help="output folder (created if missing)")
+    sim.set_defaults(run=_simulate)
+
+    regimes = sub.add_parser("regimes", help="map of response regimes over (sigma, Abar), simulated in parallel")
+    _add_params_options(regimes)
+    _add_range_options(regimes)
+    regimes.add_argument("--abar-min", type=float, default=0.1, help="lowest forcing amplitude (default 0.1)")
+    regimes.add_argument("--abar-max", type=float, default=3.0, help="highest forcing amplitude (default 3)")
+    regimes.add_argument("--grid", type=int, nargs=2, default=(13, 10), metavar=("N", "M"), help="N sigma values by M Abar values (default 13 10)")
+    regimes.add_argument("--tmax", type=float, default=600.0, help="simulated time per point; the second half is classified (default 600)")
+    regimes.add_argument("--model", choices=("smooth", "impact"), default="smooth", help="model simulated (default smooth)")
+    regimes.add_argument("--workers", type=int, default=None, help="worker processes (default: one per core)")
+    regimes.set_defaults(run=_regimes)
 
     derive = sub.add_parser("derive", help="regenerate slosh_bif/_generated from the sympy derivations")
     derive.add_argument("--check", action="store_true", help="exit 1 if the committed generated code is stale")

@@ -103,10 +103,40 @@ def _grid_loop(which, taus, z0, pars, rtol, atol, max_steps, A, B, C, E3, E5):
     return out, taus.shape[0], 0
 
 
+_NOISE_AT = 9  # pars[9:] holds the noise spline table (noise.BandLimitedNoise.table) for "noisy"
+
+
+def _noise_force(tau, pars):
+    """F_w(tau) from the spline table in ``pars[9:]`` (the scalar twin of BandLimitedNoise.__call__)."""
+    t0 = pars[_NOISE_AT]
+    dt = pars[_NOISE_AT + 1]
+    m = int(pars[_NOISE_AT + 2])
+    degree = int(pars[_NOISE_AT + 3])
+    i = int((tau - t0) / dt)
+    i = min(max(i, 0), m - 1)
+    s = tau - (t0 + i * dt)
+    k = _NOISE_AT + 4 + (degree + 1) * i
+    value = pars[k]
+    for j in range(1, degree + 1):
+        value = value * s + pars[k + j]
+    return value
+
+
+def _noisy_kernel_py(tau, y, out, pars):
+    """(9) with the forcing eps*(Abar cos tau + F_w(tau)) of (47): F_w enters where cos tau does."""
+    _plain_kernel(tau, y, out, pars)
+    force = pars[0] * _noise_force(tau, pars)
+    out[1] += force
+    out[3] += force
+
+
 _RAW = {"plain": _kernels.smooth_rhs_kernel, "shooting": _kernels.smooth_shooting_kernel}
-_WHICH = {"plain": 0, "shooting": 1}
+_WHICH = {"plain": 0, "shooting": 1, "noisy": 2}
 _plain_kernel = _jit(_RAW["plain"])
 _shooting_kernel = _jit(_RAW["shooting"])
+_noise_force = _jit(_noise_force)
+_RAW["noisy"] = _noisy_kernel_py
+_noisy_kernel = _jit(_noisy_kernel_py)
 
 
 @_jit
@@ -115,8 +145,10 @@ def _kernel(which, tau, z, out, pars):
     # function that takes another compiled function as argument, and recompiling costs ~1 s a process.
     if which == 0:
         _plain_kernel(tau, z, out, pars)
-    else:
+    elif which == 1:
         _shooting_kernel(tau, z, out, pars)
+    else:
+        _noisy_kernel(tau, z, out, pars)
 
 
 @_jit
@@ -244,9 +276,24 @@ def _check(params, z0, tau0, tau1, rtol, atol, size):
     return z0
 
 
-def _pars(params: Params):
+def _pars(params: Params, noise=None):
     q = params
-    return np.array([q.eps, q.beta, q.gamma, q.sigma, q.Abar, q.lam, q.chi, q.n, q.p], dtype=float)
+    pars = np.array([q.eps, q.beta, q.gamma, q.sigma, q.Abar, q.lam, q.chi, q.n, q.p], dtype=float)
+    return pars if noise is None else np.concatenate([pars, noise.table])
+
+
+def _check_noise(noise, tau0, tau1):
+    from .noise import BandLimitedNoise
+
+    if noise is None:
+        return
+    if not isinstance(noise, BandLimitedNoise):
+        raise TypeError(f"noise must be a slosh_bif.noise.BandLimitedNoise (see band_limited_noise); got {type(noise).__name__}")
+    if tau0 < noise.t0 - 1e-9 or tau1 > noise.t0 + noise.duration + 1e-9:
+        raise ValueError(
+            f"the noise signal covers tau in [{noise.t0:g}, {noise.t0 + noise.duration:g}]; "
+            f"the integration asks for [{tau0:g}, {tau1:g}]: draw it for the whole run"
+        )
 
 
 def _scipy_rhs(which, pars):
@@ -273,15 +320,21 @@ def integrate(
     h0: float = 0.0,
     max_steps: int = 2_000_000,
     backend: str = "auto",
+    noise=None,
 ) -> Integration:
     """Integrate (9) (``shooting=False``, z = y) or (9) with everything shooting needs from tau0 to tau1.
 
     ``h0 > 0`` warm-starts the step size (pass the previous call's ``h_next``); 0 lets the rule
-    choose. Never raises on integration failure: ``success`` and ``message`` say what happened.
+    choose. ``noise`` (a :class:`~slosh_bif.noise.BandLimitedNoise`) adds the random forcing of
+    (47) (plain model only). Never raises on integration failure: ``success`` and ``message`` say
+    what happened.
     """
-    which = "shooting" if shooting else "plain"
+    if noise is not None and shooting:
+        raise ValueError("shooting needs the periodic forcing: noise is only for plain integration")
+    which = "shooting" if shooting else ("plain" if noise is None else "noisy")
     z0 = _check(params, z0, tau0, tau1, rtol, atol, SHOOTING_SIZE if shooting else 4)
-    pars = _pars(params)
+    _check_noise(noise, tau0, tau1)
+    pars = _pars(params, noise)
     if resolve_backend(backend) == "numba":
         z, steps, rejected, nfev, h, status = _dop853_loop(_WHICH[which], float(tau0), float(tau1), z0, pars, float(rtol), float(atol), float(h0), int(max_steps), _A, _B, _C, _E3, _E5)
         return Integration(z, int(steps), int(rejected), int(nfev), float(h), status == _OK, _MESSAGES[int(status)])
@@ -292,23 +345,27 @@ def integrate(
     return Integration(sol.y[:, -1].copy(), steps, 0, int(sol.nfev), math.nan, bool(sol.success), "ok" if sol.success else sol.message)
 
 
-def integrate_grid(params: Params, y0, taus, *, rtol: float = 1e-10, atol: float = 1e-12, backend: str = "auto"):
+def integrate_grid(params: Params, y0, taus, *, rtol: float = 1e-10, atol: float = 1e-12, backend: str = "auto", noise=None):
     """States of (9) at the increasing times ``taus`` (the first is the start), shape (len(taus), 4).
 
-    Raises RuntimeError naming the time where the integration failed.
+    ``noise`` adds the random forcing of (47) as in :func:`integrate`. Raises RuntimeError naming
+    the time where the integration failed.
     """
     taus = np.asarray(taus, dtype=float)
     if taus.ndim != 1 or len(taus) < 2 or not np.all(np.diff(taus) > 0):
         raise ValueError("taus must be at least two strictly increasing times")
     out = np.empty((len(taus), 4))
     out[0] = _check(params, y0, taus[0], taus[1], rtol, atol, 4)
+    _check_noise(noise, taus[0], taus[-1])
+    which = "plain" if noise is None else "noisy"
+    pars = _pars(params, noise)
     if resolve_backend(backend) == "scipy":
         with np.errstate(over="ignore", invalid="ignore"):
-            sol = solve_ivp(_scipy_rhs("plain", _pars(params)), (taus[0], taus[-1]), out[0], method="DOP853", rtol=rtol, atol=atol, t_eval=taus)
+            sol = solve_ivp(_scipy_rhs(which, pars), (taus[0], taus[-1]), out[0], method="DOP853", rtol=rtol, atol=atol, t_eval=taus)
         if not sol.success:
             raise RuntimeError(f"integration of (9) failed near tau = {sol.t[-1]:.6g}: {sol.message}")
         return sol.y.T.copy()
-    states, reached, status = _grid_loop(0, taus, out[0], _pars(params), float(rtol), float(atol), 2_000_000, _A, _B, _C, _E3, _E5)
+    states, reached, status = _grid_loop(_WHICH[which], taus, out[0], pars, float(rtol), float(atol), 2_000_000, _A, _B, _C, _E3, _E5)
     if status != _OK:
         raise RuntimeError(f"integration of (9) failed between tau = {taus[reached - 1]:.6g} and {taus[reached]:.6g}: {_MESSAGES[int(status)]}")
     return states

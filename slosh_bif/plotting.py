@@ -55,8 +55,8 @@ def plot_projection(ax, projection, *, label="simulation"):
 
 def plot_time_history(ax, t, y, *, envelope=None):
     """X (blue) and w (red) against tau; optionally a slow-flow envelope ``(tau, A)`` in black."""
-    ax.plot(t, y[0], color="tab:blue", lw=0.6, label="X")
     ax.plot(t, y[2], color="tab:red", lw=0.6, label="w")
+    ax.plot(t, y[0], color="tab:blue", lw=0.6, label="X")  # on top: w's fast motion would hide it
     if envelope is not None:
         ax.plot(envelope[0], envelope[1], color="k", lw=1.5, label="slow flow A")
         ax.plot(envelope[0], -np.asarray(envelope[1]), color="k", lw=1.5)

@@ -15,7 +15,7 @@ from scipy.integrate import solve_ivp
 from .models import SmoothModel
 from .params import Params
 
-__all__ = ["Trajectory", "integrate_smooth"]
+__all__ = ["MODELS", "Simulation", "Trajectory", "integrate_smooth", "simulate", "wall_passages"]
 
 _METHODS = ("DOP853", "RK45", "RK23", "Radau", "BDF", "LSODA")
 _IMPLICIT = ("Radau", "BDF", "LSODA")
@@ -63,3 +63,149 @@ def integrate_smooth(
             model.rhs, t_span, y0, method=method, rtol=rtol, atol=atol, t_eval=t_eval, max_step=max_step, **extra
         )
     return Trajectory(t=sol.t, y=sol.y, success=bool(sol.success), message=sol.message, nfev=int(sol.nfev))
+
+
+# --- direct simulation of either model, with the noise of (47) ------------------------------------
+
+MODELS = ("smooth", "impact")
+
+
+@dataclasses.dataclass(frozen=True)
+class Simulation:
+    """A simulated response of model (9) (``"smooth"``) or (8) (``"impact"``).
+
+    t : (N,) sample times; y : (4, N) states ``[X, X', w, w']``; impact_t, impact_side,
+    impact_v_minus, impact_v_plus : (K,) the impacts (exact for the impact model; for the smooth
+    model the passages of |w| through 1 into the wall, located on the samples by linear
+    interpolation, with w' at entry and exit); status, message : how the run ended
+    (``"finished"`` or why it stopped); noise : the realised :class:`~slosh_bif.noise.BandLimitedNoise`
+    or None; seconds : wall-clock time of the integration.
+    """
+
+    model: str
+    params: Params
+    t: np.ndarray
+    y: np.ndarray
+    impact_t: np.ndarray
+    impact_side: np.ndarray
+    impact_v_minus: np.ndarray
+    impact_v_plus: np.ndarray
+    status: str
+    message: str
+    noise: object = None
+    seconds: float = 0.0
+
+    @property
+    def success(self) -> bool:
+        return self.status == "finished"
+
+
+def wall_passages(t, y):
+    """Impacts of a sampled smooth trajectory: entries of |w| into the wall (|w| > 1).
+
+    Returns (times, side, w' at entry, w' at exit), each (K,); a contact still open at the end
+    has exit velocity NaN. Linear interpolation on the samples: a contact shorter than the sample
+    step can be missed, so sample finer than the contact time (about 0.1 at n = 50, speed 2).
+    """
+    w, wd = y[2], y[3]
+    inside = np.abs(w) > 1.0
+    enter = np.flatnonzero(~inside[:-1] & inside[1:]) + 1
+    leave = np.flatnonzero(inside[:-1] & ~inside[1:]) + 1
+
+    def crossing(i):  # between samples i-1 and i
+        a, b = np.abs(w[i - 1]) - 1.0, np.abs(w[i]) - 1.0
+        s = a / (a - b)
+        return t[i - 1] + s * (t[i] - t[i - 1]), wd[i - 1] + s * (wd[i] - wd[i - 1])
+
+    times, vin = crossing(enter) if enter.size else (np.empty(0), np.empty(0))
+    vout = np.full(enter.size, np.nan)
+    for k, i in enumerate(enter):
+        later = leave[leave > i]
+        if later.size:
+            vout[k] = crossing(later[:1])[1][0]
+    return times, np.sign(w[enter]).astype(int), vin, vout
+
+
+def simulate(
+    params: Params,
+    state0,
+    tmax: float,
+    *,
+    t0: float = 0.0,
+    model: str = "smooth",
+    noise_std: float = 0.0,
+    seed=None,
+    noise_cutoff: float = 10.0,
+    sample_step: float = 0.02,
+    rtol: float = 1e-9,
+    atol: float = 1e-11,
+    backend: str = "auto",
+    progress=None,
+) -> Simulation:
+    """Simulate from ``state0`` at ``t0`` to ``tmax`` and sample every ``sample_step``.
+
+    ``model="smooth"`` integrates (9) with the compiled DOP853 of :mod:`slosh_bif.integrator`
+    (scipy's when numba is missing); ``"impact"`` runs the event-driven exact flow of (8)
+    (:func:`slosh_bif.vibro_impact.simulate_impact`). ``noise_std > 0`` adds the band-limited noise
+    of (47) (smooth model only, see :mod:`slosh_bif.noise`) and then needs ``seed``.
+    ``progress(fraction)`` is called as the run advances. Integration failure is not raised: the
+    result's ``status`` and ``message`` say where and why it stopped.
+    """
+    import time
+
+    from . import integrator
+    from .noise import band_limited_noise
+    from .vibro_impact import simulate_impact
+
+    if model not in MODELS:
+        raise ValueError(f"model must be one of {', '.join(MODELS)}; got {model!r}")
+    if not isinstance(params, Params):
+        raise TypeError(f"params must be a slosh_bif.Params; got {type(params).__name__}")
+    if not (np.isfinite(t0) and np.isfinite(tmax) and tmax > t0):
+        raise ValueError(f"tmax must be finite and greater than t0 = {t0}; got {tmax!r}")
+    if not (np.isfinite(sample_step) and 0 < sample_step <= 0.5):
+        raise ValueError(f"sample_step must be in (0, 0.5]; got {sample_step!r}")
+    if not (np.isfinite(noise_std) and noise_std >= 0):
+        raise ValueError(f"noise_std (sigma_bar of eq. 47) must be finite and >= 0; got {noise_std!r}")
+    noise = None
+    if noise_std > 0:
+        if model != "smooth":
+            raise ValueError("noise (eq. 47) is supported for the smooth model only; use model='smooth'")
+        if seed is None:
+            raise ValueError("noise needs a seed (any non-negative integer) so that the run is reproducible")
+        noise = band_limited_noise(noise_std, seed=seed, duration=tmax - t0, t0=t0, cutoff=noise_cutoff)
+    y0 = np.asarray(state0, dtype=float)
+    if y0.shape != (4,) or not np.all(np.isfinite(y0)):
+        raise ValueError(f"state0 must be 4 finite numbers [X, X', w, w']; got {state0!r}")
+
+    start = time.perf_counter()
+    if model == "impact":
+        run = simulate_impact(params, y0, (t0, tmax), sample_step=min(sample_step, 0.05))
+        if progress is not None:
+            progress(1.0)
+        return Simulation(
+            "impact", params, run.t, run.y, run.impact_t, run.impact_side, run.impact_v_minus, run.impact_v_plus,
+            run.status, run.message, None, time.perf_counter() - start,
+        )
+
+    count = int(np.ceil((tmax - t0) / sample_step))
+    taus = np.linspace(t0, tmax, count + 1)
+    chunks = np.array_split(np.arange(count + 1), max(1, min(50, count // 500)))
+    states = [y0[None, :]]
+    status, message = "finished", f"reached tau = {tmax:g}"
+    for k, chunk in enumerate(chunks):
+        grid = taus[max(chunk[0] - 1, 0) : chunk[-1] + 1]
+        if grid.size < 2:
+            continue
+        try:
+            part = integrator.integrate_grid(params, states[-1][-1], grid, rtol=rtol, atol=atol, backend=backend, noise=noise)
+        except RuntimeError as err:
+            status, message = "failed", str(err)
+            break
+        states.append(part[1:])
+        if progress is not None:
+            progress((k + 1) / len(chunks))
+    y = np.concatenate(states).T
+    t = taus[: y.shape[1]]
+    hit_t, side, v_in, v_out = wall_passages(t, y)
+    return Simulation("smooth", params, t, y, hit_t, side, v_in, v_out, status, message, noise, time.perf_counter() - start)

@@ -99,3 +99,49 @@ def test_shoot_without_an_orbit_near_the_guess_says_so(tmp_path, capsys):
     argv = ["shoot", "--preset", "fig10", "--guess", "50,0,0,0", "--settle", "1", "--sigma-min", "0", "--sigma-max", "2", "--out", str(tmp_path)]
     assert main(argv) == 2
     assert "no periodic orbit found near --guess" in capsys.readouterr().err
+
+
+def test_simulate_writes_trajectory_summary_and_figure(tmp_path, capsys):
+    import numpy as np
+
+    out = tmp_path / "sim"
+    assert main(["simulate", "--preset", "fig13", "--model", "impact", "--tmax", "150", "--out", str(out)]) == 0
+    data = np.load(out / "trajectory.npz")
+    for key in ("tau", "X", "Xd", "w", "wd", "impact_t", "impact_v_minus", "impact_v_plus"):
+        assert key in data
+    assert data["impact_t"].size > 0 and data["tau"][-1] == pytest.approx(150)
+    summary = json.loads((out / "summary.json").read_text())
+    assert {"regime", "impacts_per_period", "envelope_min", "envelope_max"} <= set(summary)
+    assert summary["model"] == "impact" and summary["noise"] is None
+    assert (out / "simulate.png").stat().st_size > 10_000
+    assert "regime:" in capsys.readouterr().out
+
+
+def test_simulate_with_noise_records_the_seed_and_is_reproducible(tmp_path):
+    import numpy as np
+
+    runs = []
+    for name in ("a", "b"):
+        assert main(["simulate", "--preset", "fig15", "--tmax", "60", "--seed", "7", "--out", str(tmp_path / name)]) == 0
+        runs.append(np.load(tmp_path / name / "trajectory.npz")["X"])
+    assert np.array_equal(runs[0], runs[1])
+    noise = json.loads((tmp_path / "a" / "summary.json").read_text())["noise"]
+    assert noise["std"] == 4.0 and noise["seed"] == 7 and noise["cutoff"] == 10.0
+
+
+def test_simulate_reports_bad_input(tmp_path, capsys):
+    assert main(["simulate", "--preset", "fig10", "--model", "impact", "--noise", "1", "--out", str(tmp_path)]) == 2
+    assert "smooth model only" in capsys.readouterr().err
+    assert main(["simulate", "--preset", "fig10", "--tmax", "100", "--transient", "200", "--out", str(tmp_path)]) == 2
+    assert "--transient must be in [0, tmax = 100)" in capsys.readouterr().err
+
+
+def test_regimes_writes_map_csv_and_png(tmp_path, capsys):
+    out = tmp_path / "map"
+    argv = ["regimes", "--preset", "fig12", "--sigma-min", "0", "--sigma-max", "2", "--abar-min", "0.2", "--abar-max", "1.0"]
+    assert main(argv + ["--grid", "2", "2", "--tmax", "300", "--workers", "2", "--out", str(out)]) == 0
+    rows = (out / "regimes.csv").read_text().splitlines()
+    assert rows[0].startswith("sigma,Abar,regime") and len(rows) == 5
+    assert (out / "regimes.png").stat().st_size > 10_000
+    assert main(argv + ["--grid", "0", "2", "--out", str(out)]) == 2
+    assert "--grid takes two positive integers" in capsys.readouterr().err
