@@ -11,6 +11,7 @@ Subcommands:
 * ``simulate`` - a time response of the smooth model (9) or the vibro-impact model (8), optionally
   with the noise of (47), classified into a response regime;
 * ``regimes``  - a map of response regimes over (sigma, Abar), computed in parallel;
+* ``figures``  - the paper's Figs. 3 and 6-15, regenerated from scratch as PNG files;
 * ``derive``   - regenerate the generated code from the sympy derivations (``--check``: verify it).
 """
 
@@ -279,6 +280,15 @@ def _regimes(args) -> int:
     return 0
 
 
+def _figures(args) -> int:
+    from .figures import NOTES, make_figures
+
+    paths = make_figures(args.out, quick=args.quick, only=args.only, progress=_progress)
+    for path in paths:
+        print(f"{path}: {NOTES[path.stem]}")
+    return 0
+
+
 def _derivations_dir() -> Path:
     return Path(__file__).resolve().parent.parent / "derivations"
 
@@ -355,6 +365,12 @@ def build_parser() -> argparse.ArgumentParser:
     regimes.add_argument("--model", choices=("smooth", "impact"), default="smooth", help="model simulated (default smooth)")
     regimes.add_argument("--workers", type=int, default=None, help="worker processes (default: one per core)")
     regimes.set_defaults(run=_regimes)
+
+    figures = sub.add_parser("figures", help="regenerate the paper's Figs. 3, 6-15 as PNG files (about 15 s)")
+    figures.add_argument("--out", type=Path, required=True, help="output folder (created if missing)")
+    figures.add_argument("--only", nargs="+", default=None, metavar="FIG", help="only these figures, e.g. fig10 fig11")
+    figures.add_argument("--quick", action="store_true", help="short simulations and coarse grids (a smoke test)")
+    figures.set_defaults(run=_figures)
 
     derive = sub.add_parser("derive", help="regenerate slosh_bif/_generated from the sympy derivations")
     derive.add_argument("--check", action="store_true", help="exit 1 if the committed generated code is stale")

@@ -145,3 +145,14 @@ def test_regimes_writes_map_csv_and_png(tmp_path, capsys):
     assert (out / "regimes.png").stat().st_size > 10_000
     assert main(argv + ["--grid", "0", "2", "--out", str(out)]) == 2
     assert "--grid takes two positive integers" in capsys.readouterr().err
+
+
+def test_figures_writes_every_figure_quickly(tmp_path, capsys):
+    from slosh_bif.figures import FIGURES
+
+    assert main(["figures", "--quick", "--out", str(tmp_path)]) == 0
+    for name in FIGURES:
+        assert (tmp_path / f"{name}.png").stat().st_size > 10_000, name
+    assert len(FIGURES) == 11
+    assert "A_min = 0.0993" in capsys.readouterr().out  # the Fig. 6 note reaches the user
+    assert main(["figures", "--only", "fig99", "--out", str(tmp_path)]) == 2

@@ -266,3 +266,17 @@ def test_regime_map_runs_through_any_executor():
             assert rmap.summaries[i][j].envelope_max == alone.envelope_max
     with pytest.raises(ValueError, match="Abar must be >= 0"):
         regime_map(preset.params, preset.state0, sigmas, [-1.0], executor=pool)
+
+
+def test_morlet_ridge_reads_the_amplitude_and_frequency_of_a_cosine():
+    from slosh_bif.wavelet import morlet_transform
+
+    dt = 0.1
+    t = np.arange(0, 400, dt)
+    omegas = np.linspace(0.5, 2.0, 151)
+    W = morlet_transform(0.7 * np.cos(1.3 * t) + 0.2 * np.cos(0.6 * t), dt, omegas)
+    middle = W[:, t.size // 2]
+    assert omegas[np.argmax(middle)] == pytest.approx(1.3, abs=0.011)
+    assert middle.max() == pytest.approx(0.7, rel=0.01)
+    with pytest.raises(ValueError, match="omegas must lie in"):
+        morlet_transform(t, dt, [40.0])
