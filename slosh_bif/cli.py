@@ -379,13 +379,21 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv=None) -> int:
+    import warnings
+
     parser = build_parser()
     args = parser.parse_args(argv)
-    try:
-        return args.run(args)
-    except ValueError as err:
-        print(f"slosh-bif {args.command}: error: {err}", file=sys.stderr)
-        return 2
+
+    def show(message, category, *_args, **_kwargs):  # one line, no source excerpt
+        print(f"slosh-bif {args.command}: warning: {message}", file=sys.stderr)
+
+    with warnings.catch_warnings():
+        warnings.showwarning = show
+        try:
+            return args.run(args)
+        except ValueError as err:
+            print(f"slosh-bif {args.command}: error: {err}", file=sys.stderr)
+            return 2
 
 
 if __name__ == "__main__":

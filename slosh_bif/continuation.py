@@ -202,7 +202,14 @@ def newton(problem, x0, p, *, tol=1e-11, max_iter=30):
         if not _in_domain(problem, np.append(x, p)):
             raise ConvergenceError(f"Newton left the problem's domain at iteration {k} (x = {x}, p = {p})")
         F = problem.residual(x, p)
-        dx = np.linalg.solve(problem.jacobian(x, p), -F)
+        if k == 0 and np.linalg.norm(F) <= 1e3 * np.finfo(float).eps * (1 + np.linalg.norm(x)):
+            return x  # already a solution (e.g. a closed-form start): no step, no Jacobian needed
+        try:
+            dx = np.linalg.solve(problem.jacobian(x, p), -F)
+        except np.linalg.LinAlgError:
+            raise ConvergenceError(
+                f"Newton at fixed p = {p}: the Jacobian F_x is singular at iteration {k} (x = {x}): a fold or branch point"
+            ) from None
         x = x + dx
         if np.linalg.norm(dx) <= tol * (1 + np.linalg.norm(x)):
             return x
@@ -355,8 +362,8 @@ def _special_between(problem, a: _Point, b: _Point, h, opts):
 def continuation(problem, x0, p0, *, param="p", options: ContinuationOptions | None = None, orient=None, callback=None) -> Branch:
     """Trace the solution curve of ``problem`` through ``(x0, p0)``; returns a :class:`Branch`.
 
-    ``x0`` is corrected at fixed ``p0`` first (a :class:`ConvergenceError` says why when it
-    cannot be). Mid-branch failures do not raise: the branch ends there with the reason.
+    ``x0`` is corrected at fixed ``p0`` first, or, where that is singular (a start at a fold),
+    along the branch's tangent (a :class:`ConvergenceError` says why when neither works). Mid-branch failures do not raise: the branch ends there with the reason.
     ``orient`` (a vector in (x, p)) makes "forward" the direction along it instead of along
     increasing p (needed where the branch runs across the parameter, as after a pitchfork).
     ``callback(p, x)``, if given, is called after every accepted point (for progress reports).
@@ -367,7 +374,15 @@ def continuation(problem, x0, p0, *, param="p", options: ContinuationOptions | N
     x0 = np.atleast_1d(np.asarray(x0, dtype=float))
     if len(x0) != len(problem.names) or not np.all(np.isfinite(x0)):
         raise ValueError(f"x0 must be {len(problem.names)} finite numbers ({', '.join(problem.names)}); got {x0}")
-    u0 = np.append(newton(problem, x0, p0, tol=opts.tol), p0)
+    try:
+        u0 = np.append(newton(problem, x0, p0, tol=opts.tol), p0)
+    except ConvergenceError as err:
+        # At (or very near) a fold F_x is singular and Newton at fixed p fails; the bordered
+        # corrector along the tangent of [F_x, F_p] is regular there (p may move a little).
+        guess = np.append(x0, p0)
+        u0, _ = _correct(problem, guess, _initial_tangent(problem, guess, True), opts)
+        if u0 is None:
+            raise ConvergenceError(f"{err}; the pseudo-arclength corrector from the same point failed too") from None
     return _trace(problem, u0, param, opts, orient, callback)
 
 
@@ -414,6 +429,11 @@ def _trace(problem, u0, param, opts, orient=None, callback=None) -> Branch:
     if back and ahead:
         if ahead[0].kind and not back[0].kind:  # the forward run ended at its first point
             back[0].kind, back[0].message = ahead[0].kind, ahead[0].message
+        elif not back[0].kind and len(back) > 1 and len(ahead) > 1 and abs(back[0].t[-1]) < 1e-6 and not (back[1].kind or ahead[1].kind):
+            # A start exactly at a fold: the runs leave it on the same side of p, so no step of
+            # either run sees the sign change of t_p. The start point is the fold.
+            if (back[1].u[-1] - back[0].u[-1]) * (ahead[1].u[-1] - ahead[0].u[-1]) > 0:
+                back[0].kind, back[0].message = "LP", "fold at the start point"
         points = back[::-1] + ahead[1:]
     else:
         points = back[::-1] or ahead

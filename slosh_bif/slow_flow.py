@@ -29,6 +29,7 @@ not survive the derivation, and numerics on the full models settle both:
 from __future__ import annotations
 
 import dataclasses
+import warnings
 
 import numpy as np
 from scipy import optimize
@@ -38,7 +39,36 @@ from . import manifold, restitution
 from ._generated import slow_flow as gen
 from .params import Params
 
-__all__ = ["SlowFlow", "SlowTrajectory", "ManifoldProjection", "project_on_manifold"]
+__all__ = ["AsymptoticsWarning", "SlowFlow", "SlowTrajectory", "ManifoldProjection", "project_on_manifold", "asymptotics_concerns"]
+
+
+class AsymptoticsWarning(UserWarning):
+    """The slow flow is used where the asymptotics behind it are known, or expected, to be poor."""
+
+
+# Where the multiple-scales model was compared with the full model (README, "What the full model
+# says"): eps = 0.05-0.1, beta = 0-0.3, and eq. (21) is accurate only for small dissipation.
+ASYMPTOTICS_LIMITS = {"eps": 0.1, "beta": 0.5, "wall_dissipation": 0.5}
+
+
+def asymptotics_concerns(params: Params) -> list:
+    """Why the slow flow may be inaccurate for ``params`` (empty when no known reason)."""
+    P = params
+    concerns = []
+    if P.eps > ASYMPTOTICS_LIMITS["eps"]:
+        concerns.append(f"eps = {P.eps:g} > {ASYMPTOTICS_LIMITS['eps']:g}: the expansion is in powers of eps")
+    if P.beta > ASYMPTOTICS_LIMITS["beta"]:
+        concerns.append(
+            f"beta = {P.beta:g} > {ASYMPTOTICS_LIMITS['beta']:g}: the triangle wave solves (24b) only at beta = 0, "
+            "and near beta = 1 the particle's own frequency meets the 1:1 resonance"
+        )
+    delta = float(restitution.dissipation_at_unit_speed(P.lam, P.chi, P.n, P.pbar))
+    if delta > ASYMPTOTICS_LIMITS["wall_dissipation"]:
+        concerns.append(
+            f"the wall loses {100 * delta:.0f} % of the energy per impact (kappa = {np.sqrt(1 - delta):.2f} at unit speed): "
+            "eq. (21) is first order in the dissipation and under-estimates kappa there (n = 6, Figs. 11-12: 0.27 vs 0.63)"
+        )
+    return concerns
 
 
 def _drho_dkappa(k):
@@ -52,6 +82,9 @@ class SlowFlow:
         if not isinstance(params, Params):
             raise TypeError(f"params must be a slosh_bif.Params; got {type(params).__name__}")
         self.params = params
+        concerns = asymptotics_concerns(params)
+        if concerns:
+            warnings.warn("slow flow outside its checked range: " + "; ".join(concerns), AsymptoticsWarning, stacklevel=2)
         P = params
         self._slow = (P.beta, P.gamma, P.sigma, P.Abar)
         self._delta1 = float(restitution.dissipation_at_unit_speed(P.lam, P.chi, P.n, P.pbar))

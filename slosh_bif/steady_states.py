@@ -146,8 +146,8 @@ def frequency_response(params: Params, *, sigma_min=None, sigma_max=None, option
         margin = 0.1 * (s_all.max() - s_all.min()) + 0.1
         sigma_min = s_all.min() - margin if sigma_min is None else sigma_min
         sigma_max = s_all.max() + margin if sigma_max is None else sigma_max
-    if not sigma_min < sigma_max:
-        raise ValueError(f"need sigma_min < sigma_max; got {sigma_min} and {sigma_max}")
+    if not (np.isfinite(sigma_min) and np.isfinite(sigma_max) and sigma_min < sigma_max):
+        raise ValueError(f"need finite sigma_min < sigma_max; got {sigma_min} and {sigma_max}")
     opts = dataclasses.replace(options or cont.ContinuationOptions(), p_min=float(sigma_min), p_max=float(sigma_max))
     branches = []
     for lo, hi in intervals:
