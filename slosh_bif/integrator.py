@@ -5,7 +5,9 @@ error norm, step-size control and initial-step rule of scipy's ``solve_ivp(metho
 Butcher coefficients are read from scipy at import, so both backends run the same method and
 differ only in rounding and in where output points fall. The right-hand sides are the scalar
 kernels that the sympy derivation writes (``_generated/kernels.py``): (9) alone, and (9) with its
-variational equations, parameter sensitivities and the Liouville integral for shooting.
+variational equations, parameter sensitivities and the Liouville integral for shooting; a third,
+(9) with the random forcing of (47), adds the noise spline of :mod:`slosh_bif.noise` where
+cos(tau) enters.
 
 Why: one period of (9) at n = 50 takes thousands of steps (the wall term chi w^101 is stiff in an
 explicit method's eyes), and a Python right-hand side called from scipy's stepper spends tens of

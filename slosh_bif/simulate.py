@@ -1,8 +1,11 @@
-"""Time integration of the full smooth model (9) with scipy's ``solve_ivp``.
+"""Direct simulation of the smooth model (9) and the vibro-impact model (8), with the noise of (47).
 
-The generated analytic Jacobian is passed to the implicit methods (Radau, BDF, LSODA); the
-explicit ones (DOP853, RK45) ignore it. The wall term ``chi w**(2n+1)`` makes the problem stiff
-during impacts at large n, which is where the implicit methods pay off.
+:func:`simulate` is the entry point: (9) through the compiled DOP853 of :mod:`slosh_bif.integrator`
+(optionally with the band-limited noise of :mod:`slosh_bif.noise`), or (8) through the exact
+event-driven flow of :mod:`slosh_bif.vibro_impact`; both return a :class:`Simulation` with the
+impacts. :func:`integrate_smooth` keeps scipy's ``solve_ivp`` with the generated analytic Jacobian
+for the implicit methods (Radau, BDF, LSODA), which the integrator chart compares: the wall term
+``chi w**(2n+1)`` makes (9) stiff during impacts at large n.
 """
 
 from __future__ import annotations
