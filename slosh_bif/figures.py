@@ -15,9 +15,11 @@ import numpy as np
 
 from . import manifold, restitution
 from .noise import band_limited_noise
+from .params import Params
 from .plotting import plot_manifold, plot_projection, plot_time_history, pyplot, save_figure
 from .presets import get_preset
-from .regimes import classify, manifold_curve
+from .regimes import classify
+from .sim_output import plot_motion_on_manifold
 from .simulate import simulate
 from .slow_flow import SlowFlow, project_on_manifold
 from .wavelet import morlet_transform
@@ -96,8 +98,6 @@ _FIG78_N = ((6, "tab:blue"), (10, "tab:red"), (50, "k"))
 
 def _on_manifold(n, pbar, quick):
     """(A, kappa, alpha) along S+ from its end, by eq. (39)."""
-    from .params import Params
-
     P = Params(eps=0.05, beta=0.0, gamma=0.0, sigma=0.0, Abar=0.0, n=n, pbar=pbar, **_FIG78)
     A_end = SlowFlow(P).A_min
     A = A_end + (3.0 - A_end) * np.linspace(0, 1, 40 if quick else 200) ** 2
@@ -182,16 +182,8 @@ def _response(name, out, *, quick, window=None, title=""):
     plot_time_history(ax_t, sim.t[shown], sim.y[:, shown])
     ax_t.legend(loc="upper right", fontsize=8)
     ax_t.set_title(f"{title or name}: smooth model (9), regime {summary.regime}", fontsize=10)
-    proj = project_on_manifold(sim.t, sim.y)
-    A, stable, unstable = manifold_curve(preset.params, max(3 * summary.A_min, 1.1 * float(proj.A.max())))
-    ax_m.plot(A, stable, "-", color="tab:blue", label="SIM stable branch")
-    ax_m.plot(A, unstable, "--", color="tab:blue", label="SIM unstable branch")
-    plot_projection(ax_m, proj, label="one point per period")
-    ax_m.set_xlabel("amplitude A of X")
-    ax_m.set_ylabel(r"$\alpha$")
-    ax_m.legend(fontsize=8, loc="lower right")
-    ax_m.set_title(f"{summary.impacts_per_period:.2f} impacts, {summary.crossings_per_period:.2f} crossings per period", fontsize=9)
-    return save_figure(fig, _fig(name.rstrip("ab"), out))
+    plot_motion_on_manifold(ax_m, sim, summary, project_on_manifold(sim.t, sim.y))
+    return save_figure(fig, _fig(name, out))
 
 
 def fig10(out, *, quick=False):

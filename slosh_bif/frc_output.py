@@ -5,11 +5,11 @@ CSV rows follow branch order; ``stable`` is 1 or 0 and ``special`` is empty or o
 
 from __future__ import annotations
 
-import csv
 from pathlib import Path
 
 import numpy as np
 
+from .csv_table import write_rows
 from .steady_states import FrequencyResponse
 
 __all__ = ["write_frc_csv", "plot_frc", "write_critical_csv", "plot_critical"]
@@ -28,13 +28,7 @@ def frc_rows(fr: FrequencyResponse):
 
 
 def write_frc_csv(fr: FrequencyResponse, path) -> Path:
-    path = Path(path)
-    with open(path, "w", newline="") as fh:
-        writer = csv.DictWriter(fh, fieldnames=FRC_COLUMNS)
-        writer.writeheader()
-        for row in frc_rows(fr):
-            writer.writerow({k: (f"{v:.17g}" if isinstance(v, float) else v) for k, v in row.items()})
-    return path
+    return write_rows(frc_rows(fr), FRC_COLUMNS, path, digits=17)
 
 
 def plot_frc(fr: FrequencyResponse, path, *, title=None) -> Path:
@@ -57,13 +51,9 @@ def plot_frc(fr: FrequencyResponse, path, *, title=None) -> Path:
 
 
 def write_critical_csv(curve, path) -> Path:
-    path = Path(path)
-    with open(path, "w", newline="") as fh:
-        writer = csv.writer(fh)
-        writer.writerow(["sigma", "Abar_b", "A", "kind"])
-        for row in zip(curve.sigma, curve.Abar_b, curve.A, curve.kind):
-            writer.writerow([f"{row[0]:.17g}", f"{row[1]:.17g}", f"{row[2]:.17g}", row[3]])
-    return path
+    columns = ("sigma", "Abar_b", "A", "kind")
+    rows = (dict(zip(columns, (float(s), float(a), float(x), str(k)))) for s, a, x, k in zip(curve.sigma, curve.Abar_b, curve.A, curve.kind))
+    return write_rows(rows, columns, path, digits=17)
 
 
 def plot_critical(curve, path, *, title=None) -> Path:

@@ -27,6 +27,7 @@ from scipy.integrate import solve_ivp
 from scipy.integrate._ivp import dop853_coefficients as _dop
 
 from ._generated import kernels as _kernels
+from .noise import BandLimitedNoise
 from .params import Params
 
 try:  # the optional ``fast`` extra
@@ -285,8 +286,6 @@ def _pars(params: Params, noise=None):
 
 
 def _check_noise(noise, tau0, tau1):
-    from .noise import BandLimitedNoise
-
     if noise is None:
         return
     if not isinstance(noise, BandLimitedNoise):

@@ -9,11 +9,11 @@ orbit of the shooting branches, with the relative difference.
 
 from __future__ import annotations
 
-import csv
 from pathlib import Path
 
 import numpy as np
 
+from .csv_table import write_rows
 from .orbits import OrbitFamily
 from .steady_states import FrequencyResponse
 
@@ -21,10 +21,6 @@ __all__ = ["BRANCH_COLUMNS", "COMPARE_COLUMNS", "write_branch_csv", "plot_family
 
 BRANCH_COLUMNS = ("sigma", "Abar", "A1", "max_abs_X", "max_abs_w", "stable", "max_abs_multiplier", "liouville_error", "symmetry_defect", "special", "branch")
 COMPARE_COLUMNS = ("sigma", "A_slow_flow", "slow_flow_stable", "A1_shooting", "shooting_stable", "shooting_branch", "relative_difference")
-
-
-def _fmt(v):
-    return f"{v:.12g}" if isinstance(v, float) else v
 
 
 def family_rows(family: OrbitFamily):
@@ -43,18 +39,8 @@ def family_rows(family: OrbitFamily):
             }
 
 
-def _write(rows, columns, path) -> Path:
-    path = Path(path)
-    with open(path, "w", newline="") as fh:
-        writer = csv.DictWriter(fh, fieldnames=columns)
-        writer.writeheader()
-        for row in rows:
-            writer.writerow({k: _fmt(row[k]) for k in columns})
-    return path
-
-
 def write_branch_csv(family: OrbitFamily, path) -> Path:
-    return _write(family_rows(family), BRANCH_COLUMNS, path)
+    return write_rows(family_rows(family), BRANCH_COLUMNS, path)
 
 
 def plot_family(family: OrbitFamily, path, *, slow_flow: FrequencyResponse | None = None, title=None) -> Path:
@@ -114,7 +100,7 @@ def _crossings(p, value):
 
 
 def write_compare_csv(rows, path) -> Path:
-    return _write(rows, COMPARE_COLUMNS, path)
+    return write_rows(rows, COMPARE_COLUMNS, path)
 
 
 def compare_table(rows, *, agree: float = 0.05) -> str:

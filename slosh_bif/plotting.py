@@ -11,7 +11,7 @@ import numpy as np
 
 from . import manifold
 
-__all__ = ["plot_manifold", "plot_projection", "plot_time_history", "plot_branch", "pyplot", "save_figure"]
+__all__ = ["plot_manifold", "plot_slow_manifold", "plot_projection", "plot_time_history", "plot_branch", "pyplot", "save_figure"]
 
 
 def pyplot():
@@ -38,9 +38,19 @@ def plot_manifold(ax, rho, A_max=None, *, color="tab:blue", label="SIM"):
     A_max = A_max if A_max is not None else max(3.0, 3 * A_end)
     # Cluster points at the fold, where alpha has a square-root singularity.
     A = A_end + (A_max - A_end) * np.linspace(0, 1, 400) ** 2
-    ax.plot(A, manifold.alpha(A, rho, manifold.STABLE), "-", color=color, label=f"{label} stable branch")
-    ax.plot(A, manifold.alpha(A, rho, manifold.UNSTABLE), "--", color=color, label=f"{label} unstable branch")
-    ax.plot([A_end], [manifold.alpha_min(rho)], "o", color=color, ms=4)
+    return _draw_manifold(ax, A, manifold.alpha(A, rho, manifold.STABLE), manifold.alpha(A, rho, manifold.UNSTABLE), color, label)
+
+
+def plot_slow_manifold(ax, flow, A_max, *, color="tab:blue", label="SIM"):
+    """Both branches of (36) for a parameter set (``flow`` a SlowFlow), rho(A) from (39) when pbar != 0."""
+    A, stable, unstable = flow.branches(A_max)
+    return _draw_manifold(ax, A, stable, unstable, color, label)
+
+
+def _draw_manifold(ax, A, stable, unstable, color, label):
+    ax.plot(A, stable, "-", color=color, label=f"{label} stable branch")
+    ax.plot(A, unstable, "--", color=color, label=f"{label} unstable branch")
+    ax.plot([A[0]], [stable[0]], "o", color=color, ms=4)  # the fold (A_min, alpha_min)
     ax.set_xlabel("amplitude A of X")
     ax.set_ylabel(r"triangle-wave amplitude $\alpha$")
     return ax

@@ -36,8 +36,8 @@ import math
 
 import numpy as np
 
-from . import manifold
 from .params import Params
+from .simulate import simulate
 from .slow_flow import SlowFlow, project_on_manifold
 
 __all__ = ["REGIMES", "THRESHOLDS", "RegimeSummary", "classify", "RegimeMap", "regime_map"]
@@ -75,6 +75,12 @@ class RegimeSummary:
     manifold_distance: float
     transient: float
     periods: float
+
+    @classmethod
+    def failed(cls, reason: str, transient: float) -> "RegimeSummary":
+        """The record of a run that could not be classified (every measurement NaN)."""
+        nan = math.nan
+        return cls("other", reason, nan, nan, nan, nan, nan, nan, nan, 0, nan, nan, transient, nan)
 
     def as_dict(self) -> dict:
         return {k: (v if not isinstance(v, float) or math.isfinite(v) else None) for k, v in dataclasses.asdict(self).items()}
@@ -167,11 +173,9 @@ class RegimeMap:
 
 def _classify_point(params, state0, tmax, model, transient, sample_step):
     # A module-level function so that process pools can pickle it.
-    from .simulate import simulate
-
     sim = simulate(params, state0, tmax, model=model, sample_step=sample_step)
     if not sim.success and sim.status != "sticking":
-        return RegimeSummary("other", f"simulation failed: {sim.message}", *([math.nan] * 4), math.nan, math.nan, math.nan, 0, math.nan, math.nan, transient, math.nan)
+        return RegimeSummary.failed(f"simulation failed: {sim.message}", transient)
     return classify(sim, transient=transient)
 
 
@@ -225,11 +229,3 @@ def regime_map(
         regime[i, j] = summary.regime
         summaries[i][j] = summary
     return RegimeMap(params, sigmas, abars, regime, summaries, float(tmax), model)
-
-
-def manifold_curve(params: Params, A_max: float, points: int = 300):
-    """The stable branch alpha_S+(A) of (36) for ``A`` in [A_min, A_max], with rho(A) when pbar != 0."""
-    flow = SlowFlow(params)
-    A = flow.A_min + (A_max - flow.A_min) * np.linspace(0.0, 1.0, points) ** 2
-    rho = flow.rho(A)[0]
-    return A, manifold.alpha(A, rho, manifold.STABLE), manifold.alpha(A, rho, manifold.UNSTABLE)

@@ -8,16 +8,20 @@ period over both branches of the manifold.
 
 from __future__ import annotations
 
+import dataclasses
 import json
 from pathlib import Path
 
 import numpy as np
 
-from .plotting import plot_projection, plot_time_history, pyplot, save_figure
-from .regimes import manifold_curve
-from .slow_flow import project_on_manifold
+from .csv_table import write_rows
+from .plotting import plot_projection, plot_slow_manifold, plot_time_history, pyplot, save_figure
+from .slow_flow import SlowFlow, project_on_manifold
 
-__all__ = ["write_trajectory", "write_summary", "plot_simulation", "summary_record", "write_regime_csv", "plot_regime_map"]
+__all__ = [
+    "write_trajectory", "write_summary", "plot_simulation", "plot_motion_on_manifold", "summary_record",
+    "write_regime_csv", "plot_regime_map",
+]
 
 
 def write_trajectory(sim, path) -> Path:
@@ -86,19 +90,18 @@ def plot_simulation(sim, summary, path, *, title: str = "") -> Path:
     ax_e.set_ylabel("envelope of X")
     ax_e.legend(loc="upper left", fontsize=8)
 
-    A_top = max(3 * summary.A_min, 1.15 * float(np.max(proj.A)) if proj.A.size else 1.0)
-    A, stable, unstable = manifold_curve(sim.params, A_top)
-    ax_m.plot(A, stable, "-", color="tab:blue", label="SIM stable branch")
-    ax_m.plot(A, unstable, "--", color="tab:blue", label="SIM unstable branch")
-    plot_projection(ax_m, proj, label="trajectory, one point per period")
-    ax_m.set_xlabel("amplitude A of X")
-    ax_m.set_ylabel(r"triangle-wave amplitude $\alpha$")
-    ax_m.legend(loc="lower right", fontsize=8)
-    ax_m.set_title(
-        f"{summary.impacts_per_period:.2f} impacts, {summary.crossings_per_period:.2f} crossings per period",
-        fontsize=9,
-    )
+    plot_motion_on_manifold(ax_m, sim, summary, proj)
     return save_figure(fig, path)
+
+
+def plot_motion_on_manifold(ax, sim, summary, proj):
+    """The manifold's branches, the trajectory's (A, alpha) per period, and the impact counts."""
+    A_top = max(3 * summary.A_min, 1.15 * float(np.max(proj.A)) if proj.A.size else 1.0)
+    plot_slow_manifold(ax, SlowFlow(sim.params), A_top)
+    plot_projection(ax, proj, label="trajectory, one point per period")
+    ax.legend(loc="lower right", fontsize=8)
+    ax.set_title(f"{summary.impacts_per_period:.2f} impacts, {summary.crossings_per_period:.2f} crossings per period", fontsize=9)
+    return ax
 
 
 # --- regime maps (slosh-bif regimes) ----------------------------------------------------------
@@ -109,14 +112,12 @@ REGIME_COLUMNS = ("sigma", "Abar", "regime", "impacts_per_period", "crossings_pe
 
 def write_regime_csv(rmap, path) -> Path:
     """One row per grid point: sigma, Abar, the regime and the measurements behind it."""
-    lines = [",".join(REGIME_COLUMNS)]
-    for i, a in enumerate(rmap.Abar):
-        for j, s in enumerate(rmap.sigma):
-            d = rmap.summaries[i][j].as_dict()
-            d.update(sigma=s, Abar=a)
-            lines.append(",".join(str(d[c]) if isinstance(d[c], str) else f"{d[c]:.8g}" if d[c] is not None else "nan" for c in REGIME_COLUMNS))
-    Path(path).write_text("\n".join(lines) + "\n")
-    return Path(path)
+    rows = (
+        {**dataclasses.asdict(rmap.summaries[i][j]), "sigma": float(s), "Abar": float(a)}
+        for i, a in enumerate(rmap.Abar)
+        for j, s in enumerate(rmap.sigma)
+    )
+    return write_rows(rows, REGIME_COLUMNS, path, digits=8)
 
 
 def plot_regime_map(rmap, path, *, critical=None) -> Path:

@@ -11,12 +11,16 @@ for the implicit methods (Radau, BDF, LSODA), which the integrator chart compare
 from __future__ import annotations
 
 import dataclasses
+import time
 
 import numpy as np
 from scipy.integrate import solve_ivp
 
+from . import integrator
 from .models import SmoothModel
+from .noise import band_limited_noise
 from .params import Params
+from .vibro_impact import simulate_impact
 
 __all__ = ["MODELS", "Simulation", "Trajectory", "integrate_smooth", "simulate", "wall_passages"]
 
@@ -132,9 +136,6 @@ def wall_passages(t, y):
 def _simulate_impact_in_chunks(params, y0, t0, tmax, sample_step, progress, start):
     """(8) over [t0, tmax] in up to 20 pieces so that progress can be reported; each piece starts
     from the previous one's end state (the flow is exact, so the pieces join seamlessly)."""
-    import time
-
-    from .vibro_impact import simulate_impact
 
     edges = np.linspace(t0, tmax, max(2, min(21, int((tmax - t0) / 50) + 1)))
     parts = []
@@ -186,11 +187,6 @@ def simulate(
     ``progress(fraction)`` is called as the run advances. Integration failure is not raised: the
     result's ``status`` and ``message`` say where and why it stopped.
     """
-    import time
-
-    from . import integrator
-    from .noise import band_limited_noise
-
     if model not in MODELS:
         raise ValueError(f"model must be one of {', '.join(MODELS)}; got {model!r}")
     if not isinstance(params, Params):
@@ -201,6 +197,9 @@ def simulate(
         raise ValueError(f"sample_step must be in (0, 0.5]; got {sample_step!r}")
     if not (np.isfinite(noise_std) and noise_std >= 0):
         raise ValueError(f"noise_std (sigma_bar of eq. 47) must be finite and >= 0; got {noise_std!r}")
+    y0 = np.asarray(state0, dtype=float)
+    if y0.shape != (4,) or not np.all(np.isfinite(y0)):
+        raise ValueError(f"state0 must be 4 finite numbers [X, X', w, w']; got {state0!r}")
     noise = None
     if noise_std > 0:
         if model != "smooth":
@@ -208,9 +207,6 @@ def simulate(
         if seed is None:
             raise ValueError("noise needs a seed (any non-negative integer) so that the run is reproducible")
         noise = band_limited_noise(noise_std, seed=seed, duration=tmax - t0, t0=t0, cutoff=noise_cutoff)
-    y0 = np.asarray(state0, dtype=float)
-    if y0.shape != (4,) or not np.all(np.isfinite(y0)):
-        raise ValueError(f"state0 must be 4 finite numbers [X, X', w, w']; got {state0!r}")
 
     start = time.perf_counter()
     if model == "impact":

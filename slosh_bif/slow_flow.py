@@ -134,6 +134,13 @@ class SlowFlow:
         """alpha_S+(A) with rho(A), eq. (36)."""
         return manifold.alpha(A, self.rho(A)[0])
 
+    def branches(self, A_max: float, points: int = 300):
+        """(A, alpha_S+, alpha_unstable) of (36) with rho(A), for A from A_min to ``A_max``
+        (clustered at the fold, where alpha has a square-root singularity)."""
+        A = self.A_min + (A_max - self.A_min) * np.linspace(0.0, 1.0, points) ** 2
+        rho = self.rho(A)[0]
+        return A, manifold.alpha(A, rho, manifold.STABLE), manifold.alpha(A, rho, manifold.UNSTABLE)
+
     # -- the flow and its steady states ---------------------------------------------------------
 
     def _check_on_manifold(self, A):

@@ -65,10 +65,8 @@ def test_shooting_reports_non_convergence_instead_of_raising():
 
 # -- the compiled integrator and the shooting problem -------------------------------------------
 
-needs_numba = pytest.mark.skipif(not integrator.HAVE_NUMBA, reason="the compiled backend needs numba (the test extra installs it)")
-
-
-@needs_numba
+# The compiled backend is a capability of the package: the test extra installs numba, so these
+# tests run it (without numba they fail, naming the missing extra).
 @pytest.mark.parametrize("preset", ["fig10", "fig12"])
 def test_compiled_integrator_takes_scipys_steps_and_agrees_with_it(preset):
     """Same method, coefficients and step control as scipy's DOP853: the same accepted steps and

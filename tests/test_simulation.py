@@ -8,6 +8,7 @@ from scipy.integrate import solve_ivp
 
 from slosh_bif import ImpactModel, SmoothModel, get_preset, simulate_impact
 from slosh_bif.critical import critical_forcing
+from slosh_bif.integrator import integrate_grid
 from slosh_bif.noise import band_limited_noise
 from slosh_bif.regimes import classify
 from slosh_bif.shooting import periodic_orbit
@@ -212,8 +213,6 @@ def test_periodic_resonant_is_a_stable_periodic_orbit_of_the_smooth_model():
     orbit = periodic_orbit(P, sim.y[:, -1], segments=4)
     assert orbit.converged and orbit.stable
     taus = np.linspace(0, 2 * np.pi, 2001)
-    from slosh_bif.integrator import integrate_grid
-
     peak = np.max(np.abs(integrate_grid(P, orbit.y0, taus)[:, 0]))
     assert summary.envelope_max == pytest.approx(peak, rel=1e-2)
     assert summary.envelope_min == pytest.approx(peak, rel=1e-2)
