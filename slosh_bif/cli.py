@@ -289,6 +289,17 @@ def _figures(args) -> int:
     return 0
 
 
+def _bench(args) -> int:
+    from .bench import run
+
+    paths = run(args.out, only=args.only, quick=args.quick, repeats=args.repeats, progress=_progress)
+    for path in paths:
+        print(path)
+        if path.name == "integrators_ratios.csv":  # the headline numbers
+            print(path.read_text().strip())
+    return 0
+
+
 def _derivations_dir() -> Path:
     return Path(__file__).resolve().parent.parent / "derivations"
 
@@ -371,6 +382,13 @@ def build_parser() -> argparse.ArgumentParser:
     figures.add_argument("--only", nargs="+", default=None, metavar="FIG", help="only these figures, e.g. fig10 fig11")
     figures.add_argument("--quick", action="store_true", help="short simulations and coarse grids (a smoke test)")
     figures.set_defaults(run=_figures)
+
+    bench = sub.add_parser("bench", help="work-precision charts: frequency-response question, integrators, cost of growth (a few minutes)")
+    bench.add_argument("--out", type=Path, required=True, help="output folder (created if missing)")
+    bench.add_argument("--only", nargs="+", default=None, choices=("frequency-response", "integration", "growth"), help="only these benchmarks")
+    bench.add_argument("--repeats", type=int, default=3, help="timing rounds per point; the median is reported (default 3)")
+    bench.add_argument("--quick", action="store_true", help="fewer points and one round (a smoke test, not a measurement)")
+    bench.set_defaults(run=_bench)
 
     derive = sub.add_parser("derive", help="regenerate slosh_bif/_generated from the sympy derivations")
     derive.add_argument("--check", action="store_true", help="exit 1 if the committed generated code is stale")
