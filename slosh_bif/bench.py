@@ -38,10 +38,11 @@ from scipy.interpolate import CubicSpline
 from . import integrator
 from .continuation import ContinuationOptions, continuation
 from .models import SmoothModel
-from .orbits import SHOOTING_OPTIONS
+from .critical import critical_forcing
+from .orbits import SHOOTING_OPTIONS, loss_of_stability, settle_and_shoot
 from .presets import get_preset
 from .regimes import regime_map
-from .shooting import ShootingProblem, orbit_at, orbit_measures
+from .shooting import ShootingProblem
 from .simulate import simulate
 from .slow_flow import AsymptoticsWarning, SlowFlow
 from .steady_states import frequency_response
@@ -63,7 +64,7 @@ __all__ = [
 FR_SIGMAS = {"fig10": (-6.0, -1.2, 0.7, 4.0, 6.0), "fig13": (-3.0, -2.0, 0.5, 1.0)}
 QUICK_FR_SIGMAS = {"fig10": (-6.0, 0.7), "fig13": (-2.0, 1.0)}
 
-REFERENCE_SEGMENTS = 4
+REFERENCE_SEGMENTS = 4  # arcs of multiple shooting, as in `slosh-bif shoot`
 PERIOD = 2 * np.pi
 
 
@@ -115,43 +116,33 @@ class Reference:
     y0: np.ndarray
 
 
-def _shoot_A1(params, y_guess, rtol):
-    problem = ShootingProblem(params, segments=REFERENCE_SEGMENTS, rtol=rtol, atol=rtol * 1e-2)
-    orbit = orbit_at(problem, problem.initial_states(y_guess), params.sigma, tol=max(1e-11, 100 * rtol))
-    if not orbit.converged:
-        return orbit, np.nan
-    return orbit, orbit_measures(problem, problem.initial_states(orbit.y0), params.sigma)["A1"]
-
-
-def settle_and_shoot(params, state0, rtol, *, sim_rtol=1e-8, first=200, every=100, most=1000):
-    """(orbit, A1): simulate (9) from ``state0`` and, after ``first`` periods and then every
-    ``every`` periods up to ``most``, try Newton (at ``rtol``) from the current state; the first
-    stable orbit wins. Capture into the orbit can take long and its time depends on rounding
-    (the Fig. 13 set: transient chaos), so one fixed settling time is not enough."""
-    y, tau, orbit, A1 = np.asarray(state0, dtype=float), 0.0, None, np.nan
-    for periods in range(first, most + 1, every):
-        sim = simulate(params, y, periods * PERIOD, t0=tau, rtol=sim_rtol, atol=sim_rtol * 1e-2, sample_step=0.1)
-        if not sim.success:
-            raise RuntimeError(f"settling simulation failed: {sim.message}")
-        y, tau = sim.y[:, -1], periods * PERIOD
-        orbit, A1 = _shoot_A1(params, y, rtol)
-        if orbit.converged and orbit.stable:
-            return orbit, A1
-    return orbit, np.nan
-
-
 def reference_orbits(preset: str, sigmas) -> list:
     """The reference of each sigma (raises when (9) does not settle on a stable orbit there)."""
     pre = get_preset(preset)
     refs = []
     for sigma in sigmas:
         params = pre.params.replace(sigma=float(sigma))
-        orbit, A1 = settle_and_shoot(params, pre.state0, 1e-12, sim_rtol=1e-9)
+        orbit, A1 = settle_and_shoot(params, pre.state0, 1e-12, sim_rtol=1e-9, segments=REFERENCE_SEGMENTS)
         if not (orbit.converged and orbit.stable):
             raise RuntimeError(f"{preset}, sigma = {sigma}: no stable orbit near the settled state ({orbit.message})")
-        _, A1_coarse = _shoot_A1(params, orbit.y0, 1e-10)
+        _, A1_coarse = settle_and_shoot(params, orbit.y0, 1e-10, first=0, segments=REFERENCE_SEGMENTS)
         refs.append(Reference(preset, float(sigma), A1, abs(A1_coarse - A1) / A1, float(np.max(np.abs(orbit.multipliers))), orbit.y0))
     return refs
+
+
+def pre_params(preset, sigma):
+    return get_preset(preset).params.replace(sigma=float(sigma))
+
+
+def _critical_row(preset, params, ref):
+    """Abar_b of (46) against the Abar where the reference orbit of (9) stops being stable (or
+    folds) as Abar decreases: the same question, "down to which forcing is the resonant response
+    there?", asked of both models."""
+    full = loss_of_stability(params, ref.y0, param="Abar", p_stop=0.0, segments=REFERENCE_SEGMENTS)
+    slow = critical_forcing(params, ref.sigma)
+    rel = abs(slow.Abar_b - full.p) / full.p if full.p else np.nan
+    return dict(preset=preset, sigma=ref.sigma, Abar_b_slow_flow=slow.Abar_b, slow_flow_kind=slow.kind,
+                Abar_b_smooth_model=np.nan if full.p is None else full.p, smooth_model_kind=full.kind or "stability change", relative_difference=rel)
 
 
 def _interp_stable(fr, sigma, target):
@@ -203,7 +194,7 @@ def _methods(preset, refs):
 
     def shooting(rtol):
         # Newton needs a start in the orbit's basin, from a loose simulation; its cost counts.
-        return [settle_and_shoot(pre.params.replace(sigma=s), pre.state0, rtol, sim_rtol=1e-7)[1] for s in sigmas]
+        return [settle_and_shoot(pre.params.replace(sigma=s), pre.state0, rtol, sim_rtol=1e-7, segments=REFERENCE_SEGMENTS)[1] for s in sigmas]
 
     return [
         ("eq. 46 continuation", "step_max", (2.0, 0.5, 0.1), continuation_46),
@@ -216,12 +207,12 @@ def _methods(preset, refs):
 
 def frequency_response_bench(*, quick: bool = False, repeats: int = 3, progress=None):
     """Rows ``(preset, method, knob, value, seconds, error, answers, reference)`` per method and
-    knob value, and the reference rows. ``error`` is the largest relative error over the sigmas
+    knob value, the reference rows, and the critical-forcing rows (:func:`_critical_row`). ``error`` is the largest relative error over the sigmas
     where the method gave an answer; ``failures`` counts the sigmas where it gave none (the slow
     flow escaping from S+, a simulation failing, Newton not converging)."""
     say = progress or (lambda message: None)
     sigma_sets = QUICK_FR_SIGMAS if quick else FR_SIGMAS
-    rows, ref_rows = [], []
+    rows, ref_rows, crit_rows = [], [], []
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", AsymptoticsWarning)  # the Fig. 13 set is inside the checked range; silence repeats
         for preset, sigmas in sigma_sets.items():
@@ -229,6 +220,8 @@ def frequency_response_bench(*, quick: bool = False, repeats: int = 3, progress=
             refs = reference_orbits(preset, sigmas)
             ref_rows += [dict(preset=preset, sigma=r.sigma, A1=r.A1, self_error=r.self_error, max_multiplier=r.max_multiplier) for r in refs]
             exact = np.array([r.A1 for r in refs])
+            say(f"critical forcing, {preset}: slow flow (46) against the loss of stability of each reference orbit in Abar")
+            crit_rows += [_critical_row(preset, pre_params(preset, r.sigma), r) for r in refs]
             for name, knob, values, answer in _methods(preset, refs):
                 for value in values[:2] if quick else values:
                     say(f"frequency response, {preset}: {name}, {knob} = {value:g}")
@@ -241,7 +234,7 @@ def frequency_response_bench(*, quick: bool = False, repeats: int = 3, progress=
                         failures=int(np.sum(~np.isfinite(rel))),
                         answers=" ".join(f"{a:.6g}" for a in A1), reference=" ".join(f"{a:.6g}" for a in exact),
                     ))
-    return rows, ref_rows
+    return rows, ref_rows, crit_rows
 
 
 # --- the integration question --------------------------------------------------------------------
@@ -329,7 +322,7 @@ BRANCH_RANGE = (4.0, 10.0)  # stable symmetric orbits at sigma = 4 for every n o
 def _shooting_start(params, state0, sigma):
     """A ShootingProblem and a 2pi-orbit of (9) at ``sigma``, from a settled simulation."""
     start_params = params.replace(sigma=sigma)
-    orbit, _ = settle_and_shoot(start_params, state0, 1e-10)
+    orbit, _ = settle_and_shoot(start_params, state0, 1e-10, segments=REFERENCE_SEGMENTS)
     if not orbit.converged:
         raise RuntimeError(f"no start orbit at sigma = {sigma}, n = {params.n}: {orbit.message}")
     problem = ShootingProblem(start_params, segments=REFERENCE_SEGMENTS)

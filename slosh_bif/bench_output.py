@@ -60,10 +60,12 @@ def write_integration(rows, out) -> list:
     return paths
 
 
-def write_frequency_response(rows, ref_rows, out) -> list:
+def write_frequency_response(rows, ref_rows, crit_rows, out) -> list:
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
+    crit_columns = ["preset", "sigma", "Abar_b_slow_flow", "slow_flow_kind", "Abar_b_smooth_model", "smooth_model_kind", "relative_difference"]
     paths = [
+        write_rows(crit_rows, crit_columns, out / "critical_forcing.csv"),
         write_rows(rows, ["preset", "method", "knob", "value", "seconds", "runs", "error", "failures", "answers", "reference"], out / "frequency_response.csv"),
         write_rows(ref_rows, ["preset", "sigma", "A1", "self_error", "max_multiplier"], out / "frequency_response_reference.csv"),
     ]

@@ -25,7 +25,7 @@ from .continuation import ContinuationOptions, ConvergenceError, continuation, s
 from .params import Params
 from .shooting import PARAMETERS, ShootingProblem, orbit_at, orbit_measures
 
-__all__ = ["OrbitBranch", "OrbitFamily", "trace_orbits", "mirror", "SHOOTING_OPTIONS"]
+__all__ = ["OrbitBranch", "OrbitFamily", "trace_orbits", "mirror", "settle_and_shoot", "loss_of_stability", "StabilityLoss", "SHOOTING_OPTIONS"]
 
 # Shooting residuals carry the integration's rounding (~1e-13 at rtol 1e-10), so the corrector's
 # tolerance sits above it; steps are capped so that orbits change little from one point to the next.
@@ -215,3 +215,79 @@ def trace_orbits(
         # Not the start (the parent's point) and not a cut end (where it met the parent again).
         queue += [(ob, s) for s in new.special if s.kind in (BRANCH_POINT, PERIOD_DOUBLING) and 1 < s.index < len(new) - (met is not None)]
     return OrbitFamily(params, param, family)
+
+
+def settle_and_shoot(params: Params, state0, rtol: float = 1e-10, *, segments: int = 4, sim_rtol: float = 1e-8, first: int = 200, every: int = 100, most: int = 1000):
+    """(orbit, A1): a stable 2pi-orbit of (9) reached from ``state0``, and its first-harmonic amplitude.
+
+    Simulates (9) and, after ``first`` forcing periods and then every ``every`` periods up to
+    ``most``, tries Newton (arcs integrated at ``rtol``) from the current state; the first stable
+    orbit wins. ``first=0`` tries the start itself first. Capture can take long and its time
+    depends on rounding (the Fig. 13 set: transient chaos; 300 periods at rtol 1e-7 were not
+    enough where 1e-6 and 1e-9 were), so one fixed settling time is not enough. A1 is NaN, and
+    the orbit the last attempt's, when no stable orbit was found.
+    """
+    from .simulate import simulate  # simulate -> integrator; kept local to keep this module light
+
+    y, tau, orbit = np.asarray(state0, dtype=float), 0.0, None
+    for periods in range(first, most + 1, every):
+        if periods > 0:
+            sim = simulate(params, y, periods * 2 * np.pi, t0=tau, rtol=sim_rtol, atol=sim_rtol * 1e-2, sample_step=0.1)
+            if not sim.success:
+                raise RuntimeError(f"settling simulation failed: {sim.message}")
+            y, tau = sim.y[:, -1], periods * 2 * np.pi
+        problem = ShootingProblem(params, segments=segments, rtol=rtol, atol=rtol * 1e-2)
+        orbit = orbit_at(problem, problem.initial_states(y), params.sigma, tol=max(1e-11, 100 * rtol))
+        if orbit.converged and orbit.stable:
+            return orbit, orbit_measures(problem, problem.initial_states(orbit.y0), params.sigma)["A1"]
+    return orbit, np.nan
+
+
+@dataclasses.dataclass(frozen=True)
+class StabilityLoss:
+    """Where a stable orbit, continued in ``param`` toward ``p_stop``, stops being stable.
+
+    p : the parameter value (None if it stays stable up to p_stop); kind : the special point
+    there (LP, BP, PD, NS) or "" when the change is between two points without one; branch : the
+    continuation run.
+    """
+
+    param: str
+    p: float | None
+    kind: str
+    branch: Branch
+
+
+def loss_of_stability(params: Params, y0, *, param: str = "Abar", p_stop: float = 0.0, segments: int = 4, options: ContinuationOptions | None = None) -> StabilityLoss:
+    """Continue the stable 2pi-orbit through ``y0`` (at the value of ``param`` in ``params``)
+    toward ``p_stop`` and report the first loss of stability (a fold, a branch point, a period
+    doubling or a torus): for ``param="Abar"`` the full model's counterpart of the critical
+    forcing, the least forcing down to which this resonant orbit stays stable."""
+    p0 = float(getattr(params, param))
+    problem = ShootingProblem(params, param, segments=segments)
+    start = orbit_at(problem, problem.initial_states(y0), p0)
+    if not (start.converged and start.stable):
+        raise ConvergenceError(f"no stable orbit near the start at {param} = {p0}: {start.message}")
+    lo, hi = sorted((p0, float(p_stop)))
+    opts = dataclasses.replace(options or SHOOTING_OPTIONS, p_min=lo, p_max=hi, direction="backward" if p_stop < p0 else "forward")
+    branch = continuation(problem, problem.initial_states(start.y0), p0, param=param, options=opts)
+    # One direction was run, so the start is one end of the branch (which end depends on the
+    # orientation of the stored branch): walk from it.
+    x_start = problem.initial_states(start.y0)
+    from_start = np.linalg.norm(branch.x[0] - x_start) + abs(branch.p[0] - p0) <= np.linalg.norm(branch.x[-1] - x_start) + abs(branch.p[-1] - p0)
+    order = np.arange(len(branch)) if from_start else np.arange(len(branch))[::-1]
+    rank = np.empty(len(branch), dtype=int)
+    rank[order] = np.arange(len(branch))
+    # A fold ends the orbit's existence on this side even where the stability test does not flip
+    # (the Fig. 13 set at sigma = -2 folds at Abar = 0.9745 together with a branch point).
+    folds = sorted((rank[s.index], s) for s in branch.special if s.kind == "LP")
+    unstable = np.flatnonzero(~branch.stable[order])
+    if folds and (unstable.size == 0 or folds[0][0] < unstable[0]):
+        return StabilityLoss(param, float(folds[0][1].p), "LP", branch)
+    if unstable.size == 0:
+        return StabilityLoss(param, None, "", branch)
+    i, j = int(order[unstable[0] - 1]), int(order[unstable[0]])  # last stable, first unstable point
+    near = [s for s in branch.special if s.kind in ("LP", "BP", "PD", "NS") and min(i, j) <= s.index < max(i, j)]
+    if near:
+        return StabilityLoss(param, float(near[0].p), near[0].kind, branch)
+    return StabilityLoss(param, float(0.5 * (branch.p[i] + branch.p[j])), "", branch)

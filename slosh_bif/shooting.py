@@ -166,6 +166,11 @@ class ShootingProblem:
     def params_at(self, p: float) -> Params:
         return self.params.replace(**{self.param: float(p)})
 
+    def in_domain(self, x, p) -> bool:
+        """Whether the continuation may evaluate (x, p): a corrector iterate may wander to Abar < 0,
+        which is no parameter set (continuing in Abar toward the fold raised a ValueError there)."""
+        return bool(np.isfinite(p)) and (self.param != "Abar" or p >= 0)
+
     def arc_times(self):
         return np.linspace(0.0, self.period, self.segments + 1)
 
