@@ -300,6 +300,30 @@ def _bench(args) -> int:
     return 0
 
 
+def _answer(args) -> int:
+    from .answer import answer
+
+    params = _params(args)
+    result = answer(args.question, params, tol=args.tol, state0=get_preset(args.preset).state0, sigma_min=args.sigma_min,
+                    sigma_max=args.sigma_max, tmax=args.tmax, progress=_progress)
+    print(result.summary())
+    print(f"ran in {result.seconds:.2f} s")
+    r = result.result
+    if args.question == "frequency-response":
+        branches = [ob.branch for ob in r.branches] if hasattr(r.branches[0], "measures") else list(r.branches)
+        print(f"{len(branches)} branch(es), {sum(len(b) for b in branches)} points; special points: "
+              + ", ".join(f"{s.kind} {s.p:.5g}" for b in branches for s in b.special))
+    elif args.question == "critical-forcing":
+        value, kind = (r.Abar_b, r.kind) if hasattr(r, "Abar_b") else (r.p, r.kind or "stability change")
+        print(f"critical forcing at sigma = {params.sigma:g}: Abar = {value:.6g} ({kind})" if value is not None else "the orbit stays stable down to Abar = 0")
+    elif args.question == "time-response":
+        A = r.A if hasattr(r, "A") else None
+        print(f"slow envelope A from {A[0]:.4g} to {A[-1]:.4g}" if A is not None else f"{r.status}: {r.message}; max |X| = {np.max(np.abs(r.y[0])):.4g}")
+    else:
+        print(f"regime: {r}" if isinstance(r, str) else f"regime: {r.regime} ({r.reason})")
+    return 0
+
+
 def _derivations_dir() -> Path:
     return Path(__file__).resolve().parent.parent / "derivations"
 
@@ -383,6 +407,15 @@ def build_parser() -> argparse.ArgumentParser:
     figures.add_argument("--quick", action="store_true", help="short simulations and coarse grids (a smoke test)")
     figures.set_defaults(run=_figures)
 
+    ans = sub.add_parser("answer", help="answer a question with the lightest model whose measured error is within --tol")
+    ans.add_argument("question", choices=("frequency-response", "critical-forcing", "time-response", "regime"))
+    _add_params_options(ans)
+    ans.add_argument("--tol", type=float, default=0.05, help="relative error allowed (for the regime: the misclassification rate; default 0.05)")
+    ans.add_argument("--sigma-min", type=float, default=None, help="frequency response: lower end of sigma (default sigma - 3)")
+    ans.add_argument("--sigma-max", type=float, default=None, help="frequency response: upper end of sigma (default sigma + 3)")
+    ans.add_argument("--tmax", type=float, default=600.0, help="time response and regime: end time tau (default 600)")
+    ans.set_defaults(run=_answer)
+
     bench = sub.add_parser("bench", help="work-precision charts: frequency-response question, integrators, cost of growth (a few minutes)")
     bench.add_argument("--out", type=Path, required=True, help="output folder (created if missing)")
     bench.add_argument("--only", nargs="+", default=None, choices=("frequency-response", "integration", "growth"), help="only these benchmarks")
@@ -412,6 +445,9 @@ def main(argv=None) -> int:
         except ValueError as err:
             print(f"slosh-bif {args.command}: error: {err}", file=sys.stderr)
             return 2
+        except RuntimeError as err:  # a method that could not answer says why (no traceback)
+            print(f"slosh-bif {args.command}: failed: {err}", file=sys.stderr)
+            return 1
 
 
 if __name__ == "__main__":
