@@ -27,12 +27,19 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import time
 import warnings
 
 import numpy as np
 
+from .critical import critical_forcing
+from .orbits import loss_of_stability, settle_and_shoot, trace_orbits
 from .params import Params
+from .presets import get_preset
+from .regimes import classify
+from .simulate import simulate
 from .slow_flow import AsymptoticsWarning, SlowFlow, asymptotics_concerns
+from .steady_states import frequency_response
 
 __all__ = ["QUESTIONS", "SLOW_FLOW_ERROR", "Answer", "answer", "model_choice"]
 
@@ -99,10 +106,6 @@ def answer(question: str, params: Params, *, tol: float = 0.05, state0=None, sig
         (X(tau) from ``state0`` to ``tmax``) or "regime" (response regime from ``state0``)
     state0 : initial state [X, X', w, w'] (default: the Fig. 10 presets' kicked start)
     """
-    import time
-
-    from .presets import get_preset
-
     model, reason, error = model_choice(question, params, tol)
     y0 = get_preset("fig10").state0 if state0 is None else np.asarray(state0, dtype=float)
     if y0.shape != (4,) or not np.all(np.isfinite(y0)):
@@ -126,9 +129,6 @@ def answer(question: str, params: Params, *, tol: float = 0.05, state0=None, sig
 
 
 def _slow(question, params, y0, lo, hi, tmax, model, reason, error):
-    from .critical import critical_forcing
-    from .steady_states import frequency_response
-
     if question == "frequency-response":
         return frequency_response(params, sigma_min=lo, sigma_max=hi), model, reason, error
     if question == "critical-forcing":
@@ -145,10 +145,6 @@ def _slow(question, params, y0, lo, hi, tmax, model, reason, error):
 
 
 def _full(question, params, y0, lo, hi, tmax):
-    from .orbits import loss_of_stability, settle_and_shoot, trace_orbits
-    from .regimes import classify
-    from .simulate import simulate
-
     if question in ("time-response", "regime"):
         sim = simulate(params, y0, tmax)
         return sim if question == "time-response" else classify(sim)

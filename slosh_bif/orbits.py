@@ -24,6 +24,7 @@ from .branch import BRANCH_POINT, PERIOD_DOUBLING, Branch
 from .continuation import ContinuationOptions, ConvergenceError, continuation, switch_branch
 from .params import Params
 from .shooting import PARAMETERS, ShootingProblem, orbit_at, orbit_measures
+from .simulate import simulate
 
 __all__ = ["OrbitBranch", "OrbitFamily", "trace_orbits", "mirror", "settle_and_shoot", "loss_of_stability", "StabilityLoss", "SHOOTING_OPTIONS"]
 
@@ -227,9 +228,12 @@ def settle_and_shoot(params: Params, state0, rtol: float = 1e-10, *, segments: i
     enough where 1e-6 and 1e-9 were), so one fixed settling time is not enough. A1 is NaN, and
     the orbit the last attempt's, when no stable orbit was found.
     """
-    from .simulate import simulate  # simulate -> integrator; kept local to keep this module light
-
-    y, tau, orbit = np.asarray(state0, dtype=float), 0.0, None
+    y = np.asarray(state0, dtype=float)
+    if y.shape != (4,) or not np.all(np.isfinite(y)):
+        raise ValueError(f"state0 must be 4 finite numbers [X, X', w, w']; got {state0!r}")
+    if not (isinstance(every, int) and every >= 1 and isinstance(first, int) and 0 <= first <= most):
+        raise ValueError(f"need integers every >= 1 and 0 <= first <= most; got every={every!r}, first={first!r}, most={most!r}")
+    tau, orbit = 0.0, None
     for periods in range(first, most + 1, every):
         if periods > 0:
             sim = simulate(params, y, periods * 2 * np.pi, t0=tau, rtol=sim_rtol, atol=sim_rtol * 1e-2, sample_step=0.1)
@@ -248,8 +252,8 @@ class StabilityLoss:
     """Where a stable orbit, continued in ``param`` toward ``p_stop``, stops being stable.
 
     p : the parameter value (None if it stays stable up to p_stop); kind : the special point
-    there (LP, BP, PD, NS) or "" when the change is between two points without one; branch : the
-    continuation run.
+    there (LP, BP, PD, NS) or "" when the change is between two points without one; a fold met
+    before any change of stability counts too (the orbit ends there); branch : the continuation run.
     """
 
     param: str
