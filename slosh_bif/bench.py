@@ -130,18 +130,15 @@ def reference_orbits(preset: str, sigmas) -> list:
     return refs
 
 
-def pre_params(preset, sigma):
-    return get_preset(preset).params.replace(sigma=float(sigma))
-
-
-def _critical_row(preset, params, ref):
+def _critical_row(ref):
     """Abar_b of (46) against the Abar where the reference orbit of (9) stops being stable (or
     folds) as Abar decreases: the same question, "down to which forcing is the resonant response
     there?", asked of both models."""
+    params = get_preset(ref.preset).params.replace(sigma=ref.sigma)
     full = loss_of_stability(params, ref.y0, param="Abar", p_stop=0.0, segments=REFERENCE_SEGMENTS)
     slow = critical_forcing(params, ref.sigma)
     rel = abs(slow.Abar_b - full.p) / full.p if full.p else np.nan
-    return dict(preset=preset, sigma=ref.sigma, Abar_b_slow_flow=slow.Abar_b, slow_flow_kind=slow.kind,
+    return dict(preset=ref.preset, sigma=ref.sigma, Abar_b_slow_flow=slow.Abar_b, slow_flow_kind=slow.kind,
                 Abar_b_smooth_model=np.nan if full.p is None else full.p, smooth_model_kind=full.kind or "stability change", relative_difference=rel)
 
 
@@ -155,11 +152,6 @@ def _interp_stable(fr, sigma, target):
             if b.stable[i] and b.stable[i + 1] and p[i + 1] != p[i]:
                 found.append(A[i] + (sigma - p[i]) / (p[i + 1] - p[i]) * (A[i + 1] - A[i]))
     return min(found, key=lambda a: abs(a - target)) if found else np.nan
-
-
-def _slow_flow_start(flow: SlowFlow, state0):
-    """(A0, psi0) on S+ from the initial state: A0 = |X + i X'| (at least just above A_min)."""
-    return max(float(np.hypot(state0[0], state0[1])), 1.05 * flow.A_min), 0.0
 
 
 def _methods(preset, refs):
@@ -177,7 +169,7 @@ def _methods(preset, refs):
         out = []
         for s in sigmas:
             flow = SlowFlow(pre.params.replace(sigma=s))
-            A0, psi0 = _slow_flow_start(flow, pre.state0)
+            A0, psi0 = flow.start_from_state(pre.state0)
             traj = flow.integrate(A0, psi0, (0.0, pre.params.eps * periods * PERIOD), rtol=1e-8, atol=1e-10)
             out.append(np.nan if traj.escaped else float(traj.A[-1]))
         return out
@@ -207,33 +199,31 @@ def _methods(preset, refs):
 
 def frequency_response_bench(*, quick: bool = False, repeats: int = 3, progress=None):
     """Rows ``(preset, method, knob, value, seconds, error, answers, reference)`` per method and
-    knob value, the reference rows, and the critical-forcing rows (:func:`_critical_row`). ``error`` is the largest relative error over the sigmas
-    where the method gave an answer; ``failures`` counts the sigmas where it gave none (the slow
+    knob value, the reference rows, and the critical-forcing rows (:func:`_critical_row`).
+    ``error`` is the largest relative error over the sigmas where the method gave an answer; ``failures`` counts the sigmas where it gave none (the slow
     flow escaping from S+, a simulation failing, Newton not converging)."""
     say = progress or (lambda message: None)
     sigma_sets = QUICK_FR_SIGMAS if quick else FR_SIGMAS
     rows, ref_rows, crit_rows = [], [], []
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", AsymptoticsWarning)  # the Fig. 13 set is inside the checked range; silence repeats
-        for preset, sigmas in sigma_sets.items():
-            say(f"frequency response, {preset}: reference orbits (shooting at rtol 1e-12)")
-            refs = reference_orbits(preset, sigmas)
-            ref_rows += [dict(preset=preset, sigma=r.sigma, A1=r.A1, self_error=r.self_error, max_multiplier=r.max_multiplier) for r in refs]
-            exact = np.array([r.A1 for r in refs])
-            say(f"critical forcing, {preset}: slow flow (46) against the loss of stability of each reference orbit in Abar")
-            crit_rows += [_critical_row(preset, pre_params(preset, r.sigma), r) for r in refs]
-            for name, knob, values, answer in _methods(preset, refs):
-                for value in values[:2] if quick else values:
-                    say(f"frequency response, {preset}: {name}, {knob} = {value:g}")
-                    seconds, A1, runs = timed(lambda: answer(value), repeats=repeats if not quick else 1, min_seconds=0.0)
-                    A1 = np.asarray(A1, dtype=float)
-                    rel = np.abs(A1 - exact) / exact
-                    rows.append(dict(
-                        preset=preset, method=name, knob=knob, value=value, seconds=seconds, runs=runs,
-                        error=float(np.nanmax(rel)) if np.any(np.isfinite(rel)) else np.nan,
-                        failures=int(np.sum(~np.isfinite(rel))),
-                        answers=" ".join(f"{a:.6g}" for a in A1), reference=" ".join(f"{a:.6g}" for a in exact),
-                    ))
+    for preset, sigmas in sigma_sets.items():
+        say(f"frequency response, {preset}: reference orbits (shooting at rtol 1e-12)")
+        refs = reference_orbits(preset, sigmas)
+        ref_rows += [dict(preset=preset, sigma=r.sigma, A1=r.A1, self_error=r.self_error, max_multiplier=r.max_multiplier) for r in refs]
+        exact = np.array([r.A1 for r in refs])
+        say(f"critical forcing, {preset}: slow flow (46) against the loss of stability of each reference orbit in Abar")
+        crit_rows += [_critical_row(r) for r in refs]
+        for name, knob, values, answer in _methods(preset, refs):
+            for value in values[:2] if quick else values:
+                say(f"frequency response, {preset}: {name}, {knob} = {value:g}")
+                seconds, A1, runs = timed(lambda: answer(value), repeats=repeats if not quick else 1, min_seconds=0.0)
+                A1 = np.asarray(A1, dtype=float)
+                rel = np.abs(A1 - exact) / exact
+                rows.append(dict(
+                    preset=preset, method=name, knob=knob, value=value, seconds=seconds, runs=runs,
+                    error=float(np.nanmax(rel)) if np.any(np.isfinite(rel)) else np.nan,
+                    failures=int(np.sum(~np.isfinite(rel))),
+                    answers=" ".join(f"{a:.6g}" for a in A1), reference=" ".join(f"{a:.6g}" for a in exact),
+                ))
     return rows, ref_rows, crit_rows
 
 

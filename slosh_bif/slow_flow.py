@@ -196,6 +196,11 @@ class SlowFlow:
         beta, gamma, s, a = self._slow
         return beta, gamma, s if sigma is None else sigma, a if Abar is None else Abar
 
+    def start_from_state(self, state):
+        """(A0, psi0) on S+ for a state [X, X', w, w']: A0 = |X + i X'| (at least 1.05 A_min, just
+        above the manifold's end); psi0 = 0 (the presets start at X ~ 0, where psi is ~0 anyway)."""
+        return max(float(np.hypot(state[0], state[1])), 1.05 * self.A_min), 0.0
+
     def integrate(self, A0, psi0, T1_span, *, rtol=1e-10, atol=1e-12, t_eval=None) -> "SlowTrajectory":
         """Integrate (45) in slow time from (A0, psi0); stops at the manifold's end A = A_min."""
         self._check_on_manifold(A0)
