@@ -8,6 +8,7 @@ Subcommands:
 * ``shoot``    - periodic orbits of the smooth model (9) by shooting, continued in sigma, with
   folds, branch points, period doublings and Neimark-Sacker points, and the branches born there;
 * ``compare``  - the slow-flow curve (46) against the shooting branches over the same sigma range;
+* ``trust``    - ``compare`` over a grid of eps, beta and n: where the slow flow can be trusted;
 * ``simulate`` - a time response of the smooth model (9) or the vibro-impact model (8), optionally
   with the noise of (47), classified into a response regime;
 * ``regimes``  - a map of response regimes over (sigma, Abar), computed in parallel;
@@ -173,9 +174,14 @@ def _start_orbit(params, args):
 
 
 def _family(args, params, lo, hi):
-    from .orbits import trace_orbits
+    from .orbits import slow_flow_start, trace_orbits
 
-    y0 = _start_orbit(params, args)
+    if args.start == "slow-flow":
+        sigma0, orbit = slow_flow_start(params, lo, hi, segments=args.segments)
+        _progress(f"start orbit from the slow flow at sigma = {sigma0:.5g}: |X(0)| = {abs(orbit.y0[0]):.4g} ({orbit.message})")
+        params, y0 = params.replace(sigma=sigma0), orbit.y0
+    else:
+        y0 = _start_orbit(params, args)
     return trace_orbits(params, y0, p_min=lo, p_max=hi, segments=args.segments, switch=not args.no_switch, max_branches=args.max_branches, progress=_throttled(_progress))
 
 
@@ -212,9 +218,38 @@ def _compare(args) -> int:
     return 0
 
 
+def _floats(text):
+    return [float(v) for v in text.split(",")]
+
+
+def _trust(args) -> int:
+    from .trust import trust_map
+    from .trust_output import plot_trust_map, trust_table, write_trust_csv
+
+    base = _params(args)
+    lo, hi = _sigma_range(args)
+    if not all(n >= 1 for n in args.n):
+        raise ValueError(f"--n must list integers >= 1; got {args.n}")
+    args.out.mkdir(parents=True, exist_ok=True)
+    total = len(args.eps) * len(args.beta) * len(args.n)
+    _progress(f"{total} parameter sets, each a frequency-response curve of (46) and a family of orbits of (9) (seconds to a minute each)")
+
+    def report(point, done, total):
+        _progress(f"{done}/{total}: eps = {point.eps:g}, beta = {point.beta:g}, n = {point.n}: {point.status}, {point.seconds:.1f} s")
+
+    points = trust_map(base, eps=args.eps, beta=args.beta, n=args.n, sigma_min=lo, sigma_max=hi, grid=args.grid, switch=not args.no_switch, max_branches=args.max_branches, max_workers=args.workers, progress=report)
+    table = trust_table(points)
+    (args.out / "trust_map.txt").write_text(table + "\n")
+    csv_path, png_path = write_trust_csv(points, args.out / "trust_map.csv"), plot_trust_map(points, args.out / "trust_map.png")
+    print(table)
+    print(f"wrote {csv_path}, {png_path}, {args.out / 'trust_map.txt'}")
+    return 0
+
+
 def _add_shooting_options(parser):
     parser.add_argument("--segments", type=int, default=4, help="arcs of multiple shooting per period (default 4)")
     parser.add_argument("--guess", type=lambda s: [float(v) for v in s.split(",")], default=None, metavar="X,Xd,w,wd", help="state at tau = 0 near the start orbit (default: from a simulation)")
+    parser.add_argument("--start", choices=("simulation", "slow-flow"), default="simulation", help="start orbit: Newton from a simulation at the preset's sigma (default), or from the leading-order motion of a stable steady state of (46) in the range (no simulation)")
     parser.add_argument("--settle", type=int, default=150, help="periods simulated from the preset's initial state for the start guess (default 150)")
     parser.add_argument("--max-branches", type=int, default=6, help="branches traced at most, the primary one included (default 6)")
     parser.add_argument("--no-switch", action="store_true", help="trace the primary branch only")
@@ -378,6 +413,18 @@ def build_parser() -> argparse.ArgumentParser:
     _add_shooting_options(compare)
     compare.add_argument("--grid", type=int, default=141, help="sigma values compared (default 141)")
     compare.set_defaults(run=_compare)
+
+    trust = sub.add_parser("trust", help="compare over a grid of eps, beta and n: where the slow flow (46) can be trusted")
+    _add_params_options(trust)
+    _add_range_options(trust)
+    trust.add_argument("--eps", type=_floats, default=[0.02, 0.05, 0.1, 0.2], metavar="E1,E2,...", help="mass ratios (default 0.02,0.05,0.1,0.2)")
+    trust.add_argument("--beta", type=_floats, default=[0.0, 0.3, 0.5], metavar="B1,B2,...", help="values of beta (default 0,0.3,0.5)")
+    trust.add_argument("--n", type=lambda s: [int(v) for v in s.split(",")], default=[6, 10, 20, 50], metavar="N1,N2,...", help="wall exponents n (default 6,10,20,50)")
+    trust.add_argument("--grid", type=int, default=141, help="sigma values compared per set (default 141)")
+    trust.add_argument("--max-branches", type=int, default=6, help="orbit branches traced per set at most (default 6)")
+    trust.add_argument("--no-switch", action="store_true", help="trace the primary orbit branch only (faster; misses stable asymmetric and period-2 orbits)")
+    trust.add_argument("--workers", type=int, default=None, help="worker processes (default: one per core)")
+    trust.set_defaults(run=_trust)
 
     sim = sub.add_parser("simulate", help="time response of the smooth model (9) or the vibro-impact model (8), with its response regime")
     _add_params_options(sim)

@@ -25,8 +25,10 @@ from .continuation import ContinuationOptions, ConvergenceError, continuation, s
 from .params import Params
 from .shooting import PARAMETERS, ShootingProblem, orbit_at, orbit_measures
 from .simulate import simulate
+from .slow_flow import SlowFlow
+from .steady_states import frequency_response
 
-__all__ = ["OrbitBranch", "OrbitFamily", "trace_orbits", "mirror", "settle_and_shoot", "loss_of_stability", "StabilityLoss", "SHOOTING_OPTIONS"]
+__all__ = ["OrbitBranch", "OrbitFamily", "trace_orbits", "mirror", "orbit_from_slow_flow", "slow_flow_start", "settle_and_shoot", "loss_of_stability", "StabilityLoss", "SHOOTING_OPTIONS"]
 
 # Shooting residuals carry the integration's rounding (~1e-13 at rtol 1e-10), so the corrector's
 # tolerance sits above it; steps are capped so that orbits change little from one point to the next.
@@ -216,6 +218,40 @@ def trace_orbits(
         # Not the start (the parent's point) and not a cut end (where it met the parent again).
         queue += [(ob, s) for s in new.special if s.kind in (BRANCH_POINT, PERIOD_DOUBLING) and 1 < s.index < len(new) - (met is not None)]
     return OrbitFamily(params, param, family)
+
+
+def orbit_from_slow_flow(params: Params, A: float, *, segments: int = 4, rtol: float = 1e-10, atol: float = 1e-12, tol: float = 1e-10):
+    """Newton on (9) from the slow flow's motion at amplitude A (a steady state of (46) at
+    ``params``): each arc starts on :meth:`SlowFlow.fast_state` at its own start time, so that
+    multiple shooting does not carry the guess's error across the period. Returns a
+    :class:`PeriodicOrbit` (``converged`` says whether Newton found one)."""
+    flow = SlowFlow(params)
+    psi = float(flow.steady_phase(A))
+    problem = ShootingProblem(params, segments=segments, rtol=rtol, atol=atol)
+    x = flow.fast_state(A, psi, problem.arc_times()[:-1]).ravel()
+    return orbit_at(problem, x, params.sigma, tol=tol)
+
+
+def slow_flow_start(params: Params, sigma_min: float, sigma_max: float, *, segments: int = 4, tries: int = 12):
+    """(sigma, orbit): a 2pi-orbit of (9) found from a stable steady state of (46) in
+    [sigma_min, sigma_max], for starting :func:`trace_orbits` without a simulation.
+
+    States are tried from the ends of the range inward: far from the peak the slow flow is
+    closest to (9) (Fig. 10 set: 8 of 16 evenly spread stable states converge, all with
+    |sigma| >= 0.5; at the peak, where (46) and (9) differ by 30 %, none). Raises
+    :class:`ConvergenceError` naming how many were tried.
+    """
+    fr = frequency_response(params, sigma_min=sigma_min, sigma_max=sigma_max)
+    candidates = [(float(b.p[i]), float(b.x[i, 0])) for b in fr.branches for i in range(len(b)) if b.stable[i] and sigma_min <= b.p[i] <= sigma_max]
+    candidates.sort(key=lambda c: min(c[0] - sigma_min, sigma_max - c[0]))
+    # Neighbours on a branch are nearly the same guess: spread the tries over the candidates.
+    picks = candidates[:: max(1, len(candidates) // tries)][:tries]
+    for sigma, A in picks:
+        at = params.replace(sigma=sigma)
+        orbit = orbit_from_slow_flow(at, A, segments=segments)
+        if orbit.converged:
+            return sigma, orbit
+    raise ConvergenceError(f"no orbit of (9) found from {len(picks)} stable steady states of (46) in sigma in [{sigma_min}, {sigma_max}]")
 
 
 def settle_and_shoot(params: Params, state0, rtol: float = 1e-10, *, segments: int = 4, sim_rtol: float = 1e-8, first: int = 200, every: int = 100, most: int = 1000):

@@ -25,8 +25,9 @@ def pyplot():
 
 
 def save_figure(fig, path, *, dpi=130) -> Path:
-    """Lay out, write and close ``fig``; returns the path."""
-    fig.tight_layout()
+    """Lay out (unless the figure has its own layout engine), write and close ``fig``; returns the path."""
+    if fig.get_layout_engine() is None:
+        fig.tight_layout()
     fig.savefig(path, dpi=dpi)
     pyplot().close(fig)
     return Path(path)

@@ -196,6 +196,28 @@ class SlowFlow:
         beta, gamma, s, a = self._slow
         return beta, gamma, s if sigma is None else sigma, a if Abar is None else Abar
 
+    def fast_state(self, A, psi, tau):
+        """The leading-order motion on S+ at slow state (A, psi), as states [X, X', w, w'] at the
+        fast times ``tau`` (shape ``tau.shape + (4,)``): X = A sin(tau + psi) (25) and
+        w = X + f with the triangle wave f = (2 alpha / pi) arcsin(cos(tau - eta)) (29, 35),
+        whose impact phase eta solves (31), (32) with B = 0:
+        A sin(eta + psi) = 1 - alpha, A cos(eta + psi) = rho alpha.
+
+        A start guess for shooting on (9): X is what the slow flow predicts; w is the leading
+        order only (the smooth wall of (9) bends the triangle's corners and the orbit's impacts
+        lose energy, which the elastic triangle wave does not show).
+        """
+        A = float(self._check_on_manifold(A))
+        if not np.isfinite(psi):
+            raise ValueError(f"phase psi must be finite; got {psi!r}")
+        tau = np.asarray(tau, dtype=float)
+        alpha, rho = float(self.alpha(A)), float(self.rho(A)[0])
+        eta = np.arctan2(1 - alpha, rho * alpha) - psi
+        X, Xd = A * np.sin(tau + psi), A * np.cos(tau + psi)
+        f = 2 * alpha / np.pi * np.arcsin(np.cos(tau - eta))
+        fd = -2 * alpha / np.pi * np.sign(np.sin(tau - eta))
+        return np.stack([X, Xd, X + f, Xd + fd], axis=-1)
+
     def start_from_state(self, state):
         """(A0, psi0) on S+ for a state [X, X', w, w']: A0 = |X + i X'| (at least 1.05 A_min, just
         above the manifold's end); psi0 = 0 (the presets start at X ~ 0, where psi is ~0 anyway)."""

@@ -1,7 +1,9 @@
 """The slosh-bif command line."""
 
+import csv
 import json
 
+import numpy as np
 import pytest
 
 from slosh_bif import restitution
@@ -95,6 +97,37 @@ def test_compare_writes_csv_png_and_table(tmp_path, capsys):
     assert "sigma range" in text and (out / "compare.png").is_file() and (out / "compare.csv").is_file()
 
 
+def test_compare_from_the_slow_flow_reports_the_nearest_stable_orbit_too(tmp_path, capsys):
+    out = tmp_path / "cmp"
+    argv = ["compare", "--preset", "fig13", "--start", "slow-flow", "--sigma-min", "1.5", "--sigma-max", "3", "--grid", "16", "--no-switch", "--out", str(out)]
+    assert main(argv) == 0
+    assert "start orbit from the slow flow at sigma = " in capsys.readouterr().err
+    rows = list(csv.DictReader(open(out / "compare.csv")))
+    assert len(rows) == 16
+    for r in rows:
+        # The nearest stable orbit is one of the orbits: never nearer than the nearest of all.
+        d, d_stable = float(r["relative_difference"]), float(r["relative_difference_stable_orbit"])
+        assert np.isnan(d_stable) or d_stable >= d
+        if r["shooting_stable"] == "1":
+            assert d_stable == d
+    assert "stable slow-flow states with a stable 2pi-orbit of (9) within 5%" in (out / "compare.txt").read_text()
+
+
+def test_trust_writes_the_map_and_checks_its_input(tmp_path, capsys):
+    out = tmp_path / "trust"
+    argv = ["trust", "--preset", "fig13", "--eps", "0.05", "--beta", "0.3", "--n", "50,20", "--sigma-min", "1", "--sigma-max", "3", "--grid", "21", "--no-switch", "--workers", "2", "--out", str(out)]
+    assert main(argv) == 0
+    rows = list(csv.DictReader(open(out / "trust_map.csv")))
+    assert [(r["n"], r["status"]) for r in rows] == [("50", "ok"), ("20", "ok")]
+    for r in rows:
+        assert 0 <= float(r["confirmed"]) <= float(r["agree"]) <= 1 and int(r["stable_states"]) > 0
+    # n = 20 loses more than half the energy per impact at these parameters: the warning fires.
+    assert [r["warned"] for r in rows] == ["False", "True"]
+    assert (out / "trust_map.png").stat().st_size > 10_000 and "confirmed %" in (out / "trust_map.txt").read_text()
+    assert main(["trust", "--preset", "fig13", "--eps", "0.05", "--beta", "0.3", "--n", "0", "--out", str(out)]) == 2
+    assert "--n must list integers >= 1" in capsys.readouterr().err
+
+
 def test_shoot_without_an_orbit_near_the_guess_says_so(tmp_path, capsys):
     argv = ["shoot", "--preset", "fig10", "--guess", "50,0,0,0", "--settle", "1", "--sigma-min", "0", "--sigma-max", "2", "--out", str(tmp_path)]
     assert main(argv) == 2
@@ -102,8 +135,6 @@ def test_shoot_without_an_orbit_near_the_guess_says_so(tmp_path, capsys):
 
 
 def test_simulate_writes_trajectory_summary_and_figure(tmp_path, capsys):
-    import numpy as np
-
     out = tmp_path / "sim"
     assert main(["simulate", "--preset", "fig13", "--model", "impact", "--tmax", "150", "--out", str(out)]) == 0
     data = np.load(out / "trajectory.npz")
@@ -118,8 +149,6 @@ def test_simulate_writes_trajectory_summary_and_figure(tmp_path, capsys):
 
 
 def test_simulate_with_noise_records_the_seed_and_is_reproducible(tmp_path):
-    import numpy as np
-
     runs = []
     for name in ("a", "b"):
         assert main(["simulate", "--preset", "fig15", "--tmax", "60", "--seed", "7", "--out", str(tmp_path / name)]) == 0

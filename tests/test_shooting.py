@@ -154,3 +154,30 @@ def test_located_fold_and_ns_converge_as_the_tolerance_tightens():
     for kind in ("LP", "NS"):
         assert located[0][kind] == pytest.approx(located[1][kind], abs=1e-5)
     assert located[1]["LP"] == pytest.approx(0.9242, abs=1e-3) and located[1]["NS"] == pytest.approx(0.8806, abs=1e-3)
+
+
+@pytest.mark.parametrize("preset, sigma", [("fig10", -6.0), ("fig13", 2.0)])
+def test_orbit_from_the_slow_flow_is_the_orbit_a_simulation_settles_on(preset, sigma):
+    # Two independent routes to the same stable orbit: Newton from the leading-order motion of
+    # the steady state of (46), and a simulation of (9) from the preset's state until capture.
+    from slosh_bif.orbits import orbit_from_slow_flow, settle_and_shoot
+    from slosh_bif.steady_states import frequency_response
+
+    P = get_preset(preset).params.replace(sigma=sigma)
+    (branch,) = frequency_response(P, sigma_min=sigma - 0.1, sigma_max=sigma + 0.1).branches
+    orbit = orbit_from_slow_flow(P, float(np.interp(sigma, branch.p, branch.x[:, 0])))
+    settled, _ = settle_and_shoot(P, get_preset(preset).state0)
+    assert orbit.converged and orbit.stable and settled.stable
+    np.testing.assert_allclose(orbit.y0, settled.y0, atol=1e-6)
+
+
+def test_slow_flow_start_tries_steady_states_and_says_when_none_gives_an_orbit():
+    from slosh_bif.continuation import ConvergenceError
+    from slosh_bif.orbits import slow_flow_start
+
+    P = get_preset("fig10").params
+    sigma0, orbit = slow_flow_start(P, -6.0, 8.0)
+    assert sigma0 in (-6.0, 8.0) and orbit.converged  # the range's ends come first
+    # Near the peak (46) and (9) differ by 30 %: no steady state there leads Newton to an orbit.
+    with pytest.raises(ConvergenceError, match="no orbit of \\(9\\) found from"):
+        slow_flow_start(P, 0.1, 0.3, tries=3)

@@ -196,3 +196,21 @@ def test_eq46_sign_settled_on_the_smooth_model():
     start = _state_on_manifold(peak, A_derived, float(peak.steady_phase(A_derived)))
     run = integrate_smooth(peak.params, start, (0, 600), rtol=1e-8, atol=1e-10, t_eval=np.linspace(400, 600, 4001))
     assert np.abs(run.y[0]).max() == pytest.approx(A_derived, rel=0.10)
+
+
+@pytest.mark.parametrize("flow", list(flows())[:2], ids=["newtonian", "pbar=2"])
+def test_fast_state_touches_both_walls_with_the_impact_speed_of_eq_38(flow):
+    # The leading-order motion (25), (29), (35) on S+ reaches w = +1 and w = -1 once each per
+    # period (conditions 31, 32) and arrives there at speed alpha (2/pi + rho), eq. (38).
+    A, psi = 1.3, 0.4
+    tau = np.linspace(0, 2 * np.pi, 200001)
+    y = flow.fast_state(A, psi, tau)
+    np.testing.assert_allclose(y[:, 0], A * np.sin(tau + psi), atol=1e-14)
+    # Never beyond a wall, and within a grid step's travel (3e-5 * speed) of each.
+    assert abs(y[:, 2]).max() <= 1 + 1e-12
+    assert y[:, 2].max() == pytest.approx(1.0, abs=1e-4) and y[:, 2].min() == pytest.approx(-1.0, abs=1e-4)
+    alpha, rho = float(flow.alpha(A)), float(flow.rho(A)[0])
+    hit = int(np.argmax(y[:, 2]))
+    assert y[hit - 1, 3] == pytest.approx(alpha * (2 / np.pi + rho), rel=1e-3)
+    with pytest.raises(ValueError, match="A_min"):
+        flow.fast_state(0.5 * flow.A_min, psi, tau)
