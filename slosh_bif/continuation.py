@@ -251,6 +251,10 @@ def _locate(problem, a: _Point, h, which, opts):
 # -- one direction ---------------------------------------------------------------------------------
 
 
+def _bound_message(bound, opts):
+    return f"{_BOUND} {'p_max' if bound == opts.p_max else 'p_min'} = {bound}"
+
+
 def _end_on_bound(problem, a: _Point, b_u, bound, opts):
     """The point with p = bound between a and the overshooting b_u (Newton at fixed p)."""
     w = (bound - a.u[-1]) / (b_u[-1] - a.u[-1])
@@ -259,7 +263,7 @@ def _end_on_bound(problem, a: _Point, b_u, bound, opts):
     except (ConvergenceError, np.linalg.LinAlgError):
         x = (1 - w) * a.u[:-1] + w * b_u[:-1]  # a fold on the bound: keep the interpolated point
     u = np.append(x, bound)
-    return _point(problem, u, a.t, kind=END, message=f"{_BOUND} {'p_max' if bound == opts.p_max else 'p_min'} = {bound}", bracket=(a.u[-1], b_u[-1]))
+    return _point(problem, u, a.t, kind=END, message=_bound_message(bound, opts), bracket=(a.u[-1], b_u[-1]))
 
 
 def _run(problem, start: _Point, opts, loop_guard: bool, callback=None):
@@ -288,7 +292,10 @@ def _run(problem, start: _Point, opts, loop_guard: bool, callback=None):
         edge_hits = 0
         if not opts.p_min <= u[-1] <= opts.p_max:
             bound = opts.p_max if u[-1] > opts.p_max else opts.p_min
-            points.append(_end_on_bound(problem, a, u, bound, opts))
+            if a.u[-1] == bound:  # a start on the bound is itself the end (not a second copy of it)
+                a.kind, a.message = END, _bound_message(bound, opts)
+            else:
+                points.append(_end_on_bound(problem, a, u, bound, opts))
             return points, _BOUND
         b = _point(problem, u, a.t, iters)
         angle = math.acos(min(1.0, max(-1.0, float(b.t @ a.t))))

@@ -158,3 +158,11 @@ def test_switch_branch_leaves_the_trivial_branch_onto_the_parabola():
     assert len(new) > 5 and new.status == "ok"
     np.testing.assert_allclose(new.x[:, 0] ** 2, new.p, atol=1e-10)
     assert abs(new.x[1, 0]) > 0.01 and new.p.max() == pytest.approx(1.0)
+
+
+@pytest.mark.parametrize("x0", [-1.3, -1.1])
+def test_a_start_on_a_parameter_bound_is_the_end_and_appears_once(x0):
+    bounds = [x**3 - x for x in (-1.3, -1.1)]  # the branch x < -1/sqrt 3 between these two points
+    branch = continuation(Cubic(), [x0], x0**3 - x0, options=ContinuationOptions(p_min=bounds[0], p_max=bounds[1], step=0.05))
+    assert np.all(np.linalg.norm(np.diff(np.column_stack([branch.x, branch.p]), axis=0), axis=1) > 1e-6)  # no point twice
+    assert [e.p for e in branch.special_of("END")] == pytest.approx(bounds) and branch.status == "ok"
