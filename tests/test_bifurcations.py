@@ -114,3 +114,46 @@ def test_stable_period_two_orbit_attracts_a_simulation(period_doubling):
     strobes = integrate_grid(Pi, y + np.array([1e-3, -1e-3, 2e-3, 0.0]), 2 * np.pi * np.arange(401))  # 800 pi of (9)
     np.testing.assert_allclose(strobes[-1], y, atol=1e-6)  # back on the orbit every 4 pi ...
     assert np.linalg.norm(strobes[-2] - y) > 1e-3  # ... and half-way round at odd multiples of 2 pi
+
+
+def _scipy_multipliers(P, sigma, y0, period):
+    model = SmoothModel(P.replace(sigma=float(sigma)))
+    return np.linalg.eigvals(period_map(model.rhs, model.jac, y0, period, rtol=1e-12, atol=1e-13)[1])
+
+
+_CONDITIONS = {  # kind: (test function of the multipliers, distance of the multipliers from the condition)
+    "LP": (lambda mu: np.prod(mu - 1).real, lambda mu: np.min(np.abs(mu - 1))),
+    "BP": (lambda mu: np.prod(mu - 1).real, lambda mu: np.min(np.abs(mu - 1))),
+    "PD": (lambda mu: np.prod(mu + 1).real, lambda mu: np.min(np.abs(mu + 1))),
+    "NS": (lambda mu: np.prod([mu[i] * mu[j] - 1 for i in range(4) for j in range(i + 1, 4)]).real, lambda mu: min([abs(abs(m) - 1) for m in mu if abs(m.imag) > 1e-6] or [np.inf])),
+}
+
+
+@pytest.mark.slow
+def test_every_special_point_of_the_fig10_family_satisfies_its_condition_by_scipy():
+    """The whole Fig. 10 family over sigma in [-6, 8] (started from the slow flow, switched at
+    branch points and period doublings): at every located point, scipy's monodromy of the orbit
+    (over its own period) has the multiplier the point's kind says, or, where the multipliers move
+    too fast for that (the period-2 branch's grazing folds sweep the largest multiplier from -60
+    to +39 within 1e-5 in sigma), scipy's test function changes sign between the neighbouring
+    points. Liouville's check holds along every branch."""
+    from slosh_bif.orbits import slow_flow_start
+
+    P = get_preset("fig10").params
+    sigma0, orbit = slow_flow_start(P, -6.0, 8.0)
+    family = trace_orbits(P.replace(sigma=sigma0), orbit.y0, p_min=-6.0, p_max=8.0)
+    names = [ob.name for ob in family.branches]
+    assert names[0] == "symmetric" and "asymmetric" in names and "period-2" in names
+    checked = 0
+    for ob in family.branches:
+        b, T = ob.branch, ob.problem.period
+        assert np.max(ob.measures["liouville_error"]) < 1e-8
+        for sp in b.special:
+            if sp.kind == "END":
+                continue
+            test, distance = _CONDITIONS[sp.kind]
+            if distance(_scipy_multipliers(P, sp.p, sp.x[:4], T)) >= 1e-3:
+                i, j = max(sp.index - 1, 0), min(sp.index + 1, len(b) - 1)
+                assert test(_scipy_multipliers(P, b.p[i], b.x[i, :4], T)) * test(_scipy_multipliers(P, b.p[j], b.x[j, :4], T)) < 0, (ob.name, sp.kind, sp.p)
+            checked += 1
+    assert checked >= 100
