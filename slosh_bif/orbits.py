@@ -232,16 +232,17 @@ def orbit_from_slow_flow(params: Params, A: float, *, segments: int = 4, rtol: f
     return orbit_at(problem, x, params.sigma, tol=tol)
 
 
-def slow_flow_start(params: Params, sigma_min: float, sigma_max: float, *, segments: int = 4, tries: int = 12):
+def slow_flow_start(params: Params, sigma_min: float, sigma_max: float, *, segments: int = 4, tries: int = 12, response=None):
     """(sigma, orbit): a 2pi-orbit of (9) found from a stable steady state of (46) in
     [sigma_min, sigma_max], for starting :func:`trace_orbits` without a simulation.
 
     States are tried from the ends of the range inward: far from the peak the slow flow is
     closest to (9) (Fig. 10 set: 8 of 16 evenly spread stable states converge, all with
     |sigma| >= 0.5; at the peak, where (46) and (9) differ by 30 %, none). Raises
-    :class:`ConvergenceError` naming how many were tried.
+    :class:`ConvergenceError` naming how many were tried. ``response``: the frequency response of
+    (46) over the range, if already traced.
     """
-    fr = frequency_response(params, sigma_min=sigma_min, sigma_max=sigma_max)
+    fr = response if response is not None else frequency_response(params, sigma_min=sigma_min, sigma_max=sigma_max)
     candidates = [(float(b.p[i]), float(b.x[i, 0])) for b in fr.branches for i in range(len(b)) if b.stable[i] and sigma_min <= b.p[i] <= sigma_max]
     candidates.sort(key=lambda c: min(c[0] - sigma_min, sigma_max - c[0]))
     # Neighbours on a branch are nearly the same guess: spread the tries over the candidates.

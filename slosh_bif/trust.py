@@ -46,7 +46,8 @@ class TrustPoint:
     stable_states : stable slow-flow states on the sigma grid (the denominator)
     warned : whether AsymptoticsWarning fires at these parameters
     sigma_start : where the orbit family was started;  branches : how many were traced
-    status : "ok", or why there is nothing to compare (no steady state, no orbit found)
+    status : "ok", or why there is nothing to compare (no steady state, no orbit found, no orbit
+        at the sigma of any stable state)
     """
 
     eps: float
@@ -89,12 +90,12 @@ def trust_point(params: Params, sigma_min: float = -6.0, sigma_max: float = 8.0,
         warnings.simplefilter("ignore", AsymptoticsWarning)  # recorded in ``warned`` instead
         try:
             fr = frequency_response(params, sigma_min=sigma_min, sigma_max=sigma_max)
-            sigma0, orbit = slow_flow_start(params, sigma_min, sigma_max, segments=segments)
+            sigma0, orbit = slow_flow_start(params, sigma_min, sigma_max, segments=segments, response=fr)
         except (ConvergenceError, ValueError) as err:
             return failed(f"no start: {err}")
         try:
             family = trace_orbits(params.replace(sigma=sigma0), orbit.y0, p_min=sigma_min, p_max=sigma_max, segments=segments, switch=switch, max_branches=max_branches)
-        except (ConvergenceError, RuntimeError) as err:
+        except RuntimeError as err:  # ConvergenceError included
             return failed(f"orbit continuation failed: {err}", sigma0)
     rows = [r for r in compare_rows(family, fr, np.linspace(sigma_min, sigma_max, grid)) if r["slow_flow_stable"]]
     if not rows:
@@ -102,13 +103,15 @@ def trust_point(params: Params, sigma_min: float = -6.0, sigma_max: float = 8.0,
     d = np.array([r["relative_difference"] for r in rows])
     d_stable = np.array([r["relative_difference_stable_orbit"] for r in rows])
     finite = d[np.isfinite(d)]
+    if not finite.size:  # e.g. the orbit found lies on an isola away from every stable state
+        return failed(f"no traced orbit at the sigma of any of the {len(rows)} stable states of (46)", sigma0)
     return TrustPoint(
         **head,
         stable_states=len(rows),
         agree=float(np.mean(d <= agree_within)),
         confirmed=float(np.mean(d_stable <= agree_within)),  # NaN (no stable orbit) counts as not confirmed
-        median_difference=float(np.median(finite)) if finite.size else nan,
-        max_difference=float(np.max(finite)) if finite.size else nan,
+        median_difference=float(np.median(finite)),
+        max_difference=float(np.max(finite)),
         sigma_start=sigma0,
         branches=len(family.branches),
         seconds=time.perf_counter() - started,

@@ -125,7 +125,7 @@ def test_trust_writes_the_map_and_checks_its_input(tmp_path, capsys):
     assert [r["warned"] for r in rows] == ["False", "True"]
     assert (out / "trust_map.png").stat().st_size > 10_000 and "confirmed %" in (out / "trust_map.txt").read_text()
     assert main(["trust", "--preset", "fig13", "--eps", "0.05", "--beta", "0.3", "--n", "0", "--out", str(out)]) == 2
-    assert "--n must list integers >= 1" in capsys.readouterr().err
+    assert "parameter n must be in integers >= 1; got 0" in capsys.readouterr().err
 
 
 def test_shoot_without_an_orbit_near_the_guess_says_so(tmp_path, capsys):
