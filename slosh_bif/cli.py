@@ -246,7 +246,7 @@ def _trust(args) -> int:
 
 def _add_shooting_options(parser):
     parser.add_argument("--segments", type=int, default=4, help="arcs of multiple shooting per period (default 4)")
-    parser.add_argument("--guess", type=lambda s: [float(v) for v in s.split(",")], default=None, metavar="X,Xd,w,wd", help="state at tau = 0 near the start orbit (default: from a simulation)")
+    parser.add_argument("--guess", type=_floats, default=None, metavar="X,Xd,w,wd", help="state at tau = 0 near the start orbit (default: from a simulation)")
     parser.add_argument("--start", choices=("simulation", "slow-flow"), default="simulation", help="start orbit: Newton from a simulation at the preset's sigma (default), or from the leading-order motion of a stable steady state of (46) in the range (no simulation)")
     parser.add_argument("--settle", type=int, default=150, help="periods simulated from the preset's initial state for the start guess (default 150)")
     parser.add_argument("--max-branches", type=int, default=6, help="branches traced at most, the primary one included (default 6)")

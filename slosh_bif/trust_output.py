@@ -65,7 +65,7 @@ def plot_trust_map(points, path, *, title: str = "") -> Path:
             if row == 1:
                 ax.set_xlabel(r"$\varepsilon$")
             if col == 0:
-                ax.set_ylabel(rf"$\beta$" + f"\n{label}", fontsize=8)
+                ax.set_ylabel(r"$\beta$" + f"\n{label}", fontsize=8)
     fig.colorbar(image, ax=axes, shrink=0.8, label="fraction of stable slow-flow states")
     fig.suptitle(title or "Slow flow (46) against periodic orbits of (9): % of stable states within 5 %, median difference; hatched: AsymptoticsWarning", fontsize=9)
     return save_figure(fig, path)

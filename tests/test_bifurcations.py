@@ -60,6 +60,11 @@ def test_pd_and_ns_test_functions_change_sign_exactly_where_multipliers_cross():
     assert saddle.confirm("NS", None, 0.0) is None
 
 
+def _scipy_multipliers(P, sigma, y0, period):
+    model = SmoothModel(P.replace(sigma=float(sigma)))
+    return np.linalg.eigvals(period_map(model.rhs, model.jac, y0, period, rtol=1e-12, atol=1e-13)[1])
+
+
 @pytest.fixture(scope="module")
 def period_doubling():
     """The stable asymmetric orbit of the Fig. 10 set at sigma = -3 (reached by simulation),
@@ -76,9 +81,7 @@ def test_period_doubling_is_located_where_an_independent_monodromy_has_a_multipl
     parent, doubled = family.branches
     (pd,) = parent.branch.special_of("PD")
     assert pd.p == pytest.approx(-2.5358, abs=2e-4)
-    model = SmoothModel(P.replace(sigma=pd.p))
-    _, M, _ = period_map(model.rhs, model.jac, pd.x[:4], 2 * np.pi, rtol=1e-12, atol=1e-13)  # scipy DOP853
-    assert np.min(np.abs(np.linalg.eigvals(M) + 1)) < 1e-4
+    assert np.min(np.abs(_scipy_multipliers(P, pd.p, pd.x[:4], 2 * np.pi) + 1)) < 1e-4  # scipy DOP853
     assert doubled.name == "period-2" and doubled.problem.period_multiple == 2
     assert "PD at sigma = -2.53581 on the asymmetric branch" in doubled.origin
 
@@ -114,11 +117,6 @@ def test_stable_period_two_orbit_attracts_a_simulation(period_doubling):
     strobes = integrate_grid(Pi, y + np.array([1e-3, -1e-3, 2e-3, 0.0]), 2 * np.pi * np.arange(401))  # 800 pi of (9)
     np.testing.assert_allclose(strobes[-1], y, atol=1e-6)  # back on the orbit every 4 pi ...
     assert np.linalg.norm(strobes[-2] - y) > 1e-3  # ... and half-way round at odd multiples of 2 pi
-
-
-def _scipy_multipliers(P, sigma, y0, period):
-    model = SmoothModel(P.replace(sigma=float(sigma)))
-    return np.linalg.eigvals(period_map(model.rhs, model.jac, y0, period, rtol=1e-12, atol=1e-13)[1])
 
 
 _CONDITIONS = {  # kind: (test function of the multipliers, distance of the multipliers from the condition)
