@@ -4,7 +4,7 @@ Usage:  python derivations/generate.py [--check] [--out DIR]
         slosh-bif derive [--check]
 
 Each derivation module builds sympy expressions; this script turns them into numpy code under
-``slosh_bif/_generated/`` and writes ``derivations/REPORT.md`` (printed against derived equations).
+``slosh_bif/model/_generated/`` and writes ``derivations/REPORT.md`` (printed against derived equations).
 ``--check`` renders into memory and compares byte for byte with the committed files, exiting 1
 (and naming the stale files) when they differ. ``--out`` names another root to write or check.
 """
@@ -27,7 +27,7 @@ import report  # noqa: E402
 import slow_flow  # noqa: E402
 
 ROOT = HERE.parent
-GENERATED = Path("slosh_bif") / "_generated"
+GENERATED = Path("slosh_bif") / "model" / "_generated"
 SCRIPT = "generate.py"
 
 
@@ -83,7 +83,7 @@ def _kernels_module() -> str:
     augmented = (("z", tuple(m.STATE) + tuple(phi) + tuple(s_sigma) + tuple(s_abar) + (sp.Symbol("trace"),)),)
     F = codegen.Function
     return codegen.render_kernels(
-        "Scalar kernels of the smooth model (9) for the compiled integrator (slosh_bif.integrator).",
+        "Scalar kernels of the smooth model (9) for the compiled integrator (slosh_bif.simulation.integrator).",
         SCRIPT,
         [
             F("smooth_rhs_kernel", "out = f(tau, y) of (9); pars = (eps, beta, gamma, sigma, Abar, lam, chi, n, p).", state, m.PARAMS, f),

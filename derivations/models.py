@@ -11,7 +11,7 @@ State ``y = [X, X', w, w']``, time tau. Model (9) is taken with its exact coeffi
 Model (8) is (9) without the wall terms, its coefficients expanded to first order in eps *by sympy*
 (the paper's printed (8) has ``eps((1 - beta^2) - sigma beta^2)`` where the expansion gives
 ``eps(1 - beta^4 - sigma beta^2)``; see REPORT.md). Impacts at |w| = 1 are applied by the
-hand-written :mod:`slosh_bif.vibro_impact`.
+hand-written :mod:`slosh_bif.simulation.vibro_impact`.
 
 Each model comes with its energy and the power balance that the derivation proves symbolically:
 ``dH/dtau = P`` along solutions.

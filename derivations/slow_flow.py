@@ -196,7 +196,7 @@ def _total_dA(expr):
 
 
 def generated_functions(Function):
-    """The slow-flow functions written to slosh_bif/_generated/slow_flow.py."""
+    """The slow-flow functions written to slosh_bif/model/_generated/slow_flow.py."""
     ic, ss, mk = impact_conditions(), steady_state(), manifold_kappa()
     rhs = sp.Matrix([_on_stable_branch(e) for e in slow_flow()["forced"]])
     jac = sp.Matrix([[_total_dA(e), sp.diff(e, psi)] for e in rhs])

@@ -23,8 +23,8 @@ import numpy as np  # noqa: E402
 from scipy import optimize  # noqa: E402
 
 from slosh_bif import get_preset  # noqa: E402
-from slosh_bif.slow_flow import SlowFlow  # noqa: E402
-from slosh_bif.steady_states import frequency_response  # noqa: E402
+from slosh_bif.slowflow.flow import SlowFlow  # noqa: E402
+from slosh_bif.slowflow.steady_states import frequency_response  # noqa: E402
 
 SIGMA_MIN, SIGMA_MAX = -15.0, 8.0  # wide enough to hold the Fig. 13 fold (sigma = -13.13)
 REPEATS = 5

@@ -10,8 +10,8 @@ import sys
 from pathlib import Path
 
 from slosh_bif import get_preset
-from slosh_bif.critical import critical_curve, critical_forcing
-from slosh_bif.frc_output import plot_critical, write_critical_csv
+from slosh_bif.slowflow.critical import critical_curve, critical_forcing
+from slosh_bif.slowflow.output import plot_critical, write_critical_csv
 
 PRESET = "fig13"
 SIGMA_MIN, SIGMA_MAX = -6.0, 8.0

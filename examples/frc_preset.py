@@ -10,9 +10,9 @@ import sys
 from pathlib import Path
 
 from slosh_bif import get_preset
-from slosh_bif.branch import Branch
-from slosh_bif.frc_output import plot_frc, write_frc_csv
-from slosh_bif.steady_states import FrequencyResponse, frequency_response
+from slosh_bif.continuation.branch import Branch
+from slosh_bif.slowflow.output import plot_frc, write_frc_csv
+from slosh_bif.slowflow.steady_states import FrequencyResponse, frequency_response
 
 PRESET = "fig10"
 OVERRIDES = {}  # e.g. {"Abar": 1.5, "gamma": 0.1}

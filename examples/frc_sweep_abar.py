@@ -15,8 +15,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 from slosh_bif import get_preset  # noqa: E402
-from slosh_bif.plotting import plot_branch  # noqa: E402
-from slosh_bif.steady_states import frequency_response  # noqa: E402
+from slosh_bif.report.plotting import plot_branch  # noqa: E402
+from slosh_bif.slowflow.steady_states import frequency_response  # noqa: E402
 
 PRESET = "fig13"
 ABARS = (0.5, 0.75, 1.0, 1.5, 2.0, 3.0)

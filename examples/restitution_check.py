@@ -16,7 +16,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from slosh_bif import restitution  # noqa: E402
+from slosh_bif.model import restitution  # noqa: E402
 
 CHI, V0 = 0.2, 1.0
 LAMS = (0.01, 0.02, 0.05, 0.1, 0.2, 0.35)

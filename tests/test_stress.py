@@ -6,7 +6,6 @@ Every case says what it expects and why. The default run has the fast cases; ``p
 tests/test_stress.py`` adds the exhaustive ones.
 """
 
-import math
 import warnings
 from concurrent.futures import ThreadPoolExecutor
 from concurrent.futures import TimeoutError as FutureTimeout
@@ -14,14 +13,15 @@ from concurrent.futures import TimeoutError as FutureTimeout
 import numpy as np
 import pytest
 
-from slosh_bif import Params, SmoothModel, get_preset, integrator, simulate_impact
+from slosh_bif import Params, SmoothModel, get_preset, simulate_impact
 from slosh_bif.continuation import ContinuationOptions, continuation
-from slosh_bif.noise import band_limited_noise
-from slosh_bif.restitution import kappa, kappa_on_manifold
-from slosh_bif.shooting import periodic_orbit
-from slosh_bif.simulate import simulate
-from slosh_bif.slow_flow import AsymptoticsWarning, SlowFlow
-from slosh_bif.steady_states import frequency_response
+from slosh_bif.model.restitution import kappa, kappa_on_manifold
+from slosh_bif.orbits.shooting import periodic_orbit
+from slosh_bif.simulation import integrator
+from slosh_bif.simulation.direct import simulate
+from slosh_bif.simulation.noise import band_limited_noise
+from slosh_bif.slowflow.flow import AsymptoticsWarning, SlowFlow
+from slosh_bif.slowflow.steady_states import frequency_response
 
 HANG_GUARD = 120.0  # seconds: not a speed test, a guard against hanging (each case takes < 2 s here)
 

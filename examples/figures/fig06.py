@@ -8,7 +8,7 @@ Usage: python examples/figures/fig06.py [OUT_DIR]   (default results/figures)
 import sys
 from pathlib import Path
 
-from slosh_bif.figures import fig6
+from slosh_bif.studies.figures import fig6
 
 if __name__ == "__main__":
     print(fig6(Path(sys.argv[1]) if len(sys.argv) > 1 else Path("results/figures")))

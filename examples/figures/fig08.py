@@ -7,7 +7,7 @@ Usage: python examples/figures/fig08.py [OUT_DIR]   (default results/figures)
 import sys
 from pathlib import Path
 
-from slosh_bif.figures import fig8
+from slosh_bif.studies.figures import fig8
 
 if __name__ == "__main__":
     print(fig8(Path(sys.argv[1]) if len(sys.argv) > 1 else Path("results/figures")))

@@ -8,7 +8,7 @@ Usage: python examples/figures/fig09.py [OUT_DIR]   (default results/figures)
 import sys
 from pathlib import Path
 
-from slosh_bif.figures import fig9
+from slosh_bif.studies.figures import fig9
 
 if __name__ == "__main__":
     print(fig9(Path(sys.argv[1]) if len(sys.argv) > 1 else Path("results/figures")))

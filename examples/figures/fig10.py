@@ -9,7 +9,7 @@ Usage: python examples/figures/fig10.py [OUT_DIR]   (default results/figures)
 import sys
 from pathlib import Path
 
-from slosh_bif.figures import fig10
+from slosh_bif.studies.figures import fig10
 
 if __name__ == "__main__":
     print(fig10(Path(sys.argv[1]) if len(sys.argv) > 1 else Path("results/figures")))

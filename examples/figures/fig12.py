@@ -8,7 +8,7 @@ Usage: python examples/figures/fig12.py [OUT_DIR]   (default results/figures)
 import sys
 from pathlib import Path
 
-from slosh_bif.figures import fig12
+from slosh_bif.studies.figures import fig12
 
 if __name__ == "__main__":
     print(fig12(Path(sys.argv[1]) if len(sys.argv) > 1 else Path("results/figures")))

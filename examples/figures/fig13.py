@@ -7,7 +7,7 @@ Usage: python examples/figures/fig13.py [OUT_DIR]   (default results/figures)
 import sys
 from pathlib import Path
 
-from slosh_bif.figures import fig13
+from slosh_bif.studies.figures import fig13
 
 if __name__ == "__main__":
     print(fig13(Path(sys.argv[1]) if len(sys.argv) > 1 else Path("results/figures")))

@@ -8,7 +8,7 @@ Usage: python examples/figures/fig15.py [OUT_DIR]   (default results/figures)
 import sys
 from pathlib import Path
 
-from slosh_bif.figures import fig15
+from slosh_bif.studies.figures import fig15
 
 if __name__ == "__main__":
     print(fig15(Path(sys.argv[1]) if len(sys.argv) > 1 else Path("results/figures")))

@@ -1,0 +1,60 @@
+"""The ``slosh-bif`` command line.
+
+Subcommands:
+
+* ``info``     - a preset's parameters and the derived restitution quantities (eqs. 21, 31, 36, 40);
+* ``frc``      - the frequency-response curve of the slow flow (45)/(46) by continuation in sigma;
+* ``critical`` - the critical forcing Abar_b(sigma) by continuation of the fold and end conditions;
+* ``shoot``    - periodic orbits of the smooth model (9) by shooting, continued in sigma, with
+  folds, branch points, period doublings and Neimark-Sacker points, and the branches born there;
+* ``compare``  - the slow-flow curve (46) against the shooting branches over the same sigma range;
+* ``trust``    - ``compare`` over a grid of eps, beta and n: where the slow flow can be trusted;
+* ``simulate`` - a time response of the smooth model (9) or the vibro-impact model (8), optionally
+  with the noise of (47), classified into a response regime;
+* ``regimes``  - a map of response regimes over (sigma, Abar), computed in parallel;
+* ``figures``  - the paper's Figs. 3 and 6-15, regenerated from scratch as PNG files;
+* ``derive``   - regenerate the generated code from the sympy derivations (``--check``: verify it).
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+from slosh_bif.cli import info, orbits, simulation, slowflow, studies
+
+__all__ = ["main", "build_parser"]
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="slosh-bif",
+        description="Continuation and bifurcation analysis of the equivalent mechanical model of strongly "
+        "nonlinear liquid sloshing (Farid & Gendelman).",
+    )
+    sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+    for family in (info, slowflow, orbits, studies, simulation):
+        family.add_commands(sub)
+    return parser
+
+
+def main(argv=None) -> int:
+    import warnings
+
+    parser = build_parser()
+    args = parser.parse_args(argv)
+
+    def show(message, category, *_args, **_kwargs):  # one line, no source excerpt
+        print(f"slosh-bif {args.command}: warning: {message}", file=sys.stderr)
+
+    with warnings.catch_warnings():
+        warnings.showwarning = show
+        try:
+            return args.run(args)
+        except ValueError as err:
+            print(f"slosh-bif {args.command}: error: {err}", file=sys.stderr)
+            return 2
+        except RuntimeError as err:  # a method that could not answer says why (no traceback)
+            print(f"slosh-bif {args.command}: failed: {err}", file=sys.stderr)
+            return 1
+

@@ -1,0 +1,82 @@
+"""``slosh-bif info`` (a preset's parameters and restitution quantities, eqs. 21, 31, 36, 40) and
+``slosh-bif derive`` (regenerate or check the generated code)."""
+
+from __future__ import annotations
+
+import importlib.util
+import json
+import sys
+from pathlib import Path
+
+from slosh_bif.cli.common import add_params_options, params_of
+from slosh_bif.model import manifold, restitution
+from slosh_bif.model.presets import get_preset
+
+__all__ = ["add_commands"]
+
+
+def _info(args) -> int:
+    preset = get_preset(args.preset)
+    params = params_of(args)
+    P = params
+    kappa_unit = float(restitution.kappa(1.0, P.lam, P.chi, P.n, P.pbar))
+    rho_unit = float(restitution.rho(kappa_unit))
+    report = {
+        "preset": preset.name,
+        "note": preset.note,
+        "params": P.as_dict(),
+        "p": P.p,
+        "initial_state": dict(zip(["X", "Xd", "w", "wd"], preset.state0.tolist())),
+        "kappa_at_unit_speed": kappa_unit,
+        "rho_at_unit_speed": rho_unit,
+        "A_min_at_unit_speed": float(manifold.a_min(rho_unit)),
+        "alpha_min_at_unit_speed": float(manifold.alpha_min(rho_unit)),
+    }
+    if P.pbar == 0:
+        report["kappa_newtonian"] = float(restitution.kappa_newtonian(P.lam, P.chi, P.n))
+    if args.json:
+        print(json.dumps(report, indent=2))
+        return 0
+    print(f"preset {preset.name}: {preset.note}")
+    for name, value in report["params"].items():
+        print(f"  {name:6s} = {value}")
+    print(f"  p      = {P.p}   (dissipation exponent, pbar = 2p - n)")
+    print("initial state [X, X', w, w'] = " + ", ".join(f"{v:.6g}" for v in preset.state0))
+    print(f"kappa at unit impact speed (eq. 21) = {kappa_unit:.10g}")
+    if "kappa_newtonian" in report:
+        print(f"kappa Newtonian (eq. 40)            = {report['kappa_newtonian']:.10g}")
+    print(f"rho (eq. 31)                        = {rho_unit:.10g}")
+    print(f"A_min (eq. 36)                      = {report['A_min_at_unit_speed']:.10g}")
+    print(f"alpha_min (eq. 36)                  = {report['alpha_min_at_unit_speed']:.10g}")
+    return 0
+
+
+def _derivations_dir() -> Path:
+    return Path(__file__).resolve().parents[2] / "derivations"
+
+
+def _derive(args) -> int:
+    script = _derivations_dir() / "generate.py"
+    if not script.is_file():
+        print(
+            f"slosh-bif derive needs the source checkout (derivations/ beside the package); {script} not found. "
+            "Install with `pip install -e .` from a clone.",
+            file=sys.stderr,
+        )
+        return 2
+    spec = importlib.util.spec_from_file_location("slosh_bif_derivations_generate", script)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module.main(["--check"] if args.check else [])
+
+
+def add_commands(sub) -> None:
+    """Register this family's commands on the ``slosh-bif`` subparsers ``sub``."""
+    info = sub.add_parser("info", help="print a preset's parameters and its restitution coefficient, rho and A_min")
+    add_params_options(info)
+    info.add_argument("--json", action="store_true", help="print JSON instead of text")
+    info.set_defaults(run=_info)
+
+    derive = sub.add_parser("derive", help="regenerate slosh_bif/model/_generated from the sympy derivations")
+    derive.add_argument("--check", action="store_true", help="exit 1 if the committed generated code is stale")
+    derive.set_defaults(run=_derive)

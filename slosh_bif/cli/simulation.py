@@ -1,0 +1,99 @@
+"""``slosh-bif simulate`` (a time response of (8) or (9), classified) and ``slosh-bif regimes``
+(a regime map over (sigma, Abar))."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from slosh_bif.cli.common import add_params_options, add_range_options, params_of, progress, sigma_range, throttled
+from slosh_bif.model.presets import get_preset
+
+__all__ = ["add_commands"]
+
+
+def _simulate(args) -> int:
+    from slosh_bif.simulation.direct import simulate
+    from slosh_bif.simulation.output import plot_simulation, write_summary, write_trajectory
+    from slosh_bif.simulation.regimes import classify
+
+    preset = get_preset(args.preset)
+    params = params_of(args)
+    tmax = args.tmax if args.tmax is not None else float(preset.t_window[1])
+    noise = preset.noise_std if args.noise is None else args.noise
+    if args.transient is not None and not (0 <= args.transient < tmax):
+        raise ValueError(f"--transient must be in [0, tmax = {tmax:g}); got {args.transient}")
+    args.out.mkdir(parents=True, exist_ok=True)
+    report = throttled(progress, passes=lambda message: message.startswith("simulated 100"))
+    sim = simulate(
+        params, preset.state0, tmax, model=args.model, noise_std=noise, seed=args.seed, noise_cutoff=args.noise_cutoff,
+        progress=lambda f: report(f"simulated {100 * f:.0f} % of tau in [0, {tmax:g}]"),
+    )
+    if not sim.success and sim.status != "sticking":
+        print(f"slosh-bif simulate: the run stopped early: {sim.message}", file=sys.stderr)
+    transient = args.transient if args.transient is not None and args.transient < sim.t[-1] else None
+    summary = classify(sim, transient=transient)
+    paths = [
+        write_trajectory(sim, args.out / "trajectory.npz"),
+        write_summary(sim, summary, args.out / "summary.json"),
+        plot_simulation(sim, summary, args.out / "simulate.png", title=f"{preset.name} ({args.model} model): {summary.regime}"),
+    ]
+    print(f"regime: {summary.regime} ({summary.reason}); {sim.message}; {sim.seconds:.2f} s")
+    print("wrote " + ", ".join(str(p) for p in paths))
+    return 0
+
+
+def _regimes(args) -> int:
+    from slosh_bif.simulation.output import plot_regime_map, write_regime_csv
+    from slosh_bif.simulation.regimes import regime_map
+    from slosh_bif.slowflow.critical import critical_curve
+
+    params = params_of(args)
+    lo, hi = sigma_range(args, default=(-2.0, 4.0))
+    if not (0 <= args.abar_min < args.abar_max):
+        raise ValueError(f"need 0 <= --abar-min < --abar-max; got {args.abar_min}, {args.abar_max}")
+    n_sigma, n_abar = args.grid
+    if n_sigma < 1 or n_abar < 1:
+        raise ValueError(f"--grid takes two positive integers N M (sigma points, Abar points); got {args.grid}")
+    if args.workers is not None and args.workers < 1:
+        raise ValueError(f"--workers must be a positive integer; got {args.workers}")
+    args.out.mkdir(parents=True, exist_ok=True)
+    report = throttled(progress, passes=lambda message: False)
+    rmap = regime_map(
+        params, get_preset(args.preset).state0, np.linspace(lo, hi, n_sigma), np.linspace(args.abar_min, args.abar_max, n_abar),
+        tmax=args.tmax, model=args.model, max_workers=args.workers,
+        progress=lambda done, total: report(f"classified {done} of {total} grid points"),
+    )
+    curve = critical_curve(params, lo, hi)
+    paths = [write_regime_csv(rmap, args.out / "regimes.csv"), plot_regime_map(rmap, args.out / "regimes.png", critical=curve)]
+    counts = {r: int(np.sum(rmap.regime == r)) for r in sorted(set(rmap.regime.ravel()))}
+    print("regimes: " + ", ".join(f"{r} {c}" for r, c in counts.items()))
+    print("wrote " + ", ".join(str(p) for p in paths))
+    return 0
+
+
+def add_commands(sub) -> None:
+    """Register this family's commands on the ``slosh-bif`` subparsers ``sub``."""
+    sim = sub.add_parser("simulate", help="time response of the smooth model (9) or the vibro-impact model (8), with its response regime")
+    add_params_options(sim)
+    sim.add_argument("--model", choices=("smooth", "impact"), default="smooth", help="(9) with the wall potential, or (8) with impacts (default smooth)")
+    sim.add_argument("--tmax", type=float, default=None, help="end time tau (default: the end of the preset's figure window)")
+    sim.add_argument("--noise", type=float, default=None, metavar="STD", help="standard deviation sigma_bar of the noise of eq. 47 (default: the preset's, 0 for most)")
+    sim.add_argument("--seed", type=int, default=0, help="seed of the noise (default 0); the same seed gives the same run bit for bit")
+    sim.add_argument("--noise-cutoff", type=float, default=10.0, help="highest angular frequency of the band-limited noise (default 10)")
+    sim.add_argument("--transient", type=float, default=None, help="tau after which the regime is judged (default: half the run)")
+    sim.add_argument("--out", type=Path, required=True, help="output folder (created if missing)")
+    sim.set_defaults(run=_simulate)
+
+    regimes = sub.add_parser("regimes", help="map of response regimes over (sigma, Abar), simulated in parallel")
+    add_params_options(regimes)
+    add_range_options(regimes)
+    regimes.add_argument("--abar-min", type=float, default=0.1, help="lowest forcing amplitude (default 0.1)")
+    regimes.add_argument("--abar-max", type=float, default=3.0, help="highest forcing amplitude (default 3)")
+    regimes.add_argument("--grid", type=int, nargs=2, default=(13, 10), metavar=("N", "M"), help="N sigma values by M Abar values (default 13 10)")
+    regimes.add_argument("--tmax", type=float, default=600.0, help="simulated time per point; the second half is classified (default 600)")
+    regimes.add_argument("--model", choices=("smooth", "impact"), default="smooth", help="model simulated (default smooth)")
+    regimes.add_argument("--workers", type=int, default=None, help="worker processes (default: one per core)")
+    regimes.set_defaults(run=_regimes)

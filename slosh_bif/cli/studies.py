@@ -1,0 +1,142 @@
+"""``slosh-bif compare``, ``trust``, ``figures``, ``bench`` and ``answer``: the questions that combine
+the slow flow, the orbits and the simulations."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from slosh_bif.cli.common import add_params_options, add_range_options, floats, params_of, progress, sigma_range
+from slosh_bif.cli.orbits import add_shooting_options, family_from_args
+from slosh_bif.model.presets import get_preset
+
+__all__ = ["add_commands"]
+
+
+def _compare(args) -> int:
+    from slosh_bif.slowflow.steady_states import frequency_response
+    from slosh_bif.studies.compare import compare_rows, compare_table, plot_compare, write_compare_csv
+
+    params = params_of(args)
+    lo, hi = sigma_range(args)
+    args.out.mkdir(parents=True, exist_ok=True)
+    fr = frequency_response(params, sigma_min=lo, sigma_max=hi)
+    family = family_from_args(args, params, lo, hi)
+    rows = list(compare_rows(family, fr, np.linspace(lo, hi, args.grid)))
+    csv_path, png_path = write_compare_csv(rows, args.out / "compare.csv"), plot_compare(family, fr, rows, args.out / "compare.png")
+    table = compare_table(rows)
+    (args.out / "compare.txt").write_text(table + "\n")
+    print(table)
+    print(f"wrote {csv_path}, {png_path}, {args.out / 'compare.txt'}")
+    return 0
+
+
+def _trust(args) -> int:
+    from slosh_bif.studies.trust import trust_map
+    from slosh_bif.studies.trust_output import plot_trust_map, trust_table, write_trust_csv
+
+    base = params_of(args)
+    lo, hi = sigma_range(args)
+    args.out.mkdir(parents=True, exist_ok=True)
+    total = len(args.eps) * len(args.beta) * len(args.n)
+    progress(f"{total} parameter sets, each a frequency-response curve of (46) and a family of orbits of (9) (seconds to a minute each)")
+
+    def report(point, done, total):
+        progress(f"{done}/{total}: eps = {point.eps:g}, beta = {point.beta:g}, n = {point.n}: {point.status}, {point.seconds:.1f} s")
+
+    points = trust_map(base, eps=args.eps, beta=args.beta, n=args.n, sigma_min=lo, sigma_max=hi, grid=args.grid, switch=not args.no_switch, max_branches=args.max_branches, max_workers=args.workers, progress=report)
+    table = trust_table(points)
+    (args.out / "trust_map.txt").write_text(table + "\n")
+    csv_path, png_path = write_trust_csv(points, args.out / "trust_map.csv"), plot_trust_map(points, args.out / "trust_map.png")
+    print(table)
+    print(f"wrote {csv_path}, {png_path}, {args.out / 'trust_map.txt'}")
+    return 0
+
+
+def _figures(args) -> int:
+    from slosh_bif.studies.figures import NOTES, make_figures
+
+    paths = make_figures(args.out, quick=args.quick, only=args.only, progress=progress)
+    for path in paths:
+        print(f"{path}: {NOTES[path.stem]}")
+    return 0
+
+
+def _bench(args) -> int:
+    from slosh_bif.studies.bench import run
+
+    paths = run(args.out, only=args.only, quick=args.quick, repeats=args.repeats, progress=progress)
+    for path in paths:
+        print(path)
+        if path.name == "integrators_ratios.csv":  # the headline numbers
+            print(path.read_text().strip())
+    return 0
+
+
+def _answer(args) -> int:
+    from slosh_bif.studies.ladder import answer
+
+    params = params_of(args)
+    result = answer(args.question, params, tol=args.tol, state0=get_preset(args.preset).state0, sigma_min=args.sigma_min,
+                    sigma_max=args.sigma_max, tmax=args.tmax, progress=progress)
+    print(result.summary())
+    print(f"ran in {result.seconds:.2f} s")
+    r = result.result
+    if args.question == "frequency-response":
+        branches = [ob.branch for ob in r.branches] if hasattr(r.branches[0], "measures") else list(r.branches)
+        print(f"{len(branches)} branch(es), {sum(len(b) for b in branches)} points; special points: "
+              + ", ".join(f"{s.kind} {s.p:.5g}" for b in branches for s in b.special))
+    elif args.question == "critical-forcing":
+        value, kind = (r.Abar_b, r.kind) if hasattr(r, "Abar_b") else (r.p, r.kind or "stability change")
+        print(f"critical forcing at sigma = {params.sigma:g}: Abar = {value:.6g} ({kind})" if value is not None else "the orbit stays stable down to Abar = 0")
+    elif args.question == "time-response":
+        A = r.A if hasattr(r, "A") else None
+        print(f"slow envelope A from {A[0]:.4g} to {A[-1]:.4g}" if A is not None else f"{r.status}: {r.message}; max |X| = {np.max(np.abs(r.y[0])):.4g}")
+    else:
+        print(f"regime: {r}" if isinstance(r, str) else f"regime: {r.regime} ({r.reason})")
+    return 0
+
+
+def add_commands(sub) -> None:
+    """Register this family's commands on the ``slosh-bif`` subparsers ``sub``."""
+    compare = sub.add_parser("compare", help="slow-flow curve (46) against the shooting branches of (9) over the same sigma range")
+    add_params_options(compare)
+    add_range_options(compare)
+    add_shooting_options(compare)
+    compare.add_argument("--grid", type=int, default=141, help="sigma values compared (default 141)")
+    compare.set_defaults(run=_compare)
+
+    trust = sub.add_parser("trust", help="compare over a grid of eps, beta and n: where the slow flow (46) can be trusted")
+    add_params_options(trust)
+    add_range_options(trust)
+    trust.add_argument("--eps", type=floats, default=[0.02, 0.05, 0.1, 0.2], metavar="E1,E2,...", help="mass ratios (default 0.02,0.05,0.1,0.2)")
+    trust.add_argument("--beta", type=floats, default=[0.0, 0.3, 0.5], metavar="B1,B2,...", help="values of beta (default 0,0.3,0.5)")
+    trust.add_argument("--n", type=lambda s: [int(v) for v in s.split(",")], default=[6, 10, 20, 50], metavar="N1,N2,...", help="wall exponents n (default 6,10,20,50)")
+    trust.add_argument("--grid", type=int, default=141, help="sigma values compared per set (default 141)")
+    trust.add_argument("--max-branches", type=int, default=6, help="orbit branches traced per set at most (default 6)")
+    trust.add_argument("--no-switch", action="store_true", help="trace the primary orbit branch only (faster; misses stable asymmetric and period-2 orbits)")
+    trust.add_argument("--workers", type=int, default=None, help="worker processes (default: one per core)")
+    trust.set_defaults(run=_trust)
+
+    figures = sub.add_parser("figures", help="regenerate the paper's Figs. 3, 6-15 as PNG files (about 15 s)")
+    figures.add_argument("--out", type=Path, required=True, help="output folder (created if missing)")
+    figures.add_argument("--only", nargs="+", default=None, metavar="FIG", help="only these figures, e.g. fig10 fig11")
+    figures.add_argument("--quick", action="store_true", help="short simulations and coarse grids (a smoke test)")
+    figures.set_defaults(run=_figures)
+
+    ans = sub.add_parser("answer", help="answer a question with the lightest model whose measured error is within --tol")
+    ans.add_argument("question", choices=("frequency-response", "critical-forcing", "time-response", "regime"))
+    add_params_options(ans)
+    ans.add_argument("--tol", type=float, default=0.05, help="relative error allowed (for the regime: the misclassification rate; default 0.05)")
+    ans.add_argument("--sigma-min", type=float, default=None, help="frequency response: lower end of sigma (default sigma - 3)")
+    ans.add_argument("--sigma-max", type=float, default=None, help="frequency response: upper end of sigma (default sigma + 3)")
+    ans.add_argument("--tmax", type=float, default=600.0, help="time response and regime: end time tau (default 600)")
+    ans.set_defaults(run=_answer)
+
+    bench = sub.add_parser("bench", help="work-precision charts: frequency-response question, integrators, cost of growth (a few minutes)")
+    bench.add_argument("--out", type=Path, required=True, help="output folder (created if missing)")
+    bench.add_argument("--only", nargs="+", default=None, choices=("frequency-response", "integration", "growth"), help="only these benchmarks")
+    bench.add_argument("--repeats", type=int, default=3, help="timing rounds per point; the median is reported (default 3)")
+    bench.add_argument("--quick", action="store_true", help="fewer points and one round (a smoke test, not a measurement)")
+    bench.set_defaults(run=_bench)

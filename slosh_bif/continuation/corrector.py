@@ -1,0 +1,126 @@
+"""The bordered system of pseudo-arclength continuation and its Newton correctors.
+
+With ``u = (x, p)`` and the unit tangent ``t`` of the curve F(u) = 0, a predicted point is
+corrected by Newton on ``[F(u); t . (u - u_pred)] = 0``, whose matrix ``[[F_x, F_p], [t^T]]``
+stays regular through folds. :func:`newton` is the plain corrector at fixed parameter.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+
+from slosh_bif.continuation.options import ConvergenceError
+
+__all__ = ["Point", "in_domain", "top_rows", "bordered", "solve", "make_point", "initial_tangent", "correct", "newton"]
+
+
+@dataclasses.dataclass
+class Point:
+    u: np.ndarray
+    t: np.ndarray
+    iterations: int
+    kind: str = ""
+    message: str = ""
+    bracket: tuple = ()
+    tests: tuple = ()  # (fold test t_p, branch-point test det) at this point
+    jac: np.ndarray | None = None  # F_x here, kept for stability
+
+
+def in_domain(problem, u):
+    check = getattr(problem, "in_domain", None)
+    return bool(np.all(np.isfinite(u))) and (check is None or bool(check(u[:-1], u[-1])))
+
+
+def top_rows(problem, u):
+    """F_x and the n x (n+1) matrix [F_x, F_p] at u."""
+    x, p = u[:-1], u[-1]
+    J = problem.jacobian(x, p)
+    return J, np.column_stack([J, problem.dparam(x, p)])
+
+
+def bordered(problem, u, t):
+    return np.vstack([top_rows(problem, u)[1], t])
+
+
+def solve(M, b):
+    """Solve M z = b; at an exact branch point M is singular but the system consistent: least squares."""
+    try:
+        return np.linalg.solve(M, b)
+    except np.linalg.LinAlgError:
+        return np.linalg.lstsq(M, b, rcond=None)[0]
+
+
+def make_point(problem, u, t_prev, iterations=0, **extra):
+    """A point at u with its unit tangent (oriented along t_prev) and test functions, from one F_x, F_p."""
+    J, top = top_rows(problem, u)
+    rhs = np.zeros(len(u))
+    rhs[-1] = 1.0
+    t = solve(np.vstack([top, t_prev]), rhs)
+    t /= np.linalg.norm(t)
+    t = t if t @ t_prev >= 0 else -t
+    tests = (t[-1], np.linalg.det(np.vstack([top, t])))
+    if hasattr(problem, "test_functions"):
+        tests += tuple(float(v) for v in problem.test_functions(u[:-1], u[-1]))
+    return Point(u, t, iterations, tests=tests, jac=J, **extra)
+
+
+def initial_tangent(problem, u, forward: bool, orient=None):
+    t = np.linalg.svd(top_rows(problem, u)[1])[2][-1]  # null vector of [F_x, F_p]
+    if orient is not None:
+        t = t if t @ orient >= 0 else -t
+    elif t[-1] < 0 or (t[-1] == 0 and t[0] < 0):
+        t = -t
+    return t if forward else -t
+
+
+def correct(problem, u_pred, t, opts):
+    """Newton on [F(u); t . (u - u_pred)] = 0. Returns (u, iterations) or (None, iterations).
+
+    Converged when |F| is at the tolerance and the last update, or the next one predicted from
+    quadratic convergence (|du_k|^2 / |du_k-1|), is below ``tol * (1 + |u|)``.
+    """
+    u = u_pred.copy()
+    step = previous = math.inf
+    for k in range(opts.max_newton + 1):
+        if not in_domain(problem, u):
+            return None, k
+        F = problem.residual(u[:-1], u[-1])
+        scale = 1.0 + np.linalg.norm(u)
+        residual = np.linalg.norm(F)
+        if k > 0 and residual <= max(opts.tol, 1e3 * np.finfo(float).eps * scale):
+            if step <= opts.tol * scale or (k > 1 and step * step / previous <= opts.tol * scale):
+                return u, k
+            if k > 2 and residual <= 1e-2 * opts.tol:
+                # Near a branch point the bordered matrix is nearly singular and the updates are
+                # rounding noise amplified by its condition number; the residual still says done.
+                return u, k
+        if k == opts.max_newton:
+            break
+        du = solve(bordered(problem, u, t), -np.append(F, t @ (u - u_pred)))
+        previous, step = step, np.linalg.norm(du)
+        u = u + du
+    return None, opts.max_newton
+
+
+def newton(problem, x0, p, *, tol=1e-11, max_iter=30):
+    """Newton at fixed parameter p from x0; raises :class:`ConvergenceError` with the reason."""
+    x = np.asarray(x0, dtype=float).copy()
+    for k in range(max_iter):
+        if not in_domain(problem, np.append(x, p)):
+            raise ConvergenceError(f"Newton left the problem's domain at iteration {k} (x = {x}, p = {p})")
+        F = problem.residual(x, p)
+        if k == 0 and np.linalg.norm(F) <= 1e3 * np.finfo(float).eps * (1 + np.linalg.norm(x)):
+            return x  # already a solution (e.g. a closed-form start): no step, no Jacobian needed
+        try:
+            dx = np.linalg.solve(problem.jacobian(x, p), -F)
+        except np.linalg.LinAlgError:
+            raise ConvergenceError(
+                f"Newton at fixed p = {p}: the Jacobian F_x is singular at iteration {k} (x = {x}): a fold or branch point"
+            ) from None
+        x = x + dx
+        if np.linalg.norm(dx) <= tol * (1 + np.linalg.norm(x)):
+            return x
+    raise ConvergenceError(f"Newton did not converge in {max_iter} iterations at p = {p} (last |F| = {np.linalg.norm(F):.3g})")

@@ -1,0 +1,81 @@
+"""Special points between two accepted points: detection by sign changes, location by Brent.
+
+Test functions along the branch: the parameter component of the tangent, ``t_p``, changes sign
+at a fold (LP); the determinant of the bordered matrix changes sign at a simple branch point
+(BP), and not at a fold; a problem's own ``test_functions`` add further kinds (PD, NS). Each is
+located by Brent's method on the arclength from the last point before the sign change, each
+evaluation a full corrector solve.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+from scipy import optimize
+
+from slosh_bif.continuation.branch import BRANCH_POINT, FOLD
+from slosh_bif.continuation.corrector import Point, correct, make_point
+from slosh_bif.continuation.options import ConvergenceError
+
+__all__ = ["locate", "special_between", "TEST_MEANING"]
+
+
+def locate(problem, a: Point, h, which, opts):
+    """Brent on the arclength s in (0, h) from point a for a zero of test function ``which``.
+
+    Returns (point, note). Exactly at a branch point the corrector's matrix is singular, and
+    Brent may step so close that the correction fails: then the best point found so far is
+    returned, with a note of how far from the zero it may be.
+    """
+    seen = {}
+
+    def point(s):
+        u, _ = correct(problem, a.u + s * a.t, a.t, opts)
+        if u is None:
+            raise ConvergenceError("corrector failed while locating a special point")
+        seen[s] = make_point(problem, u, a.t)
+        return seen[s]
+
+    try:
+        s = optimize.brentq(lambda s: point(s).tests[which], 0.0, h, xtol=opts.locate_tol, rtol=4 * np.finfo(float).eps)
+        return point(s), ""
+    except ConvergenceError:
+        if not seen:
+            raise
+        left = [s for s in seen if np.sign(seen[s].tests[which]) == np.sign(a.tests[which])] + [0.0]
+        right = [s for s in seen if s not in left] + [h]
+        gap = min(right) - max(left)
+        best = min(seen, key=lambda s: abs(seen[s].tests[which]))
+        return seen[best], f" (located to within arclength {gap:.2g}: the corrector fails closer in)"
+
+
+TEST_MEANING = {
+    FOLD: "fold: the tangent's parameter component changes sign",
+    BRANCH_POINT: "branch point: the bordered Jacobian's determinant changes sign",
+}
+
+
+def special_between(problem, a: Point, b: Point, h, opts):
+    found = []
+    tests = [(0, FOLD, opts.detect_folds), (1, BRANCH_POINT, opts.detect_branch_points)]
+    tests += [(2 + i, kind, True) for i, kind in enumerate(getattr(problem, "test_kinds", ()))]
+    confirm = getattr(problem, "confirm", None)
+    for which, kind, enabled in tests:
+        if enabled and np.sign(a.tests[which]) * np.sign(b.tests[which]) < 0:
+            try:
+                q, note = locate(problem, a, h, which, opts)
+            except (ConvergenceError, ValueError) as err:
+                q = dataclasses.replace(b, iterations=0)
+                q.message = f"{kind} detected, not located: {err}"
+            else:
+                q.message = TEST_MEANING.get(kind, f"{kind}: test function changes sign")
+                if confirm is not None and which >= 2:
+                    q.message = confirm(kind, q.u[:-1], q.u[-1])
+                    if q.message is None:
+                        continue
+                q.message += note
+            q.kind, q.bracket = kind, (a.u[-1], b.u[-1])
+            found.append(q)
+    found.sort(key=lambda q: (q.u - a.u) @ a.t)
+    return found

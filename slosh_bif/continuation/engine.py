@@ -1,0 +1,252 @@
+"""Pseudo-arclength continuation (Keller), knowing nothing about sloshing.
+
+A problem is any object with
+
+* ``names`` - names of the n state components;
+* ``residual(x, p)`` -> (n,), ``jacobian(x, p)`` -> (n, n), ``dparam(x, p)`` -> (n,);
+* optionally ``in_domain(x, p)`` -> bool (points outside are never evaluated),
+  ``edge_point(x, p)`` -> ``(x, p)`` or None: the exact point where the branch through (x, p)
+  leaves the domain, appended as the branch's end when it gets there, and
+  ``eigenvalues(x, p)`` -> (n,) complex (stable when all real parts are negative); a problem
+  whose stability is that of its own Jacobian sets ``stability_from_jacobian = True`` instead,
+  and the engine reuses the Jacobian it already has at each point; ``is_stable(eigenvalues)``
+  -> bool replaces the default rule (all real parts negative), e.g. by Floquet multipliers;
+  ``test_kinds`` (names) with ``test_functions(x, p)`` -> one real value per kind: further
+  special points at sign changes, located like folds; ``confirm(kind, x, p)`` -> message, or
+  None to drop a located point that is not what the kind means (e.g. a neutral saddle for NS).
+
+With ``u = (x, p)`` and the unit tangent ``t`` of the curve F(u) = 0, each step predicts
+``u + h t`` and corrects by Newton on the bordered system ``[F(u); t . (u - u_pred)] = 0``,
+whose matrix ``[[F_x, F_p], [t^T]]`` stays regular through folds. The step h grows after easy
+corrections and shrinks after slow or failed ones (or when a point leaves the domain), between
+``step_min`` and ``step_max``.
+
+Special points are detected and located by :mod:`.detection`; the bordered corrector is in
+:mod:`.corrector`, options and end reasons in :mod:`.options`.
+
+:func:`switch_branch` starts a new branch at a located branch point, along the direction of the
+two-dimensional null space of ``[F_x, F_p]`` that the old branch does not take.
+
+Each direction ends at a parameter bound (the end is computed on the bound), at the domain's
+edge, on closing a loop, after ``max_steps``, or when the step falls below ``step_min``.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+
+from slosh_bif.continuation.branch import END, Branch, SpecialPoint
+from slosh_bif.continuation.corrector import Point, correct, in_domain, initial_tangent, make_point, newton, top_rows
+from slosh_bif.continuation.detection import special_between
+from slosh_bif.continuation.options import BOUND, COMPLETE, EDGE, LOOP, STALL, STEPS, ContinuationOptions, ConvergenceError
+
+__all__ = ["continuation", "switch_branch"]
+
+
+def _bound_message(bound, opts):
+    return f"{BOUND} {'p_max' if bound == opts.p_max else 'p_min'} = {bound}"
+
+
+def _end_on_bound(problem, a: Point, b_u, bound, opts):
+    """The point with p = bound between a and the overshooting b_u (Newton at fixed p)."""
+    w = (bound - a.u[-1]) / (b_u[-1] - a.u[-1])
+    try:
+        x = newton(problem, (1 - w) * a.u[:-1] + w * b_u[:-1], bound, tol=opts.tol)
+    except (ConvergenceError, np.linalg.LinAlgError):
+        x = (1 - w) * a.u[:-1] + w * b_u[:-1]  # a fold on the bound: keep the interpolated point
+    u = np.append(x, bound)
+    return make_point(problem, u, a.t, kind=END, message=_bound_message(bound, opts), bracket=(a.u[-1], b_u[-1]))
+
+
+def _run(problem, start: Point, opts, loop_guard: bool, callback=None):
+    points = [start]
+    h = opts.step
+    edge_hits = 0
+    while True:
+        if len(points) > opts.max_steps:
+            points[-1].kind, points[-1].message = END, f"{STEPS} ({opts.max_steps} steps)"
+            return points, STEPS
+        a = points[-1]
+        u, iters = correct(problem, a.u + h * a.t, a.t, opts)
+        if u is None:
+            edge_hits += not in_domain(problem, a.u + h * a.t) or iters < opts.max_newton
+            h *= 0.5
+            if h < opts.step_min:
+                reason = EDGE if edge_hits else STALL
+                bracket = (a.u[-1], (a.u + 2 * h * a.t)[-1])
+                edge = _edge_point(problem, a, opts) if reason == EDGE else None
+                if edge is not None:
+                    points.append(Point(edge, a.t, 0, END, f"{reason}: {getattr(problem, 'edge_name', 'boundary')}", bracket, a.tests))
+                else:
+                    a.kind, a.message, a.bracket = END, f"{reason}: last step {2 * h:.3g} failed", bracket
+                return points, reason
+            continue
+        edge_hits = 0
+        if not opts.p_min <= u[-1] <= opts.p_max:
+            bound = opts.p_max if u[-1] > opts.p_max else opts.p_min
+            if a.u[-1] == bound:  # a start on the bound is itself the end (not a second copy of it)
+                a.kind, a.message = END, _bound_message(bound, opts)
+            else:
+                points.append(_end_on_bound(problem, a, u, bound, opts))
+            return points, BOUND
+        b = make_point(problem, u, a.t, iters)
+        angle = math.acos(min(1.0, max(-1.0, float(b.t @ a.t))))
+        if angle > 2 * opts.max_angle and h > 2 * opts.step_min:
+            h *= 0.5 * opts.max_angle / angle + 0.25  # turned far too sharply: redo shorter
+            continue
+        points.extend(special_between(problem, a, b, h, opts))
+        points.append(b)
+        if callback is not None:
+            callback(float(u[-1]), u[:-1])
+        if loop_guard and len(points) > 3 and _passes(start, a.u, u, h):
+            b.kind, b.message = END, f"{LOOP}: back at the start point"
+            return points, LOOP
+        h = min(h * opts.growth, opts.step_max) if iters <= 3 else (h * 0.6 if iters >= 6 else h)
+        if angle > opts.max_angle:
+            h *= opts.max_angle / angle
+        h = max(h, opts.step_min)
+
+
+def _edge_point(problem, a: Point, opts):
+    """The problem's exact edge point near a, if it offers one within the parameter bounds."""
+    hook = getattr(problem, "edge_point", None)
+    edge = hook(a.u[:-1], a.u[-1]) if hook else None
+    if edge is None:
+        return None
+    u = np.append(edge[0], edge[1])
+    return u if opts.p_min <= u[-1] <= opts.p_max and np.all(np.isfinite(u)) else None
+
+
+def _passes(start: Point, ua, ub, h):
+    """Whether the step from ua to ub runs through the start point in the start's direction."""
+    seg = ub - ua
+    w = np.clip((start.u - ua) @ seg / (seg @ seg), 0.0, 1.0)
+    return np.linalg.norm(ua + w * seg - start.u) < 0.1 * h and seg @ start.t > 0
+
+
+# -- the driver ------------------------------------------------------------------------------------
+
+
+def continuation(problem, x0, p0, *, param="p", options: ContinuationOptions | None = None, orient=None, callback=None) -> Branch:
+    """Trace the solution curve of ``problem`` through ``(x0, p0)``; returns a :class:`Branch`.
+
+    ``x0`` is corrected at fixed ``p0`` first, or, where that is singular (a start at a fold),
+    along the branch's tangent (a :class:`ConvergenceError` says why when neither works). Mid-branch failures do not raise: the branch ends there with the reason.
+    ``orient`` (a vector in (x, p)) makes "forward" the direction along it instead of along
+    increasing p (needed where the branch runs across the parameter, as after a pitchfork).
+    ``callback(p, x)``, if given, is called after every accepted point (for progress reports).
+    """
+    opts = options or ContinuationOptions()
+    if not opts.p_min <= p0 <= opts.p_max:
+        raise ValueError(f"start parameter {param} = {p0} lies outside [p_min, p_max] = [{opts.p_min}, {opts.p_max}]")
+    x0 = np.atleast_1d(np.asarray(x0, dtype=float))
+    if len(x0) != len(problem.names) or not np.all(np.isfinite(x0)):
+        raise ValueError(f"x0 must be {len(problem.names)} finite numbers ({', '.join(problem.names)}); got {x0}")
+    try:
+        u0 = np.append(newton(problem, x0, p0, tol=opts.tol), p0)
+    except ConvergenceError as err:
+        # At (or very near) a fold F_x is singular and Newton at fixed p fails; the bordered
+        # corrector along the tangent of [F_x, F_p] is regular there (p may move a little).
+        guess = np.append(x0, p0)
+        u0, _ = correct(problem, guess, initial_tangent(problem, guess, True), opts)
+        if u0 is None:
+            raise ConvergenceError(f"{err}; the pseudo-arclength corrector from the same point failed too") from None
+    return _trace(problem, u0, param, opts, orient, callback)
+
+
+def switch_branch(problem, point, *, param="p", options: ContinuationOptions | None = None, along=None, step=None, callback=None) -> Branch:
+    """The branch that crosses the old one at a located branch point, traced away from it.
+
+    ``point`` is a :class:`SpecialPoint` (or an ``(x, p)`` pair) at a simple branch point of
+    ``problem``: the null space of ``[F_x, F_p]`` there is two-dimensional. ``along`` is the old
+    branch's tangent (or any vector in that null space to avoid); the new direction is the null
+    vector orthogonal to it. The first point is ``u_BP + step * t_new`` corrected on the
+    hyperplane through it normal to t_new; the branch is traced forward from there (away from
+    the branch point; the part behind it is, for a symmetry-breaking pitchfork, the mirror image).
+    Raises :class:`ConvergenceError` when no new branch is found.
+    """
+    if along is None:
+        raise ValueError("switch_branch needs along= (the old branch's tangent at the branch point)")
+    opts = options or ContinuationOptions()
+    x, p = (point.x, point.p) if hasattr(point, "x") else point
+    u = np.append(np.asarray(x, dtype=float), float(p))
+    null = np.linalg.svd(top_rows(problem, u)[1])[2][-2:]  # the two smallest right singular vectors
+    coef = null @ np.asarray(along, dtype=float)  # the old direction, in the null space's basis
+    t_new = null.T @ np.array([-coef[1], coef[0]])
+    t_new /= np.linalg.norm(t_new)
+    h = step if step is not None else opts.step
+    for _ in range(6):
+        u_new, _ = correct(problem, u + h * t_new, t_new, opts)
+        if u_new is not None and np.linalg.norm(u_new - u) > 0.25 * h:
+            return _trace(problem, u_new, param, dataclasses.replace(opts, direction="forward"), t_new, callback)
+        h *= 0.5
+    raise ConvergenceError(f"no new branch found at the branch point {param} = {p:.8g} (corrector failed or fell back)")
+
+
+def _trace(problem, u0, param, opts, orient=None, callback=None) -> Branch:
+    runs = {}
+    closed = False
+    for forward in (True, False):
+        if opts.direction == ("backward" if forward else "forward") or closed:
+            continue
+        start = make_point(problem, u0, initial_tangent(problem, u0, forward, orient))
+        runs[forward] = _run(problem, start, opts, loop_guard=True, callback=callback)
+        closed = runs[forward][1] == LOOP
+    back, back_reason = runs.get(False, ([], None))
+    ahead, ahead_reason = runs.get(True, ([], None))
+    if back and ahead:
+        if ahead[0].kind and not back[0].kind:  # the forward run ended at its first point
+            back[0].kind, back[0].message = ahead[0].kind, ahead[0].message
+        elif not back[0].kind and len(back) > 1 and len(ahead) > 1 and abs(back[0].t[-1]) < 1e-6 and not (back[1].kind or ahead[1].kind):
+            # A start exactly at a fold: the runs leave it on the same side of p, so no step of
+            # either run sees the sign change of t_p. The start point is the fold.
+            if (back[1].u[-1] - back[0].u[-1]) * (ahead[1].u[-1] - ahead[0].u[-1]) > 0:
+                back[0].kind, back[0].message = "LP", "fold at the start point"
+        points = back[::-1] + ahead[1:]
+    else:
+        points = back[::-1] or ahead
+    reasons = [r for r in (back_reason, ahead_reason) if r is not None]
+    status = "ok" if all(r in COMPLETE for r in reasons) else next(r for r in reasons if r not in COMPLETE)
+    message = "; ".join(f"{name}: {r}" for name, r in (("backward", back_reason), ("forward", ahead_reason)) if r)
+    return _assemble(problem, points, param, status, message, opts)
+
+
+def _eigenvalues(problem, q: Point):
+    n = len(q.u) - 1
+    if getattr(problem, "stability_from_jacobian", False):
+        J = q.jac if q.jac is not None else problem.jacobian(q.u[:-1], q.u[-1])
+        return np.linalg.eigvals(J) if np.all(np.isfinite(J)) else np.full(n, np.nan + 0j)
+    if hasattr(problem, "eigenvalues"):
+        return problem.eigenvalues(q.u[:-1], q.u[-1])
+    return np.full(n, np.nan + 0j)
+
+
+def _assemble(problem, points, param, status, message, opts) -> Branch:
+    u = np.array([q.u for q in points])
+    steps = np.linalg.norm(np.diff(u, axis=0), axis=1)
+    eigenvalues = np.array([_eigenvalues(problem, q) for q in points])
+    given = getattr(problem, "stability_from_jacobian", False) or hasattr(problem, "eigenvalues")
+    rule = getattr(problem, "is_stable", lambda ev: bool(np.all(ev.real < 0)))
+    stable = np.array([rule(ev) for ev in eigenvalues]) if given else np.ones(len(points), dtype=bool)
+    special = tuple(
+        SpecialPoint(q.kind, i, float(q.u[-1]), q.u[:-1].copy(), tuple(float(v) for v in q.bracket), q.message)
+        for i, q in enumerate(points)
+        if q.kind
+    )
+    return Branch(
+        param=param,
+        names=tuple(problem.names),
+        p=u[:, -1].copy(),
+        x=u[:, :-1].copy(),
+        stable=stable,
+        eigenvalues=eigenvalues.astype(complex),
+        newton_iterations=np.array([q.iterations for q in points]),
+        arclength=np.concatenate([[0.0], np.cumsum(steps)]),
+        special=special,
+        status=status,
+        message=message,
+        options=dataclasses.asdict(opts),
+    )

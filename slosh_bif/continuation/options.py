@@ -1,0 +1,71 @@
+"""Options, end reasons and the start failure of a continuation run.
+
+The end reasons are one table: a branch whose directions all end for a reason in
+:data:`COMPLETE` has status "ok"; any other reason becomes the branch's status.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+__all__ = ["ContinuationOptions", "ConvergenceError", "BOUND", "EDGE", "LOOP", "STEPS", "STALL", "COMPLETE"]
+
+# End reasons of one direction; the first three make a complete branch (status "ok").
+BOUND, EDGE, LOOP = "parameter bound", "domain edge", "closed loop"
+STEPS, STALL = "step limit", "step below minimum"
+COMPLETE = (BOUND, EDGE, LOOP)
+
+
+class ConvergenceError(RuntimeError):
+    """The starting point could not be corrected onto the solution curve."""
+
+
+@dataclasses.dataclass(frozen=True)
+class ContinuationOptions:
+    """Step control and tolerances; validated on construction (errors name the option).
+
+    step, step_min, step_max : initial, smallest and largest arclength step
+    max_steps : accepted steps per direction at most
+    p_min, p_max : bounds of the continued parameter
+    tol : Newton stops when |F| <= tol and the update <= tol * (1 + |u|)
+    max_newton : corrector iterations before a step counts as failed
+    growth : step factor after an easy step (<= 3 iterations)
+    max_angle : the tangent may turn by about this much (radians) per step: the next step is
+        scaled to it, and a step turning by more than twice as much is redone, so curves stay
+        smooth through sharp peaks
+    direction : "both", "forward" (increasing p at the start) or "backward"
+    detect_folds, detect_branch_points : locate LP / BP
+    locate_tol : arclength tolerance when locating a special point
+    """
+
+    step: float = 0.05
+    step_min: float = 1e-9
+    step_max: float = 0.5
+    max_steps: int = 5000
+    p_min: float = -math.inf
+    p_max: float = math.inf
+    tol: float = 1e-11
+    max_newton: int = 12
+    growth: float = 1.6
+    max_angle: float = 0.1
+    direction: str = "both"
+    detect_folds: bool = True
+    detect_branch_points: bool = True
+    locate_tol: float = 1e-13
+
+    def __post_init__(self):
+        def need(ok, name, allowed):
+            if not ok:
+                raise ValueError(f"option {name} must be {allowed}; got {getattr(self, name)!r}")
+
+        need(0 < self.step_min <= self.step <= self.step_max < math.inf, "step", "in [step_min, step_max], all positive and finite")
+        need(isinstance(self.max_steps, int) and self.max_steps >= 1, "max_steps", "an integer >= 1")
+        need(self.p_min < self.p_max, "p_min", "< p_max")
+        need(0 < self.tol < 1e-2, "tol", "in (0, 1e-2)")
+        need(isinstance(self.max_newton, int) and self.max_newton >= 2, "max_newton", "an integer >= 2")
+        need(1 < self.growth <= 4, "growth", "in (1, 4]")
+        need(0 < self.max_angle <= math.pi / 2, "max_angle", "in (0, pi/2]")
+        need(self.direction in ("both", "forward", "backward"), "direction", "'both', 'forward' or 'backward'")
+        need(0 < self.locate_tol < 1e-3, "locate_tol", "in (0, 1e-3)")
+

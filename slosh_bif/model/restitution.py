@@ -1,0 +1,229 @@
+"""Velocity-dependent restitution coefficient of the high-power wall, eqs. (13)-(21), (31), (38)-(40).
+
+A particle of unit mass in the wall potential and dissipation of eq. (10) (``R = 1``),
+
+    x'' + chi * x**(2n+1) + lam * x' * x**(2p) = 0,    pbar = 2p - n,
+
+enters the wall at ``x = 0`` with speed ``v0`` and leaves it with speed ``kappa * v0``. To first
+order in the dissipation (the conservative path (16) under the integral (15)) the energy lost is
+
+    1 - kappa**2 = delta(v0) = 4 lam ((n+1)/chi)**(pbar/(2(n+1)) + 1/2) I(n, pbar) v0**(pbar/(n+1)),   (21)
+
+with ``I(n, pbar) = sqrt(pi) Gamma(a) / (4 (n+1) Gamma(a + 3/2))``, ``a = pbar/(2(n+1)) + 1/2`` (19):
+the Beta-function value of the integral (18). At ``pbar = 0`` this is the Newtonian,
+velocity-independent ``kappa = sqrt(1 - pi lam / sqrt(chi (n+1)))`` (40).
+
+Notes
+-----
+Eq. (21) is a small-dissipation approximation and it always *under*-estimates kappa (the real
+particle loses speed on the way in, so it dissipates less on the way out). Against the direct
+simulation :func:`simulate_rebound`, the error is second order in ``delta``:
+``kappa_sim - kappa_21 ~ (q/8) delta**2`` with ``q = 2 + pbar/(n+1)`` (the speed exponent of the
+dissipated energy (18)); in the Newtonian case that is ``delta**2/4 = pi**2 lam**2 / (4 chi (n+1))``:
+quadratic in ``lam`` and inversely proportional to ``n + 1``. The tests check that law. It is not
+small at the paper's n = 6 sets (Figs. 11, 12: lam = 0.35, chi = 0.2): eq. (21) gives kappa = 0.266
+where the wall of eq. (10) gives 0.625.
+
+On the manifold the impact speed is ``alpha (2/pi + rho) = 4 alpha / (pi (1 + kappa))`` (38), which
+makes kappa depend on the amplitude A through ``alpha(A, rho(kappa))``: eq. (39) is implicit in
+kappa and :func:`kappa_on_manifold` solves it by bracketing. (The paper says (38) is substituted
+"into (23)"; it is into (21).)
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+from scipy import optimize, special
+from scipy.integrate import solve_ivp
+
+from slosh_bif.model import manifold
+
+__all__ = [
+    "I",
+    "dissipation_at_unit_speed",
+    "kappa",
+    "kappa_newtonian",
+    "rho",
+    "kappa_on_manifold",
+    "ManifoldKappa",
+    "simulate_rebound",
+]
+
+
+def I(n, pbar):  # noqa: E743 - the paper's name
+    """Closed form (19) of the integral (18), ``int_0^1 z**(2p) sqrt(1 - z**(2(n+1))) dz``.
+
+    Valid for ``pbar > -(n+1)`` (checked); vectorised over ``n`` and ``pbar``.
+    """
+    n = np.asarray(n, dtype=float)
+    pbar = np.asarray(pbar, dtype=float)
+    if np.any(pbar <= -(n + 1)):
+        raise ValueError(f"I(n, pbar) needs pbar > -(n+1); got n={n}, pbar={pbar}")
+    a = pbar / (2 * (n + 1)) + 0.5
+    return np.sqrt(np.pi) * np.exp(special.gammaln(a) - special.gammaln(a + 1.5)) / (4 * (n + 1))
+
+
+def dissipation_at_unit_speed(lam, chi, n, pbar):
+    """``delta(1) = 1 - kappa(1)**2`` of eq. (21): the energy fraction lost in one impact at v0 = 1."""
+    exponent = pbar / (2 * (n + 1)) + 0.5
+    return 4.0 * lam * ((n + 1) / chi) ** exponent * I(n, pbar)
+
+
+def kappa(v0, lam, chi, n, pbar):
+    """Restitution coefficient of eq. (21) at impact speed(s) ``v0`` (vectorised).
+
+    Raises ``ValueError`` when some ``v0`` is not positive and finite, or when kappa is not real
+    there (the first-order dissipation exceeds the kinetic energy).
+    """
+    v0 = np.asarray(v0, dtype=float)
+    if np.any(~np.isfinite(v0)) or np.any(v0 <= 0):
+        raise ValueError(f"impact speed v0 must be positive and finite; got {v0}")
+    delta = dissipation_at_unit_speed(lam, chi, n, pbar) * v0 ** (pbar / (n + 1))
+    if np.any(delta > 1.0):
+        bad = np.broadcast_to(v0, delta.shape)[delta > 1.0]
+        raise ValueError(
+            f"kappa (eq. 21) is not real for impact speed v0 in [{bad.min():.6g}, {bad.max():.6g}] "
+            f"with lam={lam}, chi={chi}, n={n}, pbar={pbar}"
+        )
+    return np.sqrt(1.0 - delta)
+
+
+def kappa_newtonian(lam, chi, n):
+    """Velocity-independent restitution coefficient of the Newtonian case pbar = 0, eq. (40)."""
+    kappa_sq = 1.0 - np.pi * lam / np.sqrt(chi * (n + 1))
+    if np.any(kappa_sq < 0):
+        raise ValueError(f"Newtonian kappa (eq. 40) is not real for lam={lam}, chi={chi}, n={n}")
+    return np.sqrt(kappa_sq)
+
+
+def rho(kappa_value):
+    """Impact parameter ``rho = 2 (1 - kappa) / (pi (1 + kappa))`` of eq. (31)."""
+    k = np.asarray(kappa_value, dtype=float)
+    if np.any(~(k > 0)) or np.any(k > 1):
+        raise ValueError(f"kappa must be in (0, 1]; got {k}")
+    return 2.0 * (1.0 - k) / (np.pi * (1.0 + k))
+
+
+def _kappa_from_rho(r):
+    """Inverse of :func:`rho`."""
+    return (2.0 - np.pi * r) / (2.0 + np.pi * r)
+
+
+@dataclasses.dataclass(frozen=True)
+class ManifoldKappa:
+    """kappa(A) on the stable manifold branch, eq. (39), with where it exists.
+
+    Arrays share the shape of ``A``; where ``exists`` is False, kappa, rho and alpha are NaN.
+    """
+
+    A: np.ndarray
+    kappa: np.ndarray
+    rho: np.ndarray
+    alpha: np.ndarray
+    exists: np.ndarray
+
+
+def _manifold_residual(k, A, delta1, exponent):
+    """kappa**2 - (1 - delta(v_impact)) with the impact speed (38) on S+ at amplitude A."""
+    r = rho(k)
+    speed = 4.0 * manifold.alpha(A, r) / (np.pi * (1.0 + k))
+    return k**2 - 1.0 + delta1 * speed**exponent
+
+
+def _solve_manifold_kappa(A, delta1, exponent, xtol):
+    """Largest root in (0, 1] of the scalar residual, or NaN when none exists."""
+    if delta1 == 0.0:
+        return 1.0 if A >= 0 else np.nan
+    # The manifold needs A >= A_min(rho(kappa)); rho falls as kappa grows, so kappa >= k_low(A).
+    k_low = _kappa_from_rho(A / np.sqrt(1 - A**2)) if A < 1 else 0.0
+    k_low = min(max(k_low, 0.0), 1.0)
+    grid = np.linspace(1.0, k_low, 65)[:-1]
+    grid = np.append(grid, k_low + (grid[-1] - k_low) * 1e-9)
+    grid = grid[grid > 0]
+    values = _manifold_residual(grid, A, delta1, exponent)  # one vectorised pass over the scan
+    # Scanning down from kappa = 1 (where the residual is > 0) picks the root nearest the elastic
+    # limit: the one reached continuously from small dissipation.
+    sign_change = np.flatnonzero(np.sign(values[:-1]) != np.sign(values[1:]))
+    if values[0] == 0.0:
+        return grid[0]
+    if len(sign_change) == 0:
+        return np.nan
+    i = sign_change[0]
+    if values[i + 1] == 0.0:
+        return grid[i + 1]
+    return optimize.brentq(lambda k: float(_manifold_residual(k, A, delta1, exponent)), grid[i + 1], grid[i], xtol=xtol)
+
+
+def kappa_on_manifold(A, lam, chi, n, pbar, *, strict=True, xtol=1e-14) -> ManifoldKappa:
+    """Solve the implicit eq. (39) for kappa at amplitude(s) A on the stable branch S+.
+
+    Parameters
+    ----------
+    A : array_like
+        Amplitude(s) of X, positive.
+    lam, chi, n, pbar
+        Wall parameters (see :mod:`slosh_bif.model.params`).
+    strict : bool
+        If True (default), raise ``ValueError`` naming the amplitudes where no kappa in (0, 1]
+        exists (A below the manifold's end A_min(kappa), or kappa not real); if False, return
+        NaN there and report it in ``exists``.
+    xtol : float
+        Absolute tolerance on kappa.
+    """
+    A_arr = np.asarray(A, dtype=float)
+    if np.any(~np.isfinite(A_arr)) or np.any(A_arr <= 0):
+        raise ValueError(f"amplitude A must be positive and finite; got {A_arr}")
+    delta1 = float(dissipation_at_unit_speed(lam, chi, n, pbar))
+    exponent = pbar / (n + 1)
+    flat = np.array([_solve_manifold_kappa(a, delta1, exponent, xtol) for a in A_arr.ravel()])
+    k = flat.reshape(A_arr.shape)
+    exists = np.isfinite(k)
+    if strict and not np.all(exists):
+        bad = A_arr[~exists]
+        raise ValueError(
+            f"no restitution coefficient in (0, 1] solves eq. (39) on the stable manifold branch for "
+            f"A in [{bad.min():.6g}, {bad.max():.6g}] (lam={lam}, chi={chi}, n={n}, pbar={pbar}): "
+            "A lies below the manifold's end A_min(kappa) or kappa is not real there"
+        )
+    r = np.where(exists, rho(np.where(exists, k, 1.0)), np.nan)
+    alpha = np.full_like(k, np.nan)
+    alpha[exists] = manifold.alpha(A_arr[exists], r[exists])
+    return ManifoldKappa(A=A_arr, kappa=k, rho=r, alpha=alpha, exists=exists)
+
+
+def simulate_rebound(v0, lam, chi, n, pbar, *, rtol=1e-12, atol=1e-14):
+    """Measured restitution ``-v_+/v0`` (13) of one particle rebounding in the wall of eq. (10).
+
+    The particle starts at ``x = 0`` with speed ``v0 > 0`` and is integrated (DOP853) until it
+    crosses ``x = 0`` again. This is the physical check of eq. (21), independent of (16)-(19).
+
+    Raises ``RuntimeError`` if the particle does not come back (an overdamped wall).
+    """
+    if not (np.isfinite(v0) and v0 > 0):
+        raise ValueError(f"impact speed v0 must be positive and finite; got {v0!r}")
+    p = (pbar + n) // 2
+    if 2 * p - n != pbar or p < 0:
+        raise ValueError(f"pbar must make p = (pbar + n)/2 a non-negative integer; got n={n}, pbar={pbar}")
+
+    def rhs(_t, y):
+        x, xdot = y
+        return [xdot, -chi * x ** (2 * n + 1) - lam * xdot * x ** (2 * p)]
+
+    def back_at_zero(_t, y):
+        return y[0]
+
+    back_at_zero.terminal = True
+    back_at_zero.direction = -1
+    x_max = ((n + 1) * v0**2 / chi) ** (1.0 / (2 * n + 2))  # turning point without dissipation, eq. (17)
+    # A conservative round trip takes ~4 x_max / v0; a hundred times that only an overdamped wall needs.
+    t_end = 100.0 * x_max / v0
+    with np.errstate(over="ignore", invalid="ignore"):
+        sol = solve_ivp(rhs, (0.0, t_end), [0.0, v0], method="DOP853", events=back_at_zero, rtol=rtol, atol=atol)
+    if sol.status != 1 or len(sol.t_events[0]) == 0:
+        raise RuntimeError(
+            f"the particle did not return to x = 0 within t = {t_end:.3g} (v0={v0}, lam={lam}, chi={chi}, "
+            f"n={n}, pbar={pbar}): the wall is overdamped, so no restitution coefficient exists"
+        )
+    return -sol.y_events[0][0][1] / v0

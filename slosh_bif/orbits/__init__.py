@@ -1,0 +1,29 @@
+"""Periodic orbits of the smooth model (9): shooting with Floquet multipliers, families with
+branch switching, start orbits (from a simulation or from the slow flow) and their output.
+
+Seams to the other wings (documented in ``docs/architecture.md`` and allowed by the import
+contract): :mod:`.shooting` integrates with :mod:`slosh_bif.simulation.integrator`, and
+:mod:`.starts` takes start guesses from :mod:`slosh_bif.simulation` and :mod:`slosh_bif.slowflow`.
+"""
+
+from slosh_bif.orbits.families import SHOOTING_OPTIONS, OrbitBranch, OrbitFamily, mirror, trace_orbits
+from slosh_bif.orbits.shooting import PeriodicOrbit, ShootingProblem, orbit_at, periodic_orbit
+from slosh_bif.orbits.stability import StabilityLoss, loss_of_stability
+from slosh_bif.orbits.starts import orbit_from_slow_flow, settle_and_shoot, slow_flow_start
+
+__all__ = [
+    "ShootingProblem",
+    "PeriodicOrbit",
+    "periodic_orbit",
+    "orbit_at",
+    "trace_orbits",
+    "OrbitFamily",
+    "OrbitBranch",
+    "mirror",
+    "SHOOTING_OPTIONS",
+    "orbit_from_slow_flow",
+    "slow_flow_start",
+    "settle_and_shoot",
+    "loss_of_stability",
+    "StabilityLoss",
+]

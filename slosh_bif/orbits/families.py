@@ -1,0 +1,217 @@
+"""Families of periodic orbits of the smooth model (9): a primary branch and what branches off it.
+
+Model (9) is odd under the shift-reflection (X, X', w, w', tau) -> (-X, -X', -w, -w', tau + pi)
+(the forcing cos tau changes sign over half a period). A 2pi-orbit is either *symmetric*
+(y(tau + pi) = -y(tau)) or one of a mirror pair of *asymmetric* orbits; the pair is born at a
+symmetry-breaking pitchfork of the symmetric branch, which the continuation engine sees as a
+branch point (a multiplier through +1 without a fold). A multiplier through -1 (PD) gives birth
+to a *period-2* branch of 4pi-orbits.
+
+:func:`trace_orbits` continues the branch through a starting orbit, then switches at each branch
+point onto the crossing branch and at each period doubling onto the 4pi branch (traced by a
+:class:`~slosh_bif.orbits.shooting.ShootingProblem` with twice the period, on which the PD is a branch
+point), and keeps one member of each mirror pair. Every point carries its orbit's first-harmonic
+amplitude A1, max |X|, max |w|, largest multiplier and Liouville check.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+from slosh_bif.continuation import ContinuationOptions, ConvergenceError, continuation, switch_branch
+from slosh_bif.continuation.branch import BRANCH_POINT, PERIOD_DOUBLING, Branch
+from slosh_bif.model.params import Params
+from slosh_bif.orbits.shooting import PARAMETERS, ShootingProblem, orbit_at, orbit_measures
+
+__all__ = ["OrbitBranch", "OrbitFamily", "trace_orbits", "mirror", "SHOOTING_OPTIONS"]
+
+# Shooting residuals carry the integration's rounding (~1e-13 at rtol 1e-10), so the corrector's
+# tolerance sits above it; steps are capped so that orbits change little from one point to the next.
+SHOOTING_OPTIONS = ContinuationOptions(step=0.05, step_max=0.3, tol=1e-9, max_steps=3000)
+
+
+@dataclasses.dataclass(frozen=True)
+class OrbitBranch:
+    """One branch of periodic orbits with per-point measures of the orbits.
+
+    name : "symmetric", "asymmetric" (one member of a mirror pair), "period-2", ...
+    problem : the ShootingProblem it solves;  branch : the continuation result
+    measures : arrays over the points: A1, max_abs_X, max_abs_w, symmetry_defect,
+        max_abs_multiplier, liouville_error
+    origin : where it was switched on from (empty for the primary branch)
+    """
+
+    name: str
+    problem: ShootingProblem
+    branch: Branch
+    measures: dict
+    origin: str = ""
+
+
+@dataclasses.dataclass(frozen=True)
+class OrbitFamily:
+    params: Params
+    param: str
+    branches: list
+
+    def summary(self) -> str:
+        lines = []
+        for ob in self.branches:
+            b = ob.branch
+            kinds = ", ".join(f"{s.kind} {s.p:.6g}" for s in b.special) or "none"
+            lines.append(f"{ob.name}{' (' + ob.origin + ')' if ob.origin else ''}: {len(b)} points, {self.param} in [{b.p.min():.4g}, {b.p.max():.4g}], special: {kinds}")
+        return "\n".join(lines)
+
+
+def mirror(problem: ShootingProblem, x):
+    """x of the mirror-image orbit: y'(0) = -y(pi), read off the arcs when they split at pi."""
+    m = problem.segments
+    states = np.asarray(x, dtype=float).reshape(m, 4)
+    if problem.period_multiple == 1 and m % 2 == 0:
+        return -np.roll(states, -m // 2, axis=0).ravel()
+    raise ValueError("mirror needs a 2pi problem with an even number of segments")
+
+
+def _measure(problem: ShootingProblem, branch: Branch, points_per_2pi: int) -> dict:
+    rows = [orbit_measures(problem, x, p, points_per_2pi=points_per_2pi) for x, p in zip(branch.x, branch.p)]
+    out = {key: np.array([r[key] for r in rows]) for key in rows[0]}
+    out["max_abs_multiplier"] = np.max(np.abs(branch.eigenvalues), axis=1)
+    out["liouville_error"] = np.array([problem.liouville_error(x, p) for x, p in zip(branch.x, branch.p)])
+    return out
+
+
+def _tangent(branch: Branch, index: int):
+    u = np.column_stack([branch.x, branch.p])
+    lo, hi = max(index - 1, 0), min(index + 1, len(u) - 1)
+    t = u[hi] - u[lo]
+    return t / np.linalg.norm(t)
+
+
+def _on_branch(u, ob: OrbitBranch, tol):
+    """Whether the point u = (x, p) lies on (or on the mirror of) a traced branch."""
+    b = ob.branch
+    pts = np.column_stack([b.x, b.p])
+    if len(u) != pts.shape[1]:
+        return False
+    candidates = [pts]
+    try:
+        candidates.append(np.column_stack([np.array([mirror(ob.problem, x) for x in b.x]), b.p]))
+    except ValueError:
+        pass
+    for c in candidates:
+        seg = np.diff(c, axis=0)
+        w = np.clip(np.einsum("ij,ij->i", u - c[:-1], seg) / np.maximum(np.einsum("ij,ij->i", seg, seg), 1e-300), 0, 1)
+        if np.min(np.linalg.norm(c[:-1] + w[:, None] * seg - u, axis=1)) < tol:
+            return True
+    return False
+
+
+def _cut_where_it_rejoins(new: Branch, problem: ShootingProblem, parent: OrbitBranch, queue: list):
+    """Cut a switched branch at the first branch point (past its start) where it meets its parent
+    again. A branch joining two pitchforks of the symmetric branch continues past the second as
+    the mirror image of what it traced, and a period-2 branch joining two period doublings as
+    its own shift by 2pi: nothing new. The parent's point met there leaves the queue."""
+    doubled = problem.period_multiple == 2 * parent.problem.period_multiple
+    kind = PERIOD_DOUBLING if doubled else BRANCH_POINT
+    meets = [(q, np.tile(q.x, 2) if doubled else q.x) for q in parent.branch.special if q.kind == kind]
+    for sp in new.special:
+        if sp.kind != BRANCH_POINT or sp.index <= 1:
+            continue
+        for q, x in meets:
+            if len(x) == len(sp.x) and abs(q.p - sp.p) <= 1e-6 * (1 + abs(q.p)) and np.linalg.norm(x - sp.x) <= 1e-4 * (1 + np.linalg.norm(x)):
+                queue[:] = [(ob, s) for ob, s in queue if s is not q]
+                return new.head(sp.index, f"meets the {parent.name} branch again at its {q.kind}"), q
+    return new, None
+
+
+def trace_orbits(
+    params: Params,
+    y0,
+    *,
+    param: str = "sigma",
+    p_min: float,
+    p_max: float,
+    segments: int = 4,
+    options: ContinuationOptions | None = None,
+    switch: bool = True,
+    max_branches: int = 6,
+    points_per_2pi: int = 256,
+    rtol: float = 1e-10,
+    atol: float = 1e-12,
+    backend: str = "auto",
+    progress=None,
+) -> OrbitFamily:
+    """Continue the 2pi-orbit through the guess y0 (at the preset's value of ``param``) over
+    [p_min, p_max], then the branches born at its branch points and period doublings.
+
+    ``progress(message)`` is called as the work goes on (one call per accepted point and per
+    branch). Raises :class:`ConvergenceError` when no orbit is found near y0.
+    """
+    if param not in PARAMETERS:
+        raise ValueError(f"param must be one of {PARAMETERS}; got {param!r}")
+    if not (np.isfinite(p_min) and np.isfinite(p_max) and p_min < p_max):
+        raise ValueError(f"need finite p_min < p_max; got [{p_min}, {p_max}]")
+    p0 = getattr(params, param)
+    if not p_min <= p0 <= p_max:
+        raise ValueError(f"{param} = {p0} of the start orbit lies outside [{p_min}, {p_max}]")
+    if not (isinstance(max_branches, int) and max_branches >= 1):
+        raise ValueError(f"max_branches must be an integer >= 1; got {max_branches!r}")
+    opts = dataclasses.replace(options or SHOOTING_OPTIONS, p_min=p_min, p_max=p_max)
+    say = progress or (lambda message: None)
+
+    def on_point(name):
+        count = [0]
+
+        def callback(p, x):
+            count[0] += 1
+            say(f"{name}: point {count[0]}, {param} = {p:.5f}")
+
+        return callback
+
+    primary = ShootingProblem(params, param, segments=segments, rtol=rtol, atol=atol, backend=backend)
+    start = orbit_at(primary, primary.initial_states(y0), p0, tol=opts.tol)
+    if not start.converged:
+        raise ConvergenceError(f"no periodic orbit near the guess at {param} = {p0}: {start.message}")
+    x0 = primary.initial_states(start.y0)
+    symmetric = orbit_measures(primary, x0, p0, points_per_2pi=points_per_2pi)["symmetry_defect"] < 1e-6
+    name = "symmetric" if symmetric else "asymmetric"
+    branch = continuation(primary, x0, p0, param=param, options=opts, callback=on_point(name))
+    family = [OrbitBranch(name, primary, branch, _measure(primary, branch, points_per_2pi))]
+    say(f"{name}: {len(branch)} points, {len(branch.special)} special points")
+    if not switch:
+        return OrbitFamily(params, param, family)
+
+    queue = [(family[0], s) for s in branch.special if s.kind in (BRANCH_POINT, PERIOD_DOUBLING)]
+    while queue and len(family) < max_branches:
+        parent, sp = queue.pop(0)
+        along = _tangent(parent.branch, sp.index)
+        if sp.kind == PERIOD_DOUBLING:
+            problem = ShootingProblem(params, param, segments=2 * parent.problem.segments, period_multiple=2 * parent.problem.period_multiple, rtol=rtol, atol=atol, backend=backend)
+            x, along = np.tile(sp.x, 2), np.append(np.tile(along[:-1], 2), along[-1])
+            kind_name = "period-2" if parent.problem.period_multiple == 1 else f"period-{2 * parent.problem.period_multiple}"
+        else:
+            problem, x, kind_name = parent.problem, sp.x, None
+        origin = f"{sp.kind} at {param} = {sp.p:.6g} on the {parent.name} branch"
+        try:
+            new = switch_branch(problem, (x, sp.p), param=param, options=opts, along=along, callback=on_point(kind_name or "new branch"))
+        except (ConvergenceError, np.linalg.LinAlgError) as err:
+            say(f"no branch switched at {origin}: {err}")
+            continue
+        new, met = _cut_where_it_rejoins(new, problem, parent, queue)
+        if met is not None:
+            say(f"the new branch meets the {parent.name} branch again at its {met.kind} {param} = {met.p:.6g}")
+        first = np.append(new.x[min(1, len(new) - 1)], new.p[min(1, len(new) - 1)])
+        if any(_on_branch(first, ob, 1e-5 * (1 + np.linalg.norm(first))) for ob in family):
+            say(f"the branch at {origin} is one already traced")
+            continue
+        measures = _measure(problem, new, points_per_2pi)
+        if kind_name is None:
+            kind_name = "symmetric" if np.median(measures["symmetry_defect"]) < 1e-6 else "asymmetric"
+        ob = OrbitBranch(kind_name, problem, new, measures, origin)
+        family.append(ob)
+        say(f"{kind_name} ({origin}): {len(new)} points")
+        # Not the start (the parent's point) and not a cut end (where it met the parent again).
+        queue += [(ob, s) for s in new.special if s.kind in (BRANCH_POINT, PERIOD_DOUBLING) and 1 < s.index < len(new) - (met is not None)]
+    return OrbitFamily(params, param, family)

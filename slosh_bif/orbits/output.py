@@ -1,0 +1,66 @@
+"""Writing families of periodic orbits of (9) as CSV and PNG.
+
+``branch.csv``: one row per point in branch order, branches one after another, columns
+``sigma, Abar, A1, max_abs_X, max_abs_w, stable, max_abs_multiplier, liouville_error,
+symmetry_defect, special, branch``.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from slosh_bif.orbits.families import OrbitFamily
+from slosh_bif.report.tables import write_rows
+
+__all__ = ["BRANCH_COLUMNS", "family_rows", "write_branch_csv", "plot_family"]
+
+BRANCH_COLUMNS = ("sigma", "Abar", "A1", "max_abs_X", "max_abs_w", "stable", "max_abs_multiplier", "liouville_error", "symmetry_defect", "special", "branch")
+
+
+def family_rows(family: OrbitFamily):
+    for ob in family.branches:
+        b, m = ob.branch, ob.measures
+        labels = b.special_labels()
+        for i in range(len(b)):
+            sigma, Abar = (b.p[i], family.params.Abar) if b.param == "sigma" else (family.params.sigma, b.p[i])
+            yield {
+                "sigma": float(sigma),
+                "Abar": float(Abar),
+                **{k: float(m[k][i]) for k in ("A1", "max_abs_X", "max_abs_w", "max_abs_multiplier", "liouville_error", "symmetry_defect")},
+                "stable": int(b.stable[i]),
+                "special": labels[i],
+                "branch": ob.name,
+            }
+
+
+def write_branch_csv(family: OrbitFamily, path) -> Path:
+    return write_rows(family_rows(family), BRANCH_COLUMNS, path)
+
+
+def plot_family(family: OrbitFamily, path, *, slow_flow=None, title=None) -> Path:
+    """A1 against the parameter for every branch (stable solid, unstable dashed, special points
+    marked), with the slow-flow curve in grey when given (``slow_flow``: a frequency response of
+    (46), anything with ``branches``); the largest multiplier below."""
+    from slosh_bif.report.plotting import plot_branch, pyplot, save_figure, special_legend
+
+    fig, (ax, axm) = pyplot().subplots(2, 1, figsize=(9, 8), sharex=True, gridspec_kw={"height_ratios": [3, 1.2]})
+    if slow_flow is not None:
+        for k, branch in enumerate(slow_flow.branches):
+            ax.plot(branch.p, branch.x[:, 0], color="0.6", lw=3, alpha=0.6, label="slow flow (46)" if k == 0 else None)
+    for k, ob in enumerate(family.branches):
+        b = ob.branch
+        plot_branch(ax, b, ob.measures["A1"], color=f"C{k}", label=f"{ob.name}" + (f" ({ob.origin})" if ob.origin else ""), label_ends=False, annotate=len(b.special) <= 12)
+        axm.semilogy(b.p, ob.measures["max_abs_multiplier"], color=f"C{k}", lw=1)
+    ax.plot([], [], "k-", label="stable")
+    ax.plot([], [], "k--", label="unstable")
+    special_legend(ax)
+    axm.axhline(1, color="k", lw=0.8)
+    axm.set_ylabel("max |multiplier|")
+    axm.set_xlabel(rf"$\{family.param}$" if family.param == "sigma" else r"$\bar A$")
+    ax.set_ylabel("A1: first-harmonic amplitude of X")
+    P = family.params
+    ax.set_title(title or f"Periodic orbits of (9) by shooting: eps = {P.eps:g}, beta = {P.beta:g}, gamma = {P.gamma:g}, Abar = {P.Abar:g}, n = {P.n}")
+    ax.legend(fontsize=7, loc="best")
+    ax.grid(alpha=0.3)
+    axm.grid(alpha=0.3)
+    return save_figure(fig, path)

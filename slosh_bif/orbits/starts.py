@@ -1,0 +1,84 @@
+"""Start orbits for the families of (9): from a simulation, or from the slow flow's motion.
+
+These are the documented seams of the orbits wing: a start guess from a simulation of (9)
+(:mod:`slosh_bif.simulation`) and from the slow flow's leading-order motion (25), (29), (35) on
+a steady state of (46) (:mod:`slosh_bif.slowflow`). Everything else in :mod:`slosh_bif.orbits`
+knows only the model and the continuation engine.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from slosh_bif.continuation import ConvergenceError
+from slosh_bif.model.params import Params
+from slosh_bif.orbits.shooting import ShootingProblem, orbit_at, orbit_measures
+from slosh_bif.simulation.direct import simulate
+from slosh_bif.slowflow.flow import SlowFlow
+from slosh_bif.slowflow.steady_states import frequency_response
+
+__all__ = ["orbit_from_slow_flow", "slow_flow_start", "settle_and_shoot"]
+
+
+def orbit_from_slow_flow(params: Params, A: float, *, segments: int = 4, rtol: float = 1e-10, atol: float = 1e-12, tol: float = 1e-10):
+    """Newton on (9) from the slow flow's motion at amplitude A (a steady state of (46) at
+    ``params``): each arc starts on :meth:`SlowFlow.fast_state` at its own start time, so that
+    multiple shooting does not carry the guess's error across the period. Returns a
+    :class:`PeriodicOrbit` (``converged`` says whether Newton found one)."""
+    flow = SlowFlow(params)
+    psi = float(flow.steady_phase(A))
+    problem = ShootingProblem(params, segments=segments, rtol=rtol, atol=atol)
+    x = flow.fast_state(A, psi, problem.arc_times()[:-1]).ravel()
+    return orbit_at(problem, x, params.sigma, tol=tol)
+
+
+def slow_flow_start(params: Params, sigma_min: float, sigma_max: float, *, segments: int = 4, tries: int = 12, response=None):
+    """(sigma, orbit): a 2pi-orbit of (9) found from a stable steady state of (46) in
+    [sigma_min, sigma_max], for starting :func:`trace_orbits` without a simulation.
+
+    States are tried from the ends of the range inward: far from the peak the slow flow is
+    closest to (9) (Fig. 10 set: 8 of 16 evenly spread stable states converge, all with
+    |sigma| >= 0.5; at the peak, where (46) and (9) differ by 30 %, none). Raises
+    :class:`ConvergenceError` naming how many were tried. ``response``: the frequency response of
+    (46) over the range, if already traced.
+    """
+    fr = response if response is not None else frequency_response(params, sigma_min=sigma_min, sigma_max=sigma_max)
+    candidates = [(float(b.p[i]), float(b.x[i, 0])) for b in fr.branches for i in range(len(b)) if b.stable[i] and sigma_min <= b.p[i] <= sigma_max]
+    candidates.sort(key=lambda c: min(c[0] - sigma_min, sigma_max - c[0]))
+    # Neighbours on a branch are nearly the same guess: spread the tries over the candidates.
+    picks = candidates[:: max(1, len(candidates) // tries)][:tries]
+    for sigma, A in picks:
+        at = params.replace(sigma=sigma)
+        orbit = orbit_from_slow_flow(at, A, segments=segments)
+        if orbit.converged:
+            return sigma, orbit
+    raise ConvergenceError(f"no orbit of (9) found from {len(picks)} stable steady states of (46) in sigma in [{sigma_min}, {sigma_max}]")
+
+
+def settle_and_shoot(params: Params, state0, rtol: float = 1e-10, *, segments: int = 4, sim_rtol: float = 1e-8, first: int = 200, every: int = 100, most: int = 1000):
+    """(orbit, A1): a stable 2pi-orbit of (9) reached from ``state0``, and its first-harmonic amplitude.
+
+    Simulates (9) and, after ``first`` forcing periods and then every ``every`` periods up to
+    ``most``, tries Newton (arcs integrated at ``rtol``) from the current state; the first stable
+    orbit wins. ``first=0`` tries the start itself first. Capture can take long and its time
+    depends on rounding (the Fig. 13 set: transient chaos; 300 periods at rtol 1e-7 were not
+    enough where 1e-6 and 1e-9 were), so one fixed settling time is not enough. A1 is NaN, and
+    the orbit the last attempt's, when no stable orbit was found.
+    """
+    y = np.asarray(state0, dtype=float)
+    if y.shape != (4,) or not np.all(np.isfinite(y)):
+        raise ValueError(f"state0 must be 4 finite numbers [X, X', w, w']; got {state0!r}")
+    if not (isinstance(every, int) and every >= 1 and isinstance(first, int) and 0 <= first <= most):
+        raise ValueError(f"need integers every >= 1 and 0 <= first <= most; got every={every!r}, first={first!r}, most={most!r}")
+    tau, orbit = 0.0, None
+    for periods in range(first, most + 1, every):
+        if periods > 0:
+            sim = simulate(params, y, periods * 2 * np.pi, t0=tau, rtol=sim_rtol, atol=sim_rtol * 1e-2, sample_step=0.1)
+            if not sim.success:
+                raise RuntimeError(f"settling simulation failed: {sim.message}")
+            y, tau = sim.y[:, -1], periods * 2 * np.pi
+        problem = ShootingProblem(params, segments=segments, rtol=rtol, atol=rtol * 1e-2)
+        orbit = orbit_at(problem, problem.initial_states(y), params.sigma, tol=max(1e-11, 100 * rtol))
+        if orbit.converged and orbit.stable:
+            return orbit, orbit_measures(problem, problem.initial_states(orbit.y0), params.sigma)["A1"]
+    return orbit, np.nan

@@ -1,0 +1,110 @@
+"""All matplotlib lives here: the manifold (36) with trajectories projected on it, time histories.
+
+Functions draw on an ``Axes`` they are given and return it, so callers compose figures freely.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from slosh_bif.model import manifold
+
+__all__ = ["plot_manifold", "plot_slow_manifold", "plot_projection", "plot_time_history", "plot_branch", "pyplot", "save_figure"]
+
+
+def pyplot():
+    """matplotlib.pyplot on the file-only Agg backend (no display needed on a server or in CI)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+def save_figure(fig, path, *, dpi=130) -> Path:
+    """Lay out (unless the figure has its own layout engine), write and close ``fig``; returns the path."""
+    if fig.get_layout_engine() is None:
+        fig.tight_layout()
+    fig.savefig(path, dpi=dpi)
+    pyplot().close(fig)
+    return Path(path)
+
+
+def plot_manifold(ax, rho, A_max=None, *, color="tab:blue", label="SIM"):
+    """Both branches of the slow invariant manifold (36) in the (A, alpha) plane: S+ solid, S- dashed."""
+    A_end = float(manifold.a_min(rho))
+    A_max = A_max if A_max is not None else max(3.0, 3 * A_end)
+    # Cluster points at the fold, where alpha has a square-root singularity.
+    A = A_end + (A_max - A_end) * np.linspace(0, 1, 400) ** 2
+    return _draw_manifold(ax, A, manifold.alpha(A, rho, manifold.STABLE), manifold.alpha(A, rho, manifold.UNSTABLE), color, label)
+
+
+def plot_slow_manifold(ax, law, A_max, *, color="tab:blue", label="SIM"):
+    """Both branches of (36) for a parameter set (``law`` a :class:`~slosh_bif.model.ManifoldLaw`), rho(A) from (39) when pbar != 0."""
+    A, stable, unstable = law.branches(A_max)
+    return _draw_manifold(ax, A, stable, unstable, color, label)
+
+
+def _draw_manifold(ax, A, stable, unstable, color, label):
+    ax.plot(A, stable, "-", color=color, label=f"{label} stable branch")
+    ax.plot(A, unstable, "--", color=color, label=f"{label} unstable branch")
+    ax.plot([A[0]], [stable[0]], "o", color=color, ms=4)  # the fold (A_min, alpha_min)
+    ax.set_xlabel("amplitude A of X")
+    ax.set_ylabel(r"triangle-wave amplitude $\alpha$")
+    return ax
+
+
+def plot_projection(ax, projection, *, label="simulation"):
+    """A trajectory projected on the manifold's plane: red dots joined by a thin black line."""
+    ax.plot(projection.A, projection.alpha, "-", color="k", lw=0.5)
+    ax.plot(projection.A, projection.alpha, ".", color="tab:red", ms=4, label=label)
+    return ax
+
+
+def plot_time_history(ax, t, y, *, envelope=None):
+    """X (blue) and w (red) against tau; optionally a slow-flow envelope ``(tau, A)`` in black."""
+    ax.plot(t, y[2], color="tab:red", lw=0.6, label="w")
+    ax.plot(t, y[0], color="tab:blue", lw=0.6, label="X")  # on top: w's fast motion would hide it
+    if envelope is not None:
+        ax.plot(envelope[0], envelope[1], color="k", lw=1.5, label="slow flow A")
+        ax.plot(envelope[0], -np.asarray(envelope[1]), color="k", lw=1.5)
+    ax.set_xlabel(r"$\tau$")
+    return ax
+
+
+def _runs(mask):
+    """(start, stop) index pairs of the runs of equal values in a boolean array (stop inclusive)."""
+    change = np.flatnonzero(np.diff(mask.astype(int))) + 1
+    bounds = np.concatenate([[0], change, [len(mask)]])
+    return [(a, min(b, len(mask) - 1)) for a, b in zip(bounds[:-1], bounds[1:])]
+
+
+SPECIAL_MARKERS = {"LP": ("o", "tab:red"), "BP": ("s", "tab:green"), "PD": ("D", "tab:purple"), "NS": ("^", "tab:orange"), "END": ("x", "k")}
+SPECIAL_NAMES = {"LP": "fold (LP)", "BP": "branch point (BP)", "PD": "period doubling (PD)", "NS": "Neimark-Sacker (NS)", "END": "end"}
+
+
+def special_legend(ax, kinds=("LP", "BP", "PD", "NS")):
+    """Legend entries for the special-point markers (when points are not annotated)."""
+    for kind in kinds:
+        marker, color = SPECIAL_MARKERS[kind]
+        ax.plot([], [], marker, color=color, mfc="none" if kind == "LP" else color, ls="none", label=SPECIAL_NAMES[kind])
+
+
+def plot_branch(ax, branch, y, *, x=None, color="tab:blue", label=None, label_ends=True, annotate=True):
+    """A branch: stable runs solid, unstable dashed, special points marked and labelled.
+
+    ``y`` (and optionally ``x``, default the continued parameter) are arrays along the branch.
+    """
+    x = branch.p if x is None else x
+    for a, b in _runs(branch.stable):
+        ax.plot(x[a : b + 1], y[a : b + 1], "-" if branch.stable[a] else "--", color=color, lw=1.4, label=label if a == 0 else None)
+    for s in branch.special:
+        marker, mcolor = SPECIAL_MARKERS[s.kind]
+        ax.plot(x[s.index], y[s.index], marker, color=mcolor, ms=6, mfc="none" if s.kind == "LP" else mcolor)
+        if (s.kind == "END" and not label_ends) or not annotate:
+            continue
+        ax.annotate(s.kind, (x[s.index], y[s.index]), textcoords="offset points", xytext=(5, 5), fontsize=8, color=mcolor)
+    return ax

@@ -1,0 +1,235 @@
+"""Direct simulation of the smooth model (9) and the vibro-impact model (8), with the noise of (47).
+
+:func:`simulate` is the entry point: (9) through the compiled DOP853 of :mod:`slosh_bif.simulation.integrator`
+(optionally with the band-limited noise of :mod:`slosh_bif.simulation.noise`), or (8) through the exact
+event-driven flow of :mod:`slosh_bif.simulation.vibro_impact`; both return a :class:`Simulation` with the
+impacts. :func:`integrate_smooth` keeps scipy's ``solve_ivp`` with the generated analytic Jacobian
+for the implicit methods (Radau, BDF, LSODA), which the integrator chart compares: the wall term
+``chi w**(2n+1)`` makes (9) stiff during impacts at large n.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import time
+
+import numpy as np
+from scipy.integrate import solve_ivp
+
+from slosh_bif.model.equations import SmoothModel
+from slosh_bif.model.params import Params
+from slosh_bif.simulation import integrator
+from slosh_bif.simulation.noise import band_limited_noise
+from slosh_bif.simulation.vibro_impact import simulate_impact
+
+__all__ = ["MODELS", "Simulation", "Trajectory", "integrate_smooth", "simulate", "wall_passages"]
+
+_METHODS = ("DOP853", "RK45", "RK23", "Radau", "BDF", "LSODA")
+_IMPLICIT = ("Radau", "BDF", "LSODA")
+
+
+@dataclasses.dataclass(frozen=True)
+class Trajectory:
+    """A solution of the smooth model: times ``t`` (N,), states ``y`` (4, N), and how it ended."""
+
+    t: np.ndarray
+    y: np.ndarray
+    success: bool
+    message: str
+    nfev: int
+
+
+def integrate_smooth(
+    params: Params,
+    state0,
+    t_span,
+    *,
+    method: str = "DOP853",
+    rtol: float = 1e-9,
+    atol: float = 1e-11,
+    t_eval=None,
+    max_step: float = np.inf,
+) -> Trajectory:
+    """Integrate model (9) from ``state0 = [X, X', w, w']`` over ``t_span``.
+
+    Returns a :class:`Trajectory`; ``success`` is False (with scipy's message) when the
+    integrator gave up.
+    """
+    if method not in _METHODS:
+        raise ValueError(f"method must be one of {', '.join(_METHODS)}; got {method!r}")
+    for name, value in (("rtol", rtol), ("atol", atol)):
+        if not (np.isfinite(value) and value > 0):
+            raise ValueError(f"{name} must be positive and finite; got {value!r}")
+    y0 = np.asarray(state0, dtype=float)
+    if y0.shape != (4,) or not np.all(np.isfinite(y0)):
+        raise ValueError(f"state0 must be 4 finite numbers [X, X', w, w']; got {state0!r}")
+    model = SmoothModel(params)
+    extra = {"jac": model.jac} if method in _IMPLICIT else {}
+    with np.errstate(over="ignore", invalid="ignore"):  # trial steps far inside the wall may overflow
+        sol = solve_ivp(
+            model.rhs, t_span, y0, method=method, rtol=rtol, atol=atol, t_eval=t_eval, max_step=max_step, **extra
+        )
+    return Trajectory(t=sol.t, y=sol.y, success=bool(sol.success), message=sol.message, nfev=int(sol.nfev))
+
+
+# --- direct simulation of either model, with the noise of (47) ------------------------------------
+
+MODELS = ("smooth", "impact")
+
+
+@dataclasses.dataclass(frozen=True)
+class Simulation:
+    """A simulated response of model (9) (``"smooth"``) or (8) (``"impact"``).
+
+    t : (N,) sample times; y : (4, N) states ``[X, X', w, w']``; impact_t, impact_side,
+    impact_v_minus, impact_v_plus : (K,) the impacts (exact for the impact model; for the smooth
+    model the passages of |w| through 1 into the wall, located on the samples by linear
+    interpolation, with w' at entry and exit); status, message : how the run ended
+    (``"finished"`` or why it stopped); noise : the realised :class:`~slosh_bif.simulation.noise.BandLimitedNoise`
+    or None; seconds : wall-clock time of the integration.
+    """
+
+    model: str
+    params: Params
+    t: np.ndarray
+    y: np.ndarray
+    impact_t: np.ndarray
+    impact_side: np.ndarray
+    impact_v_minus: np.ndarray
+    impact_v_plus: np.ndarray
+    status: str
+    message: str
+    noise: object = None
+    seconds: float = 0.0
+
+    @property
+    def success(self) -> bool:
+        return self.status == "finished"
+
+
+def wall_passages(t, y):
+    """Impacts of a sampled smooth trajectory: entries of |w| into the wall (|w| > 1).
+
+    Returns (times, side, w' at entry, w' at exit), each (K,); a contact still open at the end
+    has exit velocity NaN. Linear interpolation on the samples: a contact shorter than the sample
+    step can be missed, so sample finer than the contact time (about 0.1 at n = 50, speed 2).
+    """
+    w, wd = y[2], y[3]
+    inside = np.abs(w) > 1.0
+    enter = np.flatnonzero(~inside[:-1] & inside[1:]) + 1
+    leave = np.flatnonzero(inside[:-1] & ~inside[1:]) + 1
+
+    def crossing(i):  # between samples i-1 and i
+        a, b = np.abs(w[i - 1]) - 1.0, np.abs(w[i]) - 1.0
+        s = a / (a - b)
+        return t[i - 1] + s * (t[i] - t[i - 1]), wd[i - 1] + s * (wd[i] - wd[i - 1])
+
+    times, vin = crossing(enter) if enter.size else (np.empty(0), np.empty(0))
+    vout = np.full(enter.size, np.nan)
+    for k, i in enumerate(enter):
+        later = leave[leave > i]
+        if later.size:
+            vout[k] = crossing(later[:1])[1][0]
+    return times, np.sign(w[enter]).astype(int), vin, vout
+
+
+def _simulate_impact_in_chunks(params, y0, t0, tmax, sample_step, progress, start):
+    """(8) over [t0, tmax] in up to 20 pieces so that progress can be reported; each piece starts
+    from the previous one's end state (the flow is exact, so the pieces join seamlessly)."""
+
+    edges = np.linspace(t0, tmax, max(2, min(21, int((tmax - t0) / 50) + 1)))
+    parts = []
+    y = y0
+    for k, (a, b) in enumerate(zip(edges[:-1], edges[1:])):
+        run = simulate_impact(params, y, (a, b), sample_step=sample_step)
+        parts.append(run)
+        if progress is not None:
+            progress((k + 1) / (len(edges) - 1))
+        if not run.success:
+            break
+        y = run.y[:, -1]
+    last = parts[-1]
+
+    def joined(field):
+        return np.concatenate([getattr(run, field) for run in parts])
+
+    t = np.concatenate([parts[0].t] + [run.t[1:] for run in parts[1:]])
+    states = np.concatenate([parts[0].y] + [run.y[:, 1:] for run in parts[1:]], axis=1)
+    message = last.message if not last.success else f"reached tau = {tmax:g}"
+    return Simulation(
+        "impact", params, t, states, joined("impact_t"), joined("impact_side"), joined("impact_v_minus"),
+        joined("impact_v_plus"), last.status, message, None, time.perf_counter() - start,
+    )
+
+
+def simulate(
+    params: Params,
+    state0,
+    tmax: float,
+    *,
+    t0: float = 0.0,
+    model: str = "smooth",
+    noise_std: float = 0.0,
+    seed=None,
+    noise_cutoff: float = 10.0,
+    sample_step: float = 0.02,
+    rtol: float = 1e-9,
+    atol: float = 1e-11,
+    backend: str = "auto",
+    progress=None,
+) -> Simulation:
+    """Simulate from ``state0`` at ``t0`` to ``tmax`` and sample every ``sample_step``.
+
+    ``model="smooth"`` integrates (9) with the compiled DOP853 of :mod:`slosh_bif.simulation.integrator`
+    (scipy's when numba is missing); ``"impact"`` runs the event-driven exact flow of (8)
+    (:func:`slosh_bif.simulation.vibro_impact.simulate_impact`). ``noise_std > 0`` adds the band-limited noise
+    of (47) (smooth model only, see :mod:`slosh_bif.simulation.noise`) and then needs ``seed``.
+    ``progress(fraction)`` is called as the run advances. Integration failure is not raised: the
+    result's ``status`` and ``message`` say where and why it stopped.
+    """
+    if model not in MODELS:
+        raise ValueError(f"model must be one of {', '.join(MODELS)}; got {model!r}")
+    if not isinstance(params, Params):
+        raise TypeError(f"params must be a slosh_bif.Params; got {type(params).__name__}")
+    if not (np.isfinite(t0) and np.isfinite(tmax) and tmax > t0):
+        raise ValueError(f"tmax must be finite and greater than t0 = {t0}; got {tmax!r}")
+    if not (np.isfinite(sample_step) and 0 < sample_step <= 0.5):
+        raise ValueError(f"sample_step must be in (0, 0.5]; got {sample_step!r}")
+    if not (np.isfinite(noise_std) and noise_std >= 0):
+        raise ValueError(f"noise_std (sigma_bar of eq. 47) must be finite and >= 0; got {noise_std!r}")
+    y0 = np.asarray(state0, dtype=float)
+    if y0.shape != (4,) or not np.all(np.isfinite(y0)):
+        raise ValueError(f"state0 must be 4 finite numbers [X, X', w, w']; got {state0!r}")
+    noise = None
+    if noise_std > 0:
+        if model != "smooth":
+            raise ValueError("noise (eq. 47) is supported for the smooth model only; use model='smooth'")
+        if seed is None:
+            raise ValueError("noise needs a seed (any non-negative integer) so that the run is reproducible")
+        noise = band_limited_noise(noise_std, seed=seed, duration=tmax - t0, t0=t0, cutoff=noise_cutoff)
+
+    start = time.perf_counter()
+    if model == "impact":
+        return _simulate_impact_in_chunks(params, y0, t0, tmax, min(sample_step, 0.05), progress, start)
+
+    count = int(np.ceil((tmax - t0) / sample_step))
+    taus = np.linspace(t0, tmax, count + 1)
+    chunks = np.array_split(np.arange(count + 1), max(1, min(50, count // 500)))
+    states = [y0[None, :]]
+    status, message = "finished", f"reached tau = {tmax:g}"
+    for k, chunk in enumerate(chunks):
+        grid = taus[max(chunk[0] - 1, 0) : chunk[-1] + 1]
+        if grid.size < 2:
+            continue
+        try:
+            part = integrator.integrate_grid(params, states[-1][-1], grid, rtol=rtol, atol=atol, backend=backend, noise=noise)
+        except RuntimeError as err:
+            status, message = "failed", str(err)
+            break
+        states.append(part[1:])
+        if progress is not None:
+            progress((k + 1) / len(chunks))
+    y = np.concatenate(states).T
+    t = taus[: y.shape[1]]
+    hit_t, side, v_in, v_out = wall_passages(t, y)
+    return Simulation("smooth", params, t, y, hit_t, side, v_in, v_out, status, message, noise, time.perf_counter() - start)

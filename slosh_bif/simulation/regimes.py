@@ -1,0 +1,232 @@
+"""Response regimes of the forced system (section 4.2, Figs. 10-13) and maps of them.
+
+A simulated response (:func:`slosh_bif.simulation.direct.simulate`) is judged after its transient from
+three measurements:
+
+* the impact sequence: impacts per forcing period, and wall-to-wall crossings per period (side
+  changes between consecutive impacts). 1:1 resonance means two crossings a period; the number
+  of impacts can be larger, because the particle often strikes the same wall twice;
+* the envelope of X: its peak |X| in each forcing period (the amplitude A of eq. 22), its 10th and
+  90th percentiles and how often it collapses and recovers;
+* the projection on the slow invariant manifold (36): (A, alpha) per period, alpha the peak of
+  |w - X|, against the stable branch alpha_S+(A) and its end A_min.
+
+Rules, in order (``THRESHOLDS`` holds the numbers):
+
+``non-resonant``
+    fewer than 0.1 impacts a period (or the impact model's particle sticks to a wall): the
+    vessel moves as a linear oscillator and the particle is not engaged (Fig. 11).
+``periodic-resonant``
+    about two crossings a period, an envelope varying by less than 30 %, above A_min, and
+    within 15 % of the stable branch S+ in the manifold's plane (Figs. 10, 13).
+``strongly-modulated``
+    an envelope varying by 30 % or more that collapses to within twice A_min at least twice
+    (intermittent capture and escape, Fig. 12).
+``other``
+    anything else (e.g. a period-2 or quasi-periodic response, or noise-driven modulation far
+    above A_min).
+
+:func:`regime_map` classifies a (sigma, Abar) grid through any ``concurrent.futures`` executor.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+
+from slosh_bif.model.manifold import project_on_manifold
+from slosh_bif.model.manifold_law import ManifoldLaw
+from slosh_bif.model.params import Params
+from slosh_bif.simulation.direct import simulate
+
+__all__ = ["REGIMES", "THRESHOLDS", "RegimeSummary", "classify", "RegimeMap", "regime_map"]
+
+REGIMES = ("periodic-resonant", "non-resonant", "strongly-modulated", "other")
+
+THRESHOLDS = {
+    "impacts_for_engagement": 0.1,  # impacts per period below this: the particle is not engaged
+    "crossings_for_resonance": (1.5, 2.5),  # wall-to-wall crossings per period in 1:1 resonance
+    "steady_modulation": 0.3,  # (A90 - A10) / A90 below this: constant envelope
+    "manifold_distance": 0.15,  # median relative distance of alpha from alpha_S+(A)
+    "collapse_factor": 2.0,  # a collapse reaches below this many A_min
+    "collapses": 2,  # repeated: at least this many collapses
+}
+
+
+@dataclasses.dataclass(frozen=True)
+class RegimeSummary:
+    """What :func:`classify` measured and concluded (all after the transient).
+
+    The fields are the keys of ``summary.json``; ``reason`` says which rule decided.
+    """
+
+    regime: str
+    reason: str
+    impacts_per_period: float
+    crossings_per_period: float
+    envelope_min: float
+    envelope_max: float
+    envelope_p10: float
+    envelope_p90: float
+    modulation: float
+    collapses: int
+    A_min: float
+    manifold_distance: float
+    transient: float
+    periods: float
+
+    @classmethod
+    def failed(cls, reason: str, transient: float) -> "RegimeSummary":
+        """The record of a run that could not be classified (every measurement NaN)."""
+        nan = math.nan
+        return cls("other", reason, nan, nan, nan, nan, nan, nan, nan, 0, nan, nan, transient, nan)
+
+    def as_dict(self) -> dict:
+        return {k: (v if not isinstance(v, float) or math.isfinite(v) else None) for k, v in dataclasses.asdict(self).items()}
+
+
+def _collapses(A, low, high):
+    """Number of times the envelope falls below ``low`` after having been above ``high``."""
+    count, armed = 0, False
+    for a in A:
+        if a >= high:
+            armed = True
+        elif a <= low and armed:
+            count += 1
+            armed = False
+    return count
+
+
+def classify(simulation, *, transient: float | None = None) -> RegimeSummary:
+    """Classify a :class:`~slosh_bif.simulation.direct.Simulation` after ``transient`` (default: its first half)."""
+    sim = simulation
+    t0, t1 = float(sim.t[0]), float(sim.t[-1])
+    if transient is None:
+        transient = t0 + 0.5 * (t1 - t0)
+    if not (np.isfinite(transient) and t0 <= transient < t1 - 4 * np.pi):
+        raise ValueError(
+            f"transient must leave at least two forcing periods of the run [{t0:g}, {t1:g}]; got {transient!r}"
+        )
+    params: Params = sim.params
+    keep = sim.t >= transient
+    periods = (t1 - transient) / (2 * np.pi)
+    late = sim.impact_t >= transient
+    impacts = float(np.sum(late)) / periods
+    sides = sim.impact_side[late]
+    crossings = float(np.sum(sides[1:] != sides[:-1])) / periods
+    proj = project_on_manifold(sim.t[keep], sim.y[:, keep])
+    A = proj.A
+    law = ManifoldLaw(params)
+    A_min = law.A_min
+    p10, p90 = (float(v) for v in np.percentile(A, [10, 90]))
+    modulation = (p90 - p10) / p90 if p90 > 0 else 0.0
+    on = A >= A_min
+    if np.any(on):
+        target = law.alpha(A[on])
+        distance = float(np.median(np.abs(proj.alpha[on] - target) / target))
+    else:
+        distance = math.inf
+    T = THRESHOLDS
+    collapses = _collapses(A, T["collapse_factor"] * A_min, 0.5 * (p10 + p90))
+    lo, hi = T["crossings_for_resonance"]
+    if sim.status == "sticking":
+        regime, reason = "non-resonant", f"the particle sticks to a wall ({sim.message})"
+    elif impacts < T["impacts_for_engagement"]:
+        regime, reason = "non-resonant", f"{impacts:.3g} impacts per period after the transient"
+    elif lo <= crossings <= hi and modulation < T["steady_modulation"] and p10 >= A_min and distance < T["manifold_distance"]:
+        regime, reason = "periodic-resonant", (
+            f"{crossings:.3g} wall-to-wall crossings per period, envelope varies {100 * modulation:.1f} %, "
+            f"{100 * distance:.1f} % from the stable manifold branch"
+        )
+    elif modulation >= T["steady_modulation"] and collapses >= T["collapses"]:
+        regime, reason = "strongly-modulated", (
+            f"envelope varies {100 * modulation:.0f} % and collapses {collapses} times below "
+            f"{T['collapse_factor']:g} A_min = {T['collapse_factor'] * A_min:.3g}"
+        )
+    else:
+        regime, reason = "other", (
+            f"{crossings:.3g} crossings per period, envelope varies {100 * modulation:.1f} %, "
+            f"{collapses} collapses, {100 * distance:.1f} % from the stable manifold branch"
+        )
+    return RegimeSummary(
+        regime, reason, impacts, crossings, float(A.min()), float(A.max()), p10, p90, modulation,
+        collapses, float(A_min), distance, float(transient), periods,
+    )
+
+
+# --- regime maps ------------------------------------------------------------------------------
+
+
+@dataclasses.dataclass(frozen=True)
+class RegimeMap:
+    """Regimes on a grid: ``regime[i, j]`` at ``sigma[j]``, ``Abar[i]``; ``summaries`` likewise."""
+
+    params: Params
+    sigma: np.ndarray
+    Abar: np.ndarray
+    regime: np.ndarray
+    summaries: list
+    tmax: float
+    model: str
+
+
+def _classify_point(params, state0, tmax, model, transient, sample_step):
+    # A module-level function so that process pools can pickle it.
+    sim = simulate(params, state0, tmax, model=model, sample_step=sample_step)
+    if not sim.success and sim.status != "sticking":
+        return RegimeSummary.failed(f"simulation failed: {sim.message}", transient)
+    return classify(sim, transient=transient)
+
+
+def regime_map(
+    params: Params,
+    state0,
+    sigmas,
+    abars,
+    *,
+    tmax: float = 1000.0,
+    transient: float | None = None,
+    model: str = "smooth",
+    sample_step: float = 0.02,
+    executor=None,
+    max_workers: int | None = None,
+    progress=None,
+) -> RegimeMap:
+    """Simulate and classify every (sigma, Abar) of the grid from ``state0``.
+
+    The points run through ``executor`` (any ``concurrent.futures.Executor``, e.g. a Dask
+    cluster's ``distributed.Client().get_executor()``); by default a local
+    ``ProcessPoolExecutor(max_workers)``. ``progress(done, total)`` is called as points finish.
+    """
+    from concurrent.futures import ProcessPoolExecutor, as_completed
+
+    sigmas = np.asarray(sigmas, dtype=float)
+    abars = np.asarray(abars, dtype=float)
+    for name, grid in (("sigma", sigmas), ("Abar", abars)):
+        if grid.ndim != 1 or grid.size < 1 or not np.all(np.isfinite(grid)):
+            raise ValueError(f"the {name} grid must be a non-empty 1-d array of finite numbers")
+    if np.any(abars < 0):
+        raise ValueError(f"Abar must be >= 0 on the whole grid; got min {abars.min()}")
+    if transient is None:
+        transient = 0.5 * tmax
+    jobs = {(i, j): params.replace(sigma=float(s), Abar=float(a)) for i, a in enumerate(abars) for j, s in enumerate(sigmas)}
+    own = executor is None
+    pool = ProcessPoolExecutor(max_workers=max_workers) if own else executor
+    results = {}
+    try:
+        futures = {pool.submit(_classify_point, p, np.asarray(state0, dtype=float), tmax, model, transient, sample_step): key for key, p in jobs.items()}
+        for done, future in enumerate(as_completed(futures), 1):
+            results[futures[future]] = future.result()
+            if progress is not None:
+                progress(done, len(futures))
+    finally:
+        if own:
+            pool.shutdown()
+    regime = np.empty((abars.size, sigmas.size), dtype=object)
+    summaries = [[None] * sigmas.size for _ in abars]
+    for (i, j), summary in results.items():
+        regime[i, j] = summary.regime
+        summaries[i][j] = summary
+    return RegimeMap(params, sigmas, abars, regime, summaries, float(tmax), model)

@@ -1,0 +1,241 @@
+"""The critical forcing Abar_b: the smallest Abar with a steady state on S+, eq. (46).
+
+Along the steady states at fixed sigma, Abar is a function of A (eq. 46 is explicit in Abar^2),
+so the smallest Abar sits either at an interior fold of A(Abar) (dR/dA = 0 with R the residual
+of (46)) or at the manifold's end A = A_min. :func:`critical_forcing` finds it at one sigma by
+continuing the steady states in Abar and taking the least of the folds (LP) and the end (END).
+
+:func:`critical_curve` follows Abar_b(sigma) by two-parameter continuation, in sigma, of
+
+* the fold condition ``R = 0, dR/dA = 0`` in ``(A, Abar)`` (:class:`FoldProblem`), and
+* the end-point condition ``R(A_min) = 0`` in ``Abar`` (:class:`EndProblem`),
+
+and keeps, at each sigma, the least of them; only folds that are minima of Abar(A)
+(``d2R/dA2 / dR/dAbar < 0``) count.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+import slosh_bif.continuation as cont
+from slosh_bif.model.params import Params
+from slosh_bif.slowflow.flow import SlowFlow
+from slosh_bif.slowflow.steady_states import EDGE_MARGIN, SteadyStateProblem
+
+__all__ = ["CriticalPoint", "CriticalCurve", "abar_branch", "critical_forcing", "critical_curve", "FoldProblem", "EndProblem"]
+
+
+class _Residual46:
+    """R(A; sigma, Abar) of (46) and its gradient, with second derivatives by central differences.
+
+    The problems below divide R by pi^4 A^2 (so R/(pi^4 A^2) = Abar(A)^2 - Abar^2 is of order one;
+    R itself is ~ 1e2 and an absolute tolerance of 1e-11 would sit at its rounding level).
+    """
+
+    def __init__(self, params: Params):
+        self.flow = SlowFlow(params)
+        self.A_edge = self.flow.A_min * (1 + EDGE_MARGIN)
+
+    def R(self, A, sigma, Abar):
+        return float(self.flow.steady_residual(A, sigma, Abar))
+
+    def grad(self, A, sigma, Abar):
+        """[R_A, R_sigma, R_Abar]."""
+        return np.asarray(self.flow.steady_residual_grad(A, sigma, Abar), dtype=float)
+
+    def hess_row(self, A, sigma, Abar):
+        """[R_AA, R_Asigma, R_AAbar] by central differences of the analytic R_A."""
+        out = []
+        for i, v in enumerate((A, sigma, Abar)):
+            h = 1e-6 * max(1.0, abs(v))
+            if i == 0:  # keep the stencil on the manifold, clear of the square root at A_min
+                h = min(h, 0.5 * (A - self.flow.A_min))
+            up, down = [A, sigma, Abar], [A, sigma, Abar]
+            up[i], down[i] = v + h, v - h
+            out.append((self.grad(*up)[0] - self.grad(*down)[0]) / (2 * h))
+        return np.array(out)
+
+    def abar_at(self, A, sigma):
+        """The (unique, non-negative) Abar of the steady state of amplitude A at sigma."""
+        E, Phi = self.flow.steady_balances(A, sigma=sigma, Abar=1.0)
+        return float(np.hypot(E, Phi) / (np.pi**2 * A))
+
+
+# A fold curve that runs into the manifold's end merges there with the end-point curve; its
+# second derivatives blow up like (A - A_min)^(-3/2), so it is followed only this far.
+FOLD_EDGE_MARGIN = 1e-5
+
+
+class FoldProblem:
+    """Folds of A(Abar): x = (A, Abar) with R = R_A = 0 (scaled by pi^4 A^2), continued in sigma."""
+
+    names = ("A", "Abar")
+
+    def __init__(self, params: Params):
+        self.r = _Residual46(params)
+        self.A_edge = self.r.flow.A_min * (1 + FOLD_EDGE_MARGIN)
+
+    def _parts(self, x, p):
+        A, Abar = x
+        s = np.pi**4 * A**2
+        return A, s, self.r.R(A, p, Abar), self.r.grad(A, p, Abar)
+
+    def residual(self, x, p):
+        _, s, R, g = self._parts(x, p)
+        return np.array([R, g[0]]) / s
+
+    def jacobian(self, x, p):
+        A, s, R, g = self._parts(x, p)
+        h = self.r.hess_row(A, p, x[1])
+        # d(f/s)/dA = (f_A - 2 f / A) / s for s = pi^4 A^2.
+        return np.array([[g[0] - 2 * R / A, g[2]], [h[0] - 2 * g[0] / A, h[2]]]) / s
+
+    def dparam(self, x, p):
+        A, s, _, g = self._parts(x, p)
+        return np.array([g[1], self.r.hess_row(A, p, x[1])[1]]) / s
+
+    def in_domain(self, x, p):
+        return bool(x[0] >= self.A_edge and x[1] > 0)
+
+    def is_minimum(self, x, p):
+        """Whether Abar(A) has a minimum (not a maximum) at this fold: -R_AA/R_Abar > 0."""
+        A, Abar = x
+        return bool(-self.r.hess_row(A, p, Abar)[0] / self.r.grad(A, p, Abar)[2] > 0)
+
+
+class EndProblem:
+    """The end-point condition R(A_min; sigma, Abar) = 0: x = (Abar,), continued in sigma."""
+
+    names = ("Abar",)
+
+    def __init__(self, params: Params):
+        self.r = _Residual46(params)
+        self.scale = np.pi**4 * self.r.A_edge**2
+
+    def residual(self, x, p):
+        return np.array([self.r.R(self.r.A_edge, p, x[0])]) / self.scale
+
+    def jacobian(self, x, p):
+        return np.array([[self.r.grad(self.r.A_edge, p, x[0])[2]]]) / self.scale
+
+    def dparam(self, x, p):
+        return np.array([self.r.grad(self.r.A_edge, p, x[0])[1]]) / self.scale
+
+    def in_domain(self, x, p):
+        return bool(x[0] > 0)
+
+
+@dataclasses.dataclass(frozen=True)
+class CriticalPoint:
+    """Abar_b at one sigma: the value, the amplitude A there, and whether it is a fold or the end."""
+
+    sigma: float
+    Abar_b: float
+    A: float
+    kind: str  # "LP" (interior fold) or "END" (manifold end)
+
+
+_DEFAULT = cont.ContinuationOptions(step=0.02, step_max=0.2)
+
+
+def abar_branch(params: Params, sigma: float, *, options: cont.ContinuationOptions | None = None):
+    """Steady states on S+ at fixed ``sigma``, continued in Abar: one branch from A_min to large A."""
+    P = params.replace(sigma=float(sigma))
+    problem = SteadyStateProblem(P, "Abar")
+    A0 = max(1.0, 3 * problem.flow.A_min)
+    Abar0 = _Residual46(P).abar_at(A0, P.sigma)
+    psi0 = float(problem.flow.steady_phase(A0, Abar=Abar0))
+    opts = dataclasses.replace(options or _DEFAULT, p_min=0.0, p_max=max(10.0, 10 * Abar0))
+    return cont.continuation(problem, [A0, psi0], Abar0, param="Abar", options=opts)
+
+
+def critical_forcing(params: Params, sigma: float, *, options: cont.ContinuationOptions | None = None) -> CriticalPoint:
+    """The smallest Abar with a steady state on S+ at ``sigma`` (continuation in Abar)."""
+    branch = abar_branch(params, sigma, options=options)
+    candidates = [(s.p, float(s.x[0]), s.kind) for s in branch.special if s.kind == "LP" or (s.kind == "END" and "manifold" in s.message)]
+    if not candidates:
+        raise RuntimeError(f"no fold and no manifold end found on the Abar branch at sigma = {sigma}: {branch.message}")
+    Abar_b, A, kind = min(candidates)
+    return CriticalPoint(sigma=float(sigma), Abar_b=float(Abar_b), A=A, kind=kind)
+
+
+@dataclasses.dataclass(frozen=True)
+class CriticalCurve:
+    """Abar_b(sigma): arrays in increasing sigma, with the curve (fold or end) each point comes from."""
+
+    params: Params
+    sigma: np.ndarray
+    Abar_b: np.ndarray
+    A: np.ndarray
+    kind: np.ndarray  # "LP" or "END" per point
+    end_branch: object
+    fold_branches: tuple
+
+
+def _trace(problem, x0, sigma0, lo, hi, options):
+    opts = dataclasses.replace(options, p_min=lo, p_max=hi)
+    return cont.continuation(problem, x0, sigma0, param="sigma", options=opts)
+
+
+def critical_curve(
+    params: Params, sigma_min: float, sigma_max: float, *, seeds: int = 7, options: cont.ContinuationOptions | None = None, progress=None
+) -> CriticalCurve:
+    """Abar_b(sigma) over [sigma_min, sigma_max] by continuation of the fold and end-point conditions.
+
+    Folds are seeded by :func:`critical_forcing` at ``seeds`` values of sigma; each fold curve is
+    then traced by continuation (a seed on an already traced curve is skipped). ``progress``, if
+    given, is called with a short message after each stage.
+    """
+    report = progress or (lambda message: None)
+    if not sigma_min < sigma_max:
+        raise ValueError(f"need sigma_min < sigma_max; got {sigma_min} and {sigma_max}")
+    opts = options or _DEFAULT
+    r = _Residual46(params)
+    end_problem = EndProblem(params)
+    end = _trace(end_problem, [r.abar_at(r.A_edge, sigma_min)], float(sigma_min), sigma_min, sigma_max, opts)
+    report(f"end-point curve: {len(end)} points")
+    fold_problem = FoldProblem(params)
+    folds = []
+    for k, sigma in enumerate(np.linspace(sigma_min, sigma_max, seeds)):
+        for lp in abar_branch(params, sigma, options=opts).special_of("LP"):
+            x = np.array([lp.x[0], lp.p])
+            if not any(_on_branch(b, x, sigma) for b in folds):
+                folds.append(_trace(fold_problem, x, float(sigma), sigma_min, sigma_max, opts))
+                report(f"fold curve {len(folds)}: {len(folds[-1])} points ({folds[-1].message})")
+        report(f"seed {k + 1}/{seeds} at sigma = {sigma:.4g} done")
+    return _envelope(params, end, tuple(folds), fold_problem)
+
+
+def _on_branch(branch, x, sigma, tol=1e-6):
+    near = np.abs(branch.p - sigma) < 0.5 * branch.options["step_max"] + 1e-12
+    if not np.any(near):
+        return False
+    return bool(np.min(np.linalg.norm(branch.x[near] - x, axis=1)) < max(tol, 0.5 * branch.options["step_max"]))
+
+
+def _envelope(params, end, folds, fold_problem) -> CriticalCurve:
+    """Least of the end curve and the minimum-type fold curves, point by point in sigma."""
+    candidates = [(end.p, end.x[:, 0], np.full(len(end), fold_problem.r.A_edge), "END")]
+    for b in folds:
+        minimum = np.array([fold_problem.is_minimum(x, p) for x, p in zip(b.x, b.p)])
+        candidates.append((b.p[minimum], b.x[minimum, 1], b.x[minimum, 0], "LP"))
+    rows = []
+    for k, (s, abar, A, kind) in enumerate(candidates):
+        for i in range(len(s)):
+            others = [_interp_min(s2, abar2, s[i]) for j, (s2, abar2, _, _) in enumerate(candidates) if j != k]
+            if all(abar[i] <= o + 1e-12 for o in others if o is not None):
+                rows.append((s[i], abar[i], A[i], kind))
+    rows.sort()
+    # The same point can come from two curves (where they meet) or twice from one (a bound): keep one.
+    rows = [r for i, r in enumerate(rows) if i == 0 or abs(r[0] - rows[i - 1][0]) > 1e-12 or abs(r[1] - rows[i - 1][1]) > 1e-12]
+    sigma, Abar_b, A, kind = (np.array(c) for c in zip(*rows)) if rows else (np.array([]),) * 4
+    return CriticalCurve(params, sigma.astype(float), Abar_b.astype(float), A.astype(float), kind, end, folds)
+
+
+def _interp_min(s, v, at):
+    """The least value of a (possibly multi-valued) curve (s, v) at s = at, by linear interpolation."""
+    values = [v[i] + (v[i + 1] - v[i]) * (at - s[i]) / (s[i + 1] - s[i]) for i in range(len(s) - 1) if min(s[i], s[i + 1]) <= at <= max(s[i], s[i + 1]) and s[i] != s[i + 1]]
+    return min(values) if values else None

@@ -1,0 +1,167 @@
+"""Frequency-response curves: steady states of the forced slow flow (45) on S+, eqs. (45), (46).
+
+The unknowns are ``(A, psi)`` and the residual is the slow flow (45) itself, so the continuation
+Jacobian *is* the slow-flow Jacobian and stability comes from its eigenvalues. The continued
+parameter is ``sigma`` (or ``Abar``). Eq. (46) follows from (45) by eliminating psi, so every
+point of a branch satisfies it; for fixed A it is quadratic in sigma,
+
+    sigma = (1 - beta^2) + (8 alpha (1 - alpha)(1 - beta^2) -+ sqrt(pi^4 A^2 Abar^2 - E^2)) / (pi^2 A^2),
+    E = gamma pi^2 A^2 + 8 rho alpha^2 (1 - beta^2),
+
+which gives start points (and an independent check of every point). A component of the curve
+exists over each interval of A where ``pi^2 A Abar > E``: a closed curve when the interval lies
+inside (A_min, inf), an arc ending twice at the manifold's end when it starts at A_min. A branch
+that reaches A = A_min ends there (``END``, "manifold end"): it does not wander onto the
+unstable manifold branch.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+import slosh_bif.continuation as cont
+from slosh_bif.continuation.branch import Branch
+from slosh_bif.model._generated import slow_flow as gen
+from slosh_bif.model.params import Params
+from slosh_bif.slowflow.flow import SlowFlow
+
+__all__ = ["SteadyStateProblem", "FrequencyResponse", "frequency_response", "sigma_on_curve"]
+
+PARAMS = ("sigma", "Abar")
+# Points closer to the manifold's end than this (relative) are ill-conditioned: alpha has a
+# square root there, and rounding in A**2 - A_min**2 would show up as 1e-8 in alpha.
+EDGE_MARGIN = 1e-8
+
+
+class SteadyStateProblem:
+    """Equilibria ``(A, psi)`` of (45) with ``param`` ("sigma" or "Abar") free; a continuation problem."""
+
+    names = ("A", "psi")
+    edge_name = "manifold end A = A_min"
+    stability_from_jacobian = True  # the residual is the slow flow: its Jacobian decides stability
+
+    def __init__(self, params: Params, param: str = "sigma"):
+        if param not in PARAMS:
+            raise ValueError(f"continued parameter must be one of {', '.join(PARAMS)}; got {param!r}")
+        self.params = params
+        self.param = param
+        self.flow = SlowFlow(params)
+        self.A_edge = self.flow.A_min * (1 + EDGE_MARGIN)
+        self._column = PARAMS.index(param)
+        # The engine only evaluates inside the domain (A >= A_edge), so the generated functions are
+        # called directly, without SlowFlow's per-call input checks; rho is a constant at pbar = 0.
+        self._rho0 = (self.flow.rho(1.0)[0].item(), 0.0) if self.flow.newtonian else None
+
+    def _rho(self, A):
+        return self._rho0 if self._rho0 is not None else tuple(float(v) for v in self.flow.rho(A))
+
+    def _slow(self, p):
+        P = self.params
+        return (P.beta, P.gamma, p, P.Abar) if self.param == "sigma" else (P.beta, P.gamma, P.sigma, p)
+
+    def residual(self, x, p):
+        return gen.slow_rhs(x[0], x[1], self._rho(x[0])[0], *self._slow(p))
+
+    def jacobian(self, x, p):
+        return gen.slow_jac(x[0], x[1], *self._rho(x[0]), *self._slow(p))
+
+    def dparam(self, x, p):
+        return gen.slow_dparams(x[0], x[1], self._rho(x[0])[0], *self._slow(p))[:, self._column]
+
+    def in_domain(self, x, p):
+        return bool(x[0] >= self.A_edge)
+
+    def edge_point(self, x, p):
+        """The steady state with A on the manifold's end (A_min(1 + EDGE_MARGIN)) near (x, p)."""
+        A = self.A_edge
+        z = np.array([x[1], p], dtype=float)
+        for _ in range(30):
+            F = self.residual([A, z[0]], z[1])
+            M = np.column_stack([self.jacobian([A, z[0]], z[1])[:, 1], self.dparam([A, z[0]], z[1])])
+            dz = np.linalg.solve(M, -F)
+            z += dz
+            if np.linalg.norm(dz) < 1e-13 * (1 + np.linalg.norm(z)):
+                return np.array([A, z[0]]), z[1]
+        return None
+
+
+def sigma_on_curve(flow: SlowFlow, A):
+    """Both roots sigma(A) of (46) at amplitude(s) A (NaN where pi^2 A Abar < E)."""
+    A = np.asarray(A, dtype=float)
+    E, Phi0 = flow.steady_balances(A, sigma=0.0)  # Phi is Phi0 - pi^2 A^2 sigma
+    disc = (np.pi**2 * A * flow.params.Abar) ** 2 - E**2
+    root = np.sqrt(np.where(disc >= 0, disc, np.nan))
+    scale = np.pi**2 * A**2
+    return (Phi0 - root) / scale, (Phi0 + root) / scale
+
+
+def _feasible_intervals(flow: SlowFlow, A_max):
+    """Intervals of A in [A_edge, A_max] where steady states exist (a log grid, for start points only)."""
+    A = np.geomspace(flow.A_min * (1 + 2 * EDGE_MARGIN), A_max, 4000)
+    ok = np.isfinite(sigma_on_curve(flow, A)[0])
+    edges = np.flatnonzero(np.diff(ok.astype(int)))
+    starts = [0] if ok[0] else []
+    starts += [i + 1 for i in edges if not ok[i]]
+    stops = [i for i in edges if ok[i]] + ([len(A) - 1] if ok[-1] else [])
+    return [(A[a], A[b]) for a, b in zip(starts, stops) if b > a]
+
+
+def _amplitude_bound(params: Params):
+    # Beyond this the energy balance pi^2 A Abar = E cannot hold: E >= gamma pi^2 A^2.
+    return 10.0 * (params.Abar / params.gamma + 1.0) if params.gamma > 0 else 1e3
+
+
+@dataclasses.dataclass(frozen=True)
+class FrequencyResponse:
+    """All components of a frequency-response curve, each a :class:`~slosh_bif.continuation.branch.Branch`."""
+
+    params: Params
+    branches: tuple
+    A_min: float
+
+    def alpha(self, branch: Branch):
+        """alpha_S+ along a branch (its A column)."""
+        return SlowFlow(self.params).alpha(branch.x[:, 0])
+
+
+def frequency_response(params: Params, *, sigma_min=None, sigma_max=None, options: cont.ContinuationOptions | None = None) -> FrequencyResponse:
+    """Trace every component of the frequency-response curve A(sigma) of (45)/(46) on S+.
+
+    ``sigma_min``/``sigma_max`` default to the range where steady states exist, plus a margin.
+    Continuation options' ``p_min``/``p_max`` are set from them.
+    """
+    if not params.Abar > 0:
+        raise ValueError(f"a frequency-response curve needs forcing: parameter Abar must be > 0; got {params.Abar}")
+    problem = SteadyStateProblem(params, "sigma")
+    flow = problem.flow
+    intervals = _feasible_intervals(flow, _amplitude_bound(params))
+    if not intervals:
+        raise ValueError(f"no steady state on the stable manifold branch for any sigma at Abar = {params.Abar} (below the critical forcing)")
+    if sigma_min is None or sigma_max is None:
+        A_all = np.concatenate([np.geomspace(lo, hi, 200) for lo, hi in intervals])
+        s_all = np.concatenate(sigma_on_curve(flow, A_all))
+        s_all = s_all[np.isfinite(s_all)]
+        margin = 0.1 * (s_all.max() - s_all.min()) + 0.1
+        sigma_min = s_all.min() - margin if sigma_min is None else sigma_min
+        sigma_max = s_all.max() + margin if sigma_max is None else sigma_max
+    if not (np.isfinite(sigma_min) and np.isfinite(sigma_max) and sigma_min < sigma_max):
+        raise ValueError(f"need finite sigma_min < sigma_max; got {sigma_min} and {sigma_max}")
+    opts = dataclasses.replace(options or cont.ContinuationOptions(), p_min=float(sigma_min), p_max=float(sigma_max))
+    branches = []
+    for lo, hi in intervals:
+        # Start points: samples of the component (both roots of (46)) inside the range, the middle
+        # one first; each further piece of the component inside the range gets its own branch.
+        A_s = np.geomspace(lo, hi, 203)[1:-1]
+        candidates = []
+        for root in sigma_on_curve(flow, A_s):
+            candidates += [(A, sg) for A, sg in zip(A_s, root) if np.isfinite(sg) and sigma_min < sg < sigma_max]
+        candidates.sort(key=lambda c: abs(c[0] - np.sqrt(lo * hi)))
+        while candidates:
+            A0, sigma0 = candidates.pop(0)
+            psi0 = float(flow.steady_phase(A0, sigma=sigma0))
+            branch = cont.continuation(problem, [A0, psi0], float(sigma0), param="sigma", options=opts)
+            branches.append(branch)
+            candidates = [(A, sg) for A, sg in candidates if np.min(np.hypot(branch.x[:, 0] - A, branch.p - sg)) >= 2 * opts.step_max]
+    return FrequencyResponse(params=params, branches=tuple(branches), A_min=flow.A_min)

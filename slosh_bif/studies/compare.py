@@ -1,0 +1,122 @@
+"""The slow flow (46) against the periodic orbits of (9): ``compare.csv``, ``compare.txt``, ``compare.png``.
+
+``compare.csv``: on a sigma grid, the slow-flow amplitude A of eq. (46) on each stable/unstable
+state against the first-harmonic amplitude A1 of the nearest orbit of the shooting branches,
+with the relative difference, and the same against the nearest stable orbit
+(``A1_stable_orbit``, ``stable_orbit_branch``, ``relative_difference_stable_orbit``).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from slosh_bif.orbits.families import OrbitFamily
+from slosh_bif.report.tables import write_rows
+from slosh_bif.slowflow.steady_states import FrequencyResponse
+
+__all__ = ["COMPARE_COLUMNS", "compare_rows", "write_compare_csv", "compare_table", "plot_compare"]
+
+COMPARE_COLUMNS = ("sigma", "A_slow_flow", "slow_flow_stable", "A1_shooting", "shooting_stable", "shooting_branch", "relative_difference", "A1_stable_orbit", "stable_orbit_branch", "relative_difference_stable_orbit")
+
+
+def compare_rows(family: OrbitFamily, fr: FrequencyResponse, sigmas):
+    """For each sigma and each slow-flow state there: the orbit (on any traced 2pi branch) whose
+    A1 is nearest, with the relative difference |A1 - A| / A, and the nearest *stable* orbit with
+    its difference (stable to stable: what a simulation of (9) would settle on, if periodic)."""
+    two_pi = [ob for ob in family.branches if ob.problem.period_multiple == 1]
+    nan = float("nan")
+    nothing = dict(A1_shooting=nan, shooting_stable="", shooting_branch="", relative_difference=nan, A1_stable_orbit=nan, stable_orbit_branch="", relative_difference_stable_orbit=nan)
+    for sigma in sigmas:
+        slow = [(float(np.interp(sigma, b.p[s], b.x[s, 0])), bool(b.stable[s][i])) for b in fr.branches for s, i in _crossings(b.p, sigma)]
+        orbits = [(float(ob.measures["A1"][s][0] + (ob.measures["A1"][s][1] - ob.measures["A1"][s][0]) * w), bool(ob.branch.stable[s][0] and ob.branch.stable[s][1]), ob.name) for ob in two_pi for s, w in _segments(ob.branch.p, sigma)]
+        stable_orbits = [o for o in orbits if o[1]]
+        for A, stable in slow:
+            row = dict(sigma=float(sigma), A_slow_flow=A, slow_flow_stable=int(stable), **nothing)
+            if orbits:
+                A1, ostable, name = min(orbits, key=lambda o: abs(o[0] - A))
+                row.update(A1_shooting=A1, shooting_stable=int(ostable), shooting_branch=name, relative_difference=abs(A1 - A) / A)
+            if stable_orbits:
+                A1, _, name = min(stable_orbits, key=lambda o: abs(o[0] - A))
+                row.update(A1_stable_orbit=A1, stable_orbit_branch=name, relative_difference_stable_orbit=abs(A1 - A) / A)
+            yield row
+
+
+def _segments(p, value):
+    """(slice of two indices, weight) for each branch segment that crosses p = value."""
+    for i in range(len(p) - 1):
+        lo, hi = p[i], p[i + 1]
+        if (lo - value) * (hi - value) <= 0 and lo != hi:
+            yield slice(i, i + 2), (value - lo) / (hi - lo)
+
+
+def _crossings(p, value):
+    for s, w in _segments(p, value):
+        yield s, 0 if w < 0.5 else 1
+
+
+def write_compare_csv(rows, path) -> Path:
+    return write_rows(rows, COMPARE_COLUMNS, path)
+
+
+def compare_table(rows, *, agree: float = 0.05) -> str:
+    """Sigma intervals where the slow flow's stable states agree with the nearest orbit to
+    within ``agree`` (relative), and where not, with the largest differences."""
+    rows = [r for r in rows if r["slow_flow_stable"]]
+    if not rows:
+        return "no stable slow-flow state in the range"
+    lines = [f"{'sigma range':>24s}  {'verdict':28s} {'max rel. diff':>13s}  {'orbit stable?':>13s}"]
+    run = [rows[0]]
+
+    def verdict(r):
+        d = r["relative_difference"]
+        return "no orbit" if not np.isfinite(d) else ("agree" if d <= agree else "differ")
+
+    def flush(run):
+        d = [r["relative_difference"] for r in run if np.isfinite(r["relative_difference"])]
+        stable = {r["shooting_stable"] for r in run} - {""}
+        st = "yes" if stable == {1} else ("no" if stable == {0} else ("mixed" if stable else "-"))
+        text = f"{verdict(run[0])} (within {agree:.0%})" if verdict(run[0]) == "agree" else verdict(run[0])
+        lines.append(f"[{run[0]['sigma']:9.4f}, {run[-1]['sigma']:9.4f}]  {text:28s} {max(d) if d else float('nan'):13.3%}  {st:>13s}")
+
+    for r in rows[1:]:
+        if verdict(r) == verdict(run[-1]):
+            run.append(r)
+        else:
+            flush(run)
+            run = [r]
+    flush(run)
+    confirmed = sum(r["relative_difference_stable_orbit"] <= agree for r in rows)
+    lines.append(f"stable slow-flow states with a stable 2pi-orbit of (9) within {agree:.0%}: {confirmed} of {len(rows)}")
+    return "\n".join(lines)
+
+
+def plot_compare(family: OrbitFamily, fr: FrequencyResponse, rows, path) -> Path:
+    from slosh_bif.report.plotting import pyplot, save_figure
+
+    fig, (ax, axd) = pyplot().subplots(2, 1, figsize=(9, 7.5), sharex=True, gridspec_kw={"height_ratios": [3, 1.3]})
+    for k, b in enumerate(fr.branches):
+        for st, ls in ((True, "-"), (False, "--")):
+            y = np.where(b.stable == st, b.x[:, 0], np.nan)
+            ax.plot(b.p, y, ls, color="k", lw=2, label=("slow flow (46), stable" if st else "slow flow (46), unstable") if k == 0 else None)
+    for k, ob in enumerate(ob for ob in family.branches if ob.problem.period_multiple == 1):
+        b = ob.branch
+        for st, marker in ((True, "o"), (False, ".")):
+            mask = b.stable == st
+            ax.plot(b.p[mask], ob.measures["A1"][mask], marker, ms=3 if st else 2, color=f"C{k}", label=f"shooting (9), {ob.name}, {'stable' if st else 'unstable'}")
+    ax.set_ylabel("amplitude of X (A; A1 for orbits)")
+    P = family.params
+    ax.set_title(f"Slow flow (46) against periodic orbits of (9): eps = {P.eps:g}, beta = {P.beta:g}, Abar = {P.Abar:g}, n = {P.n}")
+    ax.legend(fontsize=7)
+    ax.grid(alpha=0.3)
+    s = np.array([r["sigma"] for r in rows], dtype=float)
+    d = np.array([r["relative_difference"] for r in rows], dtype=float)
+    st = np.array([bool(r["slow_flow_stable"]) for r in rows], dtype=bool)
+    axd.semilogy(s[st], d[st], "k.", ms=3, label="stable slow-flow states")
+    axd.semilogy(s[~st], d[~st], ".", color="0.6", ms=3, label="unstable slow-flow states")
+    axd.set_ylabel("|A1 - A| / A")
+    axd.set_xlabel(r"$\sigma$")
+    axd.legend(fontsize=7)
+    axd.grid(alpha=0.3)
+    return save_figure(fig, path)

@@ -1,0 +1,146 @@
+"""Where the slow flow can be trusted: eq. (46) against periodic orbits of (9) over eps, beta, n.
+
+For one parameter set, :func:`trust_point` traces the frequency-response curve of (46) and the
+2pi-orbits of the smooth model (9) over the same sigma range (the family started from a stable
+steady state of (46), :func:`~slosh_bif.orbits.slow_flow_start`, then switched at its branch
+points and period doublings), compares them on a sigma grid
+(:func:`~slosh_bif.orbits.output.compare_rows`) and keeps four numbers about the slow flow's
+*stable* states:
+
+* ``agree``: the fraction within ``agree_within`` (relative) of the first-harmonic amplitude A1
+  of some 2pi-orbit of (9) (the slow flow describes an orbit that exists);
+* ``confirmed``: the fraction within ``agree_within`` of a *stable* 2pi-orbit (what a simulation
+  of (9) would settle on: the slow flow's prediction is what one sees);
+* ``median_difference``, ``max_difference``: of |A1 - A| / A to the nearest orbit.
+
+:func:`trust_map` runs it over a grid of (eps, beta, n) around a base parameter set, in a process
+pool. Each point also records whether :class:`~slosh_bif.slowflow.flow.AsymptoticsWarning` would
+fire there, so the map checks the warning's thresholds.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import itertools
+import time
+import warnings
+
+import numpy as np
+
+from slosh_bif.continuation import ConvergenceError
+from slosh_bif.model.params import Params
+from slosh_bif.orbits.families import trace_orbits
+from slosh_bif.orbits.starts import slow_flow_start
+from slosh_bif.slowflow.flow import AsymptoticsWarning, asymptotics_concerns
+from slosh_bif.slowflow.steady_states import frequency_response
+from slosh_bif.studies.compare import compare_rows
+
+__all__ = ["TrustPoint", "trust_point", "trust_map", "TRUST_COLUMNS"]
+
+TRUST_COLUMNS = ("eps", "beta", "n", "stable_states", "agree", "confirmed", "median_difference", "max_difference", "warned", "sigma_start", "branches", "seconds", "status")
+
+
+@dataclasses.dataclass(frozen=True)
+class TrustPoint:
+    """The slow flow against (9) at one (eps, beta, n); see the module docstring for the measures.
+
+    stable_states : stable slow-flow states on the sigma grid (the denominator)
+    warned : whether AsymptoticsWarning fires at these parameters
+    sigma_start : where the orbit family was started;  branches : how many were traced
+    status : "ok", or why there is nothing to compare (no steady state, no orbit found, no orbit
+        at the sigma of any stable state)
+    """
+
+    eps: float
+    beta: float
+    n: int
+    stable_states: int
+    agree: float
+    confirmed: float
+    median_difference: float
+    max_difference: float
+    warned: bool
+    sigma_start: float
+    branches: int
+    seconds: float
+    status: str
+
+    def as_row(self) -> dict:
+        return dataclasses.asdict(self)
+
+
+def trust_point(params: Params, sigma_min: float = -6.0, sigma_max: float = 8.0, *, grid: int = 141, agree_within: float = 0.05, switch: bool = True, max_branches: int = 6, segments: int = 4) -> TrustPoint:
+    """Compare (46) with the 2pi-orbits of (9) over [sigma_min, sigma_max] at ``params``.
+
+    Never raises for a parameter set where the comparison cannot be made: ``status`` says why.
+    """
+    if not (np.isfinite(sigma_min) and np.isfinite(sigma_max) and sigma_min < sigma_max):
+        raise ValueError(f"need finite sigma_min < sigma_max; got [{sigma_min}, {sigma_max}]")
+    if not (isinstance(grid, int) and grid >= 2):
+        raise ValueError(f"grid must be an integer >= 2; got {grid!r}")
+    if not 0 < agree_within < 1:
+        raise ValueError(f"agree_within must be in (0, 1); got {agree_within!r}")
+    started = time.perf_counter()
+    head = dict(eps=params.eps, beta=params.beta, n=params.n, warned=bool(asymptotics_concerns(params)))
+    nan = float("nan")
+
+    def failed(status, sigma_start=nan):
+        return TrustPoint(**head, stable_states=0, agree=nan, confirmed=nan, median_difference=nan, max_difference=nan, sigma_start=sigma_start, branches=0, seconds=time.perf_counter() - started, status=status)
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", AsymptoticsWarning)  # recorded in ``warned`` instead
+        try:
+            fr = frequency_response(params, sigma_min=sigma_min, sigma_max=sigma_max)
+            sigma0, orbit = slow_flow_start(params, sigma_min, sigma_max, segments=segments, response=fr)
+        except (ConvergenceError, ValueError) as err:
+            return failed(f"no start: {err}")
+        try:
+            family = trace_orbits(params.replace(sigma=sigma0), orbit.y0, p_min=sigma_min, p_max=sigma_max, segments=segments, switch=switch, max_branches=max_branches)
+        except RuntimeError as err:  # ConvergenceError included
+            return failed(f"orbit continuation failed: {err}", sigma0)
+    rows = [r for r in compare_rows(family, fr, np.linspace(sigma_min, sigma_max, grid)) if r["slow_flow_stable"]]
+    if not rows:
+        return failed("no stable steady state of (46) in the range", sigma0)
+    d = np.array([r["relative_difference"] for r in rows])
+    d_stable = np.array([r["relative_difference_stable_orbit"] for r in rows])
+    finite = d[np.isfinite(d)]
+    if not finite.size:  # e.g. the orbit found lies on an isola away from every stable state
+        return failed(f"no traced orbit at the sigma of any of the {len(rows)} stable states of (46)", sigma0)
+    return TrustPoint(
+        **head,
+        stable_states=len(rows),
+        agree=float(np.mean(d <= agree_within)),
+        confirmed=float(np.mean(d_stable <= agree_within)),  # NaN (no stable orbit) counts as not confirmed
+        median_difference=float(np.median(finite)),
+        max_difference=float(np.max(finite)),
+        sigma_start=sigma0,
+        branches=len(family.branches),
+        seconds=time.perf_counter() - started,
+        status="ok",
+    )
+
+
+def trust_map(base: Params, *, eps=(0.02, 0.05, 0.1, 0.2), beta=(0.0, 0.3, 0.5), n=(6, 10, 20, 50), sigma_min: float = -6.0, sigma_max: float = 8.0, max_workers: int | None = None, progress=None, **options) -> list:
+    """:func:`trust_point` at every (eps, beta, n) of the grid, the other parameters from ``base``.
+
+    Points run in a ``ProcessPoolExecutor(max_workers)``; ``progress(point, done, total)`` is
+    called as they finish. ``options`` go to :func:`trust_point`. Returns the points in grid
+    order (eps slowest, n fastest).
+    """
+    from concurrent.futures import ProcessPoolExecutor, as_completed
+
+    if not isinstance(base, Params):
+        raise TypeError(f"base must be a slosh_bif.Params; got {type(base).__name__}")
+    grid = list(itertools.product(eps, beta, n))
+    if not grid:
+        raise ValueError("the (eps, beta, n) grid is empty")
+    jobs = [base.replace(eps=float(e), beta=float(b), n=int(k)) for e, b, k in grid]  # Params checks each value
+    points = [None] * len(jobs)
+    with ProcessPoolExecutor(max_workers=max_workers) as pool:
+        futures = {pool.submit(trust_point, p, sigma_min, sigma_max, **options): i for i, p in enumerate(jobs)}
+        for done, future in enumerate(as_completed(futures), 1):
+            i = futures[future]
+            points[i] = future.result()
+            if progress is not None:
+                progress(points[i], done, len(jobs))
+    return points

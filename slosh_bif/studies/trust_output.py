@@ -1,0 +1,71 @@
+"""The trust map of :mod:`slosh_bif.studies.trust` as ``trust_map.csv``, ``trust_map.png`` and a text table."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from slosh_bif.report.tables import write_rows
+from slosh_bif.studies.trust import TRUST_COLUMNS
+
+__all__ = ["write_trust_csv", "trust_table", "plot_trust_map"]
+
+
+def write_trust_csv(points, path) -> Path:
+    return write_rows([p.as_row() for p in points], TRUST_COLUMNS, path, digits=6)
+
+
+def _percent(value) -> str:
+    return "  -" if not np.isfinite(value) else f"{100 * value:3.0f}"
+
+
+def trust_table(points) -> str:
+    """One line per point: agree / confirmed (% of stable slow-flow states) and the median and
+    largest difference to the nearest orbit."""
+    lines = [f"{'eps':>5s} {'beta':>4s} {'n':>3s}  {'agree %':>7s} {'confirmed %':>11s} {'median diff':>11s} {'max diff':>8s}  warned  status"]
+    for p in points:
+        lines.append(
+            f"{p.eps:5.3g} {p.beta:4.2g} {p.n:3d}  {_percent(p.agree):>7s} {_percent(p.confirmed):>11s} {p.median_difference:11.3%} {p.max_difference:8.1%}  {'yes' if p.warned else 'no':>6s}  {p.status[:60]}"
+        )
+    return "\n".join(lines)
+
+
+def plot_trust_map(points, path, *, title: str = "") -> Path:
+    """One column of panels per n; eps across, beta up. Top row: fraction of the slow flow's stable
+    states within 5 % of some 2pi-orbit of (9); bottom row: of a *stable* orbit. Each cell is
+    annotated with that percentage and the median difference; cells where AsymptoticsWarning
+    fires are hatched."""
+    from matplotlib.patches import Rectangle
+
+    from slosh_bif.report.plotting import pyplot, save_figure
+
+    ns = sorted({p.n for p in points})
+    eps = sorted({p.eps for p in points})
+    betas = sorted({p.beta for p in points})
+    fig, axes = pyplot().subplots(2, len(ns), figsize=(3.2 * len(ns) + 1.2, 6.4), squeeze=False, sharex=True, sharey=True, layout="constrained")
+    image = None
+    for row, (key, label) in enumerate((("agree", "within 5 % of a 2pi-orbit"), ("confirmed", "within 5 % of a stable 2pi-orbit"))):
+        for col, n in enumerate(ns):
+            ax = axes[row, col]
+            grid = np.full((len(betas), len(eps)), np.nan)
+            for p in points:
+                if p.n == n:
+                    i, j = betas.index(p.beta), eps.index(p.eps)
+                    grid[i, j] = getattr(p, key)
+                    text = "n/a" if not np.isfinite(grid[i, j]) else f"{100 * grid[i, j]:.0f}%\n{p.median_difference:.1%}"
+                    ax.text(j, i, text, ha="center", va="center", fontsize=7)
+                    if p.warned:
+                        ax.add_patch(Rectangle((j - 0.5, i - 0.5), 1, 1, fill=False, hatch="//", edgecolor="0.5", lw=0))
+            image = ax.imshow(grid, origin="lower", cmap="RdYlGn", vmin=0, vmax=1, aspect="auto")
+            ax.set_xticks(range(len(eps)), [f"{e:g}" for e in eps])
+            ax.set_yticks(range(len(betas)), [f"{b:g}" for b in betas])
+            if row == 0:
+                ax.set_title(f"n = {n}")
+            if row == 1:
+                ax.set_xlabel(r"$\varepsilon$")
+            if col == 0:
+                ax.set_ylabel(r"$\beta$" + f"\n{label}", fontsize=8)
+    fig.colorbar(image, ax=axes, shrink=0.8, label="fraction of stable slow-flow states")
+    fig.suptitle(title or "Slow flow (46) against periodic orbits of (9): % of stable states within 5 %, median difference; hatched: AsymptoticsWarning", fontsize=9)
+    return save_figure(fig, path)

@@ -1,0 +1,187 @@
+"""The slosh-bif command line."""
+
+import csv
+import json
+
+import numpy as np
+import pytest
+
+from slosh_bif.cli import main
+from slosh_bif.model import restitution
+
+
+def test_info_prints_parameters_and_restitution(capsys):
+    assert main(["info", "--preset", "fig10"]) == 0
+    out = capsys.readouterr().out
+    assert "Abar   = 3.0" in out and "kappa Newtonian (eq. 40)" in out
+
+
+def test_info_json_applies_overrides(capsys):
+    assert main(["info", "--preset", "fig11a", "--set", "n=10", "--set", "lam=0.2", "--json"]) == 0
+    report = json.loads(capsys.readouterr().out)
+    assert report["params"]["n"] == 10 and report["params"]["lam"] == 0.2
+    assert report["kappa_newtonian"] == pytest.approx(restitution.kappa_newtonian(0.2, 0.2, 10), rel=1e-14)
+    assert report["A_min_at_unit_speed"] == pytest.approx(
+        report["rho_at_unit_speed"] / (1 + report["rho_at_unit_speed"] ** 2) ** 0.5, rel=1e-14
+    )
+
+
+def test_info_reports_bad_overrides(capsys):
+    assert main(["info", "--preset", "fig10", "--set", "eps=-1"]) == 2
+    assert "parameter eps must be in (0, inf); got -1.0" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("argv", [["--help"], ["info", "--help"], ["derive", "--help"]])
+def test_help_explains_itself(argv, capsys):
+    with pytest.raises(SystemExit) as exc:
+        main(argv)
+    assert exc.value.code == 0
+    assert "usage: slosh-bif" in capsys.readouterr().out
+
+
+def test_frc_writes_csv_png_and_branches(tmp_path, capsys):
+    import csv
+
+    from slosh_bif.continuation.branch import Branch
+
+    assert main(["frc", "--preset", "fig13", "--sigma-min", "-2", "--sigma-max", "3", "--out", str(tmp_path)]) == 0
+    rows = list(csv.DictReader(open(tmp_path / "frc.csv")))
+    assert {"sigma", "A", "psi", "alpha", "stable", "special"} <= set(rows[0])
+    assert {r["stable"] for r in rows} <= {"0", "1"} and {r["special"] for r in rows} <= {"", "LP", "BP", "END"}
+    assert rows[0]["special"] == "END" and float(rows[0]["sigma"]) in (-2.0, 3.0)
+    assert (tmp_path / "frc.png").stat().st_size > 10_000
+    branch = Branch.load(tmp_path / "frc_branch0.npz")
+    assert len(branch) == sum(r["component"] == "0" for r in rows)
+    assert "component 0" in capsys.readouterr().out
+
+
+def test_critical_writes_csv_and_png(tmp_path, capsys):
+    import csv
+
+    assert main(["critical", "--preset", "fig12", "--sigma-min", "-1", "--sigma-max", "2", "--out", str(tmp_path)]) == 0
+    rows = list(csv.DictReader(open(tmp_path / "critical.csv")))
+    assert list(rows[0])[:3] == ["sigma", "Abar_b", "A"]
+    sigmas = [float(r["sigma"]) for r in rows]
+    assert sigmas == sorted(sigmas) and sigmas[0] == -1.0 and sigmas[-1] == 2.0
+    assert (tmp_path / "critical.png").stat().st_size > 10_000
+    assert "no steady state on S+" in capsys.readouterr().out  # Fig. 12: Abar = 0.5 < Abar_b(1) = 0.705
+
+
+def test_range_options_are_checked(tmp_path, capsys):
+    assert main(["frc", "--preset", "fig10", "--sigma-min", "3", "--sigma-max", "1", "--out", str(tmp_path)]) == 2
+    assert "--sigma-min must be below --sigma-max" in capsys.readouterr().err
+
+
+def test_shoot_writes_branch_csv_and_png(tmp_path, capsys):
+    """Far above resonance (fig10 set at sigma = 7.5) the symmetric orbits are stable and the
+    branch over [7, 8] is quick; every row is a converged orbit with its Liouville check."""
+    import csv
+
+    out = tmp_path / "shoot"
+    argv = ["shoot", "--preset", "fig10", "--set", "sigma=7.5", "--sigma-min", "7", "--sigma-max", "8", "--out", str(out)]
+    assert main(argv + ["--no-switch"]) == 0
+    rows = list(csv.DictReader(open(out / "branch.csv")))
+    assert {"sigma", "A1", "max_abs_X", "max_abs_w", "stable", "max_abs_multiplier", "special", "branch"} <= set(rows[0])
+    assert rows[0]["special"] == "END" and rows[-1]["special"] == "END"
+    assert all(r["branch"] == "symmetric" and r["stable"] == "1" for r in rows)
+    assert max(float(r["liouville_error"]) for r in rows) < 1e-8
+    assert (out / "branch.png").stat().st_size > 10_000
+    assert "start orbit at sigma = 7.5" in capsys.readouterr().err
+
+
+def test_compare_writes_csv_png_and_table(tmp_path, capsys):
+    out = tmp_path / "cmp"
+    argv = ["compare", "--preset", "fig10", "--set", "sigma=7.5", "--sigma-min", "7", "--sigma-max", "8", "--grid", "11", "--no-switch", "--out", str(out)]
+    assert main(argv) == 0
+    text = (out / "compare.txt").read_text()
+    assert "sigma range" in text and (out / "compare.png").is_file() and (out / "compare.csv").is_file()
+
+
+def test_compare_from_the_slow_flow_reports_the_nearest_stable_orbit_too(tmp_path, capsys):
+    out = tmp_path / "cmp"
+    argv = ["compare", "--preset", "fig13", "--start", "slow-flow", "--sigma-min", "1.5", "--sigma-max", "3", "--grid", "16", "--no-switch", "--out", str(out)]
+    assert main(argv) == 0
+    assert "start orbit from the slow flow at sigma = " in capsys.readouterr().err
+    rows = list(csv.DictReader(open(out / "compare.csv")))
+    assert len(rows) == 16
+    for r in rows:
+        # The nearest stable orbit is one of the orbits: never nearer than the nearest of all.
+        d, d_stable = float(r["relative_difference"]), float(r["relative_difference_stable_orbit"])
+        assert np.isnan(d_stable) or d_stable >= d
+        if r["shooting_stable"] == "1":
+            assert d_stable == d
+    assert "stable slow-flow states with a stable 2pi-orbit of (9) within 5%" in (out / "compare.txt").read_text()
+
+
+def test_trust_writes_the_map_and_checks_its_input(tmp_path, capsys):
+    out = tmp_path / "trust"
+    argv = ["trust", "--preset", "fig13", "--eps", "0.05", "--beta", "0.3", "--n", "50,20", "--sigma-min", "1", "--sigma-max", "3", "--grid", "21", "--no-switch", "--workers", "2", "--out", str(out)]
+    assert main(argv) == 0
+    rows = list(csv.DictReader(open(out / "trust_map.csv")))
+    assert [(r["n"], r["status"]) for r in rows] == [("50", "ok"), ("20", "ok")]
+    for r in rows:
+        assert 0 <= float(r["confirmed"]) <= float(r["agree"]) <= 1 and int(r["stable_states"]) > 0
+    # n = 20 loses more than half the energy per impact at these parameters: the warning fires.
+    assert [r["warned"] for r in rows] == ["False", "True"]
+    assert (out / "trust_map.png").stat().st_size > 10_000 and "confirmed %" in (out / "trust_map.txt").read_text()
+    assert main(["trust", "--preset", "fig13", "--eps", "0.05", "--beta", "0.3", "--n", "0", "--out", str(out)]) == 2
+    assert "parameter n must be in integers >= 1; got 0" in capsys.readouterr().err
+
+
+def test_shoot_without_an_orbit_near_the_guess_says_so(tmp_path, capsys):
+    argv = ["shoot", "--preset", "fig10", "--guess", "50,0,0,0", "--settle", "1", "--sigma-min", "0", "--sigma-max", "2", "--out", str(tmp_path)]
+    assert main(argv) == 2
+    assert "no periodic orbit found near --guess" in capsys.readouterr().err
+
+
+def test_simulate_writes_trajectory_summary_and_figure(tmp_path, capsys):
+    out = tmp_path / "sim"
+    assert main(["simulate", "--preset", "fig13", "--model", "impact", "--tmax", "150", "--out", str(out)]) == 0
+    data = np.load(out / "trajectory.npz")
+    for key in ("tau", "X", "Xd", "w", "wd", "impact_t", "impact_v_minus", "impact_v_plus"):
+        assert key in data
+    assert data["impact_t"].size > 0 and data["tau"][-1] == pytest.approx(150)
+    summary = json.loads((out / "summary.json").read_text())
+    assert {"regime", "impacts_per_period", "envelope_min", "envelope_max"} <= set(summary)
+    assert summary["model"] == "impact" and summary["noise"] is None
+    assert (out / "simulate.png").stat().st_size > 10_000
+    assert "regime:" in capsys.readouterr().out
+
+
+def test_simulate_with_noise_records_the_seed_and_is_reproducible(tmp_path):
+    runs = []
+    for name in ("a", "b"):
+        assert main(["simulate", "--preset", "fig15", "--tmax", "60", "--seed", "7", "--out", str(tmp_path / name)]) == 0
+        runs.append(np.load(tmp_path / name / "trajectory.npz")["X"])
+    assert np.array_equal(runs[0], runs[1])
+    noise = json.loads((tmp_path / "a" / "summary.json").read_text())["noise"]
+    assert noise["std"] == 4.0 and noise["seed"] == 7 and noise["cutoff"] == 10.0
+
+
+def test_simulate_reports_bad_input(tmp_path, capsys):
+    assert main(["simulate", "--preset", "fig10", "--model", "impact", "--noise", "1", "--out", str(tmp_path)]) == 2
+    assert "smooth model only" in capsys.readouterr().err
+    assert main(["simulate", "--preset", "fig10", "--tmax", "100", "--transient", "200", "--out", str(tmp_path)]) == 2
+    assert "--transient must be in [0, tmax = 100)" in capsys.readouterr().err
+
+
+def test_regimes_writes_map_csv_and_png(tmp_path, capsys):
+    out = tmp_path / "map"
+    argv = ["regimes", "--preset", "fig12", "--sigma-min", "0", "--sigma-max", "2", "--abar-min", "0.2", "--abar-max", "1.0"]
+    assert main(argv + ["--grid", "2", "2", "--tmax", "300", "--workers", "2", "--out", str(out)]) == 0
+    rows = (out / "regimes.csv").read_text().splitlines()
+    assert rows[0].startswith("sigma,Abar,regime") and len(rows) == 5
+    assert (out / "regimes.png").stat().st_size > 10_000
+    assert main(argv + ["--grid", "0", "2", "--out", str(out)]) == 2
+    assert "--grid takes two positive integers" in capsys.readouterr().err
+
+
+def test_figures_writes_every_figure_quickly(tmp_path, capsys):
+    from slosh_bif.studies.figures import FIGURES
+
+    assert main(["figures", "--quick", "--out", str(tmp_path)]) == 0
+    for name in FIGURES:
+        assert (tmp_path / f"{name}.png").stat().st_size > 10_000, name
+    assert len(FIGURES) == 11
+    assert "A_min = 0.0993" in capsys.readouterr().out  # the Fig. 6 note reaches the user
+    assert main(["figures", "--only", "fig99", "--out", str(tmp_path)]) == 2

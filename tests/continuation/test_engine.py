@@ -1,0 +1,168 @@
+"""The continuation engine on problems with known answers: a circle, the cubic, a pitchfork."""
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+from slosh_bif.continuation import ContinuationOptions, ConvergenceError, continuation, switch_branch
+from slosh_bif.continuation.branch import Branch
+
+
+@dataclasses.dataclass
+class Circle:
+    """x^2 + p^2 = 1: one closed curve, folds at p = +-1."""
+
+    names = ("x",)
+
+    def residual(self, x, p):
+        return np.array([x[0] ** 2 + p**2 - 1])
+
+    def jacobian(self, x, p):
+        return np.array([[2 * x[0]]])
+
+    def dparam(self, x, p):
+        return np.array([2 * p])
+
+
+class Cubic:
+    """x^3 - x - p = 0: folds at p = +-2/(3 sqrt 3), x = -+1/sqrt 3; as x' = -F, stable where 3x^2 > 1."""
+
+    names = ("x",)
+
+    def residual(self, x, p):
+        return np.array([x[0] ** 3 - x[0] - p])
+
+    def jacobian(self, x, p):
+        return np.array([[3 * x[0] ** 2 - 1]])
+
+    def dparam(self, x, p):
+        return np.array([-1.0])
+
+    def eigenvalues(self, x, p):  # of x' = -F(x, p)
+        return np.array([-(3 * x[0] ** 2 - 1)], dtype=complex)
+
+
+class Pitchfork:
+    """p x - x^3 = 0: the trivial branch x = 0 meets x^2 = p at a branch point (0, 0)."""
+
+    names = ("x",)
+
+    def residual(self, x, p):
+        return np.array([p * x[0] - x[0] ** 3])
+
+    def jacobian(self, x, p):
+        return np.array([[p - 3 * x[0] ** 2]])
+
+    def dparam(self, x, p):
+        return np.array([x[0]])
+
+
+class HalfLine:
+    """x - p = 0 defined only for x > 0.3: the branch must end at the domain's edge."""
+
+    names = ("x",)
+
+    def residual(self, x, p):
+        return np.array([x[0] - p])
+
+    def jacobian(self, x, p):
+        return np.array([[1.0]])
+
+    def dparam(self, x, p):
+        return np.array([-1.0])
+
+    def in_domain(self, x, p):
+        return x[0] > 0.3
+
+
+def test_circle_has_two_folds_and_closes():
+    branch = continuation(Circle(), [1.0], 0.0, options=ContinuationOptions(step=0.1))
+    folds = branch.special_of("LP")
+    assert sorted(round(f.p, 12) for f in folds) == [-1.0, 1.0]
+    for f in folds:
+        assert abs(f.p) == pytest.approx(1.0, abs=1e-12) and f.x[0] == pytest.approx(0.0, abs=1e-9)
+    assert branch.status == "ok" and "closed loop" in branch.message
+    np.testing.assert_allclose(branch.x[:, 0] ** 2 + branch.p**2, 1.0, atol=1e-10)
+
+
+def test_cubic_folds_at_plus_minus_2_over_3_sqrt3_with_stability():
+    opts = ContinuationOptions(p_min=-1.0, p_max=1.0, step=0.1)
+    branch = continuation(Cubic(), [-1.3], (-1.3) ** 3 - (-1.3), options=opts)
+    folds = sorted(branch.special_of("LP"), key=lambda f: f.p)
+    p_fold = 2 / (3 * np.sqrt(3))
+    assert len(folds) == 2
+    assert folds[0].p == pytest.approx(-p_fold, abs=1e-8) and folds[1].p == pytest.approx(p_fold, abs=1e-8)
+    assert folds[0].x[0] == pytest.approx(1 / np.sqrt(3), abs=1e-9) and folds[1].x[0] == pytest.approx(-1 / np.sqrt(3), abs=1e-9)
+    # Between the folds the middle branch (|x| < 1/sqrt 3) is unstable, the outer ones stable.
+    np.testing.assert_array_equal(branch.stable, 3 * branch.x[:, 0] ** 2 - 1 > 0)
+    ends = branch.special_of("END")
+    assert sorted(e.p for e in ends) == [-1.0, 1.0] and branch.status == "ok"
+    assert not branch.special_of("BP")
+
+
+def test_pitchfork_branch_point_is_detected_and_is_not_a_fold():
+    opts = ContinuationOptions(p_min=-1.0, p_max=1.0, step=0.07)
+    branch = continuation(Pitchfork(), [0.0], -0.5, options=opts)
+    bps = branch.special_of("BP")
+    assert len(bps) == 1 and bps[0].p == pytest.approx(0.0, abs=1e-8)
+    assert not branch.special_of("LP")
+
+
+def test_branch_ends_at_the_domain_edge_with_the_reason():
+    branch = continuation(HalfLine(), [1.0], 1.0, options=ContinuationOptions(p_max=2.0))
+    assert branch.status == "ok"
+    ends = branch.special_of("END")
+    edge = [e for e in ends if "domain edge" in e.message]
+    assert len(edge) == 1 and edge[0].x[0] == pytest.approx(0.3, abs=1e-7)
+    assert np.all(branch.x[:, 0] > 0.3)
+
+
+def test_step_limit_ends_the_branch_with_status():
+    branch = continuation(HalfLine(), [1.0], 1.0, options=ContinuationOptions(max_steps=3, step=0.01, step_max=0.01))
+    assert branch.status == "step limit" and "step limit" in branch.message
+
+
+def test_bad_start_and_bad_options_fail_before_any_work():
+    with pytest.raises(ConvergenceError, match="left the problem's domain"):
+        continuation(HalfLine(), [0.5], 0.1)
+    with pytest.raises(ValueError, match="option step must be in \\[step_min, step_max\\]"):
+        ContinuationOptions(step=2.0, step_max=1.0)
+    with pytest.raises(ValueError, match="option direction must be"):
+        ContinuationOptions(direction="up")
+    with pytest.raises(ValueError, match="outside \\[p_min, p_max\\]"):
+        continuation(Cubic(), [0.0], 5.0, options=ContinuationOptions(p_max=1.0))
+
+
+def test_branch_round_trips_through_npz(tmp_path):
+    branch = continuation(Cubic(), [-1.3], (-1.3) ** 3 + 1.3, options=ContinuationOptions(p_min=-1, p_max=1))
+    loaded = Branch.load(branch.save(tmp_path / "cubic.npz"))
+    for field in ("p", "x", "stable", "eigenvalues", "newton_iterations", "arclength"):
+        np.testing.assert_array_equal(getattr(loaded, field), getattr(branch, field))
+    assert loaded.special_labels() == branch.special_labels()
+    assert [(s.kind, s.index, s.p, s.bracket, s.message) for s in loaded.special] == [
+        (s.kind, s.index, s.p, s.bracket, s.message) for s in branch.special
+    ]
+    assert (loaded.param, loaded.names, loaded.status, loaded.message, loaded.options) == (
+        branch.param, branch.names, branch.status, branch.message, branch.options
+    )
+
+
+def test_switch_branch_leaves_the_trivial_branch_onto_the_parabola():
+    """At the pitchfork (0, 0) of p x - x^3 the crossing branch is x^2 = p: every point of the
+    switched branch satisfies it, and it starts along x (the new direction, not along p)."""
+    opts = ContinuationOptions(p_min=-1.0, p_max=1.0, step=0.07)
+    branch = continuation(Pitchfork(), [0.0], -0.5, options=opts)
+    bp = branch.special_of("BP")[0]
+    new = switch_branch(Pitchfork(), bp, options=opts, along=np.array([0.0, 1.0]))
+    assert len(new) > 5 and new.status == "ok"
+    np.testing.assert_allclose(new.x[:, 0] ** 2, new.p, atol=1e-10)
+    assert abs(new.x[1, 0]) > 0.01 and new.p.max() == pytest.approx(1.0)
+
+
+@pytest.mark.parametrize("x0", [-1.3, -1.1])
+def test_a_start_on_a_parameter_bound_is_the_end_and_appears_once(x0):
+    bounds = [x**3 - x for x in (-1.3, -1.1)]  # the branch x < -1/sqrt 3 between these two points
+    branch = continuation(Cubic(), [x0], x0**3 - x0, options=ContinuationOptions(p_min=bounds[0], p_max=bounds[1], step=0.05))
+    assert np.all(np.linalg.norm(np.diff(np.column_stack([branch.x, branch.p]), axis=0), axis=1) > 1e-6)  # no point twice
+    assert [e.p for e in branch.special_of("END")] == pytest.approx(bounds) and branch.status == "ok"

@@ -1,0 +1,184 @@
+"""Shooting and the compiled integrator: closed forms, differences, scipy, long simulation, failures."""
+
+import numpy as np
+import pytest
+from scipy import linalg
+
+from slosh_bif import SmoothModel, get_preset
+from slosh_bif.continuation import ContinuationOptions, continuation
+from slosh_bif.orbits.shooting import ShootingProblem, orbit_at, orbit_measures, period_map, periodic_orbit, shoot
+from slosh_bif.simulation import integrator
+
+ZETA, OMEGA = 0.05, 1.3
+A_LIN = np.array([[0.0, 1.0], [-(OMEGA**2), -2 * ZETA]])
+
+
+def lin_rhs(tau, y):
+    return A_LIN @ y + np.array([0.0, np.cos(tau)])
+
+
+def lin_jac(tau, y):
+    return A_LIN
+
+
+def test_linear_forced_oscillator_periodic_response_and_monodromy():
+    orbit = shoot(lin_rhs, lin_jac, [0.0, 0.0], 2 * np.pi, tol=1e-12, rtol=1e-12, atol=1e-14)
+    assert orbit.converged
+    c = 1 / (OMEGA**2 - 1 + 2j * ZETA)  # y = Re(c e^{i tau})
+    np.testing.assert_allclose(orbit.y0, [c.real, (1j * c).real], atol=1e-10)
+    np.testing.assert_allclose(orbit.monodromy, linalg.expm(2 * np.pi * A_LIN), atol=1e-10)
+    # multipliers exp(2 pi lambda) with lambda the eigenvalues of A: modulus exp(-2 pi zeta)
+    np.testing.assert_allclose(np.abs(orbit.multipliers), np.exp(-2 * np.pi * ZETA), rtol=1e-10)
+    assert orbit.stable and orbit.liouville_error < 1e-10
+    assert orbit.iterations == 1  # linear: Newton is exact in one step
+
+
+def test_monodromy_of_model_9_matches_differences_of_the_period_map():
+    P = get_preset("fig12").params
+    model = SmoothModel(P)
+    y0 = np.array([0.4, 0.1, 0.8, 0.9])
+    yT, M, _ = period_map(model.rhs, model.jac, y0, 2 * np.pi, rtol=1e-12, atol=1e-13)
+    h = 1e-6
+    fd = np.column_stack([(period_map(model.rhs, model.jac, y0 + h * e, 2 * np.pi, rtol=1e-12, atol=1e-13)[0] - period_map(model.rhs, model.jac, y0 - h * e, 2 * np.pi, rtol=1e-12, atol=1e-13)[0]) / (2 * h) for e in np.eye(4)])
+    np.testing.assert_allclose(M, fd, rtol=1e-5, atol=1e-5)
+
+
+def test_fig10_resonant_orbit_exists_but_is_unstable():
+    """The paper calls Fig. 10 a resonant periodic regime. Shooting on (9) finds the 2pi-periodic
+    orbit near the simulated response, with a real Floquet multiplier ~16: unstable. (The long
+    simulation does not settle on it: its stroboscopic state keeps wandering; see the issue notes.)
+    """
+    P = get_preset("fig10").params
+    guess = np.array([-2.29697839, 0.4870925, 0.62950163, -1.6026986])  # a simulated state at tau = 200 pi
+    orbit = periodic_orbit(P, guess, rtol=1e-10, atol=1e-12)
+    assert orbit.converged and orbit.liouville_error < 1e-8
+    assert abs(orbit.y0[0]) == pytest.approx(2.47, abs=0.02)
+    assert abs(orbit.multipliers[0]) > 10 and not orbit.stable
+
+
+def test_shooting_reports_non_convergence_instead_of_raising():
+    P = get_preset("fig10").params
+    orbit = periodic_orbit(P, [0.5, 0.0, 0.0, 0.1], max_iter=1)
+    assert not orbit.converged and "no convergence in 1 Newton steps" in orbit.message
+    with pytest.raises(ValueError, match="initial guess must be finite"):
+        periodic_orbit(P, [np.nan, 0, 0, 0])
+
+
+# -- the compiled integrator and the shooting problem -------------------------------------------
+
+# The compiled backend is a capability of the package: the test extra installs numba, so these
+# tests run it (without numba they fail, naming the missing extra).
+@pytest.mark.parametrize("preset", ["fig10", "fig12"])
+def test_compiled_integrator_takes_scipys_steps_and_agrees_with_it(preset):
+    """Same method, coefficients and step control as scipy's DOP853: the same accepted steps and
+    the same end state up to rounding, on (9) alone and on the 29-dimensional shooting system."""
+    P = get_preset(preset).params
+    y0 = get_preset(preset).state0
+    z0 = np.concatenate([y0, np.eye(4).ravel(), np.zeros(9)])
+    for state, shooting in ((y0, False), (z0, True)):
+        fast = integrator.integrate(P, state, 0.0, 2 * np.pi, shooting=shooting, backend="numba")
+        slow = integrator.integrate(P, state, 0.0, 2 * np.pi, shooting=shooting, backend="scipy")
+        assert fast.success and slow.success
+        assert fast.steps == slow.steps and fast.nfev == slow.nfev
+        np.testing.assert_allclose(fast.z, slow.z, rtol=1e-7, atol=1e-8)
+
+
+def test_compiled_integrator_converges_to_a_tight_reference():
+    """Error after one period falls with the tolerance (against rtol = 1e-13)."""
+    P = get_preset("fig12").params
+    y0 = get_preset("fig12").state0
+    ref = integrator.integrate(P, y0, 0.0, 2 * np.pi, rtol=1e-13, atol=1e-15).z
+    errors = [np.max(np.abs(integrator.integrate(P, y0, 0.0, 2 * np.pi, rtol=r, atol=r * 1e-2).z - ref)) for r in (1e-6, 1e-8, 1e-10)]
+    assert errors[0] > errors[1] > errors[2] and errors[2] < 1e-8
+
+
+def test_integrator_rejects_bad_input_before_work():
+    P = get_preset("fig12").params
+    with pytest.raises(ValueError, match="initial state must be 4 finite numbers"):
+        integrator.integrate(P, [0, 0, np.inf, 0], 0, 1)
+    with pytest.raises(ValueError, match="tau0 < tau1"):
+        integrator.integrate(P, [0, 0, 0, 0], 1, 0)
+    with pytest.raises(ValueError, match="backend must be"):
+        integrator.integrate(P, [0, 0, 0, 0], 0, 1, backend="rk4")
+
+
+def test_shooting_sensitivities_match_differences_in_sigma_and_abar():
+    P = get_preset("fig12").params
+    x = np.array([0.4, 0.1, 0.8, 0.9, -0.3, 0.2, -0.7, 0.5])
+    for param in ("sigma", "Abar"):
+        problem = ShootingProblem(P, param, segments=2, rtol=1e-12, atol=1e-13)
+        p0, h = getattr(P, param), 1e-5
+        fd = (problem.residual(x, p0 + h) - problem.residual(x, p0 - h)) / (2 * h)
+        np.testing.assert_allclose(problem.dparam(x, p0), fd, rtol=1e-6, atol=1e-7)
+
+
+def test_single_and_multiple_shooting_find_the_same_orbit():
+    P = get_preset("fig10").params
+    guess = np.array([-2.29697839, 0.4870925, 0.62950163, -1.6026986])
+    single = periodic_orbit(P, guess)
+    multi = periodic_orbit(P, guess, segments=4)
+    assert single.converged and multi.converged
+    np.testing.assert_allclose(multi.y0, single.y0, atol=1e-8)
+    np.testing.assert_allclose(np.sort(np.abs(multi.multipliers)), np.sort(np.abs(single.multipliers)), rtol=1e-6)
+
+
+def test_stable_orbit_attracts_a_long_simulation():
+    """Far below resonance (fig10 set, sigma = -6) shooting finds a stable symmetric orbit
+    (multipliers 0.945, 0.722), and a simulation from the preset's kicked start settles onto it:
+    the strobe state after 300 periods is the orbit's to 1e-6, and it still moves by ~1e-7."""
+    P = get_preset("fig10").params.replace(sigma=-6.0)
+    strobes = integrator.integrate_grid(P, get_preset("fig10").state0, 2 * np.pi * np.arange(301))
+    orbit = periodic_orbit(P, strobes[-100])  # shooting starts 100 periods earlier
+    assert orbit.converged and orbit.stable
+    assert np.abs(orbit.multipliers[0]) == pytest.approx(0.945, abs=2e-3)
+    np.testing.assert_allclose(strobes[-1], orbit.y0, atol=1e-6)
+    assert orbit_measures(ShootingProblem(P), orbit.y0, -6.0)["symmetry_defect"] < 1e-7  # symmetric
+
+
+def test_located_fold_and_ns_converge_as_the_tolerance_tightens():
+    """fig10 set: a simulation at sigma = 0.8 settles on a stable symmetric orbit; continued
+    upwards it loses stability at a Neimark-Sacker point (sigma ~ 0.8806) and turns at a fold
+    (~ 0.9242). Located at rtol = 1e-8 and 1e-10, both agree to far better than their distance."""
+    P = get_preset("fig10").params.replace(sigma=0.8)
+    strobes = integrator.integrate_grid(P, get_preset("fig10").state0, 2 * np.pi * np.arange(201))
+    located = []
+    for rtol in (1e-8, 1e-10):
+        problem = ShootingProblem(P, segments=4, rtol=rtol, atol=rtol * 1e-2)
+        start = orbit_at(problem, problem.initial_states(strobes[-1]), 0.8, tol=1e-9)
+        assert start.converged and start.stable
+        options = ContinuationOptions(step=0.02, step_max=0.05, p_min=0.75, p_max=1.0, tol=1e-8, max_steps=200, direction="forward")
+        branch = continuation(problem, problem.initial_states(start.y0), 0.8, param="sigma", options=options)
+        located.append({s.kind: s.p for s in branch.special if s.kind in ("LP", "NS")})
+        ns = next(s for s in branch.special if s.kind == "NS")
+        mu = problem.eigenvalues(ns.x, ns.p)
+        assert np.min(np.abs(np.abs(mu[np.abs(mu.imag) > 1e-6]) - 1)) < 1e-9  # a complex pair on the circle
+    for kind in ("LP", "NS"):
+        assert located[0][kind] == pytest.approx(located[1][kind], abs=1e-5)
+    assert located[1]["LP"] == pytest.approx(0.9242, abs=1e-3) and located[1]["NS"] == pytest.approx(0.8806, abs=1e-3)
+
+
+@pytest.mark.parametrize("preset, sigma", [("fig10", -6.0), ("fig13", 2.0)])
+def test_orbit_from_the_slow_flow_is_the_orbit_a_simulation_settles_on(preset, sigma):
+    # Two independent routes to the same stable orbit: Newton from the leading-order motion of
+    # the steady state of (46), and a simulation of (9) from the preset's state until capture.
+    from slosh_bif.orbits.starts import orbit_from_slow_flow, settle_and_shoot
+    from slosh_bif.slowflow.steady_states import frequency_response
+
+    P = get_preset(preset).params.replace(sigma=sigma)
+    (branch,) = frequency_response(P, sigma_min=sigma - 0.1, sigma_max=sigma + 0.1).branches
+    orbit = orbit_from_slow_flow(P, float(np.interp(sigma, branch.p, branch.x[:, 0])))
+    settled, _ = settle_and_shoot(P, get_preset(preset).state0)
+    assert orbit.converged and orbit.stable and settled.stable
+    np.testing.assert_allclose(orbit.y0, settled.y0, atol=1e-6)
+
+
+def test_slow_flow_start_tries_steady_states_and_says_when_none_gives_an_orbit():
+    from slosh_bif.continuation import ConvergenceError
+    from slosh_bif.orbits.starts import slow_flow_start
+
+    P = get_preset("fig10").params
+    sigma0, orbit = slow_flow_start(P, -6.0, 8.0)
+    assert sigma0 in (-6.0, 8.0) and orbit.converged  # the range's ends come first
+    # Near the peak (46) and (9) differ by 30 %: no steady state there leads Newton to an orbit.
+    with pytest.raises(ConvergenceError, match="no orbit of \\(9\\) found from"):
+        slow_flow_start(P, 0.1, 0.3, tries=3)

@@ -1,0 +1,115 @@
+"""The lightest model for each question: choices, escalation, and the answers checked independently."""
+
+import csv
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from slosh_bif import get_preset
+from slosh_bif.cli import main
+from slosh_bif.simulation.direct import simulate
+from slosh_bif.simulation.regimes import classify
+from slosh_bif.slowflow.flow import AsymptoticsWarning, SlowFlow
+from slosh_bif.studies.ladder import QUESTIONS, SLOW_FLOW_ERROR, answer, model_choice
+
+FIG10 = get_preset("fig10").params
+
+
+@pytest.mark.parametrize("question", QUESTIONS)
+def test_the_slow_flow_answers_when_its_measured_error_is_within_tol(question):
+    model, reason, error = model_choice(question, FIG10, tol=0.9)
+    assert model == "slow flow" and error == SLOW_FLOW_ERROR[question] and "within" in reason
+
+
+@pytest.mark.parametrize("question", QUESTIONS)
+def test_escalates_when_the_tolerance_is_below_the_slow_flows_error(question):
+    model, reason, error = model_choice(question, FIG10, tol=0.01)
+    assert model != "slow flow" and "exceeds" in reason and error <= 0.01
+
+
+@pytest.mark.parametrize(
+    ("change", "why"),
+    [({"eps": 0.3}, "eps = 0.3"), ({"beta": 0.9}, "beta = 0.9"), ({"n": 6}, "loses")],
+)
+def test_escalates_outside_the_asymptotics_even_at_a_loose_tolerance(change, why):
+    # large eps: the expansion is in powers of eps; beta near 1: the particle's own frequency meets
+    # the resonance; small n: the wall dissipates more than eq. (21), first order, can describe
+    for question in QUESTIONS:
+        model, reason, _ = model_choice(question, FIG10.replace(**change), tol=0.9)
+        assert model != "slow flow" and why in reason
+
+
+def test_bad_input_is_named():
+    with pytest.raises(ValueError, match="question must be one of"):
+        model_choice("amplitude", FIG10, 0.1)
+    for tol in (0, -1, float("nan"), float("inf")):
+        with pytest.raises(ValueError, match="tol"):
+            model_choice("regime", FIG10, tol)
+    with pytest.raises(ValueError, match="state0"):
+        answer("regime", FIG10, state0=[0, 1, 2])
+
+
+def test_critical_forcing_of_the_full_model_is_where_simulation_loses_the_resonant_orbit():
+    """The escalated critical-forcing answer (loss of stability of the orbit, by shooting in Abar)
+    against direct simulation of (9) started on the orbit's neighbourhood just above and below it."""
+    pre = get_preset("fig13")
+    got = answer("critical-forcing", pre.params, tol=0.01)
+    assert got.model.startswith("shooting") and got.result.kind in ("NS", "LP", "BP", "PD", "")
+    Abar_b = got.result.p
+    branch = got.result.branch
+    # a state on the orbit just above the critical forcing, as the start of both runs
+    k = int(np.argmin(np.where(branch.p > Abar_b + 0.03, branch.p, np.inf)))
+    y_start = branch.x[k, :4]
+    above = simulate(pre.params.replace(Abar=Abar_b + 0.03), y_start, 400 * 2 * np.pi)
+    below = simulate(pre.params.replace(Abar=Abar_b - 0.03), y_start, 400 * 2 * np.pi)
+    assert classify(above).regime == "periodic-resonant"
+    assert classify(below).regime != "periodic-resonant"
+
+
+def test_frequency_response_answers_by_the_chosen_model():
+    loose = answer("frequency-response", FIG10.replace(sigma=5.0), tol=0.5, sigma_min=3.5, sigma_max=8.0)
+    assert loose.model == "slow flow" and len(loose.result.branches) >= 1
+    tight = answer("frequency-response", FIG10.replace(sigma=7.0), tol=1e-3, sigma_min=6.0, sigma_max=8.0)
+    assert tight.model == "shooting on (9)"
+    ob = tight.result.branches[0]
+    assert ob.branch.p.min() == pytest.approx(6.0) and ob.branch.p.max() == pytest.approx(8.0)
+    assert np.all(ob.measures["A1"] > 0)
+
+
+def test_regime_error_in_the_table_matches_the_committed_regime_map():
+    """SLOW_FLOW_ERROR["regime"] is the disagreement of the slow flow's prediction (integrated from
+    the initial state: escape from S+ or a steady state) with the smooth model's classification on
+    the committed map docs/regimes_fig13 (17 x 13 simulations of 4,000 time units)."""
+    path = Path(__file__).resolve().parents[2] / "docs" / "regimes_fig13" / "regimes.csv"
+    pre = get_preset("fig13")
+    wrong = total = 0
+    with open(path, newline="") as fh, warnings.catch_warnings():
+        warnings.simplefilter("ignore", AsymptoticsWarning)
+        for row in csv.DictReader(fh):
+            flow = SlowFlow(pre.params.replace(sigma=float(row["sigma"]), Abar=float(row["Abar"])))
+            resonant = not flow.integrate(*flow.start_from_state(pre.state0), (0.0, pre.params.eps * 4000 * 2 * np.pi)).escaped
+            wrong += resonant != (row["regime"] == "periodic-resonant")
+            total += 1
+    assert total == 221
+    assert wrong / total == pytest.approx(SLOW_FLOW_ERROR["regime"], abs=0.01)
+
+
+def test_answer_command_reports_model_reason_and_error(capsys):
+    assert main(["answer", "regime", "--preset", "fig13", "--tol", "0.5"]) == 0
+    out = capsys.readouterr().out
+    assert "slow flow" in out and "error estimate 0.22" in out and "regime:" in out
+    # Fig. 12 (n = 6): the slow flow is out of range, and (9) has no periodic response to shoot
+    # from (strongly modulated): a clean failure that says so
+    assert main(["answer", "critical-forcing", "--preset", "fig12", "--tol", "0.9"]) == 1
+    err = capsys.readouterr().err
+    assert "outside its checked range" in err and "not periodic" in err
+
+
+def test_a_slow_time_response_that_leaves_the_manifold_hands_over_to_the_full_model():
+    # Fig. 10 set at sigma = -6: (45) from the kicked start escapes from S+ (frequency_response.csv:
+    # no slow-flow answer there), so the slow flow cannot give X(tau) past the escape
+    got = answer("time-response", FIG10.replace(sigma=-6.0), tol=0.5, tmax=200.0)
+    assert got.model == "smooth model (9) simulated" and "leaves S+" in got.reason
+    assert got.result.success and got.result.t[-1] == pytest.approx(200.0)

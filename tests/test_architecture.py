@@ -1,0 +1,70 @@
+"""The package's shape: imports flow one way (import-linter), every subpackage states its public
+names, modules stay small, and ``import slosh_bif`` computes nothing."""
+
+import importlib
+import pkgutil
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+import slosh_bif
+
+ROOT = Path(__file__).resolve().parents[1]
+SUBPACKAGES = ("model", "continuation", "report", "slowflow", "orbits", "simulation", "studies", "cli")
+
+
+def test_import_contracts_are_kept():
+    # The layers, the engine's independence of the model and the absence of cycles are in
+    # pyproject.toml; a broken contract lists the offending import.
+    exe = shutil.which("lint-imports") or str(Path(sys.executable).parent / "lint-imports")
+    result = subprocess.run([exe, "--no-cache"], capture_output=True, text=True, cwd=ROOT)
+    assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-2000:]
+    assert "3 kept, 0 broken" in result.stdout
+
+
+def test_the_contract_can_fail(tmp_path):
+    # The same linter on a copy of the package with one import running back up the pipeline.
+    copy = tmp_path / "slosh_bif"
+    shutil.copytree(ROOT / "slosh_bif", copy, ignore=shutil.ignore_patterns("__pycache__"))
+    shutil.copy(ROOT / "pyproject.toml", tmp_path / "pyproject.toml")
+    wavelet = copy / "simulation" / "wavelet.py"
+    wavelet.write_text(wavelet.read_text() + "\nfrom slosh_bif.slowflow import flow  # noqa\n")
+    exe = shutil.which("lint-imports") or str(Path(sys.executable).parent / "lint-imports")
+    result = subprocess.run([exe, "--no-cache"], capture_output=True, text=True, cwd=tmp_path, env={"PYTHONPATH": str(tmp_path), "PATH": ""})
+    assert result.returncode != 0
+    assert "slosh_bif.simulation.wavelet -> slosh_bif.slowflow.flow" in result.stdout
+
+
+@pytest.mark.parametrize("name", SUBPACKAGES)
+def test_every_subpackage_exports_what_it_lists(name):
+    package = importlib.import_module(f"slosh_bif.{name}")
+    assert package.__doc__, f"slosh_bif.{name} has no docstring"
+    assert hasattr(package, "__all__"), f"slosh_bif.{name} has no __all__"
+    for public in package.__all__:
+        assert hasattr(package, public), f"slosh_bif.{name}.__all__ names {public!r}, which it does not define"
+
+
+def test_top_level_api_resolves_every_name():
+    for public in slosh_bif.__all__:
+        assert getattr(slosh_bif, public) is not None
+    assert slosh_bif.get_preset("fig10").params.n == 50
+
+
+def test_import_computes_nothing_and_loads_no_compiler():
+    code = "import sys, slosh_bif; print('numba' in sys.modules, 'matplotlib' in sys.modules, 'sympy' in sys.modules)"
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert result.stdout.split() == ["False", "False", "False"]
+
+
+def test_modules_are_small_and_cite_what_they_implement():
+    for info in pkgutil.walk_packages(slosh_bif.__path__, "slosh_bif."):
+        if "._generated" in info.name or info.name.endswith("__main__"):
+            continue
+        module = importlib.import_module(info.name)
+        path = Path(module.__file__)
+        lines = len(path.read_text().splitlines())
+        assert lines <= 400, f"{info.name} has {lines} lines (split it by role)"
+        assert module.__doc__ and module.__doc__.strip(), f"{info.name} has no module docstring"
