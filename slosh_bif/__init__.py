@@ -35,6 +35,7 @@ _EXPORTS = {
         "trace_orbits",
         "OrbitFamily",
         "settle_and_shoot",
+        "orbit_from_simulation",
         "slow_flow_start",
         "orbit_from_slow_flow",
         "loss_of_stability",

@@ -10,38 +10,23 @@ from slosh_bif.model.presets import get_preset
 __all__ = ["add_commands"]
 
 
-def _start_orbit(params, args):
-    """A converged 2pi-orbit near --guess, or near the strobe states of a simulation from the
-    preset's initial state (the last of --settle periods, then up to 49 before it)."""
-    from slosh_bif.orbits.shooting import ShootingProblem, orbit_at
-    from slosh_bif.simulation.integrator import integrate_grid
-
-    problem = ShootingProblem(params, segments=args.segments)
-    if args.guess is not None:
-        guesses = [np.array(args.guess, dtype=float)]
-    else:
-        strobes = integrate_grid(params, get_preset(args.preset).state0, 2 * np.pi * np.arange(args.settle + 1))
-        guesses = list(strobes[::-1][:50])
-    for k, y0 in enumerate(guesses):
-        orbit = orbit_at(problem, problem.initial_states(y0), params.sigma, tol=1e-9)
-        if orbit.converged:
-            progress(f"start orbit at sigma = {params.sigma:g}: |X(0)| = {abs(orbit.y0[0]):.4g}, multipliers |mu| = " + ", ".join(f"{abs(m):.4g}" for m in orbit.multipliers) + f" ({orbit.message})")
-            return orbit.y0
-    where = "--guess" if args.guess is not None else f"the last strobe states of a {args.settle}-period simulation"
-    raise ValueError(f"no periodic orbit found near {where} at sigma = {params.sigma:g}; pass --guess X,Xd,w,wd or change --settle")
-
-
 def family_from_args(args, params, lo, hi):
+    """The family of orbits ``shoot`` and ``compare`` trace: from --start's orbit, over [lo, hi]."""
     from slosh_bif.orbits.families import trace_orbits
-    from slosh_bif.orbits.starts import slow_flow_start
+    from slosh_bif.orbits.starts import orbit_from_simulation, slow_flow_start
 
     if args.start == "slow-flow":
-        sigma0, orbit = slow_flow_start(params, lo, hi, segments=args.segments)
-        progress(f"start orbit from the slow flow at sigma = {sigma0:.5g}: |X(0)| = {abs(orbit.y0[0]):.4g} ({orbit.message})")
-        params, y0 = params.replace(sigma=sigma0), orbit.y0
+        start = slow_flow_start(params, lo, hi, segments=args.segments)
     else:
-        y0 = _start_orbit(params, args)
-    return trace_orbits(params, y0, p_min=lo, p_max=hi, segments=args.segments, switch=not args.no_switch, max_branches=args.max_branches, progress=throttled(progress))
+        try:
+            start = orbit_from_simulation(params, get_preset(args.preset).state0, settle=args.settle, guess=args.guess, segments=args.segments)
+        except RuntimeError:
+            where = "--guess" if args.guess is not None else f"the last strobe states of a {args.settle}-period simulation"
+            raise ValueError(f"no periodic orbit found near {where} at sigma = {params.sigma:g}; pass --guess X,Xd,w,wd or change --settle") from None
+    mu = ", ".join(f"{abs(m):.4g}" for m in start.orbit.multipliers)
+    which = "from the slow flow " if args.start == "slow-flow" else ""
+    progress(f"start orbit {which}at sigma = {start.sigma:.5g}: |X(0)| = {abs(start.y0[0]):.4g}, multipliers |mu| = {mu} ({start.found_from})")
+    return trace_orbits(start.params, start.y0, p_min=lo, p_max=hi, segments=args.segments, switch=not args.no_switch, max_branches=args.max_branches, progress=throttled(progress))
 
 
 def _shoot(args) -> int:

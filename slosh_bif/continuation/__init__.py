@@ -13,20 +13,26 @@ from slosh_bif.continuation.branch import (
     NEIMARK_SACKER,
     PERIOD_DOUBLING,
     Branch,
+    Kind,
     SpecialPoint,
+    Status,
 )
-from slosh_bif.continuation.corrector import newton
+from slosh_bif.continuation.corrector import NewtonResult, newton, newton_solve
 from slosh_bif.continuation.engine import continuation, switch_branch
 from slosh_bif.continuation.options import ContinuationOptions, ConvergenceError
 
 __all__ = [
     "Branch",
     "SpecialPoint",
+    "Kind",
+    "Status",
     "ContinuationOptions",
     "ConvergenceError",
     "continuation",
     "switch_branch",
     "newton",
+    "newton_solve",
+    "NewtonResult",
     "FOLD",
     "BRANCH_POINT",
     "PERIOD_DOUBLING",

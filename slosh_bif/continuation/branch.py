@@ -1,33 +1,81 @@
 """Results of a continuation: a :class:`Branch` of solutions and its :class:`SpecialPoint` s.
 
 A branch is arrays in branch order (parameter, states, stability, Newton iterations, arclength)
-plus special points (folds ``LP``, branch points ``BP``, ends ``END``) with where they sit and the
-bracket they were located in, and a status and message saying how the run ended. Branches save to
-and load from ``.npz`` without loss, so re-plotting never recomputes.
+plus special points (folds ``LP``, branch points ``BP``, ends ``END``, and the kinds of a
+problem's own test functions) with where they sit, their tangent and the bracket they were
+located in, and a status and message saying how the run ended. Its columns are named: ``b["A"]``
+is the state component ``A``, ``b["sigma"]`` the continued parameter. Branches save to and load
+from ``.npz`` without loss, so re-plotting never recomputes.
+
+Every special-point kind and every status is one member of :class:`Kind` and :class:`Status`
+(strings, so that ``s.kind == "LP"`` keeps working).
 """
 
 from __future__ import annotations
 
 import dataclasses
+import enum
 import json
 from pathlib import Path
 
 import numpy as np
 
-__all__ = ["Branch", "SpecialPoint", "FOLD", "BRANCH_POINT", "PERIOD_DOUBLING", "NEIMARK_SACKER", "END"]
+__all__ = ["Branch", "SpecialPoint", "Kind", "Status", "FOLD", "BRANCH_POINT", "PERIOD_DOUBLING", "NEIMARK_SACKER", "END"]
 
-FOLD, BRANCH_POINT, END = "LP", "BP", "END"
-PERIOD_DOUBLING, NEIMARK_SACKER = "PD", "NS"  # located through a problem's own test functions
+
+class Kind(str, enum.Enum):
+    """Kinds of special points, labelled as AUTO and MatCont label them."""
+
+    FOLD = "LP"  # a fold (limit point): the curve turns back in its parameter
+    BRANCH_POINT = "BP"  # a simple branch point (for symmetric orbits: the symmetry-breaking pitchfork)
+    PERIOD_DOUBLING = "PD"  # a Floquet multiplier through -1
+    NEIMARK_SACKER = "NS"  # a complex pair of multipliers through the unit circle
+    END = "END"  # an end of the branch (its reason in SpecialPoint.reason)
+    CUSP = "CP"  # on a fold curve: the fold's quadratic coefficient vanishes
+    RESONANCE_1_1 = "R1"  # on an NS curve: multipliers exp(+-i theta) with theta = 0
+    RESONANCE_1_2 = "R2"  # theta = pi
+    RESONANCE_1_3 = "R3"  # theta = 2 pi / 3
+    RESONANCE_1_4 = "R4"  # theta = pi / 2
+    FOLD_FLIP = "LPPD"  # multipliers +1 and -1 together
+    FOLD_NS = "LPNS"  # +1 and a complex pair on the unit circle
+    FLIP_NS = "PDNS"  # -1 and a complex pair on the unit circle
+    PITCHFORK_FOLD = "BPLP"  # a symmetry-breaking curve meets a fold curve
+    TURN = "TP"  # a curve of codimension-1 points turns back in its first parameter (no bifurcation)
+
+    def __str__(self):
+        return self.value
+
+
+class Status(str, enum.Enum):
+    """How one direction of a continuation ended; OK when the branch is complete."""
+
+    OK = "ok"
+    BOUND = "parameter bound"
+    EDGE = "domain edge"
+    LOOP = "closed loop"
+    STEPS = "step limit"
+    STALL = "step below minimum"
+
+    def __str__(self):
+        return self.value
+
+
+FOLD, BRANCH_POINT, END = Kind.FOLD.value, Kind.BRANCH_POINT.value, Kind.END.value
+PERIOD_DOUBLING, NEIMARK_SACKER = Kind.PERIOD_DOUBLING.value, Kind.NEIMARK_SACKER.value  # from a problem's own test functions
 
 
 @dataclasses.dataclass(frozen=True)
 class SpecialPoint:
     """A located special point.
 
-    ``kind`` is ``"LP"`` (fold), ``"BP"`` (branch point), ``"END"``, or a kind of the problem's
-    own test functions (``"PD"`` period doubling, ``"NS"`` Neimark-Sacker for periodic orbits); ``index`` the branch point
+    ``kind`` is a :class:`Kind` value: ``"LP"`` (fold), ``"BP"`` (branch point), ``"END"``, or a
+    kind of the problem's own test functions (``"PD"`` period doubling, ``"NS"`` Neimark-Sacker
+    for periodic orbits, the codimension-2 kinds on curves of them); ``index`` the branch point
     after which it lies; ``p`` and ``x`` where it is; ``bracket`` the parameter values of the two
-    branch points (or located end points) it was found between; ``message`` says what it is.
+    branch points (or located end points) it was found between; ``message`` says what it is;
+    ``tangent`` is the unit tangent of the branch in (x, p) there (None where not known);
+    ``located`` is False when a sign change was detected but not located (then ``x`` is the
+    nearest computed point); ``reason`` is an END point's :class:`Status`.
     """
 
     kind: str
@@ -36,6 +84,9 @@ class SpecialPoint:
     x: np.ndarray
     bracket: tuple
     message: str = ""
+    tangent: np.ndarray | None = None
+    located: bool = True
+    reason: str = ""
 
 
 @dataclasses.dataclass(frozen=True)
@@ -56,6 +107,9 @@ class Branch:
              otherwise the reason one direction stopped early
     message : the ends of both directions, in words
     options : the options used, as a dict
+    kind : what the points are (e.g. ``"equilibria"``, ``"periodic orbits"``, ``"PD curve"``)
+
+    ``b[name]`` is a column by name: the continued parameter, or a state component of ``names``.
     """
 
     param: str
@@ -70,9 +124,22 @@ class Branch:
     status: str
     message: str
     options: dict
+    kind: str = ""
 
     def __len__(self):
         return len(self.p)
+
+    @property
+    def columns(self) -> tuple:
+        """The names ``b[name]`` accepts: the continued parameter, then the state components."""
+        return (self.param, *self.names)
+
+    def __getitem__(self, name: str) -> np.ndarray:
+        if name == self.param:
+            return self.p
+        if name in self.names:
+            return self.x[:, self.names.index(name)]
+        raise KeyError(f"{name!r} is not a column of this branch; its columns are {', '.join(self.columns)}")
 
     def special_of(self, kind: str) -> list:
         """The special points of one kind (``"LP"``, ``"BP"``, ``"END"``)."""
@@ -112,11 +179,15 @@ class Branch:
             "status": self.status,
             "message": self.message,
             "options": self.options,
+            "kind": self.kind,
             "special": [
-                {"kind": s.kind, "index": s.index, "p": s.p, "bracket": list(s.bracket), "message": s.message} for s in self.special
+                {"kind": str(s.kind), "index": s.index, "p": s.p, "bracket": list(s.bracket), "message": s.message, "located": s.located, "reason": str(s.reason)}
+                for s in self.special
             ],
         }
         special_x = np.array([s.x for s in self.special]) if self.special else np.zeros((0, self.x.shape[1]))
+        width = self.x.shape[1] + 1
+        special_t = np.array([s.tangent if s.tangent is not None else np.full(width, np.nan) for s in self.special]) if self.special else np.zeros((0, width))
         np.savez(
             path,
             meta=np.array(json.dumps(meta)),
@@ -127,6 +198,7 @@ class Branch:
             newton_iterations=self.newton_iterations,
             arclength=self.arclength,
             special_x=special_x,
+            special_tangent=special_t,
         )
         return path
 
@@ -134,8 +206,17 @@ class Branch:
     def load(cls, path) -> "Branch":
         with np.load(path, allow_pickle=False) as data:
             meta = json.loads(str(data["meta"]))
+            tangents = data["special_tangent"] if "special_tangent" in data.files else None
+
+            def tangent(i):
+                t = None if tangents is None else tangents[i].copy()
+                return None if t is None or not np.all(np.isfinite(t)) else t
+
             special = tuple(
-                SpecialPoint(s["kind"], int(s["index"]), float(s["p"]), data["special_x"][i].copy(), tuple(s["bracket"]), s["message"])
+                SpecialPoint(
+                    s["kind"], int(s["index"]), float(s["p"]), data["special_x"][i].copy(), tuple(s["bracket"]), s["message"],
+                    tangent(i), bool(s.get("located", True)), s.get("reason", ""),
+                )
                 for i, s in enumerate(meta["special"])
             )
             return cls(
@@ -151,4 +232,5 @@ class Branch:
                 status=meta["status"],
                 message=meta["message"],
                 options=meta["options"],
+                kind=meta.get("kind", ""),
             )

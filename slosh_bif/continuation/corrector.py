@@ -14,7 +14,7 @@ import numpy as np
 
 from slosh_bif.continuation.options import ConvergenceError
 
-__all__ = ["Point", "in_domain", "top_rows", "bordered", "solve", "make_point", "initial_tangent", "correct", "newton"]
+__all__ = ["Point", "NewtonResult", "in_domain", "top_rows", "bordered", "solve", "make_point", "initial_tangent", "correct", "newton", "newton_solve"]
 
 
 @dataclasses.dataclass
@@ -27,6 +27,8 @@ class Point:
     bracket: tuple = ()
     tests: tuple = ()  # (fold test t_p, branch-point test det) at this point
     jac: np.ndarray | None = None  # F_x here, kept for stability
+    located: bool = True  # False: a sign change seen but not located (the point is the nearest computed one)
+    reason: str = ""  # an END point's reason (a Status value)
 
 
 def in_domain(problem, u):
@@ -105,22 +107,63 @@ def correct(problem, u_pred, t, opts):
     return None, opts.max_newton
 
 
-def newton(problem, x0, p, *, tol=1e-11, max_iter=30):
-    """Newton at fixed parameter p from x0; raises :class:`ConvergenceError` with the reason."""
+@dataclasses.dataclass(frozen=True)
+class NewtonResult:
+    """The outcome of Newton at a fixed parameter: the last iterate, whether it converged, the
+    iterations taken, the last residual norm and a message saying why it stopped."""
+
+    x: np.ndarray
+    converged: bool
+    iterations: int
+    residual: float
+    message: str
+
+
+def newton_solve(problem, x0, p, *, tol=1e-11, max_iter=30, criterion: str = "step") -> NewtonResult:
+    """Newton on ``problem.residual(x, p) = 0`` at fixed p from x0; never raises on failure.
+
+    ``criterion="step"``: converged when the update is below ``tol (1 + |x|)`` (or the start is a
+    solution to rounding); ``"residual"``: when ``|F| <= tol (1 + |x|)`` (for residuals that carry
+    an integration's error, whose updates stall at that error).
+    """
+    if criterion not in ("step", "residual"):
+        raise ValueError(f"criterion must be 'step' or 'residual'; got {criterion!r}")
     x = np.asarray(x0, dtype=float).copy()
-    for k in range(max_iter):
+    F = np.full(len(x), np.nan)
+
+    def result(converged, k, message):
+        residual = float(np.linalg.norm(F)) if np.all(np.isfinite(F)) else math.inf
+        return NewtonResult(x, converged, k, residual, message)
+
+    for k in range(max_iter + 1):
         if not in_domain(problem, np.append(x, p)):
-            raise ConvergenceError(f"Newton left the problem's domain at iteration {k} (x = {x}, p = {p})")
+            return result(False, k, f"Newton left the problem's domain at iteration {k} (x = {x}, p = {p})")
         F = problem.residual(x, p)
-        if k == 0 and np.linalg.norm(F) <= 1e3 * np.finfo(float).eps * (1 + np.linalg.norm(x)):
-            return x  # already a solution (e.g. a closed-form start): no step, no Jacobian needed
+        if not np.all(np.isfinite(F)):
+            return result(False, k, "the residual is not finite (an integration failed): no solution near this guess")
+        scale = 1 + np.linalg.norm(x)
+        if criterion == "residual" and np.linalg.norm(F) <= tol * scale:
+            return result(True, k, f"converged in {k} Newton steps")
+        if criterion == "step" and k == 0 and np.linalg.norm(F) <= 1e3 * np.finfo(float).eps * scale:
+            return result(True, 0, "the start is a solution")  # e.g. a closed form: no step, no Jacobian needed
+        if k == max_iter:
+            break
         try:
             dx = np.linalg.solve(problem.jacobian(x, p), -F)
         except np.linalg.LinAlgError:
-            raise ConvergenceError(
-                f"Newton at fixed p = {p}: the Jacobian F_x is singular at iteration {k} (x = {x}): a fold or branch point"
-            ) from None
+            return result(False, k, f"the Jacobian F_x is singular at iteration {k}: a fold or branch point")
         x = x + dx
-        if np.linalg.norm(dx) <= tol * (1 + np.linalg.norm(x)):
-            return x
-    raise ConvergenceError(f"Newton did not converge in {max_iter} iterations at p = {p} (last |F| = {np.linalg.norm(F):.3g})")
+        if not np.all(np.isfinite(x)):
+            return result(False, k + 1, "Newton diverged (non-finite iterate)")
+        if criterion == "step" and np.linalg.norm(dx) <= tol * (1 + np.linalg.norm(x)):
+            return result(True, k + 1, f"converged in {k + 1} Newton steps")
+    return result(False, max_iter, f"no convergence in {max_iter} Newton steps (last |F| = {np.linalg.norm(F):.3g})")
+
+
+def newton(problem, x0, p, *, tol=1e-11, max_iter=30):
+    """Newton at fixed parameter p from x0 (:func:`newton_solve`); the solution x, or
+    :class:`ConvergenceError` with the reason."""
+    run = newton_solve(problem, x0, p, tol=tol, max_iter=max_iter)
+    if not run.converged:
+        raise ConvergenceError(f"Newton at fixed p = {p}: {run.message}")
+    return run.x

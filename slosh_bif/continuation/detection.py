@@ -66,7 +66,7 @@ def special_between(problem, a: Point, b: Point, h, opts):
             try:
                 q, note = locate(problem, a, h, which, opts)
             except (ConvergenceError, ValueError) as err:
-                q = dataclasses.replace(b, iterations=0)
+                q = dataclasses.replace(b, iterations=0, located=False)
                 q.message = f"{kind} detected, not located: {err}"
             else:
                 q.message = TEST_MEANING.get(kind, f"{kind}: test function changes sign")

@@ -11,6 +11,7 @@ A problem is any object with
   whose stability is that of its own Jacobian sets ``stability_from_jacobian = True`` instead,
   and the engine reuses the Jacobian it already has at each point; ``is_stable(eigenvalues)``
   -> bool replaces the default rule (all real parts negative), e.g. by Floquet multipliers;
+  ``branch_kind`` (text) names what the points are in the :class:`Branch`;
   ``test_kinds`` (names) with ``test_functions(x, p)`` -> one real value per kind: further
   special points at sign changes, located like folds; ``confirm(kind, x, p)`` -> message, or
   None to drop a located point that is not what the kind means (e.g. a neutral saddle for NS).
@@ -58,7 +59,7 @@ def _end_on_bound(problem, a: Point, b_u, bound, opts):
     except (ConvergenceError, np.linalg.LinAlgError):
         x = (1 - w) * a.u[:-1] + w * b_u[:-1]  # a fold on the bound: keep the interpolated point
     u = np.append(x, bound)
-    return make_point(problem, u, a.t, kind=END, message=_bound_message(bound, opts), bracket=(a.u[-1], b_u[-1]))
+    return make_point(problem, u, a.t, kind=END, message=_bound_message(bound, opts), bracket=(a.u[-1], b_u[-1]), reason=BOUND)
 
 
 def _run(problem, start: Point, opts, loop_guard: bool, callback=None):
@@ -67,7 +68,7 @@ def _run(problem, start: Point, opts, loop_guard: bool, callback=None):
     edge_hits = 0
     while True:
         if len(points) > opts.max_steps:
-            points[-1].kind, points[-1].message = END, f"{STEPS} ({opts.max_steps} steps)"
+            points[-1].kind, points[-1].message, points[-1].reason = END, f"{STEPS} ({opts.max_steps} steps)", STEPS
             return points, STEPS
         a = points[-1]
         u, iters = correct(problem, a.u + h * a.t, a.t, opts)
@@ -79,16 +80,16 @@ def _run(problem, start: Point, opts, loop_guard: bool, callback=None):
                 bracket = (a.u[-1], (a.u + 2 * h * a.t)[-1])
                 edge = _edge_point(problem, a, opts) if reason == EDGE else None
                 if edge is not None:
-                    points.append(Point(edge, a.t, 0, END, f"{reason}: {getattr(problem, 'edge_name', 'boundary')}", bracket, a.tests))
+                    points.append(Point(edge, a.t, 0, END, f"{reason}: {getattr(problem, 'edge_name', 'boundary')}", bracket, a.tests, reason=reason))
                 else:
-                    a.kind, a.message, a.bracket = END, f"{reason}: last step {2 * h:.3g} failed", bracket
+                    a.kind, a.message, a.bracket, a.reason = END, f"{reason}: last step {2 * h:.3g} failed", bracket, reason
                 return points, reason
             continue
         edge_hits = 0
         if not opts.p_min <= u[-1] <= opts.p_max:
             bound = opts.p_max if u[-1] > opts.p_max else opts.p_min
             if a.u[-1] == bound:  # a start on the bound is itself the end (not a second copy of it)
-                a.kind, a.message = END, _bound_message(bound, opts)
+                a.kind, a.message, a.reason = END, _bound_message(bound, opts), BOUND
             else:
                 points.append(_end_on_bound(problem, a, u, bound, opts))
             return points, BOUND
@@ -102,7 +103,7 @@ def _run(problem, start: Point, opts, loop_guard: bool, callback=None):
         if callback is not None:
             callback(float(u[-1]), u[:-1])
         if loop_guard and len(points) > 3 and _passes(start, a.u, u, h):
-            b.kind, b.message = END, f"{LOOP}: back at the start point"
+            b.kind, b.message, b.reason = END, f"{LOOP}: back at the start point", LOOP
             return points, LOOP
         h = min(h * opts.growth, opts.step_max) if iters <= 3 else (h * 0.6 if iters >= 6 else h)
         if angle > opts.max_angle:
@@ -199,7 +200,7 @@ def _trace(problem, u0, param, opts, orient=None, callback=None) -> Branch:
     ahead, ahead_reason = runs.get(True, ([], None))
     if back and ahead:
         if ahead[0].kind and not back[0].kind:  # the forward run ended at its first point
-            back[0].kind, back[0].message = ahead[0].kind, ahead[0].message
+            back[0].kind, back[0].message, back[0].reason = ahead[0].kind, ahead[0].message, ahead[0].reason
         elif not back[0].kind and len(back) > 1 and len(ahead) > 1 and abs(back[0].t[-1]) < 1e-6 and not (back[1].kind or ahead[1].kind):
             # A start exactly at a fold: the runs leave it on the same side of p, so no step of
             # either run sees the sign change of t_p. The start point is the fold.
@@ -232,7 +233,7 @@ def _assemble(problem, points, param, status, message, opts) -> Branch:
     rule = getattr(problem, "is_stable", lambda ev: bool(np.all(ev.real < 0)))
     stable = np.array([rule(ev) for ev in eigenvalues]) if given else np.ones(len(points), dtype=bool)
     special = tuple(
-        SpecialPoint(q.kind, i, float(q.u[-1]), q.u[:-1].copy(), tuple(float(v) for v in q.bracket), q.message)
+        SpecialPoint(q.kind, i, float(q.u[-1]), q.u[:-1].copy(), tuple(float(v) for v in q.bracket), q.message, q.t.copy(), q.located, q.reason)
         for i, q in enumerate(points)
         if q.kind
     )
@@ -249,4 +250,5 @@ def _assemble(problem, points, param, status, message, opts) -> Branch:
         status=status,
         message=message,
         options=dataclasses.asdict(opts),
+        kind=getattr(problem, "branch_kind", ""),
     )

@@ -9,11 +9,13 @@ from __future__ import annotations
 import dataclasses
 import math
 
+from slosh_bif.continuation.branch import Status
+
 __all__ = ["ContinuationOptions", "ConvergenceError", "BOUND", "EDGE", "LOOP", "STEPS", "STALL", "COMPLETE"]
 
 # End reasons of one direction; the first three make a complete branch (status "ok").
-BOUND, EDGE, LOOP = "parameter bound", "domain edge", "closed loop"
-STEPS, STALL = "step limit", "step below minimum"
+BOUND, EDGE, LOOP = Status.BOUND.value, Status.EDGE.value, Status.LOOP.value
+STEPS, STALL = Status.STEPS.value, Status.STALL.value
 COMPLETE = (BOUND, EDGE, LOOP)
 
 

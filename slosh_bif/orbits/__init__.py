@@ -9,7 +9,7 @@ contract): :mod:`.shooting` integrates with :mod:`slosh_bif.simulation.integrato
 from slosh_bif.orbits.families import SHOOTING_OPTIONS, OrbitBranch, OrbitFamily, mirror, trace_orbits
 from slosh_bif.orbits.shooting import PeriodicOrbit, ShootingProblem, orbit_at, periodic_orbit
 from slosh_bif.orbits.stability import StabilityLoss, loss_of_stability
-from slosh_bif.orbits.starts import orbit_from_slow_flow, settle_and_shoot, slow_flow_start
+from slosh_bif.orbits.starts import StartOrbit, orbit_from_simulation, orbit_from_slow_flow, settle_and_shoot, slow_flow_start
 
 __all__ = [
     "ShootingProblem",
@@ -21,6 +21,8 @@ __all__ = [
     "OrbitBranch",
     "mirror",
     "SHOOTING_OPTIONS",
+    "StartOrbit",
+    "orbit_from_simulation",
     "orbit_from_slow_flow",
     "slow_flow_start",
     "settle_and_shoot",

@@ -49,6 +49,19 @@ class OrbitBranch:
     measures: dict
     origin: str = ""
 
+    def __getitem__(self, name: str) -> np.ndarray:
+        """A column by name, as for a :class:`Branch`: a measure (``"A1"``, ``"max_abs_w"``, ...),
+        the continued parameter or a state component of the branch."""
+        if name in self.measures:
+            return self.measures[name]
+        try:
+            return self.branch[name]
+        except KeyError:
+            raise KeyError(f"{name!r} is neither a measure ({', '.join(self.measures)}) nor a column of the branch ({', '.join(self.branch.columns)})") from None
+
+    def __len__(self):
+        return len(self.branch)
+
 
 @dataclasses.dataclass(frozen=True)
 class OrbitFamily:

@@ -32,10 +32,11 @@ import dataclasses
 import numpy as np
 from scipy.integrate import solve_ivp
 
+from slosh_bif.continuation.corrector import newton_solve
 from slosh_bif.model.params import Params
 from slosh_bif.simulation import integrator
 
-__all__ = ["PeriodicOrbit", "ShootingProblem", "period_map", "shoot", "periodic_orbit", "orbit_at"]
+__all__ = ["PeriodicOrbit", "ShootingProblem", "Arcs", "PARAMETERS", "period_map", "shoot", "periodic_orbit", "orbit_at", "orbit_measures"]
 
 
 @dataclasses.dataclass(frozen=True)
@@ -85,48 +86,69 @@ def period_map(rhs, jac, y0, period, *, tau0=0.0, rtol=1e-10, atol=1e-12, method
     return z[:n], z[n : n + n * n].reshape(n, n), z[-1]
 
 
+class _PeriodMapProblem:
+    """phi_T(y) - y of any vector field as a problem for :func:`newton_solve` (one integration
+    per iterate serves the residual, the Jacobian M - I and the multipliers)."""
+
+    def __init__(self, rhs, jac, period, **integration):
+        self.rhs, self.jac, self.period, self.integration = rhs, jac, period, integration
+        self._last = (None, None)
+
+    def map(self, y):
+        if self._last[0] is None or not np.array_equal(self._last[0], y):
+            self._last = (y.copy(), period_map(self.rhs, self.jac, y, self.period, **self.integration))
+        return self._last[1]
+
+    def residual(self, y, _p):
+        return self.map(y)[0] - y
+
+    def jacobian(self, y, _p):
+        return self.map(y)[1] - np.eye(len(y))
+
+
 def shoot(rhs, jac, y0, period, *, tol=1e-10, max_iter=20, rtol=1e-10, atol=1e-12, method="DOP853") -> PeriodicOrbit:
     """Newton on phi_T(y0) - y0 = 0. Never raises on non-convergence: the result says why."""
     y = np.asarray(y0, dtype=float).copy()
     if not np.all(np.isfinite(y)):
         raise ValueError(f"initial guess must be finite; got {y0!r}")
-    n = len(y)
-    message = f"no convergence in {max_iter} Newton steps"
-    converged = False
-    for k in range(1, max_iter + 1):
-        yT, M, trace_integral = period_map(rhs, jac, y, period, rtol=rtol, atol=atol, method=method)
-        F = yT - y
-        if np.linalg.norm(F) <= tol * (1 + np.linalg.norm(y)):
-            converged, message = True, f"converged in {k - 1} Newton steps"
-            break
-        try:
-            dy = np.linalg.solve(M - np.eye(n), -F)
-        except np.linalg.LinAlgError:
-            message = "M - I is singular: a multiplier is 1 (a fold or branch point of the orbit)"
-            break
-        y = y + dy
-        if not np.all(np.isfinite(y)):
-            message = "Newton diverged (non-finite iterate)"
-            break
+    problem = _PeriodMapProblem(rhs, jac, period, rtol=rtol, atol=atol, method=method)
+    run = newton_solve(problem, y, 0.0, tol=tol, max_iter=max_iter, criterion="residual")
+    _, M, trace_integral = problem.map(run.x)
     multipliers = np.linalg.eigvals(M)
     multipliers = multipliers[np.argsort(-np.abs(multipliers))]
     expected = np.exp(trace_integral)
     return PeriodicOrbit(
-        y0=y,
+        y0=run.x,
         period=float(period),
         monodromy=M,
         multipliers=multipliers,
         stable=bool(np.all(np.abs(multipliers) < 1)),
         liouville_error=float(abs(np.linalg.det(M) - expected) / expected),
-        residual=float(np.linalg.norm(F)),
-        iterations=k - 1 if converged else k,
-        converged=converged,
-        message=message,
+        residual=run.residual,
+        iterations=run.iterations,
+        converged=run.converged,
+        message=run.message,
     )
 
 
 PARAMETERS = ("sigma", "Abar")  # the parameters the generated sensitivity equations cover
 _SENSITIVITY = {"sigma": slice(20, 24), "Abar": slice(24, 28)}
+
+
+@dataclasses.dataclass(frozen=True)
+class Arcs:
+    """One integration of every arc of multiple shooting from one (x, params).
+
+    ends : (m, 4) arc end states;  mats : (m, 4, 4) arc matrices Phi_k;  sens : (m, 4, 2)
+    d(end)/d(sigma, Abar);  trace : the integral of tr J over the period (Liouville);
+    monodromy : Phi_{m-1} ... Phi_0.
+    """
+
+    ends: np.ndarray
+    mats: np.ndarray
+    sens: np.ndarray
+    trace: float
+    monodromy: np.ndarray
 _STATE = ("X", "Xd", "w", "wd")
 
 
@@ -141,6 +163,7 @@ class ShootingProblem:
     """
 
     test_kinds = ("PD", "NS")
+    branch_kind = "periodic orbits of (9)"
 
     def __init__(self, params: Params, param: str = "sigma", *, segments: int = 1, period_multiple: int = 1, rtol: float = 1e-10, atol: float = 1e-12, backend: str = "auto"):
         if not isinstance(params, Params):
@@ -183,58 +206,79 @@ class ShootingProblem:
             return y0.copy()
         return integrator.integrate_grid(params, y0, taus[:-1], rtol=self.rtol, atol=self.atol, backend=self.backend).ravel()
 
-    def _arcs(self, x, p):
-        key = (x.tobytes(), float(p))
+    def arcs(self, x, params: Params) -> "Arcs":
+        """Integrate every arc from x at ``params`` (any parameter set, not only ``params_at(p)``):
+        ends, arc matrices, the sensitivities in sigma and Abar, and the Liouville integral.
+        Cached on x and *all* parameters, so a caller that changes any parameter gets fresh arcs."""
+        key = (x.tobytes(), params)
         hit = self._cache.get(key)
         if hit is not None:
             return hit
-        params = self.params_at(p)
         taus = self.arc_times()
         m = self.segments
-        ends, mats, sens, trace, ok = np.empty((m, 4)), np.empty((m, 4, 4)), np.empty((m, 4)), 0.0, True
+        ends, mats, sens, trace, ok = np.empty((m, 4)), np.empty((m, 4, 4)), np.empty((m, 4, len(PARAMETERS))), 0.0, True
         for k in range(m):
             z0 = np.concatenate([x[4 * k : 4 * k + 4], np.eye(4).ravel(), np.zeros(9)])
             run = integrator.integrate(params, z0, taus[k], taus[k + 1], shooting=True, rtol=self.rtol, atol=self.atol, backend=self.backend)
             self.evaluations += 1
             ok &= run.success and bool(np.all(np.isfinite(run.z)))
-            ends[k], mats[k], sens[k] = run.z[:4], run.z[4:20].reshape(4, 4), run.z[_SENSITIVITY[self.param]]
+            ends[k], mats[k] = run.z[:4], run.z[4:20].reshape(4, 4)
+            sens[k] = np.stack([run.z[_SENSITIVITY[name]] for name in PARAMETERS], axis=-1)
             trace += run.z[28]
         if not ok:
             ends[:] = np.nan
-        result = (ends, mats, sens, trace)
-        if len(self._cache) > 8:
-            self._cache.clear()
-        self._cache[key] = result
         M = np.eye(4)
         for Phi in mats:
             M = Phi @ M
+        result = Arcs(ends, mats, sens, trace, M)
+        if len(self._cache) > 8:
+            self._cache.clear()
+        self._cache[key] = result
         self._floquet[key] = (M, trace)
         return result
+
+    def _arcs(self, x, p):
+        return self.arcs(x, self.params_at(p))
 
     # -- the continuation problem ------------------------------------------------------------
 
     def residual(self, x, p):
-        ends = self._arcs(x, p)[0]
-        return (ends - np.roll(x.reshape(-1, 4), -1, axis=0)).ravel()
+        return self.residual_of(x, self._arcs(x, p))
+
+    @staticmethod
+    def residual_of(x, arcs: "Arcs"):
+        """phi_k(y_k) - y_{k+1 mod m}, stacked."""
+        return (arcs.ends - np.roll(x.reshape(-1, 4), -1, axis=0)).ravel()
 
     def jacobian(self, x, p):
-        mats = self._arcs(x, p)[1]
-        m = self.segments
-        J = np.zeros((4 * m, 4 * m))
+        return self.jacobian_of(self._arcs(x, p))
+
+    @staticmethod
+    def jacobian_of(arcs: "Arcs", wrap: complex = 1.0):
+        """The block-cyclic matrix of multiple shooting: Phi_k on the diagonal, -I beside it, and
+        ``-wrap I`` in the block that closes the period. It is singular exactly when the monodromy
+        matrix has the eigenvalue ``wrap`` (1: the residual's own Jacobian; -1 or exp(i theta):
+        the conditions of period doubling and Neimark-Sacker points)."""
+        m = len(arcs.mats)
+        J = np.zeros((4 * m, 4 * m), dtype=complex if np.iscomplexobj(wrap) else float)
         for k in range(m):
-            J[4 * k : 4 * k + 4, 4 * k : 4 * k + 4] = mats[k]
+            J[4 * k : 4 * k + 4, 4 * k : 4 * k + 4] = arcs.mats[k]
             nxt = (k + 1) % m
-            J[4 * k : 4 * k + 4, 4 * nxt : 4 * nxt + 4] -= np.eye(4)
+            J[4 * k : 4 * k + 4, 4 * nxt : 4 * nxt + 4] -= (wrap if nxt == 0 else 1.0) * np.eye(4)
         return J
 
     def dparam(self, x, p):
-        return self._arcs(x, p)[2].ravel()
+        return self._arcs(x, p).sens[:, :, PARAMETERS.index(self.param)].ravel()
+
+    def dparams(self, x, p):
+        """d residual / d(sigma, Abar), shape (4 m, 2): every sensitivity the kernel computes."""
+        return self._arcs(x, p).sens.reshape(-1, len(PARAMETERS))
 
     def monodromy(self, x, p):
         return self._monodromy_and_trace(x, p)[0]
 
     def _monodromy_and_trace(self, x, p):
-        key = (x.tobytes(), float(p))
+        key = (x.tobytes(), self.params_at(p))
         if key not in self._floquet:
             self._arcs(x, p)
         return self._floquet[key]
@@ -310,26 +354,9 @@ def periodic_orbit(params: Params, y0, *, segments: int = 1, tol=1e-10, max_iter
 
 def orbit_at(problem: ShootingProblem, x, p, *, tol=1e-10, max_iter=20) -> PeriodicOrbit:
     """Newton on ``problem`` at fixed parameter p from x; the orbit with multipliers and checks."""
-    x = np.asarray(x, dtype=float).copy()
-    message, converged, k = f"no convergence in {max_iter} Newton steps", False, 0
-    for k in range(1, max_iter + 1):
-        F = problem.residual(x, p)
-        if not np.all(np.isfinite(F)):
-            message = "integration failed (non-finite state): no orbit near this guess"
-            break
-        if np.linalg.norm(F) <= tol * (1 + np.linalg.norm(x)):
-            converged, message = True, f"converged in {k - 1} Newton steps"
-            break
-        try:
-            x = x + np.linalg.solve(problem.jacobian(x, p), -F)
-        except np.linalg.LinAlgError:
-            message = "M - I is singular: a multiplier is 1 (a fold or branch point of the orbit)"
-            break
-        if not np.all(np.isfinite(x)):
-            message = "Newton diverged (non-finite iterate)"
-            break
-    F = problem.residual(x, p) if np.all(np.isfinite(x)) else np.full(len(x), np.nan)
-    finite = bool(np.all(np.isfinite(F)))
+    run = newton_solve(problem, x, p, tol=tol, max_iter=max_iter, criterion="residual")
+    x = run.x
+    finite = bool(np.isfinite(run.residual))
     mu = problem.eigenvalues(x, p) if finite else np.full(4, np.nan + 0j)
     return PeriodicOrbit(
         y0=x[:4].copy(),
@@ -338,8 +365,8 @@ def orbit_at(problem: ShootingProblem, x, p, *, tol=1e-10, max_iter=20) -> Perio
         multipliers=mu,
         stable=problem.is_stable(mu),
         liouville_error=problem.liouville_error(x, p) if finite else np.nan,
-        residual=float(np.linalg.norm(F)),
-        iterations=k - 1 if converged else k,
-        converged=converged,
-        message=message,
+        residual=run.residual,
+        iterations=run.iterations,
+        converged=run.converged,
+        message=run.message,
     )

@@ -8,16 +8,64 @@ knows only the model and the continuation engine.
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 
 from slosh_bif.continuation import ConvergenceError
 from slosh_bif.model.params import Params
-from slosh_bif.orbits.shooting import ShootingProblem, orbit_at, orbit_measures
+from slosh_bif.orbits.shooting import PeriodicOrbit, ShootingProblem, orbit_at, orbit_measures
 from slosh_bif.simulation.direct import simulate
+from slosh_bif.simulation.integrator import integrate_grid
 from slosh_bif.slowflow.flow import SlowFlow
 from slosh_bif.slowflow.steady_states import frequency_response
 
-__all__ = ["orbit_from_slow_flow", "slow_flow_start", "settle_and_shoot"]
+__all__ = ["StartOrbit", "orbit_from_simulation", "orbit_from_slow_flow", "slow_flow_start", "settle_and_shoot"]
+
+
+@dataclasses.dataclass(frozen=True)
+class StartOrbit:
+    """A converged 2pi-orbit of (9) to start a family from.
+
+    ``params`` is the parameter set *at the orbit* (a start from the slow flow moves sigma to the
+    steady state it used), so ``trace_orbits(start.params, start.y0, ...)`` is always right;
+    ``orbit`` the :class:`PeriodicOrbit`; ``found_from`` how it was found.
+    """
+
+    params: Params
+    orbit: PeriodicOrbit
+    found_from: str
+
+    @property
+    def y0(self):
+        return self.orbit.y0
+
+    @property
+    def sigma(self) -> float:
+        return self.params.sigma
+
+
+def orbit_from_simulation(params: Params, state0, *, settle: int = 150, guess=None, segments: int = 4, tries: int = 50) -> StartOrbit:
+    """A converged 2pi-orbit near ``guess``, or near the strobe states (tau = 2 pi k) of a
+    simulation of (9) from ``state0`` over ``settle`` periods: the last strobe first, then up to
+    ``tries - 1`` before it. Raises :class:`ConvergenceError` naming what was tried."""
+    if not (isinstance(settle, int) and settle >= 0):
+        raise ValueError(f"settle must be an integer >= 0 (forcing periods); got {settle!r}")
+    problem = ShootingProblem(params, segments=segments)
+    if guess is not None:
+        guesses = [np.asarray(guess, dtype=float)]
+        if guesses[0].shape != (4,) or not np.all(np.isfinite(guesses[0])):
+            raise ValueError(f"guess must be 4 finite numbers [X, X', w, w']; got {guess!r}")
+    else:
+        strobes = integrate_grid(params, state0, 2 * np.pi * np.arange(settle + 1))
+        guesses = list(strobes[::-1][:tries])
+    for k, y0 in enumerate(guesses):
+        orbit = orbit_at(problem, problem.initial_states(y0), params.sigma, tol=1e-9)
+        if orbit.converged:
+            where = "the guess" if guess is not None else f"the strobe state of period {settle - k} of a simulation"
+            return StartOrbit(params, orbit, f"Newton from {where}")
+    where = "the guess" if guess is not None else f"the last {len(guesses)} strobe states of a {settle}-period simulation"
+    raise ConvergenceError(f"no periodic orbit found near {where} at sigma = {params.sigma:g}")
 
 
 def orbit_from_slow_flow(params: Params, A: float, *, segments: int = 4, rtol: float = 1e-10, atol: float = 1e-12, tol: float = 1e-10):
@@ -32,9 +80,10 @@ def orbit_from_slow_flow(params: Params, A: float, *, segments: int = 4, rtol: f
     return orbit_at(problem, x, params.sigma, tol=tol)
 
 
-def slow_flow_start(params: Params, sigma_min: float, sigma_max: float, *, segments: int = 4, tries: int = 12, response=None):
-    """(sigma, orbit): a 2pi-orbit of (9) found from a stable steady state of (46) in
-    [sigma_min, sigma_max], for starting :func:`trace_orbits` without a simulation.
+def slow_flow_start(params: Params, sigma_min: float, sigma_max: float, *, segments: int = 4, tries: int = 12, response=None) -> StartOrbit:
+    """A :class:`StartOrbit`: a 2pi-orbit of (9) found from a stable steady state of (46) in
+    [sigma_min, sigma_max], for starting :func:`trace_orbits` without a simulation; its
+    ``params`` carry the sigma of that steady state.
 
     States are tried from the ends of the range inward: far from the peak the slow flow is
     closest to (9) (Fig. 10 set: 8 of 16 evenly spread stable states converge, all with
@@ -51,7 +100,7 @@ def slow_flow_start(params: Params, sigma_min: float, sigma_max: float, *, segme
         at = params.replace(sigma=sigma)
         orbit = orbit_from_slow_flow(at, A, segments=segments)
         if orbit.converged:
-            return sigma, orbit
+            return StartOrbit(at, orbit, f"Newton from the slow flow's motion on the stable steady state A = {A:.6g} of (46)")
     raise ConvergenceError(f"no orbit of (9) found from {len(picks)} stable steady states of (46) in sigma in [{sigma_min}, {sigma_max}]")
 
 

@@ -73,6 +73,7 @@ class FoldProblem:
     """Folds of A(Abar): x = (A, Abar) with R = R_A = 0 (scaled by pi^4 A^2), continued in sigma."""
 
     names = ("A", "Abar")
+    branch_kind = "folds of (46)"
 
     def __init__(self, params: Params):
         self.r = _Residual46(params)
@@ -110,6 +111,7 @@ class EndProblem:
     """The end-point condition R(A_min; sigma, Abar) = 0: x = (Abar,), continued in sigma."""
 
     names = ("Abar",)
+    branch_kind = "manifold ends of (46)"
 
     def __init__(self, params: Params):
         self.r = _Residual46(params)
@@ -155,7 +157,7 @@ def abar_branch(params: Params, sigma: float, *, options: cont.ContinuationOptio
 def critical_forcing(params: Params, sigma: float, *, options: cont.ContinuationOptions | None = None) -> CriticalPoint:
     """The smallest Abar with a steady state on S+ at ``sigma`` (continuation in Abar)."""
     branch = abar_branch(params, sigma, options=options)
-    candidates = [(s.p, float(s.x[0]), s.kind) for s in branch.special if s.kind == "LP" or (s.kind == "END" and "manifold" in s.message)]
+    candidates = [(s.p, float(s.x[0]), s.kind) for s in branch.special if s.kind == "LP" or (s.kind == cont.Kind.END and s.reason == cont.Status.EDGE)]
     if not candidates:
         raise RuntimeError(f"no fold and no manifold end found on the Abar branch at sigma = {sigma}: {branch.message}")
     Abar_b, A, kind = min(candidates)

@@ -39,6 +39,7 @@ class SteadyStateProblem:
     """Equilibria ``(A, psi)`` of (45) with ``param`` ("sigma" or "Abar") free; a continuation problem."""
 
     names = ("A", "psi")
+    branch_kind = "steady states of (45)"
     edge_name = "manifold end A = A_min"
     stability_from_jacobian = True  # the residual is the slow flow: its Jacobian decides stability
 

@@ -91,21 +91,21 @@ def trust_point(params: Params, sigma_min: float = -6.0, sigma_max: float = 8.0,
         warnings.simplefilter("ignore", AsymptoticsWarning)  # recorded in ``warned`` instead
         try:
             fr = frequency_response(params, sigma_min=sigma_min, sigma_max=sigma_max)
-            sigma0, orbit = slow_flow_start(params, sigma_min, sigma_max, segments=segments, response=fr)
+            start = slow_flow_start(params, sigma_min, sigma_max, segments=segments, response=fr)
         except (ConvergenceError, ValueError) as err:
             return failed(f"no start: {err}")
         try:
-            family = trace_orbits(params.replace(sigma=sigma0), orbit.y0, p_min=sigma_min, p_max=sigma_max, segments=segments, switch=switch, max_branches=max_branches)
+            family = trace_orbits(start.params, start.y0, p_min=sigma_min, p_max=sigma_max, segments=segments, switch=switch, max_branches=max_branches)
         except RuntimeError as err:  # ConvergenceError included
-            return failed(f"orbit continuation failed: {err}", sigma0)
+            return failed(f"orbit continuation failed: {err}", start.sigma)
     rows = [r for r in compare_rows(family, fr, np.linspace(sigma_min, sigma_max, grid)) if r["slow_flow_stable"]]
     if not rows:
-        return failed("no stable steady state of (46) in the range", sigma0)
+        return failed("no stable steady state of (46) in the range", start.sigma)
     d = np.array([r["relative_difference"] for r in rows])
     d_stable = np.array([r["relative_difference_stable_orbit"] for r in rows])
     finite = d[np.isfinite(d)]
     if not finite.size:  # e.g. the orbit found lies on an isola away from every stable state
-        return failed(f"no traced orbit at the sigma of any of the {len(rows)} stable states of (46)", sigma0)
+        return failed(f"no traced orbit at the sigma of any of the {len(rows)} stable states of (46)", start.sigma)
     return TrustPoint(
         **head,
         stable_states=len(rows),
@@ -113,7 +113,7 @@ def trust_point(params: Params, sigma_min: float = -6.0, sigma_max: float = 8.0,
         confirmed=float(np.mean(d_stable <= agree_within)),  # NaN (no stable orbit) counts as not confirmed
         median_difference=float(np.median(finite)),
         max_difference=float(np.max(finite)),
-        sigma_start=sigma0,
+        sigma_start=start.sigma,
         branches=len(family.branches),
         seconds=time.perf_counter() - started,
         status="ok",

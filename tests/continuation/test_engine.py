@@ -146,6 +146,30 @@ def test_branch_round_trips_through_npz(tmp_path):
     assert (loaded.param, loaded.names, loaded.status, loaded.message, loaded.options) == (
         branch.param, branch.names, branch.status, branch.message, branch.options
     )
+    for a, b in zip(loaded.special, branch.special):
+        np.testing.assert_array_equal(a.tangent, b.tangent)
+        assert (a.located, a.reason) == (b.located, b.reason)
+
+
+def test_special_points_carry_their_tangent_and_ends_their_reason():
+    # At a fold of the cubic the tangent is vertical in p: (dx, dp) = (+-1, 0) (closed form).
+    branch = continuation(Cubic(), [-1.3], (-1.3) ** 3 + 1.3, options=ContinuationOptions(p_min=-1, p_max=1))
+    folds = branch.special_of("LP")
+    assert len(folds) == 2
+    for fold in folds:
+        assert fold.located and abs(fold.tangent[-1]) < 1e-6 and abs(abs(fold.tangent[0]) - 1) < 1e-6
+    assert {e.reason for e in branch.special_of("END")} == {"parameter bound"}
+    edge = continuation(HalfLine(), [1.0], 1.0, options=ContinuationOptions(p_max=2.0)).special_of("END")
+    assert sorted(e.reason for e in edge) == ["domain edge", "parameter bound"]
+
+
+def test_branch_columns_by_name():
+    branch = continuation(Cubic(), [-1.3], (-1.3) ** 3 + 1.3, options=ContinuationOptions(p_min=-1, p_max=1))
+    np.testing.assert_array_equal(branch["x"], branch.x[:, 0])
+    np.testing.assert_array_equal(branch["p"], branch.p)
+    assert branch.columns == ("p", "x")
+    with pytest.raises(KeyError, match="its columns are p, x"):
+        branch["A"]
 
 
 def test_switch_branch_leaves_the_trivial_branch_onto_the_parabola():

@@ -139,8 +139,8 @@ def test_every_special_point_of_the_fig10_family_satisfies_its_condition_by_scip
     from slosh_bif.orbits.starts import slow_flow_start
 
     P = get_preset("fig10").params
-    sigma0, orbit = slow_flow_start(P, -6.0, 8.0)
-    family = trace_orbits(P.replace(sigma=sigma0), orbit.y0, p_min=-6.0, p_max=8.0)
+    start = slow_flow_start(P, -6.0, 8.0)
+    family = trace_orbits(start.params, start.y0, p_min=-6.0, p_max=8.0)
     names = [ob.name for ob in family.branches]
     assert names[0] == "symmetric" and "asymmetric" in names and "period-2" in names
     checked = 0

@@ -112,6 +112,34 @@ def test_shooting_sensitivities_match_differences_in_sigma_and_abar():
         np.testing.assert_allclose(problem.dparam(x, p0), fd, rtol=1e-6, atol=1e-7)
 
 
+def test_shooting_jacobian_and_both_sensitivities_match_differences_of_the_residual():
+    # The block-cyclic Jacobian (arc matrices from the variational equations) and d/d(sigma, Abar)
+    # from the sensitivity equations, against central differences of the residual itself.
+    P = get_preset("fig12").params
+    x = np.array([0.4, 0.1, 0.8, 0.9, -0.3, 0.2, -0.7, 0.5])
+    problem = ShootingProblem(P, "sigma", segments=2, rtol=1e-12, atol=1e-13)
+    J, h = problem.jacobian(x, P.sigma), 1e-6
+    fd = np.column_stack([(problem.residual(x + h * e, P.sigma) - problem.residual(x - h * e, P.sigma)) / (2 * h) for e in np.eye(len(x))])
+    np.testing.assert_allclose(J, fd, rtol=1e-5, atol=1e-6)
+    both = problem.dparams(x, P.sigma)
+    for column, name in enumerate(("sigma", "Abar")):
+        v = getattr(P, name)
+        plus, minus = P.replace(**{name: v + 1e-5}), P.replace(**{name: v - 1e-5})
+        fd = (problem.residual_of(x, problem.arcs(x, plus)) - problem.residual_of(x, problem.arcs(x, minus))) / 2e-5
+        np.testing.assert_allclose(both[:, column], fd, rtol=1e-6, atol=1e-7)
+
+
+def test_shooting_arcs_are_cached_on_every_parameter():
+    # A caller that changes a parameter other than the continued one must not get stale arcs.
+    P = get_preset("fig12").params
+    x = np.array([0.4, 0.1, 0.8, 0.9])
+    problem = ShootingProblem(P, "sigma")
+    first = problem.arcs(x, P).ends
+    other = problem.arcs(x, P.replace(beta=P.beta + 0.1)).ends
+    assert np.max(np.abs(first - other)) > 1e-4
+    assert problem.arcs(x, P).ends is first or np.array_equal(problem.arcs(x, P).ends, first)
+
+
 def test_single_and_multiple_shooting_find_the_same_orbit():
     P = get_preset("fig10").params
     guess = np.array([-2.29697839, 0.4870925, 0.62950163, -1.6026986])
@@ -177,8 +205,11 @@ def test_slow_flow_start_tries_steady_states_and_says_when_none_gives_an_orbit()
     from slosh_bif.orbits.starts import slow_flow_start
 
     P = get_preset("fig10").params
-    sigma0, orbit = slow_flow_start(P, -6.0, 8.0)
-    assert sigma0 in (-6.0, 8.0) and orbit.converged  # the range's ends come first
+    start = slow_flow_start(P, -6.0, 8.0)
+    assert start.sigma in (-6.0, 8.0) and start.orbit.converged  # the range's ends come first
+    # The start carries its own parameter set: Newton there, from its state, stays put.
+    again = orbit_at(ShootingProblem(start.params, segments=4), ShootingProblem(start.params, segments=4).initial_states(start.y0), start.sigma)
+    assert again.converged and again.iterations <= 1
     # Near the peak (46) and (9) differ by 30 %: no steady state there leads Newton to an orbit.
     with pytest.raises(ConvergenceError, match="no orbit of \\(9\\) found from"):
         slow_flow_start(P, 0.1, 0.3, tries=3)
