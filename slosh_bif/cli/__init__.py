@@ -44,11 +44,16 @@ def main(argv=None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
 
-    def show(message, category, *_args, **_kwargs):  # one line, no source excerpt
-        print(f"slosh-bif {args.command}: warning: {message}", file=sys.stderr)
+    shown = set()
+
+    def show(message, category, *_args, **_kwargs):  # one line, no source excerpt, each message once
+        if str(message) not in shown:
+            shown.add(str(message))
+            print(f"slosh-bif {args.command}: warning: {message}", file=sys.stderr)
 
     with warnings.catch_warnings():
         warnings.showwarning = show
+        warnings.simplefilter("always")  # every warning reaches show(), which prints each message once
         try:
             return args.run(args)
         except ValueError as err:

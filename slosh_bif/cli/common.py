@@ -1,13 +1,43 @@
-"""What the commands share: the parameter and range options, progress on stderr, list parsing."""
+"""What the commands share: parameter, range and continuation options (one meaning each in
+every command), progress on stderr, list parsing, deprecated spellings."""
 
 from __future__ import annotations
 
+import argparse
+import dataclasses
 import sys
 from pathlib import Path
 
+from slosh_bif.model.params import FIELDS
 from slosh_bif.model.presets import PRESETS, get_preset
 
-__all__ = ["add_params_options", "add_range_options", "params_of", "sigma_range", "progress", "throttled", "floats"]
+__all__ = [
+    "add_params_options",
+    "add_range_options",
+    "add_abar_range_options",
+    "add_continuation_options",
+    "add_sigma_points_option",
+    "continuation_options",
+    "params_of",
+    "sigma_range",
+    "abar_range",
+    "progress",
+    "throttled",
+    "floats",
+    "Deprecated",
+]
+
+
+class Deprecated(argparse.Action):
+    """An old spelling of an option: stores into the new option's ``dest`` and says so once."""
+
+    def __init__(self, option_strings, dest, new=None, **kwargs):
+        self.new = new
+        super().__init__(option_strings, dest, **kwargs)
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        print(f"slosh-bif: note: {option_string} is deprecated; use {self.new}", file=sys.stderr)
+        setattr(namespace, self.dest, values)
 
 
 def add_params_options(parser):
@@ -18,7 +48,7 @@ def add_params_options(parser):
         action="append",
         default=[],
         metavar="NAME=VALUE",
-        help="override one parameter (repeatable), e.g. --set Abar=2 --set n=10",
+        help=f"override one parameter (repeatable), e.g. --set Abar=2 --set n=10; names: {', '.join(FIELDS)}",
     )
 
 
@@ -26,6 +56,39 @@ def add_range_options(parser):
     parser.add_argument("--sigma-min", type=float, default=None, help="lower end of the sigma range (default -6)")
     parser.add_argument("--sigma-max", type=float, default=None, help="upper end of the sigma range (default 8)")
     parser.add_argument("--out", type=Path, required=True, help="output folder (created if missing)")
+
+
+def add_abar_range_options(parser, *, default=(None, None)):
+    lo, hi = default
+    parser.add_argument("--abar-min", type=float, default=lo, help="lowest forcing amplitude Abar" + (f" (default {lo:g})" if lo is not None else ""))
+    parser.add_argument("--abar-max", type=float, default=hi, help="highest forcing amplitude Abar" + (f" (default {hi:g})" if hi is not None else ""))
+
+
+def add_sigma_points_option(parser, *, default: int, old: str = "--grid"):
+    parser.add_argument("--sigma-points", type=int, default=default, help=f"sigma values compared (default {default})")
+    if old:
+        parser.add_argument(old, dest="sigma_points", type=int, action=Deprecated, new="--sigma-points", help=argparse.SUPPRESS)
+
+
+def add_continuation_options(parser, *, rtol: str):
+    """--ds, --ds-max, --max-steps and --rtol: the continuation controls, the same on every
+    continuation command (defaults: the method's own; ``rtol`` says what it is there)."""
+    parser.add_argument("--ds", type=float, default=None, help="first arclength step (default: the method's)")
+    parser.add_argument("--ds-max", type=float, default=None, help="largest arclength step (default: the method's)")
+    parser.add_argument("--max-steps", type=int, default=None, help="accepted steps per direction at most (default: the method's)")
+    parser.add_argument("--rtol", type=float, default=None, help=rtol)
+
+
+def continuation_options(args, base):
+    """``base`` (a ContinuationOptions) with --ds, --ds-max, --max-steps applied, checked first."""
+    for flag, value in (("--ds", args.ds), ("--ds-max", args.ds_max)):
+        if value is not None and not 0 < value < float("inf"):
+            raise ValueError(f"{flag} must be a positive finite arclength step; got {value}")
+    if args.max_steps is not None and args.max_steps < 1:
+        raise ValueError(f"--max-steps must be an integer >= 1; got {args.max_steps}")
+    step_max = args.ds_max if args.ds_max is not None else max(base.step_max, args.ds or 0.0)
+    step = min(args.ds if args.ds is not None else base.step, step_max)
+    return dataclasses.replace(base, step=step, step_max=step_max, step_min=min(base.step_min, step), max_steps=args.max_steps or base.max_steps)
 
 
 def params_of(args):
@@ -37,6 +100,14 @@ def sigma_range(args, default=(-6.0, 8.0)):
     hi = default[1] if args.sigma_max is None else args.sigma_max
     if not lo < hi:
         raise ValueError(f"--sigma-min must be below --sigma-max; got {lo} and {hi}")
+    return lo, hi
+
+
+def abar_range(args, default):
+    lo = default[0] if args.abar_min is None else args.abar_min
+    hi = default[1] if args.abar_max is None else args.abar_max
+    if not 0 <= lo < hi:
+        raise ValueError(f"need 0 <= --abar-min < --abar-max; got {lo} and {hi}")
     return lo, hi
 
 

@@ -2,17 +2,27 @@
 
 from __future__ import annotations
 
-import numpy as np
-
-from slosh_bif.cli.common import add_params_options, add_range_options, floats, params_of, progress, sigma_range, throttled
+from slosh_bif.cli.common import (
+    abar_range,
+    add_abar_range_options,
+    add_continuation_options,
+    add_params_options,
+    add_range_options,
+    continuation_options,
+    floats,
+    params_of,
+    progress,
+    sigma_range,
+    throttled,
+)
 from slosh_bif.model.presets import get_preset
 
 __all__ = ["add_commands"]
 
 
-def family_from_args(args, params, lo, hi):
-    """The family of orbits ``shoot`` and ``compare`` trace: from --start's orbit, over [lo, hi]."""
-    from slosh_bif.orbits.families import trace_orbits
+def family_from_args(args, params, lo, hi, param="sigma"):
+    """The family of orbits ``shoot`` and ``compare`` trace: from --start's orbit, over [lo, hi] of ``param``."""
+    from slosh_bif.orbits.families import SHOOTING_OPTIONS, trace_orbits
     from slosh_bif.orbits.starts import orbit_from_simulation, slow_flow_start
 
     if args.start == "slow-flow":
@@ -26,16 +36,28 @@ def family_from_args(args, params, lo, hi):
     mu = ", ".join(f"{abs(m):.4g}" for m in start.orbit.multipliers)
     which = "from the slow flow " if args.start == "slow-flow" else ""
     progress(f"start orbit {which}at sigma = {start.sigma:.5g}: |X(0)| = {abs(start.y0[0]):.4g}, multipliers |mu| = {mu} ({start.found_from})")
-    return trace_orbits(start.params, start.y0, p_min=lo, p_max=hi, segments=args.segments, switch=not args.no_switch, max_branches=args.max_branches, progress=throttled(progress))
+    rtol = 1e-10 if args.rtol is None else args.rtol
+    if not 1e-14 <= rtol <= 1e-4:
+        raise ValueError(f"--rtol must be in [1e-14, 1e-4]; got {rtol}")
+    options = continuation_options(args, SHOOTING_OPTIONS)
+    return trace_orbits(
+        start.params, start.y0, param=param, p_min=lo, p_max=hi, segments=args.segments, options=options, rtol=rtol, atol=rtol * 1e-2,
+        switch=not args.no_switch, max_branches=args.max_branches, progress=throttled(progress),
+    )
 
 
 def _shoot(args) -> int:
     from slosh_bif.orbits.output import plot_family, write_branch_csv
 
     params = params_of(args)
-    lo, hi = sigma_range(args)
+    if args.parameter == "Abar":
+        if args.start == "slow-flow":
+            raise ValueError("--start slow-flow searches the sigma range; use it with --parameter sigma")
+        lo, hi = abar_range(args, default=(0.0, 2 * params.Abar))
+    else:
+        lo, hi = sigma_range(args)
     args.out.mkdir(parents=True, exist_ok=True)
-    family = family_from_args(args, params, lo, hi)
+    family = family_from_args(args, params, lo, hi, param=args.parameter)
     csv_path, png_path = write_branch_csv(family, args.out / "branch.csv"), plot_family(family, args.out / "branch.png")
     for k, ob in enumerate(family.branches):
         ob.branch.save(args.out / f"branch{k}_{ob.name}.npz")
@@ -51,6 +73,7 @@ def add_shooting_options(parser):
     parser.add_argument("--settle", type=int, default=150, help="periods simulated from the preset's initial state for the start guess (default 150)")
     parser.add_argument("--max-branches", type=int, default=6, help="branches traced at most, the primary one included (default 6)")
     parser.add_argument("--no-switch", action="store_true", help="trace the primary branch only")
+    add_continuation_options(parser, rtol="relative tolerance of the integration of the shooting arcs (default 1e-10; the corrector follows it)")
 
 
 def add_commands(sub) -> None:
@@ -58,5 +81,7 @@ def add_commands(sub) -> None:
     shoot = sub.add_parser("shoot", help="periodic orbits of the smooth model (9) by shooting, continued in sigma, with their bifurcations")
     add_params_options(shoot)
     add_range_options(shoot)
+    shoot.add_argument("--parameter", choices=("sigma", "Abar"), default="sigma", help="continue in sigma (default) or in Abar at the preset's sigma")
+    add_abar_range_options(shoot)
     add_shooting_options(shoot)
     shoot.set_defaults(run=_shoot)

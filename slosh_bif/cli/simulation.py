@@ -3,12 +3,13 @@
 
 from __future__ import annotations
 
+import argparse
 import sys
 from pathlib import Path
 
 import numpy as np
 
-from slosh_bif.cli.common import add_params_options, add_range_options, params_of, progress, sigma_range, throttled
+from slosh_bif.cli.common import Deprecated, add_abar_range_options, add_params_options, add_range_options, params_of, progress, sigma_range, throttled
 from slosh_bif.model.presets import get_preset
 
 __all__ = ["add_commands"]
@@ -54,9 +55,11 @@ def _regimes(args) -> int:
     lo, hi = sigma_range(args, default=(-2.0, 4.0))
     if not (0 <= args.abar_min < args.abar_max):
         raise ValueError(f"need 0 <= --abar-min < --abar-max; got {args.abar_min}, {args.abar_max}")
-    n_sigma, n_abar = args.grid
+    if args.grid is not None:  # the deprecated --grid N M
+        args.sigma_points, args.abar_points = args.grid
+    n_sigma, n_abar = args.sigma_points, args.abar_points
     if n_sigma < 1 or n_abar < 1:
-        raise ValueError(f"--grid takes two positive integers N M (sigma points, Abar points); got {args.grid}")
+        raise ValueError(f"--sigma-points and --abar-points take positive integers; got {n_sigma} and {n_abar}")
     if args.workers is not None and args.workers < 1:
         raise ValueError(f"--workers must be a positive integer; got {args.workers}")
     args.out.mkdir(parents=True, exist_ok=True)
@@ -90,9 +93,10 @@ def add_commands(sub) -> None:
     regimes = sub.add_parser("regimes", help="map of response regimes over (sigma, Abar), simulated in parallel")
     add_params_options(regimes)
     add_range_options(regimes)
-    regimes.add_argument("--abar-min", type=float, default=0.1, help="lowest forcing amplitude (default 0.1)")
-    regimes.add_argument("--abar-max", type=float, default=3.0, help="highest forcing amplitude (default 3)")
-    regimes.add_argument("--grid", type=int, nargs=2, default=(13, 10), metavar=("N", "M"), help="N sigma values by M Abar values (default 13 10)")
+    add_abar_range_options(regimes, default=(0.1, 3.0))
+    regimes.add_argument("--sigma-points", type=int, default=13, help="sigma values of the grid (default 13)")
+    regimes.add_argument("--abar-points", type=int, default=10, help="Abar values of the grid (default 10)")
+    regimes.add_argument("--grid", type=int, nargs=2, default=None, action=Deprecated, new="--sigma-points N --abar-points M", help=argparse.SUPPRESS)
     regimes.add_argument("--tmax", type=float, default=600.0, help="simulated time per point; the second half is classified (default 600)")
     regimes.add_argument("--model", choices=("smooth", "impact"), default="smooth", help="model simulated (default smooth)")
     regimes.add_argument("--workers", type=int, default=None, help="worker processes (default: one per core)")

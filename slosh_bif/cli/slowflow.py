@@ -2,25 +2,56 @@
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 
-from slosh_bif.cli.common import add_params_options, add_range_options, params_of, progress, sigma_range
+from slosh_bif.cli.common import (
+    abar_range,
+    add_abar_range_options,
+    add_continuation_options,
+    add_params_options,
+    add_range_options,
+    continuation_options,
+    params_of,
+    progress,
+    sigma_range,
+)
+
+_RTOL = "Newton corrector tolerance of the continuation (default 1e-11)"
+
+
+def _options(args, base):
+    opts = continuation_options(args, base)
+    if args.rtol is not None:
+        if not 0 < args.rtol < 1e-2:
+            raise ValueError(f"--rtol must be in (0, 1e-2); got {args.rtol}")
+        opts = dataclasses.replace(opts, tol=args.rtol)
+    return opts
 
 __all__ = ["add_commands"]
 
 
 def _frc(args) -> int:
+    from slosh_bif.continuation import ContinuationOptions
     from slosh_bif.slowflow.output import plot_frc, write_frc_csv
-    from slosh_bif.slowflow.steady_states import frequency_response
+    from slosh_bif.slowflow.steady_states import forcing_response, frequency_response
 
     params = params_of(args)
-    lo, hi = sigma_range(args)
-    args.out.mkdir(parents=True, exist_ok=True)
-    fr = frequency_response(params, sigma_min=lo, sigma_max=hi)
+    if args.parameter == "Abar":
+        lo, hi = abar_range(args, default=(0.0, None))
+        opts = _options(args, ContinuationOptions(step=0.02, step_max=0.2))
+        args.out.mkdir(parents=True, exist_ok=True)
+        fr = forcing_response(params, abar_min=lo, abar_max=hi, options=opts)
+    else:
+        lo, hi = sigma_range(args)
+        opts = _options(args, ContinuationOptions())
+        args.out.mkdir(parents=True, exist_ok=True)
+        fr = frequency_response(params, sigma_min=lo, sigma_max=hi, options=opts)
     csv_path, png_path = write_frc_csv(fr, args.out / "frc.csv"), plot_frc(fr, args.out / "frc.png")
     for k, branch in enumerate(fr.branches):
         branch.save(args.out / f"frc_branch{k}.npz")
-        specials = ", ".join(f"{s.kind} at sigma = {s.p:.10g} (A = {s.x[0]:.6g})" for s in branch.special)
+        specials = ", ".join(f"{s.kind} at {args.parameter} = {s.p:.10g} (A = {s.x[0]:.6g})" for s in branch.special)
         print(f"component {k}: {len(branch)} points, {branch.message}; {specials}")
     print(f"wrote {csv_path}, {png_path}")
     return 0
@@ -33,7 +64,9 @@ def _critical(args) -> int:
     params = params_of(args)
     lo, hi = sigma_range(args)
     args.out.mkdir(parents=True, exist_ok=True)
-    curve = critical_curve(params, lo, hi, progress=progress)
+    from slosh_bif.slowflow.critical import DEFAULT_OPTIONS
+
+    curve = critical_curve(params, lo, hi, options=_options(args, DEFAULT_OPTIONS), progress=progress)
     csv_path, png_path = write_critical_csv(curve, args.out / "critical.csv"), plot_critical(curve, args.out / "critical.png")
     at = float(np.interp(params.sigma, curve.sigma, curve.Abar_b)) if curve.sigma[0] <= params.sigma <= curve.sigma[-1] else None
     if at is not None:
@@ -48,9 +81,13 @@ def add_commands(sub) -> None:
     frc = sub.add_parser("frc", help="frequency-response curve A(sigma) of the slow flow by pseudo-arclength continuation")
     add_params_options(frc)
     add_range_options(frc)
+    frc.add_argument("--parameter", choices=("sigma", "Abar"), default="sigma", help="continue in sigma (the frequency response, default) or in Abar at the preset's sigma")
+    add_abar_range_options(frc)
+    add_continuation_options(frc, rtol=_RTOL)
     frc.set_defaults(run=_frc)
 
     critical = sub.add_parser("critical", help="critical forcing Abar_b(sigma) below which no steady state exists on S+")
     add_params_options(critical)
     add_range_options(critical)
+    add_continuation_options(critical, rtol=_RTOL)
     critical.set_defaults(run=_critical)

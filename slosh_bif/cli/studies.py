@@ -3,11 +3,12 @@ the slow flow, the orbits and the simulations."""
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
 import numpy as np
 
-from slosh_bif.cli.common import add_params_options, add_range_options, floats, params_of, progress, sigma_range
+from slosh_bif.cli.common import add_params_options, add_range_options, add_sigma_points_option, floats, params_of, progress, sigma_range
 from slosh_bif.cli.orbits import add_shooting_options, family_from_args
 from slosh_bif.model.presets import get_preset
 
@@ -23,7 +24,9 @@ def _compare(args) -> int:
     args.out.mkdir(parents=True, exist_ok=True)
     fr = frequency_response(params, sigma_min=lo, sigma_max=hi)
     family = family_from_args(args, params, lo, hi)
-    rows = list(compare_rows(family, fr, np.linspace(lo, hi, args.grid)))
+    if args.sigma_points < 2:
+        raise ValueError(f"--sigma-points must be an integer >= 2; got {args.sigma_points}")
+    rows = list(compare_rows(family, fr, np.linspace(lo, hi, args.sigma_points)))
     csv_path, png_path = write_compare_csv(rows, args.out / "compare.csv"), plot_compare(family, fr, rows, args.out / "compare.png")
     table = compare_table(rows)
     (args.out / "compare.txt").write_text(table + "\n")
@@ -45,7 +48,7 @@ def _trust(args) -> int:
     def report(point, done, total):
         progress(f"{done}/{total}: eps = {point.eps:g}, beta = {point.beta:g}, n = {point.n}: {point.status}, {point.seconds:.1f} s")
 
-    points = trust_map(base, eps=args.eps, beta=args.beta, n=args.n, sigma_min=lo, sigma_max=hi, grid=args.grid, switch=not args.no_switch, max_branches=args.max_branches, max_workers=args.workers, progress=report)
+    points = trust_map(base, eps=args.eps, beta=args.beta, n=args.n, sigma_min=lo, sigma_max=hi, grid=args.sigma_points, switch=not args.no_switch, max_branches=args.max_branches, max_workers=args.workers, progress=report)
     table = trust_table(points)
     (args.out / "trust_map.txt").write_text(table + "\n")
     csv_path, png_path = write_trust_csv(points, args.out / "trust_map.csv"), plot_trust_map(points, args.out / "trust_map.png")
@@ -95,6 +98,12 @@ def _answer(args) -> int:
         print(f"slow envelope A from {A[0]:.4g} to {A[-1]:.4g}" if A is not None else f"{r.status}: {r.message}; max |X| = {np.max(np.abs(r.y[0])):.4g}")
     else:
         print(f"regime: {r}" if isinstance(r, str) else f"regime: {r.regime} ({r.reason})")
+    if args.out is not None:
+        args.out.mkdir(parents=True, exist_ok=True)
+        record = dict(question=result.question, model=result.model, reason=result.reason, error_estimate=result.error_estimate, seconds=result.seconds, params=params.as_dict())
+        path = args.out / "answer.json"
+        path.write_text(json.dumps(record, indent=2) + "\n")
+        print(f"wrote {path}")
     return 0
 
 
@@ -104,7 +113,7 @@ def add_commands(sub) -> None:
     add_params_options(compare)
     add_range_options(compare)
     add_shooting_options(compare)
-    compare.add_argument("--grid", type=int, default=141, help="sigma values compared (default 141)")
+    add_sigma_points_option(compare, default=141)
     compare.set_defaults(run=_compare)
 
     trust = sub.add_parser("trust", help="compare over a grid of eps, beta and n: where the slow flow (46) can be trusted")
@@ -113,7 +122,7 @@ def add_commands(sub) -> None:
     trust.add_argument("--eps", type=floats, default=[0.02, 0.05, 0.1, 0.2], metavar="E1,E2,...", help="mass ratios (default 0.02,0.05,0.1,0.2)")
     trust.add_argument("--beta", type=floats, default=[0.0, 0.3, 0.5], metavar="B1,B2,...", help="values of beta (default 0,0.3,0.5)")
     trust.add_argument("--n", type=lambda s: [int(v) for v in s.split(",")], default=[6, 10, 20, 50], metavar="N1,N2,...", help="wall exponents n (default 6,10,20,50)")
-    trust.add_argument("--grid", type=int, default=141, help="sigma values compared per set (default 141)")
+    add_sigma_points_option(trust, default=141)
     trust.add_argument("--max-branches", type=int, default=6, help="orbit branches traced per set at most (default 6)")
     trust.add_argument("--no-switch", action="store_true", help="trace the primary orbit branch only (faster; misses stable asymmetric and period-2 orbits)")
     trust.add_argument("--workers", type=int, default=None, help="worker processes (default: one per core)")
@@ -132,6 +141,7 @@ def add_commands(sub) -> None:
     ans.add_argument("--sigma-min", type=float, default=None, help="frequency response: lower end of sigma (default sigma - 3)")
     ans.add_argument("--sigma-max", type=float, default=None, help="frequency response: upper end of sigma (default sigma + 3)")
     ans.add_argument("--tmax", type=float, default=600.0, help="time response and regime: end time tau (default 600)")
+    ans.add_argument("--out", type=Path, default=None, help="output folder for answer.json (the choice, its reason and error estimate)")
     ans.set_defaults(run=_answer)
 
     bench = sub.add_parser("bench", help="work-precision charts: frequency-response question, integrators, cost of growth (a few minutes)")

@@ -3,7 +3,7 @@ frequency response of (46), the critical forcing Abar_b, and their CSV/PNG outpu
 
 from slosh_bif.slowflow.critical import CriticalCurve, CriticalPoint, critical_curve, critical_forcing
 from slosh_bif.slowflow.flow import AsymptoticsWarning, SlowFlow, SlowTrajectory, asymptotics_concerns
-from slosh_bif.slowflow.steady_states import FrequencyResponse, SteadyStateProblem, frequency_response
+from slosh_bif.slowflow.steady_states import FrequencyResponse, SteadyStateProblem, forcing_response, frequency_response
 
 __all__ = [
     "SlowFlow",
@@ -13,6 +13,7 @@ __all__ = [
     "SteadyStateProblem",
     "FrequencyResponse",
     "frequency_response",
+    "forcing_response",
     "CriticalPoint",
     "CriticalCurve",
     "critical_forcing",

@@ -140,7 +140,7 @@ class CriticalPoint:
     kind: str  # "LP" (interior fold) or "END" (manifold end)
 
 
-_DEFAULT = cont.ContinuationOptions(step=0.02, step_max=0.2)
+DEFAULT_OPTIONS = cont.ContinuationOptions(step=0.02, step_max=0.2)
 
 
 def abar_branch(params: Params, sigma: float, *, options: cont.ContinuationOptions | None = None):
@@ -150,7 +150,7 @@ def abar_branch(params: Params, sigma: float, *, options: cont.ContinuationOptio
     A0 = max(1.0, 3 * problem.flow.A_min)
     Abar0 = _Residual46(P).abar_at(A0, P.sigma)
     psi0 = float(problem.flow.steady_phase(A0, Abar=Abar0))
-    opts = dataclasses.replace(options or _DEFAULT, p_min=0.0, p_max=max(10.0, 10 * Abar0))
+    opts = dataclasses.replace(options or DEFAULT_OPTIONS, p_min=0.0, p_max=max(10.0, 10 * Abar0))
     return cont.continuation(problem, [A0, psi0], Abar0, param="Abar", options=opts)
 
 
@@ -194,7 +194,7 @@ def critical_curve(
     report = progress or (lambda message: None)
     if not sigma_min < sigma_max:
         raise ValueError(f"need sigma_min < sigma_max; got {sigma_min} and {sigma_max}")
-    opts = options or _DEFAULT
+    opts = options or DEFAULT_OPTIONS
     r = _Residual46(params)
     end_problem = EndProblem(params)
     end = _trace(end_problem, [r.abar_at(r.A_edge, sigma_min)], float(sigma_min), sigma_min, sigma_max, opts)

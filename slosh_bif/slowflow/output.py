@@ -41,10 +41,12 @@ def plot_frc(fr: FrequencyResponse, path, *, title=None) -> Path:
     ax.annotate("A_min (manifold end)", (ax.get_xlim()[0], fr.A_min), textcoords="offset points", xytext=(4, 4), fontsize=8, color="0.4")
     ax.plot([], [], "k-", label="stable")
     ax.plot([], [], "k--", label="unstable")
-    ax.set_xlabel(r"detuning $\sigma$")
+    by_abar = bool(fr.branches) and fr.branches[0].param == "Abar"
+    ax.set_xlabel(r"forcing $\bar A$" if by_abar else r"detuning $\sigma$")
     ax.set_ylabel("amplitude A of X (slow flow, eq. 46)")
     P = fr.params
-    ax.set_title(title or f"Frequency response on S+: Abar = {P.Abar:g}, gamma = {P.gamma:g}, beta = {P.beta:g}, n = {P.n}, pbar = {P.pbar}")
+    fixed = f"sigma = {P.sigma:g}" if by_abar else f"Abar = {P.Abar:g}"
+    ax.set_title(title or f"{'Forcing' if by_abar else 'Frequency'} response on S+: {fixed}, gamma = {P.gamma:g}, beta = {P.beta:g}, n = {P.n}, pbar = {P.pbar}")
     ax.legend(fontsize=8)
     ax.grid(alpha=0.3)
     return save_figure(fig, path, dpi=120)

@@ -27,7 +27,7 @@ from slosh_bif.model._generated import slow_flow as gen
 from slosh_bif.model.params import Params
 from slosh_bif.slowflow.flow import SlowFlow
 
-__all__ = ["SteadyStateProblem", "FrequencyResponse", "frequency_response", "sigma_on_curve"]
+__all__ = ["SteadyStateProblem", "FrequencyResponse", "frequency_response", "forcing_response", "sigma_on_curve", "abar_on_curve"]
 
 PARAMS = ("sigma", "Abar")
 # Points closer to the manifold's end than this (relative) are ill-conditioned: alpha has a
@@ -98,6 +98,13 @@ def sigma_on_curve(flow: SlowFlow, A):
     return (Phi0 - root) / scale, (Phi0 + root) / scale
 
 
+def abar_on_curve(flow: SlowFlow, A, sigma=None):
+    """The forcing Abar of the steady state of amplitude A (at the flow's sigma, or ``sigma``):
+    (46) is explicit in Abar^2 for fixed A, Abar = |(E, Phi)| / (pi^2 A)."""
+    E, Phi = flow.steady_balances(A, sigma=sigma, Abar=1.0)
+    return np.hypot(E, Phi) / (np.pi**2 * np.asarray(A, dtype=float))
+
+
 def _feasible_intervals(flow: SlowFlow, A_max):
     """Intervals of A in [A_edge, A_max] where steady states exist (a log grid, for start points only)."""
     A = np.geomspace(flow.A_min * (1 + 2 * EDGE_MARGIN), A_max, 4000)
@@ -165,4 +172,33 @@ def frequency_response(params: Params, *, sigma_min=None, sigma_max=None, option
             branch = cont.continuation(problem, [A0, psi0], float(sigma0), param="sigma", options=opts)
             branches.append(branch)
             candidates = [(A, sg) for A, sg in candidates if np.min(np.hypot(branch.x[:, 0] - A, branch.p - sg)) >= 2 * opts.step_max]
+    return FrequencyResponse(params=params, branches=tuple(branches), A_min=flow.A_min)
+
+
+def forcing_response(params: Params, *, abar_min: float = 0.0, abar_max: float | None = None, options: cont.ContinuationOptions | None = None) -> FrequencyResponse:
+    """Steady states of (45)/(46) on S+ at the parameter set's sigma, continued in Abar over
+    [abar_min, abar_max] (default: up to ten times the forcing of the largest-amplitude start).
+
+    For fixed A, Abar is explicit (:func:`abar_on_curve`), so the curve is one arc from the
+    manifold's end to large A; each piece of it inside the Abar range is one branch.
+    """
+    problem = SteadyStateProblem(params, "Abar")
+    flow = problem.flow
+    A = np.geomspace(flow.A_min * (1 + 2 * EDGE_MARGIN), _amplitude_bound(params.replace(Abar=max(params.Abar, abar_max or 0.0, 1.0))), 4000)
+    abar = abar_on_curve(flow, A)
+    if abar_max is None:
+        abar_max = float(max(10.0, 10 * abar[np.argmin(np.abs(A - max(1.0, 3 * flow.A_min)))]))
+    if not (np.isfinite(abar_min) and np.isfinite(abar_max) and 0 <= abar_min < abar_max):
+        raise ValueError(f"need finite 0 <= abar_min < abar_max; got {abar_min} and {abar_max}")
+    opts = dataclasses.replace(options or cont.ContinuationOptions(step=0.02, step_max=0.2), p_min=float(abar_min), p_max=float(abar_max))
+    inside = (abar > abar_min) & (abar < abar_max)
+    if not np.any(inside):
+        raise ValueError(f"no steady state on S+ with Abar in [{abar_min}, {abar_max}] at sigma = {params.sigma} (Abar ranges over [{abar.min():.6g}, {abar.max():.6g}] for A up to {A[-1]:.3g})")
+    branches = []
+    starts = np.flatnonzero(inside & ~np.roll(inside, 1))
+    for i0 in starts:
+        i1 = i0 + int(np.argmax(~inside[i0:])) if not np.all(inside[i0:]) else len(A)
+        k = (i0 + i1 - 1) // 2  # the middle of the piece
+        psi0 = float(flow.steady_phase(A[k], Abar=abar[k]))
+        branches.append(cont.continuation(problem, [A[k], psi0], float(abar[k]), param="Abar", options=opts))
     return FrequencyResponse(params=params, branches=tuple(branches), A_min=flow.A_min)

@@ -89,6 +89,67 @@ def test_shoot_writes_branch_csv_and_png(tmp_path, capsys):
     assert "start orbit at sigma = 7.5" in capsys.readouterr().err
 
 
+def test_frc_in_abar_meets_the_frc_in_sigma_where_they_cross(tmp_path):
+    # Two one-parameter runs of (46) through the same point (sigma = 1, Abar = 1.5, Fig. 13 set):
+    # the Abar-branch at the preset's sigma, interpolated at Abar = 1.5, has the amplitude of the
+    # sigma-branch at Abar = 1.5 interpolated at sigma = 1.
+    assert main(["frc", "--preset", "fig13", "--parameter", "Abar", "--abar-min", "0.5", "--abar-max", "3", "--ds-max", "0.005", "--out", str(tmp_path / "a")]) == 0
+    assert main(["frc", "--preset", "fig13", "--set", "Abar=1.5", "--sigma-min", "0", "--sigma-max", "2", "--ds-max", "0.005", "--out", str(tmp_path / "s")]) == 0
+    by_abar = [r for r in csv.DictReader(open(tmp_path / "a" / "frc.csv"))]
+    by_sigma = [r for r in csv.DictReader(open(tmp_path / "s" / "frc.csv"))]
+    assert {float(r["sigma"]) for r in by_abar} == {1.0} and {float(r["Abar"]) for r in by_sigma} == {1.5}
+    assert by_abar[0]["special"] == "END" and float(by_abar[0]["Abar"]) == pytest.approx(0.747292392, rel=1e-8)  # Abar_b, the manifold end
+
+    def amplitude_at(rows, key, value):
+        # stable points only: at sigma = 1, Abar = 1.5 the stable resonant state is unique
+        pts = sorted((float(r[key]), float(r["A"])) for r in rows if r["stable"] == "1")
+        k = np.searchsorted([p for p, _ in pts], value)
+        (p0, a0), (p1, a1) = pts[k - 1], pts[k]
+        return a0 + (a1 - a0) * (value - p0) / (p1 - p0)
+
+    # linear interpolation over arclength steps of 0.005: error ~ 1e-5
+    assert amplitude_at(by_abar, "Abar", 1.5) == pytest.approx(amplitude_at(by_sigma, "sigma", 1.0), rel=1e-4)
+
+
+def test_continuation_controls_are_checked_and_old_spellings_still_work(tmp_path, capsys):
+    assert main(["frc", "--preset", "fig10", "--ds", "0", "--out", str(tmp_path)]) == 2
+    assert "--ds must be a positive finite arclength step" in capsys.readouterr().err
+    assert main(["frc", "--preset", "fig10", "--max-steps", "0", "--out", str(tmp_path)]) == 2
+    assert "--max-steps must be an integer >= 1" in capsys.readouterr().err
+    assert main(["frc", "--preset", "fig10", "--out", str(tmp_path / "default")]) == 0
+    assert main(["frc", "--preset", "fig10", "--ds", "0.01", "--ds-max", "0.02", "--out", str(tmp_path / "fine")]) == 0
+    default, fine = (list(csv.DictReader(open(tmp_path / name / "frc.csv"))) for name in ("default", "fine"))
+    assert len(fine) > 2 * len(default)  # the steps are capped at 0.02 arclength
+    assert [r["special"] for r in fine if r["special"]] == [r["special"] for r in default if r["special"]]
+    argv = ["compare", "--preset", "fig10", "--set", "sigma=7.5", "--sigma-min", "7", "--sigma-max", "8", "--grid", "5", "--no-switch", "--out", str(tmp_path / "c")]
+    assert main(argv) == 0
+    assert "--grid is deprecated; use --sigma-points" in capsys.readouterr().err
+    assert len(list(csv.DictReader(open(tmp_path / "c" / "compare.csv")))) == 5
+
+
+def test_set_help_lists_the_parameter_names(capsys):
+    with pytest.raises(SystemExit):
+        main(["frc", "--help"])
+    out = " ".join(capsys.readouterr().out.split())
+    assert "names: eps, beta, gamma, sigma, Abar, lam, chi, n, pbar" in out
+
+
+def test_shoot_in_abar_meets_the_shoot_in_sigma_where_they_cross(tmp_path):
+    # Orbits of (9), Fig. 10 set at sigma = 7.5: the Abar-branch interpolated at Abar = 3.4 and the
+    # sigma-branch at Abar = 3.4 interpolated at sigma = 7.5 are the same orbit.
+    common = ["--preset", "fig10", "--set", "sigma=7.5", "--no-switch", "--ds-max", "0.01"]
+    assert main(["shoot", *common, "--parameter", "Abar", "--abar-min", "2.8", "--abar-max", "3.5", "--out", str(tmp_path / "a")]) == 0
+    assert main(["shoot", *common, "--set", "Abar=3.4", "--sigma-min", "7.4", "--sigma-max", "7.6", "--out", str(tmp_path / "s")]) == 0
+    by_abar = list(csv.DictReader(open(tmp_path / "a" / "branch.csv")))
+    by_sigma = list(csv.DictReader(open(tmp_path / "s" / "branch.csv")))
+    assert {r["sigma"] for r in by_abar} == {"7.5"} and {r["Abar"] for r in by_sigma} == {"3.4"}
+    a_vals, s_vals = (sorted((float(r[k]), float(r["A1"])) for r in rows) for rows, k in ((by_abar, "Abar"), (by_sigma, "sigma")))
+    A1_abar = np.interp(3.4, *zip(*a_vals))
+    A1_sigma = np.interp(7.5, *zip(*s_vals))
+    assert A1_abar == pytest.approx(A1_sigma, rel=1e-5)
+    assert main(["shoot", *common, "--parameter", "Abar", "--start", "slow-flow", "--out", str(tmp_path / "x")]) == 2
+
+
 def test_compare_writes_csv_png_and_table(tmp_path, capsys):
     out = tmp_path / "cmp"
     argv = ["compare", "--preset", "fig10", "--set", "sigma=7.5", "--sigma-min", "7", "--sigma-max", "8", "--grid", "11", "--no-switch", "--out", str(out)]
@@ -172,8 +233,8 @@ def test_regimes_writes_map_csv_and_png(tmp_path, capsys):
     rows = (out / "regimes.csv").read_text().splitlines()
     assert rows[0].startswith("sigma,Abar,regime") and len(rows) == 5
     assert (out / "regimes.png").stat().st_size > 10_000
-    assert main(argv + ["--grid", "0", "2", "--out", str(out)]) == 2
-    assert "--grid takes two positive integers" in capsys.readouterr().err
+    assert main(argv + ["--sigma-points", "0", "--abar-points", "2", "--out", str(out)]) == 2
+    assert "--sigma-points and --abar-points take positive integers" in capsys.readouterr().err
 
 
 def test_figures_writes_every_figure_quickly(tmp_path, capsys):

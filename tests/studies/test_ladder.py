@@ -1,6 +1,7 @@
 """The lightest model for each question: choices, escalation, and the answers checked independently."""
 
 import csv
+import json
 import warnings
 from pathlib import Path
 
@@ -96,10 +97,12 @@ def test_regime_error_in_the_table_matches_the_committed_regime_map():
     assert wrong / total == pytest.approx(SLOW_FLOW_ERROR["regime"], abs=0.01)
 
 
-def test_answer_command_reports_model_reason_and_error(capsys):
-    assert main(["answer", "regime", "--preset", "fig13", "--tol", "0.5"]) == 0
+def test_answer_command_reports_model_reason_and_error(capsys, tmp_path):
+    assert main(["answer", "regime", "--preset", "fig13", "--tol", "0.5", "--out", str(tmp_path)]) == 0
     out = capsys.readouterr().out
     assert "slow flow" in out and "error estimate 0.22" in out and "regime:" in out
+    record = json.loads((tmp_path / "answer.json").read_text())
+    assert record["question"] == "regime" and record["error_estimate"] == pytest.approx(0.22) and record["params"]["Abar"] == 1.0
     # Fig. 12 (n = 6): the slow flow is out of range, and (9) has no periodic response to shoot
     # from (strongly modulated): a clean failure that says so
     assert main(["answer", "critical-forcing", "--preset", "fig12", "--tol", "0.9"]) == 1
