@@ -27,18 +27,30 @@ class ConvergenceError(RuntimeError):
 class ContinuationOptions:
     """Step control and tolerances; validated on construction (errors name the option).
 
-    step, step_min, step_max : initial, smallest and largest arclength step
-    max_steps : accepted steps per direction at most
-    p_min, p_max : bounds of the continued parameter
-    tol : Newton stops when |F| <= tol and the update <= tol * (1 + |u|)
-    max_newton : corrector iterations before a step counts as failed
-    growth : step factor after an easy step (<= 3 iterations)
-    max_angle : the tangent may turn by about this much (radians) per step: the next step is
-        scaled to it, and a step turning by more than twice as much is redone, so curves stay
-        smooth through sharp peaks
-    direction : "both", "forward" (increasing p at the start) or "backward"
-    detect_folds, detect_branch_points : locate LP / BP
-    locate_tol : arclength tolerance when locating a special point
+    Attributes
+    ----------
+    step, step_min, step_max : float
+        Initial, smallest and largest arclength step.
+    max_steps : int
+        Accepted steps per direction at most.
+    p_min, p_max : float
+        Bounds of the continued parameter.
+    tol : float
+        Newton stops when |F| <= tol and the update <= tol * (1 + |u|).
+    max_newton : int
+        Corrector iterations before a step counts as failed.
+    growth : float
+        Step factor after an easy step (<= 3 iterations).
+    max_angle : float
+        The tangent may turn by about this much (radians) per step: the next step is scaled to
+        it, and a step turning by more than twice as much is redone, so curves stay smooth
+        through sharp peaks.
+    direction : str
+        "both", "forward" (increasing p at the start) or "backward".
+    detect_folds, detect_branch_points : bool
+        Locate LP / BP.
+    locate_tol : float
+        Arclength tolerance when locating a special point.
     """
 
     step: float = 0.05

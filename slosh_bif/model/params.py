@@ -6,14 +6,14 @@ Every symbol is documented here and nowhere else; other modules refer to this ta
 symbol    meaning                                                     equation    allowed range
 ========  ==========================================================  ==========  ======================
 eps       mass ratio m/M of the sloshing mass to the vessel           (5), (6)    (0, inf)
-beta      ratio of the sloshing to the vessel natural frequency        (6)         [0, inf)
+beta      ratio of the sloshing to the vessel natural frequency       (6)         [0, inf)
 gamma     nondimensional linear damping of the vessel                 (6)         [0, inf)
 sigma     detuning of the forcing frequency from 1:1 resonance        (7)         (-inf, inf)
-Abar      forcing amplitude (the force is eps*Abar*cos(tau))          (7)         [0, inf)
+Abar      forcing amplitude (the force is eps Abar cos(tau))          (7)         [0, inf)
 lam       wall dissipation coefficient lambda = beta_bar*R/m          (9), (21)   [0, inf)
 chi       wall stiffness coefficient chi = alpha_bar*R/m              (9), (21)   (0, inf)
-n         exponent of the wall potential, force chi*w**(2n+1)         (9), (10)   integer >= 1
-pbar      dissipation exponent pbar = 2p - n, force lam*w'*w**(2p)     (19)        integer > -(n+1),
+n         exponent of the wall potential, force chi w^(2n+1)          (9), (10)   integer >= 1
+pbar      dissipation exponent pbar = 2p - n, force lam w' w^(2p)     (19)        integer > -(n+1),
                                                                                   (pbar + n)/2 integer
 ========  ==========================================================  ==========  ======================
 
@@ -118,7 +118,7 @@ class Params:
 
     @property
     def p(self) -> int:
-        """Exponent p of the dissipation force lam*w'*w**(2p), p = (pbar + n)/2."""
+        """Exponent p of the dissipation force ``lam*w'*w**(2p)``, p = (pbar + n)/2."""
         return (self.pbar + self.n) // 2
 
     def replace(self, **changes) -> "Params":

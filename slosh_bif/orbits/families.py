@@ -34,13 +34,22 @@ SHOOTING_OPTIONS = ContinuationOptions(step=0.05, step_max=0.3, tol=1e-9, max_st
 
 @dataclasses.dataclass(frozen=True)
 class OrbitBranch:
-    """One branch of periodic orbits with per-point measures of the orbits.
+    """One branch of periodic orbits with per-point measures of the orbits; ``ob[name]`` is a
+    measure or a column of the branch.
 
-    name : "symmetric", "asymmetric" (one member of a mirror pair), "period-2", ...
-    problem : the ShootingProblem it solves;  branch : the continuation result
-    measures : arrays over the points: A1, max_abs_X, max_abs_w, symmetry_defect,
-        max_abs_multiplier, liouville_error
-    origin : where it was switched on from (empty for the primary branch)
+    Attributes
+    ----------
+    name : str
+        "symmetric", "asymmetric" (one member of a mirror pair), "period-2", ...
+    problem : ShootingProblem
+        The problem the branch solves.
+    branch : Branch
+        The continuation result.
+    measures : dict
+        Arrays over the points: A1, max_abs_X, max_abs_w, symmetry_defect, max_abs_multiplier,
+        liouville_error.
+    origin : str
+        Where it was switched on from (empty for the primary branch).
     """
 
     name: str

@@ -104,10 +104,14 @@ def _check(question, params, tol):
 def answer(question: str, params: Params, *, tol: float = 0.05, state0=None, sigma_min=None, sigma_max=None, tmax: float = 600.0, progress=None) -> Answer:
     """Answer ``question`` for ``params`` with the lightest model whose measured error is within ``tol``.
 
-    question : "frequency-response" (amplitude of X against sigma over [sigma_min, sigma_max]),
+    Parameters
+    ----------
+    question : str
+        "frequency-response" (amplitude of X against sigma over [sigma_min, sigma_max]),
         "critical-forcing" (least Abar with a resonant response at params.sigma), "time-response"
-        (X(tau) from ``state0`` to ``tmax``) or "regime" (response regime from ``state0``)
-    state0 : initial state [X, X', w, w'] (default: the Fig. 10 presets' kicked start)
+        (X(tau) from ``state0`` to ``tmax``) or "regime" (response regime from ``state0``).
+    state0 : array_like, optional
+        Initial state [X, X', w, w'] (default: the Fig. 10 presets' kicked start).
     """
     model, reason, error = model_choice(question, params, tol)
     y0 = get_preset("fig10").state0 if state0 is None else np.asarray(state0, dtype=float)

@@ -44,11 +44,19 @@ TRUST_COLUMNS = ("eps", "beta", "n", "stable_states", "agree", "confirmed", "med
 class TrustPoint:
     """The slow flow against (9) at one (eps, beta, n); see the module docstring for the measures.
 
-    stable_states : stable slow-flow states on the sigma grid (the denominator)
-    warned : whether AsymptoticsWarning fires at these parameters
-    sigma_start : where the orbit family was started;  branches : how many were traced
-    status : "ok", or why there is nothing to compare (no steady state, no orbit found, no orbit
-        at the sigma of any stable state)
+    Attributes
+    ----------
+    stable_states : int
+        Stable slow-flow states on the sigma grid (the denominator).
+    warned : bool
+        Whether AsymptoticsWarning fires at these parameters.
+    sigma_start : float
+        Where the orbit family was started.
+    branches : int
+        How many orbit branches were traced.
+    status : str
+        "ok", or why there is nothing to compare (no steady state, no orbit found, no orbit at
+        the sigma of any stable state).
     """
 
     eps: float
