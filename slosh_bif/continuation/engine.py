@@ -51,47 +51,50 @@ def _bound_message(bound, opts):
     return f"{BOUND} {'p_max' if bound == opts.p_max else 'p_min'} = {bound}"
 
 
-def _end_on_bound(problem, a: Point, b_u, bound, opts):
-    """The point with p = bound between a and the overshooting b_u (Newton at fixed p)."""
+def _end_on_bound(problem, points, b_u, opts):
+    """End at the bound that the corrected point b_u overshot: the point with p = bound between
+    the last point and b_u (Newton at fixed p), or the last point itself when it is on the bound."""
+    a = points[-1]
+    bound = opts.p_max if b_u[-1] > opts.p_max else opts.p_min
+    if a.u[-1] == bound:  # a start on the bound is itself the end (not a second copy of it)
+        _mark_end(a, BOUND, _bound_message(bound, opts))
+        return
     w = (bound - a.u[-1]) / (b_u[-1] - a.u[-1])
     try:
         x = newton(problem, (1 - w) * a.u[:-1] + w * b_u[:-1], bound, tol=opts.tol)
     except (ConvergenceError, np.linalg.LinAlgError):
         x = (1 - w) * a.u[:-1] + w * b_u[:-1]  # a fold on the bound: keep the interpolated point
     u = np.append(x, bound)
-    return make_point(problem, u, a.t, kind=END, message=_bound_message(bound, opts), bracket=(a.u[-1], b_u[-1]), reason=BOUND)
+    points.append(make_point(problem, u, a.t, kind=END, message=_bound_message(bound, opts), bracket=(a.u[-1], b_u[-1]), reason=BOUND))
+
+
+def _mark_end(point: Point, reason: str, message: str, bracket=None):
+    point.kind, point.message, point.reason = END, message, reason
+    if bracket is not None:
+        point.bracket = bracket
 
 
 def _run(problem, start: Point, opts, loop_guard: bool, callback=None):
+    """One direction from ``start``: predict, correct, adapt the step, detect and locate special
+    points, until an end; returns (points, end reason)."""
     points = [start]
     h = opts.step
     edge_hits = 0
     while True:
         if len(points) > opts.max_steps:
-            points[-1].kind, points[-1].message, points[-1].reason = END, f"{STEPS} ({opts.max_steps} steps)", STEPS
+            _mark_end(points[-1], STEPS, f"{STEPS} ({opts.max_steps} steps)")
             return points, STEPS
         a = points[-1]
         u, iters = correct(problem, a.u + h * a.t, a.t, opts)
-        if u is None:
+        if u is None:  # failed: halve, and end when the step is below its minimum
             edge_hits += not in_domain(problem, a.u + h * a.t) or iters < opts.max_newton
             h *= 0.5
             if h < opts.step_min:
-                reason = EDGE if edge_hits else STALL
-                bracket = (a.u[-1], (a.u + 2 * h * a.t)[-1])
-                edge = _edge_point(problem, a, opts) if reason == EDGE else None
-                if edge is not None:
-                    points.append(Point(edge, a.t, 0, END, f"{reason}: {getattr(problem, 'edge_name', 'boundary')}", bracket, a.tests, reason=reason))
-                else:
-                    a.kind, a.message, a.bracket, a.reason = END, f"{reason}: last step {2 * h:.3g} failed", bracket, reason
-                return points, reason
+                return points, _end_after_failures(problem, points, h, edge_hits, opts)
             continue
         edge_hits = 0
         if not opts.p_min <= u[-1] <= opts.p_max:
-            bound = opts.p_max if u[-1] > opts.p_max else opts.p_min
-            if a.u[-1] == bound:  # a start on the bound is itself the end (not a second copy of it)
-                a.kind, a.message, a.reason = END, _bound_message(bound, opts), BOUND
-            else:
-                points.append(_end_on_bound(problem, a, u, bound, opts))
+            _end_on_bound(problem, points, u, opts)
             return points, BOUND
         b = make_point(problem, u, a.t, iters)
         angle = math.acos(min(1.0, max(-1.0, float(b.t @ a.t))))
@@ -103,12 +106,32 @@ def _run(problem, start: Point, opts, loop_guard: bool, callback=None):
         if callback is not None:
             callback(float(u[-1]), u[:-1])
         if loop_guard and len(points) > 3 and _passes(start, a.u, u, h):
-            b.kind, b.message, b.reason = END, f"{LOOP}: back at the start point", LOOP
+            _mark_end(b, LOOP, f"{LOOP}: back at the start point")
             return points, LOOP
-        h = min(h * opts.growth, opts.step_max) if iters <= 3 else (h * 0.6 if iters >= 6 else h)
-        if angle > opts.max_angle:
-            h *= opts.max_angle / angle
-        h = max(h, opts.step_min)
+        h = _next_step(h, iters, angle, opts)
+
+
+def _next_step(h, iterations, angle, opts):
+    """Grow after an easy correction, shrink after a slow one, and keep the turn per step near
+    ``max_angle``."""
+    h = min(h * opts.growth, opts.step_max) if iterations <= 3 else (h * 0.6 if iterations >= 6 else h)
+    if angle > opts.max_angle:
+        h *= opts.max_angle / angle
+    return max(h, opts.step_min)
+
+
+def _end_after_failures(problem, points, h, edge_hits, opts):
+    """The end after the step fell below its minimum: at the domain's edge (the problem's exact
+    edge point when it offers one) if the failures left the domain, else a stall."""
+    a = points[-1]
+    reason = EDGE if edge_hits else STALL
+    bracket = (a.u[-1], (a.u + 2 * h * a.t)[-1])
+    edge = _edge_point(problem, a, opts) if reason == EDGE else None
+    if edge is not None:
+        points.append(Point(edge, a.t, 0, END, f"{reason}: {getattr(problem, 'edge_name', 'boundary')}", bracket, a.tests, reason=reason))
+    else:
+        _mark_end(a, reason, f"{reason}: last step {2 * h:.3g} failed", bracket)
+    return reason
 
 
 def _edge_point(problem, a: Point, opts):

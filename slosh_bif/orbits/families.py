@@ -104,9 +104,12 @@ def _measure(problem: ShootingProblem, branch: Branch, points_per_2pi: int) -> d
     return out
 
 
-def _tangent(branch: Branch, index: int):
+def _tangent(branch: Branch, sp):
+    """The branch's unit tangent at a special point: the one the engine kept, else from neighbours."""
+    if sp.tangent is not None:
+        return np.asarray(sp.tangent, dtype=float)
     u = np.column_stack([branch.x, branch.p])
-    lo, hi = max(index - 1, 0), min(index + 1, len(u) - 1)
+    lo, hi = max(sp.index - 1, 0), min(sp.index + 1, len(u) - 1)
     t = u[hi] - u[lo]
     return t / np.linalg.norm(t)
 
@@ -148,6 +151,59 @@ def _cut_where_it_rejoins(new: Branch, problem: ShootingProblem, parent: OrbitBr
     return new, None
 
 
+def _check(params, param, p_min, p_max, max_branches):
+    if param not in PARAMETERS:
+        raise ValueError(f"param must be one of {PARAMETERS}; got {param!r}")
+    if not (np.isfinite(p_min) and np.isfinite(p_max) and p_min < p_max):
+        raise ValueError(f"need finite p_min < p_max; got [{p_min}, {p_max}]")
+    p0 = getattr(params, param)
+    if not p_min <= p0 <= p_max:
+        raise ValueError(f"{param} = {p0} of the start orbit lies outside [{p_min}, {p_max}]")
+    if not (isinstance(max_branches, int) and max_branches >= 1):
+        raise ValueError(f"max_branches must be an integer >= 1; got {max_branches!r}")
+
+
+def _point_counter(say, name, param):
+    """A continuation callback that reports each accepted point of the branch ``name``."""
+    count = [0]
+
+    def callback(p, x):
+        count[0] += 1
+        say(f"{name}: point {count[0]}, {param} = {p:.5f}")
+
+    return callback
+
+
+def _primary(params, y0, param, opts, make_problem, points_per_2pi, say) -> OrbitBranch:
+    """The branch through the orbit near y0, named by its symmetry."""
+    problem = make_problem(1)
+    p0 = getattr(params, param)
+    start = orbit_at(problem, problem.initial_states(y0), p0, tol=opts.tol)
+    if not start.converged:
+        raise ConvergenceError(f"no periodic orbit near the guess at {param} = {p0}: {start.message}")
+    x0 = problem.initial_states(start.y0)
+    symmetric = orbit_measures(problem, x0, p0, points_per_2pi=points_per_2pi)["symmetry_defect"] < 1e-6
+    name = "symmetric" if symmetric else "asymmetric"
+    branch = continuation(problem, x0, p0, param=param, options=opts, callback=_point_counter(say, name, param))
+    say(f"{name}: {len(branch)} points, {len(branch.special)} special points")
+    return OrbitBranch(name, problem, branch, _measure(problem, branch, points_per_2pi))
+
+
+def _switch(parent: OrbitBranch, sp, param, opts, make_problem, say):
+    """(problem, branch, name or None) switched onto at the special point ``sp`` of ``parent``:
+    at a period doubling the 4pi problem (on which the PD is a branch point), else the parent's."""
+    along = _tangent(parent.branch, sp)
+    if sp.kind == PERIOD_DOUBLING:
+        multiple = 2 * parent.problem.period_multiple
+        problem = make_problem(multiple)
+        x, along = np.tile(sp.x, 2), np.append(np.tile(along[:-1], 2), along[-1])
+        name = f"period-{multiple}"
+    else:
+        problem, x, name = parent.problem, sp.x, None
+    new = switch_branch(problem, (x, sp.p), param=param, options=opts, along=along, callback=_point_counter(say, name or "new branch", param))
+    return problem, new, name
+
+
 def trace_orbits(
     params: Params,
     y0,
@@ -171,53 +227,22 @@ def trace_orbits(
     ``progress(message)`` is called as the work goes on (one call per accepted point and per
     branch). Raises :class:`ConvergenceError` when no orbit is found near y0.
     """
-    if param not in PARAMETERS:
-        raise ValueError(f"param must be one of {PARAMETERS}; got {param!r}")
-    if not (np.isfinite(p_min) and np.isfinite(p_max) and p_min < p_max):
-        raise ValueError(f"need finite p_min < p_max; got [{p_min}, {p_max}]")
-    p0 = getattr(params, param)
-    if not p_min <= p0 <= p_max:
-        raise ValueError(f"{param} = {p0} of the start orbit lies outside [{p_min}, {p_max}]")
-    if not (isinstance(max_branches, int) and max_branches >= 1):
-        raise ValueError(f"max_branches must be an integer >= 1; got {max_branches!r}")
+    _check(params, param, p_min, p_max, max_branches)
     opts = dataclasses.replace(options or SHOOTING_OPTIONS, p_min=p_min, p_max=p_max)
     say = progress or (lambda message: None)
 
-    def on_point(name):
-        count = [0]
+    def make_problem(multiple):  # a period of multiple * 2 pi, in as many times the arcs
+        return ShootingProblem(params, param, segments=multiple * segments, period_multiple=multiple, rtol=rtol, atol=atol, backend=backend)
 
-        def callback(p, x):
-            count[0] += 1
-            say(f"{name}: point {count[0]}, {param} = {p:.5f}")
-
-        return callback
-
-    primary = ShootingProblem(params, param, segments=segments, rtol=rtol, atol=atol, backend=backend)
-    start = orbit_at(primary, primary.initial_states(y0), p0, tol=opts.tol)
-    if not start.converged:
-        raise ConvergenceError(f"no periodic orbit near the guess at {param} = {p0}: {start.message}")
-    x0 = primary.initial_states(start.y0)
-    symmetric = orbit_measures(primary, x0, p0, points_per_2pi=points_per_2pi)["symmetry_defect"] < 1e-6
-    name = "symmetric" if symmetric else "asymmetric"
-    branch = continuation(primary, x0, p0, param=param, options=opts, callback=on_point(name))
-    family = [OrbitBranch(name, primary, branch, _measure(primary, branch, points_per_2pi))]
-    say(f"{name}: {len(branch)} points, {len(branch.special)} special points")
+    family = [_primary(params, y0, param, opts, make_problem, points_per_2pi, say)]
     if not switch:
         return OrbitFamily(params, param, family)
-
-    queue = [(family[0], s) for s in branch.special if s.kind in (BRANCH_POINT, PERIOD_DOUBLING)]
+    queue = [(family[0], s) for s in family[0].branch.special if s.kind in (BRANCH_POINT, PERIOD_DOUBLING)]
     while queue and len(family) < max_branches:
         parent, sp = queue.pop(0)
-        along = _tangent(parent.branch, sp.index)
-        if sp.kind == PERIOD_DOUBLING:
-            problem = ShootingProblem(params, param, segments=2 * parent.problem.segments, period_multiple=2 * parent.problem.period_multiple, rtol=rtol, atol=atol, backend=backend)
-            x, along = np.tile(sp.x, 2), np.append(np.tile(along[:-1], 2), along[-1])
-            kind_name = "period-2" if parent.problem.period_multiple == 1 else f"period-{2 * parent.problem.period_multiple}"
-        else:
-            problem, x, kind_name = parent.problem, sp.x, None
         origin = f"{sp.kind} at {param} = {sp.p:.6g} on the {parent.name} branch"
         try:
-            new = switch_branch(problem, (x, sp.p), param=param, options=opts, along=along, callback=on_point(kind_name or "new branch"))
+            problem, new, kind_name = _switch(parent, sp, param, opts, make_problem, say)
         except (ConvergenceError, np.linalg.LinAlgError) as err:
             say(f"no branch switched at {origin}: {err}")
             continue
