@@ -106,7 +106,7 @@ def _run(problem, start: Point, opts, loop_guard: bool, callback=None):
         if callback is not None:
             callback(float(u[-1]), u[:-1])
         if loop_guard and len(points) > 3 and _passes(start, a.u, u, h):
-            _mark_end(b, LOOP, f"{LOOP}: back at the start point")
+            # A closed curve has no end: the branch's message says it closed, no point is an END.
             return points, LOOP
         h = _next_step(h, iters, angle, opts)
 

@@ -105,8 +105,11 @@ def _measure(problem: ShootingProblem, branch: Branch, points_per_2pi: int) -> d
 
 
 def _tangent(branch: Branch, sp):
-    """The branch's unit tangent at a special point: the one the engine kept, else from neighbours."""
-    if sp.tangent is not None:
+    """The branch's unit tangent at a special point: the one the engine kept at a regular point
+    (a period doubling), else the secant of its neighbours. At a branch point the null space of
+    [F_x, F_p] is two-dimensional, so the tangent computed there is not the branch's (with it,
+    switching on the Fig. 10 family returned onto the symmetric branch)."""
+    if sp.tangent is not None and sp.kind != BRANCH_POINT:
         return np.asarray(sp.tangent, dtype=float)
     u = np.column_stack([branch.x, branch.p])
     lo, hi = max(sp.index - 1, 0), min(sp.index + 1, len(u) - 1)

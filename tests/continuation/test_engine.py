@@ -83,6 +83,7 @@ def test_circle_has_two_folds_and_closes():
     for f in folds:
         assert abs(f.p) == pytest.approx(1.0, abs=1e-12) and f.x[0] == pytest.approx(0.0, abs=1e-9)
     assert branch.status == "ok" and "closed loop" in branch.message
+    assert not branch.special_of("END")  # a closed curve has no end
     np.testing.assert_allclose(branch.x[:, 0] ** 2 + branch.p**2, 1.0, atol=1e-10)
 
 
