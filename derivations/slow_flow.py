@@ -189,6 +189,13 @@ def _on_stable_branch(expr):
     return expr.subs(alpha, impact_conditions()["alpha_stable"])
 
 
+def _at_manifold_end(expr):
+    """An expression on the manifold's end (36): alpha = alpha_min, A = A_min (both in rho), so that
+    evaluating it there meets no square root of a rounding-negative number."""
+    ic = impact_conditions()
+    return sp.simplify(expr.subs(alpha, ic["alpha_min"]).subs(A, ic["A_min"]))
+
+
 def _total_dA(expr):
     """d/dA of an expression in A and rho, with rho = rho(A) along the manifold (drho = d rho/dA)."""
     R = sp.Function("R")(A)
@@ -229,6 +236,30 @@ def generated_functions(Function):
             A_only,
         ),
         Function("steady_balances", "[pi^2 A Abar cos psi, pi^2 A Abar sin psi] at a steady state of (45).", (), (A, rho) + slow, balances, A_only),
+        Function(
+            "slow_rhs_end",
+            "Forced slow flow (45) at the manifold's end (36), A = A_min, alpha = alpha_min: [D1 A, D1 psi].",
+            (),
+            (psi, rho) + slow,
+            sp.Matrix([_at_manifold_end(e) for e in slow_flow()["forced"]]),
+            ("psi",),
+        ),
+        Function(
+            "slow_end_jac",
+            "Derivatives of (45) at the manifold's end in psi, sigma and Abar (rows D1 A, D1 psi).",
+            (),
+            (psi, rho) + slow,
+            sp.Matrix([[sp.diff(_at_manifold_end(e), v) for v in (psi, sigma, Abar)] for e in slow_flow()["forced"]]),
+            ("psi",),
+        ),
+        Function(
+            "steady_residual_end",
+            "[R, dR/dsigma, dR/dAbar] of (46) at the manifold's end (36), A = A_min, alpha = alpha_min.",
+            (),
+            (rho,) + slow,
+            sp.Matrix([_at_manifold_end(ss["residual"]), sp.diff(_at_manifold_end(ss["residual"]), sigma), sp.diff(_at_manifold_end(ss["residual"]), Abar)]),
+            ("rho",),
+        ),
         Function("manifold_kappa_residual", "kappa^2 - 1 + delta1 v^expo with v the impact speed (38), eq. (39).", (), (kappa, A, delta1, expo), sp.Matrix([_on_stable_branch(mk["residual"]).subs(rho, ic["rho"])]), A_only),
         Function(
             "manifold_kappa_residual_grad",

@@ -23,7 +23,9 @@ import numpy as np
 import slosh_bif.continuation as cont
 from slosh_bif.model.params import Params
 from slosh_bif.slowflow.flow import SlowFlow
-from slosh_bif.slowflow.steady_states import EDGE_MARGIN, SteadyStateProblem
+from slosh_bif.model._generated import slow_flow as gen
+from slosh_bif.model.manifold_law import END_KINDS
+from slosh_bif.slowflow.steady_states import EDGE_MARGIN, SteadyStateProblem, end_rho
 
 __all__ = ["CriticalPoint", "CriticalCurve", "abar_branch", "critical_forcing", "critical_curve", "FoldProblem", "EndProblem"]
 
@@ -108,23 +110,35 @@ class FoldProblem:
 
 
 class EndProblem:
-    """The end-point condition R(A_min; sigma, Abar) = 0: x = (Abar,), continued in sigma."""
+    """The end-point condition R(A_min; sigma, Abar) = 0: x = (Abar,), continued in sigma.
+
+    Evaluated exactly at the end A = A_min of S+: R and its derivatives in sigma and Abar are
+    regular there (only R_A, through d alpha/dA, is infinite, and it is not used).
+    """
 
     names = ("Abar",)
     branch_kind = "manifold ends of (46)"
 
     def __init__(self, params: Params):
         self.r = _Residual46(params)
-        self.scale = np.pi**4 * self.r.A_edge**2
+        law = self.r.flow.law
+        self.A = law.A_min
+        self.scale = np.pi**4 * self.A**2
+        P = params
+        if law.lower.kind == END_KINDS[0]:  # alpha = alpha_min: the functions written for the end
+            rho = end_rho(law.lower)
+            self._parts = lambda p, Abar: gen.steady_residual_end(rho, P.beta, P.gamma, p, Abar)
+        else:  # a fold of (39) or kappa = 0 ends S+: alpha is regular there
+            self._parts = lambda p, Abar: np.array([self.r.R(self.A, p, Abar), *self.r.grad(self.A, p, Abar)[1:]])
 
     def residual(self, x, p):
-        return np.array([self.r.R(self.r.A_edge, p, x[0])]) / self.scale
+        return np.array([self._parts(p, x[0])[0]]) / self.scale
 
     def jacobian(self, x, p):
-        return np.array([[self.r.grad(self.r.A_edge, p, x[0])[2]]]) / self.scale
+        return np.array([[self._parts(p, x[0])[2]]]) / self.scale
 
     def dparam(self, x, p):
-        return np.array([self.r.grad(self.r.A_edge, p, x[0])[1]]) / self.scale
+        return np.array([self._parts(p, x[0])[1]]) / self.scale
 
     def in_domain(self, x, p):
         return bool(x[0] > 0)
@@ -197,7 +211,7 @@ def critical_curve(
     opts = options or DEFAULT_OPTIONS
     r = _Residual46(params)
     end_problem = EndProblem(params)
-    end = _trace(end_problem, [r.abar_at(r.A_edge, sigma_min)], float(sigma_min), sigma_min, sigma_max, opts)
+    end = _trace(end_problem, [r.abar_at(end_problem.A, sigma_min)], float(sigma_min), sigma_min, sigma_max, opts)
     report(f"end-point curve: {len(end)} points")
     fold_problem = FoldProblem(params)
     folds = []
@@ -220,7 +234,7 @@ def _on_branch(branch, x, sigma, tol=1e-6):
 
 def _envelope(params, end, folds, fold_problem) -> CriticalCurve:
     """Least of the end curve and the minimum-type fold curves, point by point in sigma."""
-    candidates = [(end.p, end.x[:, 0], np.full(len(end), fold_problem.r.A_edge), "END")]
+    candidates = [(end.p, end.x[:, 0], np.full(len(end), fold_problem.r.flow.A_min), "END")]
     for b in folds:
         minimum = np.array([fold_problem.is_minimum(x, p) for x, p in zip(b.x, b.p)])
         candidates.append((b.p[minimum], b.x[minimum, 1], b.x[minimum, 0], "LP"))

@@ -85,7 +85,7 @@ class SlowFlow:
         self._slow = (P.beta, P.gamma, P.sigma, P.Abar)
         self.law = ManifoldLaw(params)
         self.newtonian = self.law.newtonian
-        self.A_min, self.kappa_at_end = self.law.A_min, self.law.kappa_at_end
+        self.A_min, self.A_max, self.kappa_at_end = self.law.A_min, self.law.A_max, self.law.kappa_at_end
 
     # -- restitution on the manifold: asked of the law once, here for the flow's users --------
 
@@ -101,8 +101,8 @@ class SlowFlow:
 
     def _check_on_manifold(self, A):
         A = np.asarray(A, dtype=float)
-        if np.any(~np.isfinite(A)) or np.any(A < self.A_min):
-            raise ValueError(f"amplitude A must be finite and >= A_min = {self.A_min:.10g} (the end of S+); got {A}")
+        if np.any(~np.isfinite(A)) or np.any(A < self.A_min) or np.any(A > self.A_max):
+            raise ValueError(f"amplitude A must be finite and in [A_min, A_max] = [{self.A_min:.10g}, {self.A_max:.10g}] (S+: {self.law.describe()}); got {A}")
         return A
 
     def rhs(self, A, psi, sigma=None, Abar=None):

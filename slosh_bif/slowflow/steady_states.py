@@ -24,6 +24,7 @@ import numpy as np
 import slosh_bif.continuation as cont
 from slosh_bif.continuation.branch import Branch
 from slosh_bif.model._generated import slow_flow as gen
+from slosh_bif.model.manifold_law import END_KINDS
 from slosh_bif.model.params import Params
 from slosh_bif.slowflow.flow import SlowFlow
 
@@ -50,6 +51,7 @@ class SteadyStateProblem:
         self.param = param
         self.flow = SlowFlow(params)
         self.A_edge = self.flow.A_min * (1 + EDGE_MARGIN)
+        self.A_edge_high = self.flow.A_max * (1 - EDGE_MARGIN)
         self._column = PARAMS.index(param)
         # The engine only evaluates inside the domain (A >= A_edge), so the generated functions are
         # called directly, without SlowFlow's per-call input checks; rho is a constant at pbar = 0.
@@ -66,26 +68,49 @@ class SteadyStateProblem:
         return gen.slow_rhs(x[0], x[1], self._rho(x[0])[0], *self._slow(p))
 
     def jacobian(self, x, p):
-        return gen.slow_jac(x[0], x[1], *self._rho(x[0]), *self._slow(p))
+        # On an end of S+ itself (an END point) d alpha/dA is infinite: the Jacobian, and so the
+        # stability of the END row, is the limit from just inside.
+        A = min(max(x[0], self.A_edge), self.A_edge_high)
+        return gen.slow_jac(A, x[1], *self._rho(A), *self._slow(p))
 
     def dparam(self, x, p):
         return gen.slow_dparams(x[0], x[1], self._rho(x[0])[0], *self._slow(p))[:, self._column]
 
     def in_domain(self, x, p):
-        return bool(x[0] >= self.A_edge)
+        return bool(self.A_edge <= x[0] <= self.A_edge_high)
 
     def edge_point(self, x, p):
-        """The steady state with A on the manifold's end (A_min(1 + EDGE_MARGIN)) near (x, p)."""
-        A = self.A_edge
+        """The steady state exactly on the end of S+ nearest (x, p): A = A_min (or A_max), with psi
+        and the parameter by Newton on (45) there. Neither the residual nor its derivatives in psi
+        and the parameter involve d alpha/dA, which is infinite at the manifold's end (36), where
+        the flow is evaluated with alpha = alpha_min exactly (no square root of a rounding error)."""
+        law = self.flow.law
+        end = law.lower if law.upper is None or abs(x[0] - law.A_min) <= abs(x[0] - law.A_max) else law.upper
+        self.edge_name = end.describe()
+        A = end.A
+        rho = self._rho0[0] if self._rho0 is not None else end_rho(end)
+        at_36 = end.kind == END_KINDS[0]  # alpha = alpha_min there: the functions written for it
         z = np.array([x[1], p], dtype=float)
         for _ in range(30):
-            F = self.residual([A, z[0]], z[1])
-            M = np.column_stack([self.jacobian([A, z[0]], z[1])[:, 1], self.dparam([A, z[0]], z[1])])
+            slow = self._slow(z[1])
+            if at_36:
+                F, D = gen.slow_rhs_end(z[0], rho, *slow), gen.slow_end_jac(z[0], rho, *slow)
+                M = np.column_stack([D[:, 0], D[:, 1 + self._column]])
+            else:
+                F = gen.slow_rhs(A, z[0], rho, *slow)
+                M = np.column_stack([gen.slow_jac(A, z[0], rho, 0.0, *slow)[:, 1], gen.slow_dparams(A, z[0], rho, *slow)[:, self._column]])
+            if not (np.all(np.isfinite(F)) and np.all(np.isfinite(M))):
+                return None
             dz = np.linalg.solve(M, -F)
             z += dz
-            if np.linalg.norm(dz) < 1e-13 * (1 + np.linalg.norm(z)):
+            if np.linalg.norm(dz) < 1e-14 * (1 + np.linalg.norm(z)):
                 return np.array([A, z[0]]), z[1]
         return None
+
+
+def end_rho(end) -> float:
+    """rho (31) at an end of S+ (its kappa is part of the end)."""
+    return float(2.0 * (1.0 - end.kappa) / (np.pi * (1.0 + end.kappa)))
 
 
 def sigma_on_curve(flow: SlowFlow, A):
@@ -107,7 +132,7 @@ def abar_on_curve(flow: SlowFlow, A, sigma=None):
 
 def _feasible_intervals(flow: SlowFlow, A_max):
     """Intervals of A in [A_edge, A_max] where steady states exist (a log grid, for start points only)."""
-    A = np.geomspace(flow.A_min * (1 + 2 * EDGE_MARGIN), A_max, 4000)
+    A = np.geomspace(flow.A_min * (1 + 2 * EDGE_MARGIN), min(A_max, flow.A_max * (1 - 2 * EDGE_MARGIN)), 4000)
     ok = np.isfinite(sigma_on_curve(flow, A)[0])
     edges = np.flatnonzero(np.diff(ok.astype(int)))
     starts = [0] if ok[0] else []
@@ -184,7 +209,8 @@ def forcing_response(params: Params, *, abar_min: float = 0.0, abar_max: float |
     """
     problem = SteadyStateProblem(params, "Abar")
     flow = problem.flow
-    A = np.geomspace(flow.A_min * (1 + 2 * EDGE_MARGIN), _amplitude_bound(params.replace(Abar=max(params.Abar, abar_max or 0.0, 1.0))), 4000)
+    A_top = min(_amplitude_bound(params.replace(Abar=max(params.Abar, abar_max or 0.0, 1.0))), flow.A_max * (1 - 2 * EDGE_MARGIN))
+    A = np.geomspace(flow.A_min * (1 + 2 * EDGE_MARGIN), A_top, 4000)
     abar = abar_on_curve(flow, A)
     if abar_max is None:
         abar_max = float(max(10.0, 10 * abar[np.argmin(np.abs(A - max(1.0, 3 * flow.A_min)))]))

@@ -10,7 +10,7 @@ from slosh_bif.continuation.branch import Branch
 from slosh_bif.model import restitution
 from slosh_bif.slowflow.critical import critical_curve, critical_forcing
 from slosh_bif.slowflow.flow import SlowFlow
-from slosh_bif.slowflow.steady_states import EDGE_MARGIN, frequency_response
+from slosh_bif.slowflow.steady_states import frequency_response
 
 FIG10, FIG13 = get_preset("fig10").params, get_preset("fig13").params
 
@@ -23,7 +23,8 @@ def rho_of(P, A):
 
 
 def alpha_of(A, rho):
-    return (1 + np.sqrt((1 + rho**2) * A**2 - rho**2)) / (1 + rho**2)
+    # at the end A = A_min exactly the square root's argument is zero up to rounding
+    return (1 + np.sqrt(np.maximum((1 + rho**2) * A**2 - rho**2, 0.0))) / (1 + rho**2)
 
 
 def E_Phi(P, A, sigma):
@@ -84,9 +85,16 @@ def test_branch_ends_on_the_manifold_end_not_on_the_unstable_branch():
     ends = [s for b in fr.branches for s in b.special_of("END")]
     assert len(ends) == 2
     A_min = SlowFlow(FIG10).A_min
+    rho = rho_of(FIG10, 1.0)
+    assert A_min == pytest.approx(rho / np.sqrt(1 + rho**2), rel=1e-15)  # (36), closed form
     for end in ends:
-        assert "manifold end" in end.message
-        assert end.x[0] == pytest.approx(A_min * (1 + EDGE_MARGIN), rel=1e-12)
+        assert "manifold end (36)" in end.message and end.reason == "domain edge"
+        assert end.x[0] == A_min  # exactly on the end, not a margin inside it
+        # (46) at the end, with alpha = alpha_min = 1/(1 + rho^2) typed from (36), to 1e-10
+        a, c = 1 / (1 + rho**2), 1 - FIG10.beta**2
+        E = FIG10.gamma * np.pi**2 * A_min**2 + 8 * rho * a**2 * c
+        Phi = np.pi**2 * (end.p - c) * A_min**2 - 8 * a * (1 - a) * c
+        assert np.hypot(E, Phi) == pytest.approx(np.pi**2 * A_min * FIG10.Abar, rel=1e-10)
     assert all(np.all(b.x[:, 0] >= A_min) for b in fr.branches)
 
 
@@ -136,16 +144,16 @@ def test_critical_forcing_is_the_minimum_of_abar_over_A(sigma):
     P = FIG13
     cp = critical_forcing(P, sigma)
     A_min = SlowFlow(P).A_min
-    grid = np.geomspace(A_min * (1 + 1e-8), 20, 20000)
+    grid = np.concatenate([[A_min], np.geomspace(A_min * (1 + 1e-8), 20, 20000)])
     values = np.array([abar_closed(P, A, sigma) for A in grid])
     k = int(np.argmin(values))
-    if k == 0:
+    if k <= 1:  # the end itself: (46) in closed form at A = A_min, alpha = alpha_min
         expected, kind = values[0], "END"
     else:
         res = optimize.minimize_scalar(lambda A: abar_closed(P, A, sigma), bracket=(grid[k - 1], grid[k], grid[k + 1]), tol=1e-12)
         expected, kind = res.fun, "LP"
     assert cp.kind == kind
-    assert cp.Abar_b == pytest.approx(expected, abs=1e-8)
+    assert cp.Abar_b == pytest.approx(expected, rel=1e-10 if kind == "END" else 1e-8)
 
 
 def test_critical_curve_matches_the_pointwise_critical_forcing():

@@ -203,6 +203,56 @@ def steady_balances(A, rho, beta, gamma, sigma, Abar):
     return out
 
 
+def slow_rhs_end(psi, rho, beta, gamma, sigma, Abar):
+    """Forced slow flow (45) at the manifold's end (36), A = A_min, alpha = alpha_min: [D1 A, D1 psi]."""
+    x0 = numpy.pi**2
+    x1 = x0**(-1.0)
+    x2 = rho**2 + 1
+    x3 = beta**2
+    x4 = Abar*numpy.sqrt(x2)
+    x5 = x2**(-1.0)
+    shape = numpy.broadcast(psi).shape
+    out = numpy.zeros((2,) + shape)
+    out[0] = (1/2)*x1*(x0*x2*(-gamma*rho + x4*numpy.cos(psi)) + 8*x3 - 8)/x2**(3/2)
+    out[1] = -1/2*sigma - 4*x1*x3*x5 + 4*x1*x5 - 1/2*x3 + 1/2 - 1/2*x4*numpy.sin(psi)/rho
+    return out
+
+
+def slow_end_jac(psi, rho, beta, gamma, sigma, Abar):
+    """Derivatives of (45) at the manifold's end in psi, sigma and Abar (rows D1 A, D1 psi)."""
+    x0 = (1/2)*numpy.sin(psi)
+    x1 = (1/2)*numpy.cos(psi)
+    x2 = numpy.sqrt(rho**2 + 1)/rho
+    shape = numpy.broadcast(psi).shape
+    out = numpy.zeros((2, 3) + shape)
+    out[0, 0] = -Abar*x0
+    out[0, 2] = x1
+    out[1, 0] = -Abar*x1*x2
+    out[1, 1] = -1/2
+    out[1, 2] = -x0*x2
+    return out
+
+
+def steady_residual_end(rho, beta, gamma, sigma, Abar):
+    """[R, dR/dsigma, dR/dAbar] of (46) at the manifold's end (36), A = A_min, alpha = alpha_min."""
+    x0 = rho**2
+    x1 = x0 + 1
+    x2 = x1**3
+    x3 = numpy.pi**4*x0
+    x4 = numpy.pi**2
+    x5 = beta**2
+    x6 = 8*x5
+    x7 = 8 - x6
+    x8 = x0*x4
+    x9 = x1*(sigma*x8 + x5*x8 + x6 - x8 - 8) + x7
+    shape = numpy.broadcast(rho).shape
+    out = numpy.zeros((3,) + shape)
+    out[0] = (-Abar**2*x2*x3 + x0*(gamma*rho*x1*x4 + x7)**2 + x9**2)/x1**4
+    out[1] = 2*x8*x9/x2
+    out[2] = -2*Abar*x3/x1
+    return out
+
+
 def manifold_kappa_residual(kappa, A, delta1, expo):
     """kappa^2 - 1 + delta1 v^expo with v the impact speed (38), eq. (39)."""
     x0 = kappa + 1
