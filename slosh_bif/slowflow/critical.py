@@ -131,6 +131,12 @@ class EndProblem:
         else:  # a fold of (39) or kappa = 0 ends S+: alpha is regular there
             self._parts = lambda p, Abar: np.array([self.r.R(self.A, p, Abar), *self.r.grad(self.A, p, Abar)[1:]])
 
+    def abar_at(self, sigma):
+        """The Abar of the steady state on the end at ``sigma``: R = a Abar^2 + b (even in Abar)."""
+        R1, _, dR1 = self._parts(sigma, 1.0)
+        a = 0.5 * dR1
+        return float(np.sqrt(max(-(R1 - a) / a, 0.0)))
+
     def residual(self, x, p):
         return np.array([self._parts(p, x[0])[0]]) / self.scale
 
@@ -211,7 +217,7 @@ def critical_curve(
     opts = options or DEFAULT_OPTIONS
     r = _Residual46(params)
     end_problem = EndProblem(params)
-    end = _trace(end_problem, [r.abar_at(end_problem.A, sigma_min)], float(sigma_min), sigma_min, sigma_max, opts)
+    end = _trace(end_problem, [end_problem.abar_at(sigma_min)], float(sigma_min), sigma_min, sigma_max, opts)
     report(f"end-point curve: {len(end)} points")
     fold_problem = FoldProblem(params)
     folds = []

@@ -98,7 +98,11 @@ def test_frc_in_abar_meets_the_frc_in_sigma_where_they_cross(tmp_path):
     by_abar = [r for r in csv.DictReader(open(tmp_path / "a" / "frc.csv"))]
     by_sigma = [r for r in csv.DictReader(open(tmp_path / "s" / "frc.csv"))]
     assert {float(r["sigma"]) for r in by_abar} == {1.0} and {float(r["Abar"]) for r in by_sigma} == {1.5}
-    assert by_abar[0]["special"] == "END" and float(by_abar[0]["Abar"]) == pytest.approx(0.747292392, rel=1e-8)  # Abar_b, the manifold end
+    # the first row is Abar_b, on the manifold's end: (46) there in closed form (alpha = 1/(1 + rho^2))
+    rho = float(restitution.rho(restitution.kappa_newtonian(0.35, 0.2, 50)))
+    A, a, c = rho / np.sqrt(1 + rho**2), 1 / (1 + rho**2), 1 - 0.3**2
+    abar_end = np.hypot(0.2 * np.pi**2 * A**2 + 8 * rho * a**2 * c, np.pi**2 * (1.0 - c) * A**2 - 8 * a * (1 - a) * c) / (np.pi**2 * A)
+    assert by_abar[0]["special"] == "END" and float(by_abar[0]["Abar"]) == pytest.approx(abar_end, rel=1e-10)
 
     def amplitude_at(rows, key, value):
         # stable points only: at sigma = 1, Abar = 1.5 the stable resonant state is unique
