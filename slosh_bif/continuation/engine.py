@@ -6,7 +6,8 @@ A problem is any object with
 * ``residual(x, p)`` -> (n,), ``jacobian(x, p)`` -> (n, n), ``dparam(x, p)`` -> (n,);
 * optionally ``in_domain(x, p)`` -> bool (points outside are never evaluated),
   ``edge_point(x, p)`` -> ``(x, p)`` or None: the exact point where the branch through (x, p)
-  leaves the domain, appended as the branch's end when it gets there, and
+  leaves the domain, appended as the branch's end when it gets there (``edge_distance(x, p)``,
+  the relative distance to that edge, lets a stall within 1e-5 of it count as reaching it), and
   ``eigenvalues(x, p)`` -> (n,) complex (stable when all real parts are negative); a problem
   whose stability is that of its own Jacobian sets ``stability_from_jacobian = True`` instead,
   and the engine reuses the Jacobian it already has at each point; ``is_stable(eigenvalues)``
@@ -124,7 +125,10 @@ def _end_after_failures(problem, points, h, edge_hits, opts):
     """The end after the step fell below its minimum: at the domain's edge (the problem's exact
     edge point when it offers one) if the failures left the domain, else a stall."""
     a = points[-1]
-    reason = EDGE if edge_hits else STALL
+    near = getattr(problem, "edge_distance", None)
+    # A stall right at the edge is the edge: derivatives with a square root there (kappa(A) of
+    # (39) at the manifold's end) make the corrector fail before the domain check does.
+    reason = EDGE if edge_hits or (near is not None and near(a.u[:-1], a.u[-1]) < 1e-5) else STALL
     bracket = (a.u[-1], (a.u + 2 * h * a.t)[-1])
     edge = _edge_point(problem, a, opts) if reason == EDGE else None
     if edge is not None:

@@ -81,6 +81,20 @@ class _Eq39:
     def _largest_root(self, A):
         return float(restitution.kappa_on_manifold(np.array([A]), self.lam, self.chi, self.n, self.pbar, strict=False).kappa[0])
 
+    def _root_near_manifold_end(self, A, k_end):
+        """The root just above the manifold end, where it sits within rounding of the smallest
+        kappa on the manifold at A (the scan's cells are too coarse there): bracket it between
+        that smallest kappa, nudged until (39) is defined, and the end's kappa."""
+        k_low = float(restitution._kappa_from_rho(A / np.sqrt(1 - A**2))) if A < 1 else 0.0
+        for d in 10.0 ** np.arange(-15, -5):
+            g = self._G(k_low + d, A)
+            if np.isfinite(g):
+                break
+        hi = k_end if self._G(k_end, A) > 0 else 1.0
+        if not (np.isfinite(g) and g < 0 < self._G(hi, A)):
+            return np.nan
+        return float(optimize.brentq(lambda k: self._G(k, A), k_low + d, hi, xtol=1e-16, rtol=4 * np.finfo(float).eps))
+
     def _window(self):
         """The ends of the longest run of amplitudes on which the root of (39) exists and moves
         continuously, each located from its own equations."""
@@ -238,6 +252,8 @@ class ManifoldLaw:
                 out[i] = at_end[0].kappa
                 continue
             k = self._eq._largest_root(a)
+            if not np.isfinite(k) and self.lower.kind == END_KINDS[0]:
+                k = self._eq._root_near_manifold_end(a, self.lower.kappa)
             near_fold = [e for e in fold if not np.isfinite(k) or abs(k - e.kappa) < 0.2]
             if near_fold and self._eq._G(near_fold[0].kappa, a) < 0:
                 # Two roots close to the fold fall in one cell of the scan: bracket the upper one.

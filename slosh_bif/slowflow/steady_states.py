@@ -79,6 +79,10 @@ class SteadyStateProblem:
     def in_domain(self, x, p):
         return bool(self.A_edge <= x[0] <= self.A_edge_high)
 
+    def edge_distance(self, x, p):
+        """Relative distance of A from the nearer end of S+."""
+        return min((x[0] - self.flow.A_min) / self.flow.A_min, (self.flow.A_max - x[0]) / self.flow.A_max)
+
     def edge_point(self, x, p):
         """The steady state exactly on the end of S+ nearest (x, p): A = A_min (or A_max), with psi
         and the parameter by Newton on (45) there. Neither the residual nor its derivatives in psi
