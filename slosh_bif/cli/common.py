@@ -77,6 +77,7 @@ def add_continuation_options(parser, *, rtol: str):
     parser.add_argument("--ds-max", type=float, default=None, help="largest arclength step (default: the method's)")
     parser.add_argument("--max-steps", type=int, default=None, help="accepted steps per direction at most (default: the method's)")
     parser.add_argument("--rtol", type=float, default=None, help=rtol)
+    parser.add_argument("--max-seconds", type=float, default=None, help="wall-clock time per branch direction at most; the branch then ends with status 'time limit' (default: the method's)")
 
 
 def continuation_options(args, base):
@@ -86,9 +87,14 @@ def continuation_options(args, base):
             raise ValueError(f"{flag} must be a positive finite arclength step; got {value}")
     if args.max_steps is not None and args.max_steps < 1:
         raise ValueError(f"--max-steps must be an integer >= 1; got {args.max_steps}")
+    if args.max_seconds is not None and not args.max_seconds > 0:
+        raise ValueError(f"--max-seconds must be > 0; got {args.max_seconds}")
     step_max = args.ds_max if args.ds_max is not None else max(base.step_max, args.ds or 0.0)
     step = min(args.ds if args.ds is not None else base.step, step_max)
-    return dataclasses.replace(base, step=step, step_max=step_max, step_min=min(base.step_min, step), max_steps=args.max_steps or base.max_steps)
+    return dataclasses.replace(
+        base, step=step, step_max=step_max, step_min=min(base.step_min, step), max_steps=args.max_steps or base.max_steps,
+        max_seconds=args.max_seconds or base.max_seconds,
+    )
 
 
 def params_of(args):

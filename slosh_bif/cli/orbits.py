@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import sys
+
 from slosh_bif.cli.common import (
     abar_range,
     add_abar_range_options,
@@ -63,6 +65,19 @@ def _shoot(args) -> int:
         ob.branch.save(args.out / f"branch{k}_{ob.name}.npz")
     print(family.summary())
     print(f"wrote {csv_path}, {png_path}")
+    return _family_status(family)
+
+
+def _family_status(family) -> int:
+    """One line per branch on stderr; exit status 3 when a branch was cut short (the requested
+    range is not covered), 0 otherwise."""
+    for ob in family.branches:
+        b = ob.branch
+        progress(f"{ob.name}: {b.status} ({b.message})")
+    if not family.complete:
+        cut = [ob.name for ob in family.branches if ob.branch.status != "ok"]
+        print(f"slosh-bif: {len(cut)} branch(es) cut short ({', '.join(cut)}): the requested range is not covered (exit status 3)", file=sys.stderr)
+        return 3
     return 0
 
 
@@ -78,7 +93,12 @@ def add_shooting_options(parser):
 
 def add_commands(sub) -> None:
     """Register this family's commands on the ``slosh-bif`` subparsers ``sub``."""
-    shoot = sub.add_parser("shoot", help="periodic orbits of the smooth model (9) by shooting, continued in sigma, with their bifurcations")
+    shoot = sub.add_parser(
+        "shoot",
+        help="periodic orbits of the smooth model (9) by shooting, continued in sigma, with their bifurcations",
+        epilog="exit status: 0 when every branch covers the requested range (or ends at a fold or closes), "
+        "3 when a branch was cut short (its status in branch.csv and on stderr), 2 for bad input, 1 when a method fails",
+    )
     add_params_options(shoot)
     add_range_options(shoot)
     shoot.add_argument("--parameter", choices=("sigma", "Abar"), default="sigma", help="continue in sigma (default) or in Abar at the preset's sigma")

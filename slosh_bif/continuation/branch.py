@@ -55,6 +55,7 @@ class Status(str, enum.Enum):
     LOOP = "closed loop"
     STEPS = "step limit"
     STALL = "step below minimum"
+    TIME = "time limit"
 
     def __str__(self):
         return self.value

@@ -37,13 +37,14 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import time
 
 import numpy as np
 
 from slosh_bif.continuation.branch import END, Branch, SpecialPoint
 from slosh_bif.continuation.corrector import Point, correct, in_domain, initial_tangent, make_point, newton, top_rows
 from slosh_bif.continuation.detection import special_between
-from slosh_bif.continuation.options import BOUND, COMPLETE, EDGE, LOOP, STALL, STEPS, ContinuationOptions, ConvergenceError
+from slosh_bif.continuation.options import BOUND, COMPLETE, EDGE, LOOP, STALL, STEPS, TIME, ContinuationOptions, ConvergenceError
 
 __all__ = ["continuation", "switch_branch"]
 
@@ -81,10 +82,14 @@ def _run(problem, start: Point, opts, loop_guard: bool, callback=None):
     points = [start]
     h = opts.step
     edge_hits = 0
+    deadline = time.monotonic() + opts.max_seconds
     while True:
         if len(points) > opts.max_steps:
             _mark_end(points[-1], STEPS, f"{STEPS} ({opts.max_steps} steps)")
             return points, STEPS
+        if time.monotonic() > deadline:
+            _mark_end(points[-1], TIME, f"{TIME} ({opts.max_seconds:g} s)")
+            return points, TIME
         a = points[-1]
         u, iters = correct(problem, a.u + h * a.t, a.t, opts)
         if u is None:  # failed: halve, and end when the step is below its minimum

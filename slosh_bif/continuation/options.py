@@ -11,11 +11,11 @@ import math
 
 from slosh_bif.continuation.branch import Status
 
-__all__ = ["ContinuationOptions", "ConvergenceError", "BOUND", "EDGE", "LOOP", "STEPS", "STALL", "COMPLETE"]
+__all__ = ["ContinuationOptions", "ConvergenceError", "BOUND", "EDGE", "LOOP", "STEPS", "STALL", "TIME", "COMPLETE"]
 
 # End reasons of one direction; the first three make a complete branch (status "ok").
 BOUND, EDGE, LOOP = Status.BOUND.value, Status.EDGE.value, Status.LOOP.value
-STEPS, STALL = Status.STEPS.value, Status.STALL.value
+STEPS, STALL, TIME = Status.STEPS.value, Status.STALL.value, Status.TIME.value
 COMPLETE = (BOUND, EDGE, LOOP)
 
 
@@ -51,6 +51,9 @@ class ContinuationOptions:
         Locate LP / BP.
     locate_tol : float
         Arclength tolerance when locating a special point.
+    max_seconds : float
+        Wall-clock time per direction at most; past it the direction ends ("time limit"), so a
+        run is bounded in time whatever its start.
     """
 
     step: float = 0.05
@@ -67,6 +70,7 @@ class ContinuationOptions:
     detect_folds: bool = True
     detect_branch_points: bool = True
     locate_tol: float = 1e-13
+    max_seconds: float = math.inf
 
     def __post_init__(self):
         def need(ok, name, allowed):
@@ -82,4 +86,5 @@ class ContinuationOptions:
         need(0 < self.max_angle <= math.pi / 2, "max_angle", "in (0, pi/2]")
         need(self.direction in ("both", "forward", "backward"), "direction", "'both', 'forward' or 'backward'")
         need(0 < self.locate_tol < 1e-3, "locate_tol", "in (0, 1e-3)")
+        need(self.max_seconds > 0, "max_seconds", "> 0 (inf for no limit)")
 

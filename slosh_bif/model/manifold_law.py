@@ -121,7 +121,11 @@ class _Eq39:
         candidates = []
         k36 = self._manifold_end_kappa()
         if k36 is not None:
-            candidates.append(ManifoldEnd(float(gen.sim_a_min(restitution.rho(k36))), k36, END_KINDS[0]))
+            A36 = float(gen.sim_a_min(restitution.rho(k36)))
+            # For pbar < 0, G falls like -sqrt(kappa - k_low) off the manifold's edge: the root
+            # leaving the edge at the (36) end and the largest one fold together just below it.
+            near = self._fold_below_manifold_end(A36)
+            candidates.append(near if near is not None else ManifoldEnd(A36, k36, END_KINDS[0]))
         fold = self._fold(A_in, k_in)
         if fold is not None:
             candidates.append(fold)
@@ -139,20 +143,64 @@ class _Eq39:
         return min(inside, key=lambda c: abs(c.A - A_in))
 
     def _ends_here(self, end: ManifoldEnd, A_in) -> bool:
-        """Whether the largest root, just inside the end (toward A_in), is the end's kappa. (The
-        manifold end (36) needs no check: there the root meets the constraint A >= A_min(rho),
-        which no other root can end first.)"""
+        """Whether the largest root, just inside the end (toward A_in), is the end's kappa.
+
+        Needed for every kind: for pbar = -2 the manifold end (36) lies on the *second* root,
+        and the largest one folds away below it; for pbar = 2, n = 10 the second root leaves
+        (0, 1] just before the largest one folds.
+        """
         if end.kind == END_KINDS[0]:
-            return True
+            # At the manifold end the root sits on the edge kappa = k_low(A) of the manifold, where
+            # (39) has a square root: instead of looking just inside, ask whether any root lies
+            # above it at the end itself (then the largest root is another one).
+            grid = np.linspace(1.0, end.kappa + 1e-6, 2001)
+            values = np.array([self._G(k, end.A) for k in grid])
+            return not np.any(np.isfinite(values) & (np.sign(values) != np.sign(values[0])))
         A = end.A * (1 + 1e-9 * np.sign(A_in - end.A))
         k_low = float(restitution._kappa_from_rho(A / np.sqrt(1 - A**2))) if A < 1 else 0.0
-        grid = np.union1d(np.linspace(max(k_low, 0.0) + 1e-12, 1.0, 2001), [end.kappa] if end.kappa > 0 else [])[::-1]
+        grid = np.linspace(1.0, max(k_low, 0.0) + 1e-9, 2001)
         values = np.array([self._G(k, A) for k in grid])
-        change = np.flatnonzero(np.sign(values[:-1]) * np.sign(values[1:]) < 0)
-        if not len(change):
-            return end.kappa < 1e-2  # no root left above kappa = 0
-        k = optimize.brentq(lambda kk: self._G(kk, A), grid[change[0] + 1], grid[change[0]], xtol=1e-14)
-        return abs(k - end.kappa) < 1e-2
+        change = np.flatnonzero(np.isfinite(values[:-1]) & np.isfinite(values[1:]) & (np.sign(values[:-1]) * np.sign(values[1:]) < 0))
+        if len(change):
+            k = optimize.brentq(lambda kk: self._G(kk, A), grid[change[0] + 1], grid[change[0]], xtol=1e-14)
+        elif end.kind == END_KINDS[2]:
+            return True  # no root left above kappa = 0
+        else:
+            return bool(np.isfinite(self._G(end.kappa, A)) and self._G(end.kappa, A) < 0)  # two roots too close to scan
+        return bool(np.isfinite(k) and abs(k - end.kappa) < 1e-2)
+
+    def _edge_dip(self, A):
+        """(least G, kappa there) over kappa just above the manifold's edge k_low(A), searched in
+        log10 of the offset (1e-16 to 1e-3): negative when two roots hug the edge."""
+        k_low = float(restitution._kappa_from_rho(A / np.sqrt(1 - A**2)))
+
+        def g(s):
+            value = self._G(k_low + 10.0**s, A)
+            return value if np.isfinite(value) else 1.0
+
+        s = np.linspace(-16, -3, 131)
+        values = np.array([g(v) for v in s])
+        i = int(np.argmin(values))
+        res = optimize.minimize_scalar(g, bounds=(s[max(i - 1, 0)], s[min(i + 1, len(s) - 1)]), method="bounded", options={"xatol": 1e-12})
+        return min(res.fun, values[i]), k_low + 10.0 ** (res.x if res.fun <= values[i] else s[i])
+
+    def _fold_below_manifold_end(self, A36):
+        """The fold of (39) just below the (36) end, when G dips below zero off the edge there;
+        located by bisection in A on whether the dip reaches below zero (to rounding)."""
+        if self._edge_dip(A36)[0] >= 0:
+            return None
+        inside, outside = A36, A36 * (1 - 1e-3)
+        if self._edge_dip(outside)[0] < 0:
+            return None  # no fold this close: not this case
+        for _ in range(80):
+            mid = 0.5 * (inside + outside)
+            if self._edge_dip(mid)[0] < 0:
+                inside = mid
+            else:
+                outside = mid
+            if inside - outside <= 2 * np.finfo(float).eps * inside:
+                break
+        return ManifoldEnd(float(inside), float(self._edge_dip(inside)[1]), END_KINDS[1])
 
     def _manifold_end_kappa(self):
         """kappa at A = A_min(rho(kappa)) on (39) (alpha = alpha_min = 1/(1 + rho^2)), the largest root."""
@@ -187,9 +235,15 @@ class _Eq39:
                 dz = np.linalg.solve(J, -F)
             except np.linalg.LinAlgError:
                 return None
-            z = z + np.clip(dz, -0.25 * np.maximum(np.abs(z), 1e-3), 0.25 * np.maximum(np.abs(z), 1e-3))
-            if not (0 < z[0] <= 1 and z[1] > 0):
+            dz = np.clip(dz, -0.25 * np.maximum(np.abs(z), 1e-3), 0.25 * np.maximum(np.abs(z), 1e-3))
+            for _ in range(40):  # backtrack while the step leaves the manifold (where (39) is undefined)
+                trial = z + dz
+                if 0 < trial[0] <= 1 and trial[1] > 0 and np.isfinite(self._G(*trial)) and np.isfinite(next(self._G_grad(*trial))):
+                    break
+                dz = 0.5 * dz
+            else:
                 return None
+            z = trial
             if np.all(np.abs(dz) <= 4 * np.finfo(float).eps * np.maximum(1.0, np.abs(z))):
                 break
         if abs(self._G(*z)) > 1e-12 or abs(next(self._G_grad(*z))) > 1e-6:

@@ -17,6 +17,7 @@ amplitude A1, max |X|, max |w|, largest multiplier and Liouville check.
 from __future__ import annotations
 
 import dataclasses
+import warnings
 
 import numpy as np
 
@@ -25,11 +26,14 @@ from slosh_bif.continuation.branch import BRANCH_POINT, PERIOD_DOUBLING, Branch
 from slosh_bif.model.params import Params
 from slosh_bif.orbits.shooting import PARAMETERS, ShootingProblem, orbit_at, orbit_measures
 
-__all__ = ["OrbitBranch", "OrbitFamily", "trace_orbits", "mirror", "SHOOTING_OPTIONS"]
+__all__ = ["OrbitBranch", "OrbitFamily", "trace_orbits", "mirror", "SHOOTING_OPTIONS", "LIOUVILLE_TOL"]
 
 # Shooting residuals carry the integration's rounding (~1e-13 at rtol 1e-10), so the corrector's
 # tolerance sits above it; steps are capped so that orbits change little from one point to the next.
-SHOOTING_OPTIONS = ContinuationOptions(step=0.05, step_max=0.3, tol=1e-9, max_steps=3000)
+SHOOTING_OPTIONS = ContinuationOptions(step=0.05, step_max=0.3, tol=1e-9, max_steps=3000, max_seconds=300.0)
+# Liouville's check |det M - exp(int tr J)| / exp(int tr J) is ~1e-12..1e-9 at the default
+# tolerances; beyond this the monodromy, and the stability read from it, cannot be trusted.
+LIOUVILLE_TOL = 1e-6
 
 
 @dataclasses.dataclass(frozen=True)
@@ -78,12 +82,17 @@ class OrbitFamily:
     param: str
     branches: list
 
+    @property
+    def complete(self) -> bool:
+        """Whether every branch ended at a bound, an edge or by closing (none was cut short)."""
+        return all(ob.branch.status == "ok" for ob in self.branches)
+
     def summary(self) -> str:
         lines = []
         for ob in self.branches:
             b = ob.branch
             kinds = ", ".join(f"{s.kind} {s.p:.6g}" for s in b.special) or "none"
-            lines.append(f"{ob.name}{' (' + ob.origin + ')' if ob.origin else ''}: {len(b)} points, {self.param} in [{b.p.min():.4g}, {b.p.max():.4g}], special: {kinds}")
+            lines.append(f"{ob.name}{' (' + ob.origin + ')' if ob.origin else ''}: {b.status}, {len(b)} points, {self.param} in [{b.p.min():.4g}, {b.p.max():.4g}], special: {kinds}")
         return "\n".join(lines)
 
 
@@ -96,11 +105,19 @@ def mirror(problem: ShootingProblem, x):
     raise ValueError("mirror needs a 2pi problem with an even number of segments")
 
 
-def _measure(problem: ShootingProblem, branch: Branch, points_per_2pi: int) -> dict:
+def _measure(problem: ShootingProblem, branch: Branch, points_per_2pi: int, name: str = "") -> dict:
     rows = [orbit_measures(problem, x, p, points_per_2pi=points_per_2pi) for x, p in zip(branch.x, branch.p)]
     out = {key: np.array([r[key] for r in rows]) for key in rows[0]}
     out["max_abs_multiplier"] = np.max(np.abs(branch.eigenvalues), axis=1)
     out["liouville_error"] = np.array([problem.liouville_error(x, p) for x, p in zip(branch.x, branch.p)])
+    bad = out["liouville_error"] > LIOUVILLE_TOL
+    if np.any(bad):
+        warnings.warn(
+            f"{int(np.sum(bad))} of {len(bad)} orbits of the {name or 'traced'} branch fail Liouville's check (largest error "
+            f"{np.nanmax(out['liouville_error']):.3g} > {LIOUVILLE_TOL:g}): their multipliers and stability are not reliable (flag 'liouville' in branch.csv)",
+            RuntimeWarning,
+            stacklevel=3,
+        )
     return out
 
 
@@ -189,7 +206,7 @@ def _primary(params, y0, param, opts, make_problem, points_per_2pi, say) -> Orbi
     name = "symmetric" if symmetric else "asymmetric"
     branch = continuation(problem, x0, p0, param=param, options=opts, callback=_point_counter(say, name, param))
     say(f"{name}: {len(branch)} points, {len(branch.special)} special points")
-    return OrbitBranch(name, problem, branch, _measure(problem, branch, points_per_2pi))
+    return OrbitBranch(name, problem, branch, _measure(problem, branch, points_per_2pi, name))
 
 
 def _switch(parent: OrbitBranch, sp, param, opts, make_problem, say):
@@ -234,8 +251,11 @@ def trace_orbits(
     opts = dataclasses.replace(options or SHOOTING_OPTIONS, p_min=p_min, p_max=p_max)
     say = progress or (lambda message: None)
 
+    span = p_max - p_min
+    box = (p_min - 0.5 * span, p_max + 0.5 * span)  # corrector iterates stay near the requested range
+
     def make_problem(multiple):  # a period of multiple * 2 pi, in as many times the arcs
-        return ShootingProblem(params, param, segments=multiple * segments, period_multiple=multiple, rtol=rtol, atol=atol, backend=backend)
+        return ShootingProblem(params, param, segments=multiple * segments, period_multiple=multiple, rtol=rtol, atol=atol, backend=backend, box=box)
 
     family = [_primary(params, y0, param, opts, make_problem, points_per_2pi, say)]
     if not switch:
@@ -256,7 +276,7 @@ def trace_orbits(
         if any(_on_branch(first, ob, 1e-5 * (1 + np.linalg.norm(first))) for ob in family):
             say(f"the branch at {origin} is one already traced")
             continue
-        measures = _measure(problem, new, points_per_2pi)
+        measures = _measure(problem, new, points_per_2pi, kind_name or "switched")
         if kind_name is None:
             kind_name = "symmetric" if np.median(measures["symmetry_defect"]) < 1e-6 else "asymmetric"
         ob = OrbitBranch(kind_name, problem, new, measures, origin)

@@ -2,19 +2,22 @@
 
 ``branch.csv``: one row per point in branch order, branches one after another, columns
 ``sigma, Abar, A1, max_abs_X, max_abs_w, stable, max_abs_multiplier, liouville_error,
-symmetry_defect, special, branch``.
+symmetry_defect, special, branch, status, flag``: ``status`` is the branch's (``ok``, or why it
+was cut short: ``step below minimum``, ``step limit``, ``time limit``), ``flag`` is ``liouville``
+where the point's Liouville check fails beyond :data:`~slosh_bif.orbits.families.LIOUVILLE_TOL`
+(its multipliers, hence its stability, are not reliable), else empty.
 """
 
 from __future__ import annotations
 
 from pathlib import Path
 
-from slosh_bif.orbits.families import OrbitFamily
+from slosh_bif.orbits.families import LIOUVILLE_TOL, OrbitFamily
 from slosh_bif.report.tables import write_rows
 
 __all__ = ["BRANCH_COLUMNS", "family_rows", "write_branch_csv", "plot_family"]
 
-BRANCH_COLUMNS = ("sigma", "Abar", "A1", "max_abs_X", "max_abs_w", "stable", "max_abs_multiplier", "liouville_error", "symmetry_defect", "special", "branch")
+BRANCH_COLUMNS = ("sigma", "Abar", "A1", "max_abs_X", "max_abs_w", "stable", "max_abs_multiplier", "liouville_error", "symmetry_defect", "special", "branch", "status", "flag")
 
 
 def family_rows(family: OrbitFamily):
@@ -30,6 +33,8 @@ def family_rows(family: OrbitFamily):
                 "stable": int(b.stable[i]),
                 "special": labels[i],
                 "branch": ob.name,
+                "status": b.status,
+                "flag": "liouville" if m["liouville_error"][i] > LIOUVILLE_TOL else "",
             }
 
 

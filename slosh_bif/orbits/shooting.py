@@ -165,7 +165,10 @@ class ShootingProblem:
     test_kinds = ("PD", "NS")
     branch_kind = "periodic orbits of (9)"
 
-    def __init__(self, params: Params, param: str = "sigma", *, segments: int = 1, period_multiple: int = 1, rtol: float = 1e-10, atol: float = 1e-12, backend: str = "auto"):
+    def __init__(
+        self, params: Params, param: str = "sigma", *, segments: int = 1, period_multiple: int = 1, rtol: float = 1e-10, atol: float = 1e-12,
+        backend: str = "auto", box: tuple | None = None,
+    ):
         if not isinstance(params, Params):
             raise TypeError(f"params must be a slosh_bif.Params; got {type(params).__name__}")
         if param not in PARAMETERS:
@@ -179,6 +182,12 @@ class ShootingProblem:
         self.period = 2 * np.pi * period_multiple
         self.rtol, self.atol = rtol, atol
         self.backend = integrator.resolve_backend(backend)
+        if box is not None and not (len(box) == 2 and box[0] < box[1]):
+            raise ValueError(f"box must be (low, high) with low < high for {param}; got {box!r}")
+        self.box = box
+        # No periodic response of (9) comes near this: a Newton iterate beyond it is lost, and
+        # integrating from there only burns time (the corrector rejects it and the step is cut).
+        self.state_bound = 1e3 * (1.0 + params.Abar)
         self.names = tuple(f"{c}{k}" for k in range(segments) for c in _STATE)
         self.evaluations = 0  # arc integrations so far (cost accounting)
         self._cache: dict = {}  # the last few full arc results
@@ -190,9 +199,15 @@ class ShootingProblem:
         return self.params.replace(**{self.param: float(p)})
 
     def in_domain(self, x, p) -> bool:
-        """Whether the continuation may evaluate (x, p): a corrector iterate may wander to Abar < 0,
-        which is no parameter set (continuing in Abar toward the fold raised a ValueError there)."""
-        return bool(np.isfinite(p)) and (self.param != "Abar" or p >= 0)
+        """Whether the continuation may evaluate (x, p): inside the parameter ``box`` (when given),
+        with Abar >= 0 (a corrector iterate may wander below, which is no parameter set) and the
+        states within ``state_bound`` (a wandering Newton iterate at sigma = -10262 integrated
+        for minutes before this box)."""
+        if not (np.isfinite(p) and (self.param != "Abar" or p >= 0)):
+            return False
+        if self.box is not None and not self.box[0] <= p <= self.box[1]:
+            return False
+        return bool(np.max(np.abs(x)) <= self.state_bound)
 
     def arc_times(self):
         return np.linspace(0.0, self.period, self.segments + 1)

@@ -154,6 +154,29 @@ def test_shoot_in_abar_meets_the_shoot_in_sigma_where_they_cross(tmp_path):
     assert main(["shoot", *common, "--parameter", "Abar", "--start", "slow-flow", "--out", str(tmp_path / "x")]) == 2
 
 
+def test_shoot_says_when_a_branch_is_cut_short(tmp_path, capsys):
+    # Five steps cannot cover sigma in [7, 8]: the branch says so in branch.csv, on stderr and in
+    # the exit status; never "ok".
+    argv = ["shoot", "--preset", "fig10", "--set", "sigma=7.5", "--sigma-min", "7", "--sigma-max", "8", "--no-switch", "--max-steps", "3", "--ds-max", "0.02", "--out", str(tmp_path)]
+    assert main(argv) == 3
+    err = capsys.readouterr().err
+    assert "symmetric: step limit" in err and "cut short" in err and "exit status 3" in err
+    rows = list(csv.DictReader(open(tmp_path / "branch.csv")))
+    assert {r["status"] for r in rows} == {"step limit"}
+
+
+def test_shoot_flags_orbits_that_fail_the_liouville_check(tmp_path, capsys):
+    # At an integration tolerance of 1e-4 the monodromy is poor: Liouville's check says so for
+    # some orbits, which are flagged row by row and announced once.
+    argv = ["shoot", "--preset", "fig10", "--set", "sigma=7.5", "--sigma-min", "7.4", "--sigma-max", "7.6", "--no-switch", "--rtol", "1e-4", "--out", str(tmp_path)]
+    main(argv)
+    rows = list(csv.DictReader(open(tmp_path / "branch.csv")))
+    flagged = [r for r in rows if r["flag"] == "liouville"]
+    assert flagged and all(float(r["liouville_error"]) > 1e-6 for r in flagged)
+    assert all(float(r["liouville_error"]) <= 1e-6 for r in rows if not r["flag"])
+    assert capsys.readouterr().err.count("fail Liouville's check") == 1
+
+
 def test_compare_writes_csv_png_and_table(tmp_path, capsys):
     out = tmp_path / "cmp"
     argv = ["compare", "--preset", "fig10", "--set", "sigma=7.5", "--sigma-min", "7", "--sigma-max", "8", "--grid", "11", "--no-switch", "--out", str(out)]

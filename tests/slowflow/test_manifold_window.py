@@ -54,6 +54,28 @@ class Oracle:
             return k[i + 1]
         return optimize.brentq(f, k[i + 1], k[i], xtol=1e-15)
 
+    def dip(self, A, k_near):
+        """Near a fold two roots of (39) may lie within one scan cell: minimise G near k_near and
+        return the minimiser when G dips below zero there (a root pair exists), else NaN."""
+        res = optimize.minimize_scalar(lambda k: float(self.G(k, A)) if np.isfinite(self.G(k, A)) else 1e9, bounds=(max(k_near - 0.05, 1e-12), min(k_near + 0.05, 1.0)), method="bounded", options={"xatol": 1e-15})
+        return res.x if res.fun < 0 else np.nan
+
+    def largest(self, A):
+        """The largest root, also where it hugs the manifold's edge with a second root (pbar < 0
+        near A_min): then G dips below zero just above the edge, and the root lies above the dip."""
+        k = self.root(A, 40001)
+        if np.isfinite(k):
+            return k
+        r_max = A / np.sqrt(1 - A**2)
+        k_low = (2 - np.pi * r_max) / (2 + np.pi * r_max)
+        offsets = 10.0 ** np.linspace(-16, -2, 1401)
+        g = np.array([float(self.G(k_low + d, A)) for d in offsets])
+        neg = np.flatnonzero(np.isfinite(g) & (g < 0))
+        if not len(neg):
+            return np.nan
+        last = neg[-1]
+        return optimize.brentq(lambda kk: float(self.G(kk, A)), k_low + offsets[last], k_low + offsets[last + 1], xtol=1e-15)
+
     def ends(self, grid=np.geomspace(1e-4, 1e4, 401)):
         """(A_lo, A_hi) of the longest run of grid amplitudes with a continuous root, refined by
         bisection on existence (A_hi = inf when the run reaches the grid's top)."""
@@ -76,6 +98,8 @@ class Oracle:
             for _ in range(60):
                 mid = np.sqrt(inside * outside)
                 k = self.root(mid, 40001)
+                if not np.isfinite(k):
+                    k = self.dip(mid, k_in)  # two roots closer than the scan: is G below 0 between?
                 if np.isfinite(k) and abs(k - k_in) < 0.2:
                     inside, k_in = mid, k
                 else:
@@ -122,7 +146,8 @@ def _check_window(wall):
         assert law.A_max == pytest.approx(ends[1], rel=1e-7), law.describe()
     # and kappa on S+ is the oracle's root
     A = np.geomspace(law.A_min * (1 + 1e-6), min(law.A_max * (1 - 1e-6), 50.0), 7)
-    np.testing.assert_allclose(law.kappa(A), [Oracle(*wall).root(a, 40001) for a in A], atol=1e-10)
+    oracle = Oracle(*wall)
+    np.testing.assert_allclose(law.kappa(A), [oracle.largest(a) for a in A], atol=1e-10)
     return P
 
 
