@@ -12,6 +12,8 @@ Subcommands:
 * ``simulate`` - a time response of the smooth model (9) or the vibro-impact model (8), optionally
   with the noise of (47), classified into a response regime;
 * ``regimes``  - a map of response regimes over (sigma, Abar), computed in parallel;
+* ``chart``    - the curves in (sigma, Abar) where the orbits of (9) fold or period-double, and
+  the full model's critical forcing read off them;
 * ``figures``  - the paper's Figs. 3 and 6-15, regenerated from scratch as PNG files;
 * ``derive``   - regenerate the generated code from the sympy derivations (``--check``: verify it).
 """
@@ -21,7 +23,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from slosh_bif.cli import info, orbits, simulation, slowflow, studies
+from slosh_bif.cli import chart, info, orbits, simulation, slowflow, studies
 
 __all__ = ["main", "build_parser"]
 
@@ -33,7 +35,7 @@ def build_parser() -> argparse.ArgumentParser:
         "nonlinear liquid sloshing (Farid & Gendelman).",
     )
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
-    for family in (info, slowflow, orbits, studies, simulation):
+    for family in (info, slowflow, orbits, chart, studies, simulation):
         family.add_commands(sub)
     return parser
 

@@ -13,6 +13,8 @@ A problem is any object with
   and the engine reuses the Jacobian it already has at each point; ``is_stable(eigenvalues)``
   -> bool replaces the default rule (all real parts negative), e.g. by Floquet multipliers;
   ``branch_kind`` (text) names what the points are in the :class:`Branch`;
+  ``accept(x, p)`` is called after each accepted point (a minimally augmented problem updates
+  its bordering vectors there);
   ``test_kinds`` (names) with ``test_functions(x, p)`` -> one real value per kind: further
   special points at sign changes, located like folds; ``confirm(kind, x, p)`` -> message, or
   None to drop a located point that is not what the kind means (e.g. a neutral saddle for NS).
@@ -82,6 +84,7 @@ def _run(problem, start: Point, opts, loop_guard: bool, callback=None):
     points = [start]
     h = opts.step
     edge_hits = 0
+    accept = getattr(problem, "accept", None)
     deadline = time.monotonic() + opts.max_seconds
     while True:
         if len(points) > opts.max_steps:
@@ -109,6 +112,8 @@ def _run(problem, start: Point, opts, loop_guard: bool, callback=None):
             continue
         points.extend(special_between(problem, a, b, h, opts))
         points.append(b)
+        if accept is not None:
+            accept(b.u[:-1], b.u[-1])
         if callback is not None:
             callback(float(u[-1]), u[:-1])
         if loop_guard and len(points) > 3 and _passes(start, a.u, u, h):

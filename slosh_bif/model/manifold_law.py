@@ -187,14 +187,15 @@ class _Eq39:
     def _fold_below_manifold_end(self, A36):
         """The fold of (39) just below the (36) end, when G dips below zero off the edge there;
         located by bisection in A on whether the dip reaches below zero (to rounding)."""
-        if self._edge_dip(A36)[0] >= 0:
+        below = -1e-13  # a dip, not rounding (G is of order one)
+        if self._edge_dip(A36)[0] >= below:
             return None
         inside, outside = A36, A36 * (1 - 1e-3)
-        if self._edge_dip(outside)[0] < 0:
+        if self._edge_dip(outside)[0] < below:
             return None  # no fold this close: not this case
         for _ in range(80):
             mid = 0.5 * (inside + outside)
-            if self._edge_dip(mid)[0] < 0:
+            if self._edge_dip(mid)[0] < below:
                 inside = mid
             else:
                 outside = mid

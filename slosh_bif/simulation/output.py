@@ -21,7 +21,7 @@ from slosh_bif.report.tables import write_rows
 
 __all__ = [
     "write_trajectory", "write_summary", "plot_simulation", "plot_motion_on_manifold", "summary_record",
-    "write_regime_csv", "plot_regime_map",
+    "write_regime_csv", "plot_regime_map", "draw_regimes",
 ]
 
 
@@ -121,6 +121,26 @@ def write_regime_csv(rmap, path) -> Path:
     return write_rows(rows, REGIME_COLUMNS, path, digits=8)
 
 
+def draw_regimes(ax, rmap, *, alpha=0.75):
+    """The regimes of a :class:`RegimeMap` as coloured cells on ``ax``, with a legend entry per
+    regime; returns the cell edges in sigma and Abar."""
+    codes = {name: k for k, name in enumerate(REGIME_COLORS)}
+    grid = np.vectorize(lambda r: codes.get(r, codes["other"]))(rmap.regime).astype(float)
+    from matplotlib.colors import ListedColormap
+
+    def edges(v):
+        if v.size == 1:
+            return np.array([v[0] - 0.5, v[0] + 0.5])
+        mid = 0.5 * (v[1:] + v[:-1])
+        return np.concatenate([[2 * v[0] - mid[0]], mid, [2 * v[-1] - mid[-1]]])
+
+    sigma_edges, abar_edges = edges(rmap.sigma), edges(rmap.Abar)
+    ax.pcolormesh(sigma_edges, abar_edges, grid, cmap=ListedColormap(list(REGIME_COLORS.values())), vmin=-0.5, vmax=len(codes) - 0.5, alpha=alpha)
+    for name, color in REGIME_COLORS.items():
+        ax.plot([], [], "s", color=color, ms=9, label=name)
+    return sigma_edges, abar_edges
+
+
 def plot_regime_map(rmap, path, *, critical=None) -> Path:
     """The regimes as coloured cells over (sigma, Abar), with the slow flow's Abar_b(sigma) on top.
 
@@ -129,25 +149,11 @@ def plot_regime_map(rmap, path, *, critical=None) -> Path:
     """
     plt = pyplot()
     fig, ax = plt.subplots(figsize=(8, 5.5))
-    codes = {name: k for k, name in enumerate(REGIME_COLORS)}
-    grid = np.vectorize(lambda r: codes.get(r, codes["other"]))(rmap.regime).astype(float)
-    from matplotlib.colors import ListedColormap
-
-    cmap = ListedColormap(list(REGIME_COLORS.values()))
-
-    def edges(v):
-        if v.size == 1:
-            return np.array([v[0] - 0.5, v[0] + 0.5])
-        mid = 0.5 * (v[1:] + v[:-1])
-        return np.concatenate([[2 * v[0] - mid[0]], mid, [2 * v[-1] - mid[-1]]])
-
-    ax.pcolormesh(edges(rmap.sigma), edges(rmap.Abar), grid, cmap=cmap, vmin=-0.5, vmax=len(codes) - 0.5, alpha=0.75)
-    for name, color in REGIME_COLORS.items():
-        ax.plot([], [], "s", color=color, ms=9, label=name)
+    sigma_edges, abar_edges = draw_regimes(ax, rmap, alpha=0.75)
     if critical is not None:
         ax.plot(critical.sigma, critical.Abar_b, "k-", lw=2, label=r"slow flow: $\bar A_b(\sigma)$ (steady state on $S^+$ above)")
-    ax.set_xlim(edges(rmap.sigma)[[0, -1]])
-    ax.set_ylim(edges(rmap.Abar)[[0, -1]])
+    ax.set_xlim(sigma_edges[[0, -1]])
+    ax.set_ylim(abar_edges[[0, -1]])
     ax.set_xlabel(r"detuning $\sigma$")
     ax.set_ylabel(r"forcing amplitude $\bar A$")
     ax.set_title(f"response regimes, {rmap.model} model, tau in [0, {rmap.tmax:g}] (classified on the second half)", fontsize=9)

@@ -1,0 +1,63 @@
+"""``slosh-bif chart``: the curves in (sigma, Abar) where the periodic orbits of (9) fold or
+double their period, the full model's critical forcing read off them, and the slow flow's
+Abar_b beside it (optionally over a simulated regime map)."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from slosh_bif.cli.common import abar_range, add_abar_range_options, add_params_options, params_of, progress, sigma_range
+from slosh_bif.model.presets import get_preset
+
+__all__ = ["add_commands"]
+
+
+def _chart(args) -> int:
+    from slosh_bif.studies.chart import bifurcation_chart
+    from slosh_bif.studies.chart_output import plot_chart, write_critical_csv, write_curves_csv
+
+    params = params_of(args)
+    lo, hi = sigma_range(args)
+    a_lo, a_hi = abar_range(args, default=(0.2, 2 * params.Abar))
+    if args.regimes is not None and min(args.regimes) < 1:
+        raise ValueError(f"--regimes takes two positive integers N M (sigma values, Abar values); got {args.regimes}")
+    args.out.mkdir(parents=True, exist_ok=True)
+    state0 = get_preset(args.preset).state0
+    chart = bifurcation_chart(params, state0, sigma_range=(lo, hi), abar_range=(a_lo, a_hi), switch=not args.no_switch, progress=progress)
+    regimes = None
+    if args.regimes is not None:
+        from slosh_bif.simulation.regimes import regime_map
+
+        n, m = args.regimes
+        regimes = regime_map(params, state0, np.linspace(lo, hi, n), np.linspace(a_lo, a_hi, m), tmax=args.tmax, progress=lambda done, total: progress(f"regimes: {done} of {total}"))
+    paths = [write_curves_csv(chart, args.out / "curves.csv"), write_critical_csv(chart, args.out / "critical.csv"), plot_chart(chart, args.out / "chart.png", regimes=regimes)]
+    for k, c in enumerate(chart.curves):
+        codim2 = ", ".join(f"{s.kind} ({s.p:.5g}, {s.x[-1]:.5g})" for s in c.branch.special if s.kind in ("CP", "LPPD", "LPNS", "PDNS"))
+        print(f"curve {k}: {c.kind} from {c.origin}: {len(c)} points, {c.status}" + (f"; {codim2}" if codim2 else ""))
+    print(f"{len(chart.curves)} curves in {chart.seconds:.1f} s; wrote " + ", ".join(str(p) for p in paths))
+    cut = [k for k, c in enumerate(chart.curves) if c.status != "ok"]
+    if cut:
+        print(f"slosh-bif chart: curve(s) {', '.join(map(str, cut))} could not be continued to the box's edge (their status in curves.csv)", file=sys.stderr)
+        return 3
+    return 0
+
+
+def add_commands(sub) -> None:
+    """Register ``chart`` on the ``slosh-bif`` subparsers ``sub``."""
+    chart = sub.add_parser(
+        "chart",
+        help="curves in (sigma, Abar) where the orbits of (9) fold or period-double, and the full model's critical forcing",
+        epilog="exit status: 0 when every curve left the box or closed, 3 when a curve was cut short, 2 for bad input",
+    )
+    add_params_options(chart)
+    chart.add_argument("--sigma-min", type=float, default=None, help="lower end of the sigma range (default -6)")
+    chart.add_argument("--sigma-max", type=float, default=None, help="upper end of the sigma range (default 8)")
+    add_abar_range_options(chart)
+    chart.add_argument("--regimes", type=int, nargs=2, default=None, metavar=("N", "M"), help="also simulate an N x M regime map as background")
+    chart.add_argument("--tmax", type=float, default=600.0, help="simulated time per regime-map point (default 600)")
+    chart.add_argument("--no-switch", action="store_true", help="the curves of the primary orbit branch only")
+    chart.add_argument("--out", type=Path, required=True, help="output folder (created if missing)")
+    chart.set_defaults(run=_chart)

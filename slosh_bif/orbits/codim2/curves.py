@@ -1,0 +1,138 @@
+"""Two-parameter curves of orbit bifurcations of (9), traced from the special points of
+one-parameter branches, and the result object that holds them (saved and loaded like a Branch).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+from pathlib import Path
+
+import numpy as np
+
+from slosh_bif.continuation import Branch, ContinuationOptions, continuation
+from slosh_bif.model.params import Params
+from slosh_bif.orbits.codim2.minaug import CURVE_KINDS, MultiplierCurveProblem
+from slosh_bif.orbits.shooting import ShootingProblem, orbit_measures
+
+__all__ = ["BifurcationCurve", "trace_curve", "CURVE_OPTIONS"]
+
+# Like the one-parameter orbit branches (the corrector's tolerance above the integration's
+# rounding); a turn of a curve in p1 is no bifurcation, so folds and branch points of the
+# augmented system are not detected.
+CURVE_OPTIONS = ContinuationOptions(step=0.05, step_max=0.25, tol=1e-9, max_steps=2000, detect_folds=False, detect_branch_points=False, max_seconds=300.0)
+
+
+@dataclasses.dataclass(frozen=True)
+class BifurcationCurve:
+    """A curve of LP or PD points of periodic orbits in (p1, p2).
+
+    ``curve["sigma"]``, ``curve["Abar"]`` (the two parameters), ``curve["A1"]`` and
+    ``curve["max_abs_w"]`` (the orbit at each point) are arrays in curve order; ``branch`` is the
+    continuation result (its special points are the codimension-2 points: CP, LPPD, LPNS,
+    PDNS; its ``stable`` column says whether the point bounds stable orbits: every multiplier
+    but the critical one inside the unit circle); ``origin`` where it was started.
+    """
+
+    kind: str
+    p1: str
+    p2: str
+    branch: Branch
+    measures: dict
+    origin: str = ""
+
+    def __len__(self):
+        return len(self.branch)
+
+    def __getitem__(self, name: str) -> np.ndarray:
+        if name == self.p1:
+            return self.branch.p
+        if name == self.p2:
+            return self.branch.x[:, -1]
+        if name in self.measures:
+            return self.measures[name]
+        raise KeyError(f"{name!r} is not a column of this curve; its columns are {self.p1}, {self.p2}, {', '.join(self.measures)}")
+
+    @property
+    def status(self) -> str:
+        return self.branch.status
+
+    def save(self, path) -> Path:
+        """The branch's .npz with the curve's kind, parameters, origin and measures added."""
+        path = Path(path)
+        self.branch.save(path)
+        with np.load(path, allow_pickle=False) as data:
+            arrays = {k: data[k] for k in data.files}
+        meta = dict(kind=self.kind, p1=self.p1, p2=self.p2, origin=self.origin, measures=sorted(self.measures))
+        np.savez(path, curve_meta=np.array(json.dumps(meta)), **{f"measure_{k}": v for k, v in self.measures.items()}, **arrays)
+        return path
+
+    @classmethod
+    def load(cls, path) -> "BifurcationCurve":
+        branch = Branch.load(path)
+        with np.load(path, allow_pickle=False) as data:
+            meta = json.loads(str(data["curve_meta"]))
+            measures = {k: data[f"measure_{k}"].copy() for k in meta["measures"]}
+        return cls(meta["kind"], meta["p1"], meta["p2"], branch, measures, meta["origin"])
+
+
+def trace_curve(
+    params: Params,
+    x,
+    p: float,
+    *,
+    kind: str,
+    branch_param: str = "sigma",
+    p1: str = "sigma",
+    p2: str = "Abar",
+    p1_range: tuple,
+    p2_range: tuple,
+    segments: int = 4,
+    period_multiple: int = 1,
+    options: ContinuationOptions | None = None,
+    rtol: float = 1e-10,
+    origin: str = "",
+    points_per_2pi: int = 256,
+    callback=None,
+) -> BifurcationCurve:
+    """Trace the curve of ``kind`` (LP or PD) through the special point (x, p) of a one-parameter
+    branch in ``branch_param`` (one of p1, p2) over the box p1_range x p2_range, in both
+    directions until it leaves the box, closes, or cannot be continued (its status says which).
+    """
+    if kind not in CURVE_KINDS:
+        raise ValueError(f"kind must be one of {', '.join(CURVE_KINDS)}; got {kind!r}")
+    if branch_param not in (p1, p2):
+        raise ValueError(f"the start branch's parameter {branch_param!r} must be one of the two, {p1!r} or {p2!r}")
+    (lo1, hi1), (lo2, hi2) = p1_range, p2_range
+    if not (lo1 < hi1 and lo2 < hi2):
+        raise ValueError(f"empty box: {p1} in [{lo1}, {hi1}], {p2} in [{lo2}, {hi2}]")
+    p1_0, p2_0 = (float(p), float(getattr(params, p2))) if branch_param == p1 else (float(getattr(params, p1)), float(p))
+    if not (lo1 <= p1_0 <= hi1 and lo2 <= p2_0 <= hi2):
+        raise ValueError(f"the start point ({p1} = {p1_0:g}, {p2} = {p2_0:g}) lies outside the box")
+    span1, span2 = hi1 - lo1, hi2 - lo2
+    problem = MultiplierCurveProblem(
+        params, kind, p1, p2, segments=segments, period_multiple=period_multiple, rtol=rtol, atol=rtol * 1e-2,
+        box=(lo1 - 0.5 * span1, hi1 + 0.5 * span1), p2_box=(lo2, hi2),
+    )
+    u0 = np.append(np.asarray(x, dtype=float), p2_0)
+    problem.init_borders(u0, p1_0)
+    opts = dataclasses.replace(options or CURVE_OPTIONS, p_min=lo1, p_max=hi1)
+    branch = continuation(problem, u0, p1_0, param=p1, options=opts, callback=callback)
+    measures = _measures(problem, branch, points_per_2pi)
+    return BifurcationCurve(kind, p1, p2, branch, measures, origin)
+
+
+def _measures(problem: MultiplierCurveProblem, branch: Branch, points_per_2pi: int) -> dict:
+    rows = []
+    for x, p in zip(branch.x, branch.p):
+        single = _orbit_problem(problem, x, p)
+        rows.append(orbit_measures(single, x[:-1], p, points_per_2pi=points_per_2pi))
+    out = {key: np.array([r[key] for r in rows]) for key in ("A1", "max_abs_X", "max_abs_w")} if rows else {}
+    out["max_abs_multiplier"] = np.max(np.abs(branch.eigenvalues[:, 1:]), axis=1) if len(branch) else np.array([])
+    return out
+
+
+def _orbit_problem(problem: MultiplierCurveProblem, x, p):
+    """The one-parameter shooting problem at the curve point's second parameter."""
+    s = problem.shooting
+    return ShootingProblem(problem.params_at(x, p), problem.p1, segments=s.segments, period_multiple=s.period_multiple, rtol=s.rtol, atol=s.atol, backend=s.backend)

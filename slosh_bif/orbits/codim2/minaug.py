@@ -1,0 +1,197 @@
+"""Curves of fold (LP) and period-doubling (PD) points of periodic orbits of (9) in two
+parameters, by a minimally augmented system on the multiple-shooting residual.
+
+Formulation
+-----------
+The orbit is a zero of the multiple-shooting residual F(x; p1, p2) (:class:`ShootingProblem`).
+The monodromy matrix M has the multiplier ``mu`` (+1 at a fold, -1 at a period doubling) exactly
+when the block-cyclic matrix J_mu (the arc matrices Phi_k on the diagonal, -I beside them and
+``-mu I`` in the block that closes the period) is singular. With bordering vectors b, c, the
+scalar g(x; p1, p2) defined by
+
+    [[J_mu, b], [c^T, 0]] [v; g] = [0; 1]
+
+vanishes exactly there, and the augmented system [F; g] = 0 in (x, p2), continued in p1 by the
+same pseudo-arclength engine, traces the curve. Its derivatives need second derivatives of the
+flow only along v: with w from the transposed system, dg/dz = -w^T d(J_mu v)/dz, and
+d(J_mu v)/dz . e = d/de [F_z(z + e v)]^T w, one extra integration of the arcs from x + h v
+(forward difference). A point therefore costs about twice a point of a one-parameter branch,
+and the system stays of size 4m + 1 (AUTO's and MatCont's standard extended systems would double
+it). The bordering vectors are renewed from v and w after every accepted point, as
+BifurcationKit's MinAug problems do, so that the bordered matrix stays regular along the curve.
+
+Codimension-2 points are located on these curves through test functions: on fold curves the cusp
+(CP: the fold's quadratic coefficient w^T F_xx[v, v] vanishes, from the same extra integration),
+fold-flip (LPPD: a second multiplier through -1) and fold-Neimark-Sacker (LPNS); on
+period-doubling curves the fold-flip (a multiplier through +1) and flip-Neimark-Sacker (PDNS).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from slosh_bif.model.params import FIELDS, Params
+from slosh_bif.orbits.shooting import PARAMETERS, ShootingProblem
+
+__all__ = ["MultiplierCurveProblem", "CURVE_KINDS"]
+
+CURVE_KINDS = {"LP": 1.0, "PD": -1.0}  # the multiplier that is critical on each kind of curve
+
+
+class MultiplierCurveProblem:
+    """Points (x, p2) of (9) at p1 where the orbit through x has the multiplier of ``kind``.
+
+    A continuation problem in p1 (the engine's parameter); ``p2`` is the last state component.
+    ``p2_box`` bounds p2 (points outside are never evaluated); ``box`` bounds p1's corrector
+    iterates as in :class:`ShootingProblem`.
+    """
+
+    stability_from_jacobian = False
+
+    def __init__(
+        self, params: Params, kind: str, p1: str = "sigma", p2: str = "Abar", *, segments: int = 4, period_multiple: int = 1,
+        rtol: float = 1e-10, atol: float = 1e-12, box: tuple | None = None, p2_box: tuple | None = None, backend: str = "auto",
+    ):
+        if kind not in CURVE_KINDS:
+            raise ValueError(f"kind must be one of {', '.join(CURVE_KINDS)}; got {kind!r}")
+        for name in (p1, p2):
+            if name not in FIELDS:
+                raise ValueError(f"parameter {name!r} is not a field of Params ({', '.join(FIELDS)})")
+            if name not in PARAMETERS:
+                raise ValueError(f"parameter {name!r} has no sensitivity equations; two-parameter curves take {' and '.join(PARAMETERS)}")
+        if p1 == p2:
+            raise ValueError(f"the two parameters must differ; got {p1!r} twice")
+        self.kind, self.mu = kind, CURVE_KINDS[kind]
+        self.params, self.p1, self.p2 = params, p1, p2
+        self.shooting = ShootingProblem(params, p1, segments=segments, period_multiple=period_multiple, rtol=rtol, atol=atol, backend=backend, box=box)
+        self.names = self.shooting.names + (p2,)
+        self.branch_kind = f"{kind} curve of periodic orbits of (9) in ({p1}, {p2})"
+        self.p2_box = p2_box
+        self.test_kinds = ("CP", "LPPD", "LPNS") if kind == "LP" else ("LPPD", "PDNS")
+        self._columns = (PARAMETERS.index(p1), PARAMETERS.index(p2))
+        self._b = self._c = None
+        self._memo = {}
+
+    # -- the augmented system ----------------------------------------------------------------
+
+    def params_at(self, x, p) -> Params:
+        return self.params.replace(**{self.p1: float(p), self.p2: float(x[-1])})
+
+    def in_domain(self, x, p) -> bool:
+        if self.p2_box is not None and not self.p2_box[0] <= x[-1] <= self.p2_box[1]:
+            return False
+        if self.p2 == "Abar" and x[-1] < 0:
+            return False
+        return self.shooting.in_domain(x[:-1], p)
+
+    def _matrix(self, arcs):
+        return self.shooting.jacobian_of(arcs, self.mu)
+
+    def init_borders(self, x, p):
+        """b and c from the singular vectors of J_mu at (x, p): the directions g is read along."""
+        J = self._matrix(self.shooting.arcs(x[:-1], self.params_at(x, p)))
+        U, _, Vt = np.linalg.svd(J)
+        self._b, self._c = U[:, -1].copy(), Vt[-1].copy()
+        self._memo.clear()
+
+    def accept(self, x, p):
+        """Renew the borders from the null vectors at an accepted point (keeps [[J, b], [c^T, 0]] regular)."""
+        _, v, w, _ = self._solve(x, p)
+        self._b, self._c = w / np.linalg.norm(w), v / np.linalg.norm(v)
+        self._memo.clear()
+
+    def _solve(self, x, p):
+        key = (x.tobytes(), float(p))
+        hit = self._memo.get(key)
+        if hit is not None:
+            return hit
+        if self._b is None:
+            self.init_borders(x, p)
+        arcs = self.shooting.arcs(x[:-1], self.params_at(x, p))
+        J = self._matrix(arcs)
+        n = len(J)
+        B = np.zeros((n + 1, n + 1))
+        B[:n, :n], B[:n, n], B[n, :n] = J, self._b, self._c
+        rhs = np.zeros(n + 1)
+        rhs[-1] = 1.0
+        vg = np.linalg.solve(B, rhs)
+        wg = np.linalg.solve(B.T, rhs)
+        result = (arcs, vg[:n], wg[:n], vg[n])
+        if len(self._memo) > 8:
+            self._memo.clear()
+        self._memo[key] = result
+        return result
+
+    def _second(self, x, p):
+        """(dg/d(x, p1, p2), w^T F_xx[v, v]) from one extra integration of the arcs at x + h v."""
+        key = ("second", x.tobytes(), float(p))
+        if key not in self._memo:
+            self._memo[key] = self._second_uncached(x, p)
+        return self._memo[key]
+
+    def _second_uncached(self, x, p):
+        arcs, v, w, _ = self._solve(x, p)
+        y = x[:-1]
+        # Forward differences of matrices integrated at rtol ~1e-10: h ~ 1e-5 balances truncation and rounding.
+        h = 1e-5 * (1 + np.linalg.norm(y)) / np.linalg.norm(v)
+        shifted = self.shooting.arcs(y + h * v, self.params_at(x, p))
+        dJ = (self.shooting.jacobian_of(shifted) - self.shooting.jacobian_of(arcs)) / h
+        dS = (shifted.sens - arcs.sens).reshape(len(y), -1) / h  # d(F_p)/d(along v)
+        g_x = -(dJ.T @ w)
+        g_p1 = -(dS[:, self._columns[0]] @ w)
+        g_p2 = -(dS[:, self._columns[1]] @ w)
+        return g_x, g_p1, g_p2, float(w @ dJ @ v)
+
+    def residual(self, x, p):
+        arcs, _, _, g = self._solve(x, p)
+        return np.append(self.shooting.residual_of(x[:-1], arcs), g)
+
+    def jacobian(self, x, p):
+        arcs = self._solve(x, p)[0]
+        g_x, _, g_p2, _ = self._second(x, p)
+        n = len(x) - 1
+        top = np.column_stack([self.shooting.jacobian_of(arcs), arcs.sens.reshape(n, -1)[:, self._columns[1]]])
+        return np.vstack([top, np.append(g_x, g_p2)])
+
+    def dparam(self, x, p):
+        arcs = self._solve(x, p)[0]
+        _, g_p1, _, _ = self._second(x, p)
+        return np.append(arcs.sens.reshape(len(x) - 1, -1)[:, self._columns[0]], g_p1)
+
+    # -- multipliers and codimension-2 tests --------------------------------------------------
+
+    def eigenvalues(self, x, p):
+        """The Floquet multipliers of the orbit, the critical one (nearest mu) first."""
+        arcs = self._solve(x, p)[0]
+        if not np.all(np.isfinite(arcs.monodromy)):
+            return np.full(4, np.nan + 0j)
+        mu = np.linalg.eigvals(arcs.monodromy)
+        order = np.argsort(np.abs(mu - self.mu))
+        return mu[order]
+
+    @staticmethod
+    def is_stable(multipliers) -> bool:
+        """The curve point bounds stable orbits: every multiplier but the critical one inside the unit circle."""
+        return bool(np.all(np.abs(multipliers[1:]) < 1))
+
+    def test_functions(self, x, p):
+        mu = self.eigenvalues(x, p)
+        others = mu[1:]
+        ns = np.prod([others[i] * others[j] - 1 for i in range(3) for j in range(i + 1, 3)]).real
+        if self.kind == "LP":
+            return self._second(x, p)[3], np.prod(1 + others).real, ns
+        return np.prod(others - 1).real, ns
+
+    def confirm(self, kind, x, p):
+        mu = self.eigenvalues(x, p)
+        others = mu[1:]
+        if kind == "CP":
+            return "cusp: the fold's quadratic coefficient vanishes (two folds meet)"
+        if kind == "LPPD":
+            k = int(np.argmin(np.abs(others - (-self.mu))))
+            return f"fold-flip: multipliers {mu[0].real:.6f} and {others[k].real:.6f}"
+        pair = [m for m in others if m.imag > 1e-7 * max(1.0, abs(m)) and abs(abs(m) - 1) < 1e-3]
+        if not pair:
+            return None  # a neutral saddle of the other multipliers, not a Neimark-Sacker point
+        label = "fold-Neimark-Sacker" if kind == "LPNS" else "flip-Neimark-Sacker"
+        return f"{label}: {mu[0].real:.6f} with exp(+-i {np.angle(pair[0]):.6f})"

@@ -1,0 +1,108 @@
+"""Two-parameter curves of orbit bifurcations of (9), checked by independent evaluations: one-
+parameter continuation at the curve's second parameter locates its fold or period doubling at
+the curve's first parameter, and scipy's monodromy (not the shooting code) has the critical
+multiplier there (issue 16)."""
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+from slosh_bif import SmoothModel, get_preset
+from slosh_bif.continuation import continuation
+from slosh_bif.orbits import ShootingProblem, orbit_from_simulation, settle_and_shoot, trace_orbits
+from slosh_bif.orbits.codim2 import BifurcationCurve, MultiplierCurveProblem, trace_curve
+from slosh_bif.orbits.families import SHOOTING_OPTIONS
+from slosh_bif.orbits.shooting import period_map
+
+PRESET = get_preset("fig10")
+
+
+def _scipy_multipliers(P, y0, period=2 * np.pi):
+    model = SmoothModel(P)
+    return np.linalg.eigvals(period_map(model.rhs, model.jac, y0, period, rtol=1e-12, atol=1e-13)[1])
+
+
+@pytest.fixture(scope="module")
+def fold_curve():
+    """The fold curve through the fold of the symmetric branch at sigma = -1.40027 (Abar = 3),
+    in a small box."""
+    P = PRESET.params
+    start = orbit_from_simulation(P.replace(sigma=-1.2), PRESET.state0, settle=150)
+    family = trace_orbits(start.params, start.y0, p_min=-1.6, p_max=-1.2, switch=False)
+    (lp,) = family.branches[0].branch.special_of("LP")
+    return P, trace_curve(P, lp.x, lp.p, kind="LP", p1_range=(-1.8, -1.0), p2_range=(2.4, 3.6))
+
+
+@pytest.fixture(scope="module")
+def flip_curve():
+    """The period-doubling curve through the PD of the asymmetric orbit at sigma = -2.5358."""
+    P = PRESET.params.replace(sigma=-3.0)
+    orbit, _ = settle_and_shoot(P, PRESET.state0)
+    family = trace_orbits(P, orbit.y0, p_min=-3.0, p_max=-2.3, switch=False)
+    (pd,) = family.branches[0].branch.special_of("PD")
+    return P, trace_curve(P, pd.x, pd.p, kind="PD", p1_range=(-2.9, -2.2), p2_range=(2.7, 3.3))
+
+
+def _one_parameter_special(P, kind, x, sigma, abar):
+    """The special point of ``kind`` found by one-parameter continuation in sigma at Abar = abar:
+    a first run from the curve's orbit finds the branch; a second, started ten points away,
+    crosses the special point in its interior, where it is detected and located afresh."""
+    problem = ShootingProblem(P.replace(Abar=float(abar)), "sigma", segments=4)
+    opts = dataclasses.replace(SHOOTING_OPTIONS, p_min=sigma - 0.05, p_max=sigma + 0.05, step=0.002, step_max=0.004)
+    first = continuation(problem, x, sigma, param="sigma", options=opts)
+    near = int(np.argmin(np.abs(first.p - sigma) + np.linalg.norm(first.x - x, axis=1)))
+    j = near - 10 if near >= 10 else near + 10
+    second = continuation(problem, first.x[j], first.p[j], param="sigma", options=opts)
+    found = [s.p for s in second.special if s.kind == kind and s.located]
+    assert found, f"no {kind} within 0.05 of sigma = {sigma} at Abar = {abar}"
+    return min(found, key=lambda s: abs(s - sigma))
+
+
+@pytest.mark.parametrize("curve_fixture, kind, mu", [("fold_curve", "LP", 1.0), ("flip_curve", "PD", -1.0)])
+def test_curve_points_are_special_points_of_one_parameter_branches_and_of_scipys_monodromy(curve_fixture, kind, mu, request):
+    P, curve = request.getfixturevalue(curve_fixture)
+    assert curve.kind == kind and len(curve) > 10 and curve.status == "ok", curve.branch.message
+    for i in np.linspace(1, len(curve) - 2, 3).astype(int):
+        sigma, abar = curve["sigma"][i], curve["Abar"][i]
+        x = curve.branch.x[i, :-1]
+        assert _one_parameter_special(P, kind, x, sigma, abar) == pytest.approx(sigma, abs=1e-6)
+        multipliers = _scipy_multipliers(P.replace(sigma=float(sigma), Abar=float(abar)), x[:4])
+        assert np.min(np.abs(multipliers - mu)) < 1e-6
+
+
+def test_the_curve_is_the_same_under_tighter_tolerances(fold_curve):
+    # Convergence under refinement: the integration and corrector tolerances 100 times tighter
+    # move the curve by less than 1e-7 in Abar at the same sigma.
+    P, curve = fold_curve
+    i = len(curve) // 2
+    x = curve.branch.x[i]
+    problem = MultiplierCurveProblem(P, "LP", rtol=1e-12, atol=1e-14)
+    problem.init_borders(x, curve["sigma"][i])
+    from slosh_bif.continuation import newton
+
+    tight = newton(problem, x, curve["sigma"][i], tol=1e-12)
+    assert abs(tight[-1] - x[-1]) < 1e-7
+
+
+def test_curve_round_trips_through_npz(fold_curve, tmp_path):
+    _, curve = fold_curve
+    loaded = BifurcationCurve.load(curve.save(tmp_path / "lp.npz"))
+    assert (loaded.kind, loaded.p1, loaded.p2, loaded.origin) == (curve.kind, curve.p1, curve.p2, curve.origin)
+    np.testing.assert_array_equal(loaded["Abar"], curve["Abar"])
+    np.testing.assert_array_equal(loaded["A1"], curve["A1"])
+
+
+def test_bad_requests_fail_before_any_work():
+    P = PRESET.params
+    x = np.zeros(16)
+    with pytest.raises(ValueError, match="kind must be one of LP, PD"):
+        trace_curve(P, x, 0.0, kind="NS", p1_range=(-1, 1), p2_range=(1, 2))
+    with pytest.raises(ValueError, match="'omega' is not a field of Params"):
+        MultiplierCurveProblem(P, "LP", "sigma", "omega")
+    with pytest.raises(ValueError, match="the two parameters must differ"):
+        MultiplierCurveProblem(P, "LP", "sigma", "sigma")
+    with pytest.raises(ValueError, match="empty box"):
+        trace_curve(P, x, 0.0, kind="LP", p1_range=(1, -1), p2_range=(1, 2))
+    with pytest.raises(ValueError, match="outside the box"):
+        trace_curve(P, x, 5.0, kind="LP", p1_range=(-1, 1), p2_range=(1, 4))
