@@ -26,7 +26,9 @@ def _chart(args) -> int:
         raise ValueError(f"--regimes takes two positive integers N M (sigma values, Abar values); got {args.regimes}")
     args.out.mkdir(parents=True, exist_ok=True)
     state0 = get_preset(args.preset).state0
-    chart = bifurcation_chart(params, state0, sigma_range=(lo, hi), abar_range=(a_lo, a_hi), switch=not args.no_switch, progress=progress)
+    if args.seeds < 0:
+        raise ValueError(f"--seeds must be an integer >= 0; got {args.seeds}")
+    chart = bifurcation_chart(params, state0, sigma_range=(lo, hi), abar_range=(a_lo, a_hi), switch=not args.no_switch, seeds=args.seeds, progress=progress)
     regimes = None
     if args.regimes is not None:
         from slosh_bif.simulation.regimes import regime_map
@@ -59,5 +61,6 @@ def add_commands(sub) -> None:
     chart.add_argument("--regimes", type=int, nargs=2, default=None, metavar=("N", "M"), help="also simulate an N x M regime map as background")
     chart.add_argument("--tmax", type=float, default=600.0, help="simulated time per regime-map point (default 600)")
     chart.add_argument("--no-switch", action="store_true", help="the curves of the primary orbit branch only")
+    chart.add_argument("--seeds", type=int, default=7, help="sigma values at which the primary branch's orbit is also continued in Abar to find folds and period doublings below the preset's forcing (default 7)")
     chart.add_argument("--out", type=Path, required=True, help="output folder (created if missing)")
     chart.set_defaults(run=_chart)

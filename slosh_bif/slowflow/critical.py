@@ -21,10 +21,10 @@ import dataclasses
 import numpy as np
 
 import slosh_bif.continuation as cont
-from slosh_bif.model.params import Params
-from slosh_bif.slowflow.flow import SlowFlow
 from slosh_bif.model._generated import slow_flow as gen
 from slosh_bif.model.manifold_law import END_KINDS
+from slosh_bif.model.params import Params
+from slosh_bif.slowflow.flow import SlowFlow
 from slosh_bif.slowflow.steady_states import EDGE_MARGIN, SteadyStateProblem, end_rho
 
 __all__ = ["CriticalPoint", "CriticalCurve", "abar_branch", "critical_forcing", "critical_curve", "FoldProblem", "EndProblem"]
@@ -215,7 +215,6 @@ def critical_curve(
     if not sigma_min < sigma_max:
         raise ValueError(f"need sigma_min < sigma_max; got {sigma_min} and {sigma_max}")
     opts = options or DEFAULT_OPTIONS
-    r = _Residual46(params)
     end_problem = EndProblem(params)
     end = _trace(end_problem, [end_problem.abar_at(sigma_min)], float(sigma_min), sigma_min, sigma_max, opts)
     report(f"end-point curve: {len(end)} points")

@@ -50,7 +50,7 @@ class Chart:
     seconds: float
 
 
-def _on_curve(curve: BifurcationCurve, sigma, abar, tol=1e-4):
+def _on_curve(curve: BifurcationCurve, sigma, abar, tol=2e-3):
     s, a = curve["sigma"], curve["Abar"]
     if len(s) < 2:
         return False
@@ -58,6 +58,28 @@ def _on_curve(curve: BifurcationCurve, sigma, abar, tol=1e-4):
     rel = np.column_stack([sigma - s[:-1], abar - a[:-1]])
     w = np.clip(np.einsum("ij,ij->i", rel, seg) / np.maximum(np.einsum("ij,ij->i", seg, seg), 1e-300), 0, 1)
     return bool(np.min(np.hypot(rel[:, 0] - w * seg[:, 0], rel[:, 1] - w * seg[:, 1])) < tol)
+
+
+def _curves_from(ob, param, params, curves, sigma_range, abar_range, say):
+    """Trace the LP or PD curve through each located LP and PD of the orbit branch ``ob`` (in
+    ``param`` at ``params``) that lies on no curve traced so far; append them to ``curves``."""
+    for sp in ob.branch.special:
+        if sp.kind not in ("LP", "PD") or not sp.located:
+            continue
+        sigma, abar = (sp.p, params.Abar) if param == "sigma" else (params.sigma, sp.p)
+        if any(c.kind == sp.kind and _on_curve(c, sigma, abar) for c in curves):
+            continue
+        origin = f"{sp.kind} at sigma = {sigma:.6g}, Abar = {abar:.6g} on the {ob.name} branch in {param}"
+        try:
+            curve = trace_curve(
+                params, sp.x, sp.p, kind=sp.kind, branch_param=param, p1_range=sigma_range, p2_range=abar_range,
+                segments=ob.problem.segments, period_multiple=ob.problem.period_multiple, origin=origin,
+            )
+        except (ConvergenceError, np.linalg.LinAlgError, ValueError) as err:
+            say(f"no {sp.kind} curve from {origin}: {err}")
+            continue
+        curves.append(curve)
+        say(f"{sp.kind} curve {len(curves)} from {origin}: {len(curve)} points, {curve.status}")
 
 
 def bifurcation_chart(
@@ -70,10 +92,12 @@ def bifurcation_chart(
     max_branches: int = 6,
     segments: int = 4,
     settle: int = 150,
+    seeds: int = 7,
     progress=None,
 ) -> Chart:
     """Trace the family of orbits at the parameter set's Abar over ``sigma_range`` (from a
-    simulation from ``state0``), then the LP and PD curve through each of its folds and period
+    simulation from ``state0``) and the primary branch's orbits at ``seeds`` values of sigma
+    continued in Abar, then the LP and PD curve through each of their folds and period
     doublings (each curve once) in the box ``sigma_range`` x ``abar_range``."""
     (s0, s1), (a0, a1) = sigma_range, abar_range
     if not (s0 < s1 and 0 <= a0 < a1):
@@ -87,22 +111,21 @@ def bifurcation_chart(
     say(f"orbit family: {len(family.branches)} branch(es), {sum(len(ob) for ob in family.branches)} points")
     curves = []
     for ob in family.branches:
-        for sp in ob.branch.special:
-            if sp.kind not in ("LP", "PD") or not sp.located:
-                continue
-            if any(c.kind == sp.kind and _on_curve(c, sp.p, params.Abar) for c in curves):
-                continue
-            origin = f"{sp.kind} at sigma = {sp.p:.6g} on the {ob.name} branch"
-            try:
-                curve = trace_curve(
-                    params, sp.x, sp.p, kind=sp.kind, p1_range=(s0, s1), p2_range=(a0, a1), segments=ob.problem.segments,
-                    period_multiple=ob.problem.period_multiple, origin=origin,
-                )
-            except (ConvergenceError, np.linalg.LinAlgError, ValueError) as err:
-                say(f"no {sp.kind} curve from {origin}: {err}")
-                continue
-            curves.append(curve)
-            say(f"{sp.kind} curve {len(curves)} from {origin}: {len(curve)} points, {curve.status}")
+        _curves_from(ob, "sigma", params, curves, (s0, s1), (a0, a1), say)
+    # Folds and period doublings met when the forcing falls: the primary branch's orbits at
+    # ``seeds`` values of sigma, each continued in Abar over the box.
+    primary = family.branches[0]
+    for sigma in np.linspace(s0, s1, seeds + 2)[1:-1]:
+        i = int(np.argmin(np.abs(primary.branch.p - sigma)))
+        at = params.replace(sigma=float(primary.branch.p[i]))
+        if not a0 <= at.Abar <= a1:
+            continue
+        try:
+            down = trace_orbits(at, primary.branch.x[i, :4], param="Abar", p_min=a0, p_max=a1, segments=segments, switch=False)
+        except (ConvergenceError, ValueError) as err:
+            say(f"no Abar branch at sigma = {at.sigma:.4g}: {err}")
+            continue
+        _curves_from(down.branches[0], "Abar", at, curves, (s0, s1), (a0, a1), say)
     try:
         slow = critical_curve(params, s0, s1)
     except (RuntimeError, ValueError) as err:

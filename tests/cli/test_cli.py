@@ -177,6 +177,21 @@ def test_shoot_flags_orbits_that_fail_the_liouville_check(tmp_path, capsys):
     assert capsys.readouterr().err.count("fail Liouville's check") == 1
 
 
+def test_chart_writes_curves_critical_and_png_and_checks_its_box(tmp_path, capsys):
+    out = tmp_path / "chart"
+    argv = ["chart", "--preset", "fig10", "--set", "sigma=-1.2", "--sigma-min", "-1.6", "--sigma-max", "-1.2", "--abar-min", "2.6", "--abar-max", "3.4", "--no-switch", "--seeds", "0", "--out", str(out)]
+    assert main(argv) == 0
+    curves = list(csv.DictReader(open(out / "curves.csv")))
+    assert set(curves[0]) >= {"curve", "kind", "sigma", "Abar", "A1", "max_abs_w", "codim2", "status"}
+    assert {r["kind"] for r in curves} == {"LP"} and {r["status"] for r in curves} == {"ok"}
+    assert all(-1.6 <= float(r["sigma"]) <= -1.2 and 2.6 <= float(r["Abar"]) <= 3.4 for r in curves)
+    critical = list(csv.DictReader(open(out / "critical.csv")))
+    assert list(critical[0]) == ["sigma", "Abar_b_slowflow", "Abar_c_full", "rel_diff", "bounded_by"]
+    assert (out / "chart.png").stat().st_size > 10_000
+    assert main(argv[:9] + ["--abar-min", "3", "--abar-max", "2", "--out", str(out)]) == 2
+    assert "need 0 <= --abar-min < --abar-max" in capsys.readouterr().err
+
+
 def test_compare_writes_csv_png_and_table(tmp_path, capsys):
     out = tmp_path / "cmp"
     argv = ["compare", "--preset", "fig10", "--set", "sigma=7.5", "--sigma-min", "7", "--sigma-max", "8", "--grid", "11", "--no-switch", "--out", str(out)]

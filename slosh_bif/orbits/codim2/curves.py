@@ -109,7 +109,7 @@ def trace_curve(
     p1_0, p2_0 = (float(p), float(getattr(params, p2))) if branch_param == p1 else (float(getattr(params, p1)), float(p))
     if not (lo1 <= p1_0 <= hi1 and lo2 <= p2_0 <= hi2):
         raise ValueError(f"the start point ({p1} = {p1_0:g}, {p2} = {p2_0:g}) lies outside the box")
-    span1, span2 = hi1 - lo1, hi2 - lo2
+    span1 = hi1 - lo1
     problem = MultiplierCurveProblem(
         params, kind, p1, p2, segments=segments, period_multiple=period_multiple, rtol=rtol, atol=rtol * 1e-2,
         box=(lo1 - 0.5 * span1, hi1 + 0.5 * span1), p2_box=(lo2, hi2),
