@@ -1,9 +1,9 @@
 """The chart as files: ``curves.csv`` (one row per curve point, in curve order), ``critical.csv``
 (Abar_b of (46) against Abar_c of (9) on a sigma grid) and ``chart.png``.
 
-``curves.csv`` columns: ``curve`` (number), ``kind`` (LP or PD), ``sigma``, ``Abar``, ``A1`` and
-``max_abs_w`` (the orbit there), ``codim2`` (empty or CP, LPPD, LPNS, PDNS), ``bounds_stable`` (1
-when every multiplier but the critical one is inside the unit circle), ``status`` (the curve's:
+``curves.csv`` columns: ``curve`` (number), ``kind`` (LP, PD or NS), ``sigma``, ``Abar``, ``A1`` and
+``max_abs_w`` (the orbit there), ``codim2`` (empty or CP, LPPD, LPNS, PDNS, R1-R4), ``bounds_stable``
+(1 when every multiplier but the critical one(s) is inside the unit circle), ``status`` (the curve's:
 ``ok`` when it left the box or closed, else why it stopped) and ``origin``.
 """
 
@@ -19,7 +19,7 @@ from slosh_bif.studies.chart import CRITICAL_COLUMNS, critical_rows
 __all__ = ["CURVE_COLUMNS", "curve_rows", "write_curves_csv", "write_critical_csv", "plot_chart"]
 
 CURVE_COLUMNS = ("curve", "kind", "sigma", "Abar", "A1", "max_abs_w", "codim2", "bounds_stable", "status", "origin")
-_CODIM2 = ("CP", "LPPD", "LPNS", "PDNS")
+_CODIM2 = ("CP", "LPPD", "LPNS", "PDNS", "R1", "R2", "R3", "R4")
 
 
 def curve_rows(chart):
@@ -51,7 +51,7 @@ def plot_chart(chart, path, *, regimes=None) -> Path:
         from slosh_bif.simulation.output import draw_regimes
 
         draw_regimes(ax, regimes, alpha=0.35)
-    colors = {"LP": "tab:red", "PD": "tab:blue"}
+    colors = {"LP": "tab:red", "PD": "tab:blue", "NS": "tab:purple"}
     for k, c in enumerate(chart.curves):
         s, a, st = c["sigma"], c["Abar"], c.branch.stable
         ax.plot(s, np.where(st, a, np.nan), "-", color=colors[c.kind], lw=1.6, label=f"{c.kind} curve" if k == [d.kind for d in chart.curves].index(c.kind) else None)

@@ -44,6 +44,28 @@ def flip_curve():
     return P, trace_curve(P, pd.x, pd.p, kind="PD", p1_range=(-2.9, -2.2), p2_range=(2.7, 3.3))
 
 
+@pytest.fixture(scope="module")
+def torus_curve():
+    """The Neimark-Sacker curve through the NS point of the symmetric branch at sigma = 0.8806."""
+    P = PRESET.params
+    start = orbit_from_simulation(P.replace(sigma=6.0), PRESET.state0, settle=100)  # the symmetric orbit
+    family = trace_orbits(start.params, start.y0, p_min=-1.6, p_max=6.0, switch=False, points_per_2pi=32)  # past the fold at -1.40
+    ns = [s for s in family.branches[0].branch.special_of("NS") if abs(s.p - 0.8806) < 1e-3][0]
+    return P, trace_curve(P, ns.x, ns.p, kind="NS", p1_range=(0.6, 1.2), p2_range=(2.6, 3.4))
+
+
+def test_torus_curve_points_have_a_pair_on_the_unit_circle_by_scipy(torus_curve):
+    P, curve = torus_curve
+    assert curve.kind == "NS" and len(curve) > 10 and curve.status == "ok", curve.branch.message
+    for i in np.linspace(1, len(curve) - 2, 3).astype(int):
+        sigma, abar, theta = curve["sigma"][i], curve["Abar"][i], curve["theta"][i]
+        x = curve.branch.x[i, :-2]
+        mu = _scipy_multipliers(P.replace(sigma=float(sigma), Abar=float(abar)), x[:4])
+        pair = mu[np.argmin(np.abs(mu - np.exp(1j * theta)))]
+        assert abs(abs(pair) - 1) < 1e-6 and abs(np.angle(pair) - theta) < 1e-6
+        assert _one_parameter_special(P, "NS", x, sigma, abar) == pytest.approx(sigma, abs=1e-6)
+
+
 def _one_parameter_special(P, kind, x, sigma, abar):
     """The special point of ``kind`` found by one-parameter continuation in sigma at Abar = abar:
     a first run from the curve's orbit finds the branch; a second, started ten points away,
@@ -96,8 +118,8 @@ def test_curve_round_trips_through_npz(fold_curve, tmp_path):
 def test_bad_requests_fail_before_any_work():
     P = PRESET.params
     x = np.zeros(16)
-    with pytest.raises(ValueError, match="kind must be one of LP, PD"):
-        trace_curve(P, x, 0.0, kind="NS", p1_range=(-1, 1), p2_range=(1, 2))
+    with pytest.raises(ValueError, match="kind must be one of LP, PD, NS"):
+        trace_curve(P, x, 0.0, kind="BP", p1_range=(-1, 1), p2_range=(1, 2))
     with pytest.raises(ValueError, match="'omega' is not a field of Params"):
         MultiplierCurveProblem(P, "LP", "sigma", "omega")
     with pytest.raises(ValueError, match="the two parameters must differ"):

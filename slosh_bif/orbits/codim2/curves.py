@@ -13,6 +13,7 @@ import numpy as np
 from slosh_bif.continuation import Branch, ContinuationOptions, continuation
 from slosh_bif.model.params import Params
 from slosh_bif.orbits.codim2.minaug import CURVE_KINDS, MultiplierCurveProblem
+from slosh_bif.orbits.codim2.torus import TorusCurveProblem
 from slosh_bif.orbits.shooting import ShootingProblem, orbit_measures
 
 __all__ = ["BifurcationCurve", "trace_curve", "CURVE_OPTIONS"]
@@ -48,6 +49,8 @@ class BifurcationCurve:
         if name == self.p1:
             return self.branch.p
         if name == self.p2:
+            return self.branch.x[:, -2 if self.kind == "NS" else -1]
+        if name == "theta" and self.kind == "NS":
             return self.branch.x[:, -1]
         if name in self.measures:
             return self.measures[name]
@@ -99,8 +102,8 @@ def trace_curve(
     branch in ``branch_param`` (one of p1, p2) over the box p1_range x p2_range, in both
     directions until it leaves the box, closes, or cannot be continued (its status says which).
     """
-    if kind not in CURVE_KINDS:
-        raise ValueError(f"kind must be one of {', '.join(CURVE_KINDS)}; got {kind!r}")
+    if kind not in (*CURVE_KINDS, "NS"):
+        raise ValueError(f"kind must be one of {', '.join(CURVE_KINDS)}, NS; got {kind!r}")
     if branch_param not in (p1, p2):
         raise ValueError(f"the start branch's parameter {branch_param!r} must be one of the two, {p1!r} or {p2!r}")
     (lo1, hi1), (lo2, hi2) = p1_range, p2_range
@@ -110,11 +113,16 @@ def trace_curve(
     if not (lo1 <= p1_0 <= hi1 and lo2 <= p2_0 <= hi2):
         raise ValueError(f"the start point ({p1} = {p1_0:g}, {p2} = {p2_0:g}) lies outside the box")
     span1 = hi1 - lo1
-    problem = MultiplierCurveProblem(
-        params, kind, p1, p2, segments=segments, period_multiple=period_multiple, rtol=rtol, atol=rtol * 1e-2,
-        box=(lo1 - 0.5 * span1, hi1 + 0.5 * span1), p2_box=(lo2, hi2),
-    )
+    setup = dict(segments=segments, period_multiple=period_multiple, rtol=rtol, atol=rtol * 1e-2, box=(lo1 - 0.5 * span1, hi1 + 0.5 * span1), p2_box=(lo2, hi2))
     u0 = np.append(np.asarray(x, dtype=float), p2_0)
+    if kind == "NS":
+        problem = TorusCurveProblem(params, p1, p2, **setup)
+        start = params.replace(**{p1: p1_0, p2: p2_0})
+        mu = np.linalg.eigvals(problem.shooting.arcs(np.asarray(x, dtype=float), start).monodromy)
+        pair = mu[np.argmin(np.abs(np.abs(mu) - 1) + (np.abs(mu.imag) < 1e-9))]  # the pair on the unit circle
+        u0 = np.append(u0, abs(np.angle(pair)))
+    else:
+        problem = MultiplierCurveProblem(params, kind, p1, p2, **setup)
     problem.init_borders(u0, p1_0)
     opts = dataclasses.replace(options or CURVE_OPTIONS, p_min=lo1, p_max=hi1)
     branch = continuation(problem, u0, p1_0, param=p1, options=opts, callback=callback)
@@ -124,11 +132,13 @@ def trace_curve(
 
 def _measures(problem: MultiplierCurveProblem, branch: Branch, points_per_2pi: int) -> dict:
     rows = []
+    n = len(problem.shooting.names)  # the orbit's states come first in each point
+    critical = 2 if problem.kind == "NS" else 1  # multipliers on the unit circle come first
     for x, p in zip(branch.x, branch.p):
         single = _orbit_problem(problem, x, p)
-        rows.append(orbit_measures(single, x[:-1], p, points_per_2pi=points_per_2pi))
+        rows.append(orbit_measures(single, x[:n], p, points_per_2pi=points_per_2pi))
     out = {key: np.array([r[key] for r in rows]) for key in ("A1", "max_abs_X", "max_abs_w")} if rows else {}
-    out["max_abs_multiplier"] = np.max(np.abs(branch.eigenvalues[:, 1:]), axis=1) if len(branch) else np.array([])
+    out["max_abs_multiplier"] = np.max(np.abs(branch.eigenvalues[:, critical:]), axis=1) if len(branch) else np.array([])
     return out
 
 
