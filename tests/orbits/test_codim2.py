@@ -128,3 +128,11 @@ def test_bad_requests_fail_before_any_work():
         trace_curve(P, x, 0.0, kind="LP", p1_range=(1, -1), p2_range=(1, 2))
     with pytest.raises(ValueError, match="outside the box"):
         trace_curve(P, x, 5.0, kind="LP", p1_range=(-1, 1), p2_range=(1, 4))
+
+
+def test_a_start_that_is_not_a_special_point_of_the_kind_is_refused(flip_curve):
+    P, curve = flip_curve
+    x, sigma = curve.branch.x[5, :-1], curve["sigma"][5]
+    at = P.replace(Abar=float(curve["Abar"][5]))
+    with pytest.raises(ValueError, match="the start is not a LP point"):
+        trace_curve(at, x, sigma, kind="LP", p1_range=(-2.9, -2.2), p2_range=(2.7, 3.3))

@@ -113,6 +113,7 @@ def trace_curve(
     if not (lo1 <= p1_0 <= hi1 and lo2 <= p2_0 <= hi2):
         raise ValueError(f"the start point ({p1} = {p1_0:g}, {p2} = {p2_0:g}) lies outside the box")
     span1 = hi1 - lo1
+    _check_start(params.replace(**{p1: p1_0, p2: p2_0}), x, kind, segments, period_multiple, p1)
     setup = dict(segments=segments, period_multiple=period_multiple, rtol=rtol, atol=rtol * 1e-2, box=(lo1 - 0.5 * span1, hi1 + 0.5 * span1), p2_box=(lo2, hi2))
     u0 = np.append(np.asarray(x, dtype=float), p2_0)
     if kind == "NS":
@@ -128,6 +129,20 @@ def trace_curve(
     branch = continuation(problem, u0, p1_0, param=p1, options=opts, callback=callback)
     measures = _measures(problem, branch, points_per_2pi)
     return BifurcationCurve(kind, p1, p2, branch, measures, origin)
+
+
+def _check_start(at: Params, x, kind: str, segments: int, period_multiple: int, p1: str):
+    """A one-line error, before any continuation, when (x) at ``at`` is not an orbit with the
+    multiplier of ``kind`` (to 1e-3: a located special point has it to the corrector's tolerance)."""
+    x = np.asarray(x, dtype=float)
+    if x.shape != (4 * segments,) or not np.all(np.isfinite(x)):
+        raise ValueError(f"the start must be {4 * segments} finite numbers (the states at the starts of {segments} arcs); got shape {x.shape}")
+    arcs = ShootingProblem(at, p1, segments=segments, period_multiple=period_multiple).arcs(x, at)
+    mu = np.linalg.eigvals(arcs.monodromy) if np.all(np.isfinite(arcs.monodromy)) else np.full(4, np.nan)
+    residual = np.linalg.norm(ShootingProblem.residual_of(x, arcs))
+    critical = {"LP": np.min(np.abs(mu - 1)), "PD": np.min(np.abs(mu + 1)), "NS": np.min(np.abs(np.abs(mu[np.abs(mu.imag) > 1e-9]) - 1), initial=np.inf)}[kind]
+    if not (residual < 1e-6 and critical < 1e-3):
+        raise ValueError(f"the start is not a {kind} point of a periodic orbit (residual {residual:.2g}, multipliers {np.round(mu, 4)})")
 
 
 def _measures(problem: MultiplierCurveProblem, branch: Branch, points_per_2pi: int) -> dict:
