@@ -9,8 +9,7 @@ from pathlib import Path
 
 import numpy as np
 
-from slosh_bif.cli.common import abar_range, add_abar_range_options, add_params_options, params_of, progress, sigma_range
-from slosh_bif.model.presets import get_preset
+from slosh_bif.cli.common import abar_range, add_abar_range_options, add_params_options, params_of, progress, sigma_range, state0_of
 
 __all__ = ["add_commands"]
 
@@ -25,7 +24,7 @@ def _chart(args) -> int:
     if args.regimes is not None and min(args.regimes) < 1:
         raise ValueError(f"--regimes takes two positive integers N M (sigma values, Abar values); got {args.regimes}")
     args.out.mkdir(parents=True, exist_ok=True)
-    state0 = get_preset(args.preset).state0
+    state0 = state0_of(args, params)
     if args.seeds < 0:
         raise ValueError(f"--seeds must be an integer >= 0; got {args.seeds}")
     chart = bifurcation_chart(params, state0, sigma_range=(lo, hi), abar_range=(a_lo, a_hi), switch=not args.no_switch, seeds=args.seeds, progress=progress)

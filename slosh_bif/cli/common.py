@@ -19,6 +19,7 @@ __all__ = [
     "add_sigma_points_option",
     "continuation_options",
     "params_of",
+    "state0_of",
     "sigma_range",
     "abar_range",
     "progress",
@@ -99,6 +100,11 @@ def continuation_options(args, base):
 
 def params_of(args):
     return get_preset(args.preset).params.with_overrides(args.overrides)
+
+
+def state0_of(args, params):
+    """The preset's initial condition in the scaling of ``params`` (eps may be overridden)."""
+    return get_preset(args.preset).state_for(params)
 
 
 def sigma_range(args, default=(-6.0, 8.0)):

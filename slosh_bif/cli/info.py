@@ -26,7 +26,7 @@ def _info(args) -> int:
         "note": preset.note,
         "params": P.as_dict(),
         "p": P.p,
-        "initial_state": dict(zip(["X", "Xd", "w", "wd"], preset.state0.tolist())),
+        "initial_state": dict(zip(["X", "Xd", "w", "wd"], preset.state_for(P).tolist())),
         "kappa_at_unit_speed": kappa_unit,
         "rho_at_unit_speed": rho_unit,
         "A_min_at_unit_speed": float(manifold.a_min(rho_unit)),
@@ -41,7 +41,7 @@ def _info(args) -> int:
     for name, value in report["params"].items():
         print(f"  {name:6s} = {value}")
     print(f"  p      = {P.p}   (dissipation exponent, pbar = 2p - n)")
-    print("initial state [X, X', w, w'] = " + ", ".join(f"{v:.6g}" for v in preset.state0))
+    print("initial state [X, X', w, w'] = " + ", ".join(f"{v:.6g}" for v in preset.state_for(P)))
     print(f"kappa at unit impact speed (eq. 21) = {kappa_unit:.10g}")
     if "kappa_newtonian" in report:
         print(f"kappa Newtonian (eq. 40)            = {report['kappa_newtonian']:.10g}")

@@ -15,9 +15,9 @@ from slosh_bif.cli.common import (
     params_of,
     progress,
     sigma_range,
+    state0_of,
     throttled,
 )
-from slosh_bif.model.presets import get_preset
 
 __all__ = ["add_commands"]
 
@@ -31,7 +31,7 @@ def family_from_args(args, params, lo, hi, param="sigma"):
         start = slow_flow_start(params, lo, hi, segments=args.segments)
     else:
         try:
-            start = orbit_from_simulation(params, get_preset(args.preset).state0, settle=args.settle, guess=args.guess, segments=args.segments)
+            start = orbit_from_simulation(params, state0_of(args, params), settle=args.settle, guess=args.guess, segments=args.segments)
         except RuntimeError:
             where = "--guess" if args.guess is not None else f"the last strobe states of a {args.settle}-period simulation"
             raise ValueError(f"no periodic orbit found near {where} at sigma = {params.sigma:g}; pass --guess X,Xd,w,wd or change --settle") from None

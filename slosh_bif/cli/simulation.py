@@ -9,7 +9,7 @@ from pathlib import Path
 
 import numpy as np
 
-from slosh_bif.cli.common import Deprecated, add_abar_range_options, add_params_options, add_range_options, params_of, progress, sigma_range, throttled
+from slosh_bif.cli.common import Deprecated, add_abar_range_options, add_params_options, add_range_options, params_of, progress, sigma_range, state0_of, throttled
 from slosh_bif.model.presets import get_preset
 
 __all__ = ["add_commands"]
@@ -29,7 +29,7 @@ def _simulate(args) -> int:
     args.out.mkdir(parents=True, exist_ok=True)
     report = throttled(progress, passes=lambda message: message.startswith("simulated 100"))
     sim = simulate(
-        params, preset.state0, tmax, model=args.model, noise_std=noise, seed=args.seed, noise_cutoff=args.noise_cutoff,
+        params, state0_of(args, params), tmax, model=args.model, noise_std=noise, seed=args.seed, noise_cutoff=args.noise_cutoff,
         progress=lambda f: report(f"simulated {100 * f:.0f} % of tau in [0, {tmax:g}]"),
     )
     if not sim.success and sim.status != "sticking":
@@ -65,7 +65,7 @@ def _regimes(args) -> int:
     args.out.mkdir(parents=True, exist_ok=True)
     report = throttled(progress, passes=lambda message: False)
     rmap = regime_map(
-        params, get_preset(args.preset).state0, np.linspace(lo, hi, n_sigma), np.linspace(args.abar_min, args.abar_max, n_abar),
+        params, state0_of(args, params), np.linspace(lo, hi, n_sigma), np.linspace(args.abar_min, args.abar_max, n_abar),
         tmax=args.tmax, model=args.model, max_workers=args.workers,
         progress=lambda done, total: report(f"classified {done} of {total} grid points"),
     )

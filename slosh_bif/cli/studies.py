@@ -8,9 +8,8 @@ from pathlib import Path
 
 import numpy as np
 
-from slosh_bif.cli.common import add_params_options, add_range_options, add_sigma_points_option, floats, params_of, progress, sigma_range
+from slosh_bif.cli.common import add_params_options, add_range_options, add_sigma_points_option, floats, params_of, progress, sigma_range, state0_of
 from slosh_bif.cli.orbits import add_shooting_options, family_from_args
-from slosh_bif.model.presets import get_preset
 
 __all__ = ["add_commands"]
 
@@ -81,7 +80,7 @@ def _answer(args) -> int:
     from slosh_bif.studies.ladder import answer
 
     params = params_of(args)
-    result = answer(args.question, params, tol=args.tol, state0=get_preset(args.preset).state0, sigma_min=args.sigma_min,
+    result = answer(args.question, params, tol=args.tol, state0=state0_of(args, params), sigma_min=args.sigma_min,
                     sigma_max=args.sigma_max, tmax=args.tmax, progress=progress)
     print(result.summary())
     print(f"ran in {result.seconds:.2f} s")

@@ -57,6 +57,11 @@ class Preset:
         """Initial state ``[X, X', w, w']``."""
         return state_from_uv(*self.uv0, eps=self.params.eps)
 
+    def state_for(self, params: Params) -> np.ndarray:
+        """The figure's initial condition as a state of the model at ``params``: X = u + eps v
+        depends on eps, so a changed eps (``--set eps=...``) changes the state, not the motion."""
+        return state_from_uv(*self.uv0, eps=params.eps)
+
 
 _WALL = dict(eps=0.05, lam=0.35, chi=0.2, pbar=0)
 _KICKED = (0.0, 3.0, -0.97, 0.0)  # u0 = 0, u0' = 3, v0 = -0.97, v0' = 0

@@ -107,8 +107,8 @@ def plot_motion_on_manifold(ax, sim, summary, proj):
 
 # --- regime maps (slosh-bif regimes) ----------------------------------------------------------
 
-REGIME_COLORS = {"periodic-resonant": "tab:green", "non-resonant": "tab:blue", "strongly-modulated": "tab:red", "other": "tab:gray"}
-REGIME_COLUMNS = ("sigma", "Abar", "regime", "impacts_per_period", "crossings_per_period", "envelope_min", "envelope_max", "modulation", "collapses")
+REGIME_COLORS = {"periodic-resonant": "tab:green", "non-resonant": "tab:blue", "strongly-modulated": "tab:red", "free-decay": "tab:olive", "other": "tab:gray", "failed": "black"}
+REGIME_COLUMNS = ("sigma", "Abar", "regime", "impacts_per_period", "crossings_per_period", "envelope_min", "envelope_max", "modulation", "collapses", "reason")
 
 
 def write_regime_csv(rmap, path) -> Path:

@@ -43,7 +43,7 @@ from slosh_bif.simulation.direct import simulate
 
 __all__ = ["REGIMES", "THRESHOLDS", "RegimeSummary", "classify", "RegimeMap", "regime_map"]
 
-REGIMES = ("periodic-resonant", "non-resonant", "strongly-modulated", "other")
+REGIMES = ("periodic-resonant", "non-resonant", "strongly-modulated", "free-decay", "other", "failed")
 
 THRESHOLDS = {
     "impacts_for_engagement": 0.1,  # impacts per period below this: the particle is not engaged
@@ -79,9 +79,9 @@ class RegimeSummary:
 
     @classmethod
     def failed(cls, reason: str, transient: float) -> "RegimeSummary":
-        """The record of a run that could not be classified (every measurement NaN)."""
+        """The record of a run that failed (regime ``"failed"``, the reason kept, every measurement NaN)."""
         nan = math.nan
-        return cls("other", reason, nan, nan, nan, nan, nan, nan, nan, 0, nan, nan, transient, nan)
+        return cls("failed", reason, nan, nan, nan, nan, nan, nan, nan, 0, nan, nan, transient, nan)
 
     def as_dict(self) -> dict:
         return {k: (v if not isinstance(v, float) or math.isfinite(v) else None) for k, v in dataclasses.asdict(self).items()}
@@ -131,7 +131,10 @@ def classify(simulation, *, transient: float | None = None) -> RegimeSummary:
     T = THRESHOLDS
     collapses = _collapses(A, T["collapse_factor"] * A_min, 0.5 * (p10 + p90))
     lo, hi = T["crossings_for_resonance"]
-    if sim.status == "sticking":
+    if params.Abar == 0 and sim.noise is None:
+        # Without forcing every response decays: its envelope's collapses are the decay, not modulation.
+        regime, reason = "free-decay", f"no forcing (Abar = 0): the envelope decays from {float(A.max()):.3g} to {float(A[-1]) if A.size else float('nan'):.3g}"
+    elif sim.status == "sticking":
         regime, reason = "non-resonant", f"the particle sticks to a wall ({sim.message})"
     elif impacts < T["impacts_for_engagement"]:
         regime, reason = "non-resonant", f"{impacts:.3g} impacts per period after the transient"

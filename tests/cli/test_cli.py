@@ -192,6 +192,19 @@ def test_chart_writes_curves_critical_and_png_and_checks_its_box(tmp_path, capsy
     assert "need 0 <= --abar-min < --abar-max" in capsys.readouterr().err
 
 
+def test_set_eps_recomputes_the_presets_initial_state(capsys):
+    # The presets give the initial condition in absolute coordinates (u0, u0', v0, v0') =
+    # (0, 3, -0.97, 0); X = u + eps v and w = u - v, so eps changes X but not w.
+    assert main(["info", "--preset", "fig10", "--set", "eps=0.1", "--json"]) == 0
+    state = json.loads(capsys.readouterr().out)["initial_state"]
+    assert state == pytest.approx({"X": 0.1 * -0.97, "Xd": 3.0, "w": 0.97, "wd": 3.0}, abs=1e-15)
+
+
+def test_no_forcing_is_free_decay(tmp_path, capsys):
+    assert main(["simulate", "--preset", "fig10", "--set", "Abar=0", "--tmax", "300", "--out", str(tmp_path)]) == 0
+    assert "regime: free-decay" in capsys.readouterr().out
+
+
 def test_compare_writes_csv_png_and_table(tmp_path, capsys):
     out = tmp_path / "cmp"
     argv = ["compare", "--preset", "fig10", "--set", "sigma=7.5", "--sigma-min", "7", "--sigma-max", "8", "--grid", "11", "--no-switch", "--out", str(out)]

@@ -1,5 +1,6 @@
 """Direct simulation (8)/(9), the noise of (47) and the regime classifier, against independent values."""
 
+import csv
 import dataclasses
 
 import numpy as np
@@ -279,3 +280,24 @@ def test_morlet_ridge_reads_the_amplitude_and_frequency_of_a_cosine():
     assert middle.max() == pytest.approx(0.7, rel=0.01)
     with pytest.raises(ValueError, match="omegas must lie in"):
         morlet_transform(t, dt, [40.0])
+
+
+def test_a_failed_run_in_a_regime_map_is_recorded_as_failed_with_its_reason(monkeypatch, tmp_path):
+    from concurrent.futures import ThreadPoolExecutor
+
+    from slosh_bif.simulation import regimes
+    from slosh_bif.simulation.output import write_regime_csv
+
+    P = get_preset("fig13").params
+
+    def failing(params, state0, tmax, **_):
+        t = np.linspace(0, 1, 5)
+        return Simulation("smooth", params, t, np.zeros((4, 5)), np.empty(0), np.empty(0, int), np.empty(0), np.empty(0), "failed", "step size fell below the rounding limit")
+
+    monkeypatch.setattr(regimes, "simulate", failing)
+    with ThreadPoolExecutor(1) as pool:
+        rmap = regimes.regime_map(P, [0.0, 0.0, 0.5, 0.0], [1.0], [1.0], tmax=100.0, executor=pool)
+    assert rmap.regime[0, 0] == "failed"
+    assert "simulation failed: step size fell below the rounding limit" in rmap.summaries[0][0].reason
+    row = next(csv.DictReader(open(write_regime_csv(rmap, tmp_path / "regimes.csv"))))
+    assert row["regime"] == "failed" and "rounding limit" in row["reason"]
