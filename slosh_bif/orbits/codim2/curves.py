@@ -26,12 +26,12 @@ CURVE_OPTIONS = ContinuationOptions(step=0.05, step_max=0.25, tol=1e-9, max_step
 
 @dataclasses.dataclass(frozen=True)
 class BifurcationCurve:
-    """A curve of LP or PD points of periodic orbits in (p1, p2).
+    """A curve of LP, PD or NS points of periodic orbits in (p1, p2).
 
     ``curve["sigma"]``, ``curve["Abar"]`` (the two parameters), ``curve["A1"]`` and
     ``curve["max_abs_w"]`` (the orbit at each point) are arrays in curve order; ``branch`` is the
-    continuation result (its special points are the codimension-2 points: CP, LPPD, LPNS,
-    PDNS; its ``stable`` column says whether the point bounds stable orbits: every multiplier
+    continuation result (its special points are the codimension-2 points: CP, LPPD, LPNS, PDNS,
+    R1-R4; its ``stable`` column says whether the point bounds stable orbits: every multiplier
     but the critical one inside the unit circle); ``origin`` where it was started.
     """
 
@@ -98,7 +98,7 @@ def trace_curve(
     points_per_2pi: int = 256,
     callback=None,
 ) -> BifurcationCurve:
-    """Trace the curve of ``kind`` (LP or PD) through the special point (x, p) of a one-parameter
+    """Trace the curve of ``kind`` (LP, PD or NS) through the special point (x, p) of a one-parameter
     branch in ``branch_param`` (one of p1, p2) over the box p1_range x p2_range, in both
     directions until it leaves the box, closes, or cannot be continued (its status says which).
     """
