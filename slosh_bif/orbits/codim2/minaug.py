@@ -84,14 +84,15 @@ class MultiplierCurveProblem:
             return False
         return self.shooting.in_domain(x[:-1], p)
 
-    def _matrix(self, arcs):
-        return self.shooting.jacobian_of(arcs, self.mu)
+    def _matrix_at(self, x, p):
+        """(arcs, J_mu) at (x, p); the NS problem makes J complex."""
+        arcs = self.shooting.arcs(x[:-1], self.params_at(x, p))
+        return arcs, self.shooting.jacobian_of(arcs, self.mu)
 
     def init_borders(self, x, p):
         """b and c from the singular vectors of J_mu at (x, p): the directions g is read along."""
-        J = self._matrix(self.shooting.arcs(x[:-1], self.params_at(x, p)))
-        U, _, Vt = np.linalg.svd(J)
-        self._b, self._c = U[:, -1].copy(), Vt[-1].copy()
+        U, _, Vh = np.linalg.svd(self._matrix_at(x, p)[1])
+        self._b, self._c = U[:, -1].copy(), Vh[-1].conj().copy()
         self._memo.clear()
 
     def accept(self, x, p):
@@ -107,15 +108,14 @@ class MultiplierCurveProblem:
             return hit
         if self._b is None:
             self.init_borders(x, p)
-        arcs = self.shooting.arcs(x[:-1], self.params_at(x, p))
-        J = self._matrix(arcs)
+        arcs, J = self._matrix_at(x, p)
         n = len(J)
-        B = np.zeros((n + 1, n + 1))
-        B[:n, :n], B[:n, n], B[n, :n] = J, self._b, self._c
-        rhs = np.zeros(n + 1)
+        B = np.zeros((n + 1, n + 1), dtype=J.dtype)
+        B[:n, :n], B[:n, n], B[n, :n] = J, self._b, self._c.conj()
+        rhs = np.zeros(n + 1, dtype=J.dtype)
         rhs[-1] = 1.0
         vg = np.linalg.solve(B, rhs)
-        wg = np.linalg.solve(B.T, rhs)
+        wg = np.linalg.solve(B.conj().T, rhs)  # the adjoint system gives w
         result = (arcs, vg[:n], wg[:n], vg[n])
         if len(self._memo) > 8:
             self._memo.clear()

@@ -46,42 +46,9 @@ class TorusCurveProblem(MultiplierCurveProblem):
             return False
         return self.shooting.in_domain(x[:-2], p)
 
-    def _states(self, x):
-        return x[:-2]
-
-    def init_borders(self, x, p):
+    def _matrix_at(self, x, p):
         arcs = self.shooting.arcs(x[:-2], self.params_at(x, p))
-        J = self.shooting.jacobian_of(arcs, np.exp(1j * x[-1]))
-        U, _, Vh = np.linalg.svd(J)
-        self._b, self._c = U[:, -1].copy(), Vh[-1].conj().copy()
-        self._memo.clear()
-
-    def accept(self, x, p):
-        _, v, w, _ = self._solve(x, p)
-        self._b, self._c = w / np.linalg.norm(w), v / np.linalg.norm(v)
-        self._memo.clear()
-
-    def _solve(self, x, p):
-        key = (x.tobytes(), float(p))
-        hit = self._memo.get(key)
-        if hit is not None:
-            return hit
-        if self._b is None:
-            self.init_borders(x, p)
-        arcs = self.shooting.arcs(x[:-2], self.params_at(x, p))
-        J = self.shooting.jacobian_of(arcs, np.exp(1j * x[-1]))
-        n = len(J)
-        B = np.zeros((n + 1, n + 1), dtype=complex)
-        B[:n, :n], B[:n, n], B[n, :n] = J, self._b, self._c.conj()
-        rhs = np.zeros(n + 1, dtype=complex)
-        rhs[-1] = 1.0
-        vg = np.linalg.solve(B, rhs)
-        wg = np.linalg.solve(B.conj().T, rhs)
-        result = (arcs, vg[:n], wg[:n], vg[n])
-        if len(self._memo) > 8:
-            self._memo.clear()
-        self._memo[key] = result
-        return result
+        return arcs, self.shooting.jacobian_of(arcs, np.exp(1j * x[-1]))
 
     def _second_uncached(self, x, p):
         arcs, v, w, _ = self._solve(x, p)
