@@ -39,7 +39,7 @@ class Kind(str, enum.Enum):
     FOLD_FLIP = "LPPD"  # multipliers +1 and -1 together
     FOLD_NS = "LPNS"  # +1 and a complex pair on the unit circle
     FLIP_NS = "PDNS"  # -1 and a complex pair on the unit circle
-    PITCHFORK_FOLD = "BPLP"  # a symmetry-breaking curve meets a fold curve
+    PITCHFORK_FOLD = "BPLP"  # a symmetry-breaking (pitchfork) curve meets a fold curve
     TURN = "TP"  # a curve of codimension-1 points turns back in its first parameter (no bifurcation)
 
     def __str__(self):

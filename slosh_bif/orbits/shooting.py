@@ -167,7 +167,7 @@ class ShootingProblem:
 
     def __init__(
         self, params: Params, param: str = "sigma", *, segments: int = 1, period_multiple: int = 1, rtol: float = 1e-10, atol: float = 1e-12,
-        backend: str = "auto", box: tuple | None = None,
+        backend: str = "auto", box: tuple | None = None, symmetric: bool = False,
     ):
         if not isinstance(params, Params):
             raise TypeError(f"params must be a slosh_bif.Params; got {type(params).__name__}")
@@ -178,8 +178,14 @@ class ShootingProblem:
         if not (isinstance(period_multiple, int) and 1 <= period_multiple <= 8):
             raise ValueError(f"period_multiple must be an integer in [1, 8]; got {period_multiple!r}")
         self.params, self.param = params, param
+        if symmetric and period_multiple != 1:
+            raise ValueError("a symmetric problem (the half-period map) needs period_multiple = 1")
         self.segments, self.period_multiple = segments, period_multiple
-        self.period = 2 * np.pi * period_multiple
+        # symmetric: fixed points of the half-period map G(x) = -phi_pi(x), i.e. the orbits with
+        # y(tau + pi) = -y(tau); G's multiplier -1 is the symmetry-breaking pitchfork of (9).
+        self.symmetric = symmetric
+        self.closing = -1.0 if symmetric else 1.0
+        self.period = np.pi if symmetric else 2 * np.pi * period_multiple
         self.rtol, self.atol = rtol, atol
         self.backend = integrator.resolve_backend(backend)
         if box is not None and not (len(box) == 2 and box[0] < box[1]):
@@ -260,20 +266,22 @@ class ShootingProblem:
     def residual(self, x, p):
         return self.residual_of(x, self._arcs(x, p))
 
-    @staticmethod
-    def residual_of(x, arcs: "Arcs"):
-        """phi_k(y_k) - y_{k+1 mod m}, stacked."""
-        return (arcs.ends - np.roll(x.reshape(-1, 4), -1, axis=0)).ravel()
+    def residual_of(self, x, arcs: "Arcs"):
+        """phi_k(y_k) - y_{k+1}, the last arc closing on y_0 (on -y_0 for a symmetric problem), stacked."""
+        following = np.roll(x.reshape(-1, 4), -1, axis=0)
+        following[-1] *= self.closing
+        return (arcs.ends - following).ravel()
 
     def jacobian(self, x, p):
         return self.jacobian_of(self._arcs(x, p))
 
-    @staticmethod
-    def jacobian_of(arcs: "Arcs", wrap: complex = 1.0):
+    def jacobian_of(self, arcs: "Arcs", wrap: complex | None = None):
         """The block-cyclic matrix of multiple shooting: Phi_k on the diagonal, -I beside it, and
         ``-wrap I`` in the block that closes the period. It is singular exactly when the monodromy
         matrix has the eigenvalue ``wrap`` (1: the residual's own Jacobian; -1 or exp(i theta):
-        the conditions of period doubling and Neimark-Sacker points)."""
+        the conditions of period doubling and Neimark-Sacker points). The default is the
+        residual's own Jacobian (``wrap = -1`` for a symmetric problem)."""
+        wrap = self.closing if wrap is None else wrap
         m = len(arcs.mats)
         J = np.zeros((4 * m, 4 * m), dtype=complex if np.iscomplexobj(wrap) else float)
         for k in range(m):

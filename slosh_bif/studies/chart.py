@@ -64,8 +64,10 @@ def _curves_from(ob, param, params, curves, sigma_range, abar_range, say):
     """Trace the LP or PD curve through each located LP and PD of the orbit branch ``ob`` (in
     ``param`` at ``params``) that lies on no curve traced so far; append them to ``curves``."""
     for sp in ob.branch.special:
-        if sp.kind not in ("LP", "PD", "NS") or not sp.located:
+        if sp.kind not in ("LP", "PD", "NS", "BP") or not sp.located:
             continue
+        if sp.kind == "BP" and (ob.name != "symmetric" or ob.problem.segments % 2):
+            continue  # a pitchfork of symmetric orbits: the half-period map's condition
         sigma, abar = (sp.p, params.Abar) if param == "sigma" else (params.sigma, sp.p)
         if any(c.kind == sp.kind and _on_curve(c, sigma, abar) for c in curves):
             continue

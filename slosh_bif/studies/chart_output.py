@@ -19,7 +19,7 @@ from slosh_bif.studies.chart import CRITICAL_COLUMNS, critical_rows
 __all__ = ["CURVE_COLUMNS", "curve_rows", "write_curves_csv", "write_critical_csv", "plot_chart"]
 
 CURVE_COLUMNS = ("curve", "kind", "sigma", "Abar", "A1", "max_abs_w", "codim2", "bounds_stable", "status", "origin")
-_CODIM2 = ("CP", "LPPD", "LPNS", "PDNS", "R1", "R2", "R3", "R4")
+_CODIM2 = ("CP", "LPPD", "LPNS", "PDNS", "R1", "R2", "R3", "R4", "BPLP")
 
 
 def curve_rows(chart):
@@ -51,7 +51,7 @@ def plot_chart(chart, path, *, regimes=None) -> Path:
         from slosh_bif.simulation.output import draw_regimes
 
         draw_regimes(ax, regimes, alpha=0.35)
-    colors = {"LP": "tab:red", "PD": "tab:blue", "NS": "tab:purple"}
+    colors = {"LP": "tab:red", "PD": "tab:blue", "NS": "tab:purple", "BP": "tab:orange"}
     for k, c in enumerate(chart.curves):
         s, a, st = c["sigma"], c["Abar"], c.branch.stable
         ax.plot(s, np.where(st, a, np.nan), "-", color=colors[c.kind], lw=1.6, label=f"{c.kind} curve" if k == [d.kind for d in chart.curves].index(c.kind) else None)

@@ -10,7 +10,7 @@ import pytest
 
 from slosh_bif import SmoothModel, get_preset
 from slosh_bif.continuation import continuation
-from slosh_bif.orbits import ShootingProblem, orbit_from_simulation, settle_and_shoot, trace_orbits
+from slosh_bif.orbits import ShootingProblem, orbit_at, orbit_from_simulation, settle_and_shoot, trace_orbits
 from slosh_bif.orbits.codim2 import BifurcationCurve, MultiplierCurveProblem, trace_curve
 from slosh_bif.orbits.families import SHOOTING_OPTIONS
 from slosh_bif.orbits.shooting import period_map
@@ -66,16 +66,47 @@ def test_torus_curve_points_have_a_pair_on_the_unit_circle_by_scipy(torus_curve)
         assert _one_parameter_special(P, "NS", x, sigma, abar) == pytest.approx(sigma, abs=1e-6)
 
 
+@pytest.fixture(scope="module")
+def pitchfork_curve():
+    """The symmetry-breaking curve through the pitchfork of the symmetric branch at sigma = 3.347."""
+    P = PRESET.params
+    start = orbit_from_simulation(P.replace(sigma=6.0), PRESET.state0, settle=100)
+    family = trace_orbits(start.params, start.y0, p_min=3.0, p_max=6.0, switch=False, points_per_2pi=32)
+    (bp,) = family.branches[0].branch.special_of("BP")
+    return P, trace_curve(P, bp.x, bp.p, kind="BP", p1_range=(2.5, 4.5), p2_range=(2.5, 3.5))
+
+
+def test_pitchfork_curve_points_are_branch_points_of_the_full_problem(pitchfork_curve):
+    # The curve solves the half-period map's condition; the full 2pi problem and scipy's
+    # full-period monodromy see a branch point (multiplier +1 without a fold) there.
+    P, curve = pitchfork_curve
+    assert curve.kind == "BP" and len(curve) > 10 and curve.status == "ok", curve.branch.message
+    for i in np.linspace(1, len(curve) - 2, 3).astype(int):
+        sigma, abar = curve["sigma"][i], curve["Abar"][i]
+        at = P.replace(sigma=float(sigma), Abar=float(abar))
+        full = ShootingProblem(at, "sigma", segments=4).initial_states(curve.branch.x[i, :4])
+        assert _one_parameter_special(P, "BP", full, sigma, abar) == pytest.approx(sigma, abs=1e-6)
+        assert np.min(np.abs(_scipy_multipliers(at, full[:4]) - 1)) < 1e-6
+
+
 def _one_parameter_special(P, kind, x, sigma, abar):
-    """The special point of ``kind`` found by one-parameter continuation in sigma at Abar = abar:
-    a first run from the curve's orbit finds the branch; a second, started ten points away,
-    crosses the special point in its interior, where it is detected and located afresh."""
+    """The special point of ``kind`` found by one-parameter continuation in sigma at Abar = abar,
+    crossed in the interior of the run, where it is detected and located afresh. A PD, NS or BP
+    is a regular point of its branch: the run starts from the orbit 0.02 below it. A fold is not
+    (no orbit on one side): a first run from the fold finds the branch, and a second starts ten
+    points away from it."""
     problem = ShootingProblem(P.replace(Abar=float(abar)), "sigma", segments=4)
     opts = dataclasses.replace(SHOOTING_OPTIONS, p_min=sigma - 0.05, p_max=sigma + 0.05, step=0.002, step_max=0.004)
-    first = continuation(problem, x, sigma, param="sigma", options=opts)
-    near = int(np.argmin(np.abs(first.p - sigma) + np.linalg.norm(first.x - x, axis=1)))
-    j = near - 10 if near >= 10 else near + 10
-    second = continuation(problem, first.x[j], first.p[j], param="sigma", options=opts)
+    if kind == "LP":
+        first = continuation(problem, x, sigma, param="sigma", options=opts)
+        near = int(np.argmin(np.abs(first.p - sigma) + np.linalg.norm(first.x - x, axis=1)))
+        j = near - 10 if near >= 10 else near + 10
+        start, p0 = first.x[j], first.p[j]
+    else:
+        orbit = orbit_at(problem, x, sigma - 0.02)
+        assert orbit.converged, orbit.message
+        start, p0 = problem.initial_states(orbit.y0, sigma - 0.02), sigma - 0.02
+    second = continuation(problem, start, p0, param="sigma", options=opts)
     found = [s.p for s in second.special if s.kind == kind and s.located]
     assert found, f"no {kind} within 0.05 of sigma = {sigma} at Abar = {abar}"
     return min(found, key=lambda s: abs(s - sigma))
@@ -118,8 +149,8 @@ def test_curve_round_trips_through_npz(fold_curve, tmp_path):
 def test_bad_requests_fail_before_any_work():
     P = PRESET.params
     x = np.zeros(16)
-    with pytest.raises(ValueError, match="kind must be one of LP, PD, NS"):
-        trace_curve(P, x, 0.0, kind="BP", p1_range=(-1, 1), p2_range=(1, 2))
+    with pytest.raises(ValueError, match="kind must be one of LP, PD, BP, NS"):
+        trace_curve(P, x, 0.0, kind="XX", p1_range=(-1, 1), p2_range=(1, 2))
     with pytest.raises(ValueError, match="'omega' is not a field of Params"):
         MultiplierCurveProblem(P, "LP", "sigma", "omega")
     with pytest.raises(ValueError, match="the two parameters must differ"):

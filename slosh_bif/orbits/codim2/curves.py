@@ -104,6 +104,11 @@ def trace_curve(
     """
     if kind not in (*CURVE_KINDS, "NS"):
         raise ValueError(f"kind must be one of {', '.join(CURVE_KINDS)}, NS; got {kind!r}")
+    if kind == "BP":  # the half-period map: the first half of the arcs of a symmetric orbit
+        if segments % 2:
+            raise ValueError(f"a BP curve starts from a symmetric orbit in an even number of arcs; got {segments}")
+        segments //= 2
+        x = np.asarray(x, dtype=float)[: 4 * segments]
     if branch_param not in (p1, p2):
         raise ValueError(f"the start branch's parameter {branch_param!r} must be one of the two, {p1!r} or {p2!r}")
     (lo1, hi1), (lo2, hi2) = p1_range, p2_range
@@ -113,7 +118,7 @@ def trace_curve(
     if not (lo1 <= p1_0 <= hi1 and lo2 <= p2_0 <= hi2):
         raise ValueError(f"the start point ({p1} = {p1_0:g}, {p2} = {p2_0:g}) lies outside the box")
     span1 = hi1 - lo1
-    _check_start(params.replace(**{p1: p1_0, p2: p2_0}), x, kind, segments, period_multiple, p1)
+    _check_start(params.replace(**{p1: p1_0, p2: p2_0}), x, kind, segments, period_multiple, p1, symmetric=kind == "BP")
     setup = dict(segments=segments, period_multiple=period_multiple, rtol=rtol, atol=rtol * 1e-2, box=(lo1 - 0.5 * span1, hi1 + 0.5 * span1), p2_box=(lo2, hi2))
     u0 = np.append(np.asarray(x, dtype=float), p2_0)
     if kind == "NS":
@@ -131,16 +136,20 @@ def trace_curve(
     return BifurcationCurve(kind, p1, p2, branch, measures, origin)
 
 
-def _check_start(at: Params, x, kind: str, segments: int, period_multiple: int, p1: str):
+def _check_start(at: Params, x, kind: str, segments: int, period_multiple: int, p1: str, symmetric: bool = False):
     """A one-line error, before any continuation, when (x) at ``at`` is not an orbit with the
     multiplier of ``kind`` (to 1e-3: a located special point has it to the corrector's tolerance)."""
     x = np.asarray(x, dtype=float)
     if x.shape != (4 * segments,) or not np.all(np.isfinite(x)):
         raise ValueError(f"the start must be {4 * segments} finite numbers (the states at the starts of {segments} arcs); got shape {x.shape}")
-    arcs = ShootingProblem(at, p1, segments=segments, period_multiple=period_multiple).arcs(x, at)
+    problem = ShootingProblem(at, p1, segments=segments, period_multiple=period_multiple, symmetric=symmetric)
+    arcs = problem.arcs(x, at)
     mu = np.linalg.eigvals(arcs.monodromy) if np.all(np.isfinite(arcs.monodromy)) else np.full(4, np.nan)
-    residual = np.linalg.norm(ShootingProblem.residual_of(x, arcs))
-    critical = {"LP": np.min(np.abs(mu - 1)), "PD": np.min(np.abs(mu + 1)), "NS": np.min(np.abs(np.abs(mu[np.abs(mu.imag) > 1e-9]) - 1), initial=np.inf)}[kind]
+    residual = np.linalg.norm(problem.residual_of(x, arcs))
+    critical = {
+        "LP": np.min(np.abs(mu - 1)), "PD": np.min(np.abs(mu + 1)), "BP": np.min(np.abs(mu - 1)),
+        "NS": np.min(np.abs(np.abs(mu[np.abs(mu.imag) > 1e-9]) - 1), initial=np.inf),
+    }[kind]
     if not (residual < 1e-6 and critical < 1e-3):
         raise ValueError(f"the start is not a {kind} point of a periodic orbit (residual {residual:.2g}, multipliers {np.round(mu, 4)})")
 
@@ -158,6 +167,8 @@ def _measures(problem: MultiplierCurveProblem, branch: Branch, points_per_2pi: i
 
 
 def _orbit_problem(problem: MultiplierCurveProblem, x, p):
-    """The one-parameter shooting problem at the curve point's second parameter."""
+    """The one-parameter shooting problem over the whole period at the curve point's second
+    parameter (for a BP curve, whose problem is the half-period map, twice its arcs)."""
     s = problem.shooting
-    return ShootingProblem(problem.params_at(x, p), problem.p1, segments=s.segments, period_multiple=s.period_multiple, rtol=s.rtol, atol=s.atol, backend=s.backend)
+    segments = 2 * s.segments if s.symmetric else s.segments
+    return ShootingProblem(problem.params_at(x, p), problem.p1, segments=segments, period_multiple=s.period_multiple, rtol=s.rtol, atol=s.atol, backend=s.backend)

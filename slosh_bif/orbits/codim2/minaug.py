@@ -35,7 +35,10 @@ from slosh_bif.orbits.shooting import PARAMETERS, ShootingProblem
 
 __all__ = ["MultiplierCurveProblem", "CURVE_KINDS"]
 
-CURVE_KINDS = {"LP": 1.0, "PD": -1.0}  # the multiplier that is critical on each kind of curve
+# The critical multiplier of the problem's map on each kind of curve: the period map for LP and PD;
+# for BP the half-period map's phi_pi (the symmetric orbit's G = -phi_pi has -1 there: the
+# symmetry-breaking pitchfork, a regular codimension-1 condition of G).
+CURVE_KINDS = {"LP": 1.0, "PD": -1.0, "BP": 1.0}
 
 
 class MultiplierCurveProblem:
@@ -63,11 +66,13 @@ class MultiplierCurveProblem:
             raise ValueError(f"the two parameters must differ; got {p1!r} twice")
         self.kind, self.mu = kind, CURVE_KINDS[kind]
         self.params, self.p1, self.p2 = params, p1, p2
-        self.shooting = ShootingProblem(params, p1, segments=segments, period_multiple=period_multiple, rtol=rtol, atol=atol, backend=backend, box=box)
+        self.shooting = ShootingProblem(
+            params, p1, segments=segments, period_multiple=period_multiple, rtol=rtol, atol=atol, backend=backend, box=box, symmetric=kind == "BP",
+        )
         self.names = self.shooting.names + (p2,)
         self.branch_kind = f"{kind} curve of periodic orbits of (9) in ({p1}, {p2})"
         self.p2_box = p2_box
-        self.test_kinds = ("CP", "LPPD", "LPNS") if kind == "LP" else ("LPPD", "PDNS")
+        self.test_kinds = {"LP": ("CP", "LPPD", "LPNS"), "PD": ("LPPD", "PDNS"), "BP": ("BPLP",)}[kind]
         self._columns = (PARAMETERS.index(p1), PARAMETERS.index(p2))
         self._b = self._c = None
         self._memo = {}
@@ -180,6 +185,8 @@ class MultiplierCurveProblem:
         ns = np.prod([others[i] * others[j] - 1 for i in range(3) for j in range(i + 1, 3)]).real
         if self.kind == "LP":
             return self._second(x, p)[3], np.prod(1 + others).real, ns
+        if self.kind == "BP":  # phi_pi's multiplier -1 is G's +1: the symmetric orbit folds
+            return (np.prod(1 + others).real,)
         return np.prod(others - 1).real, ns
 
     def confirm(self, kind, x, p):
@@ -187,6 +194,8 @@ class MultiplierCurveProblem:
         others = mu[1:]
         if kind == "CP":
             return "cusp: the fold's quadratic coefficient vanishes (two folds meet)"
+        if kind == "BPLP":
+            return "the symmetry-breaking curve meets a fold of the symmetric orbits"
         if kind == "LPPD":
             k = int(np.argmin(np.abs(others - (-self.mu))))
             return f"fold-flip: multipliers {mu[0].real:.6f} and {others[k].real:.6f}"
