@@ -20,7 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["Branch", "SpecialPoint", "Kind", "Status", "FOLD", "BRANCH_POINT", "PERIOD_DOUBLING", "NEIMARK_SACKER", "END"]
+__all__ = ["Branch", "SpecialPoint", "Kind", "Status", "polyline_distance", "FOLD", "BRANCH_POINT", "PERIOD_DOUBLING", "NEIMARK_SACKER", "END"]
 
 
 class Kind(str, enum.Enum):
@@ -171,8 +171,9 @@ class Branch:
 
     # -- persistence ----------------------------------------------------------------------------
 
-    def save(self, path) -> Path:
-        """Write the branch to ``path`` (.npz), everything included."""
+    def save(self, path, **extra) -> Path:
+        """Write the branch to ``path`` (.npz), everything included; ``extra`` arrays are stored
+        beside it (a result built on a branch adds its own) and ignored by :meth:`load`."""
         path = Path(path)
         meta = {
             "param": self.param,
@@ -200,6 +201,7 @@ class Branch:
             arclength=self.arclength,
             special_x=special_x,
             special_tangent=special_t,
+            **extra,
         )
         return path
 
@@ -235,3 +237,14 @@ class Branch:
                 options=meta["options"],
                 kind=meta.get("kind", ""),
             )
+
+
+def polyline_distance(points, u) -> float:
+    """Distance from the point u to the polyline through ``points`` (rows, in order): whether a
+    new start lies on a curve already traced."""
+    points = np.asarray(points, dtype=float)
+    if len(points) == 1:
+        return float(np.linalg.norm(points[0] - u))
+    seg = np.diff(points, axis=0)
+    w = np.clip(np.einsum("ij,ij->i", u - points[:-1], seg) / np.maximum(np.einsum("ij,ij->i", seg, seg), 1e-300), 0, 1)
+    return float(np.min(np.linalg.norm(points[:-1] + w[:, None] * seg - u, axis=1)))

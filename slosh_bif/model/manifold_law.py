@@ -85,7 +85,7 @@ class _Eq39:
         """The root just above the manifold end, where it sits within rounding of the smallest
         kappa on the manifold at A (the scan's cells are too coarse there): bracket it between
         that smallest kappa, nudged until (39) is defined, and the end's kappa."""
-        k_low = float(restitution._kappa_from_rho(A / np.sqrt(1 - A**2))) if A < 1 else 0.0
+        k_low = restitution.kappa_low(A)
         for d in 10.0 ** np.arange(-15, -5):
             g = self._G(k_low + d, A)
             if np.isfinite(g):
@@ -157,7 +157,7 @@ class _Eq39:
             values = np.array([self._G(k, end.A) for k in grid])
             return not np.any(np.isfinite(values) & (np.sign(values) != np.sign(values[0])))
         A = end.A * (1 + 1e-9 * np.sign(A_in - end.A))
-        k_low = float(restitution._kappa_from_rho(A / np.sqrt(1 - A**2))) if A < 1 else 0.0
+        k_low = restitution.kappa_low(A)
         grid = np.linspace(1.0, max(k_low, 0.0) + 1e-9, 2001)
         values = np.array([self._G(k, A) for k in grid])
         change = np.flatnonzero(np.isfinite(values[:-1]) & np.isfinite(values[1:]) & (np.sign(values[:-1]) * np.sign(values[1:]) < 0))
@@ -172,7 +172,7 @@ class _Eq39:
     def _edge_dip(self, A):
         """(least G, kappa there) over kappa just above the manifold's edge k_low(A), searched in
         log10 of the offset (1e-16 to 1e-3): negative when two roots hug the edge."""
-        k_low = float(restitution._kappa_from_rho(A / np.sqrt(1 - A**2)))
+        k_low = restitution.kappa_low(A)
 
         def g(s):
             value = self._G(k_low + 10.0**s, A)

@@ -47,6 +47,7 @@ __all__ = [
     "kappa_newtonian",
     "rho",
     "kappa_on_manifold",
+    "kappa_low",
     "ManifoldKappa",
     "simulate_rebound",
 ]
@@ -111,6 +112,12 @@ def _kappa_from_rho(r):
     return (2.0 - np.pi * r) / (2.0 + np.pi * r)
 
 
+def kappa_low(A) -> float:
+    """The smallest kappa at which amplitude A lies on the manifold, A >= A_min(rho(kappa)) (36):
+    rho falls as kappa grows, so the manifold at A needs kappa >= this (0 for A >= 1)."""
+    return float(_kappa_from_rho(A / np.sqrt(1 - A**2))) if A < 1 else 0.0
+
+
 @dataclasses.dataclass(frozen=True)
 class ManifoldKappa:
     """kappa(A) on the stable manifold branch, eq. (39), with where it exists.
@@ -137,8 +144,7 @@ def _solve_manifold_kappa(A, delta1, exponent, xtol):
     if delta1 == 0.0:
         return 1.0 if A >= 0 else np.nan
     # The manifold needs A >= A_min(rho(kappa)); rho falls as kappa grows, so kappa >= k_low(A).
-    k_low = _kappa_from_rho(A / np.sqrt(1 - A**2)) if A < 1 else 0.0
-    k_low = min(max(k_low, 0.0), 1.0)
+    k_low = min(max(kappa_low(A), 0.0), 1.0)
     grid = np.linspace(1.0, k_low, 65)[:-1]
     grid = np.append(grid, k_low + (grid[-1] - k_low) * 1e-9)
     grid = grid[grid > 0]

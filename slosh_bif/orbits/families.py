@@ -22,7 +22,7 @@ import warnings
 import numpy as np
 
 from slosh_bif.continuation import ContinuationOptions, ConvergenceError, continuation, switch_branch
-from slosh_bif.continuation.branch import BRANCH_POINT, PERIOD_DOUBLING, Branch
+from slosh_bif.continuation.branch import BRANCH_POINT, PERIOD_DOUBLING, Branch, polyline_distance
 from slosh_bif.model.params import Params
 from slosh_bif.orbits.shooting import PARAMETERS, ShootingProblem, orbit_at, orbit_measures
 
@@ -145,12 +145,7 @@ def _on_branch(u, ob: OrbitBranch, tol):
         candidates.append(np.column_stack([np.array([mirror(ob.problem, x) for x in b.x]), b.p]))
     except ValueError:
         pass
-    for c in candidates:
-        seg = np.diff(c, axis=0)
-        w = np.clip(np.einsum("ij,ij->i", u - c[:-1], seg) / np.maximum(np.einsum("ij,ij->i", seg, seg), 1e-300), 0, 1)
-        if np.min(np.linalg.norm(c[:-1] + w[:, None] * seg - u, axis=1)) < tol:
-            return True
-    return False
+    return any(polyline_distance(c, u) < tol for c in candidates)
 
 
 def _cut_where_it_rejoins(new: Branch, problem: ShootingProblem, parent: OrbitBranch, queue: list):

@@ -27,7 +27,7 @@ from slosh_bif.model.params import Params
 from slosh_bif.slowflow.flow import SlowFlow
 from slosh_bif.slowflow.steady_states import EDGE_MARGIN, SteadyStateProblem, end_rho
 
-__all__ = ["CriticalPoint", "CriticalCurve", "abar_branch", "critical_forcing", "critical_curve", "FoldProblem", "EndProblem"]
+__all__ = ["CriticalPoint", "CriticalCurve", "abar_branch", "critical_forcing", "critical_curve", "FoldProblem", "EndProblem", "interp_min"]
 
 
 class _Residual46:
@@ -246,7 +246,7 @@ def _envelope(params, end, folds, fold_problem) -> CriticalCurve:
     rows = []
     for k, (s, abar, A, kind) in enumerate(candidates):
         for i in range(len(s)):
-            others = [_interp_min(s2, abar2, s[i]) for j, (s2, abar2, _, _) in enumerate(candidates) if j != k]
+            others = [interp_min(s2, abar2, s[i]) for j, (s2, abar2, _, _) in enumerate(candidates) if j != k]
             if all(abar[i] <= o + 1e-12 for o in others if o is not None):
                 rows.append((s[i], abar[i], A[i], kind))
     rows.sort()
@@ -256,7 +256,12 @@ def _envelope(params, end, folds, fold_problem) -> CriticalCurve:
     return CriticalCurve(params, sigma.astype(float), Abar_b.astype(float), A.astype(float), kind, end, folds)
 
 
-def _interp_min(s, v, at):
-    """The least value of a (possibly multi-valued) curve (s, v) at s = at, by linear interpolation."""
-    values = [v[i] + (v[i + 1] - v[i]) * (at - s[i]) / (s[i + 1] - s[i]) for i in range(len(s) - 1) if min(s[i], s[i + 1]) <= at <= max(s[i], s[i + 1]) and s[i] != s[i + 1]]
+def interp_min(s, v, at):
+    """The least value of a (possibly multi-valued) curve (s, v) at s = at, by linear interpolation
+    (segments with a non-finite end are skipped); None where no segment spans ``at``."""
+    values = [
+        v[i] + (v[i + 1] - v[i]) * (at - s[i]) / (s[i + 1] - s[i])
+        for i in range(len(s) - 1)
+        if min(s[i], s[i + 1]) <= at <= max(s[i], s[i + 1]) and s[i] != s[i + 1] and np.isfinite(v[i]) and np.isfinite(v[i + 1])
+    ]
     return min(values) if values else None

@@ -25,11 +25,12 @@ import time
 import numpy as np
 
 from slosh_bif.continuation import ConvergenceError
+from slosh_bif.continuation.branch import polyline_distance
 from slosh_bif.model.params import Params
 from slosh_bif.orbits.codim2 import BifurcationCurve, trace_curve
 from slosh_bif.orbits.families import trace_orbits
 from slosh_bif.orbits.starts import orbit_from_simulation
-from slosh_bif.slowflow.critical import critical_curve
+from slosh_bif.slowflow.critical import critical_curve, interp_min
 
 __all__ = ["Chart", "bifurcation_chart", "critical_rows", "CRITICAL_COLUMNS"]
 
@@ -51,18 +52,13 @@ class Chart:
 
 
 def _on_curve(curve: BifurcationCurve, sigma, abar, tol=2e-3):
-    s, a = curve["sigma"], curve["Abar"]
-    if len(s) < 2:
-        return False
-    seg = np.column_stack([np.diff(s), np.diff(a)])
-    rel = np.column_stack([sigma - s[:-1], abar - a[:-1]])
-    w = np.clip(np.einsum("ij,ij->i", rel, seg) / np.maximum(np.einsum("ij,ij->i", seg, seg), 1e-300), 0, 1)
-    return bool(np.min(np.hypot(rel[:, 0] - w * seg[:, 0], rel[:, 1] - w * seg[:, 1])) < tol)
+    return len(curve) > 0 and polyline_distance(np.column_stack([curve["sigma"], curve["Abar"]]), np.array([sigma, abar])) < tol
 
 
 def _curves_from(ob, param, params, curves, sigma_range, abar_range, say):
-    """Trace the LP or PD curve through each located LP and PD of the orbit branch ``ob`` (in
-    ``param`` at ``params``) that lies on no curve traced so far; append them to ``curves``."""
+    """Trace the curve through each located LP, PD, NS (and, on symmetric branches, BP) of the
+    orbit branch ``ob`` (in ``param`` at ``params``) that lies on no curve of its kind traced so
+    far; append them to ``curves``."""
     for sp in ob.branch.special:
         if sp.kind not in ("LP", "PD", "NS", "BP") or not sp.located:
             continue
@@ -99,8 +95,8 @@ def bifurcation_chart(
 ) -> Chart:
     """Trace the family of orbits at the parameter set's Abar over ``sigma_range`` (from a
     simulation from ``state0``) and the primary branch's orbits at ``seeds`` values of sigma
-    continued in Abar, then the LP and PD curve through each of their folds and period
-    doublings (each curve once) in the box ``sigma_range`` x ``abar_range``."""
+    continued in Abar, then the LP, PD, NS and BP curve through each of their special points
+    (each curve once) in the box ``sigma_range`` x ``abar_range``."""
     (s0, s1), (a0, a1) = sigma_range, abar_range
     if not (s0 < s1 and 0 <= a0 < a1):
         raise ValueError(f"empty box: sigma in [{s0}, {s1}], Abar in [{a0}, {a1}] (need sigma_min < sigma_max and 0 <= Abar_min < Abar_max)")
@@ -141,14 +137,10 @@ def _lowest_stable_boundary(chart: Chart, sigma):
     wall contact, by linear interpolation along each curve; (nan, "") when none."""
     best = (np.nan, "")
     for c in chart.curves:
-        s, a = c["sigma"], c["Abar"]
         good = c.branch.stable & (c["max_abs_w"] >= 1.0)
-        for i in range(len(s) - 1):
-            if not (good[i] and good[i + 1]) or s[i] == s[i + 1] or not min(s[i], s[i + 1]) <= sigma <= max(s[i], s[i + 1]):
-                continue
-            value = a[i] + (a[i + 1] - a[i]) * (sigma - s[i]) / (s[i + 1] - s[i])
-            if not value >= best[0]:
-                best = (value, c.kind)
+        value = interp_min(c["sigma"], np.where(good, c["Abar"], np.nan), sigma)
+        if value is not None and not value >= best[0]:
+            best = (value, c.kind)
     return best
 
 

@@ -26,12 +26,12 @@ CURVE_OPTIONS = ContinuationOptions(step=0.05, step_max=0.25, tol=1e-9, max_step
 
 @dataclasses.dataclass(frozen=True)
 class BifurcationCurve:
-    """A curve of LP, PD or NS points of periodic orbits in (p1, p2).
+    """A curve of LP, PD, NS or BP points of periodic orbits in (p1, p2).
 
     ``curve["sigma"]``, ``curve["Abar"]`` (the two parameters), ``curve["A1"]`` and
     ``curve["max_abs_w"]`` (the orbit at each point) are arrays in curve order; ``branch`` is the
     continuation result (its special points are the codimension-2 points: CP, LPPD, LPNS, PDNS,
-    R1-R4; its ``stable`` column says whether the point bounds stable orbits: every multiplier
+    R1-R4, BPLP; its ``stable`` column says whether the point bounds stable orbits: every multiplier
     but the critical one inside the unit circle); ``origin`` where it was started.
     """
 
@@ -62,13 +62,8 @@ class BifurcationCurve:
 
     def save(self, path) -> Path:
         """The branch's .npz with the curve's kind, parameters, origin and measures added."""
-        path = Path(path)
-        self.branch.save(path)
-        with np.load(path, allow_pickle=False) as data:
-            arrays = {k: data[k] for k in data.files}
         meta = dict(kind=self.kind, p1=self.p1, p2=self.p2, origin=self.origin, measures=sorted(self.measures))
-        np.savez(path, curve_meta=np.array(json.dumps(meta)), **{f"measure_{k}": v for k, v in self.measures.items()}, **arrays)
-        return path
+        return self.branch.save(path, curve_meta=np.array(json.dumps(meta)), **{f"measure_{k}": v for k, v in self.measures.items()})
 
     @classmethod
     def load(cls, path) -> "BifurcationCurve":
@@ -98,7 +93,7 @@ def trace_curve(
     points_per_2pi: int = 256,
     callback=None,
 ) -> BifurcationCurve:
-    """Trace the curve of ``kind`` (LP, PD or NS) through the special point (x, p) of a one-parameter
+    """Trace the curve of ``kind`` (LP, PD, NS or BP) through the special point (x, p) of a one-parameter
     branch in ``branch_param`` (one of p1, p2) over the box p1_range x p2_range, in both
     directions until it leaves the box, closes, or cannot be continued (its status says which).
     """
@@ -118,13 +113,11 @@ def trace_curve(
     if not (lo1 <= p1_0 <= hi1 and lo2 <= p2_0 <= hi2):
         raise ValueError(f"the start point ({p1} = {p1_0:g}, {p2} = {p2_0:g}) lies outside the box")
     span1 = hi1 - lo1
-    _check_start(params.replace(**{p1: p1_0, p2: p2_0}), x, kind, segments, period_multiple, p1, symmetric=kind == "BP")
+    mu = _check_start(params.replace(**{p1: p1_0, p2: p2_0}), x, kind, segments, period_multiple, p1, symmetric=kind == "BP")
     setup = dict(segments=segments, period_multiple=period_multiple, rtol=rtol, atol=rtol * 1e-2, box=(lo1 - 0.5 * span1, hi1 + 0.5 * span1), p2_box=(lo2, hi2))
     u0 = np.append(np.asarray(x, dtype=float), p2_0)
     if kind == "NS":
         problem = TorusCurveProblem(params, p1, p2, **setup)
-        start = params.replace(**{p1: p1_0, p2: p2_0})
-        mu = np.linalg.eigvals(problem.shooting.arcs(np.asarray(x, dtype=float), start).monodromy)
         pair = mu[np.argmin(np.abs(np.abs(mu) - 1) + (np.abs(mu.imag) < 1e-9))]  # the pair on the unit circle
         u0 = np.append(u0, abs(np.angle(pair)))
     else:
@@ -138,7 +131,8 @@ def trace_curve(
 
 def _check_start(at: Params, x, kind: str, segments: int, period_multiple: int, p1: str, symmetric: bool = False):
     """A one-line error, before any continuation, when (x) at ``at`` is not an orbit with the
-    multiplier of ``kind`` (to 1e-3: a located special point has it to the corrector's tolerance)."""
+    multiplier of ``kind`` (to 1e-3: a located special point has it to the corrector's tolerance);
+    else the multipliers (an NS curve starts from their angle)."""
     x = np.asarray(x, dtype=float)
     if x.shape != (4 * segments,) or not np.all(np.isfinite(x)):
         raise ValueError(f"the start must be {4 * segments} finite numbers (the states at the starts of {segments} arcs); got shape {x.shape}")
@@ -152,6 +146,7 @@ def _check_start(at: Params, x, kind: str, segments: int, period_multiple: int, 
     }[kind]
     if not (residual < 1e-6 and critical < 1e-3):
         raise ValueError(f"the start is not a {kind} point of a periodic orbit (residual {residual:.2g}, multipliers {np.round(mu, 4)})")
+    return mu
 
 
 def _measures(problem: MultiplierCurveProblem, branch: Branch, points_per_2pi: int) -> dict:

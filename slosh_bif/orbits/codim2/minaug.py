@@ -49,7 +49,6 @@ class MultiplierCurveProblem:
     iterates as in :class:`ShootingProblem`.
     """
 
-    stability_from_jacobian = False
 
     def __init__(
         self, params: Params, kind: str, p1: str = "sigma", p2: str = "Abar", *, segments: int = 4, period_multiple: int = 1,
