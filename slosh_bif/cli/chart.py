@@ -9,7 +9,7 @@ from pathlib import Path
 
 import numpy as np
 
-from slosh_bif.cli.common import abar_range, add_abar_range_options, add_params_options, params_of, progress, sigma_range, state0_of
+from slosh_bif.cli.common import abar_range, add_abar_range_options, add_params_options, add_tmax_option, params_of, progress, sigma_range, state0_of
 
 __all__ = ["add_commands"]
 
@@ -58,7 +58,7 @@ def add_commands(sub) -> None:
     chart.add_argument("--sigma-max", type=float, default=None, help="upper end of the sigma range (default 8)")
     add_abar_range_options(chart)
     chart.add_argument("--regimes", type=int, nargs=2, default=None, metavar=("N", "M"), help="also simulate an N x M regime map as background")
-    chart.add_argument("--tmax", type=float, default=600.0, help="simulated time per regime-map point (default 600)")
+    add_tmax_option(chart)
     chart.add_argument("--no-switch", action="store_true", help="the curves of the primary orbit branch only")
     chart.add_argument("--seeds", type=int, default=7, help="sigma values at which the primary branch's orbit is also continued in Abar to find folds and period doublings below the preset's forcing (default 7)")
     chart.add_argument("--out", type=Path, required=True, help="output folder (created if missing)")

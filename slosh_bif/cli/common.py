@@ -10,6 +10,7 @@ from pathlib import Path
 
 from slosh_bif.model.params import FIELDS
 from slosh_bif.model.presets import PRESETS, get_preset
+from slosh_bif.simulation.regimes import CLASSIFY_TMAX
 
 __all__ = [
     "add_params_options",
@@ -69,6 +70,14 @@ def add_sigma_points_option(parser, *, default: int, old: str = "--grid"):
     parser.add_argument("--sigma-points", type=int, default=default, help=f"sigma values compared (default {default})")
     if old:
         parser.add_argument(old, dest="sigma_points", type=int, action=Deprecated, new="--sigma-points", help=argparse.SUPPRESS)
+
+
+def add_tmax_option(parser):
+    """--tmax on every command that classifies a regime: one meaning and one default."""
+    parser.add_argument(
+        "--tmax", type=float, default=CLASSIFY_TMAX,
+        help=f"end time tau of each simulation (default {CLASSIFY_TMAX:g}); where a regime is classified, from its second half",
+    )
 
 
 def add_continuation_options(parser, *, rtol: str):

@@ -9,7 +9,7 @@ from pathlib import Path
 
 import numpy as np
 
-from slosh_bif.cli.common import Deprecated, add_abar_range_options, add_params_options, add_range_options, params_of, progress, sigma_range, state0_of, throttled
+from slosh_bif.cli.common import Deprecated, add_abar_range_options, add_params_options, add_range_options, add_tmax_option, params_of, progress, sigma_range, state0_of, throttled
 from slosh_bif.model.presets import get_preset
 
 __all__ = ["add_commands"]
@@ -97,7 +97,7 @@ def add_commands(sub) -> None:
     regimes.add_argument("--sigma-points", type=int, default=13, help="sigma values of the grid (default 13)")
     regimes.add_argument("--abar-points", type=int, default=10, help="Abar values of the grid (default 10)")
     regimes.add_argument("--grid", type=int, nargs=2, default=None, action=Deprecated, new="--sigma-points N --abar-points M", help=argparse.SUPPRESS)
-    regimes.add_argument("--tmax", type=float, default=600.0, help="simulated time per point; the second half is classified (default 600)")
+    add_tmax_option(regimes)
     regimes.add_argument("--model", choices=("smooth", "impact"), default="smooth", help="model simulated (default smooth)")
     regimes.add_argument("--workers", type=int, default=None, help="worker processes (default: one per core)")
     regimes.set_defaults(run=_regimes)

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
-from slosh_bif.cli.common import add_params_options, add_range_options, add_sigma_points_option, floats, params_of, progress, sigma_range, state0_of
+from slosh_bif.cli.common import add_params_options, add_range_options, add_sigma_points_option, add_tmax_option, floats, params_of, progress, sigma_range, state0_of
 from slosh_bif.cli.orbits import add_shooting_options, family_from_args
 
 __all__ = ["add_commands"]
@@ -139,7 +139,7 @@ def add_commands(sub) -> None:
     ans.add_argument("--tol", type=float, default=0.05, help="relative error allowed (for the regime: the misclassification rate; default 0.05)")
     ans.add_argument("--sigma-min", type=float, default=None, help="frequency response: lower end of sigma (default sigma - 3)")
     ans.add_argument("--sigma-max", type=float, default=None, help="frequency response: upper end of sigma (default sigma + 3)")
-    ans.add_argument("--tmax", type=float, default=600.0, help="time response and regime: end time tau (default 600)")
+    add_tmax_option(ans)
     ans.add_argument("--out", type=Path, default=None, help="output folder for answer.json (the choice, its reason and error estimate)")
     ans.set_defaults(run=_answer)
 

@@ -175,6 +175,11 @@ class RegimeMap:
     model: str
 
 
+CLASSIFY_TMAX = 600.0
+"""End time tau of a simulation whose regime is classified (the second half is classified): about
+95 forcing periods, 30 units of the slow time eps tau at eps = 0.05. Every command that classifies (``regimes``, ``chart --regimes``, ``answer regime``) uses it."""
+
+
 def _classify_point(params, state0, tmax, model, transient, sample_step):
     # A module-level function so that process pools can pickle it.
     sim = simulate(params, state0, tmax, model=model, sample_step=sample_step)
@@ -189,7 +194,7 @@ def regime_map(
     sigmas,
     abars,
     *,
-    tmax: float = 1000.0,
+    tmax: float = CLASSIFY_TMAX,
     transient: float | None = None,
     model: str = "smooth",
     sample_step: float = 0.02,

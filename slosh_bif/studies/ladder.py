@@ -38,7 +38,7 @@ from slosh_bif.orbits.families import trace_orbits
 from slosh_bif.orbits.stability import loss_of_stability
 from slosh_bif.orbits.starts import settle_and_shoot
 from slosh_bif.simulation.direct import simulate
-from slosh_bif.simulation.regimes import classify
+from slosh_bif.simulation.regimes import CLASSIFY_TMAX, classify
 from slosh_bif.slowflow.critical import critical_forcing
 from slosh_bif.slowflow.flow import AsymptoticsWarning, SlowFlow, asymptotics_concerns
 from slosh_bif.slowflow.steady_states import frequency_response
@@ -101,7 +101,7 @@ def _check(question, params, tol):
         raise ValueError(f"tol (the relative error allowed) must be a finite number > 0; got {tol!r}")
 
 
-def answer(question: str, params: Params, *, tol: float = 0.05, state0=None, sigma_min=None, sigma_max=None, tmax: float = 600.0, progress=None) -> Answer:
+def answer(question: str, params: Params, *, tol: float = 0.05, state0=None, sigma_min=None, sigma_max=None, tmax: float = CLASSIFY_TMAX, progress=None) -> Answer:
     """Answer ``question`` for ``params`` with the lightest model whose measured error is within ``tol``.
 
     Parameters

@@ -8,19 +8,13 @@ import dataclasses
 import numpy as np
 import pytest
 
-from slosh_bif import SmoothModel, get_preset
+from slosh_bif import get_preset
 from slosh_bif.continuation import continuation
 from slosh_bif.orbits import ShootingProblem, orbit_at, orbit_from_simulation, settle_and_shoot, trace_orbits
 from slosh_bif.orbits.codim2 import BifurcationCurve, MultiplierCurveProblem, trace_curve
 from slosh_bif.orbits.families import SHOOTING_OPTIONS
-from slosh_bif.orbits.shooting import period_map
 
 PRESET = get_preset("fig10")
-
-
-def _scipy_multipliers(P, y0, period=2 * np.pi):
-    model = SmoothModel(P)
-    return np.linalg.eigvals(period_map(model.rhs, model.jac, y0, period, rtol=1e-12, atol=1e-13)[1])
 
 
 @pytest.fixture(scope="module")
@@ -54,13 +48,13 @@ def torus_curve():
     return P, trace_curve(P, ns.x, ns.p, kind="NS", p1_range=(0.6, 1.2), p2_range=(2.6, 3.4))
 
 
-def test_torus_curve_points_have_a_pair_on_the_unit_circle_by_scipy(torus_curve):
+def test_torus_curve_points_have_a_pair_on_the_unit_circle_by_scipy(torus_curve, scipy_multipliers):
     P, curve = torus_curve
     assert curve.kind == "NS" and len(curve) > 10 and curve.status == "ok", curve.branch.message
     for i in np.linspace(1, len(curve) - 2, 3).astype(int):
         sigma, abar, theta = curve["sigma"][i], curve["Abar"][i], curve["theta"][i]
         x = curve.branch.x[i, :-2]
-        mu = _scipy_multipliers(P.replace(sigma=float(sigma), Abar=float(abar)), x[:4])
+        mu = scipy_multipliers(P.replace(sigma=float(sigma), Abar=float(abar)), x[:4])
         pair = mu[np.argmin(np.abs(mu - np.exp(1j * theta)))]
         assert abs(abs(pair) - 1) < 1e-6 and abs(np.angle(pair) - theta) < 1e-6
         assert _one_parameter_special(P, "NS", x, sigma, abar) == pytest.approx(sigma, abs=1e-6)
@@ -76,7 +70,7 @@ def pitchfork_curve():
     return P, trace_curve(P, bp.x, bp.p, kind="BP", p1_range=(2.5, 4.5), p2_range=(2.5, 3.5))
 
 
-def test_pitchfork_curve_points_are_branch_points_of_the_full_problem(pitchfork_curve):
+def test_pitchfork_curve_points_are_branch_points_of_the_full_problem(pitchfork_curve, scipy_multipliers):
     # The curve solves the half-period map's condition; the full 2pi problem and scipy's
     # full-period monodromy see a branch point (multiplier +1 without a fold) there.
     P, curve = pitchfork_curve
@@ -86,7 +80,7 @@ def test_pitchfork_curve_points_are_branch_points_of_the_full_problem(pitchfork_
         at = P.replace(sigma=float(sigma), Abar=float(abar))
         full = ShootingProblem(at, "sigma", segments=4).initial_states(curve.branch.x[i, :4])
         assert _one_parameter_special(P, "BP", full, sigma, abar) == pytest.approx(sigma, abs=1e-6)
-        assert np.min(np.abs(_scipy_multipliers(at, full[:4]) - 1)) < 1e-6
+        assert np.min(np.abs(scipy_multipliers(at, full[:4]) - 1)) < 1e-6
 
 
 def _one_parameter_special(P, kind, x, sigma, abar):
@@ -113,14 +107,14 @@ def _one_parameter_special(P, kind, x, sigma, abar):
 
 
 @pytest.mark.parametrize("curve_fixture, kind, mu", [("fold_curve", "LP", 1.0), ("flip_curve", "PD", -1.0)])
-def test_curve_points_are_special_points_of_one_parameter_branches_and_of_scipys_monodromy(curve_fixture, kind, mu, request):
+def test_curve_points_are_special_points_of_one_parameter_branches_and_of_scipys_monodromy(curve_fixture, kind, mu, request, scipy_multipliers):
     P, curve = request.getfixturevalue(curve_fixture)
     assert curve.kind == kind and len(curve) > 10 and curve.status == "ok", curve.branch.message
     for i in np.linspace(1, len(curve) - 2, 3).astype(int):
         sigma, abar = curve["sigma"][i], curve["Abar"][i]
         x = curve.branch.x[i, :-1]
         assert _one_parameter_special(P, kind, x, sigma, abar) == pytest.approx(sigma, abs=1e-6)
-        multipliers = _scipy_multipliers(P.replace(sigma=float(sigma), Abar=float(abar)), x[:4])
+        multipliers = scipy_multipliers(P.replace(sigma=float(sigma), Abar=float(abar)), x[:4])
         assert np.min(np.abs(multipliers - mu)) < 1e-6
 
 
