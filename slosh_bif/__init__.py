@@ -38,6 +38,7 @@ _EXPORTS = {
         "orbit_from_simulation",
         "slow_flow_start",
         "orbit_from_slow_flow",
+        "scan_families",
         "loss_of_stability",
     ),
     "slosh_bif.simulation": ("simulate", "Simulation", "simulate_impact", "ImpactTrajectory", "classify", "regime_map", "RegimeMap"),

@@ -25,8 +25,19 @@ __all__ = ["add_commands"]
 def family_from_args(args, params, lo, hi, param="sigma"):
     """The family of orbits ``shoot`` and ``compare`` trace: from --start's orbit, over [lo, hi] of ``param``."""
     from slosh_bif.orbits.families import SHOOTING_OPTIONS, trace_orbits
+    from slosh_bif.orbits.scan import scan_families
     from slosh_bif.orbits.starts import orbit_from_simulation, slow_flow_start
 
+    rtol = 1e-10 if args.rtol is None else args.rtol
+    if not 1e-14 <= rtol <= 1e-4:
+        raise ValueError(f"--rtol must be in [1e-14, 1e-4]; got {rtol}")
+    options = continuation_options(args, SHOOTING_OPTIONS)
+    if args.start == "scan":
+        return scan_families(
+            params, state0_of(args, params), p_min=lo, p_max=hi, param=param, points=args.scan_points, settle=args.settle, random_starts=args.scan_random,
+            seed=args.seed, segments=args.segments,
+            options=options, switch=not args.no_switch, max_branches=args.max_branches, rtol=rtol, atol=rtol * 1e-2, progress=throttled(progress),
+        )
     if args.start == "slow-flow":
         start = slow_flow_start(params, lo, hi, segments=args.segments)
     else:
@@ -38,18 +49,14 @@ def family_from_args(args, params, lo, hi, param="sigma"):
     mu = ", ".join(f"{abs(m):.4g}" for m in start.orbit.multipliers)
     which = "from the slow flow " if args.start == "slow-flow" else ""
     progress(f"start orbit {which}at sigma = {start.sigma:.5g}: |X(0)| = {abs(start.y0[0]):.4g}, multipliers |mu| = {mu} ({start.found_from})")
-    rtol = 1e-10 if args.rtol is None else args.rtol
-    if not 1e-14 <= rtol <= 1e-4:
-        raise ValueError(f"--rtol must be in [1e-14, 1e-4]; got {rtol}")
-    options = continuation_options(args, SHOOTING_OPTIONS)
     return trace_orbits(
         start.params, start.y0, param=param, p_min=lo, p_max=hi, segments=args.segments, options=options, rtol=rtol, atol=rtol * 1e-2,
-        switch=not args.no_switch, max_branches=args.max_branches, progress=throttled(progress),
+        switch=not args.no_switch, max_branches=args.max_branches, progress=throttled(progress), found_from=start.found_from,
     )
 
 
 def _shoot(args) -> int:
-    from slosh_bif.orbits.output import plot_family, write_branch_csv
+    from slosh_bif.orbits.output import plot_family, write_branch_csv, write_families_csv
 
     params = params_of(args)
     if args.parameter == "Abar":
@@ -61,10 +68,11 @@ def _shoot(args) -> int:
     args.out.mkdir(parents=True, exist_ok=True)
     family = family_from_args(args, params, lo, hi, param=args.parameter)
     csv_path, png_path = write_branch_csv(family, args.out / "branch.csv"), plot_family(family, args.out / "branch.png")
+    families_path = write_families_csv(family, args.out / "families.csv")
     for k, ob in enumerate(family.branches):
         ob.branch.save(args.out / f"branch{k}_{ob.name}.npz")
     print(family.summary())
-    print(f"wrote {csv_path}, {png_path}")
+    print(f"wrote {csv_path}, {families_path}, {png_path}")
     return _family_status(family)
 
 
@@ -84,8 +92,16 @@ def _family_status(family) -> int:
 def add_shooting_options(parser):
     parser.add_argument("--segments", type=int, default=4, help="arcs of multiple shooting per period (default 4)")
     parser.add_argument("--guess", type=floats, default=None, metavar="X,Xd,w,wd", help="state at tau = 0 near the start orbit (default: from a simulation)")
-    parser.add_argument("--start", choices=("simulation", "slow-flow"), default="simulation", help="start orbit: Newton from a simulation at the preset's sigma (default), or from the leading-order motion of a stable steady state of (46) in the range (no simulation)")
-    parser.add_argument("--settle", type=int, default=150, help="periods simulated from the preset's initial state for the start guess (default 150)")
+    parser.add_argument(
+        "--start", choices=("simulation", "slow-flow", "scan"), default="simulation",
+        help="start orbit: Newton from a simulation at the preset's sigma (default); from the leading-order motion of a stable steady state of (46) "
+        "in the range (no simulation); or scan: every family that simulations from several states at several sigma, every steady state of (46) "
+        "and the impact-free linear response reach, each traced once (families.csv lists them)",
+    )
+    parser.add_argument("--scan-points", type=int, default=5, help="with --start scan: values of the continued parameter, evenly spread inside the range, to start from (default 5)")
+    parser.add_argument("--scan-random", type=int, default=4, help="with --start scan: random initial states simulated at each of those values (default 4; drawn with --seed)")
+    parser.add_argument("--seed", type=int, default=0, help="seed of the random starts of --start scan (default 0)")
+    parser.add_argument("--settle", type=int, default=150, help="periods simulated for a start guess (default 150)")
     parser.add_argument("--max-branches", type=int, default=6, help="branches traced at most, the primary one included (default 6)")
     parser.add_argument("--no-switch", action="store_true", help="trace the primary branch only")
     add_continuation_options(parser, rtol="relative tolerance of the integration of the shooting arcs (default 1e-10; the corrector follows it)")

@@ -90,8 +90,8 @@ def _answer(args) -> int:
         print(f"{len(branches)} branch(es), {sum(len(b) for b in branches)} points; special points: "
               + ", ".join(f"{s.kind} {s.p:.5g}" for b in branches for s in b.special))
     elif args.question == "critical-forcing":
-        value, kind = (r.Abar_b, r.kind) if hasattr(r, "Abar_b") else (r.p, r.kind or "stability change")
-        print(f"critical forcing at sigma = {params.sigma:g}: Abar = {value:.6g} ({kind})" if value is not None else "the orbit stays stable down to Abar = 0")
+        value, kind = (r.Abar_b, r.kind) if hasattr(r, "Abar_b") else (r.Abar_c, r.bounded_by)
+        print(f"critical forcing at sigma = {params.sigma:g}: Abar = {value:.6g} ({kind})" if np.isfinite(value) else f"no traced curve bounds stable orbits with wall contact for Abar in [{r.chart.abar_range[0]:g}, {r.chart.abar_range[1]:g}]")
     elif args.question == "time-response":
         A = r.A if hasattr(r, "A") else None
         print(f"slow envelope A from {A[0]:.4g} to {A[-1]:.4g}" if A is not None else f"{r.status}: {r.message}; max |X| = {np.max(np.abs(r.y[0])):.4g}")

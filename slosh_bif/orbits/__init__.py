@@ -1,5 +1,6 @@
 """Periodic orbits of the smooth model (9): shooting with Floquet multipliers, families with
-branch switching, start orbits (from a simulation or from the slow flow) and their output.
+branch switching, start orbits (from a simulation or from the slow flow), the scan for every
+family, and their output.
 
 Seams to the other wings (documented in ``docs/architecture.md`` and allowed by the import
 contract): :mod:`.shooting` integrates with :mod:`slosh_bif.simulation.integrator`, and
@@ -7,6 +8,7 @@ contract): :mod:`.shooting` integrates with :mod:`slosh_bif.simulation.integrato
 """
 
 from slosh_bif.orbits.families import SHOOTING_OPTIONS, OrbitBranch, OrbitFamily, mirror, trace_orbits
+from slosh_bif.orbits.scan import on_traced_branch, scan_families
 from slosh_bif.orbits.shooting import PeriodicOrbit, ShootingProblem, orbit_at, periodic_orbit
 from slosh_bif.orbits.stability import StabilityLoss, loss_of_stability
 from slosh_bif.orbits.starts import StartOrbit, orbit_from_simulation, orbit_from_slow_flow, settle_and_shoot, slow_flow_start
@@ -26,6 +28,8 @@ __all__ = [
     "orbit_from_slow_flow",
     "slow_flow_start",
     "settle_and_shoot",
+    "scan_families",
+    "on_traced_branch",
     "loss_of_stability",
     "StabilityLoss",
 ]

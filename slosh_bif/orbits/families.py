@@ -22,11 +22,11 @@ import warnings
 import numpy as np
 
 from slosh_bif.continuation import ContinuationOptions, ConvergenceError, continuation, switch_branch
-from slosh_bif.continuation.branch import BRANCH_POINT, PERIOD_DOUBLING, Branch, polyline_distance
+from slosh_bif.continuation.branch import BRANCH_POINT, PERIOD_DOUBLING, Branch, Status, polyline_distance
 from slosh_bif.model.params import Params
-from slosh_bif.orbits.shooting import PARAMETERS, ShootingProblem, orbit_at, orbit_measures
+from slosh_bif.orbits.shooting import MAX_PERIOD_MULTIPLE, PARAMETERS, ShootingProblem, orbit_at, orbit_measures
 
-__all__ = ["OrbitBranch", "OrbitFamily", "trace_orbits", "mirror", "SHOOTING_OPTIONS", "LIOUVILLE_TOL"]
+__all__ = ["OrbitBranch", "OrbitFamily", "trace_orbits", "mirror", "images", "unique_name", "SHOOTING_OPTIONS", "LIOUVILLE_TOL"]
 
 # Shooting residuals carry the integration's rounding (~1e-13 at rtol 1e-10), so the corrector's
 # tolerance sits above it; steps are capped so that orbits change little from one point to the next.
@@ -44,7 +44,7 @@ class OrbitBranch:
     Attributes
     ----------
     name : str
-        "symmetric", "asymmetric" (one member of a mirror pair), "period-2", ...
+        Unique within its family: the kind, then "-2", "-3", ... for further branches of that kind.
     problem : ShootingProblem
         The problem the branch solves.
     branch : Branch
@@ -54,6 +54,10 @@ class OrbitBranch:
         liouville_error.
     origin : str
         Where it was switched on from (empty for the primary branch).
+    kind : str
+        "symmetric", "asymmetric" (one member of a mirror pair), "period-2", ... (default: ``name``).
+    found_from : str
+        How its first orbit was found: the start's description, or ``origin`` for a switched branch.
     """
 
     name: str
@@ -61,6 +65,19 @@ class OrbitBranch:
     branch: Branch
     measures: dict
     origin: str = ""
+    kind: str = ""
+    found_from: str = ""
+
+    def __post_init__(self):
+        if not self.kind:
+            object.__setattr__(self, "kind", self.name)
+        if not self.found_from:
+            object.__setattr__(self, "found_from", self.origin)
+
+    @property
+    def closed(self) -> bool:
+        """Whether the branch closed on itself (an isola, or a loop through its start)."""
+        return Status.LOOP.value in self.branch.message
 
     def __getitem__(self, name: str) -> np.ndarray:
         """A column by name, as for a :class:`Branch`: a measure (``"A1"``, ``"max_abs_w"``, ...),
@@ -96,6 +113,15 @@ class OrbitFamily:
         return "\n".join(lines)
 
 
+def unique_name(kind: str, taken) -> str:
+    """``kind`` if no branch in ``taken`` (OrbitBranches) has that name, else ``kind-2``, ``kind-3``, ..."""
+    names = {ob.name for ob in taken}
+    k = 1
+    while (name := kind if k == 1 else f"{kind}-{k}") in names:
+        k += 1
+    return name
+
+
 def mirror(problem: ShootingProblem, x):
     """x of the mirror-image orbit: y'(0) = -y(pi), read off the arcs when they split at pi."""
     m = problem.segments
@@ -103,6 +129,19 @@ def mirror(problem: ShootingProblem, x):
     if problem.period_multiple == 1 and m % 2 == 0:
         return -np.roll(states, -m // 2, axis=0).ravel()
     raise ValueError("mirror needs a 2pi problem with an even number of segments")
+
+
+def images(problem: ShootingProblem, x) -> list:
+    """The arc states of every copy of the orbit x under the symmetries of (9): its shifts by
+    2pi k (an orbit of period 2pi m, read from tau = 2pi k) and their mirror images
+    y'(tau) = -y(tau + pi), where the arcs split at those times; x itself first."""
+    m, pm = problem.segments, problem.period_multiple
+    states = np.asarray(x, dtype=float).reshape(m, 4)
+    per_2pi = m // pm if m % pm == 0 else 0
+    shifts = [np.roll(states, -k * per_2pi, axis=0) for k in range(pm)] if per_2pi else [states]
+    if per_2pi and per_2pi % 2 == 0:
+        shifts += [-np.roll(s, -per_2pi // 2, axis=0) for s in shifts]
+    return [s.ravel() for s in shifts]
 
 
 def _measure(problem: ShootingProblem, branch: Branch, points_per_2pi: int, name: str = "") -> dict:
@@ -189,7 +228,7 @@ def _point_counter(say, name, param):
     return callback
 
 
-def _primary(params, y0, param, opts, make_problem, points_per_2pi, say) -> OrbitBranch:
+def _primary(params, y0, param, opts, make_problem, points_per_2pi, say, known=(), found_from="") -> OrbitBranch:
     """The branch through the orbit near y0, named by its symmetry."""
     problem = make_problem(1)
     p0 = getattr(params, param)
@@ -198,10 +237,11 @@ def _primary(params, y0, param, opts, make_problem, points_per_2pi, say) -> Orbi
         raise ConvergenceError(f"no periodic orbit near the guess at {param} = {p0}: {start.message}")
     x0 = problem.initial_states(start.y0)
     symmetric = orbit_measures(problem, x0, p0, points_per_2pi=points_per_2pi)["symmetry_defect"] < 1e-6
-    name = "symmetric" if symmetric else "asymmetric"
+    kind = "symmetric" if symmetric else "asymmetric"
+    name = unique_name(kind, known)
     branch = continuation(problem, x0, p0, param=param, options=opts, callback=_point_counter(say, name, param))
     say(f"{name}: {len(branch)} points, {len(branch.special)} special points")
-    return OrbitBranch(name, problem, branch, _measure(problem, branch, points_per_2pi, name))
+    return OrbitBranch(name, problem, branch, _measure(problem, branch, points_per_2pi, name), kind=kind, found_from=found_from)
 
 
 def _switch(parent: OrbitBranch, sp, param, opts, make_problem, say):
@@ -235,12 +275,18 @@ def trace_orbits(
     atol: float = 1e-12,
     backend: str = "auto",
     progress=None,
+    known=(),
+    found_from: str = "",
+    doublings: bool = True,
 ) -> OrbitFamily:
     """Continue the 2pi-orbit through the guess y0 (at the preset's value of ``param``) over
     [p_min, p_max], then the branches born at its branch points and period doublings.
 
     ``progress(message)`` is called as the work goes on (one call per accepted point and per
-    branch). Raises :class:`ConvergenceError` when no orbit is found near y0.
+    branch). ``known``: OrbitBranches already traced (by other starts): a switched branch on one
+    of them (or its mirror image) is not traced again, and names stay unique among them.
+    ``found_from`` describes the start. ``doublings=False`` switches at branch points only (the
+    period-1 orbits: symmetric and asymmetric). Period doublings are followed up to period 8. Raises :class:`ConvergenceError` when no orbit is found near y0.
     """
     _check(params, param, p_min, p_max, max_branches)
     opts = dataclasses.replace(options or SHOOTING_OPTIONS, p_min=p_min, p_max=p_max)
@@ -252,13 +298,17 @@ def trace_orbits(
     def make_problem(multiple):  # a period of multiple * 2 pi, in as many times the arcs
         return ShootingProblem(params, param, segments=multiple * segments, period_multiple=multiple, rtol=rtol, atol=atol, backend=backend, box=box)
 
-    family = [_primary(params, y0, param, opts, make_problem, points_per_2pi, say)]
+    family = [_primary(params, y0, param, opts, make_problem, points_per_2pi, say, known, found_from)]
     if not switch:
         return OrbitFamily(params, param, family)
-    queue = [(family[0], s) for s in family[0].branch.special if s.kind in (BRANCH_POINT, PERIOD_DOUBLING)]
+    switched = (BRANCH_POINT, PERIOD_DOUBLING) if doublings else (BRANCH_POINT,)
+    queue = [(family[0], s) for s in family[0].branch.special if s.kind in switched]
     while queue and len(family) < max_branches:
         parent, sp = queue.pop(0)
         origin = f"{sp.kind} at {param} = {sp.p:.6g} on the {parent.name} branch"
+        if sp.kind == PERIOD_DOUBLING and 2 * parent.problem.period_multiple > MAX_PERIOD_MULTIPLE:
+            say(f"not switched at {origin}: the cascade is followed up to period {MAX_PERIOD_MULTIPLE}")
+            continue
         try:
             problem, new, kind_name = _switch(parent, sp, param, opts, make_problem, say)
         except (ConvergenceError, np.linalg.LinAlgError) as err:
@@ -268,15 +318,15 @@ def trace_orbits(
         if met is not None:
             say(f"the new branch meets the {parent.name} branch again at its {met.kind} {param} = {met.p:.6g}")
         first = np.append(new.x[min(1, len(new) - 1)], new.p[min(1, len(new) - 1)])
-        if any(_on_branch(first, ob, 1e-5 * (1 + np.linalg.norm(first))) for ob in family):
+        if any(_on_branch(first, ob, 1e-5 * (1 + np.linalg.norm(first))) for ob in [*known, *family]):
             say(f"the branch at {origin} is one already traced")
             continue
         measures = _measure(problem, new, points_per_2pi, kind_name or "switched")
         if kind_name is None:
             kind_name = "symmetric" if np.median(measures["symmetry_defect"]) < 1e-6 else "asymmetric"
-        ob = OrbitBranch(kind_name, problem, new, measures, origin)
+        ob = OrbitBranch(unique_name(kind_name, [*known, *family]), problem, new, measures, origin, kind=kind_name)
         family.append(ob)
-        say(f"{kind_name} ({origin}): {len(new)} points")
+        say(f"{ob.name} ({origin}): {len(new)} points")
         # Not the start (the parent's point) and not a cut end (where it met the parent again).
-        queue += [(ob, s) for s in new.special if s.kind in (BRANCH_POINT, PERIOD_DOUBLING) and 1 < s.index < len(new) - (met is not None)]
+        queue += [(ob, s) for s in new.special if s.kind in switched and 1 < s.index < len(new) - (met is not None)]
     return OrbitFamily(params, param, family)

@@ -5,7 +5,14 @@
 symmetry_defect, special, branch, status, flag``: ``status`` is the branch's (``ok``, or why it
 was cut short: ``step below minimum``, ``step limit``, ``time limit``), ``flag`` is ``liouville``
 where the point's Liouville check fails beyond :data:`~slosh_bif.orbits.families.LIOUVILLE_TOL`
-(its multipliers, hence its stability, are not reliable), else empty.
+(its multipliers, hence its stability, are not reliable), else empty; ``branch`` is the branch's
+unique name.
+
+``families.csv``: one row per branch, columns ``family, kind, sigma_min, sigma_max, closed,
+found_from, points, status``: ``family`` the unique name (as in ``branch.csv``), ``kind``
+symmetric, asymmetric, period-2, ...; the sigma range it covers; ``closed`` 1 when it closed on
+itself (an isola or a loop); ``found_from`` the start that found it or the point it was switched
+on at; ``status`` as in ``branch.csv``.
 """
 
 from __future__ import annotations
@@ -15,9 +22,11 @@ from pathlib import Path
 from slosh_bif.orbits.families import LIOUVILLE_TOL, OrbitFamily
 from slosh_bif.report.tables import write_rows
 
-__all__ = ["BRANCH_COLUMNS", "family_rows", "write_branch_csv", "plot_family"]
+__all__ = ["BRANCH_COLUMNS", "FAMILY_COLUMNS", "family_rows", "write_branch_csv", "write_families_csv", "plot_family"]
 
 BRANCH_COLUMNS = ("sigma", "Abar", "A1", "max_abs_X", "max_abs_w", "stable", "max_abs_multiplier", "liouville_error", "symmetry_defect", "special", "branch", "status", "flag")
+
+FAMILY_COLUMNS = ("family", "kind", "sigma_min", "sigma_max", "closed", "found_from", "points", "status")
 
 
 def family_rows(family: OrbitFamily):
@@ -40,6 +49,18 @@ def family_rows(family: OrbitFamily):
 
 def write_branch_csv(family: OrbitFamily, path) -> Path:
     return write_rows(family_rows(family), BRANCH_COLUMNS, path)
+
+
+def write_families_csv(family: OrbitFamily, path) -> Path:
+    def rows():
+        for ob in family.branches:
+            sigma = ob.branch.p if ob.branch.param == "sigma" else [family.params.sigma]
+            yield {
+                "family": ob.name, "kind": ob.kind, "sigma_min": float(min(sigma)), "sigma_max": float(max(sigma)),
+                "closed": int(ob.closed), "found_from": ob.found_from, "points": len(ob), "status": ob.branch.status,
+            }
+
+    return write_rows(rows(), FAMILY_COLUMNS, path)
 
 
 def plot_family(family: OrbitFamily, path, *, slow_flow=None, title=None) -> Path:

@@ -152,6 +152,8 @@ class Arcs:
 _STATE = ("X", "Xd", "w", "wd")
 
 
+MAX_PERIOD_MULTIPLE = 8  # longest period traced, in units of 2pi: a period-doubling cascade is followed to period 8
+
 class ShootingProblem:
     """Periodic orbits of (9) with period ``period_multiple * 2 pi``, continued in sigma or Abar.
 
@@ -175,8 +177,8 @@ class ShootingProblem:
             raise ValueError(f"param must be one of {PARAMETERS}; got {param!r}")
         if not (isinstance(segments, int) and 1 <= segments <= 64):
             raise ValueError(f"segments must be an integer in [1, 64]; got {segments!r}")
-        if not (isinstance(period_multiple, int) and 1 <= period_multiple <= 8):
-            raise ValueError(f"period_multiple must be an integer in [1, 8]; got {period_multiple!r}")
+        if not (isinstance(period_multiple, int) and 1 <= period_multiple <= MAX_PERIOD_MULTIPLE):
+            raise ValueError(f"period_multiple must be an integer in [1, {MAX_PERIOD_MULTIPLE}]; got {period_multiple!r}")
         self.params, self.param = params, param
         if symmetric and period_multiple != 1:
             raise ValueError("a symmetric problem (the half-period map) needs period_multiple = 1")

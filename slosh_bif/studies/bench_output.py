@@ -80,7 +80,7 @@ def write_integration(rows, out) -> list:
 def write_frequency_response(rows, ref_rows, crit_rows, out) -> list:
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
-    crit_columns = ["preset", "sigma", "Abar_b_slow_flow", "slow_flow_kind", "Abar_b_smooth_model", "smooth_model_kind", "relative_difference"]
+    crit_columns = ["preset", "sigma", "Abar_b_slowflow", "slowflow_kind", "Abar_c_full", "bounded_by", "rel_diff"]
     paths = [
         write_rows(crit_rows, crit_columns, out / "critical_forcing.csv"),
         write_rows(rows, ["preset", "method", "knob", "value", "seconds", "runs", "error", "failures", "answers", "reference"], out / "frequency_response.csv"),

@@ -7,14 +7,22 @@ What "critical" means on each model
 * Slow flow (46): Abar_b(sigma) is the least forcing with a steady state on S+ at sigma, i.e.
   with a 1:1 resonant response of the reduced model (it may be unstable).
 * Full model (9): Abar_c(sigma) is the least forcing at which the boundary of the region of
-  *stable* period-1 orbits with wall contact (max |w| >= 1) lies at that sigma, read off the LP
-  and PD curves: a curve point bounds stable orbits when every multiplier but the critical one
-  is inside the unit circle. It is an envelope of curves, not a sweep.
+  *stable* period-1 orbits with wall contact (max |w| >= 1) lies at that sigma, read off the
+  curves: a curve point bounds stable orbits when every multiplier but the critical one(s) is
+  inside the unit circle. It is an envelope of curves, not a sweep.
+
+  The LP, PD and NS curves all count (a BP curve bounds the symmetric orbits, not the stable
+  ones: the asymmetric pair born there can be stable).
 
 The two differ for three reasons: (46) is an asymptotic model (eps, 1/n); its steady states can
 be unstable in (9) (the stable orbit is then elsewhere, or there is none: strongly modulated
-response); and a stable orbit of (9) can lose stability through a period doubling (or a torus,
-not traced yet) with (46) saying nothing about it.
+response); and a stable orbit of (9) can lose stability through a period doubling or a torus
+(NS) with (46) saying nothing about it.
+
+:func:`critical_forcing_full` asks the same at one sigma (``answer critical-forcing`` and the
+bench's ``critical_forcing.csv``): every family of orbits at that sigma, continued in Abar, and
+the curves through their special points in a narrow sigma box; they cross that sigma at the
+special points, so the envelope there is the lowest stable-bounding one.
 """
 
 from __future__ import annotations
@@ -29,10 +37,12 @@ from slosh_bif.continuation.branch import polyline_distance
 from slosh_bif.model.params import Params
 from slosh_bif.orbits.codim2 import BifurcationCurve, trace_curve
 from slosh_bif.orbits.families import trace_orbits
+from slosh_bif.orbits.scan import scan_families
+from slosh_bif.orbits.shooting import orbit_measures
 from slosh_bif.orbits.starts import orbit_from_simulation
 from slosh_bif.slowflow.critical import critical_curve, interp_min
 
-__all__ = ["Chart", "bifurcation_chart", "critical_rows", "CRITICAL_COLUMNS"]
+__all__ = ["Chart", "bifurcation_chart", "critical_rows", "CRITICAL_COLUMNS", "FullCritical", "critical_forcing_full"]
 
 CRITICAL_COLUMNS = ("sigma", "Abar_b_slowflow", "Abar_c_full", "rel_diff", "bounded_by")
 
@@ -62,7 +72,7 @@ def _curves_from(ob, param, params, curves, sigma_range, abar_range, say):
     for sp in ob.branch.special:
         if sp.kind not in ("LP", "PD", "NS", "BP") or not sp.located:
             continue
-        if sp.kind == "BP" and (ob.name != "symmetric" or ob.problem.segments % 2):
+        if sp.kind == "BP" and (ob.kind != "symmetric" or ob.problem.segments % 2):
             continue  # a pitchfork of symmetric orbits: the half-period map's condition
         sigma, abar = (sp.p, params.Abar) if param == "sigma" else (params.sigma, sp.p)
         if any(c.kind == sp.kind and _on_curve(c, sigma, abar) for c in curves):
@@ -132,11 +142,88 @@ def bifurcation_chart(
     return Chart(params, (s0, s1), (a0, a1), family, curves, slow, time.perf_counter() - started)
 
 
+@dataclasses.dataclass(frozen=True)
+class FullCritical:
+    """Abar_c of (9) at one sigma: NaN (and ``bounded_by`` empty) when no traced curve bounds
+    stable orbits with wall contact there inside the Abar range; ``chart`` is what it was read off."""
+
+    sigma: float
+    Abar_c: float
+    bounded_by: str
+    chart: Chart
+
+
+def critical_forcing_full(
+    params: Params, state0, *, abar_range: tuple | None = None, halfwidth: float = 0.25, switch: bool = True, segments: int = 4, points: int = 5,
+    settle: int = 100, random_starts: int = 4, seed: int = 0, progress=None,
+) -> FullCritical:
+    """Abar_c(sigma) of (9) at ``params.sigma``: every family of orbits there in Abar over
+    ``abar_range`` (default [0.05, max(2 Abar, 3)]), found by :func:`~slosh_bif.orbits.scan.scan_families`
+    (starts from ``state0`` and others at ``points`` values of Abar; switched at branch points,
+    not at period doublings: only period-1 orbits count), then the curve through each
+    of their LP, PD and NS points in the box sigma +- ``halfwidth`` x ``abar_range``; the lowest
+    curve point at sigma that bounds stable period-1 orbits with wall contact.
+
+    A single family misses stable orbits that no path in Abar at this sigma connects to it
+    (Fig. 10 set, sigma = -1.2: the resonant orbit folds at Abar = 2.515, while a separate family
+    has stable orbits with contact down to 0.34).
+    """
+    if not (np.isfinite(halfwidth) and halfwidth > 0):
+        raise ValueError(f"halfwidth (of the sigma box) must be > 0; got {halfwidth!r}")
+    a0, a1 = abar_range or (0.05, max(2.0 * params.Abar, 3.0))
+    if not (0 <= a0 < a1):
+        raise ValueError(f"abar_range must satisfy 0 <= Abar_min < Abar_max; got [{a0}, {a1}]")
+    say = progress or (lambda message: None)
+    started = time.perf_counter()
+    sigma = params.sigma
+    box = (sigma - halfwidth, sigma + halfwidth)
+    family = scan_families(
+        params, state0, p_min=a0, p_max=a1, param="Abar", points=points, settle=settle, random_starts=random_starts, seed=seed, segments=segments,
+        switch=switch, doublings=False, progress=progress,
+    )
+    curves = []
+    for ob in family.branches:
+        if ob.problem.period_multiple == 1:
+            _curves_from(ob, "Abar", params, curves, box, (a0, a1), say)
+    try:
+        slow = critical_curve(params, *box)
+    except (RuntimeError, ValueError):
+        slow = None
+    chart = Chart(params, box, (a0, a1), family, curves, slow, time.perf_counter() - started)
+    # The special points lie at sigma exactly; a curve read at sigma is interpolated between its
+    # points (2e-3 off at the Fig. 13 set's NS), so it counts only where it crosses sigma away
+    # from every special point: a crossing of a family the scan did not reach.
+    exact = [(sp.p, sp.kind) for ob in family.branches if ob.problem.period_multiple == 1 for sp in ob.branch.special if _bounds_stable_contact(ob, sp)]
+    value, kind = min(exact, default=(np.nan, ""))
+    for c in curves:
+        crossed = _lowest_stable_boundary(dataclasses.replace(chart, curves=[c]), sigma)[0]
+        if np.isfinite(crossed) and not crossed >= value and not any(k == c.kind and abs(a - crossed) <= 0.01 * a for a, k in exact):
+            value, kind = crossed, c.kind
+    return FullCritical(float(sigma), float(value), kind, chart)
+
+
+_CRITICAL_COUNT = {"LP": 1, "BP": 1, "PD": 1, "NS": 2}
+
+
+def _bounds_stable_contact(ob, sp) -> bool:
+    """Whether the located LP, PD or NS point ``sp`` of ``ob`` bounds stable orbits with wall
+    contact: every multiplier but the critical one(s) inside the unit circle, max |w| >= 1."""
+    if sp.kind not in ("LP", "PD", "NS") or not sp.located:
+        return False
+    mu = ob.problem.eigenvalues(sp.x, sp.p)
+    target = {"LP": 1.0, "PD": -1.0}.get(sp.kind)
+    distance = np.abs(mu - target) if target is not None else np.where(np.abs(mu.imag) > 1e-9, np.abs(np.abs(mu) - 1), np.inf)
+    rest = np.delete(mu, np.argsort(distance)[: _CRITICAL_COUNT[sp.kind]])
+    return bool(np.all(np.abs(rest) < 1) and orbit_measures(ob.problem, sp.x, sp.p)["max_abs_w"] >= 1.0)
+
+
 def _lowest_stable_boundary(chart: Chart, sigma):
     """(Abar, kind) of the lowest curve point at sigma that bounds stable period-1 orbits with
     wall contact, by linear interpolation along each curve; (nan, "") when none."""
     best = (np.nan, "")
     for c in chart.curves:
+        if c.period_multiple != 1:
+            continue  # a period-2 branch's curves bound period-2 orbits
         good = c.branch.stable & (c["max_abs_w"] >= 1.0)
         value = interp_min(c["sigma"], np.where(good, c["Abar"], np.nan), sigma)
         if value is not None and not value >= best[0]:

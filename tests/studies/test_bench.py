@@ -75,7 +75,7 @@ def test_bench_command_writes_every_chart_and_table(tmp_path, capsys):
         eq46 = min((float(r["value"]), float(r["error"])) for r in fr if r["method"] == "eq. 46 continuation" and r["preset"] == preset)
         assert eq46[1] <= SLOW_FLOW_ERROR["frequency-response"]
     crit = _read(tmp_path / "critical_forcing.csv")
-    assert crit and max(float(r["relative_difference"]) for r in crit) <= SLOW_FLOW_ERROR["critical-forcing"]
+    assert crit and max(float(r["rel_diff"]) for r in crit) <= SLOW_FLOW_ERROR["critical-forcing"]
     refs = _read(tmp_path / "frequency_response_reference.csv")
     assert all(float(r["self_error"]) < 1e-8 and float(r["max_multiplier"]) < 1 for r in refs)
     assert {r["study"] for r in _read(tmp_path / "growth.csv")} == {"n", "interval", "regime map"}

@@ -32,7 +32,8 @@ class BifurcationCurve:
     ``curve["max_abs_w"]`` (the orbit at each point) are arrays in curve order; ``branch`` is the
     continuation result (its special points are the codimension-2 points: CP, LPPD, LPNS, PDNS,
     R1-R4, BPLP; its ``stable`` column says whether the point bounds stable orbits: every multiplier
-    but the critical one inside the unit circle); ``origin`` where it was started.
+    but the critical one inside the unit circle); ``origin`` where it was started;
+    ``period_multiple`` the orbits' period in units of 2pi (2 on a period-2 branch's curves).
     """
 
     kind: str
@@ -41,6 +42,7 @@ class BifurcationCurve:
     branch: Branch
     measures: dict
     origin: str = ""
+    period_multiple: int = 1
 
     def __len__(self):
         return len(self.branch)
@@ -62,7 +64,7 @@ class BifurcationCurve:
 
     def save(self, path) -> Path:
         """The branch's .npz with the curve's kind, parameters, origin and measures added."""
-        meta = dict(kind=self.kind, p1=self.p1, p2=self.p2, origin=self.origin, measures=sorted(self.measures))
+        meta = dict(kind=self.kind, p1=self.p1, p2=self.p2, origin=self.origin, measures=sorted(self.measures), period_multiple=self.period_multiple)
         return self.branch.save(path, curve_meta=np.array(json.dumps(meta)), **{f"measure_{k}": v for k, v in self.measures.items()})
 
     @classmethod
@@ -71,7 +73,7 @@ class BifurcationCurve:
         with np.load(path, allow_pickle=False) as data:
             meta = json.loads(str(data["curve_meta"]))
             measures = {k: data[f"measure_{k}"].copy() for k in meta["measures"]}
-        return cls(meta["kind"], meta["p1"], meta["p2"], branch, measures, meta["origin"])
+        return cls(meta["kind"], meta["p1"], meta["p2"], branch, measures, meta["origin"], int(meta.get("period_multiple", 1)))
 
 
 def trace_curve(
@@ -126,7 +128,7 @@ def trace_curve(
     opts = dataclasses.replace(options or CURVE_OPTIONS, p_min=lo1, p_max=hi1)
     branch = continuation(problem, u0, p1_0, param=p1, options=opts, callback=callback)
     measures = _measures(problem, branch, points_per_2pi)
-    return BifurcationCurve(kind, p1, p2, branch, measures, origin)
+    return BifurcationCurve(kind, p1, p2, branch, measures, origin, period_multiple)
 
 
 def _check_start(at: Params, x, kind: str, segments: int, period_multiple: int, p1: str, symmetric: bool = False):

@@ -1,0 +1,151 @@
+"""Every family of periodic orbits of (9) over a range of sigma (or Abar), each found once.
+
+One start finds the family its orbit lies on: a simulation lands on one attractor, the slow
+flow's motion on the resonant branch of (46). :func:`scan_families` gathers starts of every kind
+(:func:`~slosh_bif.orbits.starts.scan_starts`: simulations from several states at several values,
+every steady state of (46), the impact-free linear response), drops each orbit that lies on a
+branch already traced or on its mirror image under the symmetry (X, w, tau) -> (-X, -w, tau + pi)
+of (9), and traces each new one with :func:`~slosh_bif.orbits.families.trace_orbits` (switching
+included; an isolated family closes on itself). Branch names are unique over the whole scan.
+
+"Lies on a traced branch" is decided by Newton, not by a distance to the branch's polyline
+(whose chords are off the curve by up to a step's sagitta): from the traced branch's state
+interpolated at the candidate's parameter, Newton there converges to the candidate, or to
+its mirror image, when they are the same family.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+from slosh_bif.continuation import ConvergenceError, newton_solve
+from slosh_bif.model.params import Params
+from slosh_bif.orbits.families import SHOOTING_OPTIONS, OrbitBranch, OrbitFamily, images, trace_orbits
+from slosh_bif.orbits.starts import scan_starts
+
+__all__ = ["scan_families", "on_traced_branch"]
+
+_NEWTON_TOL = 1e-9  # the residual tolerance of the starts' Newton (orbit_at in scan_starts)
+_DEGENERATE = 1e-6  # distance of a multiplier from +1 below which the start orbit is not isolated
+_NEAR_MAX = 1e-4  # relative distance beyond which two orbits at one parameter value are different orbits
+
+
+def on_traced_branch(params: Params, y0, branches, *, param: str = "sigma", period_multiple: int = 1, tol: float = 1e-6) -> OrbitBranch | None:
+    """The traced branch among ``branches`` (continued in ``param``, orbits of period
+    ``period_multiple`` 2pi) that the orbit of (9) through the state ``y0`` at tau = 0 at
+    ``params`` lies on, in any of its :func:`~slosh_bif.orbits.families.images` (a mirror image,
+    a shift by 2pi), else None."""
+    p = getattr(params, param)
+    for ob in branches:
+        problem, b = ob.problem, ob.branch
+        if problem.period_multiple != period_multiple or b.param != param or not _same_except(param, problem.params, params):
+            continue
+        crossings = np.flatnonzero((b.p[:-1] - p) * (b.p[1:] - p) <= 0)
+        if not crossings.size:
+            continue
+        x = problem.initial_states(y0, p)
+        copies = images(problem, x)
+        # Two solutions within the corrector's residual tolerance of each other can lie
+        # 1/s_min apart (s_min: smallest singular value of the shooting Jacobian): at beta = 0
+        # a multiplier near +1 (the particle barely held between the walls) makes s_min 3e-9
+        # and the gap 4e-7. Capped: at a fold s_min vanishes, and distinct branches near a
+        # branch point must stay apart.
+        s_min = np.linalg.svd(problem.jacobian(x, p), compute_uv=False)[-1]
+        near = min(_NEAR_MAX, max(tol, 100 * _NEWTON_TOL / max(s_min, 1e-300)))
+        for i in crossings:
+            w = 0.0 if b.p[i + 1] == b.p[i] else (p - b.p[i]) / (b.p[i + 1] - b.p[i])
+            run = newton_solve(problem, (1 - w) * b.x[i] + w * b.x[i + 1], p, tol=_NEWTON_TOL, max_iter=12, criterion="residual")
+            if run.converged and any(np.linalg.norm(run.x - y) <= near * (1 + np.linalg.norm(y)) for y in copies):
+                return ob
+    return None
+
+
+def _covered(ob: OrbitBranch, others, param: str) -> OrbitBranch | None:
+    """The branch among ``others`` that holds all of ``ob`` (three points along it, and its
+    images), else None."""
+    b = ob.branch
+    owner = None
+    for i in sorted({len(b) // 4, len(b) // 2, (3 * len(b)) // 4}):
+        at = ob.problem.params_at(b.p[i])
+        found = on_traced_branch(at, b.x[i, :4], [o for o in others if owner is None or o is owner], param=param, period_multiple=ob.problem.period_multiple)
+        if found is None:
+            return None
+        owner = found
+    return owner
+
+
+def _same_except(param: str, a: Params, b: Params) -> bool:
+    return dataclasses.replace(a, **{param: 0.0}) == dataclasses.replace(b, **{param: 0.0})
+
+
+def scan_families(
+    params: Params,
+    state0,
+    *,
+    p_min: float,
+    p_max: float,
+    param: str = "sigma",
+    points: int = 5,
+    settle: int = 100,
+    random_starts: int = 4,
+    seed: int = 0,
+    segments: int = 4,
+    options=None,
+    switch: bool = True,
+    doublings: bool = True,
+    max_branches: int = 6,
+    rtol: float = 1e-10,
+    atol: float = 1e-12,
+    progress=None,
+) -> OrbitFamily:
+    """Every family of 2pi-orbits of (9) (and what branches off them) over [p_min, p_max] of
+    ``param`` (sigma or Abar) that the starts of :func:`~slosh_bif.orbits.starts.scan_starts`
+    reach, each traced once.
+
+    ``max_branches`` bounds the branches of each family (the primary one included). Returns one
+    :class:`OrbitFamily` holding every branch; each branch's ``found_from`` says which start found
+    it. Raises :class:`ConvergenceError` when no start converges.
+    """
+    if not (np.isfinite(p_min) and np.isfinite(p_max) and p_min < p_max):
+        raise ValueError(f"need finite p_min < p_max; got [{p_min}, {p_max}]")
+    say = progress or (lambda message: None)
+    branches, tried = [], 0
+    starts = scan_starts(
+        params, state0, p_min, p_max, param=param, points=points, settle=settle, random_starts=random_starts, seed=seed, segments=segments, say=say,
+    )
+    for start in starts:
+        tried += 1
+        if np.min(np.abs(start.orbit.multipliers - 1)) < _DEGENERATE:
+            # beta = 0 and no wall contact: the particle floats freely, every offset is an orbit
+            say(f"scan: the orbit found by {start.found_from} is not isolated (a multiplier at +1): skipped")
+            continue
+        known = on_traced_branch(start.params, start.y0, branches, param=param)
+        if known is not None:
+            say(f"scan: the orbit found by {start.found_from} lies on the {known.name} branch")
+            continue
+        say(f"scan: a new family from {start.found_from}")
+        try:
+            family = trace_orbits(
+                start.params, start.y0, param=param, p_min=p_min, p_max=p_max, segments=segments, options=options or SHOOTING_OPTIONS,
+                switch=switch, max_branches=max_branches, rtol=rtol, atol=atol, progress=progress, known=branches, found_from=start.found_from,
+                doublings=doublings,
+            )
+        except ConvergenceError as err:
+            say(f"scan: no family traced from {start.found_from}: {err}")
+            continue
+        for new in family.branches:
+            # A closed loop of asymmetric orbits can hold both mirror images, and a family traced
+            # from a later start can hold an earlier one's switched piece: keep each curve once.
+            holder = _covered(new, branches, param)
+            if holder is not None:
+                say(f"scan: the {new.name} branch lies on the {holder.name} branch: dropped")
+                continue
+            for old in [o for o in branches if _covered(o, [new], param) is not None]:
+                say(f"scan: the {old.name} branch lies on the new {new.name} branch: replaced")
+                branches.remove(old)
+            branches.append(new)
+    if not branches:
+        raise ConvergenceError(f"no periodic orbit of (9) found from {tried} converged starts in {param} in [{p_min}, {p_max}]" if tried else f"no start converged to a periodic orbit of (9) in {param} in [{p_min}, {p_max}]")
+    return OrbitFamily(params, param, branches)
