@@ -22,7 +22,7 @@ import numpy as np
 
 from slosh_bif.continuation import ConvergenceError, newton_solve
 from slosh_bif.model.params import Params
-from slosh_bif.orbits.families import SHOOTING_OPTIONS, OrbitBranch, OrbitFamily, images, trace_orbits
+from slosh_bif.orbits.families import SHOOTING_OPTIONS, OrbitBranch, OrbitFamily, images, trace_orbits, unique_name
 from slosh_bif.orbits.starts import scan_starts
 
 __all__ = ["scan_families", "on_traced_branch"]
@@ -148,4 +148,22 @@ def scan_families(
             branches.append(new)
     if not branches:
         raise ConvergenceError(f"no periodic orbit of (9) found from {tried} converged starts in {param} in [{p_min}, {p_max}]" if tried else f"no start converged to a periodic orbit of (9) in {param} in [{p_min}, {p_max}]")
-    return OrbitFamily(params, param, branches)
+    return OrbitFamily(params, param, _renamed(branches))
+
+
+def _renamed(branches) -> list:
+    """The branches named kind, kind-2, ... in order (dropped duplicates leave gaps in the names
+    given while tracing), with the names inside their origins rewritten to match."""
+    names = {}
+    for ob in branches:
+        names[ob.name] = unique_name(ob.kind, [dataclasses.replace(o, name=n) for o, n in zip(branches, names.values())])
+    slot = {old: f"\0{k}\0" for k, old in enumerate(names)}  # two passes: a new name may be another's old one
+
+    def rewrite(text):
+        for old in sorted(names, key=len, reverse=True):
+            text = text.replace(f"the {old} branch", f"the {slot[old]} branch")
+        for old, new in names.items():
+            text = text.replace(slot[old], new)
+        return text
+
+    return [dataclasses.replace(ob, name=names[ob.name], origin=rewrite(ob.origin), found_from=rewrite(ob.found_from)) for ob in branches]
