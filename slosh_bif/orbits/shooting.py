@@ -34,6 +34,7 @@ from scipy.integrate import solve_ivp
 
 from slosh_bif.continuation.corrector import newton_solve
 from slosh_bif.model.params import Params
+from slosh_bif.orbits.floquet import floquet_multipliers
 from slosh_bif.simulation import integrator
 
 __all__ = ["PeriodicOrbit", "ShootingProblem", "Arcs", "PARAMETERS", "period_map", "shoot", "periodic_orbit", "orbit_at", "orbit_measures"]
@@ -257,7 +258,7 @@ class ShootingProblem:
         if len(self._cache) > 8:
             self._cache.clear()
         self._cache[key] = result
-        self._floquet[key] = (M, trace)
+        self._floquet[key] = (M, trace, mats)
         return result
 
     def _arcs(self, x, p):
@@ -309,12 +310,14 @@ class ShootingProblem:
         return self._floquet[key]
 
     def eigenvalues(self, x, p):
-        """The Floquet multipliers, largest modulus first."""
-        M = self.monodromy(x, p)
-        if not np.all(np.isfinite(M)):
-            return np.full(4, np.nan + 0j)
-        mu = np.linalg.eigvals(M)
-        return mu[np.argsort(-np.abs(mu))]
+        """The Floquet multipliers, largest modulus first: from the arc matrices by the periodic
+        Schur decomposition of :mod:`slosh_bif.orbits.floquet`, never from the formed monodromy
+        matrix, whose small eigenvalues drown in the rounding of its large ones."""
+        return floquet_multipliers(self.arc_matrices(x, p))
+
+    def arc_matrices(self, x, p):
+        """The arcs' state transition matrices Phi_1 .. Phi_m (the monodromy is their product)."""
+        return self._monodromy_and_trace(x, p)[2]
 
     @staticmethod
     def is_stable(multipliers) -> bool:
@@ -322,7 +325,7 @@ class ShootingProblem:
 
     def liouville_error(self, x, p) -> float:
         """|det M - exp(int tr J)| / exp(int tr J): zero up to the integration error."""
-        M, trace = self._monodromy_and_trace(x, p)
+        M, trace, _ = self._monodromy_and_trace(x, p)
         expected = np.exp(trace)
         return float(abs(np.linalg.det(M) - expected) / expected)
 

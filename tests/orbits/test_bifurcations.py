@@ -23,6 +23,9 @@ class GivenMonodromy(ShootingProblem):
     def monodromy(self, x, p):
         return self._of_p(p)
 
+    def arc_matrices(self, x, p):
+        return [self._of_p(p)]
+
 
 def second_compound(M):
     """The matrix of 2x2 minors of M: its eigenvalues are mu_i mu_j (i < j)."""

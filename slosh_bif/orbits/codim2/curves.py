@@ -14,6 +14,7 @@ from slosh_bif.continuation import Branch, ContinuationOptions, continuation
 from slosh_bif.model.params import Params
 from slosh_bif.orbits.codim2.minaug import CURVE_KINDS, MultiplierCurveProblem
 from slosh_bif.orbits.codim2.torus import TorusCurveProblem
+from slosh_bif.orbits.floquet import floquet_multipliers
 from slosh_bif.orbits.shooting import ShootingProblem, orbit_measures
 
 __all__ = ["BifurcationCurve", "trace_curve", "CURVE_OPTIONS"]
@@ -140,7 +141,7 @@ def _check_start(at: Params, x, kind: str, segments: int, period_multiple: int, 
         raise ValueError(f"the start must be {4 * segments} finite numbers (the states at the starts of {segments} arcs); got shape {x.shape}")
     problem = ShootingProblem(at, p1, segments=segments, period_multiple=period_multiple, symmetric=symmetric)
     arcs = problem.arcs(x, at)
-    mu = np.linalg.eigvals(arcs.monodromy) if np.all(np.isfinite(arcs.monodromy)) else np.full(4, np.nan)
+    mu = floquet_multipliers(arcs.mats)
     residual = np.linalg.norm(problem.residual_of(x, arcs))
     critical = {
         "LP": np.min(np.abs(mu - 1)), "PD": np.min(np.abs(mu + 1)), "BP": np.min(np.abs(mu - 1)),

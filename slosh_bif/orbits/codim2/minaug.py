@@ -31,6 +31,7 @@ from __future__ import annotations
 import numpy as np
 
 from slosh_bif.model.params import FIELDS, Params
+from slosh_bif.orbits.floquet import floquet_multipliers
 from slosh_bif.orbits.shooting import PARAMETERS, ShootingProblem
 
 __all__ = ["MultiplierCurveProblem", "CURVE_KINDS"]
@@ -169,7 +170,7 @@ class MultiplierCurveProblem:
         arcs = self._solve(x, p)[0]
         if not np.all(np.isfinite(arcs.monodromy)):
             return np.full(4, np.nan + 0j)
-        mu = np.linalg.eigvals(arcs.monodromy)
+        mu = floquet_multipliers(arcs.mats)
         order = np.argsort(np.abs(mu - self.mu))
         return mu[order]
 

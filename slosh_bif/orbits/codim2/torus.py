@@ -20,6 +20,7 @@ from __future__ import annotations
 import numpy as np
 
 from slosh_bif.orbits.codim2.minaug import MultiplierCurveProblem
+from slosh_bif.orbits.floquet import floquet_multipliers
 
 __all__ = ["TorusCurveProblem"]
 
@@ -91,7 +92,7 @@ class TorusCurveProblem(MultiplierCurveProblem):
         arcs = self._solve(x, p)[0]
         if not np.all(np.isfinite(arcs.monodromy)):
             return np.full(4, np.nan + 0j)
-        mu = np.linalg.eigvals(arcs.monodromy)
+        mu = floquet_multipliers(arcs.mats)
         target = np.exp(1j * x[-1])
         distance = np.minimum(np.abs(mu - target), np.abs(mu - target.conjugate()))
         return mu[np.argsort(distance)]
