@@ -19,13 +19,14 @@ from __future__ import annotations
 import dataclasses
 
 import numpy as np
+from scipy import optimize
 
 import slosh_bif.continuation as cont
 from slosh_bif.model._generated import slow_flow as gen
 from slosh_bif.model.manifold_law import END_KINDS
 from slosh_bif.model.params import Params
 from slosh_bif.slowflow.flow import SlowFlow
-from slosh_bif.slowflow.steady_states import EDGE_MARGIN, SteadyStateProblem, end_rho
+from slosh_bif.slowflow.steady_states import EDGE_MARGIN, SteadyStateProblem, _amplitude_bound, abar_on_curve, end_rho
 
 __all__ = ["CriticalPoint", "CriticalCurve", "abar_branch", "critical_forcing", "critical_curve", "FoldProblem", "EndProblem", "interp_min"]
 
@@ -164,24 +165,62 @@ DEFAULT_OPTIONS = cont.ContinuationOptions(step=0.02, step_max=0.2)
 
 
 def abar_branch(params: Params, sigma: float, *, options: cont.ContinuationOptions | None = None):
-    """Steady states on S+ at fixed ``sigma``, continued in Abar: one branch from A_min to large A."""
+    """Steady states on S+ at fixed ``sigma``, continued in Abar: one branch from A_min to large A
+    (or to the upper end of S+)."""
     P = params.replace(sigma=float(sigma))
     problem = SteadyStateProblem(P, "Abar")
-    A0 = max(1.0, 3 * problem.flow.A_min)
+    flow = problem.flow
+    A0 = max(1.0, 3 * flow.A_min)
+    if not A0 < flow.A_max * (1 - 2 * EDGE_MARGIN):  # a short window of S+ (an upper end): its middle
+        A0 = float(np.sqrt(flow.A_min * flow.A_max))
     Abar0 = _Residual46(P).abar_at(A0, P.sigma)
-    psi0 = float(problem.flow.steady_phase(A0, Abar=Abar0))
+    psi0 = float(flow.steady_phase(A0, Abar=Abar0))
     opts = dataclasses.replace(options or DEFAULT_OPTIONS, p_min=0.0, p_max=max(10.0, 10 * Abar0))
     return cont.continuation(problem, [A0, psi0], Abar0, param="Abar", options=opts)
 
 
 def critical_forcing(params: Params, sigma: float, *, options: cont.ContinuationOptions | None = None) -> CriticalPoint:
-    """The smallest Abar with a steady state on S+ at ``sigma`` (continuation in Abar)."""
-    branch = abar_branch(params, sigma, options=options)
-    candidates = [(s.p, float(s.x[0]), s.kind) for s in branch.special if s.kind == "LP" or (s.kind == cont.Kind.END and s.reason == cont.Status.EDGE)]
-    if not candidates:
-        raise RuntimeError(f"no fold and no manifold end found on the Abar branch at sigma = {sigma}: {branch.message}")
-    Abar_b, A, kind = min(candidates)
-    return CriticalPoint(sigma=float(sigma), Abar_b=float(Abar_b), A=A, kind=kind)
+    """The smallest Abar with a steady state on S+ at ``sigma``.
+
+    At fixed sigma, (46) gives Abar explicitly as a function of A on S+ (:func:`abar_on_curve`),
+    so Abar_b is its least value over the window of S+: at an end of S+ (``END``, evaluated at
+    the end itself) or at an interior minimum, a fold of the Abar branch (``LP``, located by
+    bounded Brent to 1e-13 in A). With gamma > 0, Abar >= gamma A, so amplitudes beyond
+    (the least Abar so far) / gamma need no search. ``options`` is accepted for compatibility
+    with the continuation-based callers and not used.
+    """
+    P = params.replace(sigma=float(sigma))
+    flow = SlowFlow(P)
+    lo, hi = flow.A_min, flow.A_max
+    guess = float(abar_on_curve(flow, min(max(1.0, 3 * lo), np.sqrt(lo * hi) if np.isfinite(hi) else np.inf)))
+    top = min(hi, _amplitude_bound(P.replace(Abar=max(guess, 1e-12))))
+    A = np.geomspace(lo, top, 4001)
+    A[-1] = top
+    # The ends by their own closed forms: at the lower end alpha has a square root in A (NaN at
+    # A_min itself by rounding); at an upper end (a fold of (39), kappa = 0) alpha is regular, but
+    # kappa(A) is found only inside, so the end's kappa gives rho there.
+    abar = np.concatenate([[EndProblem(P).abar_at(P.sigma)], abar_on_curve(flow, A[1:-1]), [_abar_at_upper_end(flow, top)]])
+    finite = np.isfinite(abar)
+    if not np.any(finite):
+        raise RuntimeError(f"(46) has no steady state on S+ at sigma = {sigma} for A in [{lo:.10g}, {top:.10g}]")
+    i = int(np.nanargmin(np.where(finite, abar, np.nan)))
+    if i == 0:
+        return CriticalPoint(sigma=float(sigma), Abar_b=float(abar[0]), A=float(lo), kind=cont.Kind.END.value)
+    if i == len(A) - 1:
+        if top == hi:
+            return CriticalPoint(sigma=float(sigma), Abar_b=float(abar[-1]), A=float(hi), kind=cont.Kind.END.value)
+        raise RuntimeError(f"Abar of (46) at sigma = {sigma} still falls at A = {top:.6g}, the largest amplitude searched")
+    found = optimize.minimize_scalar(lambda a: float(abar_on_curve(flow, a)), bounds=(A[i - 1], A[i + 1]), method="bounded", options={"xatol": 1e-13 * A[i]})
+    return CriticalPoint(sigma=float(sigma), Abar_b=float(found.fun), A=float(found.x), kind=cont.Kind.FOLD.value)
+
+
+def _abar_at_upper_end(flow: SlowFlow, A):
+    """Abar of the steady state at A, the largest amplitude searched: the upper end of S+ itself
+    (its kappa from the end, not from (39)) when A is that end."""
+    if A < flow.A_max:
+        return float(abar_on_curve(flow, A))
+    E, Phi = gen.steady_balances(A, end_rho(flow.law.upper), *flow._slow_with(None, 1.0))
+    return float(np.hypot(E, Phi) / (np.pi**2 * A))
 
 
 @dataclasses.dataclass(frozen=True)
