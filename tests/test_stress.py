@@ -235,3 +235,22 @@ def test_shooting_on_strongly_modulated_responses_over_sigma(sigma):
     late = simulate(P, preset.state0, 1500.0).y[:, -1]
     orbit = bounded(periodic_orbit, P, late, segments=4, max_iter=12)
     assert not orbit.converged or orbit.residual < 1e-8
+
+
+def test_a_writer_that_fails_leaves_the_previous_file_and_no_partial_one(tmp_path):
+    """Outputs are written whole or not at all (issue 18): a CSV writer interrupted mid-way (an
+    exception from a row, as a kill or a full disk would) keeps the previous complete file."""
+    from slosh_bif.report.tables import write_rows
+
+    path = tmp_path / "table.csv"
+    write_rows([{"a": 1.0}], ["a"], path)
+    before = path.read_text()
+
+    def rows():
+        yield {"a": 2.0}
+        raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        write_rows(rows(), ["a"], path)
+    assert path.read_text() == before
+    assert [p.name for p in tmp_path.iterdir()] == ["table.csv"]

@@ -10,6 +10,7 @@ import numpy as np
 
 from slosh_bif.cli.common import add_params_options, add_range_options, add_sigma_points_option, add_tmax_option, floats, params_of, progress, sigma_range, state0_of
 from slosh_bif.cli.orbits import add_shooting_options, family_from_args
+from slosh_bif.report.files import write_text_atomically
 
 __all__ = ["add_commands"]
 
@@ -28,7 +29,7 @@ def _compare(args) -> int:
     rows = list(compare_rows(family, fr, np.linspace(lo, hi, args.sigma_points)))
     csv_path, png_path = write_compare_csv(rows, args.out / "compare.csv"), plot_compare(family, fr, rows, args.out / "compare.png")
     table = compare_table(rows)
-    (args.out / "compare.txt").write_text(table + "\n")
+    write_text_atomically(args.out / "compare.txt", table + "\n")
     print(table)
     print(f"wrote {csv_path}, {png_path}, {args.out / 'compare.txt'}")
     return 0
@@ -49,7 +50,7 @@ def _trust(args) -> int:
 
     points = trust_map(base, eps=args.eps, beta=args.beta, n=args.n, sigma_min=lo, sigma_max=hi, grid=args.sigma_points, switch=not args.no_switch, max_branches=args.max_branches, max_workers=args.workers, progress=report)
     table = trust_table(points)
-    (args.out / "trust_map.txt").write_text(table + "\n")
+    write_text_atomically(args.out / "trust_map.txt", table + "\n")
     csv_path, png_path = write_trust_csv(points, args.out / "trust_map.csv"), plot_trust_map(points, args.out / "trust_map.png")
     print(table)
     print(f"wrote {csv_path}, {png_path}, {args.out / 'trust_map.txt'}")
@@ -101,7 +102,7 @@ def _answer(args) -> int:
         args.out.mkdir(parents=True, exist_ok=True)
         record = dict(question=result.question, model=result.model, reason=result.reason, error_estimate=result.error_estimate, seconds=result.seconds, params=params.as_dict())
         path = args.out / "answer.json"
-        path.write_text(json.dumps(record, indent=2) + "\n")
+        write_text_atomically(path, json.dumps(record, indent=2) + "\n")
         print(f"wrote {path}")
     return 0
 
@@ -145,7 +146,7 @@ def add_commands(sub) -> None:
 
     bench = sub.add_parser("bench", help="work-precision charts: frequency-response question, integrators, cost of growth (a few minutes)")
     bench.add_argument("--out", type=Path, required=True, help="output folder (created if missing)")
-    bench.add_argument("--only", nargs="+", default=None, choices=("frequency-response", "integration", "growth"), help="only these benchmarks")
+    bench.add_argument("--only", nargs="+", default=None, choices=("frequency-response", "integration", "growth", "speed"), help="only these benchmarks")
     bench.add_argument("--repeats", type=int, default=3, help="timing rounds per point; the median is reported (default 3)")
     bench.add_argument("--quick", action="store_true", help="fewer points and one round (a smoke test, not a measurement)")
     bench.set_defaults(run=_bench)

@@ -16,6 +16,7 @@ from __future__ import annotations
 import dataclasses
 import enum
 import json
+import os
 from pathlib import Path
 
 import numpy as np
@@ -190,8 +191,20 @@ class Branch:
         special_x = np.array([s.x for s in self.special]) if self.special else np.zeros((0, self.x.shape[1]))
         width = self.x.shape[1] + 1
         special_t = np.array([s.tangent if s.tangent is not None else np.full(width, np.nan) for s in self.special]) if self.special else np.zeros((0, width))
+        # Whole or not at all (as slosh_bif.report.files does for the wings, which this layer cannot import).
+        path = Path(path) if str(path).endswith(".npz") else Path(f"{path}.npz")  # numpy's naming
+        tmp = path.with_name(f".{path.stem}.{os.getpid()}.partial.npz")
+        try:
+            self._savez(tmp, meta, special_x, special_t, extra)
+            os.replace(tmp, path)
+        finally:
+            if tmp.exists():
+                tmp.unlink()
+        return path
+
+    def _savez(self, tmp, meta, special_x, special_t, extra):
         np.savez(
-            path,
+            tmp,
             meta=np.array(json.dumps(meta)),
             p=self.p,
             x=self.x,
@@ -203,7 +216,6 @@ class Branch:
             special_tangent=special_t,
             **extra,
         )
-        return path
 
     @classmethod
     def load(cls, path) -> "Branch":

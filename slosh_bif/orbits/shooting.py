@@ -15,14 +15,10 @@ for period doubling (``det(M + I)``, a multiplier through -1) and Neimark-Sacker
 (``prod_{i<j} (mu_i mu_j - 1)``, a complex pair through the unit circle; real reciprocal pairs,
 neutral saddles, also zero it and are dropped on confirmation). Folds and branch points come from
 the engine's own tests (a multiplier through +1 with and without the parameter turning back).
-Integration is by :mod:`slosh_bif.simulation.integrator` (compiled when numba is installed).
-
-The Floquet multipliers are the eigenvalues of M; an orbit is stable when all lie inside the unit
-circle. Each orbit carries an accuracy check (Liouville's formula): the product of the multipliers,
-det M, must equal ``exp(int_0^T tr J dtau)``; for (9), ``tr J = -eps gamma (1 + eps) - lam w^(2p)``.
-
-This module is generic in the vector field: :func:`shoot` takes any ``rhs(tau, y)`` and
-``jac(tau, y)``; :func:`periodic_orbit` binds it to model (9).
+Integration is by the compiled :mod:`slosh_bif.simulation.integrator`. The Floquet multipliers
+(eigenvalues of M, by :mod:`slosh_bif.orbits.floquet` from the arc matrices) carry Liouville's
+check: det M = ``exp(int_0^T tr J dtau)``, ``tr J = -eps gamma (1 + eps) - lam w^(2p)`` for (9).
+:func:`shoot` takes any ``rhs(tau, y)`` and ``jac(tau, y)``; :func:`periodic_orbit` binds it to (9).
 """
 
 from __future__ import annotations
@@ -200,12 +196,16 @@ class ShootingProblem:
         self.names = tuple(f"{c}{k}" for k in range(segments) for c in _STATE)
         self.evaluations = 0  # arc integrations so far (cost accounting)
         self._cache: dict = {}  # the last few full arc results
-        # (M, int tr J) of every (x, p) ever integrated: 17 numbers each, so that the stability and
-        # Liouville check of a branch's points, asked for after the branch is done, integrate nothing.
+        # (M, int tr J, arc matrices) of every (x, p) integrated: a branch's stability and
+        # Liouville check, asked for after the branch is done, integrate nothing.
         self._floquet: dict = {}
+        self._at = None  # (p, params_at(p)) of the last p asked for
 
     def params_at(self, p: float) -> Params:
-        return self.params.replace(**{self.param: float(p)})
+        p = float(p)
+        if self._at is None or self._at[0] != p:  # validating a Params costs 60 us; a point asks ~20 times
+            self._at = (p, self.params.replace(**{self.param: p}))
+        return self._at[1]
 
     def in_domain(self, x, p) -> bool:
         """Whether the continuation may evaluate (x, p): inside the parameter ``box`` (when given),
@@ -310,9 +310,8 @@ class ShootingProblem:
         return self._floquet[key]
 
     def eigenvalues(self, x, p):
-        """The Floquet multipliers, largest modulus first: from the arc matrices by the periodic
-        Schur decomposition of :mod:`slosh_bif.orbits.floquet`, never from the formed monodromy
-        matrix, whose small eigenvalues drown in the rounding of its large ones."""
+        """The Floquet multipliers, largest modulus first, by the periodic Schur decomposition of
+        the arc matrices (:mod:`slosh_bif.orbits.floquet`), not from the formed monodromy."""
         return floquet_multipliers(self.arc_matrices(x, p))
 
     def arc_matrices(self, x, p):

@@ -10,6 +10,7 @@ from pathlib import Path
 import numpy as np
 
 from slosh_bif.model import manifold
+from slosh_bif.report.files import replaced_atomically
 
 __all__ = ["plot_manifold", "plot_slow_manifold", "plot_projection", "plot_time_history", "plot_branch", "pyplot", "save_figure"]
 
@@ -28,7 +29,8 @@ def save_figure(fig, path, *, dpi=130) -> Path:
     """Lay out (unless the figure has its own layout engine), write and close ``fig``; returns the path."""
     if fig.get_layout_engine() is None:
         fig.tight_layout()
-    fig.savefig(path, dpi=dpi)
+    with replaced_atomically(path) as tmp:
+        fig.savefig(tmp, dpi=dpi)
     pyplot().close(fig)
     return Path(path)
 

@@ -16,6 +16,7 @@ import numpy as np
 
 from slosh_bif.model.manifold import project_on_manifold
 from slosh_bif.model.manifold_law import ManifoldLaw
+from slosh_bif.report.files import replaced_atomically, write_text_atomically
 from slosh_bif.report.plotting import plot_projection, plot_slow_manifold, plot_time_history, pyplot, save_figure
 from slosh_bif.report.tables import write_rows
 
@@ -27,13 +28,14 @@ __all__ = [
 
 def write_trajectory(sim, path) -> Path:
     """tau, X, X', w, w' and the impacts (times, wall side, w' before and after) as one npz."""
-    np.savez_compressed(
-        path,
-        tau=sim.t, X=sim.y[0], Xd=sim.y[1], w=sim.y[2], wd=sim.y[3],
-        impact_t=sim.impact_t, impact_side=sim.impact_side,
-        impact_v_minus=sim.impact_v_minus, impact_v_plus=sim.impact_v_plus,
-        model=np.array(sim.model), status=np.array(sim.status),
-    )
+    with replaced_atomically(path) as tmp:
+        np.savez_compressed(
+            tmp,
+            tau=sim.t, X=sim.y[0], Xd=sim.y[1], w=sim.y[2], wd=sim.y[3],
+            impact_t=sim.impact_t, impact_side=sim.impact_side,
+            impact_v_minus=sim.impact_v_minus, impact_v_plus=sim.impact_v_plus,
+            model=np.array(sim.model), status=np.array(sim.status),
+        )
     return Path(path)
 
 
@@ -55,8 +57,7 @@ def summary_record(sim, summary) -> dict:
 
 
 def write_summary(sim, summary, path) -> Path:
-    Path(path).write_text(json.dumps(summary_record(sim, summary), indent=2) + "\n")
-    return Path(path)
+    return write_text_atomically(path, json.dumps(summary_record(sim, summary), indent=2) + "\n")
 
 
 def plot_simulation(sim, summary, path, *, title: str = "") -> Path:

@@ -1,6 +1,6 @@
 """Work-precision benchmarks: what each method costs for the accuracy it gives.
 
-Three questions, each measured in one process (medians of repeated runs; ratios, not seconds,
+Four questions, each measured in one process (medians of repeated runs; ratios, not seconds,
 are what carry over between machines):
 
 * **The frequency-response question** (:func:`frequency_response_bench`): the amplitude of X at a
@@ -19,6 +19,8 @@ are what carry over between machines):
 * **The cost of growth** (:func:`growth_bench`): time to trace a branch and to simulate a fixed
   interval as the wall exponent n grows, simulation time against interval length, and regime-map
   time against grid size and number of worker processes.
+* **Speed** (:func:`~slosh_bif.studies.speed.speed_bench`): the shooting command as a whole process
+  against 1,000 scipy periods, start-up, the shooting start (the targets of the speed issue).
 
 :func:`run` writes each question's CSV and chart (:mod:`slosh_bif.studies.bench_output`); the CLI is
 ``slosh-bif bench --out DIR``.
@@ -49,6 +51,7 @@ from slosh_bif.slowflow.flow import AsymptoticsWarning, SlowFlow
 from slosh_bif.slowflow.steady_states import frequency_response
 from slosh_bif.studies import bench_output
 from slosh_bif.studies.chart import critical_forcing_full
+from slosh_bif.studies.speed import speed_bench
 
 __all__ = [
     "FR_SIGMAS",
@@ -141,7 +144,8 @@ def _critical_row(ref):
     full = critical_forcing_full(params, ref.y0)
     slow = critical_forcing(params, ref.sigma)
     rel = abs(slow.Abar_b - full.Abar_c) / full.Abar_c if np.isfinite(full.Abar_c) else np.nan
-    return dict(preset=ref.preset, sigma=ref.sigma, Abar_b_slowflow=slow.Abar_b, slowflow_kind=slow.kind, Abar_c_full=full.Abar_c, bounded_by=full.bounded_by, rel_diff=rel)
+    return dict(preset=ref.preset, sigma=ref.sigma, Abar_b_slow_flow=slow.Abar_b, slow_flow_kind=slow.kind, Abar_b_smooth_model=full.Abar_c,
+                smooth_model_kind=full.bounded_by, relative_difference=rel)
 
 
 def _interp_stable(fr, sigma, target):
@@ -340,7 +344,7 @@ def growth_bench(*, quick: bool = False, repeats: int = 3, progress=None):
 
 # --- all of it ---------------------------------------------------------------------------------------
 
-QUESTIONS = ("frequency-response", "integration", "growth")
+QUESTIONS = ("frequency-response", "integration", "growth", "speed")
 
 
 def run(out, *, only=None, quick: bool = False, repeats: int = 3, progress=None) -> list:
@@ -358,4 +362,6 @@ def run(out, *, only=None, quick: bool = False, repeats: int = 3, progress=None)
         written += bench_output.write_frequency_response(*frequency_response_bench(quick=quick, repeats=repeats, progress=progress), out)
     if "growth" in only:
         written += bench_output.write_growth(growth_bench(quick=quick, repeats=repeats, progress=progress), out)
+    if "speed" in only:
+        written += bench_output.write_speed(speed_bench(quick=quick, progress=progress), out)
     return written

@@ -8,6 +8,7 @@ import numpy as np
 
 from slosh_bif.report.plotting import pyplot, save_figure
 from slosh_bif.report.tables import write_rows
+from slosh_bif.studies.speed import SPEED_COLUMNS
 
 __all__ = ["equal_error_ratio", "write_integration", "write_frequency_response", "write_growth", "integration_ratios"]
 
@@ -80,7 +81,8 @@ def write_integration(rows, out) -> list:
 def write_frequency_response(rows, ref_rows, crit_rows, out) -> list:
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
-    crit_columns = ["preset", "sigma", "Abar_b_slowflow", "slowflow_kind", "Abar_c_full", "bounded_by", "rel_diff"]
+    # The column names of the first release (scripts read them); Abar_b_smooth_model is Abar_c of (9).
+    crit_columns = ["preset", "sigma", "Abar_b_slow_flow", "slow_flow_kind", "Abar_b_smooth_model", "smooth_model_kind", "relative_difference"]
     paths = [
         write_rows(crit_rows, crit_columns, out / "critical_forcing.csv"),
         write_rows(rows, ["preset", "method", "knob", "value", "seconds", "runs", "error", "failures", "answers", "reference"], out / "frequency_response.csv"),
@@ -132,3 +134,15 @@ def write_growth(rows, out) -> list:
     axes[2].set_title("regime map against grid size and workers")
     paths.append(save_figure(fig, out / "growth.png"))
     return paths
+
+
+def write_speed(rows, out) -> list:
+    """``speed.csv`` and one line per row on stdout: each ratio (or time) beside its target."""
+    for r in rows:
+        if np.isfinite(r["ratio"]):
+            verdict = f"ratio {r['ratio']:.3f} (target <= {r['target']:g})"
+        else:
+            verdict = f"(target < {r['target']:g} s)" if np.isfinite(r["target"]) else ""
+        print(f"speed: {r['case']}: {r['seconds']:.2f} s {verdict}")
+    Path(out).mkdir(parents=True, exist_ok=True)
+    return [write_rows(rows, SPEED_COLUMNS, Path(out) / "speed.csv")]

@@ -193,7 +193,7 @@ def test_fast_walls_cover_every_kind_of_end():
     assert kinds == {("lower", "manifold end (36)"), ("lower", "fold of (39)"), ("upper", "fold of (39)"), ("upper", "kappa reaches 0")}
 
 
-def _oracle_least_abar(P, sigma=1.0, points=4000):
+def _oracle_least_abar(P, sigma=1.0, points=1000):
     """The least Abar of (46) over S+ at sigma, by the oracle's closed form on a log grid of A."""
     law, oracle = ManifoldLaw(P), Oracle(P.lam, P.chi, P.n, P.pbar)
     top = min(law.A_max * (1 - 1e-9), 1e4)
@@ -202,7 +202,7 @@ def _oracle_least_abar(P, sigma=1.0, points=4000):
     c = 1 - P.beta**2
     values = []
     for a_ in A:
-        r = oracle.rho(oracle.root(a_, 4001))
+        r = oracle.rho(oracle.largest(a_))  # near a fold of (39) two roots share a scan cell: largest() finds them
         al = (1 + np.sqrt(max((1 + r**2) * a_**2 - r**2, 0.0))) / (1 + r**2)
         values.append(np.hypot(P.gamma * np.pi**2 * a_**2 + 8 * r * al**2 * c, np.pi**2 * (sigma - c) * a_**2 - 8 * al * (1 - al) * c) / (np.pi**2 * a_))
     return np.nanmin(values)

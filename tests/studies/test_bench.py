@@ -75,7 +75,7 @@ def test_bench_command_writes_every_chart_and_table(tmp_path, capsys):
         eq46 = min((float(r["value"]), float(r["error"])) for r in fr if r["method"] == "eq. 46 continuation" and r["preset"] == preset)
         assert eq46[1] <= SLOW_FLOW_ERROR["frequency-response"]
     crit = _read(tmp_path / "critical_forcing.csv")
-    assert crit and max(float(r["rel_diff"]) for r in crit) <= SLOW_FLOW_ERROR["critical-forcing"]
+    assert crit and max(float(r["relative_difference"]) for r in crit) <= SLOW_FLOW_ERROR["critical-forcing"]
     refs = _read(tmp_path / "frequency_response_reference.csv")
     assert all(float(r["self_error"]) < 1e-8 and float(r["max_multiplier"]) < 1 for r in refs)
     assert {r["study"] for r in _read(tmp_path / "growth.csv")} == {"n", "interval", "regime map"}
@@ -83,7 +83,18 @@ def test_bench_command_writes_every_chart_and_table(tmp_path, capsys):
 
 
 def test_bench_rejects_bad_input(tmp_path):
-    with pytest.raises(ValueError, match="unknown benchmark 'speed'"):
-        bench.run(tmp_path, only=["speed"])
+    with pytest.raises(ValueError, match="unknown benchmark 'sped'"):
+        bench.run(tmp_path, only=["sped"])
     with pytest.raises(ValueError, match="repeats"):
         bench.run(tmp_path, repeats=0)
+
+
+def test_speed_bench_times_the_command_as_a_user_runs_it():
+    """The speed question runs the CLI in a fresh interpreter; a failing command is an error that
+    names it, not a time."""
+    from slosh_bif.studies.speed import _run_cli
+
+    seconds, _ = _run_cli(["info", "--preset", "fig10"])
+    assert 0 < seconds < 120
+    with pytest.raises(RuntimeError, match="slosh-bif info --preset nosuch failed"):
+        _run_cli(["info", "--preset", "nosuch"])

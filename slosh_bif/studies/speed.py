@@ -1,0 +1,86 @@
+"""The speed targets of the shooting issue, measured as ratios in one run (``slosh-bif bench --only speed``).
+
+* **Shooting branch, whole process**: ``slosh-bif shoot --preset fig10 --no-switch --sigma-min -6
+  --sigma-max 8`` run as a user runs it (a fresh interpreter: imports, cached compilation, the
+  settling simulation, the branch with every special point, the output files), against 1,000
+  one-period integrations of (9) by scipy's ``solve_ivp`` DOP853 at rtol 1e-10, atol 1e-12 on the
+  same machine in the same run; the target is a ratio of at most 0.3. The same with
+  ``--set n=6 --set sigma=-6`` (a symmetric start at sigma = -6 for the n = 6 set).
+* **Start-up**: ``slosh-bif info --preset fig10`` in a fresh interpreter (target < 0.5 s), and
+  the shooting start alone in this process (the settling simulation and Newton).
+* **Peak memory** of the whole-process branch (the child's maximum resident set size).
+
+The direct simulation's ratio against scipy is the integration question's
+(``integrators_ratios.csv``).
+"""
+
+from __future__ import annotations
+
+import os
+import resource
+import subprocess
+import sys
+import tempfile
+import time
+
+import numpy as np
+from scipy.integrate import solve_ivp
+
+from slosh_bif.model.equations import SmoothModel
+from slosh_bif.model.presets import get_preset
+from slosh_bif.orbits.starts import orbit_from_simulation
+
+__all__ = ["speed_bench", "SPEED_COLUMNS"]
+
+SPEED_COLUMNS = ("case", "seconds", "reference_seconds", "ratio", "target", "peak_rss_mb", "note")
+SHOOT = ["shoot", "--preset", "fig10", "--no-switch", "--sigma-min", "-6", "--sigma-max", "8"]
+CASES = {"fig10 (n = 50)": [], "fig10, n = 6, from sigma = -6": ["--set", "n=6", "--set", "sigma=-6"]}
+
+
+def _run_cli(arguments, timeout=900.0):
+    """Wall time and peak resident set (MB) of ``slosh-bif ARGUMENTS`` in a fresh interpreter."""
+    before = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
+    start = time.perf_counter()
+    done = subprocess.run([sys.executable, "-m", "slosh_bif.cli", *arguments], capture_output=True, text=True, timeout=timeout, env={**os.environ, "PYTHONWARNINGS": "ignore"})
+    seconds = time.perf_counter() - start
+    if done.returncode not in (0, 3):
+        raise RuntimeError(f"slosh-bif {' '.join(arguments)} failed ({done.returncode}): {done.stderr.strip().splitlines()[-1] if done.stderr.strip() else ''}")
+    peak = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss  # kB on Linux; the largest child so far
+    return seconds, peak / 1024 if peak > before else np.nan
+
+
+def _scipy_periods(params, y0, count=1000):
+    model = SmoothModel(params)
+    start = time.perf_counter()
+    y = np.asarray(y0, dtype=float)
+    with np.errstate(all="ignore"):  # rejected trial steps into the wall overflow harmlessly
+        for _ in range(count):
+            y = solve_ivp(model.rhs, (0.0, 2 * np.pi), y, method="DOP853", rtol=1e-10, atol=1e-12).y[:, -1]
+    return time.perf_counter() - start
+
+
+def speed_bench(*, quick: bool = False, progress=None) -> list:
+    """Rows of :data:`SPEED_COLUMNS`: each whole-process branch against 1,000 scipy periods of its
+    own parameter set, the start-up of ``slosh-bif info`` and the in-process shooting start."""
+    say = progress or (lambda message: None)
+    rows = []
+    periods = 100 if quick else 1000
+    with tempfile.TemporaryDirectory() as tmp:
+        _run_cli(["info", "--preset", "fig10"])  # compile and cache once, as an installed user has
+        for case, extra in CASES.items():
+            say(f"speed: slosh-bif shoot, {case}")
+            seconds, peak = _run_cli([*SHOOT, *extra, "--out", os.path.join(tmp, "shoot")])
+            params = get_preset("fig10").params.with_overrides(extra[1::2])
+            say(f"speed: {periods} scipy DOP853 periods, {case}")
+            reference = _scipy_periods(params, get_preset("fig10").state_for(params), periods) * (1000 / periods)
+            rows.append(dict(case=f"shoot --no-switch, {case}", seconds=seconds, reference_seconds=reference, ratio=seconds / reference, target=0.3, peak_rss_mb=peak,
+                             note="whole process against 1,000 one-period scipy DOP853 integrations (rtol 1e-10)" + (" (100 measured, scaled)" if quick else "")))
+        say("speed: start-up")
+        startup = min(_run_cli(["info", "--preset", "fig10"])[0] for _ in range(1 if quick else 3))
+        rows.append(dict(case="slosh-bif info (start-up, cached)", seconds=startup, reference_seconds=np.nan, ratio=np.nan, target=0.5, peak_rss_mb=np.nan, note="seconds; target in seconds"))
+    pre = get_preset("fig10")
+    start = time.perf_counter()
+    orbit_from_simulation(pre.params, pre.state0)
+    rows.append(dict(case="shooting start (settle 150 periods, Newton)", seconds=time.perf_counter() - start, reference_seconds=np.nan, ratio=np.nan, target=np.nan,
+                     peak_rss_mb=np.nan, note="in process, compiled"))
+    return rows
