@@ -104,8 +104,8 @@ def _blocks(U, tol):
 
 
 def periodic_schur(mats, *, max_sweeps: int = 50, tol: float = 1e-14) -> PeriodicSchur:
-    """The periodic Schur decomposition of the product ``mats[-1] @ ... @ mats[0]`` of square
-    matrices (see the module docstring) and its eigenvalues, largest modulus first."""
+    """The periodic Schur decomposition of the product of the square matrices ``mats`` (the last
+    factor leftmost; see the module docstring) and its eigenvalues, largest modulus first."""
     mats = [np.asarray(Phi, dtype=float) for Phi in mats]
     if not mats or any(Phi.ndim != 2 or Phi.shape != mats[0].shape or Phi.shape[0] != Phi.shape[1] for Phi in mats):
         raise ValueError("mats must be a non-empty sequence of square matrices of one size")
@@ -141,5 +141,5 @@ def periodic_schur(mats, *, max_sweeps: int = 50, tol: float = 1e-14) -> Periodi
 
 
 def floquet_multipliers(mats) -> np.ndarray:
-    """The eigenvalues of ``mats[-1] @ ... @ mats[0]`` by :func:`periodic_schur`, largest modulus first."""
+    """The eigenvalues of the product of ``mats`` (the last factor leftmost) by :func:`periodic_schur`, largest modulus first."""
     return periodic_schur(mats).multipliers
