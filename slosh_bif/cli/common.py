@@ -9,8 +9,7 @@ import sys
 from pathlib import Path
 
 from slosh_bif.model.params import FIELDS
-from slosh_bif.model.presets import PRESETS, get_preset
-from slosh_bif.simulation.regimes import CLASSIFY_TMAX
+from slosh_bif.model.presets import CLASSIFY_TMAX, PRESETS, get_preset
 
 __all__ = [
     "add_params_options",

@@ -26,7 +26,7 @@ import numpy as np
 
 from slosh_bif.model.params import Params
 
-__all__ = ["Preset", "PRESETS", "get_preset", "state_from_uv", "uv_from_state"]
+__all__ = ["Preset", "PRESETS", "CLASSIFY_TMAX", "get_preset", "state_from_uv", "uv_from_state"]
 
 
 def state_from_uv(u, u_dot, v, v_dot, eps):
@@ -95,6 +95,13 @@ PRESETS = {
                 note="Fig. 10 with white noise; sigma_bar not printed, 4 (Fig. 14) assumed"),
     ]
 }
+
+
+CLASSIFY_TMAX = 600.0
+"""End time tau of a simulation whose regime is classified (the second half is classified): about
+95 forcing periods, 30 units of the slow time eps tau at eps = 0.05. Every command that classifies
+(``regimes``, ``chart --regimes``, ``answer regime``) uses it; ``simulate`` uses the preset's window.
+Here beside the figures' windows, so that the command line reads it without loading the simulation."""
 
 
 def get_preset(name: str) -> Preset:

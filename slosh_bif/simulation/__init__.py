@@ -5,7 +5,7 @@ maps, wavelets, and their output."""
 from slosh_bif.simulation.direct import Simulation, simulate
 from slosh_bif.simulation.integrator import HAVE_NUMBA, integrate, integrate_grid
 from slosh_bif.simulation.noise import BandLimitedNoise, band_limited_noise
-from slosh_bif.simulation.regimes import CLASSIFY_TMAX, REGIMES, RegimeMap, RegimeSummary, classify, regime_map
+from slosh_bif.simulation.regimes import REGIMES, RegimeMap, RegimeSummary, classify, regime_map
 from slosh_bif.simulation.vibro_impact import ImpactTrajectory, simulate_impact
 
 __all__ = [
@@ -23,5 +23,4 @@ __all__ = [
     "regime_map",
     "RegimeMap",
     "REGIMES",
-    "CLASSIFY_TMAX",
 ]

@@ -39,6 +39,7 @@ import numpy as np
 from slosh_bif.model.manifold import project_on_manifold
 from slosh_bif.model.manifold_law import ManifoldLaw
 from slosh_bif.model.params import Params
+from slosh_bif.model.presets import CLASSIFY_TMAX
 from slosh_bif.simulation.direct import simulate
 
 __all__ = ["REGIMES", "THRESHOLDS", "RegimeSummary", "classify", "RegimeMap", "regime_map"]
@@ -173,11 +174,6 @@ class RegimeMap:
     summaries: list
     tmax: float
     model: str
-
-
-CLASSIFY_TMAX = 600.0
-"""End time tau of a simulation whose regime is classified (the second half is classified): about
-95 forcing periods, 30 units of the slow time eps tau at eps = 0.05. Every command that classifies (``regimes``, ``chart --regimes``, ``answer regime``) uses it."""
 
 
 def _classify_point(params, state0, tmax, model, transient, sample_step):

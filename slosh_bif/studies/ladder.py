@@ -36,11 +36,11 @@ import warnings
 import numpy as np
 
 from slosh_bif.model.params import Params
-from slosh_bif.model.presets import get_preset
+from slosh_bif.model.presets import CLASSIFY_TMAX, get_preset
 from slosh_bif.orbits.families import trace_orbits
 from slosh_bif.orbits.starts import settle_and_shoot
 from slosh_bif.simulation.direct import simulate
-from slosh_bif.simulation.regimes import CLASSIFY_TMAX, classify
+from slosh_bif.simulation.regimes import classify
 from slosh_bif.slowflow.critical import critical_forcing
 from slosh_bif.slowflow.flow import AsymptoticsWarning, SlowFlow, asymptotics_concerns
 from slosh_bif.slowflow.steady_states import frequency_response
