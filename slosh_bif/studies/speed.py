@@ -17,7 +17,6 @@ The direct simulation's ratio against scipy is the integration question's
 from __future__ import annotations
 
 import os
-import resource
 import subprocess
 import sys
 import tempfile
@@ -37,16 +36,26 @@ SHOOT = ["shoot", "--preset", "fig10", "--no-switch", "--sigma-min", "-6", "--si
 CASES = {"fig10 (n = 50)": [], "fig10, n = 6, from sigma = -6": ["--set", "n=6", "--set", "sigma=-6"]}
 
 
+_CHILD = (
+    "import resource, runpy, sys\n"
+    "sys.argv = ['slosh-bif', *sys.argv[1:]]\n"
+    "try:\n    runpy.run_module('slosh_bif.cli', run_name='__main__')\n"
+    "finally:\n    print('peak_rss_kb', resource.getrusage(resource.RUSAGE_SELF).ru_maxrss, file=sys.stderr)\n"
+)
+
+
 def _run_cli(arguments, timeout=900.0):
-    """Wall time and peak resident set (MB) of ``slosh-bif ARGUMENTS`` in a fresh interpreter."""
-    before = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
+    """Wall time and the child's own peak resident set (MB; ru_maxrss is in kB on Linux) of
+    ``slosh-bif ARGUMENTS`` in a fresh interpreter."""
     start = time.perf_counter()
-    done = subprocess.run([sys.executable, "-m", "slosh_bif.cli", *arguments], capture_output=True, text=True, timeout=timeout, env={**os.environ, "PYTHONWARNINGS": "ignore"})
+    done = subprocess.run([sys.executable, "-c", _CHILD, *arguments], capture_output=True, text=True, timeout=timeout, env={**os.environ, "PYTHONWARNINGS": "ignore"})
     seconds = time.perf_counter() - start
+    lines = done.stderr.strip().splitlines()
+    peak = float(lines[-1].split()[1]) / 1024 if lines and lines[-1].startswith("peak_rss_kb") else np.nan
     if done.returncode not in (0, 3):
-        raise RuntimeError(f"slosh-bif {' '.join(arguments)} failed ({done.returncode}): {done.stderr.strip().splitlines()[-1] if done.stderr.strip() else ''}")
-    peak = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss  # kB on Linux; the largest child so far
-    return seconds, peak / 1024 if peak > before else np.nan
+        reason = next((line for line in reversed(lines) if not line.startswith("peak_rss_kb")), "")
+        raise RuntimeError(f"slosh-bif {' '.join(arguments)} failed ({done.returncode}): {reason}")
+    return seconds, peak
 
 
 def _scipy_periods(params, y0, count=1000):
