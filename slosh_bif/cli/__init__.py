@@ -41,7 +41,10 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv=None) -> int:
+    import signal
     import warnings
+
+    from slosh_bif.cli.common import Terminated
 
     parser = build_parser()
     args = parser.parse_args(argv)
@@ -53,15 +56,29 @@ def main(argv=None) -> int:
             shown.add(str(message))
             print(f"slosh-bif {args.command}: warning: {message}", file=sys.stderr)
 
+    def on_sigterm(_signum, _frame):
+        raise Terminated("stopped")
+
+    try:
+        previous = signal.signal(signal.SIGTERM, on_sigterm)
+    except ValueError:  # not the main thread: signals stay as they are
+        previous = None
     with warnings.catch_warnings():
         warnings.showwarning = show
         warnings.simplefilter("always")  # every warning reaches show(), which prints each message once
         try:
             return args.run(args)
+        except KeyboardInterrupt as stop:  # Ctrl-C or SIGTERM: workers are stopped where they run
+            name = getattr(stop, "signal_name", "SIGINT")
+            print(f"slosh-bif {args.command}: {stop if str(stop) else 'interrupted (' + name + ')'}; the files written are complete, the rest was not written", file=sys.stderr)
+            return 143 if name == "SIGTERM" else 130
         except ValueError as err:
             print(f"slosh-bif {args.command}: error: {err}", file=sys.stderr)
             return 2
         except RuntimeError as err:  # a method that could not answer says why (no traceback)
             print(f"slosh-bif {args.command}: failed: {err}", file=sys.stderr)
             return 1
+        finally:
+            if previous is not None:
+                signal.signal(signal.SIGTERM, previous)
 

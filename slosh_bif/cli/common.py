@@ -41,6 +41,18 @@ class Deprecated(argparse.Action):
         setattr(namespace, self.dest, values)
 
 
+class Terminated(KeyboardInterrupt):
+    """SIGTERM, raised in the main thread like Ctrl-C's KeyboardInterrupt, so that one path stops
+    workers, keeps what is done and exits (143 instead of 130)."""
+
+    signal_name = "SIGTERM"
+
+
+def stopped(status: str) -> KeyboardInterrupt:
+    """The exception a command raises after writing a partial result whose ``status`` says why."""
+    return Terminated(status) if "SIGTERM" in status else KeyboardInterrupt(status)
+
+
 def add_params_options(parser):
     parser.add_argument("--preset", required=True, choices=sorted(PRESETS), help="parameter set of a figure of the paper")
     parser.add_argument(

@@ -9,7 +9,7 @@ from pathlib import Path
 
 import numpy as np
 
-from slosh_bif.cli.common import Deprecated, add_abar_range_options, add_params_options, add_range_options, add_tmax_option, params_of, progress, sigma_range, state0_of, throttled
+from slosh_bif.cli.common import Deprecated, add_abar_range_options, add_params_options, add_range_options, add_tmax_option, params_of, progress, sigma_range, state0_of, stopped, throttled
 from slosh_bif.model.presets import get_preset
 
 __all__ = ["add_commands"]
@@ -69,11 +69,13 @@ def _regimes(args) -> int:
         tmax=args.tmax, model=args.model, max_workers=args.workers,
         progress=lambda done, total: report(f"classified {done} of {total} grid points"),
     )
-    curve = critical_curve(params, lo, hi)
+    curve = critical_curve(params, lo, hi) if rmap.complete else None  # stopped: write what was computed, at once
     paths = [write_regime_csv(rmap, args.out / "regimes.csv"), plot_regime_map(rmap, args.out / "regimes.png", critical=curve)]
     counts = {r: int(np.sum(rmap.regime == r)) for r in sorted(set(rmap.regime.ravel()))}
     print("regimes: " + ", ".join(f"{r} {c}" for r, c in counts.items()))
     print("wrote " + ", ".join(str(p) for p in paths))
+    if not rmap.complete:  # the points done are written; the CLI's handler says so and exits 130 / 143
+        raise stopped(rmap.status)
     return 0
 
 

@@ -84,6 +84,11 @@ class RegimeSummary:
         nan = math.nan
         return cls("failed", reason, nan, nan, nan, nan, nan, nan, nan, 0, nan, nan, transient, nan)
 
+    @classmethod
+    def not_computed(cls, reason: str, transient: float) -> "RegimeSummary":
+        """The record of a grid point a stopped run did not reach (regime ``"not computed"``)."""
+        return dataclasses.replace(cls.failed(reason, transient), regime="not computed")
+
     def as_dict(self) -> dict:
         return {k: (v if not isinstance(v, float) or math.isfinite(v) else None) for k, v in dataclasses.asdict(self).items()}
 
@@ -174,6 +179,31 @@ class RegimeMap:
     summaries: list
     tmax: float
     model: str
+    status: str = "complete"  # or why the map stopped early ("interrupted (SIGINT)", ...): its missing cells are "not computed"
+
+    @property
+    def complete(self) -> bool:
+        return self.status == "complete"
+
+
+def _ignore_interrupts():
+    # Workers leave Ctrl-C and SIGTERM to the parent, which stops them itself: a terminal's
+    # SIGINT reaches the whole process group, and each worker would print a traceback.
+    import signal
+
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
+
+
+def stop_pool(pool) -> None:
+    """Cancel what has not started and kill the workers of a ``ProcessPoolExecutor`` at once (a
+    simulation in a worker cannot be interrupted any other way)."""
+    processes = list(getattr(pool, "_processes", {}).values())  # the executor keeps no public handle on them
+    pool.shutdown(wait=False, cancel_futures=True)
+    for process in processes:
+        process.kill()
+    for process in processes:
+        process.join(timeout=2.0)
 
 
 def _classify_point(params, state0, tmax, model, transient, sample_step):
@@ -203,6 +233,9 @@ def regime_map(
     The points run through ``executor`` (any ``concurrent.futures.Executor``, e.g. a Dask
     cluster's ``distributed.Client().get_executor()``); by default a local
     ``ProcessPoolExecutor(max_workers)``. ``progress(done, total)`` is called as points finish.
+    Interrupted (KeyboardInterrupt, or SIGTERM turned into one by the CLI), it kills its own
+    workers at once and returns what it has: ``status`` says why it stopped, the points it did not
+    reach are ``"not computed"``.
     """
     from concurrent.futures import ProcessPoolExecutor, as_completed
 
@@ -217,20 +250,28 @@ def regime_map(
         transient = 0.5 * tmax
     jobs = {(i, j): params.replace(sigma=float(s), Abar=float(a)) for i, a in enumerate(abars) for j, s in enumerate(sigmas)}
     own = executor is None
-    pool = ProcessPoolExecutor(max_workers=max_workers) if own else executor
-    results = {}
+    pool = ProcessPoolExecutor(max_workers=max_workers, initializer=_ignore_interrupts) if own else executor
+    results, status = {}, "complete"
     try:
         futures = {pool.submit(_classify_point, p, np.asarray(state0, dtype=float), tmax, model, transient, sample_step): key for key, p in jobs.items()}
         for done, future in enumerate(as_completed(futures), 1):
             results[futures[future]] = future.result()
             if progress is not None:
                 progress(done, len(futures))
-    finally:
+    except KeyboardInterrupt as stop:
+        status = f"interrupted ({getattr(stop, 'signal_name', 'SIGINT')}) after {len(results)} of {len(jobs)} points"
         if own:
+            stop_pool(pool)
+        else:
+            for future in futures:
+                future.cancel()
+    finally:
+        if own and status == "complete":
             pool.shutdown()
     regime = np.empty((abars.size, sigmas.size), dtype=object)
     summaries = [[None] * sigmas.size for _ in abars]
-    for (i, j), summary in results.items():
+    for i, j in jobs:
+        summary = results.get((i, j)) or RegimeSummary.not_computed(status, transient)
         regime[i, j] = summary.regime
         summaries[i][j] = summary
-    return RegimeMap(params, sigmas, abars, regime, summaries, float(tmax), model)
+    return RegimeMap(params, sigmas, abars, regime, summaries, float(tmax), model, status)
