@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
-from slosh_bif.cli.common import add_params_options, add_range_options, add_sigma_points_option, add_tmax_option, floats, params_of, progress, sigma_range, state0_of
+from slosh_bif.cli.common import add_params_options, add_range_options, add_sigma_points_option, add_tmax_option, floats, params_of, progress, sigma_range, state0_of, stopped
 from slosh_bif.cli.orbits import add_shooting_options, family_from_args
 from slosh_bif.report.files import write_text_atomically
 
@@ -54,6 +54,9 @@ def _trust(args) -> int:
     csv_path, png_path = write_trust_csv(points, args.out / "trust_map.csv"), plot_trust_map(points, args.out / "trust_map.png")
     print(table)
     print(f"wrote {csv_path}, {png_path}, {args.out / 'trust_map.txt'}")
+    missing = [p.status for p in points if p.status.startswith("not computed")]
+    if missing:
+        raise stopped(missing[0])
     return 0
 
 

@@ -186,7 +186,7 @@ class RegimeMap:
         return self.status == "complete"
 
 
-def _ignore_interrupts():
+def workers_leave_signals_to_parent():
     # Workers leave Ctrl-C and SIGTERM to the parent, which stops them itself: a terminal's
     # SIGINT reaches the whole process group, and each worker would print a traceback.
     import signal
@@ -250,7 +250,7 @@ def regime_map(
         transient = 0.5 * tmax
     jobs = {(i, j): params.replace(sigma=float(s), Abar=float(a)) for i, a in enumerate(abars) for j, s in enumerate(sigmas)}
     own = executor is None
-    pool = ProcessPoolExecutor(max_workers=max_workers, initializer=_ignore_interrupts) if own else executor
+    pool = ProcessPoolExecutor(max_workers=max_workers, initializer=workers_leave_signals_to_parent) if own else executor
     results, status = {}, "complete"
     try:
         futures = {pool.submit(_classify_point, p, np.asarray(state0, dtype=float), tmax, model, transient, sample_step): key for key, p in jobs.items()}

@@ -31,6 +31,7 @@ from slosh_bif.continuation import ConvergenceError
 from slosh_bif.model.params import Params
 from slosh_bif.orbits.families import trace_orbits
 from slosh_bif.orbits.starts import slow_flow_start
+from slosh_bif.simulation.regimes import stop_pool, workers_leave_signals_to_parent
 from slosh_bif.slowflow.flow import AsymptoticsWarning, asymptotics_concerns
 from slosh_bif.slowflow.steady_states import frequency_response
 from slosh_bif.studies.compare import compare_rows
@@ -133,7 +134,8 @@ def trust_map(base: Params, *, eps=(0.02, 0.05, 0.1, 0.2), beta=(0.0, 0.3, 0.5),
 
     Points run in a ``ProcessPoolExecutor(max_workers)``; ``progress(point, done, total)`` is
     called as they finish. ``options`` go to :func:`trust_point`. Returns the points in grid
-    order (eps slowest, n fastest).
+    order (eps slowest, n fastest). Interrupted (Ctrl-C, or SIGTERM through the CLI), it kills
+    its workers and returns the points done, the others with status ``"not computed: ..."``.
     """
     from concurrent.futures import ProcessPoolExecutor, as_completed
 
@@ -144,11 +146,24 @@ def trust_map(base: Params, *, eps=(0.02, 0.05, 0.1, 0.2), beta=(0.0, 0.3, 0.5),
         raise ValueError("the (eps, beta, n) grid is empty")
     jobs = [base.replace(eps=float(e), beta=float(b), n=int(k)) for e, b, k in grid]  # Params checks each value
     points = [None] * len(jobs)
-    with ProcessPoolExecutor(max_workers=max_workers) as pool:
+    pool = ProcessPoolExecutor(max_workers=max_workers, initializer=workers_leave_signals_to_parent)
+    try:
         futures = {pool.submit(trust_point, p, sigma_min, sigma_max, **options): i for i, p in enumerate(jobs)}
         for done, future in enumerate(as_completed(futures), 1):
             i = futures[future]
             points[i] = future.result()
             if progress is not None:
                 progress(points[i], done, len(jobs))
+    except KeyboardInterrupt as stop:  # keep what is done; the rest says why it is missing
+        stop_pool(pool)
+        why = f"not computed: interrupted ({getattr(stop, 'signal_name', 'SIGINT')}) after {sum(p is not None for p in points)} of {len(jobs)} points"
+        points = [p if p is not None else _not_computed(job, why) for p, job in zip(points, jobs)]
+    else:
+        pool.shutdown()
     return points
+
+
+def _not_computed(params: Params, why: str) -> TrustPoint:
+    nan = float("nan")
+    return TrustPoint(eps=params.eps, beta=params.beta, n=params.n, warned=bool(asymptotics_concerns(params)), stable_states=0, agree=nan, confirmed=nan,
+                      median_difference=nan, max_difference=nan, sigma_start=nan, branches=0, seconds=0.0, status=why)
