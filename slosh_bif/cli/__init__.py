@@ -21,6 +21,7 @@ Subcommands:
 from __future__ import annotations
 
 import argparse
+import re
 import sys
 
 from slosh_bif.cli import chart, info, orbits, simulation, slowflow, studies
@@ -40,6 +41,21 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+_NEGATIVE = re.compile(r"^-(\d|\.\d|inf|nan)", re.IGNORECASE)
+
+
+def _negative_values_attached(argv):
+    """``--opt -1e6`` as ``--opt=-1e6``: argparse takes a value that starts with '-' for an option
+    unless it is a plain negative number, so ``--sigma-min -1e6`` and ``--guess -1,0,0,0`` failed."""
+    out = []
+    for token in argv:
+        if out and out[-1].startswith("--") and "=" not in out[-1] and _NEGATIVE.match(token):
+            out[-1] = f"{out[-1]}={token}"
+        else:
+            out.append(token)
+    return out
+
+
 def main(argv=None) -> int:
     import signal
     import warnings
@@ -47,7 +63,7 @@ def main(argv=None) -> int:
     from slosh_bif.cli.common import Terminated
 
     parser = build_parser()
-    args = parser.parse_args(argv)
+    args = parser.parse_args(_negative_values_attached(sys.argv[1:] if argv is None else list(argv)))
 
     shown = set()
 

@@ -301,3 +301,14 @@ def test_figures_writes_every_figure_quickly(tmp_path, capsys):
     assert len(FIGURES) == 11
     assert "A_min = 0.0993" in capsys.readouterr().out  # the Fig. 6 note reaches the user
     assert main(["figures", "--only", "fig99", "--out", str(tmp_path)]) == 2
+
+
+def test_negative_numbers_parse_as_option_values(tmp_path, capsys):
+    """`--sigma-min -1e1` and `--guess -1,0,0,0` are values, not options (argparse alone refused
+    both with "expected one argument")."""
+    assert main(["frc", "--preset", "fig10", "--sigma-min", "-1e1", "--sigma-max", "-5", "--out", str(tmp_path)]) == 0
+    with open(tmp_path / "frc.csv", newline="") as fh:
+        sigmas = [float(r["sigma"]) for r in csv.DictReader(fh)]
+    assert min(sigmas) == pytest.approx(-10.0)
+    assert main(["shoot", "--preset", "fig10", "--guess", "-1,0,0,0", "--no-switch", "--out", str(tmp_path)]) == 2
+    assert "near --guess" in capsys.readouterr().err
