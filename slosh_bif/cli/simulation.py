@@ -47,7 +47,7 @@ def _simulate(args) -> int:
 
 
 def _regimes(args) -> int:
-    from slosh_bif.simulation.output import plot_regime_map, write_regime_csv
+    from slosh_bif.simulation.output import plot_regime_map, read_regime_store, regime_settings, write_regime_csv, write_regime_store
     from slosh_bif.simulation.regimes import regime_map
     from slosh_bif.slowflow.critical import critical_curve
 
@@ -62,13 +62,18 @@ def _regimes(args) -> int:
         raise ValueError(f"--sigma-points and --abar-points take positive integers; got {n_sigma} and {n_abar}")
     if args.workers is not None and args.workers < 1:
         raise ValueError(f"--workers must be a positive integer; got {args.workers}")
+    sigmas, abars, state0 = np.linspace(lo, hi, n_sigma), np.linspace(args.abar_min, args.abar_max, n_abar), state0_of(args, params)
+    settings = regime_settings(params, state0, sigmas, abars, tmax=args.tmax, model=args.model)
+    done = read_regime_store(args.out / "regimes.json", settings) if args.resume else None
+    if done is not None:
+        progress(f"resuming: {len(done)} of {sigmas.size * abars.size} grid points already classified in {args.out / 'regimes.json'}")
     args.out.mkdir(parents=True, exist_ok=True)
     report = throttled(progress, passes=lambda message: False)
     rmap = regime_map(
-        params, state0_of(args, params), np.linspace(lo, hi, n_sigma), np.linspace(args.abar_min, args.abar_max, n_abar),
-        tmax=args.tmax, model=args.model, max_workers=args.workers,
-        progress=lambda done, total: report(f"classified {done} of {total} grid points"),
+        params, state0, sigmas, abars, tmax=args.tmax, model=args.model, max_workers=args.workers, done=done,
+        progress=lambda count, total: report(f"classified {count} of {total} grid points"),
     )
+    write_regime_store(rmap, settings, args.out / "regimes.json")
     curve = critical_curve(params, lo, hi) if rmap.complete else None  # stopped: write what was computed, at once
     paths = [write_regime_csv(rmap, args.out / "regimes.csv"), plot_regime_map(rmap, args.out / "regimes.png", critical=curve)]
     counts = {r: int(np.sum(rmap.regime == r)) for r in sorted(set(rmap.regime.ravel()))}
@@ -102,4 +107,5 @@ def add_commands(sub) -> None:
     add_tmax_option(regimes)
     regimes.add_argument("--model", choices=("smooth", "impact"), default="smooth", help="model simulated (default smooth)")
     regimes.add_argument("--workers", type=int, default=None, help="worker processes (default: one per core)")
+    regimes.add_argument("--resume", action="store_true", help="reuse the cells classified in OUT/regimes.json by an earlier run with the same settings (an interrupted one) and simulate only the rest")
     regimes.set_defaults(run=_regimes)

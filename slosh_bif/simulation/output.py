@@ -19,10 +19,11 @@ from slosh_bif.model.manifold_law import ManifoldLaw
 from slosh_bif.report.files import replaced_atomically, write_text_atomically
 from slosh_bif.report.plotting import plot_projection, plot_slow_manifold, plot_time_history, pyplot, save_figure
 from slosh_bif.report.tables import write_rows
+from slosh_bif.simulation.regimes import RegimeSummary
 
 __all__ = [
     "write_trajectory", "write_summary", "plot_simulation", "plot_motion_on_manifold", "summary_record",
-    "write_regime_csv", "plot_regime_map", "draw_regimes",
+    "write_regime_csv", "plot_regime_map", "draw_regimes", "regime_settings", "write_regime_store", "read_regime_store",
 ]
 
 
@@ -120,6 +121,32 @@ def write_regime_csv(rmap, path) -> Path:
         for j, s in enumerate(rmap.sigma)
     )
     return write_rows(rows, REGIME_COLUMNS, path, digits=8)
+
+
+def regime_settings(params, state0, sigmas, abars, *, tmax, model) -> dict:
+    """What decides every cell of a regime map: a resumed run reuses stored cells only when these
+    are equal (exactly: the grids as written by ``repr`` of their floats)."""
+    return {"params": params.as_dict(), "state0": [float(v) for v in state0], "sigma": [float(v) for v in sigmas], "Abar": [float(v) for v in abars], "tmax": float(tmax), "model": model}
+
+
+def write_regime_store(rmap, settings: dict, path) -> Path:
+    """``regimes.json``: the settings and every classified cell at full precision (what
+    ``regimes --resume`` reads; regimes.csv rounds)."""
+    cells = {f"{i},{j}": rmap.summaries[i][j].as_dict() for i in range(len(rmap.Abar)) for j in range(len(rmap.sigma)) if rmap.regime[i, j] != "not computed"}
+    return write_text_atomically(path, json.dumps({"settings": settings, "status": rmap.status, "cells": cells}) + "\n")
+
+
+def read_regime_store(path, settings: dict) -> dict:
+    """{(i, j): RegimeSummary} stored in ``path`` by a run with the same ``settings``; a one-line
+    ValueError when the file is unreadable or was written for other settings."""
+    try:
+        stored = json.loads(Path(path).read_text())
+    except (OSError, ValueError) as err:
+        raise ValueError(f"--resume: cannot read {path}: {err}") from None
+    if stored.get("settings") != settings:
+        differ = sorted(k for k in settings if stored.get("settings", {}).get(k) != settings[k])
+        raise ValueError(f"--resume: {path} was written for other settings ({', '.join(differ)} differ); run without --resume or into another --out")
+    return {tuple(int(v) for v in key.split(",")): RegimeSummary.from_dict(record) for key, record in stored["cells"].items()}
 
 
 def draw_regimes(ax, rmap, *, alpha=0.75):

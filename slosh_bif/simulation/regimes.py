@@ -92,6 +92,11 @@ class RegimeSummary:
     def as_dict(self) -> dict:
         return {k: (v if not isinstance(v, float) or math.isfinite(v) else None) for k, v in dataclasses.asdict(self).items()}
 
+    @classmethod
+    def from_dict(cls, record: dict) -> "RegimeSummary":
+        """The inverse of :meth:`as_dict` (None back to NaN): a stored cell, bit for bit."""
+        return cls(**{k: (math.nan if record[k] is None else record[k]) for k in (f.name for f in dataclasses.fields(cls))})
+
 
 def _collapses(A, low, high):
     """Number of times the envelope falls below ``low`` after having been above ``high``."""
@@ -227,6 +232,7 @@ def regime_map(
     executor=None,
     max_workers: int | None = None,
     progress=None,
+    done=None,
 ) -> RegimeMap:
     """Simulate and classify every (sigma, Abar) of the grid from ``state0``.
 
@@ -235,7 +241,8 @@ def regime_map(
     ``ProcessPoolExecutor(max_workers)``. ``progress(done, total)`` is called as points finish.
     Interrupted (KeyboardInterrupt, or SIGTERM turned into one by the CLI), it kills its own
     workers at once and returns what it has: ``status`` says why it stopped, the points it did not
-    reach are ``"not computed"``.
+    reach are ``"not computed"``. ``done``: {(i, j): RegimeSummary} of points already classified
+    (a resumed run), which are not simulated again.
     """
     from concurrent.futures import ProcessPoolExecutor, as_completed
 
@@ -251,13 +258,13 @@ def regime_map(
     jobs = {(i, j): params.replace(sigma=float(s), Abar=float(a)) for i, a in enumerate(abars) for j, s in enumerate(sigmas)}
     own = executor is None
     pool = ProcessPoolExecutor(max_workers=max_workers, initializer=workers_leave_signals_to_parent) if own else executor
-    results, status = {}, "complete"
+    results, status = {key: s for key, s in (done or {}).items() if key in jobs and s.regime != "not computed"}, "complete"
     try:
-        futures = {pool.submit(_classify_point, p, np.asarray(state0, dtype=float), tmax, model, transient, sample_step): key for key, p in jobs.items()}
-        for done, future in enumerate(as_completed(futures), 1):
+        futures = {pool.submit(_classify_point, p, np.asarray(state0, dtype=float), tmax, model, transient, sample_step): key for key, p in jobs.items() if key not in results}
+        for count, future in enumerate(as_completed(futures), len(results) + 1):
             results[futures[future]] = future.result()
             if progress is not None:
-                progress(done, len(futures))
+                progress(count, len(jobs))
     except KeyboardInterrupt as stop:
         status = f"interrupted ({getattr(stop, 'signal_name', 'SIGINT')}) after {len(results)} of {len(jobs)} points"
         if own:

@@ -63,3 +63,23 @@ def test_a_stopped_map_keeps_what_it_did_and_leaves_no_worker(tmp_path, signum, 
     assert len(rows) == cells
     assert any(r[column].startswith("not computed") for r in rows)
     assert not [p.name for p in out.iterdir() if p.name.startswith(".")]  # no partial file left
+
+
+@pytest.mark.skipif(not os.path.exists("/proc/self/task"), reason="reads worker processes from Linux's /proc")
+def test_an_interrupted_map_resumed_equals_an_uninterrupted_one(tmp_path, capsys):
+    import json
+
+    from slosh_bif.cli import main
+
+    grid = ["regimes", "--preset", "fig13", "--sigma-points", "5", "--abar-points", "5", "--tmax", "3000"]
+    returncode, err, _, _ = _stop_while_running(grid, signal.SIGINT, tmp_path / "a")
+    assert returncode == 130, err
+    kept = len(json.loads((tmp_path / "a" / "regimes.json").read_text())["cells"])
+    assert 0 < kept < 25
+    assert main([*grid, "--workers", "2", "--resume", "--out", str(tmp_path / "a")]) == 0
+    assert f"resuming: {kept} of 25" in capsys.readouterr().err
+    assert main([*grid, "--workers", "2", "--out", str(tmp_path / "b")]) == 0
+    assert (tmp_path / "a" / "regimes.csv").read_text() == (tmp_path / "b" / "regimes.csv").read_text()
+    # other settings: refused in one line, before any work
+    assert main([*grid[:-1], "2000", "--resume", "--out", str(tmp_path / "a")]) == 2
+    assert "tmax differ" in capsys.readouterr().err
