@@ -60,6 +60,8 @@ def main(argv=None) -> int:
     import signal
     import warnings
 
+    from threadpoolctl import threadpool_limits
+
     from slosh_bif.cli.common import Terminated
 
     parser = build_parser()
@@ -83,7 +85,8 @@ def main(argv=None) -> int:
         warnings.showwarning = show
         warnings.simplefilter("always")  # every warning reaches show(), which prints each message once
         try:
-            return args.run(args)
+            with threadpool_limits(limits=1, user_api="blas"):  # tiny matrices: BLAS threads only cost
+                return args.run(args)
         except KeyboardInterrupt as stop:  # Ctrl-C or SIGTERM: workers are stopped where they run
             name = getattr(stop, "signal_name", "SIGINT")
             print(f"slosh-bif {args.command}: {stop if str(stop) else 'interrupted (' + name + ')'}; the files written are complete, the rest was not written", file=sys.stderr)

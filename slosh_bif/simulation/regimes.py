@@ -42,7 +42,7 @@ from slosh_bif.model.params import Params
 from slosh_bif.model.presets import CLASSIFY_TMAX
 from slosh_bif.simulation.direct import simulate
 
-__all__ = ["REGIMES", "THRESHOLDS", "RegimeSummary", "classify", "RegimeMap", "regime_map"]
+__all__ = ["REGIMES", "THRESHOLDS", "RegimeSummary", "classify", "RegimeMap", "regime_map", "worker_setup", "stop_pool"]
 
 REGIMES = ("periodic-resonant", "non-resonant", "strongly-modulated", "free-decay", "other", "failed")
 
@@ -191,11 +191,16 @@ class RegimeMap:
         return self.status == "complete"
 
 
-def workers_leave_signals_to_parent():
-    # Workers leave Ctrl-C and SIGTERM to the parent, which stops them itself: a terminal's
-    # SIGINT reaches the whole process group, and each worker would print a traceback.
+def worker_setup():
+    """Initializer of every worker process: one BLAS thread (the matrices here are tiny, and a
+    busy machine makes OpenBLAS's threads cost 300x), and Ctrl-C and SIGTERM left to the parent,
+    which stops the workers itself (a terminal's SIGINT reaches the whole process group, and
+    each worker would print a traceback)."""
     import signal
 
+    from threadpoolctl import threadpool_limits
+
+    threadpool_limits(limits=1, user_api="blas")
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
 
@@ -257,7 +262,7 @@ def regime_map(
         transient = 0.5 * tmax
     jobs = {(i, j): params.replace(sigma=float(s), Abar=float(a)) for i, a in enumerate(abars) for j, s in enumerate(sigmas)}
     own = executor is None
-    pool = ProcessPoolExecutor(max_workers=max_workers, initializer=workers_leave_signals_to_parent) if own else executor
+    pool = ProcessPoolExecutor(max_workers=max_workers, initializer=worker_setup) if own else executor
     results, status = {key: s for key, s in (done or {}).items() if key in jobs and s.regime != "not computed"}, "complete"
     try:
         futures = {pool.submit(_classify_point, p, np.asarray(state0, dtype=float), tmax, model, transient, sample_step): key for key, p in jobs.items() if key not in results}

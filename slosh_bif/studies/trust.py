@@ -31,7 +31,7 @@ from slosh_bif.continuation import ConvergenceError
 from slosh_bif.model.params import Params
 from slosh_bif.orbits.families import trace_orbits
 from slosh_bif.orbits.starts import slow_flow_start
-from slosh_bif.simulation.regimes import stop_pool, workers_leave_signals_to_parent
+from slosh_bif.simulation.regimes import stop_pool, worker_setup
 from slosh_bif.slowflow.flow import AsymptoticsWarning, asymptotics_concerns
 from slosh_bif.slowflow.steady_states import frequency_response
 from slosh_bif.studies.compare import compare_rows
@@ -146,7 +146,7 @@ def trust_map(base: Params, *, eps=(0.02, 0.05, 0.1, 0.2), beta=(0.0, 0.3, 0.5),
         raise ValueError("the (eps, beta, n) grid is empty")
     jobs = [base.replace(eps=float(e), beta=float(b), n=int(k)) for e, b, k in grid]  # Params checks each value
     points = [None] * len(jobs)
-    pool = ProcessPoolExecutor(max_workers=max_workers, initializer=workers_leave_signals_to_parent)
+    pool = ProcessPoolExecutor(max_workers=max_workers, initializer=worker_setup)
     try:
         futures = {pool.submit(trust_point, p, sigma_min, sigma_max, **options): i for i, p in enumerate(jobs)}
         for done, future in enumerate(as_completed(futures), 1):
