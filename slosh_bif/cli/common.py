@@ -83,6 +83,14 @@ def add_sigma_points_option(parser, *, default: int, old: str = "--grid"):
         parser.add_argument(old, dest="sigma_points", type=int, action=Deprecated, new="--sigma-points", help=argparse.SUPPRESS)
 
 
+def add_backend_option(parser):
+    """--backend on the commands that integrate (9): the compiled DOP853 or scipy's."""
+    parser.add_argument(
+        "--backend", choices=("auto", "numba", "scipy"), default="auto",
+        help="integrator of (9): the compiled DOP853 (auto, numba) or scipy's solve_ivp DOP853, the same method without compilation (default auto)",
+    )
+
+
 def add_tmax_option(parser):
     """--tmax on every command that classifies a regime: one meaning and one default."""
     parser.add_argument(

@@ -7,6 +7,7 @@ import sys
 from slosh_bif.cli.common import (
     abar_range,
     add_abar_range_options,
+    add_backend_option,
     add_continuation_options,
     add_params_options,
     add_range_options,
@@ -35,14 +36,14 @@ def family_from_args(args, params, lo, hi, param="sigma"):
     if args.start == "scan":
         return scan_families(
             params, state0_of(args, params), p_min=lo, p_max=hi, param=param, points=args.scan_points, settle=args.settle, random_starts=args.scan_random,
-            seed=args.seed, segments=args.segments,
+            seed=args.seed, segments=args.segments, backend=args.backend,
             options=options, switch=not args.no_switch, max_branches=args.max_branches, rtol=rtol, atol=rtol * 1e-2, progress=throttled(progress),
         )
     if args.start == "slow-flow":
-        start = slow_flow_start(params, lo, hi, segments=args.segments)
+        start = slow_flow_start(params, lo, hi, segments=args.segments, backend=args.backend)
     else:
         try:
-            start = orbit_from_simulation(params, state0_of(args, params), settle=args.settle, guess=args.guess, segments=args.segments)
+            start = orbit_from_simulation(params, state0_of(args, params), settle=args.settle, guess=args.guess, segments=args.segments, backend=args.backend)
         except RuntimeError:
             where = "--guess" if args.guess is not None else f"the last strobe states of a {args.settle}-period simulation"
             raise ValueError(f"no periodic orbit found near {where} at sigma = {params.sigma:g}; pass --guess X,Xd,w,wd or change --settle") from None
@@ -51,7 +52,7 @@ def family_from_args(args, params, lo, hi, param="sigma"):
     progress(f"start orbit {which}at sigma = {start.sigma:.5g}: |X(0)| = {abs(start.y0[0]):.4g}, multipliers |mu| = {mu} ({start.found_from})")
     return trace_orbits(
         start.params, start.y0, param=param, p_min=lo, p_max=hi, segments=args.segments, options=options, rtol=rtol, atol=rtol * 1e-2,
-        switch=not args.no_switch, max_branches=args.max_branches, progress=throttled(progress), found_from=start.found_from,
+        switch=not args.no_switch, max_branches=args.max_branches, progress=throttled(progress), found_from=start.found_from, backend=args.backend,
     )
 
 
@@ -104,6 +105,7 @@ def add_shooting_options(parser):
     parser.add_argument("--settle", type=int, default=150, help="periods simulated for a start guess (default 150)")
     parser.add_argument("--max-branches", type=int, default=6, help="branches traced at most, the primary one included (default 6)")
     parser.add_argument("--no-switch", action="store_true", help="trace the primary branch only")
+    add_backend_option(parser)
     add_continuation_options(parser, rtol="relative tolerance of the integration of the shooting arcs (default 1e-10; the corrector follows it)")
 
 

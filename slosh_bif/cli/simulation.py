@@ -9,7 +9,20 @@ from pathlib import Path
 
 import numpy as np
 
-from slosh_bif.cli.common import Deprecated, add_abar_range_options, add_params_options, add_range_options, add_tmax_option, params_of, progress, sigma_range, state0_of, stopped, throttled
+from slosh_bif.cli.common import (
+    Deprecated,
+    add_abar_range_options,
+    add_backend_option,
+    add_params_options,
+    add_range_options,
+    add_tmax_option,
+    params_of,
+    progress,
+    sigma_range,
+    state0_of,
+    stopped,
+    throttled,
+)
 from slosh_bif.model.presets import get_preset
 
 __all__ = ["add_commands"]
@@ -29,7 +42,7 @@ def _simulate(args) -> int:
     args.out.mkdir(parents=True, exist_ok=True)
     report = throttled(progress, passes=lambda message: message.startswith("simulated 100"))
     sim = simulate(
-        params, state0_of(args, params), tmax, model=args.model, noise_std=noise, seed=args.seed, noise_cutoff=args.noise_cutoff,
+        params, state0_of(args, params), tmax, model=args.model, noise_std=noise, seed=args.seed, noise_cutoff=args.noise_cutoff, backend=args.backend,
         progress=lambda f: report(f"simulated {100 * f:.0f} % of tau in [0, {tmax:g}]"),
     )
     if not sim.success and sim.status != "sticking":
@@ -94,6 +107,7 @@ def add_commands(sub) -> None:
     sim.add_argument("--seed", type=int, default=0, help="seed of the noise (default 0); the same seed gives the same run bit for bit")
     sim.add_argument("--noise-cutoff", type=float, default=10.0, help="highest angular frequency of the band-limited noise (default 10)")
     sim.add_argument("--transient", type=float, default=None, help="tau after which the regime is judged (default: half the run)")
+    add_backend_option(sim)
     sim.add_argument("--out", type=Path, required=True, help="output folder (created if missing)")
     sim.set_defaults(run=_simulate)
 

@@ -98,6 +98,7 @@ def scan_families(
     max_branches: int = 6,
     rtol: float = 1e-10,
     atol: float = 1e-12,
+    backend: str = "auto",
     progress=None,
 ) -> OrbitFamily:
     """Every family of 2pi-orbits of (9) (and what branches off them) over [p_min, p_max] of
@@ -113,7 +114,7 @@ def scan_families(
     say = progress or (lambda message: None)
     branches, tried = [], 0
     starts = scan_starts(
-        params, state0, p_min, p_max, param=param, points=points, settle=settle, random_starts=random_starts, seed=seed, segments=segments, say=say,
+        params, state0, p_min, p_max, param=param, points=points, settle=settle, random_starts=random_starts, seed=seed, segments=segments, say=say, backend=backend,
     )
     for start in starts:
         tried += 1
@@ -130,7 +131,7 @@ def scan_families(
             family = trace_orbits(
                 start.params, start.y0, param=param, p_min=p_min, p_max=p_max, segments=segments, options=options or SHOOTING_OPTIONS,
                 switch=switch, max_branches=max_branches, rtol=rtol, atol=atol, progress=progress, known=branches, found_from=start.found_from,
-                doublings=doublings,
+                doublings=doublings, backend=backend,
             )
         except ConvergenceError as err:
             say(f"scan: no family traced from {start.found_from}: {err}")

@@ -46,19 +46,19 @@ class StartOrbit:
         return self.params.sigma
 
 
-def orbit_from_simulation(params: Params, state0, *, settle: int = 150, guess=None, segments: int = 4, tries: int = 50) -> StartOrbit:
+def orbit_from_simulation(params: Params, state0, *, settle: int = 150, guess=None, segments: int = 4, tries: int = 50, backend: str = "auto") -> StartOrbit:
     """A converged 2pi-orbit near ``guess``, or near the strobe states (tau = 2 pi k) of a
     simulation of (9) from ``state0`` over ``settle`` periods: the last strobe first, then up to
     ``tries - 1`` before it. Raises :class:`ConvergenceError` naming what was tried."""
     if not (isinstance(settle, int) and settle >= 0):
         raise ValueError(f"settle must be an integer >= 0 (forcing periods); got {settle!r}")
-    problem = ShootingProblem(params, segments=segments)
+    problem = ShootingProblem(params, segments=segments, backend=backend)
     if guess is not None:
         guesses = [np.asarray(guess, dtype=float)]
         if guesses[0].shape != (4,) or not np.all(np.isfinite(guesses[0])):
             raise ValueError(f"guess must be 4 finite numbers [X, X', w, w']; got {guess!r}")
     else:
-        strobes = integrate_grid(params, state0, 2 * np.pi * np.arange(settle + 1))
+        strobes = integrate_grid(params, state0, 2 * np.pi * np.arange(settle + 1), backend=backend)
         guesses = list(strobes[::-1][:tries])
     for k, y0 in enumerate(guesses):
         orbit = orbit_at(problem, problem.initial_states(y0), params.sigma, tol=1e-9)
@@ -69,19 +69,19 @@ def orbit_from_simulation(params: Params, state0, *, settle: int = 150, guess=No
     raise ConvergenceError(f"no periodic orbit found near {where} at sigma = {params.sigma:g}")
 
 
-def orbit_from_slow_flow(params: Params, A: float, *, segments: int = 4, rtol: float = 1e-10, atol: float = 1e-12, tol: float = 1e-10):
+def orbit_from_slow_flow(params: Params, A: float, *, segments: int = 4, rtol: float = 1e-10, atol: float = 1e-12, tol: float = 1e-10, backend: str = "auto"):
     """Newton on (9) from the slow flow's motion at amplitude A (a steady state of (46) at
     ``params``): each arc starts on :meth:`SlowFlow.fast_state` at its own start time, so that
     multiple shooting does not carry the guess's error across the period. Returns a
     :class:`PeriodicOrbit` (``converged`` says whether Newton found one)."""
     flow = SlowFlow(params)
     psi = float(flow.steady_phase(A))
-    problem = ShootingProblem(params, segments=segments, rtol=rtol, atol=atol)
+    problem = ShootingProblem(params, segments=segments, rtol=rtol, atol=atol, backend=backend)
     x = flow.fast_state(A, psi, problem.arc_times()[:-1]).ravel()
     return orbit_at(problem, x, params.sigma, tol=tol)
 
 
-def slow_flow_start(params: Params, sigma_min: float, sigma_max: float, *, segments: int = 4, tries: int = 12, response=None) -> StartOrbit:
+def slow_flow_start(params: Params, sigma_min: float, sigma_max: float, *, segments: int = 4, tries: int = 12, response=None, backend: str = "auto") -> StartOrbit:
     """A :class:`StartOrbit`: a 2pi-orbit of (9) found from a stable steady state of (46) in
     [sigma_min, sigma_max], for starting :func:`trace_orbits` without a simulation; its
     ``params`` carry the sigma of that steady state.
@@ -99,7 +99,7 @@ def slow_flow_start(params: Params, sigma_min: float, sigma_max: float, *, segme
     picks = candidates[:: max(1, len(candidates) // tries)][:tries]
     for sigma, A in picks:
         at = params.replace(sigma=sigma)
-        orbit = orbit_from_slow_flow(at, A, segments=segments)
+        orbit = orbit_from_slow_flow(at, A, segments=segments, backend=backend)
         if orbit.converged:
             return StartOrbit(at, orbit, f"Newton from the slow flow's motion on the stable steady state A = {A:.6g} of (46)")
     raise ConvergenceError(f"no orbit of (9) found from {len(picks)} stable steady states of (46) in sigma in [{sigma_min}, {sigma_max}]")
@@ -167,7 +167,7 @@ _RANDOM_BOX = np.array([3.0, 3.0, 1.0, 3.0])  # |X|, |X'|, |w|, |w'| of the rand
 
 def scan_starts(
     params: Params, state0, p_min: float, p_max: float, *, param: str = "sigma", points: int = 5, settle: int = 100, random_starts: int = 4,
-    seed: int = 0, segments: int = 4, say=None,
+    seed: int = 0, segments: int = 4, say=None, backend: str = "auto",
 ):
     """Converged 2pi-orbits of (9) from many starts over [p_min, p_max] of ``param`` (sigma or
     Abar), one :class:`StartOrbit` per start that converges (duplicates included: the caller
@@ -194,7 +194,7 @@ def scan_starts(
     states = _steady_states_near(params, param, grid, p_min, p_max)
     for v in grid:
         at = params.replace(**{param: float(v)})
-        problem = ShootingProblem(at, segments=segments)
+        problem = ShootingProblem(at, segments=segments, backend=backend)
         guesses = [(linear_response_state(at), "the impact-free linear response")]
         starts = [(np.asarray(state0, dtype=float), "the preset's initial state"), (np.zeros(4), "rest")]
         if at.Abar > 0:
@@ -203,7 +203,7 @@ def scan_starts(
         starts += [(rng.uniform(-_RANDOM_BOX, _RANDOM_BOX), f"random state {k + 1} (seed {seed})") for k in range(random_starts)]
         for y, what in starts:
             try:
-                guesses.append((integrate_grid(at, y, [0.0, 2 * np.pi * settle])[-1], f"a {settle}-period simulation from {what}"))
+                guesses.append((integrate_grid(at, y, [0.0, 2 * np.pi * settle], backend=backend)[-1], f"a {settle}-period simulation from {what}"))
             except RuntimeError as err:
                 say(f"scan: simulation from {what} at {param} = {v:.4g} failed ({err})")
         for y, what in guesses:
@@ -214,7 +214,7 @@ def scan_starts(
     for _, value, A, stable in states:
         at = params.replace(**{param: value})
         say(f"scan: Newton at {param} = {value:.4g} from the slow flow's motion on A = {A:.4g}")
-        orbit = orbit_from_slow_flow(at, A, segments=segments)
+        orbit = orbit_from_slow_flow(at, A, segments=segments, backend=backend)
         if orbit.converged:
             yield StartOrbit(at, orbit, f"Newton from the slow flow's motion on the {'stable' if stable else 'unstable'} steady state A = {A:.6g} of (46) at {param} = {value:.6g}")
 
