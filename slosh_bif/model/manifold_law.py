@@ -91,6 +91,10 @@ class _Eq39:
             if np.isfinite(g):
                 break
         hi = k_end if self._G(k_end, A) > 0 else 1.0
+        if np.isfinite(g) and g > 0 and self._G(hi, A) > 0 and abs(k_end - k_low) < 1e-6:
+            # Within ~1e-8 of the end the root is closer to the edge than the first offset at
+            # which (39) is defined: it lies in (k_low, k_low + d), and k_low + d is it to d.
+            return float(k_low + d)
         if not (np.isfinite(g) and g < 0 < self._G(hi, A)):
             return np.nan
         return float(optimize.brentq(lambda k: self._G(k, A), k_low + d, hi, xtol=1e-16, rtol=4 * np.finfo(float).eps))

@@ -237,3 +237,20 @@ def test_every_wall_of_the_grid(wall, beta):
     if P is not None:
         _check_frc(P.replace(beta=beta))
         _check_critical(P.replace(beta=beta))
+
+
+@pytest.mark.parametrize("wall", [*FAST, (0.1, 0.2, 4, 4)], ids=[f"lam{w[0]}-chi{w[1]}-n{w[2]}-pbar{w[3]}" for w in [*FAST, (0.1, 0.2, 4, 4)]])
+def test_kappa_is_found_right_next_to_the_lower_end(wall):
+    """Within 1e-8 of a lower end the root of (39) is closer to the manifold's edge than (39) can
+    be evaluated; kappa is still found (it was NaN, "outside S+", on (0.1, 0.2, 4, 4)), equal to
+    the oracle's where the oracle resolves it, and moves continuously into the end's kappa."""
+    law = ManifoldLaw(BASE.replace(lam=wall[0], chi=wall[1], n=wall[2], pbar=wall[3]))
+    oracle = Oracle(*wall)
+    offsets = np.array([1e-13, 1e-11, 1e-9, 1e-8, 1e-7, 1e-6])
+    kappa = law.kappa(law.A_min * (1 + offsets))
+    assert np.all(np.isfinite(kappa))
+    for k, e in zip(kappa, offsets):
+        reference = oracle.largest(law.A_min * (1 + e))
+        if np.isfinite(reference):
+            assert k == pytest.approx(reference, abs=1e-10)
+    assert abs(kappa[0] - law.lower.kappa) < 1e-5  # a fold-of-(39) end: kappa - kappa_end ~ sqrt(A - A_min)
