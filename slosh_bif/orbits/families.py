@@ -122,15 +122,6 @@ def unique_name(kind: str, taken) -> str:
     return name
 
 
-def mirror(problem: ShootingProblem, x):
-    """x of the mirror-image orbit: y'(0) = -y(pi), read off the arcs when they split at pi."""
-    m = problem.segments
-    states = np.asarray(x, dtype=float).reshape(m, 4)
-    if problem.period_multiple == 1 and m % 2 == 0:
-        return -np.roll(states, -m // 2, axis=0).ravel()
-    raise ValueError("mirror needs a 2pi problem with an even number of segments")
-
-
 def images(problem: ShootingProblem, x) -> list:
     """The arc states of every copy of the orbit x under the symmetries of (9): its shifts by
     2pi k (an orbit of period 2pi m, read from tau = 2pi k) and their mirror images
@@ -142,6 +133,13 @@ def images(problem: ShootingProblem, x) -> list:
     if per_2pi and per_2pi % 2 == 0:
         shifts += [-np.roll(s, -per_2pi // 2, axis=0) for s in shifts]
     return [s.ravel() for s in shifts]
+
+
+def mirror(problem: ShootingProblem, x):
+    """x of the mirror-image orbit: y'(0) = -y(pi), read off the arcs when they split at pi."""
+    if problem.period_multiple == 1 and problem.segments % 2 == 0:
+        return images(problem, x)[1]
+    raise ValueError("mirror needs a 2pi problem with an even number of segments")
 
 
 def _measure(problem: ShootingProblem, branch: Branch, points_per_2pi: int, name: str = "") -> dict:
@@ -174,17 +172,13 @@ def _tangent(branch: Branch, sp):
 
 
 def _on_branch(u, ob: OrbitBranch, tol):
-    """Whether the point u = (x, p) lies on (or on the mirror of) a traced branch."""
+    """Whether the point u = (x, p) lies on a traced branch or on one of its images (mirror,
+    shift by 2pi)."""
     b = ob.branch
-    pts = np.column_stack([b.x, b.p])
-    if len(u) != pts.shape[1]:
+    if len(u) != b.x.shape[1] + 1:
         return False
-    candidates = [pts]
-    try:
-        candidates.append(np.column_stack([np.array([mirror(ob.problem, x) for x in b.x]), b.p]))
-    except ValueError:
-        pass
-    return any(polyline_distance(c, u) < tol for c in candidates)
+    copies = np.array([images(ob.problem, x) for x in b.x])  # (points, copies, states)
+    return any(polyline_distance(np.column_stack([copies[:, k], b.p]), u) < tol for k in range(copies.shape[1]))
 
 
 def _cut_where_it_rejoins(new: Branch, problem: ShootingProblem, parent: OrbitBranch, queue: list):

@@ -23,11 +23,10 @@ import numpy as np
 from slosh_bif.continuation import ConvergenceError, newton_solve
 from slosh_bif.model.params import Params
 from slosh_bif.orbits.families import SHOOTING_OPTIONS, OrbitBranch, OrbitFamily, images, trace_orbits, unique_name
-from slosh_bif.orbits.starts import scan_starts
+from slosh_bif.orbits.starts import START_TOL, scan_starts
 
 __all__ = ["scan_families", "on_traced_branch"]
 
-_NEWTON_TOL = 1e-9  # the residual tolerance of the starts' Newton (orbit_at in scan_starts)
 _DEGENERATE = 1e-6  # distance of a multiplier from +1 below which the start orbit is not isolated
 _NEAR_MAX = 1e-4  # relative distance beyond which two orbits at one parameter value are different orbits
 
@@ -53,10 +52,10 @@ def on_traced_branch(params: Params, y0, branches, *, param: str = "sigma", peri
         # and the gap 4e-7. Capped: at a fold s_min vanishes, and distinct branches near a
         # branch point must stay apart.
         s_min = np.linalg.svd(problem.jacobian(x, p), compute_uv=False)[-1]
-        near = min(_NEAR_MAX, max(tol, 100 * _NEWTON_TOL / max(s_min, 1e-300)))
+        near = min(_NEAR_MAX, max(tol, 100 * START_TOL / max(s_min, 1e-300)))
         for i in crossings:
             w = 0.0 if b.p[i + 1] == b.p[i] else (p - b.p[i]) / (b.p[i + 1] - b.p[i])
-            run = newton_solve(problem, (1 - w) * b.x[i] + w * b.x[i + 1], p, tol=_NEWTON_TOL, max_iter=12, criterion="residual")
+            run = newton_solve(problem, (1 - w) * b.x[i] + w * b.x[i + 1], p, tol=START_TOL, max_iter=12, criterion="residual")
             if run.converged and any(np.linalg.norm(run.x - y) <= near * (1 + np.linalg.norm(y)) for y in copies):
                 return ob
     return None

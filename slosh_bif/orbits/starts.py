@@ -21,6 +21,8 @@ from slosh_bif.simulation.integrator import integrate_grid
 from slosh_bif.slowflow.flow import SlowFlow
 from slosh_bif.slowflow.steady_states import forcing_response, frequency_response
 
+START_TOL = 1e-9  # residual tolerance of Newton from a start guess (scan.on_traced_branch resolves orbits to it)
+
 __all__ = ["StartOrbit", "orbit_from_simulation", "orbit_from_slow_flow", "slow_flow_start", "settle_and_shoot", "scan_starts", "linear_response_state"]
 
 
@@ -61,7 +63,7 @@ def orbit_from_simulation(params: Params, state0, *, settle: int = 150, guess=No
         strobes = integrate_grid(params, state0, 2 * np.pi * np.arange(settle + 1), backend=backend)
         guesses = list(strobes[::-1][:tries])
     for k, y0 in enumerate(guesses):
-        orbit = orbit_at(problem, problem.initial_states(y0), params.sigma, tol=1e-9)
+        orbit = orbit_at(problem, problem.initial_states(y0), params.sigma, tol=START_TOL)
         if orbit.converged:
             where = "the guess" if guess is not None else f"the strobe state of period {settle - k} of a simulation"
             return StartOrbit(params, orbit, f"Newton from {where}")
@@ -208,7 +210,7 @@ def scan_starts(
                 say(f"scan: simulation from {what} at {param} = {v:.4g} failed ({err})")
         for y, what in guesses:
             say(f"scan: Newton at {param} = {v:.4g} from {what}")
-            orbit = orbit_at(problem, problem.initial_states(y), at.sigma, tol=1e-9)
+            orbit = orbit_at(problem, problem.initial_states(y), at.sigma, tol=START_TOL)
             if orbit.converged:
                 yield StartOrbit(at, orbit, f"Newton at {param} = {v:.6g} from {what}")
     for _, value, A, stable in states:

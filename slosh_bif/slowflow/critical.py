@@ -2,8 +2,9 @@
 
 Along the steady states at fixed sigma, Abar is a function of A (eq. 46 is explicit in Abar^2),
 so the smallest Abar sits either at an interior fold of A(Abar) (dR/dA = 0 with R the residual
-of (46)) or at the manifold's end A = A_min. :func:`critical_forcing` finds it at one sigma by
-continuing the steady states in Abar and taking the least of the folds (LP) and the end (END).
+of (46)) or at an end of S+ (A_min, or an upper end where one exists). :func:`critical_forcing`
+finds it at one sigma by minimising that function over the window of S+ (a continuation in Abar
+stalled or started outside short windows on some restitution laws).
 
 :func:`critical_curve` follows Abar_b(sigma) by two-parameter continuation, in sigma, of
 
@@ -179,15 +180,14 @@ def abar_branch(params: Params, sigma: float, *, options: cont.ContinuationOptio
     return cont.continuation(problem, [A0, psi0], Abar0, param="Abar", options=opts)
 
 
-def critical_forcing(params: Params, sigma: float, *, options: cont.ContinuationOptions | None = None) -> CriticalPoint:
+def critical_forcing(params: Params, sigma: float) -> CriticalPoint:
     """The smallest Abar with a steady state on S+ at ``sigma``.
 
     At fixed sigma, (46) gives Abar explicitly as a function of A on S+ (:func:`abar_on_curve`),
     so Abar_b is its least value over the window of S+: at an end of S+ (``END``, evaluated at
     the end itself) or at an interior minimum, a fold of the Abar branch (``LP``, located by
     bounded Brent to 1e-13 in A). With gamma > 0, Abar >= gamma A, so amplitudes beyond
-    (the least Abar so far) / gamma need no search. ``options`` is accepted for compatibility
-    with the continuation-based callers and not used.
+    (the least Abar so far) / gamma need no search.
     """
     P = params.replace(sigma=float(sigma))
     flow = SlowFlow(P)

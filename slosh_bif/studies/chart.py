@@ -196,7 +196,7 @@ def critical_forcing_full(
     exact = [(sp.p, sp.kind) for ob in family.branches if ob.problem.period_multiple == 1 for sp in ob.branch.special if _bounds_stable_contact(ob, sp)]
     value, kind = min(exact, default=(np.nan, ""))
     for c in curves:
-        crossed = _lowest_stable_boundary(dataclasses.replace(chart, curves=[c]), sigma)[0]
+        crossed = _lowest_stable_boundary([c], sigma)[0]
         if np.isfinite(crossed) and not crossed >= value and not any(k == c.kind and abs(a - crossed) <= 0.01 * a for a, k in exact):
             value, kind = crossed, c.kind
     return FullCritical(float(sigma), float(value), kind, chart)
@@ -217,11 +217,11 @@ def _bounds_stable_contact(ob, sp) -> bool:
     return bool(np.all(np.abs(rest) < 1) and orbit_measures(ob.problem, sp.x, sp.p)["max_abs_w"] >= 1.0)
 
 
-def _lowest_stable_boundary(chart: Chart, sigma):
-    """(Abar, kind) of the lowest curve point at sigma that bounds stable period-1 orbits with
-    wall contact, by linear interpolation along each curve; (nan, "") when none."""
+def _lowest_stable_boundary(curves, sigma):
+    """(Abar, kind) of the lowest point at sigma of the ``curves`` that bounds stable period-1
+    orbits with wall contact, by linear interpolation along each curve; (nan, "") when none."""
     best = (np.nan, "")
-    for c in chart.curves:
+    for c in curves:
         if c.period_multiple != 1:
             continue  # a period-2 branch's curves bound period-2 orbits
         good = c.branch.stable & (c["max_abs_w"] >= 1.0)
@@ -236,6 +236,6 @@ def critical_rows(chart: Chart, points: int = 57):
     slow = chart.slow_flow_critical
     for sigma in np.linspace(*chart.sigma_range, points):
         b = float(np.interp(sigma, slow.sigma, slow.Abar_b)) if slow is not None and len(slow.sigma) and slow.sigma[0] <= sigma <= slow.sigma[-1] else np.nan
-        c, kind = _lowest_stable_boundary(chart, sigma)
+        c, kind = _lowest_stable_boundary(chart.curves, sigma)
         rel = abs(c - b) / b if np.isfinite(b) and np.isfinite(c) and b > 0 else np.nan
         yield dict(sigma=float(sigma), Abar_b_slowflow=b, Abar_c_full=c, rel_diff=rel, bounded_by=kind)

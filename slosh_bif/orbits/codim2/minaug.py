@@ -79,15 +79,18 @@ class MultiplierCurveProblem:
 
     # -- the augmented system ----------------------------------------------------------------
 
+    _extra = 1  # unknowns after the orbit's states: p2 (the NS problem adds theta)
+
     def params_at(self, x, p) -> Params:
-        return self.params.replace(**{self.p1: float(p), self.p2: float(x[-1])})
+        return self.params.replace(**{self.p1: float(p), self.p2: float(x[-self._extra])})
 
     def in_domain(self, x, p) -> bool:
-        if self.p2_box is not None and not self.p2_box[0] <= x[-1] <= self.p2_box[1]:
+        p2 = x[-self._extra]
+        if self.p2_box is not None and not self.p2_box[0] <= p2 <= self.p2_box[1]:
             return False
-        if self.p2 == "Abar" and x[-1] < 0:
+        if self.p2 == "Abar" and p2 < 0:
             return False
-        return self.shooting.in_domain(x[:-1], p)
+        return self.shooting.in_domain(x[: -self._extra], p)
 
     def _matrix_at(self, x, p):
         """(arcs, J_mu) at (x, p); the NS problem makes J complex."""

@@ -35,17 +35,10 @@ class TorusCurveProblem(MultiplierCurveProblem):
         self.branch_kind = f"NS curve of periodic orbits of (9) in ({p1}, {p2})"
         self.test_kinds = ("R1", "R2", "R3", "R4", "LPNS", "PDNS")
 
-    def params_at(self, x, p):
-        return self.params.replace(**{self.p1: float(p), self.p2: float(x[-2])})
+    _extra = 2  # p2 and theta follow the orbit's states
 
     def in_domain(self, x, p) -> bool:
-        if not 0.0 <= x[-1] <= np.pi:
-            return False
-        if self.p2_box is not None and not self.p2_box[0] <= x[-2] <= self.p2_box[1]:
-            return False
-        if self.p2 == "Abar" and x[-2] < 0:
-            return False
-        return self.shooting.in_domain(x[:-2], p)
+        return 0.0 <= x[-1] <= np.pi and super().in_domain(x, p)
 
     def _matrix_at(self, x, p):
         arcs = self.shooting.arcs(x[:-2], self.params_at(x, p))
