@@ -1,9 +1,9 @@
 """Cost of a point on a two-parameter curve against a point of a one-parameter orbit branch.
 
 The Fig. 10 set (n = 50): the symmetric branch of 2pi-orbits over sigma in [-1.6, 1.2] at
-Abar = 3, and the fold curve through its fold at sigma = -1.40 over sigma in [-2, 3], Abar in
-[0.5, 6]. Both by multiple shooting (4 arcs, compiled DOP853); medians of 3 runs in one process.
-Prints the seconds per point of each and their ratio (issue 16's target: at most 3).
+Abar = 3, and the fold (LP), pitchfork (BP) and Neimark-Sacker (NS) curves through its special
+points over sigma in [-2, 3], Abar in [0.5, 6]. Both by multiple shooting (4 arcs, compiled DOP853); medians of 3 runs in one process.
+Prints the seconds per point of each and the ratios (issue 16's target: at most 3).
 
 Run:  python examples/bench_codim2.py
 """
@@ -39,16 +39,16 @@ def main():
         return len(family.branches[0])
 
     per_branch_point, n_branch = _median_per_point(branch)
-    lp = [s for s in branch.result.branch.special if s.kind == "LP" and abs(s.p + 1.40027) < 1e-3][0]
-
-    def curve():
-        return len(trace_curve(P, lp.x, lp.p, kind="LP", p1_range=(-2.0, 3.0), p2_range=(0.5, 6.0), points_per_2pi=64))
-
-    per_curve_point, n_curve = _median_per_point(curve)
     print(f"one-parameter branch: {n_branch} points, {1e3 * per_branch_point:.2f} ms a point (orbit measures included)")
-    print(f"fold curve:           {n_curve} points, {1e3 * per_curve_point:.2f} ms a point (orbit measures included)")
-    print(f"ratio curve point / branch point = {per_curve_point / per_branch_point:.2f} (target <= 3)")
+    # The fold at -1.40, the pitchfork at -1.09 and the Neimark-Sacker point at 0.88 of that branch.
+    for kind, near in (("LP", -1.40027), ("BP", -1.09022), ("NS", 0.88058)):
+        sp = [s for s in branch.result.branch.special if s.kind == kind and abs(s.p - near) < 1e-3][0]
 
+        def curve():
+            return len(trace_curve(P, sp.x, sp.p, kind=kind, p1_range=(-2.0, 3.0), p2_range=(0.5, 6.0), points_per_2pi=64))
+
+        per_curve_point, n_curve = _median_per_point(curve)
+        print(f"{kind} curve: {n_curve} points, {1e3 * per_curve_point:.2f} ms a point, {per_curve_point / per_branch_point:.2f}x a branch point (target <= 3)")
 
 if __name__ == "__main__":
     main()

@@ -9,7 +9,7 @@ from pathlib import Path
 
 import numpy as np
 
-from slosh_bif.cli.common import abar_range, add_abar_range_options, add_params_options, add_tmax_option, params_of, progress, sigma_range, state0_of
+from slosh_bif.cli.common import abar_range, add_abar_range_options, add_backend_option, add_params_options, add_tmax_option, params_of, progress, sigma_range, state0_of, stopped, throttled
 
 __all__ = ["add_commands"]
 
@@ -23,22 +23,33 @@ def _chart(args) -> int:
     a_lo, a_hi = abar_range(args, default=(0.2, 2 * params.Abar))
     if args.regimes is not None and min(args.regimes) < 1:
         raise ValueError(f"--regimes takes two positive integers N M (sigma values, Abar values); got {args.regimes}")
-    args.out.mkdir(parents=True, exist_ok=True)
-    state0 = state0_of(args, params)
     if args.seeds < 0:
         raise ValueError(f"--seeds must be an integer >= 0; got {args.seeds}")
-    chart = bifurcation_chart(params, state0, sigma_range=(lo, hi), abar_range=(a_lo, a_hi), switch=not args.no_switch, seeds=args.seeds, progress=progress)
+    if args.workers is not None and args.workers < 1:
+        raise ValueError(f"--workers must be a positive integer; got {args.workers}")
+    args.out.mkdir(parents=True, exist_ok=True)
+    state0 = state0_of(args, params)
+    chart = bifurcation_chart(
+        params, state0, sigma_range=(lo, hi), abar_range=(a_lo, a_hi), switch=not args.no_switch, seeds=args.seeds, workers=args.workers, backend=args.backend,
+        progress=throttled(progress),
+    )
     regimes = None
-    if args.regimes is not None:
+    if args.regimes is not None and chart.status == "complete":
         from slosh_bif.simulation.regimes import regime_map
 
         n, m = args.regimes
-        regimes = regime_map(params, state0, np.linspace(lo, hi, n), np.linspace(a_lo, a_hi, m), tmax=args.tmax, progress=lambda done, total: progress(f"regimes: {done} of {total}"))
+        regimes = regime_map(
+            params, state0, np.linspace(lo, hi, n), np.linspace(a_lo, a_hi, m), tmax=args.tmax, max_workers=args.workers, backend=args.backend,
+            progress=lambda done, total: progress(f"regimes: {done} of {total}"),
+        )
     paths = [write_curves_csv(chart, args.out / "curves.csv"), write_critical_csv(chart, args.out / "critical.csv"), plot_chart(chart, args.out / "chart.png", regimes=regimes)]
     for k, c in enumerate(chart.curves):
-        codim2 = ", ".join(f"{s.kind} ({s.p:.5g}, {s.x[-1]:.5g})" for s in c.branch.special if s.kind in ("CP", "LPPD", "LPNS", "PDNS"))
+        codim2 = ", ".join(f"{label} ({sigma:.5g}, {abar:.5g})" for label, sigma, abar in c.codim2_points())
         print(f"curve {k}: {c.kind} from {c.origin}: {len(c)} points, {c.status}" + (f"; {codim2}" if codim2 else ""))
     print(f"{len(chart.curves)} curves in {chart.seconds:.1f} s; wrote " + ", ".join(str(p) for p in paths))
+    for status in (chart.status, regimes.status if regimes is not None else "complete"):
+        if status != "complete":  # the files hold what was finished
+            raise stopped(status)
     cut = [k for k, c in enumerate(chart.curves) if c.status != "ok"]
     if cut:
         print(f"slosh-bif chart: curve(s) {', '.join(map(str, cut))} could not be continued to the box's edge (their status in curves.csv)", file=sys.stderr)
@@ -61,5 +72,7 @@ def add_commands(sub) -> None:
     add_tmax_option(chart)
     chart.add_argument("--no-switch", action="store_true", help="the curves of the primary orbit branch only")
     chart.add_argument("--seeds", type=int, default=7, help="sigma values at which the primary branch's orbit is also continued in Abar to find folds and period doublings below the preset's forcing (default 7)")
+    add_backend_option(chart)
+    chart.add_argument("--workers", type=int, default=None, help="processes tracing curves (and the regime map) side by side (default: one per core)")
     chart.add_argument("--out", type=Path, required=True, help="output folder (created if missing)")
     chart.set_defaults(run=_chart)

@@ -83,7 +83,7 @@ def _regimes(args) -> int:
     args.out.mkdir(parents=True, exist_ok=True)
     report = throttled(progress, passes=lambda message: False)
     rmap = regime_map(
-        params, state0, sigmas, abars, tmax=args.tmax, model=args.model, max_workers=args.workers, done=done,
+        params, state0, sigmas, abars, tmax=args.tmax, model=args.model, backend=args.backend, max_workers=args.workers, done=done,
         progress=lambda count, total: report(f"classified {count} of {total} grid points"),
     )
     write_regime_store(rmap, settings, args.out / "regimes.json")
@@ -121,5 +121,6 @@ def add_commands(sub) -> None:
     add_tmax_option(regimes)
     regimes.add_argument("--model", choices=("smooth", "impact"), default="smooth", help="model simulated (default smooth)")
     regimes.add_argument("--workers", type=int, default=None, help="worker processes (default: one per core)")
+    add_backend_option(regimes)
     regimes.add_argument("--resume", action="store_true", help="reuse the cells classified in OUT/regimes.json by an earlier run with the same settings (an interrupted one) and simulate only the rest")
     regimes.set_defaults(run=_regimes)

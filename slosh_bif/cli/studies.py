@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
-from slosh_bif.cli.common import add_params_options, add_range_options, add_sigma_points_option, add_tmax_option, floats, params_of, progress, sigma_range, state0_of, stopped
+from slosh_bif.cli.common import add_backend_option, add_params_options, add_range_options, add_sigma_points_option, add_tmax_option, floats, params_of, progress, sigma_range, state0_of, stopped
 from slosh_bif.cli.orbits import add_shooting_options, family_from_args
 from slosh_bif.report.files import write_text_atomically
 
@@ -48,7 +48,7 @@ def _trust(args) -> int:
     def report(point, done, total):
         progress(f"{done}/{total}: eps = {point.eps:g}, beta = {point.beta:g}, n = {point.n}: {point.status}, {point.seconds:.1f} s")
 
-    points = trust_map(base, eps=args.eps, beta=args.beta, n=args.n, sigma_min=lo, sigma_max=hi, grid=args.sigma_points, switch=not args.no_switch, max_branches=args.max_branches, max_workers=args.workers, progress=report)
+    points = trust_map(base, eps=args.eps, beta=args.beta, n=args.n, sigma_min=lo, sigma_max=hi, grid=args.sigma_points, switch=not args.no_switch, max_branches=args.max_branches, backend=args.backend, max_workers=args.workers, progress=report)
     table = trust_table(points)
     write_text_atomically(args.out / "trust_map.txt", table + "\n")
     csv_path, png_path = write_trust_csv(points, args.out / "trust_map.csv"), plot_trust_map(points, args.out / "trust_map.png")
@@ -129,6 +129,7 @@ def add_commands(sub) -> None:
     trust.add_argument("--max-branches", type=int, default=6, help="orbit branches traced per set at most (default 6)")
     trust.add_argument("--no-switch", action="store_true", help="trace the primary orbit branch only (faster; misses stable asymmetric and period-2 orbits)")
     trust.add_argument("--workers", type=int, default=None, help="worker processes (default: one per core)")
+    add_backend_option(trust)
     trust.set_defaults(run=_trust)
 
     figures = sub.add_parser("figures", help="regenerate the paper's Figs. 3, 6-15 as PNG files (about 15 s)")

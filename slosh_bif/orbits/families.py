@@ -24,6 +24,7 @@ import numpy as np
 from slosh_bif.continuation import ContinuationOptions, ConvergenceError, continuation, switch_branch
 from slosh_bif.continuation.branch import BRANCH_POINT, PERIOD_DOUBLING, Branch, Status, polyline_distance
 from slosh_bif.model.params import Params
+from slosh_bif.orbits.pitchforks import refine_pitchforks
 from slosh_bif.orbits.shooting import MAX_PERIOD_MULTIPLE, PARAMETERS, ShootingProblem, orbit_at, orbit_measures
 
 __all__ = ["OrbitBranch", "OrbitFamily", "trace_orbits", "mirror", "images", "unique_name", "SHOOTING_OPTIONS", "LIOUVILLE_TOL"]
@@ -234,6 +235,8 @@ def _primary(params, y0, param, opts, make_problem, points_per_2pi, say, known=(
     kind = "symmetric" if symmetric else "asymmetric"
     name = unique_name(kind, known)
     branch = continuation(problem, x0, p0, param=param, options=opts, callback=_point_counter(say, name, param))
+    if symmetric:
+        branch = refine_pitchforks(problem, branch)
     say(f"{name}: {len(branch)} points, {len(branch.special)} special points")
     return OrbitBranch(name, problem, branch, _measure(problem, branch, points_per_2pi, name), kind=kind, found_from=found_from)
 
@@ -318,6 +321,8 @@ def trace_orbits(
         measures = _measure(problem, new, points_per_2pi, kind_name or "switched")
         if kind_name is None:
             kind_name = "symmetric" if np.median(measures["symmetry_defect"]) < 1e-6 else "asymmetric"
+            if kind_name == "symmetric":
+                new = refine_pitchforks(problem, new)
         ob = OrbitBranch(unique_name(kind_name, [*known, *family]), problem, new, measures, origin, kind=kind_name)
         family.append(ob)
         say(f"{ob.name} ({origin}): {len(new)} points")

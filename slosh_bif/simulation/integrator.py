@@ -260,7 +260,7 @@ def resolve_backend(backend: str) -> str:
     if backend not in ("auto", "numba", "scipy"):
         raise ValueError(f"backend must be 'auto', 'numba' or 'scipy'; got {backend!r}")
     if backend == "numba" and not HAVE_NUMBA:
-        raise ValueError("backend 'numba' needs numba: pip install 'slosh_bif[fast]' (or use backend='scipy')")
+        raise ValueError("backend 'numba' needs numba, a dependency of slosh_bif that failed to import here: pip install numba (or use backend='scipy')")
     if backend == "auto":
         return "numba" if HAVE_NUMBA else "scipy"
     return backend

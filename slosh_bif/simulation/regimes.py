@@ -216,9 +216,9 @@ def stop_pool(pool) -> None:
         process.join(timeout=2.0)
 
 
-def _classify_point(params, state0, tmax, model, transient, sample_step):
+def _classify_point(params, state0, tmax, model, transient, sample_step, backend="auto"):
     # A module-level function so that process pools can pickle it.
-    sim = simulate(params, state0, tmax, model=model, sample_step=sample_step)
+    sim = simulate(params, state0, tmax, model=model, sample_step=sample_step, backend=backend)
     if not sim.success and sim.status != "sticking":
         return RegimeSummary.failed(f"simulation failed: {sim.message}", transient)
     return classify(sim, transient=transient)
@@ -234,6 +234,7 @@ def regime_map(
     transient: float | None = None,
     model: str = "smooth",
     sample_step: float = 0.02,
+    backend: str = "auto",
     executor=None,
     max_workers: int | None = None,
     progress=None,
@@ -247,9 +248,14 @@ def regime_map(
     Interrupted (KeyboardInterrupt, or SIGTERM turned into one by the CLI), it kills its own
     workers at once and returns what it has: ``status`` says why it stopped, the points it did not
     reach are ``"not computed"``. ``done``: {(i, j): RegimeSummary} of points already classified
-    (a resumed run), which are not simulated again.
+    (a resumed run), which are not simulated again. ``backend``: the integrator of the smooth model
+    (see :func:`~slosh_bif.simulation.direct.simulate`).
     """
     from concurrent.futures import ProcessPoolExecutor, as_completed
+
+    from slosh_bif.simulation.integrator import resolve_backend
+
+    backend = resolve_backend(backend)  # a bad name is an error here, not in every worker
 
     sigmas = np.asarray(sigmas, dtype=float)
     abars = np.asarray(abars, dtype=float)
@@ -265,7 +271,7 @@ def regime_map(
     pool = ProcessPoolExecutor(max_workers=max_workers, initializer=worker_setup) if own else executor
     results, status = {key: s for key, s in (done or {}).items() if key in jobs and s.regime != "not computed"}, "complete"
     try:
-        futures = {pool.submit(_classify_point, p, np.asarray(state0, dtype=float), tmax, model, transient, sample_step): key for key, p in jobs.items() if key not in results}
+        futures = {pool.submit(_classify_point, p, np.asarray(state0, dtype=float), tmax, model, transient, sample_step, backend): key for key, p in jobs.items() if key not in results}
         for count, future in enumerate(as_completed(futures), len(results) + 1):
             results[futures[future]] = future.result()
             if progress is not None:

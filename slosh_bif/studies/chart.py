@@ -28,6 +28,7 @@ special points, so the envelope there is the lowest stable-bounding one.
 from __future__ import annotations
 
 import dataclasses
+import os
 import time
 
 import numpy as np
@@ -49,8 +50,8 @@ CRITICAL_COLUMNS = ("sigma", "Abar_b_slowflow", "Abar_c_full", "rel_diff", "boun
 
 @dataclasses.dataclass(frozen=True)
 class Chart:
-    """The chart's pieces: the orbit family it started from, the curves, and the slow flow's
-    critical curve (None where (46) has none in the range)."""
+    """The chart's pieces: the orbit family it started from, the curves, the slow flow's critical
+    curve (None where (46) has none in the range), and whether every curve was traced."""
 
     params: Params
     sigma_range: tuple
@@ -59,35 +60,115 @@ class Chart:
     curves: list
     slow_flow_critical: object
     seconds: float
+    status: str = "complete"  # or why the curves stopped early ("interrupted (SIGINT) after ...")
 
 
 def _on_curve(curve: BifurcationCurve, sigma, abar, tol=2e-3):
     return len(curve) > 0 and polyline_distance(np.column_stack([curve["sigma"], curve["Abar"]]), np.array([sigma, abar])) < tol
 
 
-def _curves_from(ob, param, params, curves, sigma_range, abar_range, say):
-    """Trace the curve through each located LP, PD, NS (and, on symmetric branches, BP) of the
-    orbit branch ``ob`` (in ``param`` at ``params``) that lies on no curve of its kind traced so
-    far; append them to ``curves``."""
+@dataclasses.dataclass(frozen=True)
+class _Start:
+    """A special point of an orbit branch that a curve starts from, and the curve's set-up."""
+
+    kind: str
+    sigma: float
+    abar: float
+    origin: str
+    job: dict
+
+
+def _starts(ob, param, params, sigma_range, abar_range, pitchforks=(), backend="auto"):
+    """The located LP, PD, NS (and, on symmetric branches, BP) points of the orbit branch ``ob``
+    (in ``param`` at ``params``) as curve starts; ``pitchforks``: the values of ``param`` at the
+    family's pitchforks."""
     for sp in ob.branch.special:
         if sp.kind not in ("LP", "PD", "NS", "BP") or not sp.located:
             continue
         if sp.kind == "BP" and (ob.kind != "symmetric" or ob.problem.segments % 2):
             continue  # a pitchfork of symmetric orbits: the half-period map's condition
+        if sp.kind == "LP" and ob.kind == "asymmetric" and any(abs(sp.p - q) <= 1e-6 * (1 + abs(q)) for q in pitchforks):
+            continue  # where the pair meets its symmetric parent again: the pitchfork, not a fold
         sigma, abar = (sp.p, params.Abar) if param == "sigma" else (params.sigma, sp.p)
-        if any(c.kind == sp.kind and _on_curve(c, sigma, abar) for c in curves):
-            continue
         origin = f"{sp.kind} at sigma = {sigma:.6g}, Abar = {abar:.6g} on the {ob.name} branch in {param}"
-        try:
-            curve = trace_curve(
-                params, sp.x, sp.p, kind=sp.kind, branch_param=param, p1_range=sigma_range, p2_range=abar_range,
-                segments=ob.problem.segments, period_multiple=ob.problem.period_multiple, origin=origin,
-            )
-        except (ConvergenceError, np.linalg.LinAlgError, ValueError) as err:
-            say(f"no {sp.kind} curve from {origin}: {err}")
-            continue
-        curves.append(curve)
-        say(f"{sp.kind} curve {len(curves)} from {origin}: {len(curve)} points, {curve.status}")
+        job = dict(
+            params=params, x=sp.x, p=sp.p, kind=sp.kind, branch_param=param, p1_range=sigma_range, p2_range=abar_range,
+            segments=ob.problem.segments, period_multiple=ob.problem.period_multiple, origin=origin, backend=backend,
+        )
+        yield _Start(sp.kind, float(sigma), float(abar), origin, job)
+
+
+def _pitchforks(family) -> list:
+    return [sp.p for ob in family.branches if ob.kind == "symmetric" for sp in ob.branch.special if sp.kind == "BP"]
+
+
+def _trace_job(job):
+    """One curve (in a worker): (curve, None), or (None, why not)."""
+    try:
+        return trace_curve(**job), None
+    except (ConvergenceError, np.linalg.LinAlgError, ValueError) as err:
+        return None, str(err)
+
+
+def _trace_curves(starts, say, workers: int = 1):
+    """(curves, status): the curve through each start that lies on no curve of its kind traced
+    from an earlier start, in start order, on ``workers`` processes; interrupted, the curves
+    finished by then and a status saying so.
+
+    Curves are independent, so they run side by side; a start is not submitted when a finished
+    curve of its kind already passes through it, and a curve traced alongside one that covers it
+    is dropped at the end, so the result is the sequential one, whatever the timing.
+    """
+    traced = {}  # start index -> curve
+
+    def covered(i, among):
+        return any(c.kind == starts[i].kind and _on_curve(c, starts[i].sigma, starts[i].abar) for c in among)
+
+    def record(i, result):
+        curve, err = result
+        if curve is None:
+            say(f"no {starts[i].kind} curve from {starts[i].origin}: {err}")
+        else:
+            traced[i] = curve
+            say(f"{curve.kind} curve from {starts[i].origin}: {len(curve)} points, {curve.status}")
+
+    status = "complete"
+    try:
+        if workers <= 1 or len(starts) <= 1:
+            for i in range(len(starts)):
+                if not covered(i, traced.values()):
+                    record(i, _trace_job(starts[i].job))
+        else:
+            _trace_in_pool(starts, workers, covered, record, traced)
+    except KeyboardInterrupt as stop:  # keep what is traced; the caller marks the chart partial
+        status = f"interrupted ({getattr(stop, 'signal_name', 'SIGINT')}) after {len(traced)} curves, {len(starts)} starts"
+    kept = []
+    for i in sorted(traced):
+        if not covered(i, kept):
+            kept.append(traced[i])
+    return kept, status
+
+
+def _trace_in_pool(starts, workers, covered, record, traced):
+    from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
+
+    from slosh_bif.simulation.regimes import stop_pool, worker_setup
+
+    pool = ProcessPoolExecutor(max_workers=workers, initializer=worker_setup)
+    try:
+        pending, running = list(range(len(starts))), {}
+        while pending or running:
+            while pending and len(running) < workers:
+                i = pending.pop(0)
+                if not covered(i, traced.values()):
+                    running[pool.submit(_trace_job, starts[i].job)] = i
+            finished, _ = wait(running, return_when=FIRST_COMPLETED)
+            for future in finished:
+                record(running.pop(future), future.result())
+    except BaseException:
+        stop_pool(pool)
+        raise
+    pool.shutdown()
 
 
 def bifurcation_chart(
@@ -101,25 +182,31 @@ def bifurcation_chart(
     segments: int = 4,
     settle: int = 150,
     seeds: int = 7,
+    workers: int | None = None,
+    backend: str = "auto",
     progress=None,
 ) -> Chart:
     """Trace the family of orbits at the parameter set's Abar over ``sigma_range`` (from a
     simulation from ``state0``) and the primary branch's orbits at ``seeds`` values of sigma
     continued in Abar, then the LP, PD, NS and BP curve through each of their special points
-    (each curve once) in the box ``sigma_range`` x ``abar_range``."""
+    (each curve once) in the box ``sigma_range`` x ``abar_range``, on ``workers`` processes (default:
+    every core), integrating with ``backend``. Interrupted while tracing curves, it returns those
+    finished, ``status`` saying so."""
     (s0, s1), (a0, a1) = sigma_range, abar_range
     if not (s0 < s1 and 0 <= a0 < a1):
         raise ValueError(f"empty box: sigma in [{s0}, {s1}], Abar in [{a0}, {a1}] (need sigma_min < sigma_max and 0 <= Abar_min < Abar_max)")
     if not (s0 <= params.sigma <= s1 and a0 <= params.Abar <= a1):
         raise ValueError(f"the start (sigma = {params.sigma:g}, Abar = {params.Abar:g}) lies outside the box")
+    workers = _workers(workers)
     say = progress or (lambda message: None)
     started = time.perf_counter()
-    start = orbit_from_simulation(params, state0, settle=settle, segments=segments)
-    family = trace_orbits(start.params, start.y0, p_min=s0, p_max=s1, segments=segments, switch=switch, max_branches=max_branches)
+    start = orbit_from_simulation(params, state0, settle=settle, segments=segments, backend=backend)
+    family = trace_orbits(
+        start.params, start.y0, p_min=s0, p_max=s1, segments=segments, switch=switch, max_branches=max_branches, backend=backend, progress=say,
+    )
     say(f"orbit family: {len(family.branches)} branch(es), {sum(len(ob) for ob in family.branches)} points")
-    curves = []
-    for ob in family.branches:
-        _curves_from(ob, "sigma", params, curves, (s0, s1), (a0, a1), say)
+    pitchforks = _pitchforks(family)
+    starts = [s for ob in family.branches for s in _starts(ob, "sigma", params, (s0, s1), (a0, a1), pitchforks, backend)]
     # Folds and period doublings met when the forcing falls: the primary branch's orbits at
     # ``seeds`` values of sigma, each continued in Abar over the box.
     primary = family.branches[0]
@@ -129,17 +216,19 @@ def bifurcation_chart(
         if not a0 <= at.Abar <= a1:
             continue
         try:
-            down = trace_orbits(at, primary.branch.x[i, :4], param="Abar", p_min=a0, p_max=a1, segments=segments, switch=False)
+            down = trace_orbits(at, primary.branch.x[i, :4], param="Abar", p_min=a0, p_max=a1, segments=segments, switch=False, backend=backend, progress=say)
         except (ConvergenceError, ValueError) as err:
             say(f"no Abar branch at sigma = {at.sigma:.4g}: {err}")
             continue
-        _curves_from(down.branches[0], "Abar", at, curves, (s0, s1), (a0, a1), say)
+        starts += _starts(down.branches[0], "Abar", at, (s0, s1), (a0, a1), backend=backend)
+    say(f"{len(starts)} special points to start curves from, on {workers} process(es)")
+    curves, status = _trace_curves(starts, say, workers)
     try:
         slow = critical_curve(params, s0, s1)
     except (RuntimeError, ValueError) as err:
         say(f"no slow-flow critical curve: {err}")
         slow = None
-    return Chart(params, (s0, s1), (a0, a1), family, curves, slow, time.perf_counter() - started)
+    return Chart(params, (s0, s1), (a0, a1), family, curves, slow, time.perf_counter() - started, status)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -181,10 +270,9 @@ def critical_forcing_full(
         params, state0, p_min=a0, p_max=a1, param="Abar", points=points, settle=settle, random_starts=random_starts, seed=seed, segments=segments,
         switch=switch, doublings=False, progress=progress,
     )
-    curves = []
-    for ob in family.branches:
-        if ob.problem.period_multiple == 1:
-            _curves_from(ob, "Abar", params, curves, box, (a0, a1), say)
+    pitchforks = _pitchforks(family)
+    starts = [s for ob in family.branches if ob.problem.period_multiple == 1 for s in _starts(ob, "Abar", params, box, (a0, a1), pitchforks)]
+    curves, _ = _trace_curves(starts, say)
     try:
         slow = critical_curve(params, *box)
     except (RuntimeError, ValueError):
@@ -200,6 +288,14 @@ def critical_forcing_full(
         if np.isfinite(crossed) and not crossed >= value and not any(k == c.kind and abs(a - crossed) <= 0.01 * a for a, k in exact):
             value, kind = crossed, c.kind
     return FullCritical(float(sigma), float(value), kind, chart)
+
+
+def _workers(workers):
+    if workers is None:
+        return os.cpu_count() or 1
+    if not (isinstance(workers, int) and workers >= 1):
+        raise ValueError(f"workers must be an integer >= 1; got {workers!r}")
+    return workers
 
 
 _CRITICAL_COUNT = {"LP": 1, "BP": 1, "PD": 1, "NS": 2}

@@ -13,13 +13,13 @@ from pathlib import Path
 
 import numpy as np
 
+from slosh_bif.orbits.codim2 import CODIM2_KINDS
 from slosh_bif.report.tables import write_rows
 from slosh_bif.studies.chart import CRITICAL_COLUMNS, critical_rows
 
 __all__ = ["CURVE_COLUMNS", "curve_rows", "write_curves_csv", "write_critical_csv", "plot_chart"]
 
 CURVE_COLUMNS = ("curve", "kind", "sigma", "Abar", "A1", "max_abs_w", "codim2", "bounds_stable", "status", "origin")
-_CODIM2 = ("CP", "LPPD", "LPNS", "PDNS", "R1", "R2", "R3", "R4", "BPLP")
 
 
 def curve_rows(chart):
@@ -28,7 +28,7 @@ def curve_rows(chart):
         for i in range(len(c)):
             yield dict(
                 curve=k, kind=c.kind, sigma=float(c["sigma"][i]), Abar=float(c["Abar"][i]), A1=float(c["A1"][i]),
-                max_abs_w=float(c["max_abs_w"][i]), codim2=labels[i] if labels[i] in _CODIM2 else "",
+                max_abs_w=float(c["max_abs_w"][i]), codim2=labels[i] if labels[i] in CODIM2_KINDS else "",
                 bounds_stable=int(c.branch.stable[i]), status=c.status, origin=c.origin,
             )
 
@@ -56,10 +56,9 @@ def plot_chart(chart, path, *, regimes=None) -> Path:
         s, a, st = c["sigma"], c["Abar"], c.branch.stable
         ax.plot(s, np.where(st, a, np.nan), "-", color=colors[c.kind], lw=1.6, label=f"{c.kind} curve" if k == [d.kind for d in chart.curves].index(c.kind) else None)
         ax.plot(s, np.where(st, np.nan, a), ":", color=colors[c.kind], lw=1.0)
-        for sp in c.branch.special:
-            if sp.kind in _CODIM2:
-                ax.plot(sp.p, sp.x[-1], "k*", ms=9)
-                ax.annotate(sp.kind, (sp.p, sp.x[-1]), textcoords="offset points", xytext=(4, 4), fontsize=8)
+        for label, sigma, abar in c.codim2_points():
+            ax.plot(sigma, abar, "k*", ms=9)
+            ax.annotate(label, (sigma, abar), textcoords="offset points", xytext=(4, 4), fontsize=8)
     slow = chart.slow_flow_critical
     if slow is not None and len(slow.sigma):
         ax.plot(slow.sigma, slow.Abar_b, "k--", lw=1.4, label=r"slow flow $\bar A_b$ (46)")
@@ -72,7 +71,8 @@ def plot_chart(chart, path, *, regimes=None) -> Path:
     ax.set_xlabel(r"detuning $\sigma$")
     ax.set_ylabel(r"forcing $\bar A$")
     P = chart.params
-    ax.set_title(f"Orbit bifurcations of (9) in (sigma, Abar): eps = {P.eps:g}, beta = {P.beta:g}, gamma = {P.gamma:g}, n = {P.n}")
+    partial = "" if chart.status == "complete" else f"\nPARTIAL: {chart.status}"
+    ax.set_title(f"Orbit bifurcations of (9) in (sigma, Abar): eps = {P.eps:g}, beta = {P.beta:g}, gamma = {P.gamma:g}, n = {P.n}{partial}")
     ax.legend(fontsize=8, loc="upper left")
     ax.grid(alpha=0.3)
     return save_figure(fig, path)

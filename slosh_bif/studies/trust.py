@@ -78,10 +78,11 @@ class TrustPoint:
         return dataclasses.asdict(self)
 
 
-def trust_point(params: Params, sigma_min: float = -6.0, sigma_max: float = 8.0, *, grid: int = 141, agree_within: float = 0.05, switch: bool = True, max_branches: int = 6, segments: int = 4) -> TrustPoint:
+def trust_point(params: Params, sigma_min: float = -6.0, sigma_max: float = 8.0, *, grid: int = 141, agree_within: float = 0.05, switch: bool = True, max_branches: int = 6, segments: int = 4, backend: str = "auto") -> TrustPoint:
     """Compare (46) with the 2pi-orbits of (9) over [sigma_min, sigma_max] at ``params``.
 
     Never raises for a parameter set where the comparison cannot be made: ``status`` says why.
+    ``backend``: the integrator of (9) (compiled or scipy's DOP853).
     """
     if not (np.isfinite(sigma_min) and np.isfinite(sigma_max) and sigma_min < sigma_max):
         raise ValueError(f"need finite sigma_min < sigma_max; got [{sigma_min}, {sigma_max}]")
@@ -100,11 +101,11 @@ def trust_point(params: Params, sigma_min: float = -6.0, sigma_max: float = 8.0,
         warnings.simplefilter("ignore", AsymptoticsWarning)  # recorded in ``warned`` instead
         try:
             fr = frequency_response(params, sigma_min=sigma_min, sigma_max=sigma_max)
-            start = slow_flow_start(params, sigma_min, sigma_max, segments=segments, response=fr)
+            start = slow_flow_start(params, sigma_min, sigma_max, segments=segments, response=fr, backend=backend)
         except (ConvergenceError, ValueError) as err:
             return failed(f"no start: {err}")
         try:
-            family = trace_orbits(start.params, start.y0, p_min=sigma_min, p_max=sigma_max, segments=segments, switch=switch, max_branches=max_branches)
+            family = trace_orbits(start.params, start.y0, p_min=sigma_min, p_max=sigma_max, segments=segments, switch=switch, max_branches=max_branches, backend=backend)
         except RuntimeError as err:  # ConvergenceError included
             return failed(f"orbit continuation failed: {err}", start.sigma)
     rows = [r for r in compare_rows(family, fr, np.linspace(sigma_min, sigma_max, grid)) if r["slow_flow_stable"]]
@@ -139,12 +140,15 @@ def trust_map(base: Params, *, eps=(0.02, 0.05, 0.1, 0.2), beta=(0.0, 0.3, 0.5),
     """
     from concurrent.futures import ProcessPoolExecutor, as_completed
 
+    from slosh_bif.simulation.integrator import resolve_backend
+
     if not isinstance(base, Params):
         raise TypeError(f"base must be a slosh_bif.Params; got {type(base).__name__}")
     grid = list(itertools.product(eps, beta, n))
     if not grid:
         raise ValueError("the (eps, beta, n) grid is empty")
     jobs = [base.replace(eps=float(e), beta=float(b), n=int(k)) for e, b, k in grid]  # Params checks each value
+    resolve_backend(options.get("backend", "auto"))  # a bad name fails here, not in every worker
     points = [None] * len(jobs)
     pool = ProcessPoolExecutor(max_workers=max_workers, initializer=worker_setup)
     try:

@@ -8,7 +8,7 @@ import pytest
 
 from slosh_bif import get_preset
 from slosh_bif.orbits import ShootingProblem, orbit_at
-from slosh_bif.orbits.floquet import periodic_schur
+from slosh_bif.orbits.floquet import floquet_multipliers, periodic_schur
 
 RNG = np.random.default_rng(19)
 
@@ -66,6 +66,14 @@ def test_a_spread_beyond_1e12_defeats_the_formed_product_not_the_periodic_schur(
     assert schur.converged
     assert _rel(schur.multipliers, exact) < 1e-10
     assert _rel(_formed(mats), exact) > 1e-7  # the smallest multiplier is lost in the formed product
+
+
+@pytest.mark.parametrize("spread", [1e2, 1e14])
+def test_floquet_multipliers_take_the_formed_product_only_where_it_is_accurate(spread):
+    # A small spread: the formed product's eigenvalues (cheap) to 1e-12; a spread of 1e14: the
+    # periodic Schur's, where the formed product's smallest multiplier is wrong (the test above).
+    mats = _product_with_known_spread(np.array([np.sqrt(spread), 3.0, 0.5, 1 / np.sqrt(spread)]), 4)
+    assert _rel(floquet_multipliers(mats), _mpmath_eigenvalues(mats)) < 1e-11
 
 
 @pytest.mark.parametrize("m", [2, 4])

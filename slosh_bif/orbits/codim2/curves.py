@@ -17,12 +17,14 @@ from slosh_bif.orbits.codim2.torus import TorusCurveProblem
 from slosh_bif.orbits.floquet import floquet_multipliers
 from slosh_bif.orbits.shooting import ShootingProblem, orbit_measures
 
-__all__ = ["BifurcationCurve", "trace_curve", "CURVE_OPTIONS"]
+__all__ = ["BifurcationCurve", "trace_curve", "CURVE_OPTIONS", "CODIM2_KINDS"]
 
 # Like the one-parameter orbit branches (the corrector's tolerance above the integration's
 # rounding); a turn of a curve in p1 is no bifurcation, so folds and branch points of the
 # augmented system are not detected.
 CURVE_OPTIONS = ContinuationOptions(step=0.05, step_max=0.25, tol=1e-9, max_steps=2000, detect_folds=False, detect_branch_points=False, max_seconds=300.0)
+
+CODIM2_KINDS = ("CP", "LPPD", "LPNS", "PDNS", "R1", "R2", "R3", "R4", "BPLP")
 
 
 @dataclasses.dataclass(frozen=True)
@@ -52,7 +54,7 @@ class BifurcationCurve:
         if name == self.p1:
             return self.branch.p
         if name == self.p2:
-            return self.branch.x[:, -2 if self.kind == "NS" else -1]
+            return self._p2_of(self.branch.x.T)
         if name == "theta" and self.kind == "NS":
             return self.branch.x[:, -1]
         if name in self.measures:
@@ -62,6 +64,13 @@ class BifurcationCurve:
     @property
     def status(self) -> str:
         return self.branch.status
+
+    def codim2_points(self) -> list:
+        """(label, p1, p2) of each codimension-2 point, in curve order."""
+        return [(sp.kind, float(sp.p), float(self._p2_of(sp.x))) for sp in self.branch.special if sp.kind in CODIM2_KINDS]
+
+    def _p2_of(self, x):
+        return x[-2 if self.kind == "NS" else -1]  # theta follows p2 on an NS curve
 
     def save(self, path) -> Path:
         """The branch's .npz with the curve's kind, parameters, origin and measures added."""
@@ -94,11 +103,13 @@ def trace_curve(
     rtol: float = 1e-10,
     origin: str = "",
     points_per_2pi: int = 256,
+    backend: str = "auto",
     callback=None,
 ) -> BifurcationCurve:
     """Trace the curve of ``kind`` (LP, PD, NS or BP) through the special point (x, p) of a one-parameter
     branch in ``branch_param`` (one of p1, p2) over the box p1_range x p2_range, in both
     directions until it leaves the box, closes, or cannot be continued (its status says which).
+    ``backend``: the integrator of the arcs (compiled or scipy's DOP853).
     """
     if kind not in (*CURVE_KINDS, "NS"):
         raise ValueError(f"kind must be one of {', '.join(CURVE_KINDS)}, NS; got {kind!r}")
@@ -116,8 +127,10 @@ def trace_curve(
     if not (lo1 <= p1_0 <= hi1 and lo2 <= p2_0 <= hi2):
         raise ValueError(f"the start point ({p1} = {p1_0:g}, {p2} = {p2_0:g}) lies outside the box")
     span1 = hi1 - lo1
-    mu = _check_start(params.replace(**{p1: p1_0, p2: p2_0}), x, kind, segments, period_multiple, p1, symmetric=kind == "BP")
-    setup = dict(segments=segments, period_multiple=period_multiple, rtol=rtol, atol=rtol * 1e-2, box=(lo1 - 0.5 * span1, hi1 + 0.5 * span1), p2_box=(lo2, hi2))
+    mu = _check_start(params.replace(**{p1: p1_0, p2: p2_0}), x, kind, segments, period_multiple, p1, symmetric=kind == "BP", backend=backend)
+    setup = dict(
+        segments=segments, period_multiple=period_multiple, rtol=rtol, atol=rtol * 1e-2, box=(lo1 - 0.5 * span1, hi1 + 0.5 * span1), p2_box=(lo2, hi2), backend=backend,
+    )
     u0 = np.append(np.asarray(x, dtype=float), p2_0)
     if kind == "NS":
         problem = TorusCurveProblem(params, p1, p2, **setup)
@@ -132,14 +145,14 @@ def trace_curve(
     return BifurcationCurve(kind, p1, p2, branch, measures, origin, period_multiple)
 
 
-def _check_start(at: Params, x, kind: str, segments: int, period_multiple: int, p1: str, symmetric: bool = False):
+def _check_start(at: Params, x, kind: str, segments: int, period_multiple: int, p1: str, symmetric: bool = False, backend: str = "auto"):
     """A one-line error, before any continuation, when (x) at ``at`` is not an orbit with the
     multiplier of ``kind`` (to 1e-3: a located special point has it to the corrector's tolerance);
     else the multipliers (an NS curve starts from their angle)."""
     x = np.asarray(x, dtype=float)
     if x.shape != (4 * segments,) or not np.all(np.isfinite(x)):
         raise ValueError(f"the start must be {4 * segments} finite numbers (the states at the starts of {segments} arcs); got shape {x.shape}")
-    problem = ShootingProblem(at, p1, segments=segments, period_multiple=period_multiple, symmetric=symmetric)
+    problem = ShootingProblem(at, p1, segments=segments, period_multiple=period_multiple, symmetric=symmetric, backend=backend)
     arcs = problem.arcs(x, at)
     mu = floquet_multipliers(arcs.mats)
     residual = np.linalg.norm(problem.residual_of(x, arcs))

@@ -9,7 +9,8 @@ vectors b, c the scalar g in
 
 is complex; Re g = Im g = 0 are two real equations, and theta joins the unknowns, so the system
 is (x, p2, theta) of size 4m + 2, continued in p1. dg/dz = -w^H d(J v)/dz with w from the adjoint
-system; d(J v)/dz comes from F_z at x + h Re v and x + h Im v (two extra integrations), and
+system; d(J v)/dz comes from F_z at x +- h Re v and x +- h Im v (four extra integrations, central
+differences as on the fold curves), and
 dg/dtheta = i exp(i theta) w_last^H v_0 in closed form. On the curve, the strong resonances
 1:1 (R1, theta = 0), 1:2 (R2, theta = pi), 1:3 (R3, theta = 2 pi/3) and 1:4 (R4, theta = pi/2),
 fold-NS (LPNS, a further multiplier +1) and flip-NS (PDNS, -1) are located by test functions.
@@ -20,7 +21,6 @@ from __future__ import annotations
 import numpy as np
 
 from slosh_bif.orbits.codim2.minaug import MultiplierCurveProblem
-from slosh_bif.orbits.floquet import floquet_multipliers
 
 __all__ = ["TorusCurveProblem"]
 
@@ -45,16 +45,10 @@ class TorusCurveProblem(MultiplierCurveProblem):
         return arcs, self.shooting.jacobian_of(arcs, np.exp(1j * x[-1]))
 
     def _second_uncached(self, x, p):
-        arcs, v, w, _ = self._solve(x, p)
+        _, v, w, _ = self._solve(x, p)
         y, P = x[:-2], self.params_at(x, p)
-        h = 1e-5 * (1 + np.linalg.norm(y)) / np.linalg.norm(v)
-        base_J, base_S = self.shooting.jacobian_of(arcs), arcs.sens.reshape(len(y), -1)
-        parts = []
-        for direction in (v.real, v.imag):
-            shifted = self.shooting.arcs(y + h * direction, P)
-            parts.append(((self.shooting.jacobian_of(shifted) - base_J) / h, (shifted.sens.reshape(len(y), -1) - base_S) / h))
-        dJ = parts[0][0] + 1j * parts[1][0]  # d(J v)/dx as a matrix acting on the direction
-        dS = parts[0][1] + 1j * parts[1][1]
+        (dJ_re, dS_re), (dJ_im, dS_im) = (self._along(y, P, d) for d in (v.real, v.imag))
+        dJ, dS = dJ_re + 1j * dJ_im, dS_re + 1j * dS_im  # d(J v)/dx as a matrix acting on the direction
         wH = w.conj()
         g_x = -(wH @ dJ)
         g_p1 = -(wH @ dS[:, self._columns[0]])
@@ -67,25 +61,13 @@ class TorusCurveProblem(MultiplierCurveProblem):
         arcs, _, _, g = self._solve(x, p)
         return np.concatenate([self.shooting.residual_of(x[:-2], arcs), [g.real, g.imag]])
 
-    def jacobian(self, x, p):
-        arcs = self._solve(x, p)[0]
-        g_x, _, g_p2, g_theta = self._second(x, p)
-        n = len(x) - 2
-        top = np.column_stack([self.shooting.jacobian_of(arcs), arcs.sens.reshape(n, -1)[:, self._columns[1]], np.zeros(n)])
-        g_row = np.concatenate([g_x, [g_p2, g_theta]])
-        return np.vstack([top, g_row.real, g_row.imag])
-
-    def dparam(self, x, p):
-        arcs = self._solve(x, p)[0]
-        _, g_p1, _, _ = self._second(x, p)
-        return np.concatenate([arcs.sens.reshape(len(x) - 2, -1)[:, self._columns[0]], [g_p1.real, g_p1.imag]])
+    def _g_row(self, second):
+        g_x, g_p1, g_p2, g_theta = second
+        return np.concatenate([g_x, [g_p2, g_theta, g_p1]])
 
     def eigenvalues(self, x, p):
         """The multipliers, the critical pair (nearest exp(+-i theta)) first."""
-        arcs = self._solve(x, p)[0]
-        if not np.all(np.isfinite(arcs.monodromy)):
-            return np.full(4, np.nan + 0j)
-        mu = floquet_multipliers(arcs.mats)
+        mu = self.multipliers(x, p)
         target = np.exp(1j * x[-1])
         distance = np.minimum(np.abs(mu - target), np.abs(mu - target.conjugate()))
         return mu[np.argsort(distance)]
