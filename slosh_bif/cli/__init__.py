@@ -21,6 +21,7 @@ Subcommands:
 from __future__ import annotations
 
 import argparse
+import os
 import re
 import sys
 
@@ -56,6 +57,19 @@ def _negative_values_attached(argv):
     return out
 
 
+def _check_out(out) -> None:
+    """A one-line error, before any work, when the output folder cannot be made or written."""
+    if out is None:
+        return
+    if out.exists() and not out.is_dir():
+        raise ValueError(f"--out {out} is a file; give a folder (created if missing)")
+    existing = next(p for p in (out, *out.parents) if p.exists())
+    if not existing.is_dir():
+        raise ValueError(f"--out {out}: {existing} is a file, not a folder")
+    if not os.access(existing, os.W_OK | os.X_OK):
+        raise ValueError(f"--out {out}: cannot create or write in {existing} (permission denied)")
+
+
 def main(argv=None) -> int:
     import signal
     import warnings
@@ -85,6 +99,7 @@ def main(argv=None) -> int:
         warnings.showwarning = show
         warnings.simplefilter("always")  # every warning reaches show(), which prints each message once
         try:
+            _check_out(getattr(args, "out", None))
             with threadpool_limits(limits=1, user_api="blas"):  # tiny matrices: BLAS threads only cost
                 return args.run(args)
         except KeyboardInterrupt as stop:  # Ctrl-C or SIGTERM: workers are stopped where they run
@@ -96,6 +111,9 @@ def main(argv=None) -> int:
             return 2
         except RuntimeError as err:  # a method that could not answer says why (no traceback)
             print(f"slosh-bif {args.command}: failed: {err}", file=sys.stderr)
+            return 1
+        except OSError as err:  # e.g. the disk filled up while writing
+            print(f"slosh-bif {args.command}: failed to read or write a file: {err}", file=sys.stderr)
             return 1
         finally:
             if previous is not None:

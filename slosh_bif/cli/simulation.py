@@ -39,12 +39,12 @@ def _simulate(args) -> int:
     noise = preset.noise_std if args.noise is None else args.noise
     if args.transient is not None and not (0 <= args.transient < tmax):
         raise ValueError(f"--transient must be in [0, tmax = {tmax:g}); got {args.transient}")
-    args.out.mkdir(parents=True, exist_ok=True)
     report = throttled(progress, passes=lambda message: message.startswith("simulated 100"))
     sim = simulate(
         params, state0_of(args, params), tmax, model=args.model, noise_std=noise, seed=args.seed, noise_cutoff=args.noise_cutoff, backend=args.backend,
         progress=lambda f: report(f"simulated {100 * f:.0f} % of tau in [0, {tmax:g}]"),
     )
+    args.out.mkdir(parents=True, exist_ok=True)
     if not sim.success and sim.status != "sticking":
         print(f"slosh-bif simulate: the run stopped early: {sim.message}", file=sys.stderr)
     transient = args.transient if args.transient is not None and args.transient < sim.t[-1] else None

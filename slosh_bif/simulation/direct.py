@@ -22,7 +22,7 @@ from slosh_bif.simulation import integrator
 from slosh_bif.simulation.noise import band_limited_noise
 from slosh_bif.simulation.vibro_impact import simulate_impact
 
-__all__ = ["MODELS", "Simulation", "Trajectory", "integrate_smooth", "simulate", "wall_contacts", "wall_passages"]
+__all__ = ["MODELS", "MAX_SAMPLES", "Simulation", "Trajectory", "integrate_smooth", "simulate", "wall_contacts", "wall_passages"]
 
 _METHODS = ("DOP853", "RK45", "RK23", "Radau", "BDF", "LSODA")
 _IMPLICIT = ("Radau", "BDF", "LSODA")
@@ -75,6 +75,9 @@ def integrate_smooth(
 # --- direct simulation of either model, with the noise of (47) ------------------------------------
 
 MODELS = ("smooth", "impact")
+# Samples a simulation keeps in memory at most (t and four states each: 2e7 is 0.8 GB); the default
+# sampling reaches it at tau = 4e5.
+MAX_SAMPLES = 20_000_000
 
 
 @dataclasses.dataclass(frozen=True)
@@ -233,6 +236,12 @@ def simulate(
         raise ValueError(f"sample_step must be in (0, 0.5]; got {sample_step!r}")
     if not (np.isfinite(noise_std) and noise_std >= 0):
         raise ValueError(f"noise_std (sigma_bar of eq. 47) must be finite and >= 0; got {noise_std!r}")
+    samples = (tmax - t0) / (min(sample_step, 0.05) if model == "impact" else sample_step)
+    if samples > MAX_SAMPLES:  # the samples are kept in memory (5 doubles each): refuse before integrating
+        raise ValueError(
+            f"tmax - t0 = {tmax - t0:g} at sample_step {sample_step:g} would keep {samples:.3g} samples ({40 * samples / 1e9:.3g} GB), more than "
+            f"the {MAX_SAMPLES:.0e} allowed: shorten the run (tau up to t0 + {MAX_SAMPLES * sample_step:g}) or sample more sparsely"
+        )
     y0 = np.asarray(state0, dtype=float)
     if y0.shape != (4,) or not np.all(np.isfinite(y0)):
         raise ValueError(f"state0 must be 4 finite numbers [X, X', w, w']; got {state0!r}")

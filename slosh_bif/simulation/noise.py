@@ -37,10 +37,13 @@ import math
 import numpy as np
 from scipy.interpolate import PPoly, make_interp_spline
 
-__all__ = ["BandLimitedNoise", "band_limited_noise"]
+__all__ = ["BandLimitedNoise", "band_limited_noise", "MAX_NOISE_SAMPLES"]
 
 _POINTS_PER_SHORTEST_PERIOD = 16
 _DEGREE = 7
+# At most this many samples of the noise (its table holds 8 spline coefficients a sample; 2e7 is
+# about 1.3 GB): a cutoff of 1e6 over tau = 600 would ask for 1.5e9.
+MAX_NOISE_SAMPLES = 20_000_000
 
 
 @dataclasses.dataclass(frozen=True)
@@ -101,10 +104,15 @@ def band_limited_noise(std: float, *, seed: int, duration: float, t0: float = 0.
     length = 1.05 * duration + 2 * np.pi  # the realisation is periodic with this length: longer than the run
     d_omega = 2 * np.pi / length
     modes = max(1, int(cutoff / d_omega))
+    grid = 2 * max(modes + 1, 32, math.ceil(_POINTS_PER_SHORTEST_PERIOD * cutoff * length / (4 * np.pi)))
+    if grid > MAX_NOISE_SAMPLES:  # refuse before allocating
+        raise ValueError(
+            f"noise cutoff {cutoff:g} over a run of {duration:g} needs {grid:.3g} noise samples, more than the {MAX_NOISE_SAMPLES:.0e} allowed "
+            f"(about {8 * 8 * grid / 1e9:.0f} GB): lower the cutoff (at most {cutoff * MAX_NOISE_SAMPLES / grid:.3g} here) or shorten the run"
+        )
     rng = np.random.default_rng(seed)
     phases = rng.uniform(0.0, 2 * np.pi, modes)
-    # Grid with at least 16 points per period of the cutoff frequency, as an FFT length.
-    m = 2 * max(modes + 1, 32, math.ceil(_POINTS_PER_SHORTEST_PERIOD * cutoff * length / (4 * np.pi)))
+    m = grid  # at least 16 points per period of the cutoff frequency, as an FFT length
     spectrum = np.zeros(m // 2 + 1, dtype=complex)
     amplitude = std * math.sqrt(2.0 / modes)
     spectrum[1 : modes + 1] = 0.5 * amplitude * m * np.exp(1j * phases)

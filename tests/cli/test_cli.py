@@ -343,3 +343,26 @@ def test_regimes_with_the_scipy_backend_classify_as_the_compiled_one(tmp_path):
             (rows[backend],) = list(csv.DictReader(fh))
     assert rows["scipy"]["regime"] == rows["numba"]["regime"] == "periodic-resonant"
     assert float(rows["scipy"]["impacts_per_period"]) == pytest.approx(float(rows["numba"]["impacts_per_period"]), rel=0.02)
+
+
+@pytest.mark.parametrize(
+    "extra, says",
+    [
+        (["--tmax", "1e9"], "more than the 2e+07 allowed"),  # 5e10 samples kept in memory
+        (["--noise", "0.1", "--noise-cutoff", "1e6"], "lower the cutoff"),  # a 3e9-sample noise table
+    ],
+)
+def test_runs_too_large_for_memory_are_one_line_errors_before_any_work(tmp_path, capsys, extra, says):
+    out = tmp_path / "sim"
+    assert main(["simulate", "--preset", "fig10", *extra, "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert says in err and err.count("\n") == 1 and not out.exists()
+
+
+def test_an_output_folder_that_is_a_file_is_a_one_line_error(tmp_path, capsys):
+    path = tmp_path / "a-file"
+    path.write_text("x")
+    for out in (path, path / "below"):
+        assert main(["simulate", "--preset", "fig10", "--tmax", "10", "--out", str(out)]) == 2
+        err = capsys.readouterr().err
+        assert "is a file" in err and err.count("\n") == 1
