@@ -40,7 +40,7 @@ from slosh_bif.model.manifold import project_on_manifold
 from slosh_bif.model.manifold_law import ManifoldLaw
 from slosh_bif.model.params import Params
 from slosh_bif.model.presets import CLASSIFY_TMAX
-from slosh_bif.simulation.direct import simulate
+from slosh_bif.simulation.direct import MAX_SAMPLES, simulate
 
 __all__ = ["REGIMES", "THRESHOLDS", "RegimeSummary", "classify", "RegimeMap", "regime_map", "worker_setup", "stop_pool"]
 
@@ -264,8 +264,14 @@ def regime_map(
             raise ValueError(f"the {name} grid must be a non-empty 1-d array of finite numbers")
     if np.any(abars < 0):
         raise ValueError(f"Abar must be >= 0 on the whole grid; got min {abars.min()}")
+    if not (np.isfinite(tmax) and tmax > 0):
+        raise ValueError(f"tmax (the end of each simulation) must be finite and > 0; got {tmax!r}")
+    if tmax / sample_step > MAX_SAMPLES:
+        raise ValueError(f"tmax = {tmax:g} at sample_step {sample_step:g} would keep more than the {MAX_SAMPLES:.0e} samples allowed per simulation")
     if transient is None:
         transient = 0.5 * tmax
+    if not (np.isfinite(transient) and 0 <= transient < tmax):
+        raise ValueError(f"transient must be in [0, tmax = {tmax:g}); got {transient!r}")
     jobs = {(i, j): params.replace(sigma=float(s), Abar=float(a)) for i, a in enumerate(abars) for j, s in enumerate(sigmas)}
     own = executor is None
     pool = ProcessPoolExecutor(max_workers=max_workers, initializer=worker_setup) if own else executor

@@ -1,0 +1,68 @@
+"""Every numeric option, any value (hypothesis): either a one-line error and exit status 2 before
+any work, or the work starts (a stand-in raises at its first step). Values no command can use
+(NaN, infinities, negative sizes) must be errors (issue 18)."""
+
+import math
+
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from slosh_bif.cli import main
+
+
+class _WorkStarted(Exception):
+    pass
+
+
+def _started(*_args, **_kwargs):
+    raise _WorkStarted
+
+
+@pytest.fixture
+def no_work(monkeypatch):
+    """The first step of each command's work raises _WorkStarted."""
+    import concurrent.futures
+
+    import slosh_bif.simulation.integrator as integrator
+    import slosh_bif.studies.chart as chart
+
+    monkeypatch.setattr(integrator, "integrate_grid", _started)  # simulate's integration
+    monkeypatch.setattr(concurrent.futures, "ProcessPoolExecutor", _started)  # regimes' and trust's pools
+    monkeypatch.setattr(chart, "orbit_from_simulation", _started)  # the chart's first orbit
+
+
+NUMBERS = st.one_of(
+    st.floats(allow_nan=True, allow_infinity=True, width=64),
+    st.sampled_from([0.0, -0.0, -1.0, 1e-300, 1e300, 0.5, 3.0, 600.0, -6.0, 8.0]),
+)
+
+# (command line before the value, option, command line after it, the values that must be errors)
+CASES = {
+    "simulate --tmax": (["simulate", "--preset", "fig10"], "--tmax", [], lambda v: not (math.isfinite(v) and v > 0)),
+    "simulate --noise": (["simulate", "--preset", "fig10", "--tmax", "10"], "--noise", [], lambda v: not (math.isfinite(v) and v >= 0)),
+    "simulate --noise-cutoff": (["simulate", "--preset", "fig10", "--tmax", "10", "--noise", "0.1"], "--noise-cutoff", [], lambda v: not (math.isfinite(v) and v > 0)),
+    "simulate --set Abar": (["simulate", "--preset", "fig10", "--tmax", "10", "--set"], None, [], lambda v: not (math.isfinite(v) and v >= 0)),
+    "regimes --abar-max": (["regimes", "--preset", "fig10", "--abar-min", "0.1"], "--abar-max", [], lambda v: not (math.isfinite(v) and v > 0.1)),
+    "regimes --tmax": (["regimes", "--preset", "fig10"], "--tmax", [], lambda v: not (math.isfinite(v) and v > 0)),
+    "chart --sigma-max": (["chart", "--preset", "fig10", "--sigma-min", "-6"], "--sigma-max", [], lambda v: not (math.isfinite(v) and v > -6)),
+    "chart --abar-min": (["chart", "--preset", "fig10"], "--abar-min", [], lambda v: not (math.isfinite(v) and 0 <= v < 6)),
+}
+
+
+@pytest.mark.parametrize("case", sorted(CASES))
+@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(value=NUMBERS)
+def test_a_numeric_option_is_an_error_or_starts_the_work(case, value, no_work, tmp_path, capsys):
+    before, option, after, invalid = CASES[case]
+    text = repr(value) if math.isfinite(value) else str(value)
+    argv = before + ([option, text] if option else [f"Abar={text}"]) + after + ["--out", str(tmp_path / "out")]
+    try:
+        status = main(argv)
+    except _WorkStarted:
+        status = None
+    err = capsys.readouterr().err
+    if status is None:
+        assert not invalid(value), f"{argv}: the work started with a value no command can use"
+    else:
+        assert status == 2 and "Traceback" not in err and err.strip().count("\n") == 0, (argv, status, err)
