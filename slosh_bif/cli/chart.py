@@ -16,7 +16,7 @@ __all__ = ["add_commands"]
 
 def _chart(args) -> int:
     from slosh_bif.studies.chart import bifurcation_chart
-    from slosh_bif.studies.chart_output import plot_chart, write_critical_csv, write_curves_csv
+    from slosh_bif.studies.chart_output import chart_settings, curve_store, plot_chart, write_critical_csv, write_curves_csv
 
     params = params_of(args)
     lo, hi = sigma_range(args)
@@ -27,11 +27,12 @@ def _chart(args) -> int:
         raise ValueError(f"--seeds must be an integer >= 0; got {args.seeds}")
     if args.workers is not None and args.workers < 1:
         raise ValueError(f"--workers must be a positive integer; got {args.workers}")
-    args.out.mkdir(parents=True, exist_ok=True)
     state0 = state0_of(args, params)
+    settings = chart_settings(params, state0, (lo, hi), (a_lo, a_hi), switch=not args.no_switch, seeds=args.seeds, backend=args.backend)
+    done, keep = curve_store(args.out / "curves", settings, resume=args.resume)
     chart = bifurcation_chart(
         params, state0, sigma_range=(lo, hi), abar_range=(a_lo, a_hi), switch=not args.no_switch, seeds=args.seeds, workers=args.workers, backend=args.backend,
-        progress=throttled(progress),
+        done=done, keep=keep, progress=throttled(progress),
     )
     regimes = None
     if args.regimes is not None and chart.status == "complete":
@@ -73,6 +74,7 @@ def add_commands(sub) -> None:
     chart.add_argument("--no-switch", action="store_true", help="the curves of the primary orbit branch only")
     chart.add_argument("--seeds", type=int, default=7, help="sigma values at which the primary branch's orbit is also continued in Abar to find folds and period doublings below the preset's forcing (default 7)")
     add_backend_option(chart)
+    chart.add_argument("--resume", action="store_true", help="reuse the curves stored in OUT/curves/ by an earlier run with the same settings (an interrupted one) and trace only the rest")
     chart.add_argument("--workers", type=int, default=None, help="processes tracing curves (and the regime map) side by side (default: one per core)")
     chart.add_argument("--out", type=Path, required=True, help="output folder (created if missing)")
     chart.set_defaults(run=_chart)

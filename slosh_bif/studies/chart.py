@@ -110,16 +110,17 @@ def _trace_job(job):
         return None, str(err)
 
 
-def _trace_curves(starts, say, workers: int = 1):
+def _trace_curves(starts, say, workers: int = 1, done=None, keep=None):
     """(curves, status): the curve through each start that lies on no curve of its kind traced
     from an earlier start, in start order, on ``workers`` processes; interrupted, the curves
-    finished by then and a status saying so.
+    finished by then and a status saying so. ``done``: {start index: curve} from an earlier run
+    (not traced again); ``keep(i, curve)`` is called as each curve finishes.
 
     Curves are independent, so they run side by side; a start is not submitted when a finished
     curve of its kind already passes through it, and a curve traced alongside one that covers it
     is dropped at the end, so the result is the sequential one, whatever the timing.
     """
-    traced = {}  # start index -> curve
+    traced = {i: c for i, c in (done or {}).items() if i < len(starts) and c.kind == starts[i].kind}  # start index -> curve
 
     def covered(i, among):
         return any(c.kind == starts[i].kind and _on_curve(c, starts[i].sigma, starts[i].abar) for c in among)
@@ -130,6 +131,8 @@ def _trace_curves(starts, say, workers: int = 1):
             say(f"no {starts[i].kind} curve from {starts[i].origin}: {err}")
         else:
             traced[i] = curve
+            if keep is not None:
+                keep(i, curve)
             say(f"{curve.kind} curve from {starts[i].origin}: {len(curve)} points, {curve.status}")
 
     status = "complete"
@@ -184,6 +187,8 @@ def bifurcation_chart(
     seeds: int = 7,
     workers: int | None = None,
     backend: str = "auto",
+    done=None,
+    keep=None,
     progress=None,
 ) -> Chart:
     """Trace the family of orbits at the parameter set's Abar over ``sigma_range`` (from a
@@ -191,7 +196,8 @@ def bifurcation_chart(
     continued in Abar, then the LP, PD, NS and BP curve through each of their special points
     (each curve once) in the box ``sigma_range`` x ``abar_range``, on ``workers`` processes (default:
     every core), integrating with ``backend``. Interrupted while tracing curves, it returns those
-    finished, ``status`` saying so."""
+    finished, ``status`` saying so. ``done`` and ``keep``: see :func:`_trace_curves` (a resumed run
+    with the same settings finds the same starts in the same order)."""
     (s0, s1), (a0, a1) = sigma_range, abar_range
     if not (s0 < s1 and 0 <= a0 < a1):
         raise ValueError(f"empty box: sigma in [{s0}, {s1}], Abar in [{a0}, {a1}] (need sigma_min < sigma_max and 0 <= Abar_min < Abar_max)")
@@ -222,7 +228,9 @@ def bifurcation_chart(
             continue
         starts += _starts(down.branches[0], "Abar", at, (s0, s1), (a0, a1), backend=backend)
     say(f"{len(starts)} special points to start curves from, on {workers} process(es)")
-    curves, status = _trace_curves(starts, say, workers)
+    if done:
+        say(f"{len(done)} curves from an earlier run")
+    curves, status = _trace_curves(starts, say, workers, done, keep)
     try:
         slow = critical_curve(params, s0, s1)
     except (RuntimeError, ValueError) as err:

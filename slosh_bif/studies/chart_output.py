@@ -1,7 +1,8 @@
 """The chart as files: ``curves.csv`` (one row per curve point, in curve order), ``critical.csv``
-(Abar_b of (46) against Abar_c of (9) on a sigma grid) and ``chart.png``.
+(Abar_b of (46) against Abar_c of (9) on a sigma grid), ``chart.png``, and the curve store
+``curves/`` (each curve's ``.npz`` as it finishes: what ``chart --resume`` reuses).
 
-``curves.csv`` columns: ``curve`` (number), ``kind`` (LP, PD or NS), ``sigma``, ``Abar``, ``A1`` and
+``curves.csv`` columns: ``curve`` (number), ``kind`` (LP, PD, NS or BP), ``sigma``, ``Abar``, ``A1`` and
 ``max_abs_w`` (the orbit there), ``codim2`` (empty or CP, LPPD, LPNS, PDNS, R1-R4), ``bounds_stable``
 (1 when every multiplier but the critical one(s) is inside the unit circle), ``status`` (the curve's:
 ``ok`` when it left the box or closed, else why it stopped) and ``origin``.
@@ -9,15 +10,17 @@
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
 import numpy as np
 
-from slosh_bif.orbits.codim2 import CODIM2_KINDS
+from slosh_bif.orbits.codim2 import CODIM2_KINDS, BifurcationCurve
+from slosh_bif.report.files import write_text_atomically
 from slosh_bif.report.tables import write_rows
 from slosh_bif.studies.chart import CRITICAL_COLUMNS, critical_rows
 
-__all__ = ["CURVE_COLUMNS", "curve_rows", "write_curves_csv", "write_critical_csv", "plot_chart"]
+__all__ = ["CURVE_COLUMNS", "curve_rows", "write_curves_csv", "write_critical_csv", "plot_chart", "chart_settings", "curve_store"]
 
 CURVE_COLUMNS = ("curve", "kind", "sigma", "Abar", "A1", "max_abs_w", "codim2", "bounds_stable", "status", "origin")
 
@@ -76,3 +79,42 @@ def plot_chart(chart, path, *, regimes=None) -> Path:
     ax.legend(fontsize=8, loc="upper left")
     ax.grid(alpha=0.3)
     return save_figure(fig, path)
+
+
+def chart_settings(params, state0, sigma_range, abar_range, **options) -> dict:
+    """What decides the chart's starts and curves: a resumed run reuses stored curves only when
+    these are equal."""
+    return {
+        "params": params.as_dict(), "state0": [float(v) for v in state0], "sigma_range": [float(v) for v in sigma_range],
+        "abar_range": [float(v) for v in abar_range], **options,
+    }
+
+
+def curve_store(folder, settings: dict, *, resume: bool):
+    """(done, keep) for :func:`~slosh_bif.studies.chart.bifurcation_chart`: the curves stored in
+    ``folder`` by an earlier run with the same ``settings`` (resume; else none, and the folder's
+    old curves are removed), and a callback that stores each new curve there as it finishes
+    (``curve-<start>.npz``, written atomically). A one-line ValueError when resuming from a
+    missing or different store."""
+    folder = Path(folder)
+    marker = folder / "settings.json"
+    if resume:
+        try:
+            stored = json.loads(marker.read_text())
+        except (OSError, ValueError) as err:
+            raise ValueError(f"--resume: cannot read {marker}: {err}") from None
+        if stored != settings:
+            differ = sorted(k for k in settings if stored.get(k) != settings[k])
+            raise ValueError(f"--resume: {marker} was written for other settings ({', '.join(differ)} differ); run without --resume or into another --out")
+        done = {int(path.stem.split("-")[1]): BifurcationCurve.load(path) for path in sorted(folder.glob("curve-*.npz"))}
+    else:
+        folder.mkdir(parents=True, exist_ok=True)
+        for path in folder.glob("curve-*.npz"):
+            path.unlink()
+        write_text_atomically(marker, json.dumps(settings) + "\n")
+        done = {}
+
+    def keep(i, curve):
+        curve.save(folder / f"curve-{i:04d}.npz")
+
+    return done, keep

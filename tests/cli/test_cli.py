@@ -366,3 +366,17 @@ def test_an_output_folder_that_is_a_file_is_a_one_line_error(tmp_path, capsys):
         assert main(["simulate", "--preset", "fig10", "--tmax", "10", "--out", str(out)]) == 2
         err = capsys.readouterr().err
         assert "is a file" in err and err.count("\n") == 1
+
+
+def test_chart_resume_reuses_the_stored_curves_and_checks_the_settings(tmp_path, capsys):
+    out = tmp_path / "chart"
+    argv = ["chart", "--preset", "fig10", "--set", "sigma=-1.2", "--sigma-min", "-1.6", "--sigma-max", "-0.9", "--abar-min", "2.8", "--abar-max", "3.2", "--no-switch", "--seeds", "0"]
+    assert main(argv + ["--out", str(out)]) == 0
+    first = (out / "curves.csv").read_text()
+    assert sorted(p.name for p in (out / "curves").iterdir())[-1] == "settings.json"
+    capsys.readouterr()
+    assert main(argv + ["--resume", "--out", str(out)]) == 0
+    assert "curves from an earlier run" in capsys.readouterr().err
+    assert (out / "curves.csv").read_text() == first  # the stored curves, bit for bit
+    assert main(argv[:-2] + ["--seeds", "1", "--resume", "--out", str(out)]) == 2
+    assert "seeds differ" in capsys.readouterr().err

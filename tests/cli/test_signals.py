@@ -83,3 +83,19 @@ def test_an_interrupted_map_resumed_equals_an_uninterrupted_one(tmp_path, capsys
     # other settings: refused in one line, before any work
     assert main([*grid[:-1], "2000", "--resume", "--out", str(tmp_path / "a")]) == 2
     assert "tmax differ" in capsys.readouterr().err
+
+
+CHART = ["chart", "--preset", "fig10", "--sigma-min", "-6", "--sigma-max", "8", "--abar-min", "0.2", "--abar-max", "6", "--no-switch"]
+
+
+@pytest.mark.skipif(not os.path.exists("/proc/self/task"), reason="reads worker processes from Linux's /proc")
+def test_a_stopped_chart_keeps_its_finished_curves_and_leaves_no_worker(tmp_path):
+    out = tmp_path / "chart"
+    returncode, err, elapsed, workers = _stop_while_running(CHART, signal.SIGINT, out)
+    assert returncode == 130, err
+    assert elapsed < 10 and workers and not any(_alive(w) for w in workers)
+    assert "interrupted" in err and "Traceback" not in err
+    stored = sorted((out / "curves").glob("curve-*.npz"))
+    with open(out / "curves.csv", newline="") as fh:
+        rows = list(csv.DictReader(fh))
+    assert stored and 0 < len({r["curve"] for r in rows}) <= len(stored)  # the finished curves (one of two duplicates dropped), complete
