@@ -37,10 +37,17 @@ def _compare(args) -> int:
 
 def _trust(args) -> int:
     from slosh_bif.studies.trust import trust_map
-    from slosh_bif.studies.trust_output import plot_trust_map, trust_table, write_trust_csv
+    from slosh_bif.studies.trust_output import plot_trust_map, trust_store, trust_table, write_trust_csv
 
     base = params_of(args)
     lo, hi = sigma_range(args)
+    settings = dict(
+        params=base.as_dict(), eps=args.eps, beta=args.beta, n=args.n, sigma_range=[lo, hi], grid=args.sigma_points, switch=not args.no_switch,
+        max_branches=args.max_branches, backend=args.backend,
+    )
+    done, keep = trust_store(args.out / "trust_map.json", settings, resume=args.resume)
+    if done:
+        progress(f"resuming: {len(done)} parameter sets already compared in {args.out / 'trust_map.json'}")
     args.out.mkdir(parents=True, exist_ok=True)
     total = len(args.eps) * len(args.beta) * len(args.n)
     progress(f"{total} parameter sets, each a frequency-response curve of (46) and a family of orbits of (9) (seconds to a minute each)")
@@ -48,7 +55,7 @@ def _trust(args) -> int:
     def report(point, done, total):
         progress(f"{done}/{total}: eps = {point.eps:g}, beta = {point.beta:g}, n = {point.n}: {point.status}, {point.seconds:.1f} s")
 
-    points = trust_map(base, eps=args.eps, beta=args.beta, n=args.n, sigma_min=lo, sigma_max=hi, grid=args.sigma_points, switch=not args.no_switch, max_branches=args.max_branches, backend=args.backend, max_workers=args.workers, progress=report)
+    points = trust_map(base, eps=args.eps, beta=args.beta, n=args.n, sigma_min=lo, sigma_max=hi, grid=args.sigma_points, switch=not args.no_switch, max_branches=args.max_branches, backend=args.backend, max_workers=args.workers, progress=report, done=done, keep=keep)
     table = trust_table(points)
     write_text_atomically(args.out / "trust_map.txt", table + "\n")
     csv_path, png_path = write_trust_csv(points, args.out / "trust_map.csv"), plot_trust_map(points, args.out / "trust_map.png")
@@ -130,6 +137,7 @@ def add_commands(sub) -> None:
     trust.add_argument("--no-switch", action="store_true", help="trace the primary orbit branch only (faster; misses stable asymmetric and period-2 orbits)")
     trust.add_argument("--workers", type=int, default=None, help="worker processes (default: one per core)")
     add_backend_option(trust)
+    trust.add_argument("--resume", action="store_true", help="reuse the parameter sets stored in OUT/trust_map.json by an earlier run with the same settings and compute only the rest")
     trust.set_defaults(run=_trust)
 
     figures = sub.add_parser("figures", help="regenerate the paper's Figs. 3, 6-15 as PNG files (about 15 s)")

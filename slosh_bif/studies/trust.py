@@ -130,13 +130,15 @@ def trust_point(params: Params, sigma_min: float = -6.0, sigma_max: float = 8.0,
     )
 
 
-def trust_map(base: Params, *, eps=(0.02, 0.05, 0.1, 0.2), beta=(0.0, 0.3, 0.5), n=(6, 10, 20, 50), sigma_min: float = -6.0, sigma_max: float = 8.0, max_workers: int | None = None, progress=None, **options) -> list:
+def trust_map(base: Params, *, eps=(0.02, 0.05, 0.1, 0.2), beta=(0.0, 0.3, 0.5), n=(6, 10, 20, 50), sigma_min: float = -6.0, sigma_max: float = 8.0, max_workers: int | None = None, progress=None, done=None, keep=None, **options) -> list:
     """:func:`trust_point` at every (eps, beta, n) of the grid, the other parameters from ``base``.
 
     Points run in a ``ProcessPoolExecutor(max_workers)``; ``progress(point, done, total)`` is
     called as they finish. ``options`` go to :func:`trust_point`. Returns the points in grid
     order (eps slowest, n fastest). Interrupted (Ctrl-C, or SIGTERM through the CLI), it kills
     its workers and returns the points done, the others with status ``"not computed: ..."``.
+    ``done``: {grid index: TrustPoint} of an earlier run (not computed again); ``keep(i, point)``
+    is called as each point finishes.
     """
     from concurrent.futures import ProcessPoolExecutor, as_completed
 
@@ -149,15 +151,17 @@ def trust_map(base: Params, *, eps=(0.02, 0.05, 0.1, 0.2), beta=(0.0, 0.3, 0.5),
         raise ValueError("the (eps, beta, n) grid is empty")
     jobs = [base.replace(eps=float(e), beta=float(b), n=int(k)) for e, b, k in grid]  # Params checks each value
     resolve_backend(options.get("backend", "auto"))  # a bad name fails here, not in every worker
-    points = [None] * len(jobs)
+    points = [(done or {}).get(i) for i in range(len(jobs))]
     pool = ProcessPoolExecutor(max_workers=max_workers, initializer=worker_setup)
     try:
-        futures = {pool.submit(trust_point, p, sigma_min, sigma_max, **options): i for i, p in enumerate(jobs)}
-        for done, future in enumerate(as_completed(futures), 1):
+        futures = {pool.submit(trust_point, p, sigma_min, sigma_max, **options): i for i, p in enumerate(jobs) if points[i] is None}
+        for count, future in enumerate(as_completed(futures), len(jobs) - len(futures) + 1):
             i = futures[future]
             points[i] = future.result()
+            if keep is not None:
+                keep(i, points[i])
             if progress is not None:
-                progress(points[i], done, len(jobs))
+                progress(points[i], count, len(jobs))
     except KeyboardInterrupt as stop:  # keep what is done; the rest says why it is missing
         stop_pool(pool)
         why = f"not computed: interrupted ({getattr(stop, 'signal_name', 'SIGINT')}) after {sum(p is not None for p in points)} of {len(jobs)} points"

@@ -2,14 +2,16 @@
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
 import numpy as np
 
+from slosh_bif.report.files import write_text_atomically
 from slosh_bif.report.tables import write_rows
-from slosh_bif.studies.trust import TRUST_COLUMNS
+from slosh_bif.studies.trust import TRUST_COLUMNS, TrustPoint
 
-__all__ = ["write_trust_csv", "trust_table", "plot_trust_map"]
+__all__ = ["write_trust_csv", "trust_table", "plot_trust_map", "trust_store"]
 
 
 def write_trust_csv(points, path) -> Path:
@@ -69,3 +71,27 @@ def plot_trust_map(points, path, *, title: str = "") -> Path:
     fig.colorbar(image, ax=axes, shrink=0.8, label="fraction of stable slow-flow states")
     fig.suptitle(title or "Slow flow (46) against periodic orbits of (9): % of stable states within 5 %, median difference; hatched: AsymptoticsWarning", fontsize=9)
     return save_figure(fig, path)
+
+
+def trust_store(path, settings: dict, *, resume: bool):
+    """(done, keep) for :func:`~slosh_bif.studies.trust.trust_map`: the points stored in ``path``
+    (``trust_map.json``) by an earlier run with the same ``settings`` (resume; else none), and a
+    callback that rewrites the file, atomically, as each point finishes. A one-line ValueError
+    when resuming from a missing or different store."""
+    path = Path(path)
+    done = {}
+    if resume:
+        try:
+            stored = json.loads(path.read_text())
+        except (OSError, ValueError) as err:
+            raise ValueError(f"--resume: cannot read {path}: {err}") from None
+        if stored.get("settings") != settings:
+            differ = sorted(k for k in settings if stored.get("settings", {}).get(k) != settings[k])
+            raise ValueError(f"--resume: {path} was written for other settings ({', '.join(differ)} differ); run without --resume or into another --out")
+        done = {int(i): TrustPoint(**row) for i, row in stored["points"].items() if not row["status"].startswith("not computed")}
+
+    def keep(i, point):
+        done[i] = point
+        write_text_atomically(path, json.dumps({"settings": settings, "points": {str(k): v.as_row() for k, v in sorted(done.items())}}) + "\n")
+
+    return dict(done), keep

@@ -380,3 +380,16 @@ def test_chart_resume_reuses_the_stored_curves_and_checks_the_settings(tmp_path,
     assert (out / "curves.csv").read_text() == first  # the stored curves, bit for bit
     assert main(argv[:-2] + ["--seeds", "1", "--resume", "--out", str(out)]) == 2
     assert "seeds differ" in capsys.readouterr().err
+
+
+def test_trust_resume_reuses_the_stored_sets(tmp_path, capsys):
+    out = tmp_path / "trust"
+    argv = ["trust", "--preset", "fig10", "--sigma-min", "-6", "--sigma-max", "-5", "--sigma-points", "11", "--eps", "0.05", "--beta", "0", "--n", "20,50", "--no-switch", "--workers", "1"]
+    assert main(argv + ["--out", str(out)]) == 0
+    first = (out / "trust_map.csv").read_text()
+    capsys.readouterr()
+    assert main(argv + ["--resume", "--out", str(out)]) == 0
+    assert "resuming: 2 parameter sets" in capsys.readouterr().err
+    assert (out / "trust_map.csv").read_text() == first
+    assert main(argv[:-5] + ["--n", "20", "--no-switch", "--workers", "1", "--resume", "--out", str(out)]) == 2
+    assert "n differ" in capsys.readouterr().err
