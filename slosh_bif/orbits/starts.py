@@ -9,6 +9,7 @@ knows only the model and the continuation engine.
 from __future__ import annotations
 
 import dataclasses
+import warnings
 
 import numpy as np
 
@@ -23,7 +24,11 @@ from slosh_bif.slowflow.steady_states import forcing_response, frequency_respons
 
 START_TOL = 1e-9  # residual tolerance of Newton from a start guess (scan.on_traced_branch resolves orbits to it)
 
-__all__ = ["StartOrbit", "orbit_from_simulation", "orbit_from_slow_flow", "slow_flow_start", "settle_and_shoot", "scan_starts", "linear_response_state"]
+__all__ = ["UnsettledStartWarning", "StartOrbit", "orbit_from_simulation", "orbit_from_slow_flow", "slow_flow_start", "settle_and_shoot", "scan_starts", "linear_response_state"]
+
+
+class UnsettledStartWarning(UserWarning):
+    """The simulation a start orbit is taken from had not settled on a periodic state."""
 
 
 @dataclasses.dataclass(frozen=True)
@@ -62,6 +67,16 @@ def orbit_from_simulation(params: Params, state0, *, settle: int = 150, guess=No
     else:
         strobes = integrate_grid(params, state0, 2 * np.pi * np.arange(settle + 1), backend=backend)
         guesses = list(strobes[::-1][:tries])
+        moved = float(np.linalg.norm(strobes[-1] - strobes[-2])) if settle >= 1 else 0.0
+        if moved > 0.1 * (1 + np.linalg.norm(strobes[-1])):  # still moving by O(1) each period, not converging
+            # A run that has not settled amplifies rounding: which orbit Newton finds from its
+            # strobes depends on the integrator (the Fig. 10 set: the compiled path lands on the
+            # symmetric orbit, scipy's on an asymmetric one).
+            warnings.warn(
+                f"the {settle}-period simulation from the initial state has not settled (its strobe moved by {moved:.2g} in the last period): "
+                "the start orbit found from it depends on the integrator's rounding; --start scan (scan_families) finds every family",
+                UnsettledStartWarning, stacklevel=2,
+            )
     for k, y0 in enumerate(guesses):
         orbit = orbit_at(problem, problem.initial_states(y0), params.sigma, tol=START_TOL)
         if orbit.converged:
