@@ -21,8 +21,10 @@ from slosh_bif.continuation.options import ConvergenceError
 __all__ = ["locate", "special_between", "TEST_MEANING"]
 
 
-def locate(problem, a: Point, h, which, opts):
-    """Brent on the arclength s in (0, h) from point a for a zero of test function ``which``.
+def locate(problem, a: Point, h, which, opts, bend=None):
+    """Brent on the arclength s in (0, h) from point a for a zero of test function ``which``,
+    each trial point predicted as the step was (``bend``: the predictor's curvature term, see
+    :func:`~slosh_bif.continuation.engine.continuation`), so that s = h gives the step's point.
 
     Returns (point, note). Exactly at a branch point the corrector's matrix is singular, and
     Brent may step so close that the correction fails: then the best point found so far is
@@ -31,7 +33,8 @@ def locate(problem, a: Point, h, which, opts):
     seen = {}
 
     def point(s):
-        u, _ = correct(problem, a.u + s * a.t, a.t, opts)
+        guess = a.u + s * a.t if bend is None else a.u + s * a.t + (0.5 * s * s) * bend
+        u, _ = correct(problem, guess, a.t, opts)
         if u is None:
             raise ConvergenceError("corrector failed while locating a special point")
         seen[s] = make_point(problem, u, a.t)
@@ -56,7 +59,7 @@ TEST_MEANING = {
 }
 
 
-def special_between(problem, a: Point, b: Point, h, opts):
+def special_between(problem, a: Point, b: Point, h, opts, bend=None):
     found = []
     tests = [(0, FOLD, opts.detect_folds), (1, BRANCH_POINT, opts.detect_branch_points)]
     tests += [(2 + i, kind, True) for i, kind in enumerate(getattr(problem, "test_kinds", ()))]
@@ -64,7 +67,7 @@ def special_between(problem, a: Point, b: Point, h, opts):
     for which, kind, enabled in tests:
         if enabled and np.sign(a.tests[which]) * np.sign(b.tests[which]) < 0:
             try:
-                q, note = locate(problem, a, h, which, opts)
+                q, note = locate(problem, a, h, which, opts, bend)
             except (ConvergenceError, ValueError) as err:
                 q = dataclasses.replace(b, iterations=0, located=False)
                 q.message = f"{kind} detected, not located: {err}"

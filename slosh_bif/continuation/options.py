@@ -54,6 +54,9 @@ class ContinuationOptions:
     max_seconds : float
         Wall-clock time per direction at most; past it the direction ends ("time limit"), so a
         run is bounded in time whatever its start.
+    curved_predictor : bool
+        Predict along the tangent plus the curvature seen over the last step (second order)
+        rather than along the tangent alone.
     """
 
     step: float = 0.05
@@ -71,6 +74,7 @@ class ContinuationOptions:
     detect_branch_points: bool = True
     locate_tol: float = 1e-13
     max_seconds: float = math.inf
+    curved_predictor: bool = True
 
     def __post_init__(self):
         def need(ok, name, allowed):

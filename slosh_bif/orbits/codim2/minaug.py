@@ -76,6 +76,7 @@ class MultiplierCurveProblem:
         self._columns = (PARAMETERS.index(p1), PARAMETERS.index(p2))
         self._b = self._c = None
         self._memo = {}
+        self._last_second = None  # (u, the derivatives there) of the last computation
         self._multipliers = {}
 
     # -- the augmented system ----------------------------------------------------------------
@@ -103,12 +104,14 @@ class MultiplierCurveProblem:
         U, _, Vh = np.linalg.svd(self._matrix_at(x, p)[1])
         self._b, self._c = U[:, -1].copy(), Vh[-1].conj().copy()
         self._memo.clear()
+        self._last_second = None
 
     def accept(self, x, p):
         """Renew the borders from the null vectors at an accepted point (keeps [[J, b], [c^T, 0]] regular)."""
         _, v, w, _ = self._solve(x, p)
         self._b, self._c = w / np.linalg.norm(w), v / np.linalg.norm(v)
         self._memo.clear()
+        self._last_second = None
 
     def _solve(self, x, p):
         key = (x.tobytes(), float(p))
@@ -132,11 +135,23 @@ class MultiplierCurveProblem:
         return result
 
     def _second(self, x, p):
-        """(dg/d(x, p1, p2), w^T F_xx[v, v]) from one extra integration of the arcs at x + h v."""
+        """(dg/d(x, p1, p2), w^T F_xx[v, v]) from the arcs at x +- h v (see :meth:`_along`).
+
+        Reused at a point within ``NEAR`` of the last one computed (with the same borders): the
+        corrector's last update is that small, and the converged point's tangent and tests
+        then need no new integrations (a fifth of a curve's cost); the row changes by the
+        update times g's second derivatives, far below the differences' own error."""
         key = ("second", x.tobytes(), float(p))
         if key not in self._memo:
-            self._memo[key] = self._second_uncached(x, p)
+            u, last = np.append(x, p), self._last_second
+            if last is not None and np.linalg.norm(u - last[0]) <= self.NEAR * (1 + np.linalg.norm(u)):
+                self._memo[key] = last[1]
+            else:
+                self._memo[key] = self._second_uncached(x, p)
+                self._last_second = (u, self._memo[key])
         return self._memo[key]
+
+    NEAR = 1e-7
 
     def _along(self, y, P, direction):
         """(d J / d e, d F_p / d e) at the orbit states y + e ``direction``, e = 0.
