@@ -143,13 +143,15 @@ def _end_after_failures(problem, points, h, edge_hits, opts):
     near = getattr(problem, "edge_distance", None)
     # A stall right at the edge is the edge: derivatives with a square root there (kappa(A) of
     # (39) at the manifold's end) make the corrector fail before the domain check does.
-    reason = EDGE if edge_hits or (near is not None and near(a.u[:-1], a.u[-1]) < 1e-5) else STALL
+    at_named_edge = near is not None and near(a.u[:-1], a.u[-1]) < 1e-5
+    reason = EDGE if edge_hits or at_named_edge else STALL
     bracket = (a.u[-1], (a.u + 2 * h * a.t)[-1])
     edge = _edge_point(problem, a, opts) if reason == EDGE else None
     if edge is not None:
         points.append(Point(edge, a.t, 0, END, f"{reason}: {getattr(problem, 'edge_name', 'boundary')}", bracket, a.tests, reason=reason))
     else:
-        _mark_end(a, reason, f"{reason}: last step {2 * h:.3g} failed", bracket)
+        name = getattr(problem, "edge_name", None) if at_named_edge else None
+        _mark_end(a, reason, f"{reason}: {name + ', ' if name else ''}last step {2 * h:.3g} failed", bracket)
     return reason
 
 

@@ -40,6 +40,14 @@ class TorusCurveProblem(MultiplierCurveProblem):
     def in_domain(self, x, p) -> bool:
         return 0.0 <= x[-1] <= np.pi and super().in_domain(x, p)
 
+    edge_name = "a strong resonance, theta at 0 (1:1, R1) or pi (1:2, R2): the pair of multipliers meets on the real axis and the NS curve ends"
+
+    def edge_distance(self, x, p) -> float:
+        """How far theta is from the resonances where the curve ends. Within 1e-3 of 0 or pi the
+        system's conditioning goes like theta, and the corrector stalls (seen at 2e-4) before
+        theta reaches them: that stall is the end."""
+        return max(0.0, min(x[-1], np.pi - x[-1]) - 1e-3)
+
     def _matrix_at(self, x, p):
         arcs = self.shooting.arcs(x[:-2], self.params_at(x, p))
         return arcs, self.shooting.jacobian_of(arcs, np.exp(1j * x[-1]))
