@@ -32,7 +32,7 @@ def _chart(args) -> int:
     done, keep = curve_store(args.out / "curves", settings, resume=args.resume)
     chart = bifurcation_chart(
         params, state0, sigma_range=(lo, hi), abar_range=(a_lo, a_hi), switch=not args.no_switch, seeds=args.seeds, workers=args.workers, backend=args.backend,
-        done=done, keep=keep, progress=throttled(progress),
+        done=done, keep=keep, progress=throttled(progress, passes=lambda message: ": point " not in message),
     )
     regimes = None
     if args.regimes is not None and chart.status == "complete":

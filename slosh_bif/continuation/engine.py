@@ -51,6 +51,11 @@ from slosh_bif.continuation.options import BOUND, COMPLETE, EDGE, LOOP, STALL, S
 
 __all__ = ["continuation", "switch_branch"]
 
+# A direction whose accepted steps stay at most CREEP * step_min for CREEP_STEPS points in a row
+# ends as a stall: it is creeping along a singular point (seen on fold curves past a cusp, with
+# 2,000 points in 1e-7 of parameter), not making progress.
+CREEP, CREEP_STEPS = 1e3, 50
+
 
 def _bound_message(bound, opts):
     return f"{BOUND} {'p_max' if bound == opts.p_max else 'p_min'} = {bound}"
@@ -86,6 +91,7 @@ def _run(problem, start: Point, opts, loop_guard: bool, callback=None):
     h = opts.step
     edge_hits = 0
     bend = None  # no turn known before the first step: a straight tangent predictor
+    crept = 0  # accepted steps in a row at most CREEP * step_min
     accept = getattr(problem, "accept", None)
     deadline = time.monotonic() + opts.max_seconds
     while True:
@@ -121,6 +127,10 @@ def _run(problem, start: Point, opts, loop_guard: bool, callback=None):
             accept(b.u[:-1], b.u[-1])
         if callback is not None:
             callback(float(u[-1]), u[:-1])
+        crept = crept + 1 if h <= CREEP * opts.step_min else 0
+        if crept >= CREEP_STEPS:  # Newton converges only for tiny steps: a singular point, not progress
+            _mark_end(points[-1], STALL, f"{STALL}: {CREEP_STEPS} steps in a row below {CREEP * opts.step_min:.1g} (a singular point of the system)")
+            return points, STALL
         if loop_guard and len(points) > 3 and _passes(start, a.u, u, h):
             # A closed curve has no end: the branch's message says it closed, no point is an END.
             return points, LOOP
