@@ -81,7 +81,8 @@ class SteadyStateProblem:
 
     def edge_distance(self, x, p):
         """Relative distance of A from the nearer end of S+."""
-        return min((x[0] - self.flow.A_min) / self.flow.A_min, (self.flow.A_max - x[0]) / self.flow.A_max)
+        upper = (self.flow.A_max - x[0]) / self.flow.A_max if np.isfinite(self.flow.A_max) else np.inf  # S+ may be unbounded above
+        return min((x[0] - self.flow.A_min) / self.flow.A_min, upper)
 
     def edge_point(self, x, p):
         """The steady state exactly on the end of S+ nearest (x, p): A = A_min (or A_max), with psi

@@ -44,30 +44,35 @@ def write_critical_csv(chart, path) -> Path:
     return write_rows(critical_rows(chart), CRITICAL_COLUMNS, path)
 
 
+_LABELLED = 30  # codimension-2 points labelled on the chart at most
+
+
 def plot_chart(chart, path, *, regimes=None) -> Path:
     """The curves (solid where they bound stable orbits), codimension-2 points, Abar_b of (46),
     Abar_c of (9), and the regime map behind them when given."""
     from slosh_bif.report.plotting import pyplot, save_figure
 
-    fig, ax = pyplot().subplots(figsize=(9, 6.5))
+    fig, ax = pyplot().subplots(figsize=(11.5, 6.5))
     if regimes is not None:
         from slosh_bif.simulation.output import draw_regimes
 
         draw_regimes(ax, regimes, alpha=0.35)
     colors = {"LP": "tab:red", "PD": "tab:blue", "NS": "tab:purple", "BP": "tab:orange"}
+    labelled = sum(len(c.codim2_points()) for c in chart.curves) <= _LABELLED  # beyond that the labels hide the curves
     for k, c in enumerate(chart.curves):
         s, a, st = c["sigma"], c["Abar"], c.branch.stable
         ax.plot(s, np.where(st, a, np.nan), "-", color=colors[c.kind], lw=1.6, label=f"{c.kind} curve" if k == [d.kind for d in chart.curves].index(c.kind) else None)
         ax.plot(s, np.where(st, np.nan, a), ":", color=colors[c.kind], lw=1.0)
         for label, sigma, abar in c.codim2_points():
-            ax.plot(sigma, abar, "k*", ms=9)
-            ax.annotate(label, (sigma, abar), textcoords="offset points", xytext=(4, 4), fontsize=8)
+            ax.plot(sigma, abar, "k*", ms=9 if labelled else 6)
+            if labelled:
+                ax.annotate(label, (sigma, abar), textcoords="offset points", xytext=(4, 4), fontsize=8)
     slow = chart.slow_flow_critical
     if slow is not None and len(slow.sigma):
         ax.plot(slow.sigma, slow.Abar_b, "k--", lw=1.4, label=r"slow flow $\bar A_b$ (46)")
     rows = list(critical_rows(chart, points=201))
     ax.plot([r["sigma"] for r in rows], [r["Abar_c_full"] for r in rows], "-", color="tab:green", lw=3, alpha=0.6, label=r"full model $\bar A_c$ (9)")
-    ax.plot([], [], "k*", label="codimension-2 point")
+    ax.plot([], [], "k*", label="codimension-2 point" + ("" if labelled else " (labels in curves.csv)"))
     ax.plot([], [], "k:", label="curve not bounding stable orbits")
     ax.set_xlim(*chart.sigma_range)
     ax.set_ylim(*chart.abar_range)
@@ -76,7 +81,7 @@ def plot_chart(chart, path, *, regimes=None) -> Path:
     P = chart.params
     partial = "" if chart.status == "complete" else f"\nPARTIAL: {chart.status}"
     ax.set_title(f"Orbit bifurcations of (9) in (sigma, Abar): eps = {P.eps:g}, beta = {P.beta:g}, gamma = {P.gamma:g}, n = {P.n}{partial}")
-    ax.legend(fontsize=8, loc="upper left")
+    ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
     ax.grid(alpha=0.3)
     return save_figure(fig, path)
 
