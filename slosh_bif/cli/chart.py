@@ -41,7 +41,7 @@ def _chart(args) -> int:
         n, m = args.regimes
         regimes = regime_map(
             params, state0, np.linspace(lo, hi, n), np.linspace(a_lo, a_hi, m), tmax=args.tmax, max_workers=args.workers, backend=args.backend,
-            progress=lambda done, total: progress(f"regimes: {done} of {total}"),
+            progress=lambda done, total, report=throttled(progress, passes=lambda message: False): report(f"regimes: {done} of {total}"),
         )
     paths = [write_curves_csv(chart, args.out / "curves.csv"), write_critical_csv(chart, args.out / "critical.csv"), plot_chart(chart, args.out / "chart.png", regimes=regimes)]
     for k, c in enumerate(chart.curves):

@@ -120,7 +120,7 @@ def _trace_curves(starts, say, workers: int = 1, done=None, keep=None):
     curve of its kind already passes through it, and a curve traced alongside one that covers it
     is dropped at the end, so the result is the sequential one, whatever the timing.
     """
-    traced = {i: c for i, c in (done or {}).items() if i < len(starts) and c.kind == starts[i].kind}  # start index -> curve
+    traced = {i: c for i, c in (done or {}).items() if i < len(starts) and c.origin == starts[i].origin}  # start index -> curve
 
     def covered(i, among):
         return any(c.kind == starts[i].kind and _on_curve(c, starts[i].sigma, starts[i].abar) for c in among)
@@ -216,8 +216,13 @@ def bifurcation_chart(
     # Folds and period doublings met when the forcing falls: the primary branch's orbits at
     # ``seeds`` values of sigma, each continued in Abar over the box.
     primary = family.branches[0]
+    # Seed orbits are regular points: an orbit at a pitchfork continued in Abar shows its mirror
+    # pair's meeting as spurious folds.
+    regular = np.ones(len(primary.branch), dtype=bool)
+    for sp in primary.branch.special:
+        regular[max(sp.index - 2, 0) : sp.index + 3] = False
     for sigma in np.linspace(s0, s1, seeds + 2)[1:-1]:
-        i = int(np.argmin(np.abs(primary.branch.p - sigma)))
+        i = int(np.argmin(np.where(regular, np.abs(primary.branch.p - sigma), np.inf)))
         at = params.replace(sigma=float(primary.branch.p[i]))
         if not a0 <= at.Abar <= a1:
             continue

@@ -140,9 +140,21 @@ def trace_curve(
         problem = MultiplierCurveProblem(params, kind, p1, p2, **setup)
     problem.init_borders(u0, p1_0)
     opts = dataclasses.replace(options or CURVE_OPTIONS, p_min=lo1, p_max=hi1)
-    branch = continuation(problem, u0, p1_0, param=p1, options=opts, callback=callback)
+    branch = _once(continuation(problem, u0, p1_0, param=p1, options=opts, callback=callback))
     measures = _measures(problem, branch, points_per_2pi)
     return BifurcationCurve(kind, p1, p2, branch, measures, origin, period_multiple)
+
+
+def _once(branch: Branch) -> Branch:
+    """The branch with each codimension-2 point once: where a curve creeps along a singular
+    point its test functions flip sign at every step, and the same point is found again and
+    again (seen: a cusp 20 times at one (sigma, Abar))."""
+    kept = []
+    for sp in branch.special:
+        if sp.kind in CODIM2_KINDS and any(q.kind == sp.kind and np.linalg.norm(np.append(q.x, q.p) - np.append(sp.x, sp.p)) < 1e-6 for q in kept):
+            continue
+        kept.append(sp)
+    return dataclasses.replace(branch, special=tuple(kept))
 
 
 def _check_start(at: Params, x, kind: str, segments: int, period_multiple: int, p1: str, symmetric: bool = False, backend: str = "auto"):
