@@ -148,10 +148,10 @@ def trace_curve(
 def _once(branch: Branch) -> Branch:
     """The branch with each codimension-2 point once: where a curve creeps along a singular
     point its test functions flip sign at every step, and the same point is found again and
-    again (seen: a cusp 20 times at one (sigma, Abar))."""
+    again (seen: a cusp 20 times at one (sigma, Abar)): one per kind within 1e-4 in the parameters."""
     kept = []
     for sp in branch.special:
-        if sp.kind in CODIM2_KINDS and any(q.kind == sp.kind and np.linalg.norm(np.append(q.x, q.p) - np.append(sp.x, sp.p)) < 1e-6 for q in kept):
+        if sp.kind in CODIM2_KINDS and any(q.kind == sp.kind and abs(q.p - sp.p) + np.max(np.abs(q.x[-2:] - sp.x[-2:])) < 1e-4 for q in kept):
             continue
         kept.append(sp)
     return dataclasses.replace(branch, special=tuple(kept))
