@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
+import math
 import sys
 from pathlib import Path
 
@@ -138,16 +139,16 @@ def state0_of(args, params):
 def sigma_range(args, default=(-6.0, 8.0)):
     lo = default[0] if args.sigma_min is None else args.sigma_min
     hi = default[1] if args.sigma_max is None else args.sigma_max
-    if not lo < hi:
-        raise ValueError(f"--sigma-min must be below --sigma-max; got {lo} and {hi}")
+    if not (lo < hi and math.isfinite(lo) and math.isfinite(hi)):
+        raise ValueError(f"--sigma-min must be below --sigma-max, both finite; got {lo} and {hi}")
     return lo, hi
 
 
 def abar_range(args, default):
     lo = default[0] if args.abar_min is None else args.abar_min
     hi = default[1] if args.abar_max is None else args.abar_max
-    if not 0 <= lo < hi:
-        raise ValueError(f"need 0 <= --abar-min < --abar-max; got {lo} and {hi}")
+    if not (0 <= lo < hi and math.isfinite(hi)):
+        raise ValueError(f"need 0 <= --abar-min < --abar-max, both finite; got {lo} and {hi}")
     return lo, hi
 
 

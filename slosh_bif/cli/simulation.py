@@ -11,6 +11,7 @@ import numpy as np
 
 from slosh_bif.cli.common import (
     Deprecated,
+    abar_range,
     add_abar_range_options,
     add_backend_option,
     add_params_options,
@@ -66,8 +67,7 @@ def _regimes(args) -> int:
 
     params = params_of(args)
     lo, hi = sigma_range(args, default=(-2.0, 4.0))
-    if not (0 <= args.abar_min < args.abar_max):
-        raise ValueError(f"need 0 <= --abar-min < --abar-max; got {args.abar_min}, {args.abar_max}")
+    abar_range(args, default=(args.abar_min, args.abar_max))  # 0 <= min < max, finite
     if args.grid is not None:  # the deprecated --grid N M
         args.sigma_points, args.abar_points = args.grid
     n_sigma, n_abar = args.sigma_points, args.abar_points

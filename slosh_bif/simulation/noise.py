@@ -103,16 +103,18 @@ def band_limited_noise(std: float, *, seed: int, duration: float, t0: float = 0.
         raise ValueError(f"noise seed must be a non-negative integer; got {seed!r}")
     length = 1.05 * duration + 2 * np.pi  # the realisation is periodic with this length: longer than the run
     d_omega = 2 * np.pi / length
-    modes = max(1, int(cutoff / d_omega))
-    grid = 2 * max(modes + 1, 32, math.ceil(_POINTS_PER_SHORTEST_PERIOD * cutoff * length / (4 * np.pi)))
-    if grid > MAX_NOISE_SAMPLES:  # refuse before allocating
+    # In floats first: a huge cutoff overflows int().
+    grid = 2.0 * max(cutoff / d_omega + 1, 32.0, _POINTS_PER_SHORTEST_PERIOD * cutoff * length / (4 * np.pi) + 1)
+    if not grid <= MAX_NOISE_SAMPLES:  # refuse before allocating (inf and NaN included)
         raise ValueError(
             f"noise cutoff {cutoff:g} over a run of {duration:g} needs {grid:.3g} noise samples, more than the {MAX_NOISE_SAMPLES:.0e} allowed "
             f"(about {8 * 8 * grid / 1e9:.0f} GB): lower the cutoff (at most {cutoff * MAX_NOISE_SAMPLES / grid:.3g} here) or shorten the run"
         )
+    modes = max(1, int(cutoff / d_omega))
     rng = np.random.default_rng(seed)
     phases = rng.uniform(0.0, 2 * np.pi, modes)
-    m = grid  # at least 16 points per period of the cutoff frequency, as an FFT length
+    # At least 16 points per period of the cutoff frequency, as an FFT length.
+    m = 2 * max(modes + 1, 32, math.ceil(_POINTS_PER_SHORTEST_PERIOD * cutoff * length / (4 * np.pi)))
     spectrum = np.zeros(m // 2 + 1, dtype=complex)
     amplitude = std * math.sqrt(2.0 / modes)
     spectrum[1 : modes + 1] = 0.5 * amplitude * m * np.exp(1j * phases)

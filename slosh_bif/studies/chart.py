@@ -1,5 +1,6 @@
-"""The (sigma, Abar) chart of the full model (9): the curves where its periodic orbits fold (LP)
-or double their period (PD), traced from every such point of the orbit families, and the full
+"""The (sigma, Abar) chart of the full model (9): the curves where its periodic orbits fold (LP),
+double their period (PD), lose stability to a torus (NS) or break their symmetry (BP), traced
+from every such point of the orbit families (side by side on several processes), and the full
 model's critical forcing read off them, beside the slow flow's Abar_b of (46).
 
 What "critical" means on each model
