@@ -63,7 +63,7 @@ def add_commands(sub) -> None:
     chart = sub.add_parser(
         "chart",
         help="curves in (sigma, Abar) where the orbits of (9) fold or period-double, and the full model's critical forcing",
-        epilog="exit status: 0 when every curve left the box or closed, 3 when a curve was cut short, 2 for bad input",
+        epilog="exit status: 0 when every curve left the box, closed or reached a strong resonance, 3 when a curve was cut short, 2 for bad input, 130/143 when interrupted (the finished curves are written)",
     )
     add_params_options(chart)
     chart.add_argument("--sigma-min", type=float, default=None, help="lower end of the sigma range (default -6)")
