@@ -8,7 +8,20 @@ from pathlib import Path
 
 import numpy as np
 
-from slosh_bif.cli.common import add_backend_option, add_params_options, add_range_options, add_sigma_points_option, add_tmax_option, floats, params_of, progress, sigma_range, state0_of, stopped
+from slosh_bif.cli.common import (
+    add_backend_option,
+    add_params_options,
+    add_range_options,
+    add_sigma_points_option,
+    add_tmax_option,
+    floats,
+    params_of,
+    progress,
+    sigma_range,
+    state0_of,
+    stopped,
+    throttled,
+)
 from slosh_bif.cli.orbits import add_shooting_options, family_from_args
 from slosh_bif.report.files import write_text_atomically
 
@@ -64,6 +77,33 @@ def _trust(args) -> int:
     missing = [p.status for p in points if p.status.startswith("not computed")]
     if missing:
         raise stopped(missing[0])
+    return 0
+
+
+def _basins(args) -> int:
+    from slosh_bif.studies.basins import basin_map
+    from slosh_bif.studies.basins_output import attractor_table, plot_basins, write_attractors, write_basins_csv
+
+    params = params_of(args)
+    n1, n2 = args.grid
+    if n1 < 1 or n2 < 1:
+        raise ValueError(f"--grid takes two positive integers N M; got {args.grid}")
+    for name, (lo, hi) in (("--range1", args.range1), ("--range2", args.range2)):
+        if not (np.isfinite(lo) and np.isfinite(hi) and lo < hi):
+            raise ValueError(f"{name} needs finite LO < HI; got {lo} {hi}")
+    if args.workers is not None and args.workers < 1:
+        raise ValueError(f"--workers must be a positive integer; got {args.workers}")
+    report = throttled(progress, passes=lambda message: False)
+    bmap = basin_map(
+        params, np.linspace(*args.range1, n1), np.linspace(*args.range2, n2), axes=tuple(args.axes), tmax=args.tmax, backend=args.backend,
+        max_workers=args.workers, progress=lambda done, total: report(f"simulated {done} of {total} initial states"),
+    )
+    args.out.mkdir(parents=True, exist_ok=True)
+    paths = [write_basins_csv(bmap, args.out / "basins.csv"), write_attractors(bmap, args.out / "attractors.txt"), plot_basins(bmap, args.out / "basins.png")]
+    print(attractor_table(bmap))
+    print("wrote " + ", ".join(str(p) for p in paths))
+    if bmap.status != "complete":
+        raise stopped(bmap.status)
     return 0
 
 
@@ -139,6 +179,18 @@ def add_commands(sub) -> None:
     add_backend_option(trust)
     trust.add_argument("--resume", action="store_true", help="reuse the parameter sets stored in OUT/trust_map.json by an earlier run with the same settings and compute only the rest")
     trust.set_defaults(run=_trust)
+
+    basins = sub.add_parser("basins", help="basins of attraction of (9): which response each initial state reaches, at the preset's (sigma, Abar)")
+    add_params_options(basins)
+    basins.add_argument("--grid", type=int, nargs=2, default=(21, 21), metavar=("N", "M"), help="initial states along the first and second axis (default 21 21)")
+    basins.add_argument("--axes", nargs=2, default=("X", "w"), choices=("X", "Xd", "w", "wd"), metavar=("A", "B"), help="the state components varied (the other two start at zero; default X w)")
+    basins.add_argument("--range1", type=float, nargs=2, default=(-3.0, 3.0), metavar=("LO", "HI"), help="range of the first axis (default -3 3)")
+    basins.add_argument("--range2", type=float, nargs=2, default=(-1.0, 1.0), metavar=("LO", "HI"), help="range of the second axis (default -1 1, the clearance)")
+    add_tmax_option(basins)
+    basins.add_argument("--workers", type=int, default=None, help="worker processes (default: one per core)")
+    add_backend_option(basins)
+    basins.add_argument("--out", type=Path, required=True, help="output folder (created if missing)")
+    basins.set_defaults(run=_basins)
 
     figures = sub.add_parser("figures", help="regenerate the paper's Figs. 3, 6-15 as PNG files (about 15 s)")
     figures.add_argument("--out", type=Path, required=True, help="output folder (created if missing)")

@@ -393,3 +393,13 @@ def test_trust_resume_reuses_the_stored_sets(tmp_path, capsys):
     assert (out / "trust_map.csv").read_text() == first
     assert main(argv[:-5] + ["--n", "20", "--no-switch", "--workers", "1", "--resume", "--out", str(out)]) == 2
     assert "n differ" in capsys.readouterr().err
+
+
+def test_basins_writes_csv_attractors_and_png(tmp_path, capsys):
+    out = tmp_path / "basins"
+    assert main(["basins", "--preset", "fig10", "--set", "sigma=3", "--grid", "2", "2", "--tmax", "100", "--workers", "1", "--out", str(out)]) == 0
+    rows = list(csv.DictReader(open(out / "basins.csv")))
+    assert len(rows) == 4 and set(rows[0]) == {"X", "w", "attractor"}
+    assert "basins at sigma = 3" in (out / "attractors.txt").read_text() and (out / "basins.png").stat().st_size > 10_000
+    assert main(["basins", "--preset", "fig10", "--range1", "1", "1", "--out", str(out)]) == 2
+    assert "--range1 needs finite LO < HI" in capsys.readouterr().err

@@ -1,4 +1,4 @@
-"""Independent references for the orbit tests: scipy's DOP853 (``solve_ivp`` through
+"""Independent references for the orbit and basin tests: scipy's DOP853 (``solve_ivp`` through
 :func:`~slosh_bif.orbits.shooting.period_map`, not the compiled shooting path) integrates (9) and
 its variational equations, so a number the shooting code produced is checked by a second code."""
 

@@ -1,0 +1,59 @@
+"""A basin map as files: ``basins.csv`` (one row per initial state: the two state components and
+the attractor reached), ``attractors.txt`` (each attractor described, and its share of the
+plane) and ``basins.png`` (the plane coloured by attractor)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from slosh_bif.report.files import write_text_atomically
+from slosh_bif.report.tables import write_rows
+
+__all__ = ["write_basins_csv", "write_attractors", "attractor_table", "plot_basins"]
+
+
+def write_basins_csv(bmap, path) -> Path:
+    a, b = bmap.axes
+    rows = ({a: float(x), b: float(y), "attractor": bmap.label[i, j]} for i, y in enumerate(bmap.second) for j, x in enumerate(bmap.first))
+    return write_rows(rows, (a, b, "attractor"), path)
+
+
+def attractor_table(bmap) -> str:
+    """One line per attractor: its share of the plane and what it is."""
+    lines = [f"basins at sigma = {bmap.params.sigma:g}, Abar = {bmap.params.Abar:g} over ({bmap.axes[0]}, {bmap.axes[1]}), tau up to {bmap.tmax:.6g}: {bmap.status}"]
+    for name, share in bmap.fractions().items():
+        lines.append(f"{100 * share:5.1f} %  {name}" + (f": {bmap.attractors[name]}" if name in bmap.attractors else ""))
+    return "\n".join(lines)
+
+
+def write_attractors(bmap, path) -> Path:
+    return write_text_atomically(path, attractor_table(bmap) + "\n")
+
+
+def plot_basins(bmap, path) -> Path:
+    from matplotlib.colors import ListedColormap
+
+    from slosh_bif.report.plotting import pyplot, save_figure
+
+    names = list(bmap.fractions())
+    codes = np.vectorize(names.index)(bmap.label).astype(float)
+    colors = [pyplot().get_cmap("tab10")(k % 10) for k in range(len(names))]
+
+    def edges(v):
+        if v.size == 1:
+            return np.array([v[0] - 0.5, v[0] + 0.5])
+        mid = 0.5 * (v[1:] + v[:-1])
+        return np.concatenate([[2 * v[0] - mid[0]], mid, [2 * v[-1] - mid[-1]]])
+
+    fig, ax = pyplot().subplots(figsize=(8.5, 6))
+    ax.pcolormesh(edges(bmap.first), edges(bmap.second), codes, cmap=ListedColormap(colors), vmin=-0.5, vmax=len(names) - 0.5)
+    for name, color, share in zip(names, colors, bmap.fractions().values()):
+        ax.plot([], [], "s", color=color, ms=9, label=f"{name} ({100 * share:.0f} %)")
+    ax.set_xlabel(f"initial {bmap.axes[0]}")
+    ax.set_ylabel(f"initial {bmap.axes[1]}")
+    P = bmap.params
+    ax.set_title(f"basins of attraction of (9): sigma = {P.sigma:g}, Abar = {P.Abar:g}, n = {P.n}" + ("" if bmap.status == "complete" else f"\nPARTIAL: {bmap.status}"), fontsize=10)
+    ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
+    return save_figure(fig, path)
