@@ -21,7 +21,8 @@ A problem is any object with
 
 With ``u = (x, p)`` and the unit tangent ``t`` of the curve F(u) = 0, each step predicts
 ``u + h t`` (plus ``h^2 / 2`` times the tangent's turn per unit arclength over the last step, a
-second-order predictor that saves about one corrector iteration on curved stretches) and corrects by Newton on the bordered system ``[F(u); t . (u - u_pred)] = 0``,
+second-order predictor that saves about one corrector iteration on curved stretches) and
+corrects by Newton on the bordered system ``[F(u); t . (u - u_pred)] = 0``,
 whose matrix ``[[F_x, F_p], [t^T]]`` stays regular through folds. The step h grows after easy
 corrections and shrinks after slow or failed ones (or when a point leaves the domain), between
 ``step_min`` and ``step_max``.
@@ -102,7 +103,9 @@ def _run(problem, start: Point, opts, loop_guard: bool, callback=None):
             _mark_end(points[-1], TIME, f"{TIME} ({opts.max_seconds:g} s)")
             return points, TIME
         a = points[-1]
-        guess = a.u + h * a.t if bend is None else a.u + h * a.t + (0.5 * h * h) * bend
+        # A turn estimated at tiny steps may be noise: trusted only while it moves the guess by < h / 2.
+        turn = bend if bend is not None and 0.5 * h * float(np.linalg.norm(bend)) < 0.5 else None
+        guess = a.u + h * a.t if turn is None else a.u + h * a.t + (0.5 * h * h) * turn
         u, iters = correct(problem, guess, a.t, opts)
         if u is None:  # failed: halve, and end when the step is below its minimum
             edge_hits += not in_domain(problem, guess) or iters < opts.max_newton
@@ -119,7 +122,7 @@ def _run(problem, start: Point, opts, loop_guard: bool, callback=None):
         if angle > 2 * opts.max_angle and h > 2 * opts.step_min:
             h *= 0.5 * opts.max_angle / angle + 0.25  # turned far too sharply: redo shorter
             continue
-        points.extend(special_between(problem, a, b, h, opts, bend))
+        points.extend(special_between(problem, a, b, h, opts, turn))
         points.append(b)
         if opts.curved_predictor:  # the tangent's turn per unit arclength over the last step
             bend = (b.t - a.t) / max(float(np.linalg.norm(b.u - a.u)), np.finfo(float).tiny)

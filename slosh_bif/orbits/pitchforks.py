@@ -39,8 +39,8 @@ def _refined(problem: ShootingProblem, sp, other: str, tol: float):
     half = problem.segments // 2
     at = problem.params_at(sp.p)
     condition = MultiplierCurveProblem(
-        at, "BP", p1=other, p2=problem.param, segments=half, rtol=problem.rtol, atol=problem.atol, backend=problem.backend, box=problem.box,
-    )
+        at, "BP", p1=other, p2=problem.param, segments=half, rtol=problem.rtol, atol=problem.atol, backend=problem.backend,
+    )  # no box: the branch's box bounds its parameter, which is p2 here
     u0 = np.append(sp.x[: 4 * half], sp.p)
     held = float(getattr(at, other))
     try:
