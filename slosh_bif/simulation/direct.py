@@ -19,7 +19,7 @@ from scipy.integrate import solve_ivp
 from slosh_bif.model.equations import SmoothModel
 from slosh_bif.model.params import Params
 from slosh_bif.simulation import integrator
-from slosh_bif.simulation.noise import band_limited_noise
+from slosh_bif.simulation.noise import MAX_NOISE_STD, band_limited_noise
 from slosh_bif.simulation.vibro_impact import simulate_impact
 
 __all__ = ["MODELS", "MAX_SAMPLES", "Simulation", "Trajectory", "integrate_smooth", "simulate", "wall_contacts", "wall_passages"]
@@ -234,8 +234,8 @@ def simulate(
         raise ValueError(f"tmax must be finite and greater than t0 = {t0}; got {tmax!r}")
     if not (np.isfinite(sample_step) and 0 < sample_step <= 0.5):
         raise ValueError(f"sample_step must be in (0, 0.5]; got {sample_step!r}")
-    if not (np.isfinite(noise_std) and noise_std >= 0):
-        raise ValueError(f"noise_std (sigma_bar of eq. 47) must be finite and >= 0; got {noise_std!r}")
+    if not (np.isfinite(noise_std) and 0 <= noise_std <= MAX_NOISE_STD):
+        raise ValueError(f"noise_std (sigma_bar of eq. 47) must be in [0, {MAX_NOISE_STD:g}]; got {noise_std!r}")
     samples = (tmax - t0) / (min(sample_step, 0.05) if model == "impact" else sample_step)
     if samples > MAX_SAMPLES:  # the samples are kept in memory (5 doubles each): refuse before integrating
         raise ValueError(

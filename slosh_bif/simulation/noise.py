@@ -37,13 +37,16 @@ import math
 import numpy as np
 from scipy.interpolate import PPoly, make_interp_spline
 
-__all__ = ["BandLimitedNoise", "band_limited_noise", "MAX_NOISE_SAMPLES"]
+__all__ = ["BandLimitedNoise", "band_limited_noise", "MAX_NOISE_SAMPLES", "MAX_NOISE_STD"]
 
 _POINTS_PER_SHORTEST_PERIOD = 16
 _DEGREE = 7
 # At most this many samples of the noise (its table holds 8 spline coefficients a sample; 2e7 is
 # about 1.3 GB): a cutoff of 1e6 over tau = 600 would ask for 1.5e9.
 MAX_NOISE_SAMPLES = 20_000_000
+# The largest standard deviation accepted (the paper uses up to 4): beyond ~1e300 the spectrum
+# overflows, and far below that the wall force, not the noise, is meaningless.
+MAX_NOISE_STD = 1e6
 
 
 @dataclasses.dataclass(frozen=True)
@@ -92,7 +95,7 @@ def band_limited_noise(std: float, *, seed: int, duration: float, t0: float = 0.
         Highest angular frequency of the flat band, > 0 (see the module docstring).
     """
     for name, value, ok, allowed in (
-        ("std", std, lambda v: v >= 0, "[0, inf)"),
+        ("std", std, lambda v: 0 <= v <= MAX_NOISE_STD, f"[0, {MAX_NOISE_STD:g}]"),
         ("duration", duration, lambda v: v > 0, "(0, inf)"),
         ("cutoff", cutoff, lambda v: v > 0, "(0, inf)"),
         ("t0", t0, lambda v: True, "(-inf, inf)"),

@@ -1,6 +1,7 @@
 """Every numeric option, any value (hypothesis): either a one-line error and exit status 2 before
 any work, or the work starts (a stand-in raises at its first step). Values no command can use
-(NaN, infinities, negative sizes) must be errors (issue 18)."""
+(NaN, infinities, negative sizes) must be errors (issue 18). Derandomized, so that CI runs the
+same examples every time; values random runs found are kept in the sampled list."""
 
 import math
 
@@ -34,7 +35,7 @@ def no_work(monkeypatch):
 
 NUMBERS = st.one_of(
     st.floats(allow_nan=True, allow_infinity=True, width=64),
-    st.sampled_from([0.0, -0.0, -1.0, 1e-300, 1e300, 0.5, 3.0, 600.0, -6.0, 8.0]),
+    st.sampled_from([0.0, -0.0, -1.0, 1e-300, 1e300, 1.19e305, 0.5, 3.0, 600.0, -6.0, 8.0]),
 )
 
 # (command line before the value, option, command line after it, the values that must be errors)
@@ -51,7 +52,7 @@ CASES = {
 
 
 @pytest.mark.parametrize("case", sorted(CASES))
-@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@settings(max_examples=40, deadline=None, derandomize=True, suppress_health_check=[HealthCheck.function_scoped_fixture])
 @given(value=NUMBERS)
 def test_a_numeric_option_is_an_error_or_starts_the_work(case, value, no_work, tmp_path, capsys):
     before, option, after, invalid = CASES[case]
