@@ -12,7 +12,7 @@ import numpy as np
 from slosh_bif.model import manifold
 from slosh_bif.report.files import replaced_atomically
 
-__all__ = ["plot_manifold", "plot_slow_manifold", "plot_projection", "plot_time_history", "plot_branch", "pyplot", "save_figure"]
+__all__ = ["plot_manifold", "plot_slow_manifold", "plot_projection", "plot_time_history", "plot_branch", "pyplot", "save_figure", "cell_edges"]
 
 
 def pyplot():
@@ -110,3 +110,12 @@ def plot_branch(ax, branch, y, *, x=None, color="tab:blue", label=None, label_en
             continue
         ax.annotate(s.kind, (x[s.index], y[s.index]), textcoords="offset points", xytext=(5, 5), fontsize=8, color=mcolor)
     return ax
+
+
+def cell_edges(v) -> np.ndarray:
+    """Edges of the cells centred on the grid values ``v`` (for ``pcolormesh``)."""
+    v = np.asarray(v, dtype=float)
+    if v.size == 1:
+        return np.array([v[0] - 0.5, v[0] + 0.5])
+    mid = 0.5 * (v[1:] + v[:-1])
+    return np.concatenate([[2 * v[0] - mid[0]], mid, [2 * v[-1] - mid[-1]]])

@@ -16,8 +16,8 @@ import numpy as np
 
 from slosh_bif.model.manifold import project_on_manifold
 from slosh_bif.model.manifold_law import ManifoldLaw
-from slosh_bif.report.files import replaced_atomically, write_text_atomically
-from slosh_bif.report.plotting import plot_projection, plot_slow_manifold, plot_time_history, pyplot, save_figure
+from slosh_bif.report.files import read_store, replaced_atomically, write_text_atomically
+from slosh_bif.report.plotting import cell_edges, plot_projection, plot_slow_manifold, plot_time_history, pyplot, save_figure
 from slosh_bif.report.tables import write_rows
 from slosh_bif.simulation.regimes import RegimeSummary
 
@@ -139,13 +139,7 @@ def write_regime_store(rmap, settings: dict, path) -> Path:
 def read_regime_store(path, settings: dict) -> dict:
     """{(i, j): RegimeSummary} stored in ``path`` by a run with the same ``settings``; a one-line
     ValueError when the file is unreadable or was written for other settings."""
-    try:
-        stored = json.loads(Path(path).read_text())
-    except (OSError, ValueError) as err:
-        raise ValueError(f"--resume: cannot read {path}: {err}") from None
-    if stored.get("settings") != settings:
-        differ = sorted(k for k in settings if stored.get("settings", {}).get(k) != settings[k])
-        raise ValueError(f"--resume: {path} was written for other settings ({', '.join(differ)} differ); run without --resume or into another --out")
+    stored = read_store(path, settings)
     return {tuple(int(v) for v in key.split(",")): RegimeSummary.from_dict(record) for key, record in stored["cells"].items()}
 
 
@@ -156,13 +150,7 @@ def draw_regimes(ax, rmap, *, alpha=0.75):
     grid = np.vectorize(lambda r: codes.get(r, codes["other"]))(rmap.regime).astype(float)
     from matplotlib.colors import ListedColormap
 
-    def edges(v):
-        if v.size == 1:
-            return np.array([v[0] - 0.5, v[0] + 0.5])
-        mid = 0.5 * (v[1:] + v[:-1])
-        return np.concatenate([[2 * v[0] - mid[0]], mid, [2 * v[-1] - mid[-1]]])
-
-    sigma_edges, abar_edges = edges(rmap.sigma), edges(rmap.Abar)
+    sigma_edges, abar_edges = cell_edges(rmap.sigma), cell_edges(rmap.Abar)
     ax.pcolormesh(sigma_edges, abar_edges, grid, cmap=ListedColormap(list(REGIME_COLORS.values())), vmin=-0.5, vmax=len(codes) - 0.5, alpha=alpha)
     for name, color in REGIME_COLORS.items():
         ax.plot([], [], "s", color=color, ms=9, label=name)

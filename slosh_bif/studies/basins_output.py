@@ -35,20 +35,14 @@ def write_attractors(bmap, path) -> Path:
 def plot_basins(bmap, path) -> Path:
     from matplotlib.colors import ListedColormap
 
-    from slosh_bif.report.plotting import pyplot, save_figure
+    from slosh_bif.report.plotting import cell_edges, pyplot, save_figure
 
     names = list(bmap.fractions())
     codes = np.vectorize(names.index)(bmap.label).astype(float)
     colors = [pyplot().get_cmap("tab10")(k % 10) for k in range(len(names))]
 
-    def edges(v):
-        if v.size == 1:
-            return np.array([v[0] - 0.5, v[0] + 0.5])
-        mid = 0.5 * (v[1:] + v[:-1])
-        return np.concatenate([[2 * v[0] - mid[0]], mid, [2 * v[-1] - mid[-1]]])
-
     fig, ax = pyplot().subplots(figsize=(8.5, 6))
-    ax.pcolormesh(edges(bmap.first), edges(bmap.second), codes, cmap=ListedColormap(colors), vmin=-0.5, vmax=len(names) - 0.5)
+    ax.pcolormesh(cell_edges(bmap.first), cell_edges(bmap.second), codes, cmap=ListedColormap(colors), vmin=-0.5, vmax=len(names) - 0.5)
     for name, color, share in zip(names, colors, bmap.fractions().values()):
         ax.plot([], [], "s", color=color, ms=9, label=f"{name} ({100 * share:.0f} %)")
     ax.set_xlabel(f"initial {bmap.axes[0]}")

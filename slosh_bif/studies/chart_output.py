@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from slosh_bif.orbits.codim2 import CODIM2_KINDS, BifurcationCurve
-from slosh_bif.report.files import write_text_atomically
+from slosh_bif.report.files import read_store, write_text_atomically
 from slosh_bif.report.tables import write_rows
 from slosh_bif.studies.chart import CRITICAL_COLUMNS, critical_rows
 
@@ -104,13 +104,7 @@ def curve_store(folder, settings: dict, *, resume: bool):
     folder = Path(folder)
     marker = folder / "settings.json"
     if resume:
-        try:
-            stored = json.loads(marker.read_text())
-        except (OSError, ValueError) as err:
-            raise ValueError(f"--resume: cannot read {marker}: {err}") from None
-        if stored != settings:
-            differ = sorted(k for k in settings if stored.get(k) != settings[k])
-            raise ValueError(f"--resume: {marker} was written for other settings ({', '.join(differ)} differ); run without --resume or into another --out")
+        read_store(marker, settings, key=None)
         done = {int(path.stem.split("-")[1]): BifurcationCurve.load(path) for path in sorted(folder.glob("curve-*.npz"))}
     else:
         folder.mkdir(parents=True, exist_ok=True)

@@ -7,7 +7,7 @@ from pathlib import Path
 
 import numpy as np
 
-from slosh_bif.report.files import write_text_atomically
+from slosh_bif.report.files import read_store, write_text_atomically
 from slosh_bif.report.tables import write_rows
 from slosh_bif.studies.trust import TRUST_COLUMNS, TrustPoint
 
@@ -81,13 +81,7 @@ def trust_store(path, settings: dict, *, resume: bool):
     path = Path(path)
     done = {}
     if resume:
-        try:
-            stored = json.loads(path.read_text())
-        except (OSError, ValueError) as err:
-            raise ValueError(f"--resume: cannot read {path}: {err}") from None
-        if stored.get("settings") != settings:
-            differ = sorted(k for k in settings if stored.get("settings", {}).get(k) != settings[k])
-            raise ValueError(f"--resume: {path} was written for other settings ({', '.join(differ)} differ); run without --resume or into another --out")
+        stored = read_store(path, settings)
         done = {int(i): TrustPoint(**row) for i, row in stored["points"].items() if not row["status"].startswith("not computed")}
 
     def keep(i, point):
