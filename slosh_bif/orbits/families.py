@@ -3,9 +3,11 @@
 Model (9) is odd under the shift-reflection (X, X', w, w', tau) -> (-X, -X', -w, -w', tau + pi)
 (the forcing cos tau changes sign over half a period). A 2pi-orbit is either *symmetric*
 (y(tau + pi) = -y(tau)) or one of a mirror pair of *asymmetric* orbits; the pair is born at a
-symmetry-breaking pitchfork of the symmetric branch, which the continuation engine sees as a
-branch point (a multiplier through +1 without a fold). A multiplier through -1 (PD) gives birth
-to a *period-2* branch of 4pi-orbits.
+symmetry-breaking pitchfork of the symmetric branch. A symmetric branch is traced on the
+half-period map (a symmetric :class:`~slosh_bif.orbits.shooting.ShootingProblem`: half the
+integration), where the pitchfork is a regular multiplier -1 located like a period doubling; on
+the 2pi problem it would be a branch point. A multiplier through -1 (PD) of an asymmetric orbit
+gives birth to a *period-2* branch of 4pi-orbits.
 
 :func:`trace_orbits` continues the branch through a starting orbit, then switches at each branch
 point onto the crossing branch and at each period doubling onto the 4pi branch (traced by a
@@ -127,6 +129,8 @@ def images(problem: ShootingProblem, x) -> list:
     """The arc states of every copy of the orbit x under the symmetries of (9): its shifts by
     2pi k (an orbit of period 2pi m, read from tau = 2pi k) and their mirror images
     y'(tau) = -y(tau + pi), where the arcs split at those times; x itself first."""
+    if problem.symmetric:  # its own mirror image, in the half period's arcs
+        return [np.asarray(x, dtype=float)]
     m, pm = problem.segments, problem.period_multiple
     states = np.asarray(x, dtype=float).reshape(m, 4)
     per_2pi = m // pm if m % pm == 0 else 0
@@ -138,6 +142,8 @@ def images(problem: ShootingProblem, x) -> list:
 
 def mirror(problem: ShootingProblem, x):
     """x of the mirror-image orbit: y'(0) = -y(pi), read off the arcs when they split at pi."""
+    if problem.symmetric:
+        return np.asarray(x, dtype=float)
     if problem.period_multiple == 1 and problem.segments % 2 == 0:
         return images(problem, x)[1]
     raise ValueError("mirror needs a 2pi problem with an even number of segments")
@@ -159,12 +165,13 @@ def _measure(problem: ShootingProblem, branch: Branch, points_per_2pi: int, name
     return out
 
 
-def _tangent(branch: Branch, sp):
+def _tangent(branch: Branch, sp, regular: bool = False):
     """The branch's unit tangent at a special point: the one the engine kept at a regular point
     (a period doubling), else the secant of its neighbours. At a branch point the null space of
     [F_x, F_p] is two-dimensional, so the tangent computed there is not the branch's (with it,
-    switching on the Fig. 10 family returned onto the symmetric branch)."""
-    if sp.tangent is not None and sp.kind != BRANCH_POINT:
+    switching on the Fig. 10 family returned onto the symmetric branch). On the half-period map
+    a pitchfork is a regular point, and its tangent is the branch's."""
+    if sp.tangent is not None and (sp.kind != BRANCH_POINT or regular):
         return np.asarray(sp.tangent, dtype=float)
     u = np.column_stack([branch.x, branch.p])
     lo, hi = max(sp.index - 1, 0), min(sp.index + 1, len(u) - 1)
@@ -176,9 +183,11 @@ def _on_branch(u, ob: OrbitBranch, tol):
     """Whether the point u = (x, p) lies on a traced branch or on one of its images (mirror,
     shift by 2pi)."""
     b = ob.branch
-    if len(u) != b.x.shape[1] + 1:
-        return False
     copies = np.array([images(ob.problem, x) for x in b.x])  # (points, copies, states)
+    if ob.problem.symmetric:  # u is a point of a 2pi problem
+        copies = ob.problem.full_states(copies)
+    if len(u) != copies.shape[2] + 1:
+        return False
     return any(polyline_distance(np.column_stack([copies[:, k], b.p]), u) < tol for k in range(copies.shape[1]))
 
 
@@ -189,7 +198,7 @@ def _cut_where_it_rejoins(new: Branch, problem: ShootingProblem, parent: OrbitBr
     its own shift by 2pi: nothing new. The parent's point met there leaves the queue."""
     doubled = problem.period_multiple == 2 * parent.problem.period_multiple
     kind = PERIOD_DOUBLING if doubled else BRANCH_POINT
-    meets = [(q, np.tile(q.x, 2) if doubled else q.x) for q in parent.branch.special if q.kind == kind]
+    meets = [(q, np.tile(q.x, 2) if doubled else parent.problem.full_states(q.x)) for q in parent.branch.special if q.kind == kind]
     for sp in new.special:
         if sp.kind != BRANCH_POINT or sp.index <= 1:
             continue
@@ -224,7 +233,8 @@ def _point_counter(say, name, param):
 
 
 def _primary(params, y0, param, opts, make_problem, points_per_2pi, say, known=(), found_from="") -> OrbitBranch:
-    """The branch through the orbit near y0, named by its symmetry."""
+    """The branch through the orbit near y0, named by its symmetry (a symmetric one traced on the
+    half-period map)."""
     problem = make_problem(1)
     p0 = getattr(params, param)
     start = orbit_at(problem, problem.initial_states(y0), p0, tol=opts.tol)
@@ -234,8 +244,11 @@ def _primary(params, y0, param, opts, make_problem, points_per_2pi, say, known=(
     symmetric = orbit_measures(problem, x0, p0, points_per_2pi=points_per_2pi)["symmetry_defect"] < 1e-6
     kind = "symmetric" if symmetric else "asymmetric"
     name = unique_name(kind, known)
+    if symmetric and problem.segments % 2 == 0:
+        problem = make_problem(1, symmetric=True)
+        x0 = x0[: 4 * problem.segments]
     branch = continuation(problem, x0, p0, param=param, options=opts, callback=_point_counter(say, name, param))
-    if symmetric:
+    if symmetric and not problem.symmetric:
         branch = refine_pitchforks(problem, branch)
     say(f"{name}: {len(branch)} points, {len(branch.special)} special points")
     return OrbitBranch(name, problem, branch, _measure(problem, branch, points_per_2pi, name), kind=kind, found_from=found_from)
@@ -243,9 +256,14 @@ def _primary(params, y0, param, opts, make_problem, points_per_2pi, say, known=(
 
 def _switch(parent: OrbitBranch, sp, param, opts, make_problem, say):
     """(problem, branch, name or None) switched onto at the special point ``sp`` of ``parent``:
-    at a period doubling the 4pi problem (on which the PD is a branch point), else the parent's."""
-    along = _tangent(parent.branch, sp)
-    if sp.kind == PERIOD_DOUBLING:
+    at a period doubling the 4pi problem (on which the PD is a branch point), at a pitchfork of
+    the half-period map the 2pi problem (where it is a branch point), else the parent's."""
+    along = _tangent(parent.branch, sp, regular=parent.problem.symmetric)
+    if parent.problem.symmetric:
+        problem = make_problem(1)
+        x, along = parent.problem.full_states(sp.x), np.append(parent.problem.full_states(along[:-1]), along[-1])
+        name = None
+    elif sp.kind == PERIOD_DOUBLING:
         multiple = 2 * parent.problem.period_multiple
         problem = make_problem(multiple)
         x, along = np.tile(sp.x, 2), np.append(np.tile(along[:-1], 2), along[-1])
@@ -292,8 +310,9 @@ def trace_orbits(
     span = p_max - p_min
     box = (p_min - 0.5 * span, p_max + 0.5 * span)  # corrector iterates stay near the requested range
 
-    def make_problem(multiple):  # a period of multiple * 2 pi, in as many times the arcs
-        return ShootingProblem(params, param, segments=multiple * segments, period_multiple=multiple, rtol=rtol, atol=atol, backend=backend, box=box)
+    def make_problem(multiple, symmetric=False):  # a period of multiple * 2 pi, in as many times the arcs (half for the half period)
+        arcs = segments // 2 if symmetric else multiple * segments
+        return ShootingProblem(params, param, segments=arcs, period_multiple=multiple, rtol=rtol, atol=atol, backend=backend, box=box, symmetric=symmetric)
 
     family = [_primary(params, y0, param, opts, make_problem, points_per_2pi, say, known, found_from)]
     if not switch:

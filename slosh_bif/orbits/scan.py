@@ -51,7 +51,7 @@ def on_traced_branch(params: Params, y0, branches, *, param: str = "sigma", peri
         # a multiplier near +1 (the particle barely held between the walls) makes s_min 3e-9
         # and the gap 4e-7. Capped: at a fold s_min vanishes, and distinct branches near a
         # branch point must stay apart.
-        s_min = np.linalg.svd(problem.jacobian(x, p), compute_uv=False)[-1]
+        s_min = np.linalg.svd(problem.period_jacobian(x, p), compute_uv=False)[-1]  # the 2pi problem's: a symmetric orbit's G may be regular where M is not
         near = min(_NEAR_MAX, max(tol, 100 * START_TOL / max(s_min, 1e-300)))
         for i in crossings:
             w = 0.0 if b.p[i + 1] == b.p[i] else (p - b.p[i]) / (b.p[i + 1] - b.p[i])

@@ -15,10 +15,15 @@ for period doubling (``det(M + I)``, a multiplier through -1) and Neimark-Sacker
 (``prod_{i<j} (mu_i mu_j - 1)``, a complex pair through the unit circle; real reciprocal pairs,
 neutral saddles, also zero it and are dropped on confirmation). Folds and branch points come from
 the engine's own tests (a multiplier through +1 with and without the parameter turning back).
-Integration is by the compiled :mod:`slosh_bif.simulation.integrator`. The Floquet multipliers
+A *symmetric* problem traces the orbits with y(tau + pi) = -y(tau) (model (9) is odd under that
+shift) as fixed points of the half-period map G(y) = -phi_pi(y): half the integration per Newton
+step, M = G^2, and the symmetry-breaking pitchfork, a degenerate multiplier +1 of M, is G's
+regular multiplier -1 (test ``det(I + G)``, located like a period doubling; G's +1 is an ordinary
+fold). Integration is by the compiled :mod:`slosh_bif.simulation.integrator`. The Floquet multipliers
 (eigenvalues of M, by :mod:`slosh_bif.orbits.floquet` from the arc matrices) carry Liouville's
 check: det M = ``exp(int_0^T tr J dtau)``, ``tr J = -eps gamma (1 + eps) - lam w^(2p)`` for (9).
-:func:`shoot` takes any ``rhs(tau, y)`` and ``jac(tau, y)``; :func:`periodic_orbit` binds it to (9).
+The scipy reference for any vector field is :mod:`slosh_bif.orbits.period_map`;
+:func:`periodic_orbit` finds one orbit of (9).
 """
 
 from __future__ import annotations
@@ -26,106 +31,14 @@ from __future__ import annotations
 import dataclasses
 
 import numpy as np
-from scipy.integrate import solve_ivp
 
 from slosh_bif.continuation.corrector import newton_solve
 from slosh_bif.model.params import Params
 from slosh_bif.orbits.floquet import floquet_multipliers
+from slosh_bif.orbits.period_map import PeriodicOrbit, period_map, shoot
 from slosh_bif.simulation import integrator
 
 __all__ = ["PeriodicOrbit", "ShootingProblem", "Arcs", "PARAMETERS", "period_map", "shoot", "periodic_orbit", "orbit_at", "orbit_measures"]
-
-
-@dataclasses.dataclass(frozen=True)
-class PeriodicOrbit:
-    """A periodic orbit found by shooting (or the last iterate, with ``converged`` False).
-
-    Attributes
-    ----------
-    y0 : (n,) state at tau = 0;  period : T;  monodromy : (n, n) matrix M
-    multipliers : (n,) Floquet multipliers (eigenvalues of M), largest modulus first
-    stable : all multipliers strictly inside the unit circle
-    liouville_error : |det M - exp(int tr J)| / exp(int tr J), the built-in accuracy check
-    residual : |phi_T(y0) - y0|;  iterations : Newton steps;  converged, message : the outcome
-    """
-
-    y0: np.ndarray
-    period: float
-    monodromy: np.ndarray
-    multipliers: np.ndarray
-    stable: bool
-    liouville_error: float
-    residual: float
-    iterations: int
-    converged: bool
-    message: str
-
-
-def period_map(rhs, jac, y0, period, *, tau0=0.0, rtol=1e-10, atol=1e-12, method="DOP853"):
-    """phi_T(y0), the monodromy M and int tr J over [tau0, tau0 + T], from one integration.
-
-    The augmented state is ``[y, Phi (row-major), int tr J]``.
-    """
-    y0 = np.asarray(y0, dtype=float)
-    n = len(y0)
-
-    def augmented(tau, z):
-        y, Phi = z[:n], z[n : n + n * n].reshape(n, n)
-        J = jac(tau, y)
-        return np.concatenate([rhs(tau, y), (J @ Phi).ravel(), [np.trace(J)]])
-
-    z0 = np.concatenate([y0, np.eye(n).ravel(), [0.0]])
-    with np.errstate(over="ignore", invalid="ignore"):  # trial steps deep in the wall may overflow
-        sol = solve_ivp(augmented, (tau0, tau0 + period), z0, method=method, rtol=rtol, atol=atol)
-    if not sol.success:
-        raise RuntimeError(f"integration over one period failed: {sol.message}")
-    z = sol.y[:, -1]
-    return z[:n], z[n : n + n * n].reshape(n, n), z[-1]
-
-
-class _PeriodMapProblem:
-    """phi_T(y) - y of any vector field as a problem for :func:`newton_solve` (one integration
-    per iterate serves the residual, the Jacobian M - I and the multipliers)."""
-
-    def __init__(self, rhs, jac, period, **integration):
-        self.rhs, self.jac, self.period, self.integration = rhs, jac, period, integration
-        self._last = (None, None)
-
-    def map(self, y):
-        if self._last[0] is None or not np.array_equal(self._last[0], y):
-            self._last = (y.copy(), period_map(self.rhs, self.jac, y, self.period, **self.integration))
-        return self._last[1]
-
-    def residual(self, y, _p):
-        return self.map(y)[0] - y
-
-    def jacobian(self, y, _p):
-        return self.map(y)[1] - np.eye(len(y))
-
-
-def shoot(rhs, jac, y0, period, *, tol=1e-10, max_iter=20, rtol=1e-10, atol=1e-12, method="DOP853") -> PeriodicOrbit:
-    """Newton on phi_T(y0) - y0 = 0. Never raises on non-convergence: the result says why."""
-    y = np.asarray(y0, dtype=float).copy()
-    if not np.all(np.isfinite(y)):
-        raise ValueError(f"initial guess must be finite; got {y0!r}")
-    problem = _PeriodMapProblem(rhs, jac, period, rtol=rtol, atol=atol, method=method)
-    run = newton_solve(problem, y, 0.0, tol=tol, max_iter=max_iter, criterion="residual")
-    _, M, trace_integral = problem.map(run.x)
-    multipliers = np.linalg.eigvals(M)
-    multipliers = multipliers[np.argsort(-np.abs(multipliers))]
-    expected = np.exp(trace_integral)
-    return PeriodicOrbit(
-        y0=run.x,
-        period=float(period),
-        monodromy=M,
-        multipliers=multipliers,
-        stable=bool(np.all(np.abs(multipliers) < 1)),
-        liouville_error=float(abs(np.linalg.det(M) - expected) / expected),
-        residual=run.residual,
-        iterations=run.iterations,
-        converged=run.converged,
-        message=run.message,
-    )
 
 
 PARAMETERS = ("sigma", "Abar")  # the parameters the generated sensitivity equations cover
@@ -161,7 +74,6 @@ class ShootingProblem:
     the integration's own smooth error.
     """
 
-    test_kinds = ("PD", "NS")
     branch_kind = "periodic orbits of (9)"
 
     def __init__(
@@ -184,7 +96,11 @@ class ShootingProblem:
         # y(tau + pi) = -y(tau); G's multiplier -1 is the symmetry-breaking pitchfork of (9).
         self.symmetric = symmetric
         self.closing = -1.0 if symmetric else 1.0
-        self.period = np.pi if symmetric else 2 * np.pi * period_multiple
+        self.period = np.pi if symmetric else 2 * np.pi * period_multiple  # what the arcs span
+        self.orbit_period = 2 * np.pi * period_multiple
+        # G's multiplier -1 is the pitchfork (a branch point of the 2pi problem); M's -1 is a
+        # period doubling, which a symmetric orbit does not have generically (M = G^2).
+        self.test_kinds = ("BP", "NS") if symmetric else ("PD", "NS")
         self.rtol, self.atol = rtol, atol
         self.backend = integrator.resolve_backend(backend)
         if box is not None and not (len(box) == 2 and box[0] < box[1]):
@@ -217,6 +133,12 @@ class ShootingProblem:
         if self.box is not None and not self.box[0] <= p <= self.box[1]:
             return False
         return bool(np.max(np.abs(x)) <= self.state_bound)
+
+    def full_states(self, x):
+        """x as the states of the 2pi problem in twice the arcs: for a symmetric problem the half
+        period's arcs followed by their mirror images -y (x itself otherwise)."""
+        x = np.asarray(x, dtype=float)
+        return np.concatenate([x, -x], axis=-1) if self.symmetric else x
 
     def arc_times(self):
         return np.linspace(0.0, self.period, self.segments + 1)
@@ -293,6 +215,14 @@ class ShootingProblem:
             J[4 * k : 4 * k + 4, 4 * nxt : 4 * nxt + 4] -= (wrap if nxt == 0 else 1.0) * np.eye(4)
         return J
 
+    def period_jacobian(self, x, p):
+        """The Jacobian of the 2pi problem's residual at the orbit x: for a symmetric problem the
+        half period's arc matrices twice (the second half's at -y equal the first's), closing on +1."""
+        arcs = self._arcs(x, p)
+        if not self.symmetric:
+            return self.jacobian_of(arcs)
+        return self.jacobian_of(dataclasses.replace(arcs, mats=np.concatenate([arcs.mats, arcs.mats])), 1.0)
+
     def dparam(self, x, p):
         return self._arcs(x, p).sens[:, :, PARAMETERS.index(self.param)].ravel()
 
@@ -301,7 +231,10 @@ class ShootingProblem:
         return self._arcs(x, p).sens.reshape(-1, len(PARAMETERS))
 
     def monodromy(self, x, p):
-        return self._monodromy_and_trace(x, p)[0]
+        """M over the orbit's period (for a symmetric orbit G^2 = phi_pi^2: the second half's
+        transition matrix at -y equals the first's)."""
+        M = self._monodromy_and_trace(x, p)[0]
+        return M @ M if self.symmetric else M
 
     def _monodromy_and_trace(self, x, p):
         key = (x.tobytes(), self.params_at(p))
@@ -310,9 +243,15 @@ class ShootingProblem:
         return self._floquet[key]
 
     def eigenvalues(self, x, p):
-        """The Floquet multipliers, largest modulus first, by the periodic Schur decomposition of
-        the arc matrices (:mod:`slosh_bif.orbits.floquet`), not from the formed monodromy."""
-        return floquet_multipliers(self.arc_matrices(x, p))
+        """The Floquet multipliers of the orbit (over its whole period), largest modulus first, by
+        the periodic Schur decomposition of the arc matrices (:mod:`slosh_bif.orbits.floquet`),
+        not from the formed monodromy; for a symmetric orbit the squares of G's."""
+        mu = self.map_multipliers(x, p)
+        return mu * mu if self.symmetric else mu
+
+    def map_multipliers(self, x, p):
+        """The multipliers of the map the problem solves for: M's, or G's = -phi_pi's for a symmetric problem."""
+        return self.closing * floquet_multipliers(self.arc_matrices(x, p))
 
     def arc_matrices(self, x, p):
         """The arcs' state transition matrices Phi_1 .. Phi_m (the monodromy is their product)."""
@@ -329,29 +268,38 @@ class ShootingProblem:
         return float(abs(np.linalg.det(M) - expected) / expected)
 
     def test_functions(self, x, p):
-        mu = self.eigenvalues(x, p)
-        pd = np.prod(1 + mu).real
+        """(a multiplier of the map through -1, a complex pair through the unit circle)."""
+        mu = self.map_multipliers(x, p)
+        minus_one = np.prod(1 + mu).real
         pairs = [mu[i] * mu[j] - 1 for i in range(4) for j in range(i + 1, 4)]
-        return pd, np.prod(pairs).real
+        return minus_one, np.prod(pairs).real
 
     def confirm(self, kind, x, p):
-        """Say what a located PD/NS point is, or None when it is a neutral saddle (not NS)."""
-        mu = self.eigenvalues(x, p)
-        if kind == "PD":
+        """Say what a located PD/BP/NS point is, or None when it is a neutral saddle (not NS)."""
+        mu = self.map_multipliers(x, p)
+        if kind in ("PD", "BP"):
             k = int(np.argmin(np.abs(mu + 1)))
+            if kind == "BP":
+                return f"symmetry-breaking pitchfork: the half-period map's multiplier {mu[k].real:.6f} through -1 (the period map's through +1)"
             return f"period doubling: multiplier {mu[k].real:.6f} through -1"
         complex_pair = [m for m in mu if m.imag > 1e-7 * max(1.0, abs(m))]
         for m in complex_pair:
             if abs(abs(m) - 1) < 1e-3:
-                return f"Neimark-Sacker: multipliers exp(+-i {np.angle(m):.6f}) on the unit circle (rotation {np.angle(m) / (2 * np.pi):.6f})"
+                angle = abs(np.angle(m * m if self.symmetric else m))  # the period map's pair
+                return f"Neimark-Sacker: multipliers exp(+-i {angle:.6f}) on the unit circle (rotation {angle / (2 * np.pi):.6f})"
         return None
 
     # -- what one orbit looks like ----------------------------------------------------------
 
     def orbit(self, x, p, *, points_per_2pi: int = 512):
-        """(taus, states) of the orbit through x over one period, on a uniform grid."""
+        """(taus, states) of the orbit through x over one period, on a uniform grid; a symmetric
+        orbit is integrated over half of it (``points_per_2pi`` even) and mirrored, its last
+        state then -y(pi), where the symmetry holds to the half-period map's residual."""
         npts = points_per_2pi * self.period_multiple
-        taus = np.linspace(0.0, self.period, npts + 1)
+        taus = np.linspace(0.0, self.orbit_period, npts + 1)
+        if self.symmetric and npts % 2 == 0:
+            half = integrator.integrate_grid(self.params_at(p), x[:4], taus[: npts // 2 + 1], rtol=self.rtol, atol=self.atol, backend=self.backend)
+            return taus, np.concatenate([half, -half[1:]])
         return taus, integrator.integrate_grid(self.params_at(p), x[:4], taus, rtol=self.rtol, atol=self.atol, backend=self.backend)
 
 
@@ -362,6 +310,7 @@ def orbit_measures(problem: ShootingProblem, x, p, *, points_per_2pi: int = 512)
     X = Y[:-1, 0]
     coef = np.fft.rfft(X)[problem.period_multiple] * 2 / len(X)  # the forcing frequency's bin
     half = points_per_2pi // 2  # tau = pi
+    # A mirrored symmetric orbit (see ShootingProblem.orbit) has the defect |y(pi) + y(0)|, G's residual.
     defect = float(np.max(np.abs(Y[half : half + points_per_2pi + 1 - half] + Y[: points_per_2pi + 1 - half])))
     return {"A1": float(abs(coef)), "max_abs_X": float(np.max(np.abs(Y[:, 0]))), "max_abs_w": float(np.max(np.abs(Y[:, 2]))), "symmetry_defect": float(defect)}
 
@@ -387,7 +336,7 @@ def orbit_at(problem: ShootingProblem, x, p, *, tol=1e-10, max_iter=20) -> Perio
     mu = problem.eigenvalues(x, p) if finite else np.full(4, np.nan + 0j)
     return PeriodicOrbit(
         y0=x[:4].copy(),
-        period=problem.period,
+        period=problem.orbit_period,
         monodromy=problem.monodromy(x, p) if finite else np.full((4, 4), np.nan),
         multipliers=mu,
         stable=problem.is_stable(mu),

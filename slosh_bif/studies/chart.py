@@ -86,15 +86,16 @@ def _starts(ob, param, params, sigma_range, abar_range, pitchforks=(), backend="
     for sp in ob.branch.special:
         if sp.kind not in ("LP", "PD", "NS", "BP") or not sp.located:
             continue
-        if sp.kind == "BP" and (ob.kind != "symmetric" or ob.problem.segments % 2):
+        segments = ob.problem.segments * (2 if ob.problem.symmetric else 1)  # the curves start from the 2pi problem's states
+        if sp.kind == "BP" and (ob.kind != "symmetric" or segments % 2):
             continue  # a pitchfork of symmetric orbits: the half-period map's condition
         if sp.kind == "LP" and ob.kind == "asymmetric" and any(abs(sp.p - q) <= 1e-6 * (1 + abs(q)) for q in pitchforks):
             continue  # where the pair meets its symmetric parent again: the pitchfork, not a fold
         sigma, abar = (sp.p, params.Abar) if param == "sigma" else (params.sigma, sp.p)
         origin = f"{sp.kind} at sigma = {sigma:.6g}, Abar = {abar:.6g} on the {ob.name} branch in {param}"
         job = dict(
-            params=params, x=sp.x, p=sp.p, kind=sp.kind, branch_param=param, p1_range=sigma_range, p2_range=abar_range,
-            segments=ob.problem.segments, period_multiple=ob.problem.period_multiple, origin=origin, backend=backend,
+            params=params, x=ob.problem.full_states(sp.x), p=sp.p, kind=sp.kind, branch_param=param, p1_range=sigma_range, p2_range=abar_range,
+            segments=segments, period_multiple=ob.problem.period_multiple, origin=origin, backend=backend,
         )
         yield _Start(sp.kind, float(sigma), float(abar), origin, job)
 

@@ -136,7 +136,7 @@ def test_every_special_point_of_the_fig10_family_satisfies_its_condition_by_scip
     assert names[0] == "symmetric" and "asymmetric" in names and "period-2" in names
     checked = 0
     for ob in family.branches:
-        b, T = ob.branch, ob.problem.period
+        b, T = ob.branch, ob.problem.orbit_period
         assert np.max(ob.measures["liouville_error"]) < 1e-8
         for sp in b.special:
             if sp.kind == "END":

@@ -1,29 +1,50 @@
-"""Pitchforks of symmetric branches located on the half-period map (issue 16): the engine's
-bordered test alone brackets them only to where its corrector fails (1.5e-5 in sigma at the
-Fig. 10 pitchfork near -1.09); refined, scipy's full-period monodromy has the multiplier +1 there."""
+"""Pitchforks of symmetric branches (issues 16, 19). A symmetric branch is traced on the
+half-period map, where the pitchfork is a regular multiplier -1 located by the engine's test;
+on the 2pi problem it is a branch point, which the engine brackets only to where its corrector
+fails (1.5e-5 in sigma at the Fig. 10 pitchfork near -1.09) and :func:`refine_pitchforks` then
+locates by Newton on the minimally augmented half-period condition. The two methods must agree,
+and scipy's full-period monodromy must have the multiplier +1 at both."""
+
+import dataclasses
 
 import numpy as np
 import pytest
 
 from slosh_bif import get_preset
+from slosh_bif.continuation import continuation
 from slosh_bif.orbits import orbit_from_simulation, trace_orbits
+from slosh_bif.orbits.families import SHOOTING_OPTIONS
+from slosh_bif.orbits.pitchforks import refine_pitchforks
+from slosh_bif.orbits.shooting import ShootingProblem
 
 PRESET = get_preset("fig10")
 
 
 @pytest.fixture(scope="module")
 def symmetric_branch():
-    # The branch's sigma box, (-3.0, 2.6), does not contain Abar = 3: the refinement's problem
-    # (Abar held, sigma an unknown) must not inherit it.
     start = orbit_from_simulation(PRESET.params.replace(sigma=-1.2), PRESET.state0, settle=150)
     return trace_orbits(start.params, start.y0, p_min=-1.6, p_max=1.2, switch=False, points_per_2pi=32).branches[0]
 
 
-def test_every_pitchfork_is_refined_and_has_a_multiplier_at_one_by_scipy(symmetric_branch, scipy_multipliers):
-    assert symmetric_branch.kind == "symmetric"
+def test_every_pitchfork_of_the_half_period_map_has_a_multiplier_at_one_by_scipy(symmetric_branch, scipy_multipliers):
+    assert symmetric_branch.kind == "symmetric" and symmetric_branch.problem.symmetric
     pitchforks = symmetric_branch.branch.special_of("BP")
     assert len(pitchforks) == 4
     for sp in pitchforks:
-        assert "refined on the half-period map" in sp.message and min(sp.bracket) <= sp.p <= max(sp.bracket)
+        assert sp.located and "half-period map's multiplier" in sp.message and min(sp.bracket) <= sp.p <= max(sp.bracket)
         mu = scipy_multipliers(PRESET.params.replace(sigma=float(sp.p)), sp.x[:4])
         assert np.min(np.abs(mu - 1)) < 1e-6, (sp.p, mu)
+
+
+def test_pitchforks_refined_on_the_2pi_problem_agree_with_the_half_period_map(symmetric_branch):
+    # The branch's sigma box, (-3.0, 2.6), does not contain Abar = 3: the refinement's problem
+    # (Abar held, sigma an unknown) must not inherit it.
+    half = symmetric_branch.problem
+    full = ShootingProblem(half.params, "sigma", segments=2 * half.segments, box=(-3.0, 2.6))
+    x0 = half.full_states(symmetric_branch.branch.x[0])
+    options = dataclasses.replace(SHOOTING_OPTIONS, p_min=-1.6, p_max=1.2)
+    on_full = refine_pitchforks(full, continuation(full, x0, float(symmetric_branch.branch.p[0]), param="sigma", options=options))
+    refined = on_full.special_of("BP")
+    assert len(refined) == 4 and all("refined on the half-period map" in sp.message for sp in refined)
+    expected = sorted(sp.p for sp in symmetric_branch.branch.special_of("BP"))
+    assert sorted(sp.p for sp in refined) == pytest.approx(expected, abs=1e-8)

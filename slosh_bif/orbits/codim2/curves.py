@@ -110,10 +110,15 @@ def trace_curve(
     """Trace the curve of ``kind`` (LP, PD, NS or BP) through the special point (x, p) of a one-parameter
     branch in ``branch_param`` (one of p1, p2) over the box p1_range x p2_range, in both
     directions until it leaves the box, closes, or cannot be continued (its status says which).
-    ``backend``: the integrator of the arcs (compiled or scipy's DOP853).
+    ``backend``: the integrator of the arcs (compiled or scipy's DOP853). x holds the states at
+    the starts of ``segments`` arcs of the period, or, from a symmetric branch (traced on the
+    half-period map), of the ``segments / 2`` arcs of the half period.
     """
     if kind not in (*CURVE_KINDS, "NS"):
         raise ValueError(f"kind must be one of {', '.join(CURVE_KINDS)}, NS; got {kind!r}")
+    x = np.asarray(x, dtype=float)
+    if period_multiple == 1 and segments % 2 == 0 and x.shape == (2 * segments,):  # a symmetric branch's half-period states
+        x = np.concatenate([x, -x])
     if kind == "BP":  # the half-period map: the first half of the arcs of a symmetric orbit
         if segments % 2:
             raise ValueError(f"a BP curve starts from a symmetric orbit in an even number of arcs; got {segments}")
