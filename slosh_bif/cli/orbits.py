@@ -27,7 +27,7 @@ def family_from_args(args, params, lo, hi, param="sigma"):
     """The family of orbits ``shoot`` and ``compare`` trace: from --start's orbit, over [lo, hi] of ``param``."""
     from slosh_bif.orbits.families import SHOOTING_OPTIONS, trace_orbits
     from slosh_bif.orbits.scan import scan_families
-    from slosh_bif.orbits.starts import orbit_from_simulation, slow_flow_start
+    from slosh_bif.orbits.starts import slow_flow_start, start_orbit
 
     rtol = 1e-10 if args.rtol is None else args.rtol
     if not 1e-14 <= rtol <= 1e-4:
@@ -43,7 +43,7 @@ def family_from_args(args, params, lo, hi, param="sigma"):
         start = slow_flow_start(params, lo, hi, segments=args.segments, backend=args.backend)
     else:
         try:
-            start = orbit_from_simulation(params, state0_of(args, params), settle=args.settle, guess=args.guess, segments=args.segments, backend=args.backend)
+            start = start_orbit(params, state0_of(args, params), (lo, hi) if param == "sigma" else None, settle=args.settle, guess=args.guess, segments=args.segments, backend=args.backend)
         except RuntimeError:
             where = "--guess" if args.guess is not None else f"the last strobe states of a {args.settle}-period simulation"
             raise ValueError(f"no periodic orbit found near {where} at sigma = {params.sigma:g}; pass --guess X,Xd,w,wd or change --settle") from None

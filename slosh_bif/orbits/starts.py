@@ -24,7 +24,11 @@ from slosh_bif.slowflow.steady_states import forcing_response, frequency_respons
 
 START_TOL = 1e-9  # residual tolerance of Newton from a start guess (scan.on_traced_branch resolves orbits to it)
 
-__all__ = ["UnsettledStartWarning", "StartOrbit", "orbit_from_simulation", "orbit_from_slow_flow", "slow_flow_start", "settle_and_shoot", "scan_starts", "linear_response_state"]
+__all__ = ["UnsettledStartWarning", "UnsettledStartError", "StartOrbit", "start_orbit", "orbit_from_simulation", "orbit_from_slow_flow", "slow_flow_start", "settle_and_shoot", "scan_starts", "linear_response_state"]
+
+
+class UnsettledStartError(ConvergenceError):
+    """The simulation meant to reach a start orbit has not settled (see :func:`orbit_from_simulation`)."""
 
 
 class UnsettledStartWarning(UserWarning):
@@ -53,12 +57,18 @@ class StartOrbit:
         return self.params.sigma
 
 
-def orbit_from_simulation(params: Params, state0, *, settle: int = 150, guess=None, segments: int = 4, tries: int = 50, backend: str = "auto") -> StartOrbit:
+def orbit_from_simulation(
+    params: Params, state0, *, settle: int = 150, guess=None, segments: int = 4, tries: int = 50, backend: str = "auto", unsettled: str = "warn",
+) -> StartOrbit:
     """A converged 2pi-orbit near ``guess``, or near the strobe states (tau = 2 pi k) of a
     simulation of (9) from ``state0`` over ``settle`` periods: the last strobe first, then up to
-    ``tries - 1`` before it. Raises :class:`ConvergenceError` naming what was tried."""
+    ``tries - 1`` before it. Raises :class:`ConvergenceError` naming what was tried. A simulation
+    that has not settled gives an :class:`UnsettledStartWarning` (``unsettled="warn"``) or
+    raises :class:`UnsettledStartError` (``"raise"``)."""
     if not (isinstance(settle, int) and settle >= 0):
         raise ValueError(f"settle must be an integer >= 0 (forcing periods); got {settle!r}")
+    if unsettled not in ("warn", "raise"):
+        raise ValueError(f"unsettled must be 'warn' or 'raise'; got {unsettled!r}")
     problem = ShootingProblem(params, segments=segments, backend=backend)
     if guess is not None:
         guesses = [np.asarray(guess, dtype=float)]
@@ -72,9 +82,11 @@ def orbit_from_simulation(params: Params, state0, *, settle: int = 150, guess=No
             # A run that has not settled amplifies rounding: which orbit Newton finds from its
             # strobes depends on the integrator (the Fig. 10 set: the compiled path lands on the
             # symmetric orbit, scipy's on an asymmetric one).
+            why = f"the {settle}-period simulation from the initial state has not settled (its strobe moved by {moved:.2g} in the last period)"
+            if unsettled == "raise":
+                raise UnsettledStartError(why)
             warnings.warn(
-                f"the {settle}-period simulation from the initial state has not settled (its strobe moved by {moved:.2g} in the last period): "
-                "the start orbit found from it depends on the integrator's rounding; --start scan (scan_families) finds every family",
+                f"{why}: the start orbit found from it depends on the integrator's rounding; --start scan (scan_families) finds every family",
                 UnsettledStartWarning, stacklevel=2,
             )
     for k, y0 in enumerate(guesses):
@@ -84,6 +96,28 @@ def orbit_from_simulation(params: Params, state0, *, settle: int = 150, guess=No
             return StartOrbit(params, orbit, f"Newton from {where}")
     where = "the guess" if guess is not None else f"the last {len(guesses)} strobe states of a {settle}-period simulation"
     raise ConvergenceError(f"no periodic orbit found near {where} at sigma = {params.sigma:g}")
+
+
+def start_orbit(
+    params: Params, state0, sigma_range: tuple | None = None, *, settle: int = 150, guess=None, segments: int = 4, backend: str = "auto",
+) -> StartOrbit:
+    """The default start of a family: Newton from a settled simulation (or from ``guess``); where
+    the simulation has not settled (a strongly modulated response), the orbit Newton finds from
+    its strobes depends on the last bits of the integration (a change in the compiled loop's
+    summation order moved the Fig. 10 start from the symmetric orbit to an asymmetric one), so
+    the slow flow's start over ``sigma_range`` (sigma_min, sigma_max) is taken instead, which does
+    not. Without a range, or when that fails too, the unsettled start, with an
+    :class:`UnsettledStartWarning`."""
+    if sigma_range is None:
+        return orbit_from_simulation(params, state0, settle=settle, guess=guess, segments=segments, backend=backend)
+    try:
+        return orbit_from_simulation(params, state0, settle=settle, guess=guess, segments=segments, backend=backend, unsettled="raise")
+    except UnsettledStartError as why:
+        try:
+            start = slow_flow_start(params, *sigma_range, segments=segments, backend=backend)
+        except ConvergenceError:
+            return orbit_from_simulation(params, state0, settle=settle, guess=guess, segments=segments, backend=backend)
+        return dataclasses.replace(start, found_from=f"{start.found_from} ({why}: a start from it would depend on rounding)")
 
 
 def orbit_from_slow_flow(params: Params, A: float, *, segments: int = 4, rtol: float = 1e-10, atol: float = 1e-12, tol: float = 1e-10, backend: str = "auto"):

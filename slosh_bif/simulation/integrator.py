@@ -204,11 +204,22 @@ def _dop853_loop(which, t0, t1, z0, pars, rtol, atol, h, max_steps, A, B, C, E3,
                 t_new = t1
             hh = t_new - t
             for s in range(1, 12):
-                for i in range(n):
-                    acc = 0.0
+                if n > 4:  # the shooting system: row by row of K, contiguous and vectorised, zeros skipped (40 % faster at 29 components; 20 % slower at 4)
+                    for i in range(n):
+                        tmp[i] = 0.0
                     for j in range(s):
-                        acc += A[s, j] * K[j, i]
-                    tmp[i] = z[i] + hh * acc
+                        a = A[s, j]
+                        if a != 0.0:
+                            for i in range(n):
+                                tmp[i] += a * K[j, i]
+                    for i in range(n):
+                        tmp[i] = z[i] + hh * tmp[i]
+                else:
+                    for i in range(n):
+                        acc = 0.0
+                        for j in range(s):
+                            acc += A[s, j] * K[j, i]
+                        tmp[i] = z[i] + hh * acc
                 _kernel(which, t + C[s] * hh, tmp, K[s], pars)
             for i in range(n):
                 acc = 0.0

@@ -41,7 +41,7 @@ from slosh_bif.orbits.codim2 import BifurcationCurve, trace_curve
 from slosh_bif.orbits.families import trace_orbits
 from slosh_bif.orbits.scan import scan_families
 from slosh_bif.orbits.shooting import orbit_measures
-from slosh_bif.orbits.starts import orbit_from_simulation
+from slosh_bif.orbits.starts import start_orbit
 from slosh_bif.slowflow.critical import critical_curve, interp_min
 
 __all__ = ["Chart", "bifurcation_chart", "critical_rows", "CRITICAL_COLUMNS", "FullCritical", "critical_forcing_full"]
@@ -208,7 +208,7 @@ def bifurcation_chart(
     workers = _workers(workers)
     say = progress or (lambda message: None)
     started = time.perf_counter()
-    start = orbit_from_simulation(params, state0, settle=settle, segments=segments, backend=backend)
+    start = start_orbit(params, state0, (s0, s1), settle=settle, segments=segments, backend=backend)
     family = trace_orbits(
         start.params, start.y0, p_min=s0, p_max=s1, segments=segments, switch=switch, max_branches=max_branches, backend=backend, progress=say,
     )

@@ -30,7 +30,7 @@ def no_work(monkeypatch):
 
     monkeypatch.setattr(integrator, "integrate_grid", _started)  # simulate's integration
     monkeypatch.setattr(concurrent.futures, "ProcessPoolExecutor", _started)  # regimes' and trust's pools
-    monkeypatch.setattr(chart, "orbit_from_simulation", _started)  # the chart's first orbit
+    monkeypatch.setattr(chart, "start_orbit", _started)  # the chart's first orbit
 
 
 NUMBERS = st.one_of(

@@ -72,8 +72,11 @@ def test_shooting_reports_non_convergence_instead_of_raising():
 # tests run it (without numba they fail, naming the missing extra).
 @pytest.mark.parametrize("preset", ["fig10", "fig12"])
 def test_compiled_integrator_takes_scipys_steps_and_agrees_with_it(preset):
-    """Same method, coefficients and step control as scipy's DOP853: the same accepted steps and
-    the same end state up to rounding, on (9) alone and on the 29-dimensional shooting system."""
+    """Same method, coefficients and step control as scipy's DOP853: the same number of accepted
+    steps up to 2 % and the same end state up to rounding, on (9) alone and on the 29-dimensional
+    shooting system. Not step for step: the compiled loop sums the stages in its own order (row
+    by row, zero coefficients skipped), and through the n = 50 wall an accept or reject can turn
+    on the last bit (250 against 252 steps at fig10; scipy releases differ by as much)."""
     P = get_preset(preset).params
     y0 = get_preset(preset).state0
     z0 = np.concatenate([y0, np.eye(4).ravel(), np.zeros(9)])
@@ -81,7 +84,7 @@ def test_compiled_integrator_takes_scipys_steps_and_agrees_with_it(preset):
         fast = integrator.integrate(P, state, 0.0, 2 * np.pi, shooting=shooting, backend="numba")
         slow = integrator.integrate(P, state, 0.0, 2 * np.pi, shooting=shooting, backend="scipy")
         assert fast.success and slow.success
-        assert fast.steps == slow.steps and fast.nfev == slow.nfev
+        assert abs(fast.steps - slow.steps) <= max(2, 0.02 * slow.steps), (fast.steps, slow.steps)
         np.testing.assert_allclose(fast.z, slow.z, rtol=1e-7, atol=1e-8)
 
 
@@ -219,3 +222,25 @@ def test_slow_flow_start_tries_steady_states_and_says_when_none_gives_an_orbit()
     # Near the peak (46) and (9) differ by 30 %: no steady state there leads Newton to an orbit.
     with pytest.raises(ConvergenceError, match="no orbit of \\(9\\) found from"):
         slow_flow_start(P, 0.1, 0.3, tries=3)
+
+
+@pytest.mark.parametrize("backend", ["numba", "scipy"])
+def test_default_start_does_not_depend_on_rounding_where_the_simulation_has_not_settled(backend):
+    """Fig. 10 set at sigma = 1: the 150-period simulation is still strongly modulated, and Newton
+    from its strobes lands on whichever orbit the last bits send it to (an asymmetric one after a
+    change of summation order in the compiled loop). The default start takes the slow flow's
+    instead, on either integrator: the same symmetric orbit of the same sigma (issue 18)."""
+    from slosh_bif.orbits.shooting import ShootingProblem
+    from slosh_bif.orbits.starts import UnsettledStartError, orbit_from_simulation, start_orbit
+
+    pre = get_preset("fig10")
+    with pytest.raises(UnsettledStartError, match="has not settled"):
+        orbit_from_simulation(pre.params, pre.state0, backend=backend, unsettled="raise")
+    start = start_orbit(pre.params, pre.state0, (-6.0, 8.0), backend=backend)
+    assert "slow flow" in start.found_from and "not settled" in start.found_from
+    problem = ShootingProblem(start.params, segments=4)
+    measures = orbit_measures(problem, problem.initial_states(start.y0), start.params.sigma, points_per_2pi=64)
+    assert start.orbit.converged and measures["symmetry_defect"] < 1e-6
+    reference = start_orbit(pre.params, pre.state0, (-6.0, 8.0), backend="numba")
+    assert start.params.sigma == reference.params.sigma
+    np.testing.assert_allclose(start.y0, reference.y0, atol=1e-8)
