@@ -69,6 +69,8 @@ def special_between(problem, a: Point, b: Point, h, opts, bend=None):
             try:
                 q, note = locate(problem, a, h, which, opts, bend)
             except (ConvergenceError, ValueError) as err:
+                if confirm is not None and which >= 2 and confirm(kind, b.u[:-1], b.u[-1]) is None:
+                    continue  # what the problem says is none at the step's end (a sign flip of rounding)
                 q = dataclasses.replace(b, iterations=0, located=False)
                 q.message = f"{kind} detected, not located: {err}"
             else:

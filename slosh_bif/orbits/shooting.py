@@ -62,6 +62,7 @@ class Arcs:
 _STATE = ("X", "Xd", "w", "wd")
 
 
+DOUBLE = 1e-5  # two multipliers this close to -1 (or a pair to +-1) are a double one, not a crossing
 MAX_PERIOD_MULTIPLE = 8  # longest period traced, in units of 2pi: a period-doubling cascade is followed to period 8
 
 class ShootingProblem:
@@ -279,12 +280,16 @@ class ShootingProblem:
         mu = self.map_multipliers(x, p)
         if kind in ("PD", "BP"):
             k = int(np.argmin(np.abs(mu + 1)))
+            if np.min(np.abs(np.delete(mu, k) + 1)) < DOUBLE:
+                # A double -1 is no simple crossing: off the walls at beta = 0 the particle drifts
+                # freely (G has -1 twice all along), and the test's sign flips on rounding.
+                return None
             if kind == "BP":
                 return f"symmetry-breaking pitchfork: the half-period map's multiplier {mu[k].real:.6f} through -1 (the period map's through +1)"
             return f"period doubling: multiplier {mu[k].real:.6f} through -1"
         complex_pair = [m for m in mu if m.imag > 1e-7 * max(1.0, abs(m))]
         for m in complex_pair:
-            if abs(abs(m) - 1) < 1e-3:
+            if abs(abs(m) - 1) < 1e-3 and min(abs(m - 1), abs(m + 1)) >= DOUBLE:  # a pair split off a double +-1 by rounding is none
                 angle = abs(np.angle(m * m if self.symmetric else m))  # the period map's pair
                 return f"Neimark-Sacker: multipliers exp(+-i {angle:.6f}) on the unit circle (rotation {angle / (2 * np.pi):.6f})"
         return None

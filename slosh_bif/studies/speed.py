@@ -8,7 +8,9 @@
   ``--set n=6 --set sigma=-6`` (a symmetric start at sigma = -6 for the n = 6 set).
 * **Start-up**: ``slosh-bif info --preset fig10`` in a fresh interpreter (target < 0.5 s), and
   the shooting start alone in this process (the settling simulation and Newton).
-* **Peak memory** of the whole-process branch (the child's maximum resident set size).
+* **Peak memory** of the whole-process branch (the child's maximum resident set size), and of
+  regime maps of 20 x 20 and 100 x 100 cells (Fig. 13 set, short runs: a memory case, not a regime
+  study): the parent's and the largest worker's resident sets, which must not grow with the cells.
 
 The direct simulation's ratio against scipy is the integration question's
 (``integrators_ratios.csv``).
@@ -40,22 +42,24 @@ _CHILD = (
     "import resource, runpy, sys\n"
     "sys.argv = ['slosh-bif', *sys.argv[1:]]\n"
     "try:\n    runpy.run_module('slosh_bif.cli', run_name='__main__')\n"
-    "finally:\n    print('peak_rss_kb', resource.getrusage(resource.RUSAGE_SELF).ru_maxrss, file=sys.stderr)\n"
+    "finally:\n    print('peak_rss_kb', resource.getrusage(resource.RUSAGE_SELF).ru_maxrss, resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss, file=sys.stderr)\n"
 )
+REGIMES = ["regimes", "--preset", "fig13", "--tmax", "60", "--workers", "2"]
+REGIME_GRIDS = (20, 100)
 
 
-def _run_cli(arguments, timeout=900.0):
+def _run_cli(arguments, timeout=900.0, workers=False):
     """Wall time and the child's own peak resident set (MB; ru_maxrss is in kB on Linux) of
-    ``slosh-bif ARGUMENTS`` in a fresh interpreter."""
+    ``slosh-bif ARGUMENTS`` in a fresh interpreter; ``workers``: also its largest worker's."""
     start = time.perf_counter()
     done = subprocess.run([sys.executable, "-c", _CHILD, *arguments], capture_output=True, text=True, timeout=timeout, env={**os.environ, "PYTHONWARNINGS": "ignore"})
     seconds = time.perf_counter() - start
     lines = done.stderr.strip().splitlines()
-    peak = float(lines[-1].split()[1]) / 1024 if lines and lines[-1].startswith("peak_rss_kb") else np.nan
+    peaks = [float(v) / 1024 for v in lines[-1].split()[1:]] if lines and lines[-1].startswith("peak_rss_kb") else [np.nan, np.nan]
     if done.returncode not in (0, 3):
         reason = next((line for line in reversed(lines) if not line.startswith("peak_rss_kb")), "")
         raise RuntimeError(f"slosh-bif {' '.join(arguments)} failed ({done.returncode}): {reason}")
-    return seconds, peak
+    return (seconds, *peaks) if workers else (seconds, peaks[0])
 
 
 def _scipy_periods(params, y0, count=1000):
@@ -87,6 +91,11 @@ def speed_bench(*, quick: bool = False, progress=None) -> list:
         say("speed: start-up")
         startup = min(_run_cli(["info", "--preset", "fig10"])[0] for _ in range(1 if quick else 3))
         rows.append(dict(case="slosh-bif info (start-up, cached)", seconds=startup, reference_seconds=np.nan, ratio=np.nan, target=0.5, peak_rss_mb=np.nan, note="seconds; target in seconds"))
+        for cells in REGIME_GRIDS[:1] if quick else REGIME_GRIDS:
+            say(f"speed: regimes {cells} x {cells} (memory)")
+            seconds, parent, worker = _run_cli([*REGIMES, "--sigma-points", str(cells), "--abar-points", str(cells), "--out", os.path.join(tmp, f"regimes{cells}")], timeout=3600.0, workers=True)
+            rows.append(dict(case=f"regimes {cells} x {cells}, fig13, tmax 60 (memory)", seconds=seconds, reference_seconds=np.nan, ratio=np.nan, target=np.nan, peak_rss_mb=parent,
+                             note=f"peak resident set of the parent; largest worker {worker:.0f} MB"))
     pre = get_preset("fig10")
     start = time.perf_counter()
     orbit_from_simulation(pre.params, pre.state0)

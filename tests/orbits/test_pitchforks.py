@@ -48,3 +48,20 @@ def test_pitchforks_refined_on_the_2pi_problem_agree_with_the_half_period_map(sy
     assert len(refined) == 4 and all("refined on the half-period map" in sp.message for sp in refined)
     expected = sorted(sp.p for sp in symmetric_branch.branch.special_of("BP"))
     assert sorted(sp.p for sp in refined) == pytest.approx(expected, abs=1e-8)
+
+
+def test_no_pitchfork_off_the_walls_where_the_free_particle_makes_minus_one_double(scipy_multipliers):
+    """Fig. 10 set (beta = 0) at sigma = 6 continued in Abar: below Abar ~ 4.5 the orbit stays off
+    the walls (max |w| < 1), the particle drifts freely and the half-period map has -1 twice all
+    along; its test flips sign on rounding. No BP may be reported there, neither located nor
+    detected; the genuine pitchfork where the orbit touches the wall is kept."""
+    start = orbit_from_simulation(PRESET.params.replace(sigma=6.0), PRESET.state0, settle=100)
+    ob = trace_orbits(start.params, start.y0, param="Abar", p_min=0.2, p_max=6.0, switch=False, points_per_2pi=64).branches[0]
+    assert ob.kind == "symmetric"
+    off_wall = ob.measures["max_abs_w"] < 0.9
+    assert np.sum(off_wall) >= 10  # the stretch the test is about is on the branch
+    pitchforks = ob.branch.special_of("BP")
+    assert pitchforks and all(ob.measures["max_abs_w"][sp.index] >= 1.0 for sp in pitchforks), [(sp.p, ob.measures["max_abs_w"][sp.index]) for sp in pitchforks]
+    for sp in pitchforks:
+        mu = scipy_multipliers(PRESET.params.replace(sigma=6.0, Abar=float(sp.p)), sp.x[:4])
+        assert np.min(np.abs(mu - 1)) < 1e-6
