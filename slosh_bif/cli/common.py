@@ -172,5 +172,48 @@ def throttled(report, every=1.0, *, passes=lambda message: "point" not in messag
     return callback
 
 
+def cell_progress(report, what: str):
+    """A ``progress(count, total)`` callback for a sweep: "k of n <what>, r/s, about t left" (the
+    rate from this run's cells only, so that a resumed run's stored cells do not inflate it)."""
+    import time
+
+    start, first = time.monotonic(), [None]
+
+    def callback(count, total):
+        if first[0] is None:
+            first[0] = count - 1
+        elapsed, new = time.monotonic() - start, count - first[0]
+        rate = new / elapsed if elapsed > 0 else float("nan")
+        left = f", about {(total - count) / rate:.0f} s left" if rate > 0 and count < total else ""
+        report(f"{count} of {total} {what}, {rate:.2g}/s{left}")
+
+    return callback
+
+
+def add_scheduler_option(parser) -> None:
+    parser.add_argument(
+        "--scheduler", default=None, metavar="ADDRESS",
+        help="run the cells on an existing dask.distributed cluster at ADDRESS (e.g. tcp://host:8786; needs the [dask] extra) instead of local processes",
+    )
+
+
+def executor_of(args):
+    """(executor, client): the dask cluster's executor for ``--scheduler`` (the client to close
+    when done), or (None, None) for the sweep's own local processes. A one-line error when dask
+    is not installed or the scheduler does not answer."""
+    address = getattr(args, "scheduler", None)
+    if address is None:
+        return None, None
+    try:
+        from distributed import Client
+    except ImportError:
+        raise ValueError("--scheduler needs dask.distributed: pip install 'slosh_bif[dask]'") from None
+    try:
+        client = Client(address, timeout=5)
+    except (OSError, TimeoutError) as err:
+        raise ValueError(f"--scheduler {address}: no dask scheduler answers there ({err})") from None
+    return client.get_executor(), client
+
+
 def floats(text):
     return [float(v) for v in text.split(",")]

@@ -16,7 +16,10 @@ from slosh_bif.cli.common import (
     add_backend_option,
     add_params_options,
     add_range_options,
+    add_scheduler_option,
     add_tmax_option,
+    cell_progress,
+    executor_of,
     params_of,
     progress,
     sigma_range,
@@ -61,7 +64,7 @@ def _simulate(args) -> int:
 
 
 def _regimes(args) -> int:
-    from slosh_bif.simulation.output import plot_regime_map, read_regime_store, regime_settings, write_regime_csv, write_regime_store
+    from slosh_bif.simulation.output import plot_regime_map, regime_settings, regime_store, write_regime_csv
     from slosh_bif.simulation.regimes import regime_map
     from slosh_bif.slowflow.critical import critical_curve
 
@@ -77,16 +80,19 @@ def _regimes(args) -> int:
         raise ValueError(f"--workers must be a positive integer; got {args.workers}")
     sigmas, abars, state0 = np.linspace(lo, hi, n_sigma), np.linspace(args.abar_min, args.abar_max, n_abar), state0_of(args, params)
     settings = regime_settings(params, state0, sigmas, abars, tmax=args.tmax, model=args.model)
-    done = read_regime_store(args.out / "regimes.json", settings) if args.resume else None
-    if done is not None:
-        progress(f"resuming: {len(done)} of {sigmas.size * abars.size} grid points already classified in {args.out / 'regimes.json'}")
+    store = regime_store(args.out / "regimes.json", settings, resume=args.resume)
+    if args.resume:
+        progress(f"resuming: {len(store.done)} of {sigmas.size * abars.size} grid points already classified in {args.out}")
     args.out.mkdir(parents=True, exist_ok=True)
+    executor, client = executor_of(args)
     report = throttled(progress, passes=lambda message: False)
     rmap = regime_map(
-        params, state0, sigmas, abars, tmax=args.tmax, model=args.model, backend=args.backend, max_workers=args.workers, done=done,
-        progress=lambda count, total: report(f"classified {count} of {total} grid points"),
+        params, state0, sigmas, abars, tmax=args.tmax, model=args.model, backend=args.backend, max_workers=args.workers, done=store.done, on_result=store.keep,
+        progress=cell_progress(report, "grid points classified"), executor=executor,
     )
-    write_regime_store(rmap, settings, args.out / "regimes.json")
+    if client is not None:
+        client.close()
+    store.finish(rmap.status)
     curve = critical_curve(params, lo, hi) if rmap.complete else None  # stopped: write what was computed, at once
     paths = [write_regime_csv(rmap, args.out / "regimes.csv"), plot_regime_map(rmap, args.out / "regimes.png", critical=curve)]
     counts = {r: int(np.sum(rmap.regime == r)) for r in sorted(set(rmap.regime.ravel()))}
@@ -121,6 +127,7 @@ def add_commands(sub) -> None:
     add_tmax_option(regimes)
     regimes.add_argument("--model", choices=("smooth", "impact"), default="smooth", help="model simulated (default smooth)")
     regimes.add_argument("--workers", type=int, default=None, help="worker processes (default: one per core)")
+    add_scheduler_option(regimes)
     add_backend_option(regimes)
     regimes.add_argument("--resume", action="store_true", help="reuse the cells classified in OUT/regimes.json by an earlier run with the same settings (an interrupted one) and simulate only the rest")
     regimes.set_defaults(run=_regimes)

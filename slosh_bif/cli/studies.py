@@ -12,8 +12,11 @@ from slosh_bif.cli.common import (
     add_backend_option,
     add_params_options,
     add_range_options,
+    add_scheduler_option,
     add_sigma_points_option,
     add_tmax_option,
+    cell_progress,
+    executor_of,
     floats,
     params_of,
     progress,
@@ -68,7 +71,10 @@ def _trust(args) -> int:
     def report(point, done, total):
         progress(f"{done}/{total}: eps = {point.eps:g}, beta = {point.beta:g}, n = {point.n}: {point.status}, {point.seconds:.1f} s")
 
-    points = trust_map(base, eps=args.eps, beta=args.beta, n=args.n, sigma_min=lo, sigma_max=hi, grid=args.sigma_points, switch=not args.no_switch, max_branches=args.max_branches, backend=args.backend, max_workers=args.workers, progress=report, done=done, keep=keep)
+    executor, client = executor_of(args)
+    points = trust_map(base, eps=args.eps, beta=args.beta, n=args.n, sigma_min=lo, sigma_max=hi, grid=args.sigma_points, switch=not args.no_switch, max_branches=args.max_branches, backend=args.backend, max_workers=args.workers, progress=report, done=done, keep=keep, executor=executor)
+    if client is not None:
+        client.close()
     table = trust_table(points)
     write_text_atomically(args.out / "trust_map.txt", table + "\n")
     csv_path, png_path = write_trust_csv(points, args.out / "trust_map.csv"), plot_trust_map(points, args.out / "trust_map.png")
@@ -82,7 +88,7 @@ def _trust(args) -> int:
 
 def _basins(args) -> int:
     from slosh_bif.studies.basins import basin_map
-    from slosh_bif.studies.basins_output import attractor_table, plot_basins, write_attractors, write_basins_csv
+    from slosh_bif.studies.basins_output import attractor_table, basin_settings, basin_store, plot_basins, write_attractors, write_basins_csv
 
     params = params_of(args)
     n1, n2 = args.grid
@@ -93,12 +99,19 @@ def _basins(args) -> int:
             raise ValueError(f"{name} needs finite LO < HI; got {lo} {hi}")
     if args.workers is not None and args.workers < 1:
         raise ValueError(f"--workers must be a positive integer; got {args.workers}")
-    report = throttled(progress, passes=lambda message: False)
-    bmap = basin_map(
-        params, np.linspace(*args.range1, n1), np.linspace(*args.range2, n2), axes=tuple(args.axes), tmax=args.tmax, backend=args.backend,
-        max_workers=args.workers, progress=lambda done, total: report(f"simulated {done} of {total} initial states"),
-    )
+    first, second = np.linspace(*args.range1, n1), np.linspace(*args.range2, n2)
+    store = basin_store(args.out / "basins.json", basin_settings(params, args.axes, first, second, args.tmax), resume=args.resume)
+    if args.resume:
+        progress(f"resuming: {len(store.done)} of {n1 * n2} initial states already simulated in {args.out}")
     args.out.mkdir(parents=True, exist_ok=True)
+    executor, client = executor_of(args)
+    bmap = basin_map(
+        params, first, second, axes=tuple(args.axes), tmax=args.tmax, backend=args.backend, max_workers=args.workers, executor=executor,
+        done=store.done, on_result=store.keep, progress=cell_progress(throttled(progress, passes=lambda message: False), "initial states simulated"),
+    )
+    if client is not None:
+        client.close()
+    store.finish(bmap.status)
     paths = [write_basins_csv(bmap, args.out / "basins.csv"), write_attractors(bmap, args.out / "attractors.txt"), plot_basins(bmap, args.out / "basins.png")]
     print(attractor_table(bmap))
     print("wrote " + ", ".join(str(p) for p in paths))
@@ -176,6 +189,7 @@ def add_commands(sub) -> None:
     trust.add_argument("--max-branches", type=int, default=6, help="orbit branches traced per set at most (default 6)")
     trust.add_argument("--no-switch", action="store_true", help="trace the primary orbit branch only (faster; misses stable asymmetric and period-2 orbits)")
     trust.add_argument("--workers", type=int, default=None, help="worker processes (default: one per core)")
+    add_scheduler_option(trust)
     add_backend_option(trust)
     trust.add_argument("--resume", action="store_true", help="reuse the parameter sets stored in OUT/trust_map.json by an earlier run with the same settings and compute only the rest")
     trust.set_defaults(run=_trust)
@@ -188,7 +202,9 @@ def add_commands(sub) -> None:
     basins.add_argument("--range2", type=float, nargs=2, default=(-1.0, 1.0), metavar=("LO", "HI"), help="range of the second axis (default -1 1, the clearance)")
     add_tmax_option(basins)
     basins.add_argument("--workers", type=int, default=None, help="worker processes (default: one per core)")
+    add_scheduler_option(basins)
     add_backend_option(basins)
+    basins.add_argument("--resume", action="store_true", help="reuse the initial states simulated in OUT/basins.json by an earlier run with the same settings (an interrupted one) and simulate only the rest")
     basins.add_argument("--out", type=Path, required=True, help="output folder (created if missing)")
     basins.set_defaults(run=_basins)
 

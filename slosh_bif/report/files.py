@@ -6,9 +6,10 @@ from __future__ import annotations
 import contextlib
 import json
 import os
+import time
 from pathlib import Path
 
-__all__ = ["replaced_atomically", "write_text_atomically", "read_store"]
+__all__ = ["replaced_atomically", "write_text_atomically", "read_store", "CellStore"]
 
 
 @contextlib.contextmanager
@@ -46,3 +47,41 @@ def read_store(path, settings: dict, *, key: str | None = "settings") -> dict:
         differ = sorted(k for k in settings if found.get(k) != settings[k])
         raise ValueError(f"--resume: {path} was written for other settings ({', '.join(differ)} differ); run without --resume or into another --out")
     return stored
+
+
+class CellStore:
+    """The cells of a sweep over a grid ((i, j) -> a JSON-able record), stored as they finish.
+
+    ``done``: the cells an earlier run with the same ``settings`` stored (with ``resume``; else
+    none). :meth:`keep` records a finished cell; the running sweep goes to ``<stem>.partial.json``
+    beside ``path``, rewritten atomically at most every ``every`` seconds (a kill loses at most
+    that much work; rewriting 10,000 cells at every cell would cost more than the cells), so the
+    previous complete ``path`` survives until :meth:`finish` writes the new one and removes the
+    partial file. Resuming reads the partial file when there is one, else ``path``; a one-line
+    ValueError when that is missing or was written for other settings.
+    """
+
+    def __init__(self, path, settings: dict, *, resume: bool, encode=lambda value: value, decode=lambda record: record, every: float = 5.0):
+        self.path, self.settings, self.encode, self.every = Path(path), settings, encode, every
+        self.partial = self.path.with_name(f"{self.path.stem}.partial{self.path.suffix}")
+        self.cells = {}
+        if resume:
+            stored = read_store(self.partial if self.partial.exists() else self.path, settings)
+            self.cells = dict(stored["cells"])
+        self.done = {tuple(int(v) for v in key.split(",")): decode(record) for key, record in self.cells.items()}
+        self._last = time.monotonic()
+
+    def keep(self, key, value) -> None:
+        self.cells[f"{key[0]},{key[1]}"] = self.encode(value)
+        if time.monotonic() - self._last >= self.every:
+            self._write(self.partial, "running")
+            self._last = time.monotonic()
+
+    def finish(self, status: str) -> Path:
+        """Write every cell kept (and resumed) to ``path``, with the sweep's ``status``."""
+        written = self._write(self.path, status)
+        self.partial.unlink(missing_ok=True)
+        return written
+
+    def _write(self, path, status):
+        return write_text_atomically(path, json.dumps({"settings": self.settings, "status": status, "cells": self.cells}) + "\n")

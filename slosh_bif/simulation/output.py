@@ -16,14 +16,14 @@ import numpy as np
 
 from slosh_bif.model.manifold import project_on_manifold
 from slosh_bif.model.manifold_law import ManifoldLaw
-from slosh_bif.report.files import read_store, replaced_atomically, write_text_atomically
+from slosh_bif.report.files import CellStore, replaced_atomically, write_text_atomically
 from slosh_bif.report.plotting import cell_edges, plot_projection, plot_slow_manifold, plot_time_history, pyplot, save_figure
 from slosh_bif.report.tables import write_rows
 from slosh_bif.simulation.regimes import RegimeSummary
 
 __all__ = [
     "write_trajectory", "write_summary", "plot_simulation", "plot_motion_on_manifold", "summary_record",
-    "write_regime_csv", "plot_regime_map", "draw_regimes", "regime_settings", "write_regime_store", "read_regime_store",
+    "write_regime_csv", "plot_regime_map", "draw_regimes", "regime_settings", "regime_store",
 ]
 
 
@@ -129,18 +129,11 @@ def regime_settings(params, state0, sigmas, abars, *, tmax, model) -> dict:
     return {"params": params.as_dict(), "state0": [float(v) for v in state0], "sigma": [float(v) for v in sigmas], "Abar": [float(v) for v in abars], "tmax": float(tmax), "model": model}
 
 
-def write_regime_store(rmap, settings: dict, path) -> Path:
+def regime_store(path, settings: dict, *, resume: bool) -> CellStore:
     """``regimes.json``: the settings and every classified cell at full precision (what
-    ``regimes --resume`` reads; regimes.csv rounds)."""
-    cells = {f"{i},{j}": rmap.summaries[i][j].as_dict() for i in range(len(rmap.Abar)) for j in range(len(rmap.sigma)) if rmap.regime[i, j] != "not computed"}
-    return write_text_atomically(path, json.dumps({"settings": settings, "status": rmap.status, "cells": cells}) + "\n")
-
-
-def read_regime_store(path, settings: dict) -> dict:
-    """{(i, j): RegimeSummary} stored in ``path`` by a run with the same ``settings``; a one-line
-    ValueError when the file is unreadable or was written for other settings."""
-    stored = read_store(path, settings)
-    return {tuple(int(v) for v in key.split(",")): RegimeSummary.from_dict(record) for key, record in stored["cells"].items()}
+    ``regimes --resume`` reads; regimes.csv rounds), stored as cells finish (see
+    :class:`~slosh_bif.report.files.CellStore`)."""
+    return CellStore(path, settings, resume=resume, encode=lambda summary: summary.as_dict(), decode=RegimeSummary.from_dict)
 
 
 def draw_regimes(ax, rmap, *, alpha=0.75):

@@ -41,8 +41,9 @@ from slosh_bif.model.manifold_law import ManifoldLaw
 from slosh_bif.model.params import Params
 from slosh_bif.model.presets import CLASSIFY_TMAX
 from slosh_bif.simulation.direct import MAX_SAMPLES, simulate
+from slosh_bif.simulation.sweep import run_cells
 
-__all__ = ["REGIMES", "THRESHOLDS", "RegimeSummary", "classify", "RegimeMap", "regime_map", "worker_setup", "stop_pool"]
+__all__ = ["REGIMES", "THRESHOLDS", "RegimeSummary", "classify", "RegimeMap", "regime_map"]
 
 REGIMES = ("periodic-resonant", "non-resonant", "strongly-modulated", "free-decay", "other", "failed")
 
@@ -191,31 +192,6 @@ class RegimeMap:
         return self.status == "complete"
 
 
-def worker_setup():
-    """Initializer of every worker process: one BLAS thread (the matrices here are tiny, and a
-    busy machine makes OpenBLAS's threads cost 300x), and Ctrl-C and SIGTERM left to the parent,
-    which stops the workers itself (a terminal's SIGINT reaches the whole process group, and
-    each worker would print a traceback)."""
-    import signal
-
-    from threadpoolctl import threadpool_limits
-
-    threadpool_limits(limits=1, user_api="blas")
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-    signal.signal(signal.SIGTERM, signal.SIG_DFL)
-
-
-def stop_pool(pool) -> None:
-    """Cancel what has not started and kill the workers of a ``ProcessPoolExecutor`` at once (a
-    simulation in a worker cannot be interrupted any other way)."""
-    processes = list(getattr(pool, "_processes", {}).values())  # the executor keeps no public handle on them
-    pool.shutdown(wait=False, cancel_futures=True)
-    for process in processes:
-        process.kill()
-    for process in processes:
-        process.join(timeout=2.0)
-
-
 def _classify_point(params, state0, tmax, model, transient, sample_step, backend="auto"):
     # A module-level function so that process pools can pickle it.
     sim = simulate(params, state0, tmax, model=model, sample_step=sample_step, backend=backend)
@@ -239,6 +215,7 @@ def regime_map(
     max_workers: int | None = None,
     progress=None,
     done=None,
+    on_result=None,
 ) -> RegimeMap:
     """Simulate and classify every (sigma, Abar) of the grid from ``state0``.
 
@@ -248,11 +225,10 @@ def regime_map(
     Interrupted (KeyboardInterrupt, or SIGTERM turned into one by the CLI), it kills its own
     workers at once and returns what it has: ``status`` says why it stopped, the points it did not
     reach are ``"not computed"``. ``done``: {(i, j): RegimeSummary} of points already classified
-    (a resumed run), which are not simulated again. ``backend``: the integrator of the smooth model
+    (a resumed run), which are not simulated again; ``on_result((i, j), summary)`` is called as each
+    point finishes (to store it on the way). ``backend``: the integrator of the smooth model
     (see :func:`~slosh_bif.simulation.direct.simulate`).
     """
-    from concurrent.futures import ProcessPoolExecutor, as_completed
-
     from slosh_bif.simulation.integrator import resolve_backend
 
     backend = resolve_backend(backend)  # a bad name is an error here, not in every worker
@@ -273,25 +249,10 @@ def regime_map(
     if not (np.isfinite(transient) and 0 <= transient < tmax):
         raise ValueError(f"transient must be in [0, tmax = {tmax:g}); got {transient!r}")
     jobs = {(i, j): params.replace(sigma=float(s), Abar=float(a)) for i, a in enumerate(abars) for j, s in enumerate(sigmas)}
-    own = executor is None
-    pool = ProcessPoolExecutor(max_workers=max_workers, initializer=worker_setup) if own else executor
-    results, status = {key: s for key, s in (done or {}).items() if key in jobs and s.regime != "not computed"}, "complete"
-    try:
-        futures = {pool.submit(_classify_point, p, np.asarray(state0, dtype=float), tmax, model, transient, sample_step, backend): key for key, p in jobs.items() if key not in results}
-        for count, future in enumerate(as_completed(futures), len(results) + 1):
-            results[futures[future]] = future.result()
-            if progress is not None:
-                progress(count, len(jobs))
-    except KeyboardInterrupt as stop:
-        status = f"interrupted ({getattr(stop, 'signal_name', 'SIGINT')}) after {len(results)} of {len(jobs)} points"
-        if own:
-            stop_pool(pool)
-        else:
-            for future in futures:
-                future.cancel()
-    finally:
-        if own and status == "complete":
-            pool.shutdown()
+    done = {key: s for key, s in (done or {}).items() if key in jobs and s.regime != "not computed"}
+    state0 = np.asarray(state0, dtype=float)
+    arguments = {key: (p, state0, tmax, model, transient, sample_step, backend) for key, p in jobs.items()}
+    results, status = run_cells(_classify_point, arguments, executor=executor, max_workers=max_workers, progress=progress, done=done, on_result=on_result)
     regime = np.empty((abars.size, sigmas.size), dtype=object)
     summaries = [[None] * sigmas.size for _ in abars]
     for i, j in jobs:

@@ -20,9 +20,12 @@ from slosh_bif.model.params import Params
 from slosh_bif.model.presets import CLASSIFY_TMAX
 from slosh_bif.orbits.shooting import ShootingProblem, orbit_at, orbit_measures
 from slosh_bif.orbits.starts import START_TOL
-from slosh_bif.simulation.direct import simulate
+from slosh_bif.simulation.direct import MAX_SAMPLES, simulate
 from slosh_bif.simulation.integrator import resolve_backend
-from slosh_bif.simulation.regimes import classify, stop_pool, worker_setup
+from slosh_bif.simulation.regimes import classify
+from slosh_bif.simulation.sweep import run_cells
+
+SAMPLE_STEP = 0.02  # the simulations' sampling (simulate's default), which bounds tmax by the samples kept
 
 __all__ = ["STATE_NAMES", "BasinMap", "basin_map"]
 
@@ -55,7 +58,7 @@ class BasinMap:
 
 def _basin_point(params, state0, tmax, backend):
     """(regime, orbit state at tau = 0 or None) from one initial state (in a worker)."""
-    sim = simulate(params, state0, tmax, backend=backend)
+    sim = simulate(params, state0, tmax, sample_step=SAMPLE_STEP, backend=backend)
     if not sim.success and sim.status != "sticking":
         return "failed", None
     regime = classify(sim).regime
@@ -68,13 +71,15 @@ def _basin_point(params, state0, tmax, backend):
 
 def basin_map(
     params: Params, first, second, *, axes=("X", "w"), tmax: float = CLASSIFY_TMAX, backend: str = "auto", max_workers: int | None = None, progress=None,
+    executor=None, done=None, on_result=None,
 ) -> BasinMap:
     """Simulate (9) from every state of the grid ``first`` x ``second`` in the state components
     ``axes`` (the others zero) to ``tmax`` (rounded up to whole forcing periods) and label each by
-    the attractor it reaches; points run on ``max_workers`` processes, ``progress(done, total)``
-    as they finish. Interrupted, it returns the cells done, the rest "not computed"."""
-    from concurrent.futures import ProcessPoolExecutor, as_completed
-
+    the attractor it reaches; points run through ``executor`` (by default on ``max_workers``
+    local processes; see :func:`~slosh_bif.simulation.sweep.run_cells`), ``progress(done, total)``
+    and ``on_result((i, j), (regime, orbit state or None))`` as they finish. ``done``: such
+    results of an earlier run with the same settings, not simulated again. Interrupted, it
+    returns the cells done, the rest "not computed"."""
     if len(axes) != 2 or axes[0] == axes[1] or any(a not in STATE_NAMES for a in axes):
         raise ValueError(f"axes must be two different names of {', '.join(STATE_NAMES)}; got {axes!r}")
     first, second = np.asarray(first, dtype=float), np.asarray(second, dtype=float)
@@ -83,6 +88,8 @@ def basin_map(
             raise ValueError(f"the {name} grid must be a non-empty 1-d array of finite numbers")
     if not (np.isfinite(tmax) and tmax > 0):
         raise ValueError(f"tmax must be finite and > 0; got {tmax!r}")
+    if tmax / SAMPLE_STEP > MAX_SAMPLES:
+        raise ValueError(f"tmax = {tmax:g} would keep more than the {MAX_SAMPLES:.0e} samples allowed per simulation (one every {SAMPLE_STEP:g})")
     backend = resolve_backend(backend)
     tmax = 2 * np.pi * math.ceil(tmax / (2 * np.pi))
     jobs = {}
@@ -91,19 +98,9 @@ def basin_map(
             state = np.zeros(4)
             state[STATE_NAMES.index(axes[0])], state[STATE_NAMES.index(axes[1])] = a, b
             jobs[(i, j)] = state
-    results, status = {}, "complete"
-    pool = ProcessPoolExecutor(max_workers=max_workers, initializer=worker_setup)
-    try:
-        futures = {pool.submit(_basin_point, params, state, tmax, backend): key for key, state in jobs.items()}
-        for count, future in enumerate(as_completed(futures), 1):
-            results[futures[future]] = future.result()
-            if progress is not None:
-                progress(count, len(jobs))
-    except KeyboardInterrupt as stop:
-        stop_pool(pool)
-        status = f"interrupted ({getattr(stop, 'signal_name', 'SIGINT')}) after {len(results)} of {len(jobs)} points"
-    else:
-        pool.shutdown()
+    done = {key: result for key, result in (done or {}).items() if key in jobs}
+    arguments = {key: (params, state, tmax, backend) for key, state in jobs.items()}
+    results, status = run_cells(_basin_point, arguments, executor=executor, max_workers=max_workers, progress=progress, done=done, on_result=on_result)
     label, attractors, orbits = _label(params, results, second.size, first.size, backend)
     return BasinMap(params, tuple(axes), first, second, label, attractors, orbits, float(tmax), status)
 

@@ -1,6 +1,7 @@
 """A basin map as files: ``basins.csv`` (one row per initial state: the two state components and
 the attractor reached), ``attractors.txt`` (each attractor described, and its share of the
-plane) and ``basins.png`` (the plane coloured by attractor)."""
+plane), ``basins.png`` (the plane coloured by attractor) and ``basins.json`` (every simulated
+cell at full precision, stored as cells finish: what ``basins --resume`` reads)."""
 
 from __future__ import annotations
 
@@ -8,10 +9,10 @@ from pathlib import Path
 
 import numpy as np
 
-from slosh_bif.report.files import write_text_atomically
+from slosh_bif.report.files import CellStore, write_text_atomically
 from slosh_bif.report.tables import write_rows
 
-__all__ = ["write_basins_csv", "write_attractors", "attractor_table", "plot_basins"]
+__all__ = ["write_basins_csv", "write_attractors", "attractor_table", "plot_basins", "basin_settings", "basin_store"]
 
 
 def write_basins_csv(bmap, path) -> Path:
@@ -51,3 +52,22 @@ def plot_basins(bmap, path) -> Path:
     ax.set_title(f"basins of attraction of (9): sigma = {P.sigma:g}, Abar = {P.Abar:g}, n = {P.n}" + ("" if bmap.status == "complete" else f"\nPARTIAL: {bmap.status}"), fontsize=10)
     ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
     return save_figure(fig, path)
+
+
+def basin_settings(params, axes, first, second, tmax) -> dict:
+    """What decides every cell of a basin map (a resumed run reuses stored cells only when equal)."""
+    return {"params": params.as_dict(), "axes": list(axes), "first": [float(v) for v in first], "second": [float(v) for v in second], "tmax": float(tmax)}
+
+
+def basin_store(path, settings: dict, *, resume: bool) -> CellStore:
+    """The cells of :func:`~slosh_bif.studies.basins.basin_map`, (regime, orbit state at tau = 0
+    or None), stored as they finish (see :class:`~slosh_bif.report.files.CellStore`)."""
+
+    def encode(result):
+        regime, y0 = result
+        return [regime, None if y0 is None else [float(v) for v in y0]]
+
+    def decode(record):
+        return record[0], None if record[1] is None else np.asarray(record[1], dtype=float)
+
+    return CellStore(path, settings, resume=resume, encode=encode, decode=decode)

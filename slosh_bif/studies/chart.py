@@ -157,7 +157,7 @@ def _trace_curves(starts, say, workers: int = 1, done=None, keep=None):
 def _trace_in_pool(starts, workers, covered, record, traced):
     from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 
-    from slosh_bif.simulation.regimes import stop_pool, worker_setup
+    from slosh_bif.simulation.sweep import stop_pool, worker_setup
 
     pool = ProcessPoolExecutor(max_workers=workers, initializer=worker_setup)
     try:

@@ -21,6 +21,7 @@ fire there, so the map checks the warning's thresholds.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import itertools
 import time
 import warnings
@@ -31,7 +32,7 @@ from slosh_bif.continuation import ConvergenceError
 from slosh_bif.model.params import Params
 from slosh_bif.orbits.families import trace_orbits
 from slosh_bif.orbits.starts import slow_flow_start
-from slosh_bif.simulation.regimes import stop_pool, worker_setup
+from slosh_bif.simulation.sweep import run_cells
 from slosh_bif.slowflow.flow import AsymptoticsWarning, asymptotics_concerns
 from slosh_bif.slowflow.steady_states import frequency_response
 from slosh_bif.studies.compare import compare_rows
@@ -130,18 +131,17 @@ def trust_point(params: Params, sigma_min: float = -6.0, sigma_max: float = 8.0,
     )
 
 
-def trust_map(base: Params, *, eps=(0.02, 0.05, 0.1, 0.2), beta=(0.0, 0.3, 0.5), n=(6, 10, 20, 50), sigma_min: float = -6.0, sigma_max: float = 8.0, max_workers: int | None = None, progress=None, done=None, keep=None, **options) -> list:
+def trust_map(base: Params, *, eps=(0.02, 0.05, 0.1, 0.2), beta=(0.0, 0.3, 0.5), n=(6, 10, 20, 50), sigma_min: float = -6.0, sigma_max: float = 8.0, max_workers: int | None = None, progress=None, done=None, keep=None, executor=None, **options) -> list:
     """:func:`trust_point` at every (eps, beta, n) of the grid, the other parameters from ``base``.
 
-    Points run in a ``ProcessPoolExecutor(max_workers)``; ``progress(point, done, total)`` is
+    Points run through ``executor`` (by default local processes, ``max_workers`` of them; see
+    :func:`~slosh_bif.simulation.sweep.run_cells`); ``progress(point, done, total)`` is
     called as they finish. ``options`` go to :func:`trust_point`. Returns the points in grid
     order (eps slowest, n fastest). Interrupted (Ctrl-C, or SIGTERM through the CLI), it kills
     its workers and returns the points done, the others with status ``"not computed: ..."``.
     ``done``: {grid index: TrustPoint} of an earlier run (not computed again); ``keep(i, point)``
     is called as each point finishes.
     """
-    from concurrent.futures import ProcessPoolExecutor, as_completed
-
     from slosh_bif.simulation.integrator import resolve_backend
 
     if not isinstance(base, Params):
@@ -151,24 +151,20 @@ def trust_map(base: Params, *, eps=(0.02, 0.05, 0.1, 0.2), beta=(0.0, 0.3, 0.5),
         raise ValueError("the (eps, beta, n) grid is empty")
     jobs = [base.replace(eps=float(e), beta=float(b), n=int(k)) for e, b, k in grid]  # Params checks each value
     resolve_backend(options.get("backend", "auto"))  # a bad name fails here, not in every worker
-    points = [(done or {}).get(i) for i in range(len(jobs))]
-    pool = ProcessPoolExecutor(max_workers=max_workers, initializer=worker_setup)
-    try:
-        futures = {pool.submit(trust_point, p, sigma_min, sigma_max, **options): i for i, p in enumerate(jobs) if points[i] is None}
-        for count, future in enumerate(as_completed(futures), len(jobs) - len(futures) + 1):
-            i = futures[future]
-            points[i] = future.result()
-            if keep is not None:
-                keep(i, points[i])
-            if progress is not None:
-                progress(points[i], count, len(jobs))
-    except KeyboardInterrupt as stop:  # keep what is done; the rest says why it is missing
-        stop_pool(pool)
-        why = f"not computed: interrupted ({getattr(stop, 'signal_name', 'SIGINT')}) after {sum(p is not None for p in points)} of {len(jobs)} points"
-        points = [p if p is not None else _not_computed(job, why) for p, job in zip(points, jobs)]
-    else:
-        pool.shutdown()
-    return points
+    done = {i: point for i, point in (done or {}).items() if 0 <= i < len(jobs)}
+    count = [len(done)]
+
+    def finished(i, point):
+        count[0] += 1
+        if keep is not None:
+            keep(i, point)
+        if progress is not None:
+            progress(point, count[0], len(jobs))
+
+    one = functools.partial(trust_point, sigma_min=sigma_min, sigma_max=sigma_max, **options)
+    results, status = run_cells(one, {i: (p,) for i, p in enumerate(jobs)}, executor=executor, max_workers=max_workers, done=done, on_result=finished)
+    why = f"not computed: {status}"  # only for the points an interruption left
+    return [results[i] if i in results else _not_computed(job, why) for i, job in enumerate(jobs)]
 
 
 def _not_computed(params: Params, why: str) -> TrustPoint:

@@ -23,14 +23,21 @@ def _started(*_args, **_kwargs):
 @pytest.fixture
 def no_work(monkeypatch):
     """The first step of each command's work raises _WorkStarted."""
-    import concurrent.futures
-
+    import slosh_bif.orbits.scan as scan
+    import slosh_bif.orbits.starts as starts
     import slosh_bif.simulation.integrator as integrator
+    import slosh_bif.simulation.sweep as sweep
+    import slosh_bif.slowflow.steady_states as steady_states
     import slosh_bif.studies.chart as chart
 
     monkeypatch.setattr(integrator, "integrate_grid", _started)  # simulate's integration
-    monkeypatch.setattr(concurrent.futures, "ProcessPoolExecutor", _started)  # regimes' and trust's pools
+    monkeypatch.setattr(sweep, "ProcessPoolExecutor", _started)  # the pools of regimes, basins and trust
     monkeypatch.setattr(chart, "start_orbit", _started)  # the chart's first orbit
+    for name in ("start_orbit", "slow_flow_start"):  # shoot's first orbit
+        monkeypatch.setattr(starts, name, _started)
+    monkeypatch.setattr(scan, "scan_families", _started)
+    for name in ("frequency_response", "forcing_response"):  # frc's continuation
+        monkeypatch.setattr(steady_states, name, _started)
 
 
 NUMBERS = st.one_of(
@@ -48,6 +55,11 @@ CASES = {
     "regimes --tmax": (["regimes", "--preset", "fig10"], "--tmax", [], lambda v: not (math.isfinite(v) and v > 0)),
     "chart --sigma-max": (["chart", "--preset", "fig10", "--sigma-min", "-6"], "--sigma-max", [], lambda v: not (math.isfinite(v) and v > -6)),
     "chart --abar-min": (["chart", "--preset", "fig10"], "--abar-min", [], lambda v: not (math.isfinite(v) and 0 <= v < 6)),
+    "shoot --sigma-max": (["shoot", "--preset", "fig10", "--sigma-min", "-6"], "--sigma-max", [], lambda v: not (math.isfinite(v) and v > -6)),
+    "shoot --rtol": (["shoot", "--preset", "fig10"], "--rtol", [], lambda v: not (1e-14 <= v <= 1e-4)),
+    "frc --sigma-min": (["frc", "--preset", "fig10", "--sigma-max", "8"], "--sigma-min", [], lambda v: not (math.isfinite(v) and v < 8)),
+    "trust --sigma-max": (["trust", "--preset", "fig13", "--no-switch", "--sigma-min", "-6"], "--sigma-max", [], lambda v: not (math.isfinite(v) and v > -6)),
+    "basins --tmax": (["basins", "--preset", "fig10"], "--tmax", [], lambda v: not (math.isfinite(v) and v > 0)),
 }
 
 

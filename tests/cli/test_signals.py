@@ -32,14 +32,14 @@ REGIMES = ["regimes", "--preset", "fig13", "--sigma-points", "6", "--abar-points
 TRUST = ["trust", "--preset", "fig13", "--no-switch", "--eps", "0.02,0.05,0.1", "--beta", "0,0.3", "--n", "20,50"]
 
 
-def _stop_while_running(arguments, signum, out):
+def _stop_while_running(arguments, signum, out, wait=4.0):
     child = subprocess.Popen([sys.executable, "-m", "slosh_bif.cli", *arguments, "--workers", "2", "--out", str(out)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     deadline = time.monotonic() + 120
     workers = []
     while time.monotonic() < deadline and len(workers) < 2:  # the pool is up
         time.sleep(0.2)
         workers = [w for w in _children(child.pid) if _alive(w)]
-    time.sleep(4.0)  # some points done
+    time.sleep(wait)  # some points done
     sent = time.monotonic()
     child.send_signal(signum)
     _, err = child.communicate(timeout=30)
@@ -66,23 +66,52 @@ def test_a_stopped_map_keeps_what_it_did_and_leaves_no_worker(tmp_path, signum, 
 
 
 @pytest.mark.skipif(not os.path.exists("/proc/self/task"), reason="reads worker processes from Linux's /proc")
-def test_an_interrupted_map_resumed_equals_an_uninterrupted_one(tmp_path, capsys):
+@pytest.mark.parametrize(
+    "grid, store, table, cells",
+    [
+        (["regimes", "--preset", "fig13", "--sigma-points", "5", "--abar-points", "5", "--tmax", "3000"], "regimes.json", "regimes.csv", 25),
+        (["basins", "--preset", "fig10", "--set", "sigma=3", "--grid", "8", "8", "--tmax", "6000"], "basins.json", "basins.csv", 64),
+    ],
+    ids=["regimes", "basins"],
+)
+def test_an_interrupted_map_resumed_equals_an_uninterrupted_one(tmp_path, capsys, grid, store, table, cells):
     import json
 
     from slosh_bif.cli import main
 
-    grid = ["regimes", "--preset", "fig13", "--sigma-points", "5", "--abar-points", "5", "--tmax", "3000"]
     returncode, err, _, _ = _stop_while_running(grid, signal.SIGINT, tmp_path / "a")
     assert returncode == 130, err
-    kept = len(json.loads((tmp_path / "a" / "regimes.json").read_text())["cells"])
-    assert 0 < kept < 25
+    kept = len(json.loads((tmp_path / "a" / store).read_text())["cells"])
+    assert 0 < kept < cells
     assert main([*grid, "--workers", "2", "--resume", "--out", str(tmp_path / "a")]) == 0
-    assert f"resuming: {kept} of 25" in capsys.readouterr().err
+    assert f"resuming: {kept} of {cells}" in capsys.readouterr().err
     assert main([*grid, "--workers", "2", "--out", str(tmp_path / "b")]) == 0
-    assert (tmp_path / "a" / "regimes.csv").read_text() == (tmp_path / "b" / "regimes.csv").read_text()
+    assert (tmp_path / "a" / table).read_text() == (tmp_path / "b" / table).read_text()
     # other settings: refused in one line, before any work
     assert main([*grid[:-1], "2000", "--resume", "--out", str(tmp_path / "a")]) == 2
     assert "tmax differ" in capsys.readouterr().err
+
+
+def test_a_killed_map_resumes_from_the_cells_stored_on_the_way(tmp_path, capsys):
+    """SIGKILL (no handler runs): the partial store written every few seconds as cells finish is
+    what a resumed run reuses, and the folder's previous complete results are untouched."""
+    import json
+
+    from slosh_bif.cli import main
+    from slosh_bif.report import files
+
+    grid = ["regimes", "--preset", "fig13", "--sigma-points", "6", "--abar-points", "6", "--tmax", "3000"]
+    returncode, err, _, workers = _stop_while_running(grid, signal.SIGKILL, tmp_path / "a", wait=8.0)  # past the first store, 5 s in
+    assert returncode == -signal.SIGKILL
+    time.sleep(1.0)
+    assert workers and not any(_alive(w) for w in workers)  # they die with their parent (PR_SET_PDEATHSIG)
+    assert not (tmp_path / "a" / "regimes.json").exists()  # never completed: no result file claims to be one
+    kept = len(json.loads((tmp_path / "a" / "regimes.partial.json").read_text())["cells"])
+    assert 0 < kept < 36
+    assert main([*grid, "--workers", "2", "--resume", "--out", str(tmp_path / "a")]) == 0
+    assert f"resuming: {kept} of 36" in capsys.readouterr().err
+    assert not (tmp_path / "a" / "regimes.partial.json").exists()
+    assert files.read_store(tmp_path / "a" / "regimes.json", json.loads((tmp_path / "a" / "regimes.json").read_text())["settings"])["status"] == "complete"
 
 
 CHART = ["chart", "--preset", "fig10", "--sigma-min", "-6", "--sigma-max", "8", "--abar-min", "0.2", "--abar-max", "6", "--no-switch"]

@@ -1,0 +1,34 @@
+"""Sweeps beyond one machine (issue 18): ``--scheduler ADDRESS`` runs a regime map or a basin map
+on an existing dask.distributed cluster; the result must equal the local run cell for cell. CI
+runs it on a ``LocalCluster`` (the same code path as a remote cluster: a scheduler address)."""
+
+import distributed  # in the test extra
+import pytest
+
+from slosh_bif.cli import main
+
+
+@pytest.fixture(scope="module")
+def scheduler():
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
+        yield cluster.scheduler_address
+
+
+@pytest.mark.parametrize(
+    "arguments, table",
+    [
+        (["regimes", "--preset", "fig13", "--sigma-points", "3", "--abar-points", "3", "--tmax", "600"], "regimes.csv"),
+        (["basins", "--preset", "fig10", "--set", "sigma=3", "--grid", "3", "3", "--tmax", "300"], "basins.csv"),
+    ],
+    ids=["regimes", "basins"],
+)
+def test_a_sweep_on_a_dask_cluster_equals_the_local_one(tmp_path, scheduler, arguments, table):
+    assert main([*arguments, "--scheduler", scheduler, "--out", str(tmp_path / "dask")]) == 0
+    assert main([*arguments, "--workers", "2", "--out", str(tmp_path / "local")]) == 0
+    assert (tmp_path / "dask" / table).read_text() == (tmp_path / "local" / table).read_text()
+
+
+def test_a_scheduler_that_does_not_answer_is_a_one_line_error(tmp_path, capsys):
+    code = main(["regimes", "--preset", "fig13", "--sigma-points", "2", "--abar-points", "2", "--scheduler", "tcp://127.0.0.1:9", "--out", str(tmp_path)])
+    err = capsys.readouterr().err
+    assert code == 2 and "--scheduler tcp://127.0.0.1:9" in err and "Traceback" not in err
