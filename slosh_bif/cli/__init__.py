@@ -70,6 +70,12 @@ def _check_out(out) -> None:
         raise ValueError(f"--out {out}: cannot create or write in {existing} (permission denied)")
 
 
+def _interrupted(command: str, stop: KeyboardInterrupt) -> int:
+    name = getattr(stop, "signal_name", "SIGINT")
+    print(f"slosh-bif {command}: {stop if str(stop) else 'interrupted (' + name + ')'}; the files written are complete, the rest was not written", file=sys.stderr)
+    return 143 if name == "SIGTERM" else 130
+
+
 def main(argv=None) -> int:
     import signal
     import warnings
@@ -103,9 +109,13 @@ def main(argv=None) -> int:
             with threadpool_limits(limits=1, user_api="blas"):  # tiny matrices: BLAS threads only cost
                 return args.run(args)
         except KeyboardInterrupt as stop:  # Ctrl-C or SIGTERM: workers are stopped where they run
-            name = getattr(stop, "signal_name", "SIGINT")
-            print(f"slosh-bif {args.command}: {stop if str(stop) else 'interrupted (' + name + ')'}; the files written are complete, the rest was not written", file=sys.stderr)
-            return 143 if name == "SIGTERM" else 130
+            return _interrupted(args.command, stop)
+        except SystemError as err:
+            # A signal that arrives inside compiled (numba) code surfaces as "returned a result
+            # with an exception set", the KeyboardInterrupt chained to it.
+            if not isinstance(err.__context__, KeyboardInterrupt):
+                raise
+            return _interrupted(args.command, err.__context__)
         except ValueError as err:
             print(f"slosh-bif {args.command}: error: {err}", file=sys.stderr)
             return 2

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import sys
 
 from slosh_bif.cli.common import (
@@ -28,15 +29,25 @@ def family_from_args(args, params, lo, hi, param="sigma"):
     from slosh_bif.orbits.families import SHOOTING_OPTIONS, trace_orbits
     from slosh_bif.orbits.scan import scan_families
     from slosh_bif.orbits.starts import slow_flow_start, start_orbit
+    from slosh_bif.report.files import pickle_store
 
     rtol = 1e-10 if args.rtol is None else args.rtol
     if not 1e-14 <= rtol <= 1e-4:
         raise ValueError(f"--rtol must be in [1e-14, 1e-4]; got {rtol}")
     options = continuation_options(args, SHOOTING_OPTIONS)
+    if getattr(args, "resume", False) and args.start != "scan":
+        raise ValueError("--resume continues an interrupted --start scan; the other starts trace one family, which is not stored part by part")
     if args.start == "scan":
+        settings = dict(
+            params=params.as_dict(), param=param, range=[lo, hi], points=args.scan_points, random=args.scan_random, seed=args.seed, settle=args.settle,
+            segments=args.segments, switch=not args.no_switch, max_branches=args.max_branches, rtol=rtol, backend=args.backend, options=dataclasses.asdict(options),
+        )
+        done, keep = pickle_store(args.out / "scan.pickle", settings, resume=getattr(args, "resume", False))
+        if done is not None:
+            progress(f"resuming: {done[0]} converged starts already dealt with, {len(done[1])} branch(es) traced, in {args.out / 'scan.pickle'}")
         return scan_families(
             params, state0_of(args, params), p_min=lo, p_max=hi, param=param, points=args.scan_points, settle=args.settle, random_starts=args.scan_random,
-            seed=args.seed, segments=args.segments, backend=args.backend,
+            seed=args.seed, segments=args.segments, backend=args.backend, done=done, keep=keep,
             options=options, switch=not args.no_switch, max_branches=args.max_branches, rtol=rtol, atol=rtol * 1e-2, progress=throttled(progress),
         )
     if args.start == "slow-flow":
@@ -122,4 +133,5 @@ def add_commands(sub) -> None:
     shoot.add_argument("--parameter", choices=("sigma", "Abar"), default="sigma", help="continue in sigma (default) or in Abar at the preset's sigma")
     add_abar_range_options(shoot)
     add_shooting_options(shoot)
+    shoot.add_argument("--resume", action="store_true", help="with --start scan: reuse the families an interrupted scan stored in OUT/scan.pickle (same settings) and trace only the rest")
     shoot.set_defaults(run=_shoot)

@@ -99,6 +99,8 @@ def scan_families(
     atol: float = 1e-12,
     backend: str = "auto",
     progress=None,
+    done=None,
+    keep=None,
 ) -> OrbitFamily:
     """Every family of 2pi-orbits of (9) (and what branches off them) over [p_min, p_max] of
     ``param`` (sigma or Abar) that the starts of :func:`~slosh_bif.orbits.starts.scan_starts`
@@ -106,49 +108,60 @@ def scan_families(
 
     ``max_branches`` bounds the branches of each family (the primary one included). Returns one
     :class:`OrbitFamily` holding every branch; each branch's ``found_from`` says which start found
-    it. Raises :class:`ConvergenceError` when no start converges.
+    it. Raises :class:`ConvergenceError` when no start converges. ``keep(k, branches)`` is called
+    after the k-th converged start is dealt with (its family traced, or found known); ``done``,
+    such a ``(k, branches)`` of an earlier run with the same settings, skips the first k starts
+    (they are found again, in the same order, but not traced): a resumed scan.
     """
     if not (np.isfinite(p_min) and np.isfinite(p_max) and p_min < p_max):
         raise ValueError(f"need finite p_min < p_max; got [{p_min}, {p_max}]")
     say = progress or (lambda message: None)
-    branches, tried = [], 0
+    skip, branches = done if done is not None else (0, [])
+    branches, tried = list(branches), 0
     starts = scan_starts(
         params, state0, p_min, p_max, param=param, points=points, settle=settle, random_starts=random_starts, seed=seed, segments=segments, say=say, backend=backend,
     )
     for start in starts:
         tried += 1
-        if np.min(np.abs(start.orbit.multipliers - 1)) < _DEGENERATE:
-            # beta = 0 and no wall contact: the particle floats freely, every offset is an orbit
-            say(f"scan: the orbit found by {start.found_from} is not isolated (a multiplier at +1): skipped")
+        if tried <= skip:
             continue
-        known = on_traced_branch(start.params, start.y0, branches, param=param)
-        if known is not None:
-            say(f"scan: the orbit found by {start.found_from} lies on the {known.name} branch")
-            continue
-        say(f"scan: a new family from {start.found_from}")
-        try:
-            family = trace_orbits(
-                start.params, start.y0, param=param, p_min=p_min, p_max=p_max, segments=segments, options=options or SHOOTING_OPTIONS,
-                switch=switch, max_branches=max_branches, rtol=rtol, atol=atol, progress=progress, known=branches, found_from=start.found_from,
-                doublings=doublings, backend=backend,
-            )
-        except ConvergenceError as err:
-            say(f"scan: no family traced from {start.found_from}: {err}")
-            continue
-        for new in family.branches:
-            # A closed loop of asymmetric orbits can hold both mirror images, and a family traced
-            # from a later start can hold an earlier one's switched piece: keep each curve once.
-            holder = _covered(new, branches, param)
-            if holder is not None:
-                say(f"scan: the {new.name} branch lies on the {holder.name} branch: dropped")
-                continue
-            for old in [o for o in branches if _covered(o, [new], param) is not None]:
-                say(f"scan: the {old.name} branch lies on the new {new.name} branch: replaced")
-                branches.remove(old)
-            branches.append(new)
+        _take(start, branches, say, param=param, p_min=p_min, p_max=p_max, segments=segments, options=options or SHOOTING_OPTIONS, switch=switch,
+              max_branches=max_branches, rtol=rtol, atol=atol, progress=progress, doublings=doublings, backend=backend)
+        if keep is not None:
+            keep(tried, branches)
     if not branches:
         raise ConvergenceError(f"no periodic orbit of (9) found from {tried} converged starts in {param} in [{p_min}, {p_max}]" if tried else f"no start converged to a periodic orbit of (9) in {param} in [{p_min}, {p_max}]")
     return OrbitFamily(params, param, _renamed(branches))
+
+
+def _take(start, branches: list, say, *, param, **tracing) -> None:
+    """Deal with one converged start of the scan: trace its family unless it is known, and add
+    the family's new branches to ``branches`` (each curve once)."""
+    if np.min(np.abs(start.orbit.multipliers - 1)) < _DEGENERATE:
+        # beta = 0 and no wall contact: the particle floats freely, every offset is an orbit
+        say(f"scan: the orbit found by {start.found_from} is not isolated (a multiplier at +1): skipped")
+        return
+    known = on_traced_branch(start.params, start.y0, branches, param=param)
+    if known is not None:
+        say(f"scan: the orbit found by {start.found_from} lies on the {known.name} branch")
+        return
+    say(f"scan: a new family from {start.found_from}")
+    try:
+        family = trace_orbits(start.params, start.y0, param=param, known=branches, found_from=start.found_from, **tracing)
+    except ConvergenceError as err:
+        say(f"scan: no family traced from {start.found_from}: {err}")
+        return
+    for new in family.branches:
+        # A closed loop of asymmetric orbits can hold both mirror images, and a family traced
+        # from a later start can hold an earlier one's switched piece: keep each curve once.
+        holder = _covered(new, branches, param)
+        if holder is not None:
+            say(f"scan: the {new.name} branch lies on the {holder.name} branch: dropped")
+            continue
+        for old in [o for o in branches if _covered(o, [new], param) is not None]:
+            say(f"scan: the {old.name} branch lies on the new {new.name} branch: replaced")
+            branches.remove(old)
+        branches.append(new)
 
 
 def _renamed(branches) -> list:

@@ -118,6 +118,13 @@ class ShootingProblem:
         self._floquet: dict = {}
         self._at = None  # (p, params_at(p)) of the last p asked for
 
+    def __getstate__(self):
+        """Pickled without the integration caches (a stored family would carry every arc of every
+        point traced); they refill on demand."""
+        state = dict(self.__dict__)
+        state.update(_cache={}, _floquet={}, _at=None)
+        return state
+
     def params_at(self, p: float) -> Params:
         p = float(p)
         if self._at is None or self._at[0] != p:  # validating a Params costs 60 us; a point asks ~20 times

@@ -31,6 +31,7 @@ __all__ = ["UnsettledStartWarning", "UnsettledStartError", "StartOrbit", "start_
 # the Fig. 13 preset's run moves by 0.1-0.2 at period 150 (it is captured near period 160), and
 # which orbit Newton reached from it changed with the last bits of the compiled loop.
 UNSETTLED = 1e-2
+REACHED = 0.05  # a strobe this close (relative) to the stable orbit Newton finds from it has reached it
 
 
 class UnsettledStartError(ConvergenceError):
@@ -107,27 +108,34 @@ def orbit_from_simulation(
 def start_orbit(
     params: Params, state0, sigma_range: tuple | None = None, *, settle: int = 150, guess=None, segments: int = 4, backend: str = "auto",
 ) -> StartOrbit:
-    """The default start of a family: Newton from a settled simulation (or from ``guess``); where
-    the simulation has not settled (a strongly modulated response), the orbit Newton finds from
-    its strobes depends on the last bits of the integration (a change in the compiled loop's
-    summation order moved the Fig. 10 start from the symmetric orbit to an asymmetric one), so
-    the slow flow's start over ``sigma_range`` (sigma_min, sigma_max) is taken instead, which does
-    not; so too where Newton finds no orbit near a settled run's strobes. Without a range, with a
-    ``guess``, or when the slow flow's start fails too, the simulation's start as it is (an
-    unsettled one with an :class:`UnsettledStartWarning`)."""
+    """The default start of a family: the stable orbit a ``settle``-period simulation has reached.
+
+    "Reached": Newton from the last strobe state converges to a stable orbit within ``REACHED``
+    (relative) of that state, so that the run is in the orbit's basin, close to it, and the last
+    bits of the integration (which differ between machines: glibc picks its ``cos``/``pow`` by
+    the CPU) cannot send Newton elsewhere. Otherwise (a strongly modulated run, an unstable or no
+    orbit near its strobe) the slow flow's start over ``sigma_range`` (sigma_min, sigma_max),
+    which no rounding moves: from an unsettled Fig. 10 run Newton found the symmetric orbit on one
+    build and an asymmetric one on another. Without a range, with a ``guess``, or when the slow
+    flow's start fails too, :func:`orbit_from_simulation` as it is (with its warning when the
+    run has not settled)."""
     if sigma_range is None or guess is not None:
         return orbit_from_simulation(params, state0, settle=settle, guess=guess, segments=segments, backend=backend)
+    if not (isinstance(settle, int) and settle >= 1):
+        raise ValueError(f"settle must be an integer >= 1 (forcing periods); got {settle!r}")
+    strobe = integrate_grid(params, state0, [0.0, 2 * np.pi * settle], backend=backend)[-1]
+    problem = ShootingProblem(params, segments=segments, backend=backend)
+    orbit = orbit_at(problem, problem.initial_states(strobe), params.sigma, tol=START_TOL)
+    distance = float(np.linalg.norm(strobe - orbit.y0)) if orbit.converged else np.inf
+    if orbit.converged and orbit.stable and distance <= REACHED * (1 + np.linalg.norm(orbit.y0)):
+        return StartOrbit(params, orbit, f"Newton from the strobe state of period {settle} of a simulation, {distance:.2g} from this stable orbit")
+    why = ("Newton from its last strobe found no orbit" if not orbit.converged else
+           f"its last strobe is {distance:.2g} from the {'stable' if orbit.stable else 'unstable'} orbit Newton finds from it")
     try:
-        return orbit_from_simulation(params, state0, settle=settle, segments=segments, backend=backend, unsettled="raise")
-    except ConvergenceError as why:  # unsettled, or no orbit near its strobes
-        try:
-            start = slow_flow_start(params, *sigma_range, segments=segments, backend=backend)
-        except ConvergenceError:
-            if isinstance(why, UnsettledStartError):
-                return orbit_from_simulation(params, state0, settle=settle, segments=segments, backend=backend)
-            raise why from None
-        reason = "a start from it would depend on rounding" if isinstance(why, UnsettledStartError) else "so the slow flow's instead"
-        return dataclasses.replace(start, found_from=f"{start.found_from} ({why}: {reason})")
+        start = slow_flow_start(params, *sigma_range, segments=segments, backend=backend)
+    except ConvergenceError:
+        return orbit_from_simulation(params, state0, settle=settle, segments=segments, backend=backend)
+    return dataclasses.replace(start, found_from=f"{start.found_from} (the {settle}-period simulation has not reached a stable orbit: {why})")
 
 
 def orbit_from_slow_flow(params: Params, A: float, *, segments: int = 4, rtol: float = 1e-10, atol: float = 1e-12, tol: float = 1e-10, backend: str = "auto"):

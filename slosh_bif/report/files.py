@@ -9,7 +9,7 @@ import os
 import time
 from pathlib import Path
 
-__all__ = ["replaced_atomically", "write_text_atomically", "read_store", "CellStore"]
+__all__ = ["replaced_atomically", "write_text_atomically", "read_store", "check_settings", "pickle_store", "CellStore"]
 
 
 @contextlib.contextmanager
@@ -42,11 +42,39 @@ def read_store(path, settings: dict, *, key: str | None = "settings") -> dict:
         stored = json.loads(Path(path).read_text())
     except (OSError, ValueError) as err:
         raise ValueError(f"--resume: cannot read {path}: {err}") from None
-    found = stored if key is None else stored.get(key, {})
+    check_settings(path, stored if key is None else stored.get(key, {}), settings)
+    return stored
+
+
+def check_settings(path, found: dict, settings: dict) -> None:
+    """A one-line ValueError naming the settings that differ between a store and this run."""
     if found != settings:
         differ = sorted(k for k in settings if found.get(k) != settings[k])
         raise ValueError(f"--resume: {path} was written for other settings ({', '.join(differ)} differ); run without --resume or into another --out")
-    return stored
+
+
+def pickle_store(path, settings: dict, *, resume: bool):
+    """(done, keep) for a run whose partial results are Python objects (a scan's traced
+    branches): ``done`` the object an earlier run with the same ``settings`` stored in ``path``
+    (resume; else None), ``keep(*state)`` stores ``state``, atomically. Pickle: the objects are
+    this package's own, written and read by the same user's runs."""
+    import pickle
+
+    path = Path(path)
+    done = None
+    if resume:
+        try:
+            stored = pickle.loads(path.read_bytes())
+        except (OSError, pickle.UnpicklingError, EOFError, AttributeError) as err:
+            raise ValueError(f"--resume: cannot read {path}: {err}") from None
+        check_settings(path, stored.get("settings", {}), settings)
+        done = stored["state"]
+
+    def keep(*state):
+        with replaced_atomically(path) as tmp:
+            tmp.write_bytes(pickle.dumps({"settings": settings, "state": state}))
+
+    return done, keep
 
 
 class CellStore:
