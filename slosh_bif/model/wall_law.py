@@ -1,0 +1,138 @@
+"""The smooth wall's own restitution kappa(v0) and turning point d(v0), measured once per wall (issue 20).
+
+Eq. (21) gives the restitution of the wall of eq. (10) to first order in its dissipation; at the
+paper's n = 6 sets it says 0.27 where the wall returns 0.63 (:mod:`slosh_bif.model.restitution`).
+And the particle penetrates the wall: it turns at |w| = d(v0), the clearance it actually uses,
+not at the nominal |w| = 1 (n = 50: d = 1.054 at unit speed; n = 6: 1.25). Both
+are functions of the impact speed v0 alone, so they are measured by integrating single contacts
+(:func:`contact`: the unit particle of (10) entering at x = 0 with speed v0, to its turning point
+x = d and back out with speed kappa v0) at Chebyshev nodes in log v0 over the speeds a study
+needs, and kept as polynomial interpolants whose error is measured at the midpoints between the
+nodes and stated (:class:`WallLaw`). One law per (lam, chi, n, pbar) and speed range is computed
+once per process (:func:`wall_law`).
+
+Exact checks that need no integration: without dissipation (lam = 0) kappa = 1 and d is the
+turning point of eq. (17), ((n+1) v0^2 / chi)^(1/(2n+2)); at pbar = 0 the wall's equation is
+invariant under x -> s^(1/(n+1)) x, t -> s^(-n/(n+1)) t, v -> s v, so kappa does not depend on v0
+(eq. 40's "Newtonian" wall) and d grows exactly like v0^(1/(n+1)).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+
+import numpy as np
+
+__all__ = ["Contact", "contact", "WallLaw", "wall_law"]
+
+
+@dataclasses.dataclass(frozen=True)
+class Contact:
+    """One contact with the wall: ``kappa`` = exit speed / entry speed, ``depth`` = the turning
+    point d (the largest |w|: the clearance used; d - 1 is the penetration past the nominal wall)."""
+
+    v0: float
+    kappa: float
+    depth: float
+
+
+def _check_wall(lam, chi, n, pbar):
+    if not (np.isfinite(lam) and lam >= 0):
+        raise ValueError(f"lam (the wall's damping) must be finite and >= 0; got {lam!r}")
+    if not (np.isfinite(chi) and chi > 0):
+        raise ValueError(f"chi (the wall's stiffness) must be finite and > 0; got {chi!r}")
+    if not (isinstance(n, (int, np.integer)) and n >= 1):
+        raise ValueError(f"n must be an integer >= 1; got {n!r}")
+    p = (pbar + n) // 2
+    if 2 * p - n != pbar or p < 0:
+        raise ValueError(f"pbar must make p = (pbar + n)/2 a non-negative integer; got n = {n}, pbar = {pbar}")
+    return p
+
+
+def contact(v0: float, lam: float, chi: float, n: int, pbar: int, *, rtol: float = 1e-12, atol: float = 1e-14) -> Contact:
+    """Integrate one contact (scipy DOP853, events at the turning point and at the exit).
+
+    Raises ``RuntimeError`` when the particle does not come back (an overdamped wall)."""
+    from scipy.integrate import solve_ivp
+
+    if not (np.isfinite(v0) and v0 > 0):
+        raise ValueError(f"impact speed v0 must be positive and finite; got {v0!r}")
+    p = _check_wall(lam, chi, n, pbar)
+
+    def rhs(_t, y):
+        x, xdot = y
+        return [xdot, -chi * x ** (2 * n + 1) - lam * xdot * x ** (2 * p)]
+
+    def turning(_t, y):
+        return y[1]
+
+    def exit_(_t, y):
+        return y[0]
+
+    turning.direction = -1
+    exit_.terminal, exit_.direction = True, -1
+    x_max = ((n + 1) * v0**2 / chi) ** (1.0 / (2 * n + 2))  # the conservative turning point (17)
+    t_end = 100.0 * x_max / v0  # a round trip takes ~4 x_max / v0; only an overdamped wall needs more
+    with np.errstate(over="ignore", invalid="ignore"):
+        sol = solve_ivp(rhs, (0.0, t_end), [0.0, v0], method="DOP853", events=(turning, exit_), rtol=rtol, atol=atol)
+    if sol.status != 1 or len(sol.t_events[1]) == 0 or len(sol.t_events[0]) == 0:
+        raise RuntimeError(f"the particle did not return to x = 0 within t = {t_end:.3g} (v0 = {v0}, lam = {lam}, chi = {chi}, n = {n}, pbar = {pbar}): the wall is overdamped")
+    return Contact(float(v0), float(-sol.y_events[1][0][1] / v0), float(sol.y_events[0][0][0]))
+
+
+@dataclasses.dataclass(frozen=True)
+class WallLaw:
+    """kappa(v0) and d(v0) of one wall over [v_min, v_max], as Chebyshev series in log v0.
+
+    ``kappa_error`` and ``depth_error``: the largest difference between the interpolant and a
+    direct contact at the midpoints between the nodes (the interpolant's measured error)."""
+
+    lam: float
+    chi: float
+    n: int
+    pbar: int
+    v_min: float
+    v_max: float
+    kappa_series: np.polynomial.Chebyshev
+    depth_series: np.polynomial.Chebyshev
+    kappa_error: float
+    depth_error: float
+
+    def _log_v(self, v0):
+        v0 = np.asarray(v0, dtype=float)
+        if np.any(~np.isfinite(v0)) or np.any(v0 < self.v_min * (1 - 1e-12)) or np.any(v0 > self.v_max * (1 + 1e-12)):
+            raise ValueError(f"impact speed outside the measured range [{self.v_min:g}, {self.v_max:g}]: {v0!r}")
+        return np.log(v0)
+
+    def kappa(self, v0):
+        """The restitution at impact speed v0 (within the range)."""
+        return self.kappa_series(self._log_v(v0))
+
+    def depth(self, v0):
+        """The turning point d at impact speed v0: the clearance the particle uses (nominal 1)."""
+        return np.exp(self.depth_series(self._log_v(v0)))
+
+
+@functools.lru_cache(maxsize=32)
+def wall_law(lam: float, chi: float, n: int, pbar: int, v_min: float = 0.05, v_max: float = 20.0, *, nodes: int = 24) -> WallLaw:
+    """The :class:`WallLaw` of (lam, chi, n, pbar) over [v_min, v_max] from ``nodes`` contacts at
+    Chebyshev points in log v0 (and ``nodes - 1`` more at the midpoints, for the stated error).
+    Cached: a parameter set is measured once per process (about a second)."""
+    _check_wall(lam, chi, n, pbar)
+    if not (np.isfinite(v_min) and np.isfinite(v_max) and 0 < v_min < v_max):
+        raise ValueError(f"need 0 < v_min < v_max, both finite; got [{v_min}, {v_max}]")
+    if not (isinstance(nodes, int) and 4 <= nodes <= 200):
+        raise ValueError(f"nodes must be an integer in [4, 200]; got {nodes!r}")
+    domain = [np.log(v_min), np.log(v_max)]
+    # Chebyshev points of the second kind (the ends included) and the midpoints between them.
+    theta = np.pi * np.arange(nodes) / (nodes - 1)
+    s = 0.5 * (domain[0] + domain[1]) - 0.5 * (domain[1] - domain[0]) * np.cos(theta)
+    mid = 0.5 * (domain[0] + domain[1]) - 0.5 * (domain[1] - domain[0]) * np.cos(0.5 * (theta[:-1] + theta[1:]))
+    at_nodes = [contact(float(np.exp(x)), lam, chi, n, pbar) for x in s]
+    kappa = np.polynomial.Chebyshev.fit(s, [c.kappa for c in at_nodes], nodes - 1, domain=domain)
+    depth = np.polynomial.Chebyshev.fit(s, [np.log(c.depth) for c in at_nodes], nodes - 1, domain=domain)  # log d is nearly linear in log v0
+    check = [contact(float(np.exp(x)), lam, chi, n, pbar) for x in mid]
+    kappa_error = float(max(abs(kappa(x) - c.kappa) for x, c in zip(mid, check)))
+    depth_error = float(max(abs(np.exp(depth(x)) - c.depth) for x, c in zip(mid, check)))
+    return WallLaw(float(lam), float(chi), int(n), int(pbar), float(v_min), float(v_max), kappa, depth, kappa_error, depth_error)
