@@ -29,6 +29,7 @@ def no_work(monkeypatch):
     import slosh_bif.simulation.sweep as sweep
     import slosh_bif.slowflow.steady_states as steady_states
     import slosh_bif.studies.chart as chart
+    import slosh_bif.studies.ladder as ladder
 
     monkeypatch.setattr(integrator, "integrate_grid", _started)  # simulate's integration
     monkeypatch.setattr(sweep, "ProcessPoolExecutor", _started)  # the pools of regimes, basins and trust
@@ -38,6 +39,8 @@ def no_work(monkeypatch):
     monkeypatch.setattr(scan, "scan_families", _started)
     for name in ("frequency_response", "forcing_response"):  # frc's continuation
         monkeypatch.setattr(steady_states, name, _started)
+    for name in ("frequency_response", "critical_forcing", "critical_forcing_full", "simulate", "settle_and_shoot", "trace_orbits"):  # answer's rungs
+        monkeypatch.setattr(ladder, name, _started)
 
 
 NUMBERS = st.one_of(
@@ -60,6 +63,9 @@ CASES = {
     "frc --sigma-min": (["frc", "--preset", "fig10", "--sigma-max", "8"], "--sigma-min", [], lambda v: not (math.isfinite(v) and v < 8)),
     "trust --sigma-max": (["trust", "--preset", "fig13", "--no-switch", "--sigma-min", "-6"], "--sigma-max", [], lambda v: not (math.isfinite(v) and v > -6)),
     "basins --tmax": (["basins", "--preset", "fig10"], "--tmax", [], lambda v: not (math.isfinite(v) and v > 0)),
+    "answer --tol": (["answer", "frequency-response", "--preset", "fig10"], "--tol", [], lambda v: not (math.isfinite(v) and v > 0)),
+    "answer --tmax": (["answer", "regime", "--preset", "fig10"], "--tmax", [], lambda v: not (math.isfinite(v) and v > 8 * math.pi)),
+    "answer --sigma-min": (["answer", "frequency-response", "--preset", "fig10", "--sigma-max", "8"], "--sigma-min", [], lambda v: not (math.isfinite(v) and v < 1)),
 }
 
 
