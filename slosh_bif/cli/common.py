@@ -4,6 +4,7 @@ every command), progress on stderr, list parsing, deprecated spellings."""
 from __future__ import annotations
 
 import argparse
+import contextlib
 import dataclasses
 import math
 import sys
@@ -197,13 +198,15 @@ def add_scheduler_option(parser) -> None:
     )
 
 
-def executor_of(args):
-    """(executor, client): the dask cluster's executor for ``--scheduler`` (the client to close
-    when done), or (None, None) for the sweep's own local processes. A one-line error when dask
-    is not installed or the scheduler does not answer."""
+@contextlib.contextmanager
+def sweep_executor(args):
+    """The executor a sweep runs its cells on: the dask cluster's for ``--scheduler`` (its client
+    closed when the block ends, however it ends), or None for the sweep's own local processes.
+    A one-line error when dask is not installed or the scheduler does not answer."""
     address = getattr(args, "scheduler", None)
     if address is None:
-        return None, None
+        yield None
+        return
     try:
         from distributed import Client
     except ImportError:
@@ -212,7 +215,10 @@ def executor_of(args):
         client = Client(address, timeout=5)
     except (OSError, TimeoutError) as err:
         raise ValueError(f"--scheduler {address}: no dask scheduler answers there ({err})") from None
-    return client.get_executor(), client
+    try:
+        yield client.get_executor()
+    finally:
+        client.close()
 
 
 def floats(text):

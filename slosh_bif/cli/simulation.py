@@ -19,12 +19,12 @@ from slosh_bif.cli.common import (
     add_scheduler_option,
     add_tmax_option,
     cell_progress,
-    executor_of,
     params_of,
     progress,
     sigma_range,
     state0_of,
     stopped,
+    sweep_executor,
     throttled,
 )
 from slosh_bif.model.presets import get_preset
@@ -84,14 +84,12 @@ def _regimes(args) -> int:
     if args.resume:
         progress(f"resuming: {len(store.done)} of {sigmas.size * abars.size} grid points already classified in {args.out}")
     args.out.mkdir(parents=True, exist_ok=True)
-    executor, client = executor_of(args)
     report = throttled(progress, passes=lambda message: False)
-    rmap = regime_map(
-        params, state0, sigmas, abars, tmax=args.tmax, model=args.model, backend=args.backend, max_workers=args.workers, done=store.done, on_result=store.keep,
-        progress=cell_progress(report, "grid points classified"), executor=executor,
-    )
-    if client is not None:
-        client.close()
+    with sweep_executor(args) as executor:
+        rmap = regime_map(
+            params, state0, sigmas, abars, tmax=args.tmax, model=args.model, backend=args.backend, max_workers=args.workers, done=store.done, on_result=store.keep,
+            progress=cell_progress(report, "grid points classified"), executor=executor,
+        )
     store.finish(rmap.status)
     curve = critical_curve(params, lo, hi) if rmap.complete else None  # stopped: write what was computed, at once
     paths = [write_regime_csv(rmap, args.out / "regimes.csv"), plot_regime_map(rmap, args.out / "regimes.png", critical=curve)]

@@ -16,13 +16,13 @@ from slosh_bif.cli.common import (
     add_sigma_points_option,
     add_tmax_option,
     cell_progress,
-    executor_of,
     floats,
     params_of,
     progress,
     sigma_range,
     state0_of,
     stopped,
+    sweep_executor,
     throttled,
 )
 from slosh_bif.cli.orbits import add_shooting_options, family_from_args
@@ -71,10 +71,11 @@ def _trust(args) -> int:
     def report(point, done, total):
         progress(f"{done}/{total}: eps = {point.eps:g}, beta = {point.beta:g}, n = {point.n}: {point.status}, {point.seconds:.1f} s")
 
-    executor, client = executor_of(args)
-    points = trust_map(base, eps=args.eps, beta=args.beta, n=args.n, sigma_min=lo, sigma_max=hi, grid=args.sigma_points, switch=not args.no_switch, max_branches=args.max_branches, backend=args.backend, max_workers=args.workers, progress=report, done=done, keep=keep, executor=executor)
-    if client is not None:
-        client.close()
+    with sweep_executor(args) as executor:
+        points = trust_map(
+            base, eps=args.eps, beta=args.beta, n=args.n, sigma_min=lo, sigma_max=hi, grid=args.sigma_points, switch=not args.no_switch, max_branches=args.max_branches,
+            backend=args.backend, max_workers=args.workers, progress=report, done=done, keep=keep, executor=executor,
+        )
     table = trust_table(points)
     write_text_atomically(args.out / "trust_map.txt", table + "\n")
     csv_path, png_path = write_trust_csv(points, args.out / "trust_map.csv"), plot_trust_map(points, args.out / "trust_map.png")
@@ -104,13 +105,11 @@ def _basins(args) -> int:
     if args.resume:
         progress(f"resuming: {len(store.done)} of {n1 * n2} initial states already simulated in {args.out}")
     args.out.mkdir(parents=True, exist_ok=True)
-    executor, client = executor_of(args)
-    bmap = basin_map(
-        params, first, second, axes=tuple(args.axes), tmax=args.tmax, backend=args.backend, max_workers=args.workers, executor=executor,
-        done=store.done, on_result=store.keep, progress=cell_progress(throttled(progress, passes=lambda message: False), "initial states simulated"),
-    )
-    if client is not None:
-        client.close()
+    with sweep_executor(args) as executor:
+        bmap = basin_map(
+            params, first, second, axes=tuple(args.axes), tmax=args.tmax, backend=args.backend, max_workers=args.workers, executor=executor,
+            done=store.done, on_result=store.keep, progress=cell_progress(throttled(progress, passes=lambda message: False), "initial states simulated"),
+        )
     store.finish(bmap.status)
     paths = [write_basins_csv(bmap, args.out / "basins.csv"), write_attractors(bmap, args.out / "attractors.txt"), plot_basins(bmap, args.out / "basins.png")]
     print(attractor_table(bmap))

@@ -204,35 +204,11 @@ def simulate_rebound(v0, lam, chi, n, pbar, *, rtol=1e-12, atol=1e-14):
     """Measured restitution ``-v_+/v0`` (13) of one particle rebounding in the wall of eq. (10).
 
     The particle starts at ``x = 0`` with speed ``v0 > 0`` and is integrated (DOP853) until it
-    crosses ``x = 0`` again. This is the physical check of eq. (21), independent of (16)-(19).
+    crosses ``x = 0`` again (:func:`slosh_bif.model.wall_law.contact`). This is the physical
+    check of eq. (21), independent of (16)-(19).
 
     Raises ``RuntimeError`` if the particle does not come back (an overdamped wall).
     """
-    if not (np.isfinite(v0) and v0 > 0):
-        raise ValueError(f"impact speed v0 must be positive and finite; got {v0!r}")
-    p = (pbar + n) // 2
-    if 2 * p - n != pbar or p < 0:
-        raise ValueError(f"pbar must make p = (pbar + n)/2 a non-negative integer; got n={n}, pbar={pbar}")
+    from slosh_bif.model.wall_law import contact
 
-    def rhs(_t, y):
-        x, xdot = y
-        return [xdot, -chi * x ** (2 * n + 1) - lam * xdot * x ** (2 * p)]
-
-    def back_at_zero(_t, y):
-        return y[0]
-
-    back_at_zero.terminal = True
-    back_at_zero.direction = -1
-    x_max = ((n + 1) * v0**2 / chi) ** (1.0 / (2 * n + 2))  # turning point without dissipation, eq. (17)
-    # A conservative round trip takes ~4 x_max / v0; a hundred times that only an overdamped wall needs.
-    t_end = 100.0 * x_max / v0
-    with np.errstate(over="ignore", invalid="ignore"):
-        from scipy.integrate import solve_ivp
-
-        sol = solve_ivp(rhs, (0.0, t_end), [0.0, v0], method="DOP853", events=back_at_zero, rtol=rtol, atol=atol)
-    if sol.status != 1 or len(sol.t_events[0]) == 0:
-        raise RuntimeError(
-            f"the particle did not return to x = 0 within t = {t_end:.3g} (v0={v0}, lam={lam}, chi={chi}, "
-            f"n={n}, pbar={pbar}): the wall is overdamped, so no restitution coefficient exists"
-        )
-    return -sol.y_events[0][0][1] / v0
+    return contact(v0, lam, chi, n, pbar, rtol=rtol, atol=atol).kappa
