@@ -69,7 +69,11 @@ def _kernels_module() -> str:
 
     The shooting state is z = [y (4), Phi (16, row-major), dy/dsigma (4), dy/dAbar (4), int tr J]:
     the orbit, its monodromy, its sensitivities to the two continued parameters and the
-    Liouville integral, all from one integration.
+    Liouville integral, all from one integration. The *pair* kernel has the same state with the
+    two sensitivities taken along any two directions in the real parameters (eps, beta, gamma,
+    sigma, Abar, lam, chi): its ``pars`` carry the two directions' weights after the parameters,
+    so one compiled kernel serves every pair of a two-parameter curve (a kernel per pair would be
+    21 kernels; 49 components with all seven sensitivities would cost every curve 70 % more).
     """
     f = m.smooth_rhs()
     J = m.jacobian(f)
@@ -79,6 +83,10 @@ def _kernels_module() -> str:
     shooting = sp_matrix(
         list(f) + list(J * phi) + list(J * s_sigma + f.diff(m.sigma)) + list(J * s_abar + f.diff(m.Abar)) + [J.trace()]
     )
+    weights = [sp.symbols(f"{slot}_{q}", real=True) for slot in ("a", "b") for q in m.REAL_PARAMS]
+    slot_a, slot_b = weights[: len(m.REAL_PARAMS)], weights[len(m.REAL_PARAMS) :]
+    forced = [sum((c * f.diff(q) for c, q in zip(slot, m.REAL_PARAMS)), sp.zeros(4, 1)) for slot in (slot_a, slot_b)]
+    pair = sp_matrix(list(f) + list(J * phi) + list(J * s_sigma + forced[0]) + list(J * s_abar + forced[1]) + [J.trace()])
     state = (("y", m.STATE),)
     augmented = (("z", tuple(m.STATE) + tuple(phi) + tuple(s_sigma) + tuple(s_abar) + (sp.Symbol("trace"),)),)
     F = codegen.Function
@@ -93,6 +101,14 @@ def _kernels_module() -> str:
                 augmented,
                 m.PARAMS,
                 shooting,
+            ),
+            F(
+                "smooth_pair_kernel",
+                "out = d/dtau [y, Phi, dy/da, dy/db, int tr J] for (9), 29 components; a and b are the directions "
+                "pars[9:16] and pars[16:23] in (eps, beta, gamma, sigma, Abar, lam, chi).",
+                augmented,
+                m.PARAMS + tuple(slot_a) + tuple(slot_b),
+                pair,
             ),
         ],
     )

@@ -26,6 +26,7 @@ X, Xd, w, wd = STATE = sp.symbols("X Xd w wd", real=True)
 eps, beta, gamma, sigma, Abar, lam, chi = sp.symbols("eps beta gamma sigma Abar lam chi", real=True)
 n, p = sp.symbols("n p", integer=True, nonnegative=True)
 PARAMS = (eps, beta, gamma, sigma, Abar, lam, chi, n, p)
+REAL_PARAMS = PARAMS[:7]  # the ones a continuation can vary (n and p are integers)
 LINEAR_PARAMS = (eps, beta, gamma, sigma)
 
 forcing = eps * Abar * sp.cos(tau)

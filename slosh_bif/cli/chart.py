@@ -10,17 +10,29 @@ from pathlib import Path
 import numpy as np
 
 from slosh_bif.cli.common import abar_range, add_abar_range_options, add_backend_option, add_params_options, add_tmax_option, params_of, progress, sigma_range, state0_of, stopped, throttled
+from slosh_bif.model.params import REAL_FIELDS
+from slosh_bif.model.params import REAL_FIELDS
 
 __all__ = ["add_commands"]
 
 
 def _chart(args) -> int:
-    from slosh_bif.studies.chart import bifurcation_chart
+    from slosh_bif.studies.chart import bifurcation_chart, check_box
     from slosh_bif.studies.chart_output import chart_settings, curve_store, plot_chart, write_critical_csv, write_curves_csv
 
     params = params_of(args)
     lo, hi = sigma_range(args)
-    a_lo, a_hi = abar_range(args, default=(0.2, 2 * params.Abar))
+    if args.second == "Abar":
+        if args.second_min is not None or args.second_max is not None:
+            raise ValueError("--second-min/--second-max go with --second NAME other than Abar; Abar's range is --abar-min/--abar-max")
+        a_lo, a_hi = abar_range(args, default=(0.2, 2 * params.Abar))
+    else:
+        if args.abar_min is not None or args.abar_max is not None or args.regimes is not None:
+            raise ValueError(f"--abar-min, --abar-max and --regimes belong to the (sigma, Abar) chart; with --second {args.second} give --second-min and --second-max")
+        if args.second_min is None or args.second_max is None:
+            raise ValueError(f"--second {args.second} needs its range: --second-min and --second-max")
+        a_lo, a_hi = args.second_min, args.second_max
+        check_box(params, (lo, hi), (a_lo, a_hi), args.second)
     if args.regimes is not None and min(args.regimes) < 1:
         raise ValueError(f"--regimes takes two positive integers N M (sigma values, Abar values); got {args.regimes}")
     if args.seeds < 0:
@@ -28,11 +40,14 @@ def _chart(args) -> int:
     if args.workers is not None and args.workers < 1:
         raise ValueError(f"--workers must be a positive integer; got {args.workers}")
     state0 = state0_of(args, params)
-    settings = chart_settings(params, state0, (lo, hi), (a_lo, a_hi), switch=not args.no_switch, seeds=args.seeds, backend=args.backend)
+    options = dict(switch=not args.no_switch, seeds=args.seeds, backend=args.backend)
+    if args.second != "Abar":  # (a stored Abar chart's settings stay as they were: --resume keeps working)
+        options["second"] = args.second
+    settings = chart_settings(params, state0, (lo, hi), (a_lo, a_hi), **options)
     done, keep = curve_store(args.out / "curves", settings, resume=args.resume)
     chart = bifurcation_chart(
         params, state0, sigma_range=(lo, hi), abar_range=(a_lo, a_hi), switch=not args.no_switch, seeds=args.seeds, workers=args.workers, backend=args.backend,
-        done=done, keep=keep, progress=throttled(progress, passes=lambda message: ": point " not in message),
+        done=done, keep=keep, progress=throttled(progress, passes=lambda message: ": point " not in message), second=args.second,
     )
     regimes = None
     if args.regimes is not None and chart.status == "complete":
@@ -43,7 +58,10 @@ def _chart(args) -> int:
             params, state0, np.linspace(lo, hi, n), np.linspace(a_lo, a_hi, m), tmax=args.tmax, max_workers=args.workers, backend=args.backend,
             progress=lambda done, total, report=throttled(progress, passes=lambda message: False): report(f"regimes: {done} of {total}"),
         )
-    paths = [write_curves_csv(chart, args.out / "curves.csv"), write_critical_csv(chart, args.out / "critical.csv"), plot_chart(chart, args.out / "chart.png", regimes=regimes)]
+    paths = [write_curves_csv(chart, args.out / "curves.csv")]
+    if args.second == "Abar":  # the critical forcing is a curve in (sigma, Abar)
+        paths.append(write_critical_csv(chart, args.out / "critical.csv"))
+    paths.append(plot_chart(chart, args.out / "chart.png", regimes=regimes))
     for k, c in enumerate(chart.curves):
         codim2 = ", ".join(f"{label} ({sigma:.5g}, {abar:.5g})" for label, sigma, abar in c.codim2_points())
         print(f"curve {k}: {c.kind} from {c.origin}: {len(c)} points, {c.status}" + (f"; {codim2}" if codim2 else ""))
@@ -69,10 +87,16 @@ def add_commands(sub) -> None:
     chart.add_argument("--sigma-min", type=float, default=None, help="lower end of the sigma range (default -6)")
     chart.add_argument("--sigma-max", type=float, default=None, help="upper end of the sigma range (default 8)")
     add_abar_range_options(chart)
+    chart.add_argument(
+        "--second", default="Abar", choices=tuple(name for name in REAL_FIELDS if name != "sigma"),
+        help="the chart's second parameter (default Abar); another one takes its range from --second-min/--second-max, and the chart then has no critical forcing",
+    )
+    chart.add_argument("--second-min", type=float, default=None, help="lower end of the second parameter's range (with --second other than Abar)")
+    chart.add_argument("--second-max", type=float, default=None, help="upper end of the second parameter's range (with --second other than Abar)")
     chart.add_argument("--regimes", type=int, nargs=2, default=None, metavar=("N", "M"), help="also simulate an N x M regime map as background")
     add_tmax_option(chart)
     chart.add_argument("--no-switch", action="store_true", help="the curves of the primary orbit branch only")
-    chart.add_argument("--seeds", type=int, default=7, help="sigma values at which the primary branch's orbit is also continued in Abar to find folds and period doublings below the preset's forcing (default 7)")
+    chart.add_argument("--seeds", type=int, default=7, help="sigma values at which the primary branch's orbit is also continued in Abar (or --second) to find folds and period doublings off the preset's value (default 7)")
     add_backend_option(chart)
     chart.add_argument("--resume", action="store_true", help="reuse the curves stored in OUT/curves/ by an earlier run with the same settings (an interrupted one) and trace only the rest")
     chart.add_argument("--workers", type=int, default=None, help="processes tracing curves (and the regime map) side by side (default: one per core)")

@@ -34,9 +34,10 @@ import numbers
 
 from slosh_bif.model.restitution import dissipation_at_unit_speed
 
-__all__ = ["Params", "FIELDS"]
+__all__ = ["Params", "FIELDS", "REAL_FIELDS", "real_pair"]
 
 FIELDS = ("eps", "beta", "gamma", "sigma", "Abar", "lam", "chi", "n", "pbar")
+REAL_FIELDS = FIELDS[:7]  # the real-valued ones, which a continuation can vary (n and pbar are integers)
 
 # name -> (allowed range as text, predicate on a finite value)
 _REAL_RANGES = {
@@ -48,6 +49,21 @@ _REAL_RANGES = {
     "lam": ("[0, inf)", lambda v: v >= 0),
     "chi": ("(0, inf)", lambda v: v > 0),
 }
+
+
+def real_pair(pair, what: str = "two-parameter curves") -> tuple:
+    """``pair`` as a tuple if it names two different real fields; else a one-line ValueError."""
+    pair = tuple(pair)
+    if len(pair) != 2:
+        raise ValueError(f"{what} take two parameters; got {pair!r}")
+    for name in pair:
+        if name not in FIELDS:
+            raise ValueError(f"parameter {name!r} is not a field of Params ({', '.join(FIELDS)})")
+        if name not in REAL_FIELDS:
+            raise ValueError(f"parameter {name!r} is an integer; {what} take two of {', '.join(REAL_FIELDS)}")
+    if pair[0] == pair[1]:
+        raise ValueError(f"the two parameters must differ; got {pair[0]!r} twice")
+    return pair
 
 
 def _bad(name: str, allowed: str, value) -> ValueError:

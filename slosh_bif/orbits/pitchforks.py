@@ -19,7 +19,7 @@ import numpy as np
 from slosh_bif.continuation import newton_solve
 from slosh_bif.continuation.branch import BRANCH_POINT, Branch
 from slosh_bif.orbits.codim2.minaug import MultiplierCurveProblem
-from slosh_bif.orbits.shooting import PARAMETERS, ShootingProblem
+from slosh_bif.orbits.shooting import ShootingProblem
 
 __all__ = ["refine_pitchforks"]
 
@@ -28,9 +28,10 @@ def refine_pitchforks(problem: ShootingProblem, branch: Branch, *, tol: float = 
     """``branch`` (of symmetric period-1 orbits of ``problem``, in an even number of arcs) with each
     branch point replaced by the zero of the half-period map's pitchfork condition, where Newton
     finds it inside the point's bracket; other points, and any Newton does not reach, unchanged."""
-    if problem.period_multiple != 1 or problem.segments % 2 or problem.param not in PARAMETERS:
+    if problem.period_multiple != 1 or problem.segments % 2:
         return branch
-    other = next(name for name in PARAMETERS if name != problem.param)
+    # The held parameter only has to differ from the branch's; (sigma, Abar) takes the dedicated kernel.
+    other = "Abar" if problem.param == "sigma" else "sigma"
     special = tuple(_refined(problem, sp, other, tol) if sp.kind == BRANCH_POINT else sp for sp in branch.special)
     return dataclasses.replace(branch, special=special)
 

@@ -33,7 +33,7 @@ import dataclasses
 import numpy as np
 
 from slosh_bif.continuation.corrector import newton_solve
-from slosh_bif.model.params import Params
+from slosh_bif.model.params import REAL_FIELDS, Params, real_pair
 from slosh_bif.orbits.floquet import floquet_multipliers
 from slosh_bif.orbits.period_map import PeriodicOrbit, period_map, shoot
 from slosh_bif.simulation import integrator
@@ -41,8 +41,7 @@ from slosh_bif.simulation import integrator
 __all__ = ["PeriodicOrbit", "ShootingProblem", "Arcs", "PARAMETERS", "period_map", "shoot", "periodic_orbit", "orbit_at", "orbit_measures"]
 
 
-PARAMETERS = ("sigma", "Abar")  # the parameters the generated sensitivity equations cover
-_SENSITIVITY = {"sigma": slice(20, 24), "Abar": slice(24, 28)}
+PARAMETERS = REAL_FIELDS  # the parameters a problem can be continued in (n and pbar are integers)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -50,7 +49,7 @@ class Arcs:
     """One integration of every arc of multiple shooting from one (x, params).
 
     ends : (m, 4) arc end states;  mats : (m, 4, 4) arc matrices Phi_k;  sens : (m, 4, 2)
-    d(end)/d(sigma, Abar);  trace : the integral of tr J over the period (Liouville);
+    d(end)/d(the problem's ``sensitivities``, in order);  trace : the integral of tr J over the period (Liouville);
     monodromy : Phi_{m-1} ... Phi_0.
     """
 
@@ -66,25 +65,33 @@ DOUBLE = 1e-5  # two multipliers this close to -1 (or a pair to +-1) are a doubl
 MAX_PERIOD_MULTIPLE = 8  # longest period traced, in units of 2pi: a period-doubling cascade is followed to period 8
 
 class ShootingProblem:
-    """Periodic orbits of (9) with period ``period_multiple * 2 pi``, continued in sigma or Abar.
+    """Periodic orbits of (9) with period ``period_multiple * 2 pi``, continued in ``param`` (any
+    real parameter of :class:`Params`; sigma by default).
 
     x holds the states at the starts of the ``segments`` arcs (4 per arc). Every evaluation at
     one (x, p) integrates the arcs once (orbit, arc matrices, sensitivities, Liouville integral)
     and serves residual, Jacobian, d/dp, multipliers and tests from that one result. F(x) is a
     deterministic function of x (no warm-started step sizes), so Newton sees no noise beyond
-    the integration's own smooth error.
+    the integration's own smooth error. ``sensitivities`` names the two parameters whose
+    sensitivity equations are integrated with the arcs (``param`` among them): (sigma, Abar) by
+    default, (param, sigma) for another ``param``; a two-parameter curve asks for its pair.
     """
 
     branch_kind = "periodic orbits of (9)"
 
     def __init__(
         self, params: Params, param: str = "sigma", *, segments: int = 1, period_multiple: int = 1, rtol: float = 1e-10, atol: float = 1e-12,
-        backend: str = "auto", box: tuple | None = None, symmetric: bool = False,
+        backend: str = "auto", box: tuple | None = None, symmetric: bool = False, sensitivities: tuple | None = None,
     ):
         if not isinstance(params, Params):
             raise TypeError(f"params must be a slosh_bif.Params; got {type(params).__name__}")
         if param not in PARAMETERS:
-            raise ValueError(f"param must be one of {PARAMETERS}; got {param!r}")
+            raise ValueError(f"param must be one of {', '.join(PARAMETERS)} (n and pbar are integers); got {param!r}")
+        if sensitivities is None:
+            sensitivities = integrator.DEFAULT_SENSITIVITIES if param in integrator.DEFAULT_SENSITIVITIES else (param, "sigma")
+        self.sensitivities = real_pair(sensitivities, "sensitivities")
+        if param not in self.sensitivities:
+            raise ValueError(f"sensitivities must include the continued parameter {param!r}; got {sensitivities!r}")
         if not (isinstance(segments, int) and 1 <= segments <= 64):
             raise ValueError(f"segments must be an integer in [1, 64]; got {segments!r}")
         if not (isinstance(period_multiple, int) and 1 <= period_multiple <= MAX_PERIOD_MULTIPLE):
@@ -133,12 +140,14 @@ class ShootingProblem:
 
     def in_domain(self, x, p) -> bool:
         """Whether the continuation may evaluate (x, p): inside the parameter ``box`` (when given),
-        with Abar >= 0 (a corrector iterate may wander below, which is no parameter set) and the
-        states within ``state_bound`` (a wandering Newton iterate at sigma = -10262 integrated
-        for minutes before this box)."""
-        if not (np.isfinite(p) and (self.param != "Abar" or p >= 0)):
-            return False
+        at an admissible parameter set (a corrector iterate may wander to Abar < 0 or eps <= 0,
+        which is none) and the states within ``state_bound`` (a wandering Newton iterate at
+        sigma = -10262 integrated for minutes before this box)."""
         if self.box is not None and not self.box[0] <= p <= self.box[1]:
+            return False
+        try:
+            self.params_at(p)
+        except ValueError:  # no parameter set (validated like every Params)
             return False
         return bool(np.max(np.abs(x)) <= self.state_bound)
 
@@ -170,14 +179,16 @@ class ShootingProblem:
             return hit
         taus = self.arc_times()
         m = self.segments
-        ends, mats, sens, trace, ok = np.empty((m, 4)), np.empty((m, 4, 4)), np.empty((m, 4, len(PARAMETERS))), 0.0, True
+        ends, mats, sens, trace, ok = np.empty((m, 4)), np.empty((m, 4, 4)), np.empty((m, 4, 2)), 0.0, True
         for k in range(m):
             z0 = np.concatenate([x[4 * k : 4 * k + 4], np.eye(4).ravel(), np.zeros(9)])
-            run = integrator.integrate(params, z0, taus[k], taus[k + 1], shooting=True, rtol=self.rtol, atol=self.atol, backend=self.backend)
+            run = integrator.integrate(
+                params, z0, taus[k], taus[k + 1], shooting=True, rtol=self.rtol, atol=self.atol, backend=self.backend, sensitivities=self.sensitivities,
+            )
             self.evaluations += 1
             ok &= run.success and bool(np.all(np.isfinite(run.z)))
             ends[k], mats[k] = run.z[:4], run.z[4:20].reshape(4, 4)
-            sens[k] = np.stack([run.z[_SENSITIVITY[name]] for name in PARAMETERS], axis=-1)
+            sens[k] = run.z[20:28].reshape(2, 4).T
             trace += run.z[28]
         if not ok:
             ends[:] = np.nan
@@ -232,11 +243,11 @@ class ShootingProblem:
         return self.jacobian_of(dataclasses.replace(arcs, mats=np.concatenate([arcs.mats, arcs.mats])), 1.0)
 
     def dparam(self, x, p):
-        return self._arcs(x, p).sens[:, :, PARAMETERS.index(self.param)].ravel()
+        return self._arcs(x, p).sens[:, :, self.sensitivities.index(self.param)].ravel()
 
     def dparams(self, x, p):
-        """d residual / d(sigma, Abar), shape (4 m, 2): every sensitivity the kernel computes."""
-        return self._arcs(x, p).sens.reshape(-1, len(PARAMETERS))
+        """d residual / d(``sensitivities``), shape (4 m, 2): every sensitivity the kernel computes."""
+        return self._arcs(x, p).sens.reshape(-1, 2)
 
     def monodromy(self, x, p):
         """M over the orbit's period (for a symmetric orbit G^2 = phi_pi^2: the second half's

@@ -27,7 +27,7 @@ from scipy.integrate import solve_ivp
 from scipy.integrate._ivp import dop853_coefficients as _dop
 
 from slosh_bif.model._generated import kernels as _kernels
-from slosh_bif.model.params import Params
+from slosh_bif.model.params import REAL_FIELDS, Params, real_pair
 from slosh_bif.simulation.noise import BandLimitedNoise
 
 try:  # the optional ``fast`` extra
@@ -35,10 +35,11 @@ try:  # the optional ``fast`` extra
 except ImportError:  # pragma: no cover - exercised on machines without numba
     numba = None
 
-__all__ = ["HAVE_NUMBA", "Integration", "integrate", "integrate_grid", "SHOOTING_SIZE", "resolve_backend"]
+__all__ = ["HAVE_NUMBA", "Integration", "integrate", "integrate_grid", "SHOOTING_SIZE", "resolve_backend", "DEFAULT_SENSITIVITIES"]
 
 HAVE_NUMBA = numba is not None
-SHOOTING_SIZE = 29  # [y, Phi, dy/dsigma, dy/dAbar, int tr J]
+SHOOTING_SIZE = 29  # [y, Phi, dy/dp1, dy/dp2, int tr J]
+DEFAULT_SENSITIVITIES = ("sigma", "Abar")  # the dedicated kernel's pair; any other pair takes the pair kernel
 
 _STAGES = _dop.N_STAGES
 _A = np.ascontiguousarray(_dop.A[:_STAGES, :_STAGES])
@@ -133,10 +134,11 @@ def _noisy_kernel_py(tau, y, out, pars):
     out[3] += force
 
 
-_RAW = {"plain": _kernels.smooth_rhs_kernel, "shooting": _kernels.smooth_shooting_kernel}
-_WHICH = {"plain": 0, "shooting": 1, "noisy": 2}
+_RAW = {"plain": _kernels.smooth_rhs_kernel, "shooting": _kernels.smooth_shooting_kernel, "pair": _kernels.smooth_pair_kernel}
+_WHICH = {"plain": 0, "shooting": 1, "noisy": 2, "pair": 3}
 _plain_kernel = _jit(_RAW["plain"])
 _shooting_kernel = _jit(_RAW["shooting"])
+_pair_kernel = _jit(_RAW["pair"])
 _noise_force = _jit(_noise_force)
 _RAW["noisy"] = _noisy_kernel_py
 _noisy_kernel = _jit(_noisy_kernel_py)
@@ -150,6 +152,8 @@ def _kernel(which, tau, z, out, pars):
         _plain_kernel(tau, z, out, pars)
     elif which == 1:
         _shooting_kernel(tau, z, out, pars)
+    elif which == 3:
+        _pair_kernel(tau, z, out, pars)
     else:
         _noisy_kernel(tau, z, out, pars)
 
@@ -290,9 +294,14 @@ def _check(params, z0, tau0, tau1, rtol, atol, size):
     return z0
 
 
-def _pars(params: Params, noise=None):
+def _pars(params: Params, noise=None, sensitivities=None):
     q = params
     pars = np.array([q.eps, q.beta, q.gamma, q.sigma, q.Abar, q.lam, q.chi, q.n, q.p], dtype=float)
+    if sensitivities is not None:  # the pair kernel's two directions: unit vectors over REAL_FIELDS
+        directions = np.zeros((2, len(REAL_FIELDS)))
+        for slot, name in enumerate(sensitivities):
+            directions[slot, REAL_FIELDS.index(name)] = 1.0
+        return np.concatenate([pars, directions.ravel()])
     return pars if noise is None else np.concatenate([pars, noise.table])
 
 
@@ -333,10 +342,12 @@ def integrate(
     max_steps: int = 2_000_000,
     backend: str = "auto",
     noise=None,
+    sensitivities: tuple = DEFAULT_SENSITIVITIES,
 ) -> Integration:
     """Integrate (9) (``shooting=False``, z = y) or (9) with everything shooting needs from tau0 to tau1.
 
-    ``h0 > 0`` warm-starts the step size (pass the previous call's ``h_next``); 0 lets the rule
+    With ``shooting=True`` z = [y, Phi (row-major), dy/dp1, dy/dp2, int tr J] for the two
+    parameters named by ``sensitivities`` (any two of ``REAL_FIELDS``). ``h0 > 0`` warm-starts the step size (pass the previous call's ``h_next``); 0 lets the rule
     choose. ``noise`` (a :class:`~slosh_bif.simulation.noise.BandLimitedNoise`) adds the random forcing of
     (47) (plain model only). Never raises on integration failure: ``success`` and ``message`` say
     what happened.
@@ -346,7 +357,10 @@ def integrate(
     which = "shooting" if shooting else ("plain" if noise is None else "noisy")
     z0 = _check(params, z0, tau0, tau1, rtol, atol, SHOOTING_SIZE if shooting else 4)
     _check_noise(noise, tau0, tau1)
-    pars = _pars(params, noise)
+    pair = None
+    if shooting and tuple(sensitivities) != DEFAULT_SENSITIVITIES:
+        which, pair = "pair", real_pair(sensitivities, "sensitivities")
+    pars = _pars(params, noise, pair)
     if resolve_backend(backend) == "numba":
         z, steps, rejected, nfev, h, status = _dop853_loop(_WHICH[which], float(tau0), float(tau1), z0, pars, float(rtol), float(atol), float(h0), int(max_steps), _A, _B, _C, _E3, _E5)
         return Integration(z, int(steps), int(rejected), int(nfev), float(h), status == _OK, _MESSAGES[int(status)])

@@ -3,6 +3,10 @@ double their period (PD), lose stability to a torus (NS) or break their symmetry
 from every such point of the orbit families (side by side on several processes), and the full
 model's critical forcing read off them, beside the slow flow's Abar_b of (46).
 
+The second parameter may be any other real field of :class:`Params` (``second="beta"``: the
+(sigma, beta) chart); the critical forcing and the slow flow's Abar_b then have no meaning on the
+chart and are left out.
+
 What "critical" means on each model
 -----------------------------------
 * Slow flow (46): Abar_b(sigma) is the least forcing with a steady state on S+ at sigma, i.e.
@@ -40,11 +44,11 @@ from slosh_bif.model.params import Params
 from slosh_bif.orbits.codim2 import BifurcationCurve, trace_curve
 from slosh_bif.orbits.families import trace_orbits
 from slosh_bif.orbits.scan import scan_families
-from slosh_bif.orbits.shooting import orbit_measures
+from slosh_bif.orbits.shooting import PARAMETERS, orbit_measures
 from slosh_bif.orbits.starts import start_orbit
 from slosh_bif.slowflow.critical import critical_curve, interp_min
 
-__all__ = ["Chart", "bifurcation_chart", "critical_rows", "CRITICAL_COLUMNS", "FullCritical", "critical_forcing_full"]
+__all__ = ["Chart", "bifurcation_chart", "critical_rows", "CRITICAL_COLUMNS", "FullCritical", "critical_forcing_full", "check_box"]
 
 CRITICAL_COLUMNS = ("sigma", "Abar_b_slowflow", "Abar_c_full", "rel_diff", "bounded_by")
 
@@ -56,16 +60,17 @@ class Chart:
 
     params: Params
     sigma_range: tuple
-    abar_range: tuple
+    abar_range: tuple  # the range of ``second``
     family: object
     curves: list
     slow_flow_critical: object
     seconds: float
     status: str = "complete"  # or why the curves stopped early ("interrupted (SIGINT) after ...")
+    second: str = "Abar"  # the chart's second parameter
 
 
-def _on_curve(curve: BifurcationCurve, sigma, abar, tol=2e-3):
-    return len(curve) > 0 and polyline_distance(np.column_stack([curve["sigma"], curve["Abar"]]), np.array([sigma, abar])) < tol
+def _on_curve(curve: BifurcationCurve, sigma, value, tol=2e-3):
+    return len(curve) > 0 and polyline_distance(np.column_stack([curve["sigma"], curve[curve.p2]]), np.array([sigma, value])) < tol
 
 
 @dataclasses.dataclass(frozen=True)
@@ -74,15 +79,15 @@ class _Start:
 
     kind: str
     sigma: float
-    abar: float
+    value: float  # of the chart's second parameter
     origin: str
     job: dict
 
 
-def _starts(ob, param, params, sigma_range, abar_range, pitchforks=(), backend="auto"):
+def _starts(ob, param, params, sigma_range, abar_range, pitchforks=(), backend="auto", second="Abar"):
     """The located LP, PD, NS (and, on symmetric branches, BP) points of the orbit branch ``ob``
-    (in ``param`` at ``params``) as curve starts; ``pitchforks``: the values of ``param`` at the
-    family's pitchforks."""
+    (in ``param``, sigma or ``second``, at ``params``) as starts of curves in (sigma, ``second``);
+    ``pitchforks``: the values of ``param`` at the family's pitchforks."""
     for sp in ob.branch.special:
         if sp.kind not in ("LP", "PD", "NS", "BP") or not sp.located:
             continue
@@ -91,13 +96,13 @@ def _starts(ob, param, params, sigma_range, abar_range, pitchforks=(), backend="
             continue  # a pitchfork of symmetric orbits: the half-period map's condition
         if sp.kind == "LP" and ob.kind == "asymmetric" and any(abs(sp.p - q) <= 1e-6 * (1 + abs(q)) for q in pitchforks):
             continue  # where the pair meets its symmetric parent again: the pitchfork, not a fold
-        sigma, abar = (sp.p, params.Abar) if param == "sigma" else (params.sigma, sp.p)
-        origin = f"{sp.kind} at sigma = {sigma:.6g}, Abar = {abar:.6g} on the {ob.name} branch in {param}"
+        sigma, value = (sp.p, getattr(params, second)) if param == "sigma" else (params.sigma, sp.p)
+        origin = f"{sp.kind} at sigma = {sigma:.6g}, {second} = {value:.6g} on the {ob.name} branch in {param}"
         job = dict(
-            params=params, x=ob.problem.full_states(sp.x), p=sp.p, kind=sp.kind, branch_param=param, p1_range=sigma_range, p2_range=abar_range,
+            params=params, x=ob.problem.full_states(sp.x), p=sp.p, kind=sp.kind, branch_param=param, p2=second, p1_range=sigma_range, p2_range=abar_range,
             segments=segments, period_multiple=ob.problem.period_multiple, origin=origin, backend=backend,
         )
-        yield _Start(sp.kind, float(sigma), float(abar), origin, job)
+        yield _Start(sp.kind, float(sigma), float(value), origin, job)
 
 
 def _pitchforks(family) -> list:
@@ -125,7 +130,7 @@ def _trace_curves(starts, say, workers: int = 1, done=None, keep=None):
     traced = {i: c for i, c in (done or {}).items() if i < len(starts) and c.origin == starts[i].origin}  # start index -> curve
 
     def covered(i, among):
-        return any(c.kind == starts[i].kind and _on_curve(c, starts[i].sigma, starts[i].abar) for c in among)
+        return any(c.kind == starts[i].kind and _on_curve(c, starts[i].sigma, starts[i].value) for c in among)
 
     def record(i, result):
         curve, err = result
@@ -192,6 +197,7 @@ def bifurcation_chart(
     done=None,
     keep=None,
     progress=None,
+    second: str = "Abar",
 ) -> Chart:
     """Trace the family of orbits at the parameter set's Abar over ``sigma_range`` (from a
     simulation from ``state0``) and the primary branch's orbits at ``seeds`` values of sigma
@@ -199,12 +205,13 @@ def bifurcation_chart(
     (each curve once) in the box ``sigma_range`` x ``abar_range``, on ``workers`` processes (default:
     every core), integrating with ``backend``. Interrupted while tracing curves, it returns those
     finished, ``status`` saying so. ``done`` and ``keep``: see :func:`_trace_curves` (a resumed run
-    with the same settings finds the same starts in the same order)."""
+    with the same settings finds the same starts in the same order).
+
+    ``second``: the chart's second parameter (any real field of :class:`Params` but sigma;
+    ``abar_range`` is then its range, the seeds are continued in it, and there is no slow-flow
+    critical curve)."""
+    check_box(params, sigma_range, abar_range, second)
     (s0, s1), (a0, a1) = sigma_range, abar_range
-    if not (s0 < s1 and 0 <= a0 < a1):
-        raise ValueError(f"empty box: sigma in [{s0}, {s1}], Abar in [{a0}, {a1}] (need sigma_min < sigma_max and 0 <= Abar_min < Abar_max)")
-    if not (s0 <= params.sigma <= s1 and a0 <= params.Abar <= a1):
-        raise ValueError(f"the start (sigma = {params.sigma:g}, Abar = {params.Abar:g}) lies outside the box")
     workers = _workers(workers)
     say = progress or (lambda message: None)
     started = time.perf_counter()
@@ -214,9 +221,9 @@ def bifurcation_chart(
     )
     say(f"orbit family: {len(family.branches)} branch(es), {sum(len(ob) for ob in family.branches)} points")
     pitchforks = _pitchforks(family)
-    starts = [s for ob in family.branches for s in _starts(ob, "sigma", params, (s0, s1), (a0, a1), pitchforks, backend)]
+    starts = [s for ob in family.branches for s in _starts(ob, "sigma", params, (s0, s1), (a0, a1), pitchforks, backend, second)]
     # Folds and period doublings met when the forcing falls: the primary branch's orbits at
-    # ``seeds`` values of sigma, each continued in Abar over the box.
+    # ``seeds`` values of sigma, each continued in Abar (the second parameter) over the box.
     primary = family.branches[0]
     # Seed orbits are regular points: an orbit at a pitchfork continued in Abar shows its mirror
     # pair's meeting as spurious folds.
@@ -226,24 +233,43 @@ def bifurcation_chart(
     for sigma in np.linspace(s0, s1, seeds + 2)[1:-1]:
         i = int(np.argmin(np.where(regular, np.abs(primary.branch.p - sigma), np.inf)))
         at = params.replace(sigma=float(primary.branch.p[i]))
-        if not a0 <= at.Abar <= a1:
+        if not a0 <= getattr(at, second) <= a1:
             continue
         try:
-            down = trace_orbits(at, primary.branch.x[i, :4], param="Abar", p_min=a0, p_max=a1, segments=segments, switch=False, backend=backend, progress=say)
+            down = trace_orbits(at, primary.branch.x[i, :4], param=second, p_min=a0, p_max=a1, segments=segments, switch=False, backend=backend, progress=say)
         except (ConvergenceError, ValueError) as err:
-            say(f"no Abar branch at sigma = {at.sigma:.4g}: {err}")
+            say(f"no {second} branch at sigma = {at.sigma:.4g}: {err}")
             continue
-        starts += _starts(down.branches[0], "Abar", at, (s0, s1), (a0, a1), backend=backend)
+        starts += _starts(down.branches[0], second, at, (s0, s1), (a0, a1), backend=backend, second=second)
     say(f"{len(starts)} special points to start curves from, on {workers} process(es)")
     if done:
         say(f"{len(done)} curves from an earlier run")
     curves, status = _trace_curves(starts, say, workers, done, keep)
-    try:
-        slow = critical_curve(params, s0, s1)
-    except (RuntimeError, ValueError) as err:
-        say(f"no slow-flow critical curve: {err}")
-        slow = None
-    return Chart(params, (s0, s1), (a0, a1), family, curves, slow, time.perf_counter() - started, status)
+    slow = None
+    if second == "Abar":
+        try:
+            slow = critical_curve(params, s0, s1)
+        except (RuntimeError, ValueError) as err:
+            say(f"no slow-flow critical curve: {err}")
+    return Chart(params, (s0, s1), (a0, a1), family, curves, slow, time.perf_counter() - started, status, second)
+
+
+def check_box(params: Params, sigma_range, second_range, second: str = "Abar"):
+    """One line before any work unless ``second`` is a real field other than sigma, the box is
+    not empty, both ends of the second range are admissible values (Abar >= 0, eps > 0, a real
+    restitution coefficient, ...) and the parameter set lies inside the box."""
+    if second == "sigma" or second not in PARAMETERS:
+        raise ValueError(f"the chart's second parameter must be one of {', '.join(p for p in PARAMETERS if p != 'sigma')} (sigma is the first); got {second!r}")
+    (s0, s1), (a0, a1) = sigma_range, second_range
+    if not (s0 < s1 and a0 < a1):
+        raise ValueError(f"empty box: sigma in [{s0}, {s1}], {second} in [{a0}, {a1}] (need sigma_min < sigma_max and {second}_min < {second}_max)")
+    for end in (a0, a1):
+        try:
+            params.replace(**{second: end})
+        except ValueError as err:
+            raise ValueError(f"the box's {second} range [{a0:g}, {a1:g}] leaves the parameter's range: {err}") from None
+    if not (s0 <= params.sigma <= s1 and a0 <= getattr(params, second) <= a1):
+        raise ValueError(f"the start (sigma = {params.sigma:g}, {second} = {getattr(params, second):g}) lies outside the box")
 
 
 @dataclasses.dataclass(frozen=True)
@@ -343,7 +369,10 @@ def _lowest_stable_boundary(curves, sigma):
 
 
 def critical_rows(chart: Chart, points: int = 57):
-    """``critical.csv`` rows: on a sigma grid, Abar_b of (46), Abar_c of (9) and which curve kind sets it."""
+    """``critical.csv`` rows: on a sigma grid, Abar_b of (46), Abar_c of (9) and which curve kind sets it
+    (none for a chart whose second parameter is not Abar)."""
+    if chart.second != "Abar":
+        return
     slow = chart.slow_flow_critical
     for sigma in np.linspace(*chart.sigma_range, points):
         b = float(np.interp(sigma, slow.sigma, slow.Abar_b)) if slow is not None and len(slow.sigma) and slow.sigma[0] <= sigma <= slow.sigma[-1] else np.nan

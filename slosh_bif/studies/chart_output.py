@@ -2,7 +2,8 @@
 (Abar_b of (46) against Abar_c of (9) on a sigma grid), ``chart.png``, and the curve store
 ``curves/`` (each curve's ``.npz`` as it finishes: what ``chart --resume`` reuses).
 
-``curves.csv`` columns: ``curve`` (number), ``kind`` (LP, PD, NS or BP), ``sigma``, ``Abar``, ``A1`` and
+``curves.csv`` columns: ``curve`` (number), ``kind`` (LP, PD, NS or BP), ``sigma``, ``Abar`` (or the
+chart's second parameter), ``A1`` and
 ``max_abs_w`` (the orbit there), ``codim2`` (empty or CP, LPPD, LPNS, PDNS, R1-R4), ``bounds_stable``
 (1 when every multiplier but the critical one(s) is inside the unit circle), ``status`` (the curve's:
 ``ok`` when it left the box or closed, else why it stopped) and ``origin``.
@@ -20,24 +21,29 @@ from slosh_bif.report.files import read_store, write_text_atomically
 from slosh_bif.report.tables import write_rows
 from slosh_bif.studies.chart import CRITICAL_COLUMNS, critical_rows
 
-__all__ = ["CURVE_COLUMNS", "curve_rows", "write_curves_csv", "write_critical_csv", "plot_chart", "chart_settings", "curve_store"]
+__all__ = ["CURVE_COLUMNS", "curve_rows", "write_curves_csv", "write_critical_csv", "plot_chart", "chart_settings", "curve_store", "curve_columns"]
 
 CURVE_COLUMNS = ("curve", "kind", "sigma", "Abar", "A1", "max_abs_w", "codim2", "bounds_stable", "status", "origin")
+
+
+def curve_columns(second: str = "Abar") -> tuple:
+    """The columns of ``curves.csv`` for a chart in (sigma, ``second``)."""
+    return tuple(second if name == "Abar" else name for name in CURVE_COLUMNS)
 
 
 def curve_rows(chart):
     for k, c in enumerate(chart.curves):
         labels = c.branch.special_labels()
         for i in range(len(c)):
-            yield dict(
-                curve=k, kind=c.kind, sigma=float(c["sigma"][i]), Abar=float(c["Abar"][i]), A1=float(c["A1"][i]),
-                max_abs_w=float(c["max_abs_w"][i]), codim2=labels[i] if labels[i] in CODIM2_KINDS else "",
-                bounds_stable=int(c.branch.stable[i]), status=c.status, origin=c.origin,
-            )
+            yield {
+                "curve": k, "kind": c.kind, "sigma": float(c["sigma"][i]), chart.second: float(c[chart.second][i]), "A1": float(c["A1"][i]),
+                "max_abs_w": float(c["max_abs_w"][i]), "codim2": labels[i] if labels[i] in CODIM2_KINDS else "",
+                "bounds_stable": int(c.branch.stable[i]), "status": c.status, "origin": c.origin,
+            }
 
 
 def write_curves_csv(chart, path) -> Path:
-    return write_rows(curve_rows(chart), CURVE_COLUMNS, path)
+    return write_rows(curve_rows(chart), curve_columns(chart.second), path)
 
 
 def write_critical_csv(chart, path) -> Path:
@@ -60,7 +66,7 @@ def plot_chart(chart, path, *, regimes=None) -> Path:
     colors = {"LP": "tab:red", "PD": "tab:blue", "NS": "tab:purple", "BP": "tab:orange"}
     labelled = sum(len(c.codim2_points()) for c in chart.curves) <= _LABELLED  # beyond that the labels hide the curves
     for k, c in enumerate(chart.curves):
-        s, a, st = c["sigma"], c["Abar"], c.branch.stable
+        s, a, st = c["sigma"], c[chart.second], c.branch.stable
         ax.plot(s, np.where(st, a, np.nan), "-", color=colors[c.kind], lw=1.6, label=f"{c.kind} curve" if k == [d.kind for d in chart.curves].index(c.kind) else None)
         ax.plot(s, np.where(st, np.nan, a), ":", color=colors[c.kind], lw=1.0)
         for label, sigma, abar in c.codim2_points():
@@ -71,16 +77,18 @@ def plot_chart(chart, path, *, regimes=None) -> Path:
     if slow is not None and len(slow.sigma):
         ax.plot(slow.sigma, slow.Abar_b, "k--", lw=1.4, label=r"slow flow $\bar A_b$ (46)")
     rows = list(critical_rows(chart, points=201))
-    ax.plot([r["sigma"] for r in rows], [r["Abar_c_full"] for r in rows], "-", color="tab:green", lw=3, alpha=0.6, label=r"full model $\bar A_c$ (9)")
+    if rows:
+        ax.plot([r["sigma"] for r in rows], [r["Abar_c_full"] for r in rows], "-", color="tab:green", lw=3, alpha=0.6, label=r"full model $\bar A_c$ (9)")
     ax.plot([], [], "k*", label="codimension-2 point" + ("" if labelled else " (labels in curves.csv)"))
     ax.plot([], [], "k:", label="curve not bounding stable orbits")
     ax.set_xlim(*chart.sigma_range)
     ax.set_ylim(*chart.abar_range)
     ax.set_xlabel(r"detuning $\sigma$")
-    ax.set_ylabel(r"forcing $\bar A$")
+    ax.set_ylabel(r"forcing $\bar A$" if chart.second == "Abar" else chart.second)
     P = chart.params
     partial = "" if chart.status == "complete" else f"\nPARTIAL: {chart.status}"
-    ax.set_title(f"Orbit bifurcations of (9) in (sigma, Abar): eps = {P.eps:g}, beta = {P.beta:g}, gamma = {P.gamma:g}, n = {P.n}{partial}")
+    held = ", ".join(f"{name} = {getattr(P, name):g}" for name in ("eps", "beta", "gamma", "Abar", "n") if name != chart.second)
+    ax.set_title(f"Orbit bifurcations of (9) in (sigma, {chart.second}): {held}{partial}")
     ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
     ax.grid(alpha=0.3)
     return save_figure(fig, path)

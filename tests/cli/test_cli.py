@@ -192,6 +192,38 @@ def test_chart_writes_curves_critical_and_png_and_checks_its_box(tmp_path, capsy
     assert "need 0 <= --abar-min < --abar-max" in capsys.readouterr().err
 
 
+def test_chart_in_sigma_and_another_parameter(tmp_path, capsys):
+    # --second beta: the fold of the symmetric branch (Abar = 3) continued in (sigma, beta); the
+    # CSV's second column is beta, there is no critical forcing, and a one-parameter run in sigma
+    # at a curve point's beta finds the fold at the curve's sigma (the curves' own accuracy is
+    # tested in tests/orbits/test_codim2.py).
+    from slosh_bif import get_preset
+    from slosh_bif.orbits import orbit_from_simulation, trace_orbits
+
+    out = tmp_path / "chart"
+    box = ["--sigma-min", "-1.6", "--sigma-max", "-1.2", "--second", "beta", "--second-min", "0", "--second-max", "0.2"]
+    assert main(["chart", "--preset", "fig10", "--set", "sigma=-1.2", *box, "--no-switch", "--seeds", "0", "--out", str(out)]) == 0
+    rows = list(csv.DictReader(open(out / "curves.csv")))
+    assert list(rows[0])[:4] == ["curve", "kind", "sigma", "beta"] and {r["kind"] for r in rows} == {"LP"}
+    assert max(float(r["beta"]) for r in rows) == pytest.approx(0.2, abs=0.02) and not (out / "critical.csv").exists()
+    row = rows[len(rows) // 2]
+    P = get_preset("fig10").params.replace(beta=float(row["beta"]), sigma=-1.2)
+    start = orbit_from_simulation(P, get_preset("fig10").state0, settle=150)
+    (lp,) = trace_orbits(start.params, start.y0, p_min=-1.6, p_max=-1.2, switch=False).branches[0].branch.special_of("LP")
+    assert lp.p == pytest.approx(float(row["sigma"]), abs=1e-6)
+    capsys.readouterr()
+    for bad, says in [
+        (["--second", "beta", "--second-min", "-0.1", "--second-max", "0.2"], "leaves the parameter's range"),
+        (["--second", "beta"], "needs its range"),
+        (["--second", "eps", "--second-min", "0.01", "--second-max", "0.1", "--abar-min", "1"], "belong to the (sigma, Abar) chart"),
+        (["--second-min", "0.1"], "go with --second NAME other than Abar"),
+    ]:
+        assert main(["chart", "--preset", "fig10", *bad, "--out", str(out)]) == 2
+        err = capsys.readouterr().err
+        assert says in err and err.strip().count("\n") == 0, err
+    assert (out / "curves.csv").exists()  # bad input destroyed nothing
+
+
 def test_set_eps_recomputes_the_presets_initial_state(capsys):
     # The presets give the initial condition in absolute coordinates (u0, u0', v0, v0') =
     # (0, 3, -0.97, 0); X = u + eps v and w = u - v, so eps changes X but not w.

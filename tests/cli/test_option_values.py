@@ -58,6 +58,7 @@ CASES = {
     "regimes --tmax": (["regimes", "--preset", "fig10"], "--tmax", [], lambda v: not (math.isfinite(v) and v > 0)),
     "chart --sigma-max": (["chart", "--preset", "fig10", "--sigma-min", "-6"], "--sigma-max", [], lambda v: not (math.isfinite(v) and v > -6)),
     "chart --abar-min": (["chart", "--preset", "fig10"], "--abar-min", [], lambda v: not (math.isfinite(v) and 0 <= v < 6)),
+    "chart --second-max": (["chart", "--preset", "fig10", "--second", "beta", "--second-min", "0"], "--second-max", [], lambda v: not (math.isfinite(v) and v > 0)),
     "shoot --sigma-max": (["shoot", "--preset", "fig10", "--sigma-min", "-6"], "--sigma-max", [], lambda v: not (math.isfinite(v) and v > -6)),
     "shoot --rtol": (["shoot", "--preset", "fig10"], "--rtol", [], lambda v: not (1e-14 <= v <= 1e-4)),
     "frc --sigma-min": (["frc", "--preset", "fig10", "--sigma-max", "8"], "--sigma-min", [], lambda v: not (math.isfinite(v) and v < 8)),

@@ -100,7 +100,8 @@ def test_a_killed_map_resumes_from_the_cells_stored_on_the_way(tmp_path, capsys)
     from slosh_bif.cli import main
     from slosh_bif.report import files
 
-    grid = ["regimes", "--preset", "fig13", "--sigma-points", "6", "--abar-points", "6", "--tmax", "3000"]
+    # ~20 s of work on 2 cores with a warm compilation cache (tmax 3000 finished in 8.6 s, before the kill)
+    grid = ["regimes", "--preset", "fig13", "--sigma-points", "6", "--abar-points", "6", "--tmax", "8000"]
     returncode, err, _, workers = _stop_while_running(grid, signal.SIGKILL, tmp_path / "a", wait=8.0)  # past the first store, 5 s in
     assert returncode == -signal.SIGKILL
     time.sleep(1.0)

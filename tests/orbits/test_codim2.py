@@ -89,26 +89,32 @@ def test_pitchfork_curve_points_are_branch_points_of_the_full_problem(pitchfork_
 
 
 def _one_parameter_special(P, kind, x, sigma, abar, bracket=None):
-    """The special point of ``kind`` found by one-parameter continuation in sigma at Abar = abar,
-    crossed in the interior of the run, where it is detected and located afresh. A PD, NS or BP
-    is a regular point of its branch: the run starts from the orbit 0.02 below it. A fold is not
-    (no orbit on one side): a first run from the fold finds the branch, and a second starts ten
-    points away from it."""
-    problem = ShootingProblem(P.replace(Abar=float(abar)), "sigma", segments=4)
-    opts = dataclasses.replace(SHOOTING_OPTIONS, p_min=sigma - 0.05, p_max=sigma + 0.05, step=0.002, step_max=0.004)
+    """The special point of ``kind`` found by one-parameter continuation in sigma at Abar = abar."""
+    return _special_in(P.replace(sigma=float(sigma), Abar=float(abar)), kind, x, "sigma", bracket)
+
+
+def _special_in(at, kind, x, param, bracket=None):
+    """The special point of ``kind`` found by one-parameter continuation in ``param`` from the curve
+    point ``at`` (every other parameter held), crossed in the interior of the run, where it is
+    detected and located afresh. A PD, NS or BP is a regular point of its branch: the run starts
+    from the orbit 0.02 below it. A fold is not (no orbit on one side): a first run from the fold
+    finds the branch, and a second starts ten points away from it."""
+    value = float(getattr(at, param))
+    problem = ShootingProblem(at, param, segments=4)
+    opts = dataclasses.replace(SHOOTING_OPTIONS, p_min=value - 0.05, p_max=value + 0.05, step=0.002, step_max=0.004)
     if kind == "LP":
-        first = continuation(problem, x, sigma, param="sigma", options=opts)
-        near = int(np.argmin(np.abs(first.p - sigma) + np.linalg.norm(first.x - x, axis=1)))
+        first = continuation(problem, x, value, param=param, options=opts)
+        near = int(np.argmin(np.abs(first.p - value) + np.linalg.norm(first.x - x, axis=1)))
         j = near - 10 if near >= 10 else near + 10
         start, p0 = first.x[j], first.p[j]
     else:
-        orbit = orbit_at(problem, x, sigma - 0.02)
+        orbit = orbit_at(problem, x, value - 0.02)
         assert orbit.converged, orbit.message
-        start, p0 = problem.initial_states(orbit.y0, sigma - 0.02), sigma - 0.02
-    second = continuation(problem, start, p0, param="sigma", options=opts)
+        start, p0 = problem.initial_states(orbit.y0, value - 0.02), value - 0.02
+    second = continuation(problem, start, p0, param=param, options=opts)
     found = [s for s in (refine_pitchforks(problem, second) if kind == "BP" else second).special if s.kind == kind and s.located]
-    assert found, f"no {kind} within 0.05 of sigma = {sigma} at Abar = {abar}"
-    nearest = min(found, key=lambda s: abs(s.p - sigma))
+    assert found, f"no {kind} within 0.05 of {param} = {value} at {at}"
+    nearest = min(found, key=lambda s: abs(s.p - value))
     if bracket is not None:
         bracket.extend(nearest.bracket)
     return nearest.p
@@ -124,6 +130,42 @@ def test_curve_points_are_special_points_of_one_parameter_branches_and_of_scipys
         assert _one_parameter_special(P, kind, x, sigma, abar) == pytest.approx(sigma, abs=1e-6)
         multipliers = scipy_multipliers(P.replace(sigma=float(sigma), Abar=float(abar)), x[:4])
         assert np.min(np.abs(multipliers - mu)) < 1e-6
+
+
+@pytest.fixture(scope="module")
+def beta_fold_curve():
+    """A fold curve in (sigma, beta): the fold of the symmetric branch at beta = 0.1 (Abar = 3)."""
+    P = PRESET.params.replace(beta=0.1)
+    start = orbit_from_simulation(P.replace(sigma=-1.2), PRESET.state0, settle=150)
+    family = trace_orbits(start.params, start.y0, p_min=-1.7, p_max=-1.2, switch=False)
+    (lp,) = family.branches[0].branch.special_of("LP")
+    return P, trace_curve(P, lp.x, lp.p, kind="LP", p1="sigma", p2="beta", p1_range=(-1.8, -1.0), p2_range=(0.02, 0.25))
+
+
+@pytest.fixture(scope="module")
+def eps_flip_curve():
+    """A period-doubling curve in (Abar, eps) through the PD of the asymmetric orbit found on a
+    sigma branch (sigma = -2.5358 held): the start branch's parameter is neither of the two."""
+    P = PRESET.params.replace(sigma=-3.0)
+    orbit, _ = settle_and_shoot(P, PRESET.state0)
+    family = trace_orbits(P, orbit.y0, p_min=-3.0, p_max=-2.3, switch=False)
+    (pd,) = family.branches[0].branch.special_of("PD")
+    return P.replace(sigma=pd.p), trace_curve(P, pd.x, pd.p, kind="PD", branch_param="sigma", p1="Abar", p2="eps", p1_range=(2.6, 3.4), p2_range=(0.04, 0.06))
+
+
+@pytest.mark.parametrize("curve_fixture, mu", [("beta_fold_curve", 1.0), ("eps_flip_curve", -1.0)])
+def test_curves_in_other_parameter_pairs_match_one_parameter_runs_and_scipy(curve_fixture, mu, request, scipy_multipliers):
+    # Any two real fields of Params: the curve's sensitivities come from the generated pair kernel;
+    # a one-parameter run in p1 with p2 held (the dedicated or pair kernel of another problem)
+    # and scipy's monodromy (no shooting code) check it.
+    P, curve = request.getfixturevalue(curve_fixture)
+    assert len(curve) > 10 and curve.status == "ok", curve.branch.message
+    assert np.ptp(curve[curve.p2]) > 0.005, "the curve must move in its second parameter"
+    for i in np.linspace(1, len(curve) - 2, 3).astype(int):
+        at = P.replace(**{curve.p1: float(curve[curve.p1][i]), curve.p2: float(curve[curve.p2][i])})
+        x = curve.branch.x[i, :-1]
+        assert _special_in(at, curve.kind, x, curve.p1) == pytest.approx(curve[curve.p1][i], abs=1e-6)
+        assert np.min(np.abs(scipy_multipliers(at, x[:4]) - mu)) < 1e-6
 
 
 def test_the_curve_is_the_same_under_tighter_tolerances(fold_curve):
@@ -157,6 +199,10 @@ def test_bad_requests_fail_before_any_work():
         MultiplierCurveProblem(P, "LP", "sigma", "omega")
     with pytest.raises(ValueError, match="the two parameters must differ"):
         MultiplierCurveProblem(P, "LP", "sigma", "sigma")
+    with pytest.raises(ValueError, match="'n' is an integer"):
+        trace_curve(P, x, 0.0, kind="LP", p1="sigma", p2="n", p1_range=(-1, 1), p2_range=(1, 60))
+    with pytest.raises(ValueError, match="start branch's parameter must be one of"):
+        trace_curve(P, x, 0.0, kind="LP", branch_param="pbar", p1_range=(-1, 1), p2_range=(1, 4))
     with pytest.raises(ValueError, match="empty box"):
         trace_curve(P, x, 0.0, kind="LP", p1_range=(1, -1), p2_range=(1, 2))
     with pytest.raises(ValueError, match="outside the box"):

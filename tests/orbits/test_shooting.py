@@ -6,7 +6,7 @@ from scipy import linalg
 
 from slosh_bif import SmoothModel, get_preset
 from slosh_bif.continuation import ContinuationOptions, continuation
-from slosh_bif.orbits.shooting import ShootingProblem, orbit_at, orbit_measures, period_map, periodic_orbit, shoot
+from slosh_bif.orbits.shooting import PARAMETERS, ShootingProblem, orbit_at, orbit_measures, period_map, periodic_orbit, shoot
 from slosh_bif.simulation import integrator
 
 ZETA, OMEGA = 0.05, 1.3
@@ -132,6 +132,32 @@ def test_shooting_jacobian_and_both_sensitivities_match_differences_of_the_resid
         plus, minus = P.replace(**{name: v + 1e-5}), P.replace(**{name: v - 1e-5})
         fd = (problem.residual_of(x, problem.arcs(x, plus)) - problem.residual_of(x, problem.arcs(x, minus))) / 2e-5
         np.testing.assert_allclose(both[:, column], fd, rtol=1e-6, atol=1e-7)
+
+
+@pytest.mark.parametrize("name", PARAMETERS)
+def test_sensitivities_in_every_real_parameter_match_differences_of_scipys_flow(name, scipy_flow):
+    # The generated pair kernel (any parameter but the (sigma, Abar) pair's own kernel) against
+    # central differences of scipy's period map of SmoothModel (no generated shooting kernel).
+    P = get_preset("fig12").params
+    y0 = np.array([0.4, 0.1, 0.8, 0.9])
+    problem = ShootingProblem(P, name, rtol=1e-12, atol=1e-13)
+    v, h = getattr(P, name), 1e-5 * max(1.0, abs(getattr(P, name)))
+    fd = (scipy_flow(P.replace(**{name: v + h}), y0)[0] - scipy_flow(P.replace(**{name: v - h}), y0)[0]) / (2 * h)
+    np.testing.assert_allclose(problem.dparam(y0, v), fd, rtol=1e-6, atol=1e-7)
+    assert np.max(np.abs(fd)) > 1e-3  # the parameter moves the orbit: the comparison says something
+
+
+def test_the_pair_kernel_along_sigma_and_abar_is_the_dedicated_kernel():
+    P = get_preset("fig12").params
+    x = np.array([0.4, 0.1, 0.8, 0.9, -0.3, 0.2, -0.7, 0.5])
+    dedicated = ShootingProblem(P, "sigma", segments=2)
+    pair = ShootingProblem(P, "sigma", segments=2, sensitivities=("Abar", "sigma"))  # reversed: the pair kernel
+    np.testing.assert_allclose(pair.dparams(x, P.sigma)[:, ::-1], dedicated.dparams(x, P.sigma), rtol=1e-9, atol=1e-11)
+    np.testing.assert_allclose(pair.residual(x, P.sigma), dedicated.residual(x, P.sigma), rtol=1e-9, atol=1e-11)
+    with pytest.raises(ValueError, match="sensitivities must include the continued parameter"):
+        ShootingProblem(P, "sigma", sensitivities=("beta", "eps"))
+    with pytest.raises(ValueError, match="'n' is an integer; sensitivities take two of"):
+        ShootingProblem(P, "beta", sensitivities=("beta", "n"))
 
 
 def test_shooting_arcs_are_cached_on_every_parameter():

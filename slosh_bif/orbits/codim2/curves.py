@@ -11,11 +11,11 @@ from pathlib import Path
 import numpy as np
 
 from slosh_bif.continuation import Branch, ContinuationOptions, continuation
-from slosh_bif.model.params import Params
+from slosh_bif.model.params import Params, real_pair
 from slosh_bif.orbits.codim2.minaug import CURVE_KINDS, MultiplierCurveProblem
 from slosh_bif.orbits.codim2.torus import TorusCurveProblem
 from slosh_bif.orbits.floquet import floquet_multipliers
-from slosh_bif.orbits.shooting import ShootingProblem, orbit_measures
+from slosh_bif.orbits.shooting import PARAMETERS, ShootingProblem, orbit_measures
 
 __all__ = ["BifurcationCurve", "trace_curve", "CURVE_OPTIONS", "CODIM2_KINDS"]
 
@@ -108,8 +108,10 @@ def trace_curve(
     callback=None,
 ) -> BifurcationCurve:
     """Trace the curve of ``kind`` (LP, PD, NS or BP) through the special point (x, p) of a one-parameter
-    branch in ``branch_param`` (one of p1, p2) over the box p1_range x p2_range, in both
-    directions until it leaves the box, closes, or cannot be continued (its status says which).
+    branch in ``branch_param`` over the box p1_range x p2_range, in both directions until it
+    leaves the box, closes, or cannot be continued (its status says which). p1 and p2 are any two
+    real fields of :class:`Params`; when ``branch_param`` is neither, the curve lies in the plane
+    where it is held at the special point's p (a sigma branch's fold continued in (Abar, eps)).
     ``backend``: the integrator of the arcs (compiled or scipy's DOP853). x holds the states at
     the starts of ``segments`` arcs of the period, or, from a symmetric branch (traced on the
     half-period map), of the ``segments / 2`` arcs of the half period.
@@ -124,12 +126,14 @@ def trace_curve(
             raise ValueError(f"a BP curve starts from a symmetric orbit in an even number of arcs; got {segments}")
         segments //= 2
         x = np.asarray(x, dtype=float)[: 4 * segments]
-    if branch_param not in (p1, p2):
-        raise ValueError(f"the start branch's parameter {branch_param!r} must be one of the two, {p1!r} or {p2!r}")
+    real_pair((p1, p2))
+    if branch_param not in PARAMETERS:
+        raise ValueError(f"the start branch's parameter must be one of {', '.join(PARAMETERS)}; got {branch_param!r}")
     (lo1, hi1), (lo2, hi2) = p1_range, p2_range
     if not (lo1 < hi1 and lo2 < hi2):
         raise ValueError(f"empty box: {p1} in [{lo1}, {hi1}], {p2} in [{lo2}, {hi2}]")
-    p1_0, p2_0 = (float(p), float(getattr(params, p2))) if branch_param == p1 else (float(getattr(params, p1)), float(p))
+    params = params.replace(**{branch_param: float(p)})
+    p1_0, p2_0 = float(getattr(params, p1)), float(getattr(params, p2))
     if not (lo1 <= p1_0 <= hi1 and lo2 <= p2_0 <= hi2):
         raise ValueError(f"the start point ({p1} = {p1_0:g}, {p2} = {p2_0:g}) lies outside the box")
     span1 = hi1 - lo1

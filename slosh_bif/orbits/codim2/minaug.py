@@ -30,9 +30,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from slosh_bif.model.params import FIELDS, Params
+from slosh_bif.model.params import Params, real_pair
 from slosh_bif.orbits.floquet import floquet_multipliers
-from slosh_bif.orbits.shooting import PARAMETERS, ShootingProblem
+from slosh_bif.orbits.shooting import ShootingProblem
 
 __all__ = ["MultiplierCurveProblem", "CURVE_KINDS"]
 
@@ -57,23 +57,18 @@ class MultiplierCurveProblem:
     ):
         if kind not in CURVE_KINDS:
             raise ValueError(f"kind must be one of {', '.join(CURVE_KINDS)}; got {kind!r}")
-        for name in (p1, p2):
-            if name not in FIELDS:
-                raise ValueError(f"parameter {name!r} is not a field of Params ({', '.join(FIELDS)})")
-            if name not in PARAMETERS:
-                raise ValueError(f"parameter {name!r} has no sensitivity equations; two-parameter curves take {' and '.join(PARAMETERS)}")
-        if p1 == p2:
-            raise ValueError(f"the two parameters must differ; got {p1!r} twice")
+        real_pair((p1, p2))
         self.kind, self.mu = kind, CURVE_KINDS[kind]
         self.params, self.p1, self.p2 = params, p1, p2
         self.shooting = ShootingProblem(
             params, p1, segments=segments, period_multiple=period_multiple, rtol=rtol, atol=atol, backend=backend, box=box, symmetric=kind == "BP",
+            sensitivities=(p1, p2),
         )
         self.names = self.shooting.names + (p2,)
         self.branch_kind = f"{kind} curve of periodic orbits of (9) in ({p1}, {p2})"
         self.p2_box = p2_box
         self.test_kinds = {"LP": ("CP", "LPPD", "LPNS"), "PD": ("LPPD", "PDNS"), "BP": ("BPLP",)}[kind]
-        self._columns = (PARAMETERS.index(p1), PARAMETERS.index(p2))
+        self._columns = (0, 1)  # the arcs' sensitivities are (p1, p2)
         self._b = self._c = None
         self._memo = {}
         self._last_second = None  # (u, the derivatives there) of the last computation
@@ -90,7 +85,9 @@ class MultiplierCurveProblem:
         p2 = x[-self._extra]
         if self.p2_box is not None and not self.p2_box[0] <= p2 <= self.p2_box[1]:
             return False
-        if self.p2 == "Abar" and p2 < 0:
+        try:
+            self.params_at(x, p)
+        except ValueError:  # no parameter set (Abar < 0, eps <= 0, an imaginary restitution, ...)
             return False
         return self.shooting.in_domain(x[: -self._extra], p)
 
