@@ -3,6 +3,7 @@
 Subcommands:
 
 * ``info``     - a preset's parameters and the derived restitution quantities (eqs. 21, 31, 36, 40);
+* ``tank``     - a real tank, its structure and the ground motion as the model's parameters (a file for --params);
 * ``frc``      - the frequency-response curve of the slow flow (45)/(46) by continuation in sigma;
 * ``critical`` - the critical forcing Abar_b(sigma) by continuation of the fold and end conditions;
 * ``shoot``    - periodic orbits of the smooth model (9) by shooting, continued in sigma, with
@@ -14,7 +15,7 @@ Subcommands:
 * ``regimes``  - a map of response regimes over (sigma, Abar), computed in parallel;
 * ``chart``    - the curves in (sigma, Abar) where the orbits of (9) fold or period-double, and
   the full model's critical forcing read off them;
-* ``figures``  - the paper's Figs. 3 and 6-15, regenerated from scratch as PNG files;
+* ``figures``  - the paper's Figs. 3-15, regenerated from scratch as PNG files;
 * ``derive``   - regenerate the generated code from the sympy derivations (``--check``: verify it).
 """
 
@@ -25,7 +26,7 @@ import os
 import re
 import sys
 
-from slosh_bif.cli import chart, info, orbits, simulation, slowflow, studies
+from slosh_bif.cli import chart, info, orbits, simulation, slowflow, studies, tank
 
 __all__ = ["main", "build_parser"]
 
@@ -37,7 +38,7 @@ def build_parser() -> argparse.ArgumentParser:
         "nonlinear liquid sloshing (Farid & Gendelman).",
     )
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
-    for family in (info, slowflow, orbits, chart, studies, simulation):
+    for family in (info, tank, slowflow, orbits, chart, studies, simulation):
         family.add_commands(sub)
     return parser
 
@@ -57,13 +58,16 @@ def _negative_values_attached(argv):
     return out
 
 
-def _check_out(out) -> None:
-    """A one-line error, before any work, when the output folder cannot be made or written."""
+def _check_out(out, *, is_file: bool = False) -> None:
+    """A one-line error, before any work, when the output folder (or, for ``is_file``, the output
+    file's folder) cannot be made or written."""
     if out is None:
         return
-    if out.exists() and not out.is_dir():
+    if is_file and out.is_dir():
+        raise ValueError(f"--out {out} is a folder; give a file name")
+    if not is_file and out.exists() and not out.is_dir():
         raise ValueError(f"--out {out} is a file; give a folder (created if missing)")
-    existing = next(p for p in (out, *out.parents) if p.exists())
+    existing = next(p for p in ((out.parent,) if is_file else (out,)) + tuple(out.parent.parents if is_file else out.parents) if p.exists())
     if not existing.is_dir():
         raise ValueError(f"--out {out}: {existing} is a file, not a folder")
     if not os.access(existing, os.W_OK | os.X_OK):
@@ -105,7 +109,7 @@ def main(argv=None) -> int:
         warnings.showwarning = show
         warnings.simplefilter("always")  # every warning reaches show(), which prints each message once
         try:
-            _check_out(getattr(args, "out", None))
+            _check_out(getattr(args, "out", None), is_file=getattr(args, "out_is_file", False))
             with threadpool_limits(limits=1, user_api="blas"):  # tiny matrices: BLAS threads only cost
                 return args.run(args)
         except KeyboardInterrupt as stop:  # Ctrl-C or SIGTERM: workers are stopped where they run

@@ -21,6 +21,7 @@ __all__ = [
     "add_sigma_points_option",
     "continuation_options",
     "params_of",
+    "preset_of",
     "state0_of",
     "sigma_range",
     "abar_range",
@@ -56,7 +57,12 @@ def stopped(status: str) -> KeyboardInterrupt:
 
 
 def add_params_options(parser):
-    parser.add_argument("--preset", required=True, choices=sorted(PRESETS), help="parameter set of a figure of the paper")
+    source = parser.add_mutually_exclusive_group(required=True)
+    source.add_argument("--preset", choices=sorted(PRESETS), help="parameter set of a figure of the paper")
+    source.add_argument(
+        "--params", type=Path, metavar="FILE",
+        help="parameter file (TOML or JSON: a [params] table, or a [tank] table converted from a real tank; see `slosh-bif tank`)",
+    )
     parser.add_argument(
         "--set",
         dest="overrides",
@@ -128,13 +134,24 @@ def continuation_options(args, base):
     )
 
 
+def preset_of(args):
+    """The parameter set named by ``--preset`` or read from ``--params FILE`` (read once)."""
+    if getattr(args, "params", None) is None:
+        return get_preset(args.preset)
+    if not hasattr(args, "_preset_read"):
+        from slosh_bif.model.parameter_file import read_parameter_file
+
+        args._preset_read = read_parameter_file(args.params)
+    return args._preset_read
+
+
 def params_of(args):
-    return get_preset(args.preset).params.with_overrides(args.overrides)
+    return preset_of(args).params.with_overrides(args.overrides)
 
 
 def state0_of(args, params):
     """The preset's initial condition in the scaling of ``params`` (eps may be overridden)."""
-    return get_preset(args.preset).state_for(params)
+    return preset_of(args).state_for(params)
 
 
 def sigma_range(args, default=(-6.0, 8.0)):

@@ -8,17 +8,24 @@ import json
 import sys
 from pathlib import Path
 
-from slosh_bif.cli.common import add_params_options, params_of
+from slosh_bif.cli.common import add_params_options, params_of, preset_of
 from slosh_bif.model import manifold, restitution
-from slosh_bif.model.presets import get_preset
 
 __all__ = ["add_commands"]
 
 
 def _info(args) -> int:
-    preset = get_preset(args.preset)
+    preset = preset_of(args)
     params = params_of(args)
     P = params
+    if args.out is not None:  # the set as a parameter file that --params reads
+        from slosh_bif.model.parameter_file import render_parameter_file
+        from slosh_bif.report.files import write_text_atomically
+
+        text = render_parameter_file(params=P, uv0=preset.uv0, window=preset.t_window, comment=f"slosh_bif parameter set '{preset.name}': {preset.note}")
+        args.out.parent.mkdir(parents=True, exist_ok=True)
+        write_text_atomically(args.out, text)
+        print(f"wrote {args.out}", file=sys.stderr)
     kappa_unit = float(restitution.kappa(1.0, P.lam, P.chi, P.n, P.pbar))
     rho_unit = float(restitution.rho(kappa_unit))
     report = {
@@ -75,7 +82,8 @@ def add_commands(sub) -> None:
     info = sub.add_parser("info", help="print a preset's parameters and its restitution coefficient, rho and A_min")
     add_params_options(info)
     info.add_argument("--json", action="store_true", help="print JSON instead of text")
-    info.set_defaults(run=_info)
+    info.add_argument("--out", type=Path, default=None, metavar="FILE", help="also write the parameter set (overrides applied) as a TOML parameter file for --params")
+    info.set_defaults(run=_info, out_is_file=True)
 
     derive = sub.add_parser("derive", help="regenerate slosh_bif/model/_generated from the sympy derivations")
     derive.add_argument("--check", action="store_true", help="exit 1 if the committed generated code is stale")

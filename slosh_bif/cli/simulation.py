@@ -20,6 +20,7 @@ from slosh_bif.cli.common import (
     add_tmax_option,
     cell_progress,
     params_of,
+    preset_of,
     progress,
     sigma_range,
     state0_of,
@@ -27,7 +28,6 @@ from slosh_bif.cli.common import (
     sweep_executor,
     throttled,
 )
-from slosh_bif.model.presets import get_preset
 
 __all__ = ["add_commands"]
 
@@ -37,7 +37,7 @@ def _simulate(args) -> int:
     from slosh_bif.simulation.output import plot_simulation, write_summary, write_trajectory
     from slosh_bif.simulation.regimes import classify
 
-    preset = get_preset(args.preset)
+    preset = preset_of(args)
     params = params_of(args)
     tmax = args.tmax if args.tmax is not None else float(preset.t_window[1])
     noise = preset.noise_std if args.noise is None else args.noise

@@ -207,7 +207,7 @@ def add_commands(sub) -> None:
     basins.add_argument("--out", type=Path, required=True, help="output folder (created if missing)")
     basins.set_defaults(run=_basins)
 
-    figures = sub.add_parser("figures", help="regenerate the paper's Figs. 3, 6-15 as PNG files (about 15 s)")
+    figures = sub.add_parser("figures", help="regenerate the paper's Figs. 3-15 as PNG files (about 15 s)")
     figures.add_argument("--out", type=Path, required=True, help="output folder (created if missing)")
     figures.add_argument("--only", nargs="+", default=None, metavar="FIG", help="only these figures, e.g. fig10 fig11")
     figures.add_argument("--quick", action="store_true", help="short simulations and coarse grids (a smoke test)")

@@ -39,7 +39,7 @@ from slosh_bif.model._generated import slow_flow as gen
 from slosh_bif.model.manifold_law import ManifoldLaw
 from slosh_bif.model.params import Params
 
-__all__ = ["AsymptoticsWarning", "SlowFlow", "SlowTrajectory", "asymptotics_concerns"]
+__all__ = ["AsymptoticsWarning", "SlowFlow", "SlowTrajectory", "asymptotics_concerns", "triangle_wave"]
 
 
 class AsymptoticsWarning(UserWarning):
@@ -69,6 +69,14 @@ def asymptotics_concerns(params: Params) -> list:
             "eq. (21) is first order in the dissipation and under-estimates kappa there (n = 6, Figs. 11-12: 0.27 vs 0.63)"
         )
     return concerns
+
+
+def triangle_wave(T0, alpha, eta):
+    """(f, df/dT0) of the impacting particle's motion relative to the vessel in the multiple-scales
+    ansatz, f(T0) = (2 alpha / pi) arcsin(cos(T0 - eta)) (29, 35; the paper's Fig. 5): a triangle
+    wave of amplitude alpha, turning at the impacts T0 = eta (mod pi)."""
+    T0 = np.asarray(T0, dtype=float)
+    return 2 * alpha / np.pi * np.arcsin(np.cos(T0 - eta)), -2 * alpha / np.pi * np.sign(np.sin(T0 - eta))
 
 
 class SlowFlow:
@@ -170,8 +178,7 @@ class SlowFlow:
         alpha, rho = float(self.alpha(A)), float(self.rho(A)[0])
         eta = np.arctan2(1 - alpha, rho * alpha) - psi
         X, Xd = A * np.sin(tau + psi), A * np.cos(tau + psi)
-        f = 2 * alpha / np.pi * np.arcsin(np.cos(tau - eta))
-        fd = -2 * alpha / np.pi * np.sign(np.sin(tau - eta))
+        f, fd = triangle_wave(tau, alpha, eta)
         return np.stack([X, Xd, X + f, Xd + fd], axis=-1)
 
     def start_from_state(self, state):

@@ -1,10 +1,11 @@
-"""The paper's figures 3 and 6-15, regenerated from scratch with the paper's parameters.
+"""The paper's figures 3-15, regenerated from scratch with the paper's parameters.
 
 Each ``figN(out, quick=False)`` computes what the figure shows and writes ``out/figN.png``;
 ``quick=True`` shortens simulations and coarsens grids (for tests). :data:`NOTES` says, per
 figure, where our result differs from the printed one; the README's gallery repeats it.
 
-Figures 1, 2, 4 and 5 are sketches or data from other sources and are not reproduced.
+Figures 1 and 2 are sketches and are not reproduced. Fig. 4 (the modal masses of a cylinder, which
+the paper takes from Abramson) is computed by :mod:`slosh_bif.model.tank`.
 """
 
 from __future__ import annotations
@@ -17,18 +18,21 @@ from slosh_bif.model import manifold, restitution
 from slosh_bif.model.manifold import project_on_manifold
 from slosh_bif.model.params import Params
 from slosh_bif.model.presets import get_preset
+from slosh_bif.model.tank import cylinder_modes
 from slosh_bif.report.plotting import plot_manifold, plot_projection, plot_time_history, pyplot, save_figure
 from slosh_bif.simulation.direct import simulate
 from slosh_bif.simulation.noise import band_limited_noise
 from slosh_bif.simulation.output import plot_motion_on_manifold
 from slosh_bif.simulation.regimes import classify
 from slosh_bif.simulation.wavelet import morlet_transform
-from slosh_bif.slowflow.flow import SlowFlow
+from slosh_bif.slowflow.flow import SlowFlow, triangle_wave
 
 __all__ = ["FIGURES", "NOTES", "make_figures"]
 
 NOTES = {
     "fig3": "Reproduces eq. (19). I(n, p) is the integral (18) at fixed p; I(n, pbar) at fixed pbar = 2p - n.",
+    "fig4": "Computed from the potential-flow series (slosh_bif.model.tank), not read off Abramson's chart; m_0 is m_F minus all modes (400 terms and the rest).",
+    "fig5": "Reproduces the figure: f is a triangle wave of amplitude alpha turning at T0 = eta (mod pi).",
     "fig6": "kappa = 0.729 gives A_min = 0.0993, not the printed 0.06 (alpha_min = 0.990 agrees with the caption).",
     "fig7": "Reproduces the trend (kappa independent of A for pbar = 0); kappa from eq. (39) on S+.",
     "fig8": "SIM (36) with rho(A) from eq. (39); the branches end at A_min(kappa(A_min)).",
@@ -77,6 +81,36 @@ def fig3(out, *, quick=False):
         ax.set_title(f"against p in [0, {p_max:g}]")
     axes[1, 0].legend(fontsize=7, ncol=2)
     return save_figure(fig, _fig("fig3", out))
+
+
+def fig4(out, *, quick=False):
+    """The modal masses m_1, m_2, m_3 of the first three antisymmetric sloshing modes and the fixed
+    mass m_0 of an upright cylinder, over the total liquid mass, against the depth ratio h/r."""
+    ratios = np.linspace(0.05, 3.0, 40 if quick else 300)
+    modes = [cylinder_modes(1.0, h) for h in ratios]
+    fig, ax = pyplot().subplots(figsize=(7, 5))
+    ax.plot(ratios, [m.fixed_ratio for m in modes], ":", color="k", lw=2, label=r"$m_0/m_F$")
+    for k, style in ((0, "-."), (1, "--"), (2, "-")):
+        ax.plot(ratios, [m.mass_ratio[k] for m in modes], style, lw=1.6, label=rf"$m_{k + 1}/m_F$")
+    ax.set_xlabel("depth ratio h/r")
+    ax.set_ylabel("mass ratio")
+    ax.set_yscale("log")
+    ax.set_title("Modal masses of a cylindrical tank (potential flow; Abramson 1966)")
+    ax.legend()
+    ax.grid(alpha=0.3, which="both")
+    return save_figure(fig, _fig("fig4", out))
+
+
+def fig5(out, *, quick=False):
+    """f(T0) of the multiple-scales ansatz (29), (35) for alpha = 1, eta = pi/2."""
+    T0 = np.linspace(0, 4 * np.pi, 400 if quick else 2001)
+    fig, ax = pyplot().subplots(figsize=(7, 4))
+    ax.plot(T0, triangle_wave(T0, 1.0, np.pi / 2)[0], "k-")
+    ax.set_xlabel(r"$T_0$")
+    ax.set_ylabel(r"$f(T_0)$")
+    ax.set_title(r"$f(T_0) = (2\alpha/\pi)\,\arcsin(\cos(T_0 - \eta))$, $\alpha = 1$, $\eta = \pi/2$")
+    ax.grid(alpha=0.3)
+    return save_figure(fig, _fig("fig5", out))
 
 
 def fig6(out, *, quick=False):
@@ -255,7 +289,7 @@ def fig15(out, *, quick=False):
     return _response("fig15", out, quick=quick, title="Fig. 15")
 
 
-FIGURES = {f.__name__: f for f in (fig3, fig6, fig7, fig8, fig9, fig10, fig11, fig12, fig13, fig14, fig15)}
+FIGURES = {f.__name__: f for f in (fig3, fig4, fig5, fig6, fig7, fig8, fig9, fig10, fig11, fig12, fig13, fig14, fig15)}
 
 
 def make_figures(out, *, quick=False, only=None, progress=None):

@@ -330,7 +330,7 @@ def test_figures_writes_every_figure_quickly(tmp_path, capsys):
     assert main(["figures", "--quick", "--out", str(tmp_path)]) == 0
     for name in FIGURES:
         assert (tmp_path / f"{name}.png").stat().st_size > 10_000, name
-    assert len(FIGURES) == 11
+    assert len(FIGURES) == 13  # Figs. 3-15 (1 and 2 are sketches)
     assert "A_min = 0.0993" in capsys.readouterr().out  # the Fig. 6 note reaches the user
     assert main(["figures", "--only", "fig99", "--out", str(tmp_path)]) == 2
 

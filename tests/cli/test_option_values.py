@@ -37,6 +37,9 @@ def no_work(monkeypatch):
     for name in ("start_orbit", "slow_flow_start"):  # shoot's first orbit
         monkeypatch.setattr(starts, name, _started)
     monkeypatch.setattr(scan, "scan_families", _started)
+    import slosh_bif.model.tank as tank
+
+    monkeypatch.setattr(tank, "tank_model", _started)  # tank's conversion, after the inputs are checked
     for name in ("frequency_response", "forcing_response"):  # frc's continuation
         monkeypatch.setattr(steady_states, name, _started)
     for name in ("frequency_response", "critical_forcing", "critical_forcing_full", "simulate", "settle_and_shoot", "trace_orbits"):  # answer's rungs
@@ -47,6 +50,8 @@ NUMBERS = st.one_of(
     st.floats(allow_nan=True, allow_infinity=True, width=64),
     st.sampled_from([0.0, -0.0, -1.0, 1e-300, 1e300, 1.19e305, 0.5, 3.0, 600.0, -6.0, 8.0]),
 )
+
+_TANK_REST = ["--depth", "8", "--structure-mass", "2e6", "--structure-frequency", "0.8", "--excitation-frequency", "0.72", "--clearance", "1", "--ground-acceleration", "1"]
 
 # (command line before the value, option, command line after it, the values that must be errors)
 CASES = {
@@ -64,6 +69,9 @@ CASES = {
     "frc --sigma-min": (["frc", "--preset", "fig10", "--sigma-max", "8"], "--sigma-min", [], lambda v: not (math.isfinite(v) and v < 8)),
     "trust --sigma-max": (["trust", "--preset", "fig13", "--no-switch", "--sigma-min", "-6"], "--sigma-max", [], lambda v: not (math.isfinite(v) and v > -6)),
     "basins --tmax": (["basins", "--preset", "fig10"], "--tmax", [], lambda v: not (math.isfinite(v) and v > 0)),
+    "tank --radius": (["tank", "--shape", "cylinder", *_TANK_REST], "--radius", [], lambda v: not (math.isfinite(v) and v > 0)),
+    "tank --ground-acceleration": (["tank", "--shape", "cylinder", "--radius", "5", *_TANK_REST[:-2]], "--ground-acceleration", [], lambda v: not (math.isfinite(v) and v > 0)),
+    "tank --damping-ratio": (["tank", "--shape", "cylinder", "--radius", "5", *_TANK_REST], "--damping-ratio", [], lambda v: not (math.isfinite(v) and 0 <= v < 1)),
     "answer --tol": (["answer", "frequency-response", "--preset", "fig10"], "--tol", [], lambda v: not (math.isfinite(v) and v > 0)),
     "answer --tmax": (["answer", "regime", "--preset", "fig10"], "--tmax", [], lambda v: not (math.isfinite(v) and v > 8 * math.pi)),
     "answer --sigma-min": (["answer", "frequency-response", "--preset", "fig10", "--sigma-max", "8"], "--sigma-min", [], lambda v: not (math.isfinite(v) and v < 1)),

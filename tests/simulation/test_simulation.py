@@ -318,3 +318,28 @@ def test_a_failed_run_in_a_regime_map_is_recorded_as_failed_with_its_reason(monk
     assert "simulation failed: step size fell below the rounding limit" in rmap.summaries[0][0].reason
     row = next(csv.DictReader(open(write_regime_csv(rmap, tmp_path / "regimes.csv"))))
     assert row["regime"] == "failed" and "rounding limit" in row["reason"]
+
+
+def test_cached_machine_code_is_dropped_when_the_generated_kernels_change(tmp_path):
+    # numba keys a cache on the function's own file; the loop inlines the kernels of another file,
+    # so a changed kernels.py must remove the loop's cached code (a stale one ran the old equations).
+    import hashlib
+    import types
+
+    from slosh_bif.model._generated import kernels
+    from slosh_bif.simulation import dop853
+
+    locator = types.SimpleNamespace(get_cache_path=lambda: str(tmp_path))
+    compiled = types.SimpleNamespace(_cache=types.SimpleNamespace(_impl=types.SimpleNamespace(locator=locator)))
+    stale = [tmp_path / "dop853._dop853_loop-1.py311.nbi", tmp_path / "dop853._dop853_loop-1.py311.1.nbc"]
+    other = tmp_path / "noise.other-1.py311.nbi"
+    for path in (*stale, other):
+        path.write_text("x")
+    (tmp_path / "dop853.kernels.sha256").write_text("the digest of older kernels")
+    dop853._forget_compilations_of_other_kernels(compiled)
+    assert not any(p.exists() for p in stale) and other.exists()
+    digest = hashlib.sha256(open(kernels.__file__, "rb").read()).hexdigest()
+    assert (tmp_path / "dop853.kernels.sha256").read_text() == digest
+    stale[0].write_text("x")  # compiled from the current kernels: kept
+    dop853._forget_compilations_of_other_kernels(compiled)
+    assert stale[0].exists()
