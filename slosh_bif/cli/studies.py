@@ -37,11 +37,11 @@ def _compare(args) -> int:
 
     params = params_of(args)
     lo, hi = sigma_range(args)
+    if args.sigma_points < 2:
+        raise ValueError(f"--sigma-points must be an integer >= 2; got {args.sigma_points}")
     args.out.mkdir(parents=True, exist_ok=True)
     fr = frequency_response(params, sigma_min=lo, sigma_max=hi)
     family = family_from_args(args, params, lo, hi)
-    if args.sigma_points < 2:
-        raise ValueError(f"--sigma-points must be an integer >= 2; got {args.sigma_points}")
     rows = list(compare_rows(family, fr, np.linspace(lo, hi, args.sigma_points)))
     csv_path, png_path = write_compare_csv(rows, args.out / "compare.csv"), plot_compare(family, fr, rows, args.out / "compare.png")
     table = compare_table(rows)

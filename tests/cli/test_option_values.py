@@ -38,6 +38,9 @@ def no_work(monkeypatch):
         monkeypatch.setattr(starts, name, _started)
     monkeypatch.setattr(scan, "scan_families", _started)
     import slosh_bif.model.tank as tank
+    import slosh_bif.slowflow.critical as critical
+
+    monkeypatch.setattr(critical, "critical_curve", _started)  # critical's continuation
 
     monkeypatch.setattr(tank, "tank_model", _started)  # tank's conversion, after the inputs are checked
     for name in ("frequency_response", "forcing_response"):  # frc's continuation
@@ -69,6 +72,8 @@ CASES = {
     "frc --sigma-min": (["frc", "--preset", "fig10", "--sigma-max", "8"], "--sigma-min", [], lambda v: not (math.isfinite(v) and v < 8)),
     "trust --sigma-max": (["trust", "--preset", "fig13", "--no-switch", "--sigma-min", "-6"], "--sigma-max", [], lambda v: not (math.isfinite(v) and v > -6)),
     "basins --tmax": (["basins", "--preset", "fig10"], "--tmax", [], lambda v: not (math.isfinite(v) and v > 0)),
+    "critical --sigma-max": (["critical", "--preset", "fig13", "--sigma-min", "-6"], "--sigma-max", [], lambda v: not (math.isfinite(v) and v > -6)),
+    "compare --sigma-min": (["compare", "--preset", "fig13", "--sigma-max", "8"], "--sigma-min", [], lambda v: not (math.isfinite(v) and v < 8)),
     "tank --radius": (["tank", "--shape", "cylinder", *_TANK_REST], "--radius", [], lambda v: not (math.isfinite(v) and v > 0)),
     "tank --ground-acceleration": (["tank", "--shape", "cylinder", "--radius", "5", *_TANK_REST[:-2]], "--ground-acceleration", [], lambda v: not (math.isfinite(v) and v > 0)),
     "tank --damping-ratio": (["tank", "--shape", "cylinder", "--radius", "5", *_TANK_REST], "--damping-ratio", [], lambda v: not (math.isfinite(v) and 0 <= v < 1)),
@@ -94,3 +99,10 @@ def test_a_numeric_option_is_an_error_or_starts_the_work(case, value, no_work, t
         assert not invalid(value), f"{argv}: the work started with a value no command can use"
     else:
         assert status == 2 and "Traceback" not in err and err.strip().count("\n") == 0, (argv, status, err)
+
+
+@pytest.mark.parametrize("value", ["1", "0", "-3"])
+def test_compare_refuses_too_few_sigma_points_before_any_work(value, no_work, tmp_path, capsys):
+    # (it used to check --sigma-points after the frequency response and the orbit family were computed)
+    assert main(["compare", "--preset", "fig13", "--sigma-points", value, "--out", str(tmp_path / "out")]) == 2
+    assert "--sigma-points must be an integer >= 2" in capsys.readouterr().err
