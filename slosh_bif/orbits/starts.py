@@ -138,13 +138,14 @@ def start_orbit(
     return dataclasses.replace(start, found_from=f"{start.found_from} (the {settle}-period simulation has not reached a stable orbit: {why})")
 
 
-def orbit_from_slow_flow(params: Params, A: float, *, segments: int = 4, rtol: float = 1e-10, atol: float = 1e-12, tol: float = 1e-10, backend: str = "auto"):
+def orbit_from_slow_flow(params: Params, A: float, *, psi: float | None = None, segments: int = 4, rtol: float = 1e-10, atol: float = 1e-12, tol: float = 1e-10, backend: str = "auto"):
     """Newton on (9) from the slow flow's motion at amplitude A (a steady state of (46) at
-    ``params``): each arc starts on :meth:`SlowFlow.fast_state` at its own start time, so that
-    multiple shooting does not carry the guess's error across the period. Returns a
-    :class:`PeriodicOrbit` (``converged`` says whether Newton found one)."""
+    ``params``; its phase ``psi`` when known, else from (46)): each arc starts on
+    :meth:`SlowFlow.fast_state` at its own start time, so that multiple shooting does not carry the
+    guess's error across the period. Returns a :class:`PeriodicOrbit` (``converged`` says whether
+    Newton found one)."""
     flow = SlowFlow(params)
-    psi = float(flow.steady_phase(A))
+    psi = float(flow.steady_phase(A)) if psi is None else float(psi)
     problem = ShootingProblem(params, segments=segments, rtol=rtol, atol=atol, backend=backend)
     x = flow.fast_state(A, psi, problem.arc_times()[:-1]).ravel()
     return orbit_at(problem, x, params.sigma, tol=tol)
@@ -162,13 +163,15 @@ def slow_flow_start(params: Params, sigma_min: float, sigma_max: float, *, segme
     (46) over the range, if already traced.
     """
     fr = response if response is not None else frequency_response(params, sigma_min=sigma_min, sigma_max=sigma_max)
-    candidates = [(float(b.p[i]), float(b.x[i, 0])) for b in fr.branches for i in range(len(b)) if b.stable[i] and sigma_min <= b.p[i] <= sigma_max]
+    # (sigma, A, psi): the branch's own phase (at a branch's end on A_min, (46)'s phase balance is
+    # a square root of rounding, NaN: seen at n = 6, eps = 0.02)
+    candidates = [(float(b.p[i]), float(b.x[i, 0]), float(b.x[i, 1])) for b in fr.branches for i in range(len(b)) if b.stable[i] and sigma_min <= b.p[i] <= sigma_max]
     candidates.sort(key=lambda c: min(c[0] - sigma_min, sigma_max - c[0]))
     # Neighbours on a branch are nearly the same guess: spread the tries over the candidates.
     picks = candidates[:: max(1, len(candidates) // tries)][:tries]
-    for sigma, A in picks:
+    for sigma, A, psi in picks:
         at = params.replace(sigma=sigma)
-        orbit = orbit_from_slow_flow(at, A, segments=segments, backend=backend)
+        orbit = orbit_from_slow_flow(at, A, psi=psi, segments=segments, backend=backend)
         if orbit.converged:
             return StartOrbit(at, orbit, f"Newton from the slow flow's motion on the stable steady state A = {A:.6g} of (46)")
     raise ConvergenceError(f"no orbit of (9) found from {len(picks)} stable steady states of (46) in sigma in [{sigma_min}, {sigma_max}]")
@@ -282,6 +285,8 @@ def scan_starts(
                 yield StartOrbit(at, orbit, f"Newton at {param} = {v:.6g} from {what}")
     for _, value, A, stable in states:
         at = params.replace(**{param: value})
+        if not A > SlowFlow(at).A_min:  # a state on the end of S+: (46)'s phase there is a root of rounding
+            continue
         say(f"scan: Newton at {param} = {value:.4g} from the slow flow's motion on A = {A:.4g}")
         orbit = orbit_from_slow_flow(at, A, segments=segments, backend=backend)
         if orbit.converged:

@@ -30,7 +30,7 @@ def compare_rows(family: OrbitFamily, fr: FrequencyResponse, sigmas):
     nothing = dict(A1_shooting=nan, shooting_stable="", shooting_branch="", relative_difference=nan, A1_stable_orbit=nan, stable_orbit_branch="", relative_difference_stable_orbit=nan)
     for sigma in sigmas:
         slow = [(float(np.interp(sigma, b.p[s], b.x[s, 0])), bool(b.stable[s][i])) for b in fr.branches for s, i in _crossings(b.p, sigma)]
-        orbits = [(float(ob.measures["A1"][s][0] + (ob.measures["A1"][s][1] - ob.measures["A1"][s][0]) * w), bool(ob.branch.stable[s][0] and ob.branch.stable[s][1]), ob.name) for ob in two_pi for s, w in _segments(ob.branch.p, sigma)]
+        orbits = [(float(ob.measures["A1"][s][0] + (ob.measures["A1"][s][1] - ob.measures["A1"][s][0]) * w), _stable_at(ob.branch, s, sigma), ob.name) for ob in two_pi for s, w in _segments(ob.branch.p, sigma)]
         stable_orbits = [o for o in orbits if o[1]]
         for A, stable in slow:
             row = dict(sigma=float(sigma), A_slow_flow=A, slow_flow_stable=int(stable), **nothing)
@@ -49,6 +49,28 @@ def _segments(p, value):
         lo, hi = p[i], p[i + 1]
         if (lo - value) * (hi - value) <= 0 and lo != hi:
             yield slice(i, i + 2), (value - lo) / (hi - lo)
+
+
+_STABILITY_CHANGES = ("LP", "BP", "PD", "NS")
+
+
+def _stable_at(branch, s, sigma) -> bool:
+    """Whether the branch's orbit at ``sigma`` in the segment ``s`` is stable, decided by the end
+    on sigma's side of the located special point (LP, BP, PD or NS) in the segment, if one is:
+    not by where the continuation happened to put its points, nor by the special point's own
+    flag, whose critical multiplier is 1 to rounding (both made a stable state's verdict depend on
+    the last bits of libm's cos and pow, which differ between CPUs: 4 of 48 trust rows). With no
+    special point the ends decide (unstable where they disagree, as before)."""
+    i = s.start
+    lo, hi = branch.p[i], branch.p[i + 1]
+    ends = ((lo, bool(branch.stable[i])), (hi, bool(branch.stable[i + 1])))
+    tol = 1e-12 * (1 + abs(lo) + abs(hi))
+    inside = [sp.p for sp in branch.special if sp.located and sp.kind in _STABILITY_CHANGES and min(lo, hi) - tol <= sp.p <= max(lo, hi) + tol]
+    if len(inside) == 1:
+        side = [flag for p, flag in ends if abs(p - inside[0]) > tol and (p - inside[0]) * (sigma - inside[0]) >= 0]
+        if side:
+            return side[0]
+    return ends[0][1] and ends[1][1]
 
 
 def _crossings(p, value):
