@@ -33,8 +33,12 @@ def _chart(args) -> int:
             raise ValueError(f"--second {args.second} needs its range: --second-min and --second-max")
         a_lo, a_hi = args.second_min, args.second_max
         check_box(params, (lo, hi), (a_lo, a_hi), args.second)
-    if args.regimes is not None and min(args.regimes) < 1:
-        raise ValueError(f"--regimes takes two positive integers N M (sigma values, Abar values); got {args.regimes}")
+    if args.regimes is not None:
+        from slosh_bif.simulation.regimes import check_run_length
+
+        if min(args.regimes) < 1:
+            raise ValueError(f"--regimes takes two positive integers N M (sigma values, Abar values); got {args.regimes}")
+        check_run_length(args.tmax)  # before the curves, not minutes later when the map starts
     if args.seeds < 0:
         raise ValueError(f"--seeds must be an integer >= 0; got {args.seeds}")
     if args.workers is not None and args.workers < 1:

@@ -43,7 +43,7 @@ from slosh_bif.model.presets import CLASSIFY_TMAX
 from slosh_bif.simulation.direct import MAX_SAMPLES, simulate
 from slosh_bif.simulation.sweep import run_cells
 
-__all__ = ["REGIMES", "THRESHOLDS", "RegimeSummary", "classify", "RegimeMap", "regime_map"]
+__all__ = ["REGIMES", "THRESHOLDS", "RegimeSummary", "classify", "RegimeMap", "regime_map", "check_run_length"]
 
 REGIMES = ("periodic-resonant", "non-resonant", "strongly-modulated", "free-decay", "other", "failed")
 
@@ -200,6 +200,20 @@ def _classify_point(params, state0, tmax, model, transient, sample_step, backend
     return classify(sim, transient=transient)
 
 
+def check_run_length(tmax: float, transient: float | None = None, sample_step: float = 0.02) -> float:
+    """The transient (default half of ``tmax``) after a one-line error unless each simulation of a
+    map can run: ``tmax`` finite and > 0, its samples within the limit, the transient in [0, tmax)."""
+    if not (np.isfinite(tmax) and tmax > 0):
+        raise ValueError(f"tmax (the end of each simulation) must be finite and > 0; got {tmax!r}")
+    if tmax / sample_step > MAX_SAMPLES:
+        raise ValueError(f"tmax = {tmax:g} at sample_step {sample_step:g} would keep more than the {MAX_SAMPLES:.0e} samples allowed per simulation")
+    if transient is None:
+        transient = 0.5 * tmax
+    if not (np.isfinite(transient) and 0 <= transient < tmax):
+        raise ValueError(f"transient must be in [0, tmax = {tmax:g}); got {transient!r}")
+    return transient
+
+
 def regime_map(
     params: Params,
     state0,
@@ -240,14 +254,7 @@ def regime_map(
             raise ValueError(f"the {name} grid must be a non-empty 1-d array of finite numbers")
     if np.any(abars < 0):
         raise ValueError(f"Abar must be >= 0 on the whole grid; got min {abars.min()}")
-    if not (np.isfinite(tmax) and tmax > 0):
-        raise ValueError(f"tmax (the end of each simulation) must be finite and > 0; got {tmax!r}")
-    if tmax / sample_step > MAX_SAMPLES:
-        raise ValueError(f"tmax = {tmax:g} at sample_step {sample_step:g} would keep more than the {MAX_SAMPLES:.0e} samples allowed per simulation")
-    if transient is None:
-        transient = 0.5 * tmax
-    if not (np.isfinite(transient) and 0 <= transient < tmax):
-        raise ValueError(f"transient must be in [0, tmax = {tmax:g}); got {transient!r}")
+    transient = check_run_length(tmax, transient, sample_step)
     jobs = {(i, j): params.replace(sigma=float(s), Abar=float(a)) for i, a in enumerate(abars) for j, s in enumerate(sigmas)}
     done = {key: s for key, s in (done or {}).items() if key in jobs and s.regime != "not computed"}
     state0 = np.asarray(state0, dtype=float)
