@@ -11,7 +11,6 @@ import numpy as np
 
 from slosh_bif.cli.common import abar_range, add_abar_range_options, add_backend_option, add_params_options, add_tmax_option, params_of, progress, sigma_range, state0_of, stopped, throttled
 from slosh_bif.model.params import REAL_FIELDS
-from slosh_bif.model.params import REAL_FIELDS
 
 __all__ = ["add_commands"]
 

@@ -4,6 +4,7 @@ source and written as a parameter file that every command takes with ``--params`
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import sys
 import warnings
@@ -41,7 +42,7 @@ def _tank(args) -> int:
     if args.out is not None:
         from slosh_bif.report.files import write_text_atomically
 
-        table = {**{f.name: getattr(tank, f.name) for f in tank.__dataclass_fields__.values()}, **{f: getattr(site, f) for f in site.__dataclass_fields__}, **wall}
+        table = {**dataclasses.asdict(tank), **dataclasses.asdict(site), **wall}
         derived = ", ".join(f"{k} = {v:.6g}" for k, v in model.params.as_dict().items())
         text = render_parameter_file(tank=table, comment=f"slosh_bif parameter file written by `slosh-bif tank` (SI units)\nconverted: {derived}")
         args.out.parent.mkdir(parents=True, exist_ok=True)
