@@ -270,3 +270,22 @@ def test_default_start_does_not_depend_on_rounding_where_the_simulation_has_not_
     reference = start_orbit(pre.params, pre.state0, (-6.0, 8.0), backend="numba")
     assert start.params.sigma == reference.params.sigma
     np.testing.assert_allclose(start.y0, reference.y0, atol=1e-8)
+
+
+def test_liouville_check_survives_an_ill_conditioned_monodromy():
+    # Four arcs whose product has condition number ~1e16: the determinant of the formed product
+    # loses its digits (a period-2 orbit of the Fig. 10 set was flagged at 5.8e-5 that way), the
+    # product of the arcs' determinants does not; the check must see accurate arcs as accurate.
+    from scipy.stats import special_ortho_group
+
+    P = get_preset("fig10").params
+    problem = ShootingProblem(P, segments=4)
+    rng = np.random.default_rng(3)
+    mats = np.array([special_ortho_group.rvs(4, random_state=rng) @ np.diag([1e4, 2.0, 0.5, 1e-4]) @ special_ortho_group.rvs(4, random_state=rng) for _ in range(4)])
+    dets = [np.linalg.det(m) for m in mats]  # each well conditioned: 1 to rounding
+    M = mats[3] @ mats[2] @ mats[1] @ mats[0]
+    trace = float(np.log(abs(np.prod(dets))))
+    x = np.zeros(16)
+    problem._floquet[(x.tobytes(), problem.params_at(P.sigma))] = (M, trace, mats)
+    assert np.linalg.cond(M) > 1e12
+    assert problem.liouville_error(x, P.sigma) < 1e-12 * 16
