@@ -24,6 +24,20 @@ from slosh_bif.cli.common import (
 __all__ = ["add_commands"]
 
 
+def check_family_options(args) -> float:
+    """A one-line error unless the family options (shoot, compare) are usable; returns the rtol."""
+    rtol = 1e-10 if args.rtol is None else args.rtol
+    if not 1e-14 <= rtol <= 1e-4:
+        raise ValueError(f"--rtol must be in [1e-14, 1e-4]; got {rtol}")
+    for flag, value, low, high in (
+        ("--segments", args.segments, 1, 64), ("--settle", args.settle, 0, 100_000), ("--max-branches", args.max_branches, 1, 1000),
+        ("--scan-points", args.scan_points, 1, 1000), ("--scan-random", args.scan_random, 0, 1000),
+    ):
+        if not low <= value <= high:
+            raise ValueError(f"{flag} must be an integer in [{low}, {high}]; got {value}")
+    return rtol
+
+
 def family_from_args(args, params, lo, hi, param="sigma"):
     """The family of orbits ``shoot`` and ``compare`` trace: from --start's orbit, over [lo, hi] of ``param``."""
     from slosh_bif.orbits.families import SHOOTING_OPTIONS, trace_orbits
@@ -31,9 +45,7 @@ def family_from_args(args, params, lo, hi, param="sigma"):
     from slosh_bif.orbits.starts import slow_flow_start, start_orbit
     from slosh_bif.report.files import pickle_store
 
-    rtol = 1e-10 if args.rtol is None else args.rtol
-    if not 1e-14 <= rtol <= 1e-4:
-        raise ValueError(f"--rtol must be in [1e-14, 1e-4]; got {rtol}")
+    rtol = check_family_options(args)
     options = continuation_options(args, SHOOTING_OPTIONS)
     if getattr(args, "resume", False) and args.start != "scan":
         raise ValueError("--resume continues an interrupted --start scan; the other starts trace one family, which is not stored part by part")

@@ -31,6 +31,8 @@ from slosh_bif.cli.common import (
 
 __all__ = ["add_commands"]
 
+MAX_GRID = 2000  # values of sigma or Abar in a regime map: 2000 x 2000 cells is days of work on 2 cores
+
 
 def _simulate(args) -> int:
     from slosh_bif.simulation.direct import simulate
@@ -74,8 +76,8 @@ def _regimes(args) -> int:
     if args.grid is not None:  # the deprecated --grid N M
         args.sigma_points, args.abar_points = args.grid
     n_sigma, n_abar = args.sigma_points, args.abar_points
-    if n_sigma < 1 or n_abar < 1:
-        raise ValueError(f"--sigma-points and --abar-points take positive integers; got {n_sigma} and {n_abar}")
+    if not (1 <= n_sigma <= MAX_GRID and 1 <= n_abar <= MAX_GRID):
+        raise ValueError(f"--sigma-points and --abar-points take integers in [1, {MAX_GRID}]; got {n_sigma} and {n_abar}")
     if args.workers is not None and args.workers < 1:
         raise ValueError(f"--workers must be a positive integer; got {args.workers}")
     sigmas, abars, state0 = np.linspace(lo, hi, n_sigma), np.linspace(args.abar_min, args.abar_max, n_abar), state0_of(args, params)

@@ -25,7 +25,7 @@ from slosh_bif.cli.common import (
     sweep_executor,
     throttled,
 )
-from slosh_bif.cli.orbits import add_shooting_options, family_from_args
+from slosh_bif.cli.orbits import add_shooting_options, check_family_options, family_from_args
 from slosh_bif.report.files import write_text_atomically
 
 __all__ = ["add_commands"]
@@ -39,6 +39,7 @@ def _compare(args) -> int:
     lo, hi = sigma_range(args)
     if args.sigma_points < 2:
         raise ValueError(f"--sigma-points must be an integer >= 2; got {args.sigma_points}")
+    check_family_options(args)
     args.out.mkdir(parents=True, exist_ok=True)
     fr = frequency_response(params, sigma_min=lo, sigma_max=hi)
     family = family_from_args(args, params, lo, hi)

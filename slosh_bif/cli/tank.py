@@ -15,7 +15,7 @@ __all__ = ["add_commands"]
 
 def _tank(args) -> int:
     from slosh_bif.model.parameter_file import read_parameter_file, render_parameter_file
-    from slosh_bif.model.tank import WALL_DEFAULTS, Site, Tank, tank_model
+    from slosh_bif.model.tank import WALL_DEFAULTS, Site, Tank, check_wall, tank_model
 
     geometry = {"radius": args.radius} if args.shape == "cylinder" else {"length": args.length, "width": args.width}
     given = [f"--{name}" for name in ("radius", "length", "width") if getattr(args, name) is not None and name not in geometry]
@@ -27,6 +27,7 @@ def _tank(args) -> int:
     tank = Tank(args.shape, args.depth, density=args.density, height=args.height, **geometry)
     site = Site(args.structure_mass, args.structure_frequency, args.excitation_frequency, args.ground_acceleration, args.clearance, args.damping_ratio)
     wall = {name: getattr(args, name) for name in WALL_DEFAULTS if getattr(args, name) is not None}
+    check_wall(wall)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         model = tank_model(tank, site, wall=wall)

@@ -48,7 +48,7 @@ import numpy as np
 
 from slosh_bif.model.params import Params
 
-__all__ = ["Modes", "cylinder_modes", "rectangle_modes", "Tank", "Site", "TankModel", "tank_model", "SERIES_TERMS", "ModelValidityWarning"]
+__all__ = ["Modes", "cylinder_modes", "rectangle_modes", "Tank", "Site", "TankModel", "tank_model", "check_wall", "SERIES_TERMS", "ModelValidityWarning"]
 
 SERIES_TERMS = 400
 GRAVITY = 9.80665  # m/s^2, standard gravity
@@ -190,10 +190,22 @@ class TankModel:
     rows: tuple
 
 
+def check_wall(wall: dict | None) -> dict:
+    """The wall's law (lam, chi, n, pbar: the paper's values where ``wall`` has none), checked by
+    :class:`Params` (ranges, a real restitution coefficient): a one-line error before any work."""
+    unknown = sorted(set(wall or {}) - set(WALL_DEFAULTS))
+    if unknown:
+        raise ValueError(f"unknown wall parameter {unknown[0]!r}; the wall's law is {', '.join(WALL_DEFAULTS)}")
+    law = {**WALL_DEFAULTS, **(wall or {})}
+    Params(eps=0.05, beta=0.0, gamma=0.0, sigma=0.0, Abar=0.0, **law)  # only the wall's fields matter here
+    return law
+
+
 def tank_model(tank: Tank, site: Site, *, wall: dict | None = None, gravity: float = GRAVITY) -> TankModel:
     """The parameters of (9) for ``tank`` on ``site`` (see the module docstring for every formula);
     ``wall`` overrides the paper's lam, chi, n, pbar. Warns (:class:`ModelValidityWarning`) where
     eps or sigma leave the model's range."""
+    law = check_wall(wall)
     modes = tank.modes(3, gravity)
     m_F = tank.liquid_mass
     m_0, m_1 = modes.fixed_ratio * m_F, modes.mass_ratio[0] * m_F
@@ -204,7 +216,7 @@ def tank_model(tank: Tank, site: Site, *, wall: dict | None = None, gravity: flo
     sigma = (1 - omega**2 * (1 + eps * beta**2) / ((1 + eps) * Omega**2)) / eps
     gamma = 2 * site.damping_ratio * omega / (eps * (1 + eps) * Omega)
     abar = k * site.ground_acceleration / (eps * M * Omega**4 * site.clearance)
-    params = Params(eps=eps, beta=beta, gamma=gamma, sigma=sigma, Abar=abar, **{**WALL_DEFAULTS, **(wall or {})})
+    params = Params(eps=eps, beta=beta, gamma=gamma, sigma=sigma, Abar=abar, **law)
     if eps > 0.1:
         warnings.warn(f"eps = {eps:.3g} > 0.1: the multiple-scales analysis assumes a small sloshing mass m_1 / M", ModelValidityWarning, stacklevel=2)
     if abs(eps * sigma) > 0.5:

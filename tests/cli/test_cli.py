@@ -321,7 +321,7 @@ def test_regimes_writes_map_csv_and_png(tmp_path, capsys):
     assert rows[0].startswith("sigma,Abar,regime") and len(rows) == 5
     assert (out / "regimes.png").stat().st_size > 10_000
     assert main(argv + ["--sigma-points", "0", "--abar-points", "2", "--out", str(out)]) == 2
-    assert "--sigma-points and --abar-points take positive integers" in capsys.readouterr().err
+    assert "--sigma-points and --abar-points take integers in [1, 2000]" in capsys.readouterr().err
 
 
 def test_figures_writes_every_figure_quickly(tmp_path, capsys):

@@ -113,3 +113,50 @@ def test_compare_refuses_too_few_sigma_points_before_any_work(value, no_work, tm
     # (it used to check --sigma-points after the frequency response and the orbit family were computed)
     assert main(["compare", "--preset", "fig13", "--sigma-points", value, "--out", str(tmp_path / "out")]) == 2
     assert "--sigma-points must be an integer >= 2" in capsys.readouterr().err
+
+
+def _wall_ok(n=50, pbar=0):
+    """The paper's wall (lam 0.35, chi 0.2) with n, pbar: eq. (19) converges, p is a whole number
+    and eq. (21)'s restitution coefficient is real (the admissibility that Params enforces)."""
+    from slosh_bif.model.restitution import dissipation_at_unit_speed
+
+    if not (n >= 1 and pbar > -(n + 1) and (pbar + n) % 2 == 0):
+        return False
+    try:
+        return bool(dissipation_at_unit_speed(0.35, 0.2, n, pbar) < 1)
+    except OverflowError:  # a dissipation beyond every float: certainly not < 1
+        return False
+
+
+INTEGERS = st.one_of(st.integers(-(10**6), 10**6), st.sampled_from([-1, 0, 1, 2, 3, 64, 65, 10**9]))
+
+# Integer options: (command line before the value, option, the values that must be errors)
+INTEGER_CASES = {
+    "shoot --segments": (["shoot", "--preset", "fig10"], "--segments", lambda v: not 1 <= v <= 64),
+    "shoot --settle": (["shoot", "--preset", "fig10"], "--settle", lambda v: not 0 <= v <= 100_000),
+    "shoot --max-branches": (["shoot", "--preset", "fig10"], "--max-branches", lambda v: not 1 <= v <= 1000),
+    "shoot --scan-points": (["shoot", "--preset", "fig10", "--start", "scan"], "--scan-points", lambda v: not 1 <= v <= 1000),
+    "shoot --scan-random": (["shoot", "--preset", "fig10", "--start", "scan"], "--scan-random", lambda v: not 0 <= v <= 1000),
+    "compare --segments": (["compare", "--preset", "fig13"], "--segments", lambda v: not 1 <= v <= 64),
+    "regimes --abar-points": (["regimes", "--preset", "fig10"], "--abar-points", lambda v: not 1 <= v <= 2000),
+    "tank --n": (["tank", "--shape", "cylinder", "--radius", "5", *_TANK_REST], "--n", lambda v: not _wall_ok(n=v)),
+    "tank --pbar": (["tank", "--shape", "cylinder", "--radius", "5", *_TANK_REST], "--pbar", lambda v: not _wall_ok(pbar=v)),
+}
+
+
+@pytest.mark.parametrize("case", sorted(INTEGER_CASES))
+@settings(max_examples=30, deadline=None, derandomize=True, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(value=INTEGERS)
+def test_an_integer_option_is_an_error_or_starts_the_work(case, value, no_work, tmp_path, capsys):
+    before, option, invalid = INTEGER_CASES[case]
+    argv = [*before, option, str(value), "--out", str(tmp_path / "out")]
+    try:
+        status = main(argv)
+    except _WorkStarted:
+        status = None
+    err = capsys.readouterr().err
+    if status is None:
+        assert not invalid(value), f"{argv}: the work started with a value no command can use"
+    else:
+        assert status == 2 and "Traceback" not in err and err.strip().count("\n") == 0, (argv, status, err)
+        assert invalid(value), f"{argv}: refused a usable value: {err}"

@@ -91,3 +91,9 @@ def test_preset_state_is_the_coordinate_change_of_the_paper():
     rng = np.random.default_rng(0)
     uv = rng.normal(size=(10, 4))
     np.testing.assert_allclose(uv_from_state(state_from_uv(*uv.T, eps=eps).T, eps), uv, atol=1e-14)
+
+
+def test_a_huge_dissipation_exponent_is_a_range_error_not_an_overflow():
+    # ((n + 1) / chi) ** (pbar / (n + 1)) overflows a float at pbar = 1e9: no real restitution coefficient
+    with pytest.raises(ValueError, match="restitution coefficient kappa"):
+        get_preset("fig10").params.replace(pbar=1_000_000_000)
