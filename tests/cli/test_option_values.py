@@ -97,15 +97,22 @@ def test_a_numeric_option_is_an_error_or_starts_the_work(case, value, no_work, t
     before, option, after, invalid = CASES[case]
     text = repr(value) if math.isfinite(value) else str(value)
     argv = before + ([option, text] if option else [f"Abar={text}"]) + after + ["--out", str(tmp_path / "out")]
+    _an_error_or_the_work(argv, invalid(value), capsys)
+
+
+def _an_error_or_the_work(argv, invalid: bool, capsys, *, usable_refused_too: bool = False):
+    """Run ``argv``: an invalid value must be a one-line error (exit 2) before the work starts;
+    with ``usable_refused_too``, a valid one must start the work."""
     try:
         status = main(argv)
     except _WorkStarted:
         status = None
     err = capsys.readouterr().err
     if status is None:
-        assert not invalid(value), f"{argv}: the work started with a value no command can use"
+        assert not invalid, f"{argv}: the work started with a value no command can use"
     else:
         assert status == 2 and "Traceback" not in err and err.strip().count("\n") == 0, (argv, status, err)
+        assert invalid or not usable_refused_too, f"{argv}: refused a usable value: {err}"
 
 
 @pytest.mark.parametrize("value", ["1", "0", "-3"])
@@ -149,14 +156,4 @@ INTEGER_CASES = {
 @given(value=INTEGERS)
 def test_an_integer_option_is_an_error_or_starts_the_work(case, value, no_work, tmp_path, capsys):
     before, option, invalid = INTEGER_CASES[case]
-    argv = [*before, option, str(value), "--out", str(tmp_path / "out")]
-    try:
-        status = main(argv)
-    except _WorkStarted:
-        status = None
-    err = capsys.readouterr().err
-    if status is None:
-        assert not invalid(value), f"{argv}: the work started with a value no command can use"
-    else:
-        assert status == 2 and "Traceback" not in err and err.strip().count("\n") == 0, (argv, status, err)
-        assert invalid(value), f"{argv}: refused a usable value: {err}"
+    _an_error_or_the_work([*before, option, str(value), "--out", str(tmp_path / "out")], invalid(value), capsys, usable_refused_too=True)
