@@ -27,7 +27,7 @@ import sys
 from pathlib import Path
 
 from slosh_bif.model.params import FIELDS, Params
-from slosh_bif.model.presets import Preset
+from slosh_bif.model.presets import KICKED, Preset
 from slosh_bif.model.tank import WALL_DEFAULTS, Site, Tank, tank_model
 
 if sys.version_info >= (3, 11):
@@ -40,7 +40,6 @@ __all__ = ["read_parameter_file", "render_parameter_file", "TANK_KEYS"]
 _TANK = tuple(f.name for f in dataclasses.fields(Tank))
 _SITE = tuple(f.name for f in dataclasses.fields(Site))
 TANK_KEYS = _TANK + _SITE + tuple(WALL_DEFAULTS)
-_KICKED = (0.0, 3.0, -0.97, 0.0)
 _WINDOW = (0.0, 600.0)
 
 
@@ -104,7 +103,7 @@ def read_parameter_file(path) -> Preset:
         raise ValueError(f"{path}: unknown table {unknown[0]!r}; known: params, tank, initial")
     params, source = _params_of(data, path)
     initial = _table(data, "initial", path, ("uv0", "window"))
-    uv0 = _numbers(initial["uv0"], 4, "uv0", path) if "uv0" in initial else _KICKED
+    uv0 = _numbers(initial["uv0"], 4, "uv0", path) if "uv0" in initial else KICKED
     window = _numbers(initial["window"], 2, "window", path) if "window" in initial else _WINDOW
     if not 0 <= window[0] < window[1]:
         raise ValueError(f"{path}: window must be [tau0, tau1] with 0 <= tau0 < tau1; got {list(window)}")

@@ -26,7 +26,7 @@ import numpy as np
 
 from slosh_bif.model.params import Params
 
-__all__ = ["Preset", "PRESETS", "CLASSIFY_TMAX", "get_preset", "state_from_uv", "uv_from_state"]
+__all__ = ["Preset", "PRESETS", "KICKED", "CLASSIFY_TMAX", "get_preset", "state_from_uv", "uv_from_state"]
 
 
 def state_from_uv(u, u_dot, v, v_dot, eps):
@@ -64,7 +64,7 @@ class Preset:
 
 
 _WALL = dict(eps=0.05, lam=0.35, chi=0.2, pbar=0)
-_KICKED = (0.0, 3.0, -0.97, 0.0)  # u0 = 0, u0' = 3, v0 = -0.97, v0' = 0
+KICKED = (0.0, 3.0, -0.97, 0.0)  # u0 = 0, u0' = 3, v0 = -0.97, v0' = 0: the start of Figs. 9, 10, 13-15
 _AT_REST = (0.0, 0.0, -0.97, 0.0)  # u0 = 0, u0' = 0, v0 = -0.97, v0' = 0
 
 
@@ -75,11 +75,11 @@ def _preset(name, uv0, t_window, noise_std=0.0, note="", **params):
 PRESETS = {
     p.name: p
     for p in [
-        _preset("fig9a", _KICKED, (0, 600), n=50, beta=0.0, gamma=0.0, sigma=0.0, Abar=0.0,
+        _preset("fig9a", KICKED, (0, 600), n=50, beta=0.0, gamma=0.0, sigma=0.0, Abar=0.0,
                 note="free vibrations, beta = 0; gamma and sigma not printed, taken as 0"),
-        _preset("fig9b", _KICKED, (0, 600), n=50, beta=0.3, gamma=0.0, sigma=0.0, Abar=0.0,
+        _preset("fig9b", KICKED, (0, 600), n=50, beta=0.3, gamma=0.0, sigma=0.0, Abar=0.0,
                 note="free vibrations, beta = 0.3; gamma and sigma not printed, taken as 0"),
-        _preset("fig10", _KICKED, (1100, 1200), n=50, beta=0.0, gamma=0.2, sigma=1.0, Abar=3.0,
+        _preset("fig10", KICKED, (1100, 1200), n=50, beta=0.0, gamma=0.2, sigma=1.0, Abar=3.0,
                 note="resonant periodic response"),
         _preset("fig11a", _AT_REST, (0, 2000), n=6, beta=0.0, gamma=0.2, sigma=1.0, Abar=0.01,
                 note="non-resonant response, beta = 0"),
@@ -87,11 +87,11 @@ PRESETS = {
                 note="non-resonant response, beta = 0.3"),
         _preset("fig12", _AT_REST, (0, 5000), n=6, beta=0.3, gamma=0.2, sigma=1.0, Abar=0.5,
                 note="chaotic strongly modulated response"),
-        _preset("fig13", _KICKED, (0, 3000), n=50, beta=0.3, gamma=0.2, sigma=1.0, Abar=1.0,
+        _preset("fig13", KICKED, (0, 3000), n=50, beta=0.3, gamma=0.2, sigma=1.0, Abar=1.0,
                 note="transition from strongly modulated to periodic response"),
-        _preset("fig14", _KICKED, (0, 200), noise_std=4.0, n=50, beta=0.3, gamma=0.2, sigma=1.0, Abar=1.0,
+        _preset("fig14", KICKED, (0, 200), noise_std=4.0, n=50, beta=0.3, gamma=0.2, sigma=1.0, Abar=1.0,
                 note="forcing with white noise; only sigma_bar, eps and Abar printed, rest from Fig. 13"),
-        _preset("fig15", _KICKED, (0, 1200), noise_std=4.0, n=50, beta=0.0, gamma=0.2, sigma=1.0, Abar=3.0,
+        _preset("fig15", KICKED, (0, 1200), noise_std=4.0, n=50, beta=0.0, gamma=0.2, sigma=1.0, Abar=3.0,
                 note="Fig. 10 with white noise; sigma_bar not printed, 4 (Fig. 14) assumed"),
     ]
 }

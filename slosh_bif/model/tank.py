@@ -47,12 +47,14 @@ import warnings
 import numpy as np
 
 from slosh_bif.model.params import Params
+from slosh_bif.model.presets import get_preset
 
 __all__ = ["Modes", "cylinder_modes", "rectangle_modes", "Tank", "Site", "TankModel", "tank_model", "check_wall", "SERIES_TERMS", "ModelValidityWarning"]
 
 SERIES_TERMS = 400
 GRAVITY = 9.80665  # m/s^2, standard gravity
-WALL_DEFAULTS = {"lam": 0.35, "chi": 0.2, "n": 50, "pbar": 0}  # the paper's Figs. 9, 10, 13-15
+# The paper's wall (Figs. 9, 10, 13-15), read from the presets, where the paper's values live.
+WALL_DEFAULTS = {name: getattr(get_preset("fig10").params, name) for name in ("lam", "chi", "n", "pbar")}
 
 
 class ModelValidityWarning(UserWarning):
