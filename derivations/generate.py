@@ -127,7 +127,7 @@ def render_all() -> dict[Path, str]:
         GENERATED / "slow_flow.py": codegen.render_module(
             "The slow invariant manifold (36), slow flow (45), steady states (46) and kappa on the manifold (39).",
             SCRIPT,
-            slow_flow.generated_functions(codegen.Function),
+            slow_flow.generated_functions(codegen.Function) + slow_flow.corrected_functions(codegen.Function),
         ),
         Path("derivations") / "REPORT.md": report.render(),
     }

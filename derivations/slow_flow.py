@@ -16,6 +16,10 @@ an assertion where the paper's argument allows it.
    free flow (43) as its Abar = 0, sigma = 0 case.
 6. :func:`steady_state` - the steady states (46) and the slow-flow Jacobian.
 7. :func:`manifold_kappa` - kappa on the manifold (39): the impact speed (38) fed to (21).
+8. The corrected slow flow (issue 20): steps 4-6 with the wall at |w| = D instead of 1 (D, the
+   clearance the smooth wall of (9) lets the particle use, and kappa both measured per impact
+   speed by :mod:`slosh_bif.model.wall_law`); :func:`corrected_reduces_to_46` checks that D = 1
+   gives (45), (46) back, and that kappa from (21) gives (39) back.
 
 Symbols: ``phase`` is eta + psi, the phase of X0 at an impact on the wall w = +1.
 """
@@ -40,6 +44,9 @@ n = sp.Symbol("n", positive=True, integer=True)
 pbar = sp.Symbol("pbar", integer=True)
 v0 = sp.Symbol("v0", positive=True)
 delta1, expo = sp.symbols("delta1 expo", real=True)  # delta at unit speed and pbar/(n+1) of (21)
+D = sp.Symbol("D", positive=True)  # the clearance: the wall at |w| = D (D = 1 in the paper)
+dD = sp.Symbol("dD", real=True)  # d D / dA along the manifold
+ONE = sp.Integer(1)
 
 
 @functools.cache
@@ -95,12 +102,12 @@ def triangle_fourier():
 
 
 @functools.cache
-def impact_conditions():
-    """(30)-(33) and the manifold (36)."""
+def impact_conditions(clearance=ONE):
+    """(30)-(33) and the manifold (36), with the wall at |w| = ``clearance`` (1 in the paper)."""
     X0 = fast_solution()["X0"]
     slope = 2 * alpha / sp.pi  # |D0 f| on either side of the peak at T0 = eta
     # At T0 = eta: w0 = A sin(eta + psi) + alpha = 1 (32).
-    wall = sp.Eq(A * sp.sin(phase) + alpha, 1)
+    wall = sp.Eq(A * sp.sin(phase) + alpha, clearance)
     # Velocities just before and after: A cos(phase) +/- slope; the law (2): after = -kappa * before.
     before, after = A * sp.cos(phase) + slope, A * sp.cos(phase) - slope
     # (30) is the impulse balance: the jump of D0 f (-2 slope) plus (1 + kappa) * before = 0.
@@ -111,18 +118,18 @@ def impact_conditions():
     # The wall w = -1 at T0 = eta + pi: X0 and f both change sign, so (33) repeats (31)-(32).
     assert sp.simplify(X0.subs(T0, eta + sp.pi) + X0.subs(T0, eta)) == 0
     # (36): A^2 = (A cos)^2 + (A sin)^2 = (rho alpha)^2 + (1 - alpha)^2, solved for alpha.
-    manifold = sp.Eq(A**2, (rho * alpha) ** 2 + (1 - alpha) ** 2)
+    manifold = sp.Eq(A**2, (rho * alpha) ** 2 + (clearance - alpha) ** 2)
     roots = sp.solve(manifold, alpha)
     disc = sp.discriminant(sp.expand(manifold.rhs - manifold.lhs), alpha)
     a_min = sp.sqrt(sp.solve(sp.Eq(disc, 0), A**2)[0])
-    stable = (1 + sp.sqrt((1 + rho**2) * (A**2 - a_min**2))) / (1 + rho**2)
-    unstable = (1 - sp.sqrt((1 + rho**2) * (A**2 - a_min**2))) / (1 + rho**2)
+    stable = (clearance + sp.sqrt((1 + rho**2) * (A**2 - a_min**2))) / (1 + rho**2)
+    unstable = (clearance - sp.sqrt((1 + rho**2) * (A**2 - a_min**2))) / (1 + rho**2)
     for branch in (stable, unstable):
         assert any(sp.simplify(sp.expand(r - branch)) == 0 or _numerically_equal(r, branch) for r in roots)
     return {
         "rho": rho_expr,
         "cos_phase": rho * alpha / A,
-        "sin_phase": (1 - alpha) / A,
+        "sin_phase": (clearance - alpha) / A,
         "impulse_30": impulse,
         "wall_32": wall,
         "alpha_stable": stable,
@@ -133,12 +140,12 @@ def impact_conditions():
     }
 
 
-def _numerically_equal(a, b, points=((0.7, 0.3), (1.9, 0.05), (3.2, 0.6))):
-    return all(abs(complex((a - b).subs({A: x, rho: r}).evalf(30))) < 1e-20 for x, r in points)
+def _numerically_equal(a, b, points=((0.7, 0.3, 1.2), (1.9, 0.05, 1.05), (3.2, 0.6, 1.4))):
+    return all(abs(complex((a - b).subs({A: x, rho: r, D: c}).evalf(30))) < 1e-20 for x, r, c in points)
 
 
 @functools.cache
-def slow_flow():
+def slow_flow(clearance=ONE):
     """Secular conditions of (44): D1 A and D1 psi, forced (45) and free (43)."""
     e = expansion()
     X0 = fast_solution()["X0"]
@@ -152,7 +159,7 @@ def slow_flow():
     in_theta = sp.expand(sp.expand_trig(rhs.subs(T0, theta - psi)))
     secular = [sp.integrate(in_theta * basis, (theta, 0, 2 * sp.pi)) / sp.pi for basis in (sp.cos(theta), sp.sin(theta))]
     solved = sp.solve(secular, [dA, dpsi], dict=True)[0]
-    ic = impact_conditions()
+    ic = impact_conditions(clearance)
     on_manifold = {sp.cos(phase): ic["cos_phase"], sp.sin(phase): ic["sin_phase"]}
     forced = [sp.simplify(sp.expand(solved[v]).subs(on_manifold)) for v in (dA, dpsi)]
     free = [sp.simplify(f.subs({Abar: 0, sigma: 0})) for f in forced]
@@ -160,9 +167,9 @@ def slow_flow():
 
 
 @functools.cache
-def steady_state():
+def steady_state(clearance=ONE):
     """(46): the residual of the steady states, and its pieces (energy and phase balances)."""
-    dA_rhs, dpsi_rhs = slow_flow()["forced"]
+    dA_rhs, dpsi_rhs = slow_flow(clearance)["forced"]
     # Steady state: Abar cos psi and Abar sin psi solve D1 A = D1 psi = 0, then cos^2 + sin^2 = 1.
     cos_psi = sp.solve(dA_rhs, sp.cos(psi))[0] * Abar
     sin_psi = sp.solve(dpsi_rhs, sp.sin(psi))[0] * Abar
@@ -185,21 +192,23 @@ def manifold_kappa():
 # --- what the package uses: functions of (A, psi) on the stable branch S+ -----------------------
 
 
-def _on_stable_branch(expr):
-    return expr.subs(alpha, impact_conditions()["alpha_stable"])
+def _on_stable_branch(expr, clearance=ONE):
+    return expr.subs(alpha, impact_conditions(clearance)["alpha_stable"])
 
 
-def _at_manifold_end(expr):
+def _at_manifold_end(expr, clearance=ONE):
     """An expression on the manifold's end (36): alpha = alpha_min, A = A_min (both in rho), so that
     evaluating it there meets no square root of a rounding-negative number."""
-    ic = impact_conditions()
+    ic = impact_conditions(clearance)
     return sp.simplify(expr.subs(alpha, ic["alpha_min"]).subs(A, ic["A_min"]))
 
 
 def _total_dA(expr):
-    """d/dA of an expression in A and rho, with rho = rho(A) along the manifold (drho = d rho/dA)."""
-    R = sp.Function("R")(A)
-    return sp.diff(expr.subs(rho, R), A).subs(sp.Derivative(R, A), drho).subs(R, rho)
+    """d/dA of an expression in A, rho and D, with rho = rho(A) and D = D(A) along the manifold
+    (slopes drho and dD)."""
+    R, C = sp.Function("R")(A), sp.Function("C")(A)
+    total = sp.diff(expr.subs({rho: R, D: C}), A)
+    return total.subs({sp.Derivative(R, A): drho, sp.Derivative(C, A): dD}).subs({R: rho, C: D})
 
 
 def generated_functions(Function):
@@ -269,4 +278,64 @@ def generated_functions(Function):
             sp.Matrix([sp.diff(e, v) for e in [_on_stable_branch(mk["residual"]).subs(rho, ic["rho"])] for v in (kappa, A)]),
             A_only,
         ),
+    ]
+
+
+# --- the corrected slow flow (issue 20): the wall at |w| = D, kappa and D from the measured wall --
+
+
+@functools.cache
+def corrected_impact_speed():
+    """The impact speed (38) on S+ with the wall at |w| = D, as a function of (A, kappa, D):
+    4 alpha_S+(A, rho(kappa), D) / (pi (1 + kappa)). kappa and D are the wall's at this speed,
+    which makes it a fixed point in the speed (solved numerically, slosh_bif.model.corrected_law)."""
+    ic = impact_conditions(D)
+    speed = sp.simplify(ic["impact_speed"].subs(rho, ic["rho"]))
+    assert sp.simplify(speed - 4 * alpha / (sp.pi * (1 + kappa))) == 0
+    on_branch = _on_stable_branch(speed, D).subs(rho, ic["rho"])
+    at_end = speed.subs(alpha, ic["alpha_min"]).subs(rho, ic["rho"])
+    return {"speed": on_branch, "speed_at_end": sp.simplify(at_end)}
+
+
+def corrected_reduces_to_46():
+    """The corrected equations at D = 1 are (36), (45), (46) as derived; with kappa from (21) the
+    fixed point in the impact speed is eq. (39). Raises AssertionError otherwise."""
+    for key in ("alpha_stable", "A_min", "alpha_min", "sin_phase"):
+        assert sp.simplify(impact_conditions(D)[key].subs(D, 1) - impact_conditions()[key]) == 0, key
+    for corrected, paper in zip(slow_flow(D)["forced"], slow_flow()["forced"]):
+        assert sp.simplify(corrected.subs(D, 1) - paper) == 0
+    assert sp.simplify(steady_state(D)["residual"].subs(D, 1) - steady_state()["residual"]) == 0
+    v = corrected_impact_speed()["speed"].subs(D, 1)
+    eq39 = _on_stable_branch(manifold_kappa()["residual"]).subs(rho, impact_conditions()["rho"])
+    assert sp.simplify((kappa**2 - 1 + delta1 * v**expo) - eq39) == 0
+    return True
+
+
+def corrected_functions(Function):
+    """The corrected slow-flow functions: the same as :func:`generated_functions`' with the
+    clearance D (and its slope dD along S+) among the arguments, and the impact speed."""
+    corrected_reduces_to_46()
+    ic, ss, speed = impact_conditions(D), steady_state(D), corrected_impact_speed()
+    forced = slow_flow(D)["forced"]
+    rhs = sp.Matrix([_on_stable_branch(e, D) for e in forced])
+    residual = _on_stable_branch(ss["residual"], D)
+    slow = (beta, gamma, sigma, Abar)
+    names = ("A", "rho", "kappa", "D")
+    end = [_at_manifold_end(e, D) for e in forced]
+    end_residual = _at_manifold_end(ss["residual"], D)
+    return [
+        Function("corrected_alpha", "alpha on S+ with the wall at |w| = D, eq. (36) with clearance D.", (), (A, rho, D), sp.Matrix([ic["alpha_stable"]]), names),
+        Function("corrected_alpha_unstable", "alpha on the unstable branch with the wall at |w| = D.", (), (A, rho, D), sp.Matrix([ic["alpha_unstable"]]), names),
+        Function("corrected_a_min", "End A_min = D rho / sqrt(1 + rho^2) of the manifold with clearance D.", (), (rho, D), sp.Matrix([ic["A_min"]]), names),
+        Function("corrected_slow_rhs", "Slow flow (45) on S+ with clearance D: [D1 A, D1 psi].", (), (A, psi, rho, D) + slow, rhs, ("A", "psi")),
+        Function("corrected_slow_jac", "Jacobian of the corrected (45) in (A, psi); rho(A), D(A) with slopes drho, dD.", (), (A, psi, rho, drho, D, dD) + slow, sp.Matrix([[_total_dA(e), sp.diff(e, psi)] for e in rhs]), ("A", "psi")),
+        Function("corrected_slow_dparams", "Derivatives of the corrected (45) in sigma and Abar (columns).", (), (A, psi, rho, D) + slow, sp.Matrix([[sp.diff(e, sigma), sp.diff(e, Abar)] for e in rhs]), ("A", "psi")),
+        Function("corrected_steady_residual", "Steady-state residual (46) with clearance D.", (), (A, rho, D) + slow, sp.Matrix([residual]), names),
+        Function("corrected_steady_residual_grad", "[dR/dA, dR/dsigma, dR/dAbar] of the corrected (46); slopes drho, dD.", (), (A, rho, drho, D, dD) + slow, sp.Matrix([_total_dA(residual), sp.diff(residual, sigma), sp.diff(residual, Abar)]), names),
+        Function("corrected_steady_balances", "[pi^2 A Abar cos psi, pi^2 A Abar sin psi] at a steady state of the corrected (45).", (), (A, rho, D) + slow, sp.Matrix([_on_stable_branch(ss["energy"], D), _on_stable_branch(ss["phase"], D)]), names),
+        Function("corrected_slow_rhs_end", "The corrected (45) at the manifold's end, A = A_min(rho, D): [D1 A, D1 psi].", (), (psi, rho, D) + slow, sp.Matrix(end), ("psi",)),
+        Function("corrected_slow_end_jac", "Derivatives of the corrected (45) at the manifold's end in psi, sigma, Abar.", (), (psi, rho, D) + slow, sp.Matrix([[sp.diff(e, v) for v in (psi, sigma, Abar)] for e in end]), ("psi",)),
+        Function("corrected_steady_residual_end", "[R, dR/dsigma, dR/dAbar] of the corrected (46) at the manifold's end.", (), (rho, D) + slow, sp.Matrix([end_residual, sp.diff(end_residual, sigma), sp.diff(end_residual, Abar)]), ("rho",)),
+        Function("corrected_impact_speed", "[v, dv/dA, dv/dkappa, dv/dD]: the impact speed (38) on S+ with clearance D.", (), (A, kappa, D), sp.Matrix([speed["speed"]] + [sp.diff(speed["speed"], x) for x in (A, kappa, D)]), names),
+        Function("corrected_end_speed", "[v, dv/dkappa, dv/dD]: the impact speed at the manifold's end (alpha = alpha_min).", (), (kappa, D), sp.Matrix([speed["speed_at_end"]] + [sp.diff(speed["speed_at_end"], x) for x in (kappa, D)]), ("kappa",)),
     ]

@@ -9,7 +9,7 @@ from pathlib import Path
 
 import numpy as np
 
-from slosh_bif.cli.common import abar_range, add_abar_range_options, add_backend_option, add_params_options, add_tmax_option, params_of, progress, sigma_range, state0_of, stopped, throttled
+from slosh_bif.cli.common import abar_range, add_abar_range_options, add_backend_option, add_model_option, add_params_options, add_tmax_option, params_of, progress, sigma_range, state0_of, stopped, throttled
 from slosh_bif.model.params import REAL_FIELDS
 
 __all__ = ["add_commands"]
@@ -50,7 +50,7 @@ def _chart(args) -> int:
     done, keep = curve_store(args.out / "curves", settings, resume=args.resume)
     chart = bifurcation_chart(
         params, state0, sigma_range=(lo, hi), abar_range=(a_lo, a_hi), switch=not args.no_switch, seeds=args.seeds, workers=args.workers, backend=args.backend,
-        done=done, keep=keep, progress=throttled(progress, passes=lambda message: ": point " not in message), second=args.second,
+        done=done, keep=keep, progress=throttled(progress, passes=lambda message: ": point " not in message), second=args.second, model=args.model,
     )
     regimes = None
     if args.regimes is not None and chart.status == "complete":
@@ -104,4 +104,5 @@ def add_commands(sub) -> None:
     chart.add_argument("--resume", action="store_true", help="reuse the curves stored in OUT/curves/ by an earlier run with the same settings (an interrupted one) and trace only the rest")
     chart.add_argument("--workers", type=int, default=None, help="processes tracing curves (and the regime map) side by side (default: one per core)")
     chart.add_argument("--out", type=Path, required=True, help="output folder (created if missing)")
+    add_model_option(chart)
     chart.set_defaults(run=_chart)

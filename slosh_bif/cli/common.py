@@ -79,6 +79,15 @@ def add_range_options(parser):
     parser.add_argument("--out", type=Path, required=True, help="output folder (created if missing)")
 
 
+def add_model_option(parser):
+    """``--model slowflow|corrected``: which slow flow (eq. 46 as derived, or with the wall's own
+    restitution and clearance, :mod:`slosh_bif.model.corrected_law`)."""
+    parser.add_argument(
+        "--model", choices=("slowflow", "corrected"), default="slowflow",
+        help="slow flow: eq. (46) as derived (default, the paper's) or 'corrected' (kappa and clearance of the wall of (9), measured per impact speed)",
+    )
+
+
 def add_abar_range_options(parser, *, default=(None, None)):
     lo, hi = default
     parser.add_argument("--abar-min", type=float, default=lo, help="lowest forcing amplitude Abar" + (f" (default {lo:g})" if lo is not None else ""))

@@ -10,6 +10,7 @@ from slosh_bif.cli.common import (
     abar_range,
     add_abar_range_options,
     add_continuation_options,
+    add_model_option,
     add_params_options,
     add_range_options,
     continuation_options,
@@ -42,12 +43,12 @@ def _frc(args) -> int:
         lo, hi = abar_range(args, default=(0.0, None))
         opts = _options(args, ContinuationOptions(step=0.02, step_max=0.2))
         args.out.mkdir(parents=True, exist_ok=True)
-        fr = forcing_response(params, abar_min=lo, abar_max=hi, options=opts)
+        fr = forcing_response(params, abar_min=lo, abar_max=hi, options=opts, model=args.model)
     else:
         lo, hi = sigma_range(args)
         opts = _options(args, ContinuationOptions())
         args.out.mkdir(parents=True, exist_ok=True)
-        fr = frequency_response(params, sigma_min=lo, sigma_max=hi, options=opts)
+        fr = frequency_response(params, sigma_min=lo, sigma_max=hi, options=opts, model=args.model)
     csv_path, png_path = write_frc_csv(fr, args.out / "frc.csv"), plot_frc(fr, args.out / "frc.png")
     for k, branch in enumerate(fr.branches):
         branch.save(args.out / f"frc_branch{k}.npz")
@@ -66,7 +67,7 @@ def _critical(args) -> int:
     args.out.mkdir(parents=True, exist_ok=True)
     from slosh_bif.slowflow.critical import DEFAULT_OPTIONS
 
-    curve = critical_curve(params, lo, hi, options=_options(args, DEFAULT_OPTIONS), progress=progress)
+    curve = critical_curve(params, lo, hi, options=_options(args, DEFAULT_OPTIONS), progress=progress, model=args.model)
     csv_path, png_path = write_critical_csv(curve, args.out / "critical.csv"), plot_critical(curve, args.out / "critical.png")
     at = float(np.interp(params.sigma, curve.sigma, curve.Abar_b)) if curve.sigma[0] <= params.sigma <= curve.sigma[-1] else None
     if at is not None:
@@ -86,11 +87,13 @@ def add_commands(sub) -> None:
     add_range_options(frc)
     frc.add_argument("--parameter", choices=("sigma", "Abar"), default="sigma", help="continue in sigma (the frequency response, default) or in Abar at the preset's sigma")
     add_abar_range_options(frc)
+    add_model_option(frc)
     add_continuation_options(frc, rtol=_RTOL)
     frc.set_defaults(run=_frc)
 
     critical = sub.add_parser("critical", help="critical forcing Abar_b(sigma) below which no steady state exists on S+")
     add_params_options(critical)
     add_range_options(critical)
+    add_model_option(critical)
     add_continuation_options(critical, rtol=_RTOL)
     critical.set_defaults(run=_critical)

@@ -10,6 +10,7 @@ import numpy as np
 
 from slosh_bif.cli.common import (
     add_backend_option,
+    add_model_option,
     add_params_options,
     add_range_options,
     add_scheduler_option,
@@ -41,7 +42,7 @@ def _compare(args) -> int:
         raise ValueError(f"--sigma-points must be an integer >= 2; got {args.sigma_points}")
     check_family_options(args)
     args.out.mkdir(parents=True, exist_ok=True)
-    fr = frequency_response(params, sigma_min=lo, sigma_max=hi)
+    fr = frequency_response(params, sigma_min=lo, sigma_max=hi, model=args.model)
     family = family_from_args(args, params, lo, hi)
     rows = list(compare_rows(family, fr, np.linspace(lo, hi, args.sigma_points)))
     csv_path, png_path = write_compare_csv(rows, args.out / "compare.csv"), plot_compare(family, fr, rows, args.out / "compare.png")
@@ -60,7 +61,7 @@ def _trust(args) -> int:
     lo, hi = sigma_range(args)
     settings = dict(
         params=base.as_dict(), eps=args.eps, beta=args.beta, n=args.n, sigma_range=[lo, hi], grid=args.sigma_points, switch=not args.no_switch,
-        max_branches=args.max_branches, backend=args.backend,
+        max_branches=args.max_branches, backend=args.backend, model=args.model,
     )
     done, keep = trust_store(args.out / "trust_map.json", settings, resume=args.resume)
     if done:
@@ -75,11 +76,11 @@ def _trust(args) -> int:
     with sweep_executor(args) as executor:
         points = trust_map(
             base, eps=args.eps, beta=args.beta, n=args.n, sigma_min=lo, sigma_max=hi, grid=args.sigma_points, switch=not args.no_switch, max_branches=args.max_branches,
-            backend=args.backend, max_workers=args.workers, progress=report, done=done, keep=keep, executor=executor,
+            backend=args.backend, model=args.model, max_workers=args.workers, progress=report, done=done, keep=keep, executor=executor,
         )
-    table = trust_table(points)
+    table = trust_table(points, model=args.model)
     write_text_atomically(args.out / "trust_map.txt", table + "\n")
-    csv_path, png_path = write_trust_csv(points, args.out / "trust_map.csv"), plot_trust_map(points, args.out / "trust_map.png")
+    csv_path, png_path = write_trust_csv(points, args.out / "trust_map.csv"), plot_trust_map(points, args.out / "trust_map.png", model=args.model)
     print(table)
     print(f"wrote {csv_path}, {png_path}, {args.out / 'trust_map.txt'}")
     missing = [p.status for p in points if p.status.startswith("not computed")]
@@ -177,6 +178,7 @@ def add_commands(sub) -> None:
     add_range_options(compare)
     add_shooting_options(compare)
     add_sigma_points_option(compare, default=141)
+    add_model_option(compare)
     compare.set_defaults(run=_compare)
 
     trust = sub.add_parser("trust", help="compare over a grid of eps, beta and n: where the slow flow (46) can be trusted")
@@ -191,6 +193,7 @@ def add_commands(sub) -> None:
     trust.add_argument("--workers", type=int, default=None, help="worker processes (default: one per core)")
     add_scheduler_option(trust)
     add_backend_option(trust)
+    add_model_option(trust)
     trust.add_argument("--resume", action="store_true", help="reuse the parameter sets stored in OUT/trust_map.json by an earlier run with the same settings and compute only the rest")
     trust.set_defaults(run=_trust)
 

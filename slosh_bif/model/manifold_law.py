@@ -275,7 +275,12 @@ class ManifoldLaw:
         The window of S+: ``lower.A`` and ``upper.A`` (``inf`` without an upper end).
     kappa_at_end : float
         kappa of (39) at the lower end.
+    prefix : str
+        Of the generated functions this law's slow flow uses (the paper's: none); ``values``,
+        ``slopes`` and ``end_values`` give their arguments after A (the corrected law has the same).
     """
+
+    prefix = ""
 
     def __init__(self, params: Params):
         if not isinstance(params, Params):
@@ -338,6 +343,18 @@ class ManifoldLaw:
     def alpha(self, A):
         """alpha_S+(A) with rho(A), eq. (36)."""
         return manifold.alpha(A, self.rho(A)[0])
+
+    def values(self, A):
+        """(rho,) at A: the arguments of the generated slow-flow functions after A (and psi)."""
+        return (self.rho(A)[0],)
+
+    def slopes(self, A):
+        """(rho, d rho/dA): the arguments of ``slow_jac`` and ``steady_residual_grad``."""
+        return self.rho(A)
+
+    def end_values(self, end: ManifoldEnd):
+        """(rho,) at an end of S+ (its kappa is part of the end, and may be 0: a plastic wall)."""
+        return (float(2.0 * (1.0 - end.kappa) / (np.pi * (1.0 + end.kappa))),)
 
     def describe(self) -> str:
         """The window of S+ and what ends it, in one line."""

@@ -113,6 +113,31 @@ class WallLaw:
         """The turning point d at impact speed v0: the clearance the particle uses (nominal 1)."""
         return np.exp(self.depth_series(self._log_v(v0)))
 
+    @functools.cached_property
+    def _coefficients(self):
+        # The four series (kappa, its slope, log d, its slope) as the columns of one coefficient
+        # array on the window [-1, 1]: one Clenshaw recurrence evaluates them all, and a corrected
+        # slow flow asks for them at every evaluation.
+        k, d = self.kappa_series, self.depth_series
+        columns = (k.coef, k.deriv().coef, d.coef, d.deriv().coef)
+        stacked = np.zeros((max(len(c) for c in columns), 4))
+        for j, c in enumerate(columns):
+            stacked[: len(c), j] = c
+        # Trailing terms below 1e-14 of each series' size change nothing the stated errors allow
+        # (for pbar = 0 kappa is a constant and log d linear in log v0: two terms, not 32).
+        size = np.maximum(np.abs(stacked).max(axis=0), 1e-300)
+        keep = np.flatnonzero(np.any(np.abs(stacked) > 1e-14 * size, axis=1))
+        return k.mapparms(), stacked[: keep[-1] + 1 if len(keep) else 1]
+
+    def slopes(self, v0):
+        """(kappa, d kappa/dv0, d, dd/dv0) at impact speed(s) v0: the interpolants differentiated."""
+        s = self._log_v(v0)
+        (off, scale), stacked = self._coefficients
+        k, dk, log_d, dlog_d = np.polynomial.chebyshev.chebval(off + scale * s, stacked)
+        v0 = np.exp(s)
+        depth = np.exp(log_d)
+        return k, dk / v0, depth, depth * dlog_d / v0  # deriv() is in the domain variable log v0
+
 
 @functools.lru_cache(maxsize=32)
 def wall_law(lam: float, chi: float, n: int, pbar: int, v_min: float = 0.05, v_max: float = 20.0, *, nodes: int = 24) -> WallLaw:

@@ -23,11 +23,10 @@ import numpy as np
 from scipy import optimize
 
 import slosh_bif.continuation as cont
-from slosh_bif.model._generated import slow_flow as gen
 from slosh_bif.model.manifold_law import END_KINDS
 from slosh_bif.model.params import Params
 from slosh_bif.slowflow.flow import SlowFlow
-from slosh_bif.slowflow.steady_states import EDGE_MARGIN, SteadyStateProblem, _amplitude_bound, abar_on_curve, end_rho
+from slosh_bif.slowflow.steady_states import EDGE_MARGIN, SteadyStateProblem, _amplitude_bound, abar_on_curve
 
 __all__ = ["CriticalPoint", "CriticalCurve", "abar_branch", "critical_forcing", "critical_curve", "FoldProblem", "EndProblem", "interp_min"]
 
@@ -39,8 +38,8 @@ class _Residual46:
     R itself is ~ 1e2 and an absolute tolerance of 1e-11 would sit at its rounding level).
     """
 
-    def __init__(self, params: Params):
-        self.flow = SlowFlow(params)
+    def __init__(self, params: Params, model: str = "slowflow"):
+        self.flow = SlowFlow(params, model)
         self.A_edge = self.flow.A_min * (1 + EDGE_MARGIN)
 
     def R(self, A, sigma, Abar):
@@ -79,8 +78,8 @@ class FoldProblem:
     names = ("A", "Abar")
     branch_kind = "folds of (46)"
 
-    def __init__(self, params: Params):
-        self.r = _Residual46(params)
+    def __init__(self, params: Params, model: str = "slowflow"):
+        self.r = _Residual46(params, model)
         self.A_edge = self.r.flow.A_min * (1 + FOLD_EDGE_MARGIN)
 
     def _parts(self, x, p):
@@ -121,15 +120,15 @@ class EndProblem:
     names = ("Abar",)
     branch_kind = "manifold ends of (46)"
 
-    def __init__(self, params: Params):
-        self.r = _Residual46(params)
+    def __init__(self, params: Params, model: str = "slowflow"):
+        self.r = _Residual46(params, model)
         law = self.r.flow.law
         self.A = law.A_min
         self.scale = np.pi**4 * self.A**2
         P = params
         if law.lower.kind == END_KINDS[0]:  # alpha = alpha_min: the functions written for the end
-            rho = end_rho(law.lower)
-            self._parts = lambda p, Abar: gen.steady_residual_end(rho, P.beta, P.gamma, p, Abar)
+            at_end, residual_end = law.end_values(law.lower), self.r.flow.generated("steady_residual_end")
+            self._parts = lambda p, Abar: residual_end(*at_end, P.beta, P.gamma, p, Abar)
         else:  # a fold of (39) or kappa = 0 ends S+: alpha is regular there
             self._parts = lambda p, Abar: np.array([self.r.R(self.A, p, Abar), *self.r.grad(self.A, p, Abar)[1:]])
 
@@ -165,32 +164,33 @@ class CriticalPoint:
 DEFAULT_OPTIONS = cont.ContinuationOptions(step=0.02, step_max=0.2)
 
 
-def abar_branch(params: Params, sigma: float, *, options: cont.ContinuationOptions | None = None):
+def abar_branch(params: Params, sigma: float, *, options: cont.ContinuationOptions | None = None, model: str = "slowflow"):
     """Steady states on S+ at fixed ``sigma``, continued in Abar: one branch from A_min to large A
     (or to the upper end of S+)."""
     P = params.replace(sigma=float(sigma))
-    problem = SteadyStateProblem(P, "Abar")
+    problem = SteadyStateProblem(P, "Abar", model)
     flow = problem.flow
     A0 = max(1.0, 3 * flow.A_min)
     if not A0 < flow.A_max * (1 - 2 * EDGE_MARGIN):  # a short window of S+ (an upper end): its middle
         A0 = float(np.sqrt(flow.A_min * flow.A_max))
-    Abar0 = _Residual46(P).abar_at(A0, P.sigma)
+    Abar0 = _Residual46(P, model).abar_at(A0, P.sigma)
     psi0 = float(flow.steady_phase(A0, Abar=Abar0))
     opts = dataclasses.replace(options or DEFAULT_OPTIONS, p_min=0.0, p_max=max(10.0, 10 * Abar0))
     return cont.continuation(problem, [A0, psi0], Abar0, param="Abar", options=opts)
 
 
-def critical_forcing(params: Params, sigma: float) -> CriticalPoint:
+def critical_forcing(params: Params, sigma: float, *, model: str = "slowflow") -> CriticalPoint:
     """The smallest Abar with a steady state on S+ at ``sigma``.
 
     At fixed sigma, (46) gives Abar explicitly as a function of A on S+ (:func:`abar_on_curve`),
     so Abar_b is its least value over the window of S+: at an end of S+ (``END``, evaluated at
     the end itself) or at an interior minimum, a fold of the Abar branch (``LP``, located by
     bounded Brent to 1e-13 in A). With gamma > 0, Abar >= gamma A, so amplitudes beyond
-    (the least Abar so far) / gamma need no search.
+    (the least Abar so far) / gamma need no search. ``model``: the paper's slow flow or the
+    corrected one.
     """
     P = params.replace(sigma=float(sigma))
-    flow = SlowFlow(P)
+    flow = SlowFlow(P, model)
     lo, hi = flow.A_min, flow.A_max
     guess = float(abar_on_curve(flow, min(max(1.0, 3 * lo), np.sqrt(lo * hi) if np.isfinite(hi) else np.inf)))
     top = min(hi, _amplitude_bound(P.replace(Abar=max(guess, 1e-12))))
@@ -199,7 +199,7 @@ def critical_forcing(params: Params, sigma: float) -> CriticalPoint:
     # The ends by their own closed forms: at the lower end alpha has a square root in A (NaN at
     # A_min itself by rounding); at an upper end (a fold of (39), kappa = 0) alpha is regular, but
     # kappa(A) is found only inside, so the end's kappa gives rho there.
-    abar = np.concatenate([[EndProblem(P).abar_at(P.sigma)], abar_on_curve(flow, A[1:-1]), [_abar_at_upper_end(flow, top)]])
+    abar = np.concatenate([[EndProblem(P, model).abar_at(P.sigma)], abar_on_curve(flow, A[1:-1]), [_abar_at_upper_end(flow, top)]])
     finite = np.isfinite(abar)
     if not np.any(finite):
         raise RuntimeError(f"(46) has no steady state on S+ at sigma = {sigma} for A in [{lo:.10g}, {top:.10g}]")
@@ -219,7 +219,7 @@ def _abar_at_upper_end(flow: SlowFlow, A):
     (its kappa from the end, not from (39)) when A is that end."""
     if A < flow.A_max:
         return float(abar_on_curve(flow, A))
-    E, Phi = gen.steady_balances(A, end_rho(flow.law.upper), *flow._slow_with(None, 1.0))
+    E, Phi = flow.generated("steady_balances")(A, *flow.law.end_values(flow.law.upper), *flow._slow_with(None, 1.0))
     return float(np.hypot(E, Phi) / (np.pi**2 * A))
 
 
@@ -234,6 +234,7 @@ class CriticalCurve:
     kind: np.ndarray  # "LP" or "END" per point
     end_branch: object
     fold_branches: tuple
+    model: str = "slowflow"
 
 
 def _trace(problem, x0, sigma0, lo, hi, options):
@@ -242,7 +243,7 @@ def _trace(problem, x0, sigma0, lo, hi, options):
 
 
 def critical_curve(
-    params: Params, sigma_min: float, sigma_max: float, *, seeds: int = 7, options: cont.ContinuationOptions | None = None, progress=None
+    params: Params, sigma_min: float, sigma_max: float, *, seeds: int = 7, options: cont.ContinuationOptions | None = None, progress=None, model: str = "slowflow"
 ) -> CriticalCurve:
     """Abar_b(sigma) over [sigma_min, sigma_max] by continuation of the fold and end-point conditions.
 
@@ -254,19 +255,19 @@ def critical_curve(
     if not sigma_min < sigma_max:
         raise ValueError(f"need sigma_min < sigma_max; got {sigma_min} and {sigma_max}")
     opts = options or DEFAULT_OPTIONS
-    end_problem = EndProblem(params)
+    end_problem = EndProblem(params, model)
     end = _trace(end_problem, [end_problem.abar_at(sigma_min)], float(sigma_min), sigma_min, sigma_max, opts)
     report(f"end-point curve: {len(end)} points")
-    fold_problem = FoldProblem(params)
+    fold_problem = FoldProblem(params, model)
     folds = []
     for k, sigma in enumerate(np.linspace(sigma_min, sigma_max, seeds)):
-        for lp in abar_branch(params, sigma, options=opts).special_of("LP"):
+        for lp in abar_branch(params, sigma, options=opts, model=model).special_of("LP"):
             x = np.array([lp.x[0], lp.p])
             if not any(_on_branch(b, x, sigma) for b in folds):
                 folds.append(_trace(fold_problem, x, float(sigma), sigma_min, sigma_max, opts))
                 report(f"fold curve {len(folds)}: {len(folds[-1])} points ({folds[-1].message})")
         report(f"seed {k + 1}/{seeds} at sigma = {sigma:.4g} done")
-    return _envelope(params, end, tuple(folds), fold_problem)
+    return dataclasses.replace(_envelope(params, end, tuple(folds), fold_problem), model=model)
 
 
 def _on_branch(branch, x, sigma, tol=1e-6):

@@ -36,7 +36,7 @@ from scipy.integrate import solve_ivp
 
 from slosh_bif.model import restitution
 from slosh_bif.model._generated import slow_flow as gen
-from slosh_bif.model.manifold_law import ManifoldLaw
+from slosh_bif.model.corrected_law import check_model, manifold_law
 from slosh_bif.model.params import Params
 
 __all__ = ["AsymptoticsWarning", "SlowFlow", "SlowTrajectory", "asymptotics_concerns", "triangle_wave"]
@@ -48,11 +48,12 @@ class AsymptoticsWarning(UserWarning):
 
 # Where the multiple-scales model was compared with the full model (README, "What the full model
 # says"): eps = 0.05-0.1, beta = 0-0.3, and eq. (21) is accurate only for small dissipation.
-ASYMPTOTICS_LIMITS = {"eps": 0.1, "beta": 0.5, "wall_dissipation": 0.5}
+ASYMPTOTICS_LIMITS = {"eps": 0.1, "beta": 0.5, "wall_dissipation": 0.5, "corrected_n": 10}
 
 
-def asymptotics_concerns(params: Params) -> list:
-    """Why the slow flow may be inaccurate for ``params`` (empty when no known reason)."""
+def asymptotics_concerns(params: Params, model: str = "slowflow") -> list:
+    """Why the slow flow (``model``) may be inaccurate for ``params`` (empty when no known reason).
+    The corrected model takes kappa from the wall itself, so the concern about (21) is not its."""
     P = params
     concerns = []
     if P.eps > ASYMPTOTICS_LIMITS["eps"]:
@@ -62,8 +63,13 @@ def asymptotics_concerns(params: Params) -> list:
             f"beta = {P.beta:g} > {ASYMPTOTICS_LIMITS['beta']:g}: the triangle wave solves (24b) only at beta = 0, "
             "and near beta = 1 the particle's own frequency meets the 1:1 resonance"
         )
+    if check_model(model) == "corrected" and P.n < ASYMPTOTICS_LIMITS["corrected_n"]:
+        concerns.append(
+            f"n = {P.n} < {ASYMPTOTICS_LIMITS['corrected_n']}: the contact lasts a large part of the period and the vessel moves the particle during it, "
+            "which the corrected model (an instantaneous impact at the wall's kappa and clearance) leaves out; at n = 6 it is further from (9) than (46)"
+        )
     delta = float(restitution.dissipation_at_unit_speed(P.lam, P.chi, P.n, P.pbar))
-    if delta > ASYMPTOTICS_LIMITS["wall_dissipation"]:
+    if delta > ASYMPTOTICS_LIMITS["wall_dissipation"] and check_model(model) == "slowflow":
         concerns.append(
             f"the wall loses {100 * delta:.0f} % of the energy per impact (kappa = {np.sqrt(1 - delta):.2f} at unit speed): "
             "eq. (21) is first order in the dissipation and under-estimates kappa there (n = 6, Figs. 11-12: 0.27 vs 0.63)"
@@ -80,18 +86,24 @@ def triangle_wave(T0, alpha, eta):
 
 
 class SlowFlow:
-    """The slow flow (45) and steady states (46) on S+ for one parameter set."""
+    """The slow flow (45) and steady states (46) on S+ for one parameter set.
 
-    def __init__(self, params: Params):
+    ``model``: ``"slowflow"`` (the paper's: kappa of (21)/(39), the wall at |w| = 1) or
+    ``"corrected"`` (kappa and the clearance D of the measured wall,
+    :mod:`slosh_bif.model.corrected_law`); every method below is the same for both.
+    """
+
+    def __init__(self, params: Params, model: str = "slowflow"):
         if not isinstance(params, Params):
             raise TypeError(f"params must be a slosh_bif.Params; got {type(params).__name__}")
         self.params = params
-        concerns = asymptotics_concerns(params)
+        self.model = check_model(model)
+        concerns = asymptotics_concerns(params, model)
         if concerns:
             warnings.warn("slow flow outside its checked range: " + "; ".join(concerns), AsymptoticsWarning, stacklevel=2)
         P = params
         self._slow = (P.beta, P.gamma, P.sigma, P.Abar)
-        self.law = ManifoldLaw(params)
+        self.law = manifold_law(params, model)
         self.newtonian = self.law.newtonian
         self.A_min, self.A_max, self.kappa_at_end = self.law.A_min, self.law.A_max, self.law.kappa_at_end
 
@@ -104,6 +116,15 @@ class SlowFlow:
     def alpha(self, A):
         """alpha_S+(A) with rho(A), eq. (36)."""
         return self.law.alpha(A)
+
+    def clearance(self, A):
+        """The wall's position D on S+ at amplitude(s) A (1 for the paper's model)."""
+        return self.law.values(A)[1] if self.model == "corrected" else np.ones_like(np.asarray(A, dtype=float))
+
+    def generated(self, name: str):
+        """The generated function ``name`` of this flow's model (its arguments after A and psi:
+        ``law.values(A)``, or ``law.slopes(A)`` for Jacobians and gradients)."""
+        return getattr(gen, self.law.prefix + name)
 
     # -- the flow and its steady states ---------------------------------------------------------
 
@@ -119,29 +140,27 @@ class SlowFlow:
         ``sigma`` and ``Abar`` override the parameter set's values (this and the methods below).
         """
         A = self._check_on_manifold(A)
-        return gen.slow_rhs(A, psi, self.rho(A)[0], *self._slow_with(sigma, Abar))
+        return self.generated("slow_rhs")(A, psi, *self.law.values(A), *self._slow_with(sigma, Abar))
 
     def jac(self, A, psi, sigma=None, Abar=None):
         """Jacobian of (45) in (A, psi), shape ``(2, 2) + ...``; its eigenvalues give stability."""
         A = self._check_on_manifold(A)
-        r, dr = self.rho(A)
-        return gen.slow_jac(A, psi, r, dr, *self._slow_with(sigma, Abar))
+        return self.generated("slow_jac")(A, psi, *self.law.slopes(A), *self._slow_with(sigma, Abar))
 
     def dparams(self, A, psi, sigma=None, Abar=None):
         """d(45)/d(sigma, Abar), shape ``(2, 2) + ...`` (columns sigma, Abar)."""
         A = self._check_on_manifold(A)
-        return gen.slow_dparams(A, psi, self.rho(A)[0], *self._slow_with(sigma, Abar))
+        return self.generated("slow_dparams")(A, psi, *self.law.values(A), *self._slow_with(sigma, Abar))
 
     def steady_residual(self, A, sigma=None, Abar=None):
         """Residual of (46) at amplitude(s) A (optionally at other sigma, Abar)."""
         A = self._check_on_manifold(A)
-        return gen.steady_residual(A, self.rho(A)[0], *self._slow_with(sigma, Abar))
+        return self.generated("steady_residual")(A, *self.law.values(A), *self._slow_with(sigma, Abar))
 
     def steady_residual_grad(self, A, sigma=None, Abar=None):
         """[dR/dA, dR/dsigma, dR/dAbar] of (46)."""
         A = self._check_on_manifold(A)
-        r, dr = self.rho(A)
-        return gen.steady_residual_grad(A, r, dr, *self._slow_with(sigma, Abar))
+        return self.generated("steady_residual_grad")(A, *self.law.slopes(A), *self._slow_with(sigma, Abar))
 
     def steady_balances(self, A, sigma=None, Abar=None):
         """(E, Phi) of (46) at amplitude A: at a steady state pi^2 A Abar (cos psi, sin psi) = (E, Phi).
@@ -149,7 +168,7 @@ class SlowFlow:
         E (the energy balance) does not depend on sigma or Abar; Phi is linear in sigma.
         """
         A = self._check_on_manifold(A)
-        return gen.steady_balances(A, self.rho(A)[0], *self._slow_with(sigma, Abar))
+        return self.generated("steady_balances")(A, *self.law.values(A), *self._slow_with(sigma, Abar))
 
     def steady_phase(self, A, sigma=None, Abar=None):
         """psi of the steady state of amplitude A (requires Abar > 0)."""
@@ -165,7 +184,7 @@ class SlowFlow:
         fast times ``tau`` (shape ``tau.shape + (4,)``): X = A sin(tau + psi) (25) and
         w = X + f with the triangle wave f = (2 alpha / pi) arcsin(cos(tau - eta)) (29, 35),
         whose impact phase eta solves (31), (32) with B = 0:
-        A sin(eta + psi) = 1 - alpha, A cos(eta + psi) = rho alpha.
+        A sin(eta + psi) = D - alpha, A cos(eta + psi) = rho alpha (the wall at D = 1 in the paper).
 
         A start guess for shooting on (9): X is what the slow flow predicts; w is the leading
         order only (the smooth wall of (9) bends the triangle's corners and the orbit's impacts
@@ -175,8 +194,8 @@ class SlowFlow:
         if not np.isfinite(psi):
             raise ValueError(f"phase psi must be finite; got {psi!r}")
         tau = np.asarray(tau, dtype=float)
-        alpha, rho = float(self.alpha(A)), float(self.rho(A)[0])
-        eta = np.arctan2(1 - alpha, rho * alpha) - psi
+        alpha, rho, D = float(self.alpha(A)), float(self.rho(A)[0]), float(self.clearance(A))
+        eta = np.arctan2(D - alpha, rho * alpha) - psi
         X, Xd = A * np.sin(tau + psi), A * np.cos(tau + psi)
         f, fd = triangle_wave(tau, alpha, eta)
         return np.stack([X, Xd, X + f, Xd + fd], axis=-1)

@@ -12,7 +12,12 @@ import numpy as np
 from slosh_bif.report.tables import write_rows
 from slosh_bif.slowflow.steady_states import FrequencyResponse
 
-__all__ = ["write_frc_csv", "plot_frc", "write_critical_csv", "plot_critical"]
+__all__ = ["write_frc_csv", "plot_frc", "write_critical_csv", "plot_critical", "model_label"]
+
+
+def model_label(model: str) -> str:
+    """How a figure names the slow flow it shows."""
+    return "eq. 46" if model == "slowflow" else "corrected: wall's kappa and clearance"
 
 FRC_COLUMNS = ("component", "sigma", "Abar", "A", "psi", "alpha", "stable", "special")
 
@@ -43,7 +48,7 @@ def plot_frc(fr: FrequencyResponse, path, *, title=None) -> Path:
     ax.plot([], [], "k--", label="unstable")
     by_abar = bool(fr.branches) and fr.branches[0].param == "Abar"
     ax.set_xlabel(r"forcing $\bar A$" if by_abar else r"detuning $\sigma$")
-    ax.set_ylabel("amplitude A of X (slow flow, eq. 46)")
+    ax.set_ylabel(f"amplitude A of X (slow flow, {model_label(fr.model)})")
     P = fr.params
     fixed = f"sigma = {P.sigma:g}" if by_abar else f"Abar = {P.Abar:g}"
     ax.set_title(title or f"{'Forcing' if by_abar else 'Frequency'} response on S+: {fixed}, gamma = {P.gamma:g}, beta = {P.beta:g}, n = {P.n}, pbar = {P.pbar}")
@@ -74,7 +79,7 @@ def plot_critical(curve, path, *, title=None) -> Path:
     ax.set_xlabel(r"detuning $\sigma$")
     ax.set_ylabel(r"forcing amplitude $\bar A$")
     ax.set_ylim(0, 2.0 * max(curve.Abar_b.max(), 1e-3))
-    ax.set_title(title or f"Critical forcing for steady states on S+: gamma = {P.gamma:g}, beta = {P.beta:g}, n = {P.n}, pbar = {P.pbar}")
+    ax.set_title(title or f"Critical forcing for steady states on S+ ({model_label(curve.model)}): gamma = {P.gamma:g}, beta = {P.beta:g}, n = {P.n}, pbar = {P.pbar}")
     ax.text(0.02, 0.95, "below the curve: no steady state on S+", transform=ax.transAxes, fontsize=8, va="top")
     ax.legend(fontsize=8, loc="upper right")
     ax.grid(alpha=0.3)

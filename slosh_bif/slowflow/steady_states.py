@@ -23,7 +23,6 @@ import numpy as np
 
 import slosh_bif.continuation as cont
 from slosh_bif.continuation.branch import Branch
-from slosh_bif.model._generated import slow_flow as gen
 from slosh_bif.model.manifold_law import END_KINDS
 from slosh_bif.model.params import Params
 from slosh_bif.slowflow.flow import SlowFlow
@@ -44,37 +43,43 @@ class SteadyStateProblem:
     edge_name = "manifold end A = A_min"
     stability_from_jacobian = True  # the residual is the slow flow: its Jacobian decides stability
 
-    def __init__(self, params: Params, param: str = "sigma"):
+    def __init__(self, params: Params, param: str = "sigma", model: str = "slowflow"):
         if param not in PARAMS:
             raise ValueError(f"continued parameter must be one of {', '.join(PARAMS)}; got {param!r}")
         self.params = params
         self.param = param
-        self.flow = SlowFlow(params)
+        self.flow = SlowFlow(params, model)
+        self._rhs, self._jac, self._dparams = (self.flow.generated(name) for name in ("slow_rhs", "slow_jac", "slow_dparams"))
         self.A_edge = self.flow.A_min * (1 + EDGE_MARGIN)
         self.A_edge_high = self.flow.A_max * (1 - EDGE_MARGIN)
         self._column = PARAMS.index(param)
         # The engine only evaluates inside the domain (A >= A_edge), so the generated functions are
-        # called directly, without SlowFlow's per-call input checks; rho is a constant at pbar = 0.
+        # called directly, without SlowFlow's per-call input checks; rho is a constant at pbar = 0
+        # in the paper's model (the corrected model's clearance is never constant).
         self._rho0 = (self.flow.rho(1.0)[0].item(), 0.0) if self.flow.newtonian else None
 
-    def _rho(self, A):
-        return self._rho0 if self._rho0 is not None else tuple(float(v) for v in self.flow.rho(A))
+    def _values(self, A):
+        """The law's arguments of the generated functions after (A, psi)."""
+        return self._rho0[:1] if self._rho0 is not None else tuple(float(v) for v in self.flow.law.values(A))
+
+    def _slopes(self, A):
+        return self._rho0 if self._rho0 is not None else tuple(float(v) for v in self.flow.law.slopes(A))
 
     def _slow(self, p):
         P = self.params
         return (P.beta, P.gamma, p, P.Abar) if self.param == "sigma" else (P.beta, P.gamma, P.sigma, p)
 
     def residual(self, x, p):
-        return gen.slow_rhs(x[0], x[1], self._rho(x[0])[0], *self._slow(p))
+        return self._rhs(x[0], x[1], *self._values(x[0]), *self._slow(p))
 
     def jacobian(self, x, p):
         # On an end of S+ itself (an END point) d alpha/dA is infinite: the Jacobian, and so the
         # stability of the END row, is the limit from just inside.
         A = min(max(x[0], self.A_edge), self.A_edge_high)
-        return gen.slow_jac(A, x[1], *self._rho(A), *self._slow(p))
+        return self._jac(A, x[1], *self._slopes(A), *self._slow(p))
 
     def dparam(self, x, p):
-        return gen.slow_dparams(x[0], x[1], self._rho(x[0])[0], *self._slow(p))[:, self._column]
+        return self._dparams(x[0], x[1], *self._values(x[0]), *self._slow(p))[:, self._column]
 
     def in_domain(self, x, p):
         return bool(self.A_edge <= x[0] <= self.A_edge_high)
@@ -93,17 +98,19 @@ class SteadyStateProblem:
         end = law.lower if law.upper is None or abs(x[0] - law.A_min) <= abs(x[0] - law.A_max) else law.upper
         self.edge_name = end.describe()
         A = end.A
-        rho = self._rho0[0] if self._rho0 is not None else end_rho(end)
+        at_end = self._rho0[:1] if self._rho0 is not None else law.end_values(end)
+        with_slopes = tuple(x for value in at_end for x in (value, 0.0))  # only d/dpsi is used: no d/dA
         at_36 = end.kind == END_KINDS[0]  # alpha = alpha_min there: the functions written for it
+        rhs_end, end_jac = self.flow.generated("slow_rhs_end"), self.flow.generated("slow_end_jac")
         z = np.array([x[1], p], dtype=float)
         for _ in range(30):
             slow = self._slow(z[1])
             if at_36:
-                F, D = gen.slow_rhs_end(z[0], rho, *slow), gen.slow_end_jac(z[0], rho, *slow)
+                F, D = rhs_end(z[0], *at_end, *slow), end_jac(z[0], *at_end, *slow)
                 M = np.column_stack([D[:, 0], D[:, 1 + self._column]])
             else:
-                F = gen.slow_rhs(A, z[0], rho, *slow)
-                M = np.column_stack([gen.slow_jac(A, z[0], rho, 0.0, *slow)[:, 1], gen.slow_dparams(A, z[0], rho, *slow)[:, self._column]])
+                F = self._rhs(A, z[0], *at_end, *slow)
+                M = np.column_stack([self._jac(A, z[0], *with_slopes, *slow)[:, 1], self._dparams(A, z[0], *at_end, *slow)[:, self._column]])
             if not (np.all(np.isfinite(F)) and np.all(np.isfinite(M))):
                 return None
             dz = np.linalg.solve(M, -F)
@@ -111,11 +118,6 @@ class SteadyStateProblem:
             if np.linalg.norm(dz) < 1e-14 * (1 + np.linalg.norm(z)):
                 return np.array([A, z[0]]), z[1]
         return None
-
-
-def end_rho(end) -> float:
-    """rho (31) at an end of S+ (its kappa is part of the end)."""
-    return float(2.0 * (1.0 - end.kappa) / (np.pi * (1.0 + end.kappa)))
 
 
 def sigma_on_curve(flow: SlowFlow, A):
@@ -158,21 +160,23 @@ class FrequencyResponse:
     params: Params
     branches: tuple
     A_min: float
+    model: str = "slowflow"
 
     def alpha(self, branch: Branch):
         """alpha_S+ along a branch (its A column)."""
-        return SlowFlow(self.params).alpha(branch.x[:, 0])
+        return SlowFlow(self.params, self.model).alpha(branch.x[:, 0])
 
 
-def frequency_response(params: Params, *, sigma_min=None, sigma_max=None, options: cont.ContinuationOptions | None = None) -> FrequencyResponse:
+def frequency_response(params: Params, *, sigma_min=None, sigma_max=None, options: cont.ContinuationOptions | None = None, model: str = "slowflow") -> FrequencyResponse:
     """Trace every component of the frequency-response curve A(sigma) of (45)/(46) on S+.
 
     ``sigma_min``/``sigma_max`` default to the range where steady states exist, plus a margin.
-    Continuation options' ``p_min``/``p_max`` are set from them.
+    Continuation options' ``p_min``/``p_max`` are set from them. ``model``: the paper's slow flow
+    or the corrected one (:class:`~slosh_bif.slowflow.flow.SlowFlow`).
     """
     if not params.Abar > 0:
         raise ValueError(f"a frequency-response curve needs forcing: parameter Abar must be > 0; got {params.Abar}")
-    problem = SteadyStateProblem(params, "sigma")
+    problem = SteadyStateProblem(params, "sigma", model)
     flow = problem.flow
     intervals = _feasible_intervals(flow, _amplitude_bound(params))
     if not intervals:
@@ -202,17 +206,17 @@ def frequency_response(params: Params, *, sigma_min=None, sigma_max=None, option
             branch = cont.continuation(problem, [A0, psi0], float(sigma0), param="sigma", options=opts)
             branches.append(branch)
             candidates = [(A, sg) for A, sg in candidates if np.min(np.hypot(branch.x[:, 0] - A, branch.p - sg)) >= 2 * opts.step_max]
-    return FrequencyResponse(params=params, branches=tuple(branches), A_min=flow.A_min)
+    return FrequencyResponse(params=params, branches=tuple(branches), A_min=flow.A_min, model=model)
 
 
-def forcing_response(params: Params, *, abar_min: float = 0.0, abar_max: float | None = None, options: cont.ContinuationOptions | None = None) -> FrequencyResponse:
+def forcing_response(params: Params, *, abar_min: float = 0.0, abar_max: float | None = None, options: cont.ContinuationOptions | None = None, model: str = "slowflow") -> FrequencyResponse:
     """Steady states of (45)/(46) on S+ at the parameter set's sigma, continued in Abar over
     [abar_min, abar_max] (default: up to ten times the forcing of the largest-amplitude start).
 
     For fixed A, Abar is explicit (:func:`abar_on_curve`), so the curve is one arc from the
     manifold's end to large A; each piece of it inside the Abar range is one branch.
     """
-    problem = SteadyStateProblem(params, "Abar")
+    problem = SteadyStateProblem(params, "Abar", model)
     flow = problem.flow
     A_top = min(_amplitude_bound(params.replace(Abar=max(params.Abar, abar_max or 0.0, 1.0))), flow.A_max * (1 - 2 * EDGE_MARGIN))
     A = np.geomspace(flow.A_min * (1 + 2 * EDGE_MARGIN), A_top, 4000)
@@ -232,4 +236,4 @@ def forcing_response(params: Params, *, abar_min: float = 0.0, abar_max: float |
         k = (i0 + i1 - 1) // 2  # the middle of the piece
         psi0 = float(flow.steady_phase(A[k], Abar=abar[k]))
         branches.append(cont.continuation(problem, [A[k], psi0], float(abar[k]), param="Abar", options=opts))
-    return FrequencyResponse(params=params, branches=tuple(branches), A_min=flow.A_min)
+    return FrequencyResponse(params=params, branches=tuple(branches), A_min=flow.A_min, model=model)

@@ -143,9 +143,14 @@ def _critical_row(ref):
     params = get_preset(ref.preset).params.replace(sigma=ref.sigma)
     full = critical_forcing_full(params, ref.y0)
     slow = critical_forcing(params, ref.sigma)
-    rel = abs(slow.Abar_b - full.Abar_c) / full.Abar_c if np.isfinite(full.Abar_c) else np.nan
+    corrected = critical_forcing(params, ref.sigma, model="corrected")
+
+    def rel(value):
+        return abs(value - full.Abar_c) / full.Abar_c if np.isfinite(full.Abar_c) else np.nan
+
     return dict(preset=ref.preset, sigma=ref.sigma, Abar_b_slow_flow=slow.Abar_b, slow_flow_kind=slow.kind, Abar_b_smooth_model=full.Abar_c,
-                smooth_model_kind=full.bounded_by, relative_difference=rel)
+                smooth_model_kind=full.bounded_by, relative_difference=rel(slow.Abar_b), Abar_b_corrected=corrected.Abar_b, corrected_kind=corrected.kind,
+                relative_difference_corrected=rel(corrected.Abar_b))
 
 
 def _interp_stable(fr, sigma, target):
@@ -167,9 +172,13 @@ def _methods(preset, refs):
     targets = [r.A1 for r in refs]
     lo, hi = min(sigmas) - 1.0, max(sigmas) + 1.0
 
-    def continuation_46(step_max):
-        fr = frequency_response(pre.params, sigma_min=lo, sigma_max=hi, options=ContinuationOptions(step=min(0.05, step_max), step_max=step_max))
-        return [_interp_stable(fr, s, a) for s, a in zip(sigmas, targets)]
+    def continuation(model):
+        def answer(step_max):
+            options = ContinuationOptions(step=min(0.05, step_max), step_max=step_max)
+            fr = frequency_response(pre.params, sigma_min=lo, sigma_max=hi, options=options, model=model)
+            return [_interp_stable(fr, s, a) for s, a in zip(sigmas, targets)]
+
+        return answer
 
     def slow_flow_45(periods):
         out = []
@@ -195,7 +204,8 @@ def _methods(preset, refs):
         return [settle_and_shoot(pre.params.replace(sigma=s), pre.state0, rtol, sim_rtol=1e-7, segments=REFERENCE_SEGMENTS)[1] for s in sigmas]
 
     return [
-        ("eq. 46 continuation", "step_max", (2.0, 0.5, 0.1), continuation_46),
+        ("eq. 46 continuation", "step_max", (2.0, 0.5, 0.1), continuation("slowflow")),
+        ("corrected slow flow continuation", "step_max", (2.0, 0.5, 0.1), continuation("corrected")),
         ("slow flow (45) integrated", "periods", (30, 100, 300), slow_flow_45),
         ("impact model (8) simulated", "periods", (30, 100, 300), simulated("impact")),
         ("smooth model (9) simulated", "periods", (30, 100, 300), simulated("smooth")),

@@ -82,7 +82,8 @@ def write_frequency_response(rows, ref_rows, crit_rows, out) -> list:
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     # The column names of the first release (scripts read them); Abar_b_smooth_model is Abar_c of (9).
-    crit_columns = ["preset", "sigma", "Abar_b_slow_flow", "slow_flow_kind", "Abar_b_smooth_model", "smooth_model_kind", "relative_difference"]
+    crit_columns = ["preset", "sigma", "Abar_b_slow_flow", "slow_flow_kind", "Abar_b_smooth_model", "smooth_model_kind", "relative_difference",
+                    "Abar_b_corrected", "corrected_kind", "relative_difference_corrected"]
     paths = [
         write_rows(crit_rows, crit_columns, out / "critical_forcing.csv"),
         write_rows(rows, ["preset", "method", "knob", "value", "seconds", "runs", "error", "failures", "answers", "reference"], out / "frequency_response.csv"),

@@ -198,6 +198,7 @@ def bifurcation_chart(
     keep=None,
     progress=None,
     second: str = "Abar",
+    model: str = "slowflow",
 ) -> Chart:
     """Trace the family of orbits at the parameter set's Abar over ``sigma_range`` (from a
     simulation from ``state0``) and the primary branch's orbits at ``seeds`` values of sigma
@@ -209,7 +210,7 @@ def bifurcation_chart(
 
     ``second``: the chart's second parameter (any real field of :class:`Params` but sigma;
     ``abar_range`` is then its range, the seeds are continued in it, and there is no slow-flow
-    critical curve)."""
+    critical curve). ``model``: the slow flow whose Abar_b is drawn beside the curves."""
     check_box(params, sigma_range, abar_range, second)
     (s0, s1), (a0, a1) = sigma_range, abar_range
     workers = _workers(workers)
@@ -248,7 +249,7 @@ def bifurcation_chart(
     slow = None
     if second == "Abar":
         try:
-            slow = critical_curve(params, s0, s1)
+            slow = critical_curve(params, s0, s1, model=model)
         except (RuntimeError, ValueError) as err:
             say(f"no slow-flow critical curve: {err}")
     return Chart(params, (s0, s1), (a0, a1), family, curves, slow, time.perf_counter() - started, status, second)
@@ -285,7 +286,7 @@ class FullCritical:
 
 def critical_forcing_full(
     params: Params, state0, *, abar_range: tuple | None = None, halfwidth: float = 0.25, switch: bool = True, segments: int = 4, points: int = 5,
-    settle: int = 100, random_starts: int = 4, seed: int = 0, progress=None,
+    settle: int = 100, random_starts: int = 4, seed: int = 0, progress=None, model: str = "slowflow",
 ) -> FullCritical:
     """Abar_c(sigma) of (9) at ``params.sigma``: every family of orbits there in Abar over
     ``abar_range`` (default [0.05, max(2 Abar, 3)]), found by :func:`~slosh_bif.orbits.scan.scan_families`
@@ -315,7 +316,7 @@ def critical_forcing_full(
     starts = [s for ob in family.branches if ob.problem.period_multiple == 1 for s in _starts(ob, "Abar", params, box, (a0, a1), pitchforks)]
     curves, _ = _trace_curves(starts, say)
     try:
-        slow = critical_curve(params, *box)
+        slow = critical_curve(params, *box, model=model)
     except (RuntimeError, ValueError):
         slow = None
     chart = Chart(params, box, (a0, a1), family, curves, slow, time.perf_counter() - started)

@@ -75,7 +75,7 @@ def plot_chart(chart, path, *, regimes=None) -> Path:
                 ax.annotate(label, (sigma, abar), textcoords="offset points", xytext=(4, 4), fontsize=8)
     slow = chart.slow_flow_critical
     if slow is not None and len(slow.sigma):
-        ax.plot(slow.sigma, slow.Abar_b, "k--", lw=1.4, label=r"slow flow $\bar A_b$ (46)")
+        ax.plot(slow.sigma, slow.Abar_b, "k--", lw=1.4, label=r"slow flow $\bar A_b$ " + ("(46)" if slow.model == "slowflow" else "(corrected)"))
     rows = list(critical_rows(chart, points=201))
     if rows:
         ax.plot([r["sigma"] for r in rows], [r["Abar_c_full"] for r in rows], "-", color="tab:green", lw=3, alpha=0.6, label=r"full model $\bar A_c$ (9)")

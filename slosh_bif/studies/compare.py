@@ -118,10 +118,11 @@ def plot_compare(family: OrbitFamily, fr: FrequencyResponse, rows, path) -> Path
     from slosh_bif.report.plotting import pyplot, save_figure
 
     fig, (ax, axd) = pyplot().subplots(2, 1, figsize=(9, 7.5), sharex=True, gridspec_kw={"height_ratios": [3, 1.3]})
+    name = "slow flow (46)" if fr.model == "slowflow" else "corrected slow flow"
     for k, b in enumerate(fr.branches):
         for st, ls in ((True, "-"), (False, "--")):
             y = np.where(b.stable == st, b.x[:, 0], np.nan)
-            ax.plot(b.p, y, ls, color="k", lw=2, label=("slow flow (46), stable" if st else "slow flow (46), unstable") if k == 0 else None)
+            ax.plot(b.p, y, ls, color="k", lw=2, label=(f"{name}, stable" if st else f"{name}, unstable") if k == 0 else None)
     for k, ob in enumerate(ob for ob in family.branches if ob.problem.period_multiple == 1):
         b = ob.branch
         for st, marker in ((True, "o"), (False, ".")):
@@ -129,7 +130,7 @@ def plot_compare(family: OrbitFamily, fr: FrequencyResponse, rows, path) -> Path
             ax.plot(b.p[mask], ob.measures["A1"][mask], marker, ms=3 if st else 2, color=f"C{k}", label=f"shooting (9), {ob.name}, {'stable' if st else 'unstable'}")
     ax.set_ylabel("amplitude of X (A; A1 for orbits)")
     P = family.params
-    ax.set_title(f"Slow flow (46) against periodic orbits of (9): eps = {P.eps:g}, beta = {P.beta:g}, Abar = {P.Abar:g}, n = {P.n}")
+    ax.set_title(f"{name[0].upper() + name[1:]} against periodic orbits of (9): eps = {P.eps:g}, beta = {P.beta:g}, Abar = {P.Abar:g}, n = {P.n}")
     ax.legend(fontsize=7)
     ax.grid(alpha=0.3)
     s = np.array([r["sigma"] for r in rows], dtype=float)

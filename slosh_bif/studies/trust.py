@@ -29,6 +29,7 @@ import warnings
 import numpy as np
 
 from slosh_bif.continuation import ConvergenceError
+from slosh_bif.model.corrected_law import check_model
 from slosh_bif.model.params import Params
 from slosh_bif.orbits.families import trace_orbits
 from slosh_bif.orbits.starts import slow_flow_start
@@ -79,11 +80,13 @@ class TrustPoint:
         return dataclasses.asdict(self)
 
 
-def trust_point(params: Params, sigma_min: float = -6.0, sigma_max: float = 8.0, *, grid: int = 141, agree_within: float = 0.05, switch: bool = True, max_branches: int = 6, segments: int = 4, backend: str = "auto") -> TrustPoint:
+def trust_point(params: Params, sigma_min: float = -6.0, sigma_max: float = 8.0, *, grid: int = 141, agree_within: float = 0.05, switch: bool = True, max_branches: int = 6, segments: int = 4, backend: str = "auto", model: str = "slowflow") -> TrustPoint:
     """Compare (46) with the 2pi-orbits of (9) over [sigma_min, sigma_max] at ``params``.
 
     Never raises for a parameter set where the comparison cannot be made: ``status`` says why.
-    ``backend``: the integrator of (9) (compiled or scipy's DOP853).
+    ``backend``: the integrator of (9) (compiled or scipy's DOP853). ``model``: the slow flow
+    compared (the paper's or the corrected one); the orbits are found from the paper's slow flow
+    with either, so both models are measured against the same family.
     """
     if not (np.isfinite(sigma_min) and np.isfinite(sigma_max) and sigma_min < sigma_max):
         raise ValueError(f"need finite sigma_min < sigma_max; got [{sigma_min}, {sigma_max}]")
@@ -92,7 +95,8 @@ def trust_point(params: Params, sigma_min: float = -6.0, sigma_max: float = 8.0,
     if not 0 < agree_within < 1:
         raise ValueError(f"agree_within must be in (0, 1); got {agree_within!r}")
     started = time.perf_counter()
-    head = dict(eps=params.eps, beta=params.beta, n=params.n, warned=bool(asymptotics_concerns(params)))
+    check_model(model)
+    head = dict(eps=params.eps, beta=params.beta, n=params.n, warned=bool(asymptotics_concerns(params, model)))
     nan = float("nan")
 
     def failed(status, sigma_start=nan):
@@ -101,8 +105,9 @@ def trust_point(params: Params, sigma_min: float = -6.0, sigma_max: float = 8.0,
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", AsymptoticsWarning)  # recorded in ``warned`` instead
         try:
-            fr = frequency_response(params, sigma_min=sigma_min, sigma_max=sigma_max)
-            start = slow_flow_start(params, sigma_min, sigma_max, segments=segments, response=fr, backend=backend)
+            paper = frequency_response(params, sigma_min=sigma_min, sigma_max=sigma_max)
+            fr = paper if model == "slowflow" else frequency_response(params, sigma_min=sigma_min, sigma_max=sigma_max, model=model)
+            start = slow_flow_start(params, sigma_min, sigma_max, segments=segments, response=paper, backend=backend)
         except (ConvergenceError, ValueError) as err:
             return failed(f"no start: {err}")
         try:
@@ -164,10 +169,10 @@ def trust_map(base: Params, *, eps=(0.02, 0.05, 0.1, 0.2), beta=(0.0, 0.3, 0.5),
     one = functools.partial(trust_point, sigma_min=sigma_min, sigma_max=sigma_max, **options)
     results, status = run_cells(one, {i: (p,) for i, p in enumerate(jobs)}, executor=executor, max_workers=max_workers, done=done, on_result=finished)
     why = f"not computed: {status}"  # only for the points an interruption left
-    return [results[i] if i in results else _not_computed(job, why) for i, job in enumerate(jobs)]
+    return [results[i] if i in results else _not_computed(job, why, options.get("model", "slowflow")) for i, job in enumerate(jobs)]
 
 
-def _not_computed(params: Params, why: str) -> TrustPoint:
+def _not_computed(params: Params, why: str, model: str) -> TrustPoint:
     nan = float("nan")
-    return TrustPoint(eps=params.eps, beta=params.beta, n=params.n, warned=bool(asymptotics_concerns(params)), stable_states=0, agree=nan, confirmed=nan,
+    return TrustPoint(eps=params.eps, beta=params.beta, n=params.n, warned=bool(asymptotics_concerns(params, model)), stable_states=0, agree=nan, confirmed=nan,
                       median_difference=nan, max_difference=nan, sigma_start=nan, branches=0, seconds=0.0, status=why)

@@ -22,10 +22,13 @@ def _percent(value) -> str:
     return "  -" if not np.isfinite(value) else f"{100 * value:3.0f}"
 
 
-def trust_table(points) -> str:
+_MODEL_NAMES = {"slowflow": "slow flow (46) as derived", "corrected": "corrected slow flow (the wall's kappa and clearance)"}
+
+
+def trust_table(points, *, model: str = "slowflow") -> str:
     """One line per point: agree / confirmed (% of stable slow-flow states) and the median and
-    largest difference to the nearest orbit."""
-    lines = [f"{'eps':>5s} {'beta':>4s} {'n':>3s}  {'agree %':>7s} {'confirmed %':>11s} {'median diff':>11s} {'max diff':>8s}  warned  status"]
+    largest difference to the nearest orbit; a first line names the slow flow compared."""
+    lines = [f"{_MODEL_NAMES[model]} against the 2pi-orbits of (9)", f"{'eps':>5s} {'beta':>4s} {'n':>3s}  {'agree %':>7s} {'confirmed %':>11s} {'median diff':>11s} {'max diff':>8s}  warned  status"]
     for p in points:
         lines.append(
             f"{p.eps:5.3g} {p.beta:4.2g} {p.n:3d}  {_percent(p.agree):>7s} {_percent(p.confirmed):>11s} {p.median_difference:11.3%} {p.max_difference:8.1%}  {'yes' if p.warned else 'no':>6s}  {p.status[:60]}"
@@ -33,7 +36,7 @@ def trust_table(points) -> str:
     return "\n".join(lines)
 
 
-def plot_trust_map(points, path, *, title: str = "") -> Path:
+def plot_trust_map(points, path, *, title: str = "", model: str = "slowflow") -> Path:
     """One column of panels per n; eps across, beta up. Top row: fraction of the slow flow's stable
     states within 5 % of some 2pi-orbit of (9); bottom row: of a *stable* orbit. Each cell is
     annotated with that percentage and the median difference; cells where AsymptoticsWarning
@@ -69,7 +72,8 @@ def plot_trust_map(points, path, *, title: str = "") -> Path:
             if col == 0:
                 ax.set_ylabel(r"$\beta$" + f"\n{label}", fontsize=8)
     fig.colorbar(image, ax=axes, shrink=0.8, label="fraction of stable slow-flow states")
-    fig.suptitle(title or "Slow flow (46) against periodic orbits of (9): % of stable states within 5 %, median difference; hatched: AsymptoticsWarning", fontsize=9)
+    name = _MODEL_NAMES[model][0].upper() + _MODEL_NAMES[model][1:]
+    fig.suptitle(title or f"{name} against periodic orbits of (9): % of stable states within 5 %, median difference; hatched: AsymptoticsWarning", fontsize=9)
     return save_figure(fig, path)
 
 

@@ -1,0 +1,256 @@
+"""The corrected restitution law on S+: kappa(A) and the clearance D(A) from the measured wall (issue 20).
+
+The paper's slow flow takes kappa from eq. (21) (first order in the wall's dissipation) and the
+wall at |w| = 1. The smooth wall of (9)/(10) returns kappa_wall(v0) and turns the particle at
+|w| = d(v0) (:mod:`slosh_bif.model.wall_law`), both functions of the impact speed v0 alone. The
+corrected slow flow puts the wall at |w| = D = d(v0) in (31)-(36) and uses kappa_wall(v0): the
+manifold (36) becomes A^2 = (rho alpha)^2 + (D - alpha)^2, A_min = D rho / sqrt(1 + rho^2), and
+the impact speed on S+ (38) is v = 4 alpha_S+(A, rho, D) / (pi (1 + kappa)) with kappa, rho and D
+taken at v itself: a fixed point in v at every A (the counterpart of eq. (39)), solved by Newton
+with the interpolants' slopes. Its derivative gives d rho/dA and dD/dA for the slow flow's
+Jacobian. With D = 1 and kappa from (21) it is (39) again (checked in the derivation).
+
+Ends of S+: the manifold's end (36) at the impact speed v_end solving v = 4 D(v) / (pi (1 +
+kappa(v)) (1 + rho(v)^2)) (alpha = alpha_min), and the top of the speed range over which the wall
+was measured (:data:`V_RANGE`), far above the amplitudes of the paper's figures.
+"""
+
+from __future__ import annotations
+
+import functools
+
+import numpy as np
+from scipy import optimize
+
+from slosh_bif.model import restitution
+from slosh_bif.model._generated import slow_flow as gen
+from slosh_bif.model.manifold_law import END_KINDS, ManifoldEnd
+from slosh_bif.model.params import Params
+from slosh_bif.model.wall_law import WallLaw, wall_law
+
+__all__ = ["CorrectedLaw", "V_RANGE", "MODELS", "check_model", "manifold_law"]
+
+V_RANGE = (0.05, 100.0)
+"""Impact speeds over which the wall is measured: the manifold's end of every preset lies near
+0.6 and v grows like A on S+, so A up to ~100 is covered."""
+NODES = 32
+MODELS = ("slowflow", "corrected")
+"""``slowflow``: eq. (46) as derived (kappa of (21)/(39), wall at |w| = 1); ``corrected``: kappa and
+clearance of the measured wall (this module)."""
+TOP_KIND = "top of the measured wall law"
+
+
+def check_model(model: str) -> str:
+    if model not in MODELS:
+        raise ValueError(f"model must be one of {', '.join(MODELS)}; got {model!r}")
+    return model
+
+
+def manifold_law(params: Params, model: str = "slowflow"):
+    """The law on S+ of ``model``: a :class:`~slosh_bif.model.manifold_law.ManifoldLaw` or a
+    :class:`CorrectedLaw` (which depends on the wall alone: one per wall and process)."""
+    from slosh_bif.model.manifold_law import ManifoldLaw
+
+    if check_model(model) == "slowflow":
+        return ManifoldLaw(params)
+    if not isinstance(params, Params):
+        raise TypeError(f"params must be a slosh_bif.Params; got {type(params).__name__}")
+    key = (params.lam, params.chi, params.n, params.pbar)
+    if key not in _LAWS:
+        if len(_LAWS) >= 32:
+            _LAWS.pop(next(iter(_LAWS)))
+        _LAWS[key] = CorrectedLaw(params)
+    return _LAWS[key]
+
+
+_LAWS: dict = {}  # CorrectedLaw per wall (lam, chi, n, pbar): the law does not depend on the rest
+
+
+def _drho_dkappa(k):
+    return -4.0 / (np.pi * (1.0 + k) ** 2)
+
+
+@functools.lru_cache(maxsize=32)
+def _measured(lam, chi, n, pbar) -> WallLaw:
+    try:
+        return wall_law(lam, chi, n, pbar, *V_RANGE, nodes=NODES)
+    except RuntimeError as err:
+        raise ValueError(f"the corrected model needs the wall's restitution at impact speeds {V_RANGE[0]:g}-{V_RANGE[1]:g}: {err}") from None
+
+
+class CorrectedLaw:
+    """kappa(A), rho(A), D(A) on S+ of the corrected slow flow, and the ends of S+.
+
+    The interface of :class:`~slosh_bif.model.manifold_law.ManifoldLaw` (``lower``, ``upper``,
+    ``A_min``, ``A_max``, ``kappa``, ``rho``, ``alpha``, ``describe``, ``branches``) and
+    ``clearance``; ``values``/``slopes``/``end_values`` are the arguments the generated
+    ``corrected_*`` functions take after A.
+    """
+
+    prefix = "corrected_"
+    newtonian = False  # D(A) varies even where kappa does not
+
+    def __init__(self, params: Params):
+        if not isinstance(params, Params):
+            raise TypeError(f"params must be a slosh_bif.Params; got {type(params).__name__}")
+        P = params
+        self.wall_params = (P.lam, P.chi, P.n, P.pbar)  # all the law depends on
+        self.wall = _measured(*self.wall_params)
+        self.lower = self._lower_end()
+        self.upper = self._upper_end()
+        self.A_min, self.A_max = self.lower.A, self.upper.A
+        self.kappa_at_end = self.lower.kappa
+        # A table of v against u = sqrt(A - A_min) (v is smooth in u: alpha has a square root at
+        # A_min) for Newton's first guess: two steps from it instead of five from the end's speed.
+        self._guess = (np.zeros(1), np.full(1, self.v_end))  # for the table's own solve
+        u = np.sqrt(self.A_max - self.A_min) * np.linspace(0.0, 1.0, 400) ** 2
+        self._guess = (u, self._speed(self.A_min + u**2)[0])
+        self._last = (None, None)
+        self._check_single_valued()
+
+    # -- the fixed point in the impact speed ------------------------------------------------------
+
+    def _end_gap(self, v):
+        k, dk, d, dd = self.wall.slopes(v)
+        s, s_k, s_d = gen.corrected_end_speed(k, d)
+        return v - s, 1.0 - s_k * dk - s_d * dd
+
+    def _lower_end(self) -> ManifoldEnd:
+        v = np.geomspace(*V_RANGE, 400)
+        gap = self._end_gap(v)[0]
+        change = np.flatnonzero(np.sign(gap[:-1]) != np.sign(gap[1:]))
+        if len(change) != 1:
+            raise ValueError(f"the corrected manifold's end: the impact speed v = 4 D(v)/(pi (1 + kappa(v))(1 + rho^2)) has {len(change)} solutions in {V_RANGE} (need one); {self._where()}")
+        i = change[0]
+        v_end = optimize.brentq(lambda x: self._end_gap(x)[0], v[i], v[i + 1], xtol=1e-15, rtol=4 * np.finfo(float).eps)
+        k, d = float(self.wall.kappa(v_end)), float(self.wall.depth(v_end))
+        self.v_end, self.D_at_end = float(v_end), d
+        return ManifoldEnd(float(gen.corrected_a_min(restitution.rho(k), d)), k, END_KINDS[0])
+
+    def _upper_end(self) -> ManifoldEnd:
+        v = V_RANGE[1]
+        k, d = float(self.wall.kappa(v)), float(self.wall.depth(v))
+        low = float(gen.corrected_a_min(restitution.rho(k), d)) * (1 + 1e-12)  # the manifold with the top's kappa and D
+        top = optimize.brentq(lambda A: gen.corrected_impact_speed(A, k, d)[0] - v, low, 10 * v + 10, xtol=1e-13)
+        return ManifoldEnd(float(top), k, TOP_KIND)
+
+    def _speed(self, A):
+        """(v, dv/dA) at amplitude(s) A inside the window: Newton on g(v) = v - S(A, kappa(v), D(v)),
+        kept inside the bracket [v_end, v_max] (g < 0 at v_end for A > A_min; above the root D(v)
+        grows until A falls below the manifold's end, where S is undefined: counted as g > 0)."""
+        A = np.asarray(A, dtype=float)
+        lo, hi = np.full(A.shape, self.v_end), np.full(A.shape, V_RANGE[1])
+        v = np.clip(np.interp(np.sqrt(np.maximum(A - self.A_min, 0.0)), *self._guess), lo, hi)
+        defined = lo.copy()  # the last iterate at which (38) was defined
+        for _ in range(100):
+            k, dk, d, dd = self.wall.slopes(v)
+            with np.errstate(invalid="ignore"):
+                s, _, s_k, s_d = gen.corrected_impact_speed(A, k, d)
+            g = np.where(np.isfinite(s), v - s, np.inf)
+            defined = np.where(np.isfinite(s), v, defined)
+            lo, hi = np.where(g < 0, v, lo), np.where(g >= 0, v, hi)
+            with np.errstate(invalid="ignore"):
+                trial = v - g / (1.0 - s_k * dk - s_d * dd)
+            newton = np.isfinite(trial) & (trial >= lo) & (trial <= hi)
+            # A Newton step of 1e-8 leaves an error of order 1e-16 (quadratic convergence).
+            done = newton & (np.abs(trial - v) <= 1e-8 * v)
+            v = np.where(newton, trial, 0.5 * (lo + hi))
+            if np.all(done):
+                break
+        # On the end itself v is the end's, and dv/dA infinite (alpha's square root at A_min).
+        at_end = A <= self.A_min
+        v = np.where(at_end, self.v_end, v)
+        k, dk, d, dd = self.wall.slopes(v)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            s, s_A, s_k, s_d = gen.corrected_impact_speed(A, k, d)
+        # Within ~1e-9 of A_min the manifold's end moves with v faster than Newton's last step
+        # resolves: the final iterate can leave (38)'s domain. The last defined iterate is then
+        # the answer (an error of at most that step, 1e-8 relative, where dv/dA is unbounded).
+        undefined = ~np.isfinite(s) & ~at_end
+        if np.any(undefined):
+            v = np.where(undefined, defined, v)
+            k, dk, d, dd = self.wall.slopes(v)
+            with np.errstate(invalid="ignore", divide="ignore"):
+                s, s_A, s_k, s_d = gen.corrected_impact_speed(A, k, d)
+        return v, np.where(at_end, np.inf, s_A / (1.0 - s_k * dk - s_d * dd))
+
+    def _check_single_valued(self):
+        """The speed must grow with A along S+ (one fixed point): refuse a wall where it folds."""
+        A = self.A_min + (min(self.A_max, 50.0) - self.A_min) * np.linspace(1e-6, 1.0, 200) ** 2
+        k, dk, d, dd = self.wall.slopes(self._speed(A)[0])
+        with np.errstate(invalid="ignore"):  # s_A's square root at A_min; s_k and s_d are regular
+            _, _, s_k, s_d = gen.corrected_impact_speed(A, k, d)
+        if np.any(1.0 - s_k * dk - s_d * dd <= 0):
+            raise ValueError(f"the corrected model's impact speed folds on S+ (two fixed points at one amplitude): not supported; {self._where()}")
+
+    def _where(self):
+        return "wall lam={}, chi={}, n={}, pbar={}".format(*self.wall_params)
+
+    def _at(self, A):
+        """(v, dv/dA, kappa, dkappa/dv, D, dD/dv) at A, the last scalar A remembered: a
+        continuation step asks for the residual, the Jacobian and d/dparam at the same point."""
+        if np.ndim(A) == 0 and self._last[0] == float(A):
+            return self._last[1]
+        v, dv = self._speed(self._inside(A))
+        result = (v, dv) + tuple(self.wall.slopes(v))
+        if np.ndim(A) == 0:
+            self._last = (float(A), result)
+        return result
+
+    def _inside(self, A):
+        A = np.asarray(A, dtype=float)
+        tol = 4 * np.finfo(float).eps
+        if np.any(~np.isfinite(A)) or np.any(A < self.A_min * (1 - tol)) or np.any(A > self.A_max * (1 + tol)):
+            raise ValueError(f"amplitude A = {A.ravel()[:3]} lies outside S+ of the corrected model, A in [{self.A_min:.10g}, {self.A_max:.10g}]: {self.describe()}")
+        return np.clip(A, self.A_min, self.A_max)
+
+    # -- what the slow flow asks ------------------------------------------------------------------
+
+    def kappa(self, A):
+        """The wall's kappa at the impact speed of amplitude(s) A on S+."""
+        return self._at(A)[2]
+
+    def rho(self, A):
+        """rho on S+ at amplitude(s) A, and d rho/dA."""
+        _, dv, k, dk, _, _ = self._at(A)
+        return restitution.rho(k), _drho_dkappa(k) * dk * dv
+
+    def clearance(self, A):
+        """The clearance D on S+ at amplitude(s) A (the wall's turning point), and dD/dA."""
+        _, dv, _, _, d, dd = self._at(A)
+        return d, dd * dv
+
+    def values(self, A):
+        """(rho, D) at A: the arguments of the generated ``corrected_*`` functions after A (and psi)."""
+        return self.rho(A)[0], self._at(A)[4]
+
+    def slopes(self, A):
+        """(rho, drho/dA, D, dD/dA): the arguments of ``corrected_slow_jac`` and ``..._grad``."""
+        return self.rho(A) + self.clearance(A)
+
+    def end_values(self, end: ManifoldEnd):
+        """(rho, D) at an end of S+ (the lower end's from its own speed, not from a solve)."""
+        if end is self.lower:
+            return float(restitution.rho(end.kappa)), self.D_at_end
+        return tuple(float(x) for x in self.values(end.A))
+
+    def alpha(self, A, branch: int = +1):
+        """alpha on S+ (or, ``branch=-1``, the unstable branch) with rho(A), D(A)."""
+        rho, d = self.values(A)
+        fn = gen.corrected_alpha if branch == +1 else gen.corrected_alpha_unstable
+        disc = (1 + rho**2) * np.asarray(A, dtype=float) ** 2 - (rho * d) ** 2
+        with np.errstate(invalid="ignore"):
+            return np.where(disc <= 8 * np.finfo(float).eps * d**2, d / (1 + rho**2), fn(A, rho, d))
+
+    def describe(self) -> str:
+        w = self.wall
+        return (
+            f"{self.lower.describe()} (impact speed {self.v_end:.6g}, clearance D = {self.D_at_end:.6g}); "
+            f"{self.upper.describe()} (v0 = {V_RANGE[1]:g}); wall measured to {w.kappa_error:.1e} in kappa, {w.depth_error:.1e} in D"
+        )
+
+    def branches(self, A_max: float, points: int = 300):
+        """(A, alpha_S+, alpha_unstable) of the corrected manifold from A_min to ``A_max``."""
+        top = min(A_max, self.A_max)
+        A = self.A_min + (top - self.A_min) * np.linspace(0.0, 1.0, points) ** 2
+        return A, self.alpha(A), self.alpha(A, -1)
