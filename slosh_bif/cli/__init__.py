@@ -40,22 +40,22 @@ def build_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
     for family in (info, tank, slowflow, orbits, chart, studies, simulation):
         family.add_commands(sub)
+    for each in (parser, *sub.choices.values()):
+        _numbers_may_start_with_minus(each)
     return parser
 
 
 _NEGATIVE = re.compile(r"^-(\d|\.\d|inf|nan)", re.IGNORECASE)
 
 
-def _negative_values_attached(argv):
-    """``--opt -1e6`` as ``--opt=-1e6``: argparse takes a value that starts with '-' for an option
-    unless it is a plain negative number, so ``--sigma-min -1e6`` and ``--guess -1,0,0,0`` failed."""
-    out = []
-    for token in argv:
-        if out and out[-1].startswith("--") and "=" not in out[-1] and _NEGATIVE.match(token):
-            out[-1] = f"{out[-1]}={token}"
-        else:
-            out.append(token)
-    return out
+def _numbers_may_start_with_minus(parser) -> None:
+    """A token such as -1e6, -inf or -1,0,0,0 is a value, not an option: argparse knows only plain
+    negative numbers (-3, -0.5) as values, so ``--sigma-min -1e6`` and ``--guess -1,0,0,0``
+    failed. Attaching such a value to its option (``--sigma-min=-1e6``) broke the pairs
+    (``--range1 -3 3``): the parser's own test is widened instead (no option of ours looks like a
+    number). Without that attribute (another Python's argparse) the plain-number rule stays."""
+    if hasattr(parser, "_negative_number_matcher"):
+        parser._negative_number_matcher = _NEGATIVE
 
 
 def _check_out(out, *, is_file: bool = False) -> None:
@@ -89,7 +89,7 @@ def main(argv=None) -> int:
     from slosh_bif.cli.common import Terminated
 
     parser = build_parser()
-    args = parser.parse_args(_negative_values_attached(sys.argv[1:] if argv is None else list(argv)))
+    args = parser.parse_args(sys.argv[1:] if argv is None else list(argv))
 
     shown = set()
 

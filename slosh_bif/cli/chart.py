@@ -9,7 +9,7 @@ from pathlib import Path
 
 import numpy as np
 
-from slosh_bif.cli.common import abar_range, add_abar_range_options, add_backend_option, add_model_option, add_params_options, add_tmax_option, params_of, progress, sigma_range, state0_of, stopped, throttled
+from slosh_bif.cli.common import abar_range, add_abar_range_options, add_backend_option, add_model_option, add_params_options, add_tmax_option, check_workers, params_of, progress, sigma_range, state0_of, stopped, throttled
 from slosh_bif.model.params import REAL_FIELDS
 
 __all__ = ["add_commands"]
@@ -40,8 +40,7 @@ def _chart(args) -> int:
         check_run_length(args.tmax)  # before the curves, not minutes later when the map starts
     if args.seeds < 0:
         raise ValueError(f"--seeds must be an integer >= 0; got {args.seeds}")
-    if args.workers is not None and args.workers < 1:
-        raise ValueError(f"--workers must be a positive integer; got {args.workers}")
+    check_workers(args)
     state0 = state0_of(args, params)
     options = dict(switch=not args.no_switch, seeds=args.seeds, backend=args.backend)
     if args.second != "Abar":  # (a stored Abar chart's settings stay as they were: --resume keeps working)

@@ -51,6 +51,23 @@ class Terminated(KeyboardInterrupt):
     signal_name = "SIGTERM"
 
 
+MAX_GRID = 2000  # values along one axis of a map (regimes, basins): 2000 x 2000 cells is days of work on 2 cores
+MAX_WORKERS = 256  # local worker processes: beyond that, a cluster (--scheduler) is the way
+MAX_SIGMA_POINTS = 100_000  # sigma values a comparison samples: far past any branch's resolution
+
+
+def check_workers(args) -> None:
+    """--workers: None (one per core) or an integer in [1, MAX_WORKERS]; checked before any work."""
+    if args.workers is not None and not 1 <= args.workers <= MAX_WORKERS:
+        raise ValueError(f"--workers takes an integer in [1, {MAX_WORKERS}]; got {args.workers}")
+
+
+def check_sigma_points(args) -> None:
+    """--sigma-points of a comparison: an integer in [2, MAX_SIGMA_POINTS]."""
+    if not 2 <= args.sigma_points <= MAX_SIGMA_POINTS:
+        raise ValueError(f"--sigma-points must be an integer >= 2 and <= {MAX_SIGMA_POINTS}; got {args.sigma_points}")
+
+
 def stopped(status: str) -> KeyboardInterrupt:
     """The exception a command raises after writing a partial result whose ``status`` says why."""
     return Terminated(status) if "SIGTERM" in status else KeyboardInterrupt(status)

@@ -10,6 +10,7 @@ from pathlib import Path
 import numpy as np
 
 from slosh_bif.cli.common import (
+    MAX_GRID,
     Deprecated,
     abar_range,
     add_abar_range_options,
@@ -19,6 +20,7 @@ from slosh_bif.cli.common import (
     add_scheduler_option,
     add_tmax_option,
     cell_progress,
+    check_workers,
     params_of,
     preset_of,
     progress,
@@ -31,7 +33,6 @@ from slosh_bif.cli.common import (
 
 __all__ = ["add_commands"]
 
-MAX_GRID = 2000  # values of sigma or Abar in a regime map: 2000 x 2000 cells is days of work on 2 cores
 
 
 def _simulate(args) -> int:
@@ -78,8 +79,7 @@ def _regimes(args) -> int:
     n_sigma, n_abar = args.sigma_points, args.abar_points
     if not (1 <= n_sigma <= MAX_GRID and 1 <= n_abar <= MAX_GRID):
         raise ValueError(f"--sigma-points and --abar-points take integers in [1, {MAX_GRID}]; got {n_sigma} and {n_abar}")
-    if args.workers is not None and args.workers < 1:
-        raise ValueError(f"--workers must be a positive integer; got {args.workers}")
+    check_workers(args)
     sigmas, abars, state0 = np.linspace(lo, hi, n_sigma), np.linspace(args.abar_min, args.abar_max, n_abar), state0_of(args, params)
     settings = regime_settings(params, state0, sigmas, abars, tmax=args.tmax, model=args.model)
     store = regime_store(args.out / "regimes.json", settings, resume=args.resume)

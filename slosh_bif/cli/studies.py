@@ -9,6 +9,7 @@ from pathlib import Path
 import numpy as np
 
 from slosh_bif.cli.common import (
+    MAX_GRID,
     add_backend_option,
     add_model_option,
     add_params_options,
@@ -17,6 +18,8 @@ from slosh_bif.cli.common import (
     add_sigma_points_option,
     add_tmax_option,
     cell_progress,
+    check_sigma_points,
+    check_workers,
     floats,
     params_of,
     progress,
@@ -38,8 +41,7 @@ def _compare(args) -> int:
 
     params = params_of(args)
     lo, hi = sigma_range(args)
-    if args.sigma_points < 2:
-        raise ValueError(f"--sigma-points must be an integer >= 2; got {args.sigma_points}")
+    check_sigma_points(args)
     check_family_options(args)
     args.out.mkdir(parents=True, exist_ok=True)
     fr = frequency_response(params, sigma_min=lo, sigma_max=hi, model=args.model)
@@ -53,12 +55,17 @@ def _compare(args) -> int:
     return 0
 
 
+MAX_REPEATS = 100  # timing rounds per benchmark point: the median of 100 is as good as it gets
+
+
 def _trust(args) -> int:
     from slosh_bif.studies.trust import trust_map
     from slosh_bif.studies.trust_output import plot_trust_map, trust_store, trust_table, write_trust_csv
 
     base = params_of(args)
     lo, hi = sigma_range(args)
+    check_sigma_points(args)
+    check_workers(args)
     settings = dict(
         params=base.as_dict(), eps=args.eps, beta=args.beta, n=args.n, sigma_range=[lo, hi], grid=args.sigma_points, switch=not args.no_switch,
         max_branches=args.max_branches, backend=args.backend, model=args.model,
@@ -95,13 +102,12 @@ def _basins(args) -> int:
 
     params = params_of(args)
     n1, n2 = args.grid
-    if n1 < 1 or n2 < 1:
-        raise ValueError(f"--grid takes two positive integers N M; got {args.grid}")
+    if not (1 <= n1 <= MAX_GRID and 1 <= n2 <= MAX_GRID):
+        raise ValueError(f"--grid takes two integers N M in [1, {MAX_GRID}]; got {n1} {n2}")
     for name, (lo, hi) in (("--range1", args.range1), ("--range2", args.range2)):
         if not (np.isfinite(lo) and np.isfinite(hi) and lo < hi):
             raise ValueError(f"{name} needs finite LO < HI; got {lo} {hi}")
-    if args.workers is not None and args.workers < 1:
-        raise ValueError(f"--workers must be a positive integer; got {args.workers}")
+    check_workers(args)
     first, second = np.linspace(*args.range1, n1), np.linspace(*args.range2, n2)
     store = basin_store(args.out / "basins.json", basin_settings(params, args.axes, first, second, args.tmax), resume=args.resume)
     if args.resume:
@@ -133,6 +139,8 @@ def _figures(args) -> int:
 def _bench(args) -> int:
     from slosh_bif.studies.bench import run
 
+    if not 1 <= args.repeats <= MAX_REPEATS:
+        raise ValueError(f"--repeats takes an integer in [1, {MAX_REPEATS}]; got {args.repeats}")
     paths = run(args.out, only=args.only, quick=args.quick, repeats=args.repeats, progress=progress)
     for path in paths:
         print(path)

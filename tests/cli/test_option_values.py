@@ -5,6 +5,7 @@ same examples every time; values random runs found are kept in the sampled list.
 
 import math
 
+import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
@@ -41,6 +42,9 @@ def no_work(monkeypatch):
     import slosh_bif.slowflow.critical as critical
 
     monkeypatch.setattr(critical, "critical_curve", _started)  # critical's continuation
+    import slosh_bif.studies.bench as bench
+
+    monkeypatch.setattr(bench, "run", _started)  # bench's measurements
 
     monkeypatch.setattr(tank, "tank_model", _started)  # tank's conversion, after the inputs are checked
     for name in ("frequency_response", "forcing_response"):  # frc's continuation
@@ -86,6 +90,10 @@ CASES = {
     "tank --damping-ratio": (["tank", "--shape", "cylinder", "--radius", "5", *_TANK_REST], "--damping-ratio", [], lambda v: not (math.isfinite(v) and 0 <= v < 1)),
     "answer --tol": (["answer", "frequency-response", "--preset", "fig10"], "--tol", [], lambda v: not (math.isfinite(v) and v > 0)),
     "answer --tmax": (["answer", "regime", "--preset", "fig10"], "--tmax", [], lambda v: not (math.isfinite(v) and v > 8 * math.pi)),
+    "basins --range1": (["basins", "--preset", "fig10", "--range1", "-3"], None, [], lambda v: not (math.isfinite(v) and v > -3)),
+    "basins --range2": (["basins", "--preset", "fig10", "--range2", "-1"], None, [], lambda v: not (math.isfinite(v) and v > -1)),
+    "tank --lam": (["tank", "--shape", "cylinder", "--radius", "5", *_TANK_REST], "--lam", [], lambda v: not _wall_ok(lam=v)),
+    "tank --chi": (["tank", "--shape", "cylinder", "--radius", "5", *_TANK_REST], "--chi", [], lambda v: not _wall_ok(chi=v)),
     "answer --sigma-min": (["answer", "frequency-response", "--preset", "fig10", "--sigma-max", "8"], "--sigma-min", [], lambda v: not (math.isfinite(v) and v < 1)),
 }
 
@@ -96,7 +104,9 @@ CASES = {
 def test_a_numeric_option_is_an_error_or_starts_the_work(case, value, no_work, tmp_path, capsys):
     before, option, after, invalid = CASES[case]
     text = repr(value) if math.isfinite(value) else str(value)
-    argv = before + ([option, text] if option else [f"Abar={text}"]) + after + ["--out", str(tmp_path / "out")]
+    # no option: the value ends the line before it (--set Abar=VALUE, or the second number of a pair)
+    last = before[-1] == "--set"
+    argv = before + ([option, text] if option else [f"Abar={text}"] if last else [text]) + after + ["--out", str(tmp_path / "out")]
     _an_error_or_the_work(argv, invalid(value), capsys)
 
 
@@ -122,15 +132,19 @@ def test_compare_refuses_too_few_sigma_points_before_any_work(value, no_work, tm
     assert "--sigma-points must be an integer >= 2" in capsys.readouterr().err
 
 
-def _wall_ok(n=50, pbar=0):
-    """The paper's wall (lam 0.35, chi 0.2) with n, pbar: eq. (19) converges, p is a whole number
-    and eq. (21)'s restitution coefficient is real (the admissibility that Params enforces)."""
+def _wall_ok(n=50, pbar=0, lam=0.35, chi=0.2):
+    """The paper's wall (lam 0.35, chi 0.2, n 50, pbar 0) with one of them changed: finite lam >= 0
+    and chi > 0, eq. (19) converges, p is a whole number and eq. (21)'s restitution coefficient
+    is real (the admissibility that Params enforces)."""
     from slosh_bif.model.restitution import dissipation_at_unit_speed
 
+    if not (math.isfinite(lam) and lam >= 0 and math.isfinite(chi) and chi > 0):
+        return False
     if not (n >= 1 and pbar > -(n + 1) and (pbar + n) % 2 == 0):
         return False
     try:
-        return bool(dissipation_at_unit_speed(0.35, 0.2, n, pbar) < 1)
+        with np.errstate(over="ignore", invalid="ignore", divide="ignore", under="ignore"):
+            return bool(dissipation_at_unit_speed(lam, chi, n, pbar) < 1)
     except OverflowError:  # a dissipation beyond every float: certainly not < 1
         return False
 
@@ -146,6 +160,11 @@ INTEGER_CASES = {
     "shoot --scan-random": (["shoot", "--preset", "fig10", "--start", "scan"], "--scan-random", lambda v: not 0 <= v <= 1000),
     "compare --segments": (["compare", "--preset", "fig13"], "--segments", lambda v: not 1 <= v <= 64),
     "regimes --abar-points": (["regimes", "--preset", "fig10"], "--abar-points", lambda v: not 1 <= v <= 2000),
+    "basins --grid": (["basins", "--preset", "fig10", "--grid", "5"], "", lambda v: not 1 <= v <= 2000),
+    "trust --sigma-points": (["trust", "--preset", "fig13", "--no-switch"], "--sigma-points", lambda v: not 2 <= v <= 100_000),
+    "trust --workers": (["trust", "--preset", "fig13", "--no-switch"], "--workers", lambda v: not 1 <= v <= 256),
+    "basins --workers": (["basins", "--preset", "fig10"], "--workers", lambda v: not 1 <= v <= 256),
+    "bench --repeats": (["bench"], "--repeats", lambda v: not 1 <= v <= 100),
     "tank --n": (["tank", "--shape", "cylinder", "--radius", "5", *_TANK_REST], "--n", lambda v: not _wall_ok(n=v)),
     "tank --pbar": (["tank", "--shape", "cylinder", "--radius", "5", *_TANK_REST], "--pbar", lambda v: not _wall_ok(pbar=v)),
 }
@@ -156,4 +175,5 @@ INTEGER_CASES = {
 @given(value=INTEGERS)
 def test_an_integer_option_is_an_error_or_starts_the_work(case, value, no_work, tmp_path, capsys):
     before, option, invalid = INTEGER_CASES[case]
-    _an_error_or_the_work([*before, option, str(value), "--out", str(tmp_path / "out")], invalid(value), capsys, usable_refused_too=True)
+    argv = [*before, option, str(value)] if option else [*before, str(value)]  # no option: the value ends the line before it
+    _an_error_or_the_work([*argv, "--out", str(tmp_path / "out")], invalid(value), capsys, usable_refused_too=True)
