@@ -64,6 +64,13 @@ _STATE = ("X", "Xd", "w", "wd")
 DOUBLE = 1e-5  # two multipliers this close to -1 (or a pair to +-1) are a double one, not a crossing
 MAX_PERIOD_MULTIPLE = 8  # longest period traced, in units of 2pi: a period-doubling cascade is followed to period 8
 
+ARC_MAX_STEPS = 100_000
+"""Steps one shooting arc may take. An orbit of the presets takes a few hundred a period; a Newton
+iterate deep in the n = 50 wall shrinks the steps until the 2,000,000 of a plain integration
+take minutes per arc (seen: a trust point's continuation stuck for 20 minutes in one corrector
+step). Past the limit the arc fails and the corrector halves its step."""
+
+
 class ShootingProblem:
     """Periodic orbits of (9) with period ``period_multiple * 2 pi``, continued in ``param`` (any
     real parameter of :class:`Params`; sigma by default).
@@ -184,12 +191,16 @@ class ShootingProblem:
             z0 = np.concatenate([x[4 * k : 4 * k + 4], np.eye(4).ravel(), np.zeros(9)])
             run = integrator.integrate(
                 params, z0, taus[k], taus[k + 1], shooting=True, rtol=self.rtol, atol=self.atol, backend=self.backend, sensitivities=self.sensitivities,
+                max_steps=ARC_MAX_STEPS,
             )
             self.evaluations += 1
             ok &= run.success and bool(np.all(np.isfinite(run.z)))
             ends[k], mats[k] = run.z[:4], run.z[4:20].reshape(4, 4)
             sens[k] = run.z[20:28].reshape(2, 4).T
             trace += run.z[28]
+            if not ok:  # the rest of the arcs cannot mend it: Newton or the corrector steps back
+                mats[k + 1 :], sens[k + 1 :] = np.nan, np.nan
+                break
         if not ok:
             ends[:] = np.nan
         M = np.eye(4)
