@@ -1,9 +1,11 @@
 """The corrected restitution law on S+: kappa(A) and the clearance D(A) from the measured wall (issue 20).
 
 The paper's slow flow takes kappa from eq. (21) (first order in the wall's dissipation) and the
-wall at |w| = 1. The smooth wall of (9)/(10) returns kappa_wall(v0) and turns the particle at
-|w| = d(v0) (:mod:`slosh_bif.model.wall_law`), both functions of the impact speed v0 alone. The
-corrected slow flow puts the wall at |w| = D = d(v0) in (31)-(36) and uses kappa_wall(v0): the
+wall at |w| = 1. The smooth wall of (9)/(10) returns kappa_wall(v0), and the free flights in and
+out of a contact are those of a rigid wall at |w| = D(v0) (:mod:`slosh_bif.model.wall_law`: where
+the two flights' lines meet, beyond the turning point d(v0) because the particle lingers there;
+n = 6, unit speed: d = 1.25, D = 1.39), both functions of the impact speed v0 alone. The
+corrected slow flow puts the wall at |w| = D(v0) in (31)-(36) and uses kappa_wall(v0): the
 manifold (36) becomes A^2 = (rho alpha)^2 + (D - alpha)^2, A_min = D rho / sqrt(1 + rho^2), and
 the impact speed on S+ (38) is v = 4 alpha_S+(A, rho, D) / (pi (1 + kappa)) with kappa, rho and D
 taken at v itself: a fixed point in v at every A (the counterpart of eq. (39)), solved by Newton
@@ -17,7 +19,9 @@ was measured (:data:`V_RANGE`), far above the amplitudes of the paper's figures.
 
 from __future__ import annotations
 
+import bisect
 import functools
+import math
 
 import numpy as np
 from scipy import optimize
@@ -66,6 +70,12 @@ def manifold_law(params: Params, model: str = "slowflow"):
 _LAWS: dict = {}  # CorrectedLaw per wall (lam, chi, n, pbar): the law does not depend on the rest
 
 
+def _rho(k):
+    """rho of (31) without :func:`restitution.rho`'s input check (60 us a call, thousands a
+    branch): the measured wall's kappa lies in (0, 1]."""
+    return 2.0 * (1.0 - k) / (np.pi * (1.0 + k))
+
+
 def _drho_dkappa(k):
     return -4.0 / (np.pi * (1.0 + k) ** 2)
 
@@ -100,18 +110,22 @@ class CorrectedLaw:
         self.upper = self._upper_end()
         self.A_min, self.A_max = self.lower.A, self.upper.A
         self.kappa_at_end = self.lower.kappa
-        # A table of v against u = sqrt(A - A_min) (v is smooth in u: alpha has a square root at
-        # A_min) for Newton's first guess: two steps from it instead of five from the end's speed.
-        self._guess = (np.zeros(1), np.full(1, self.v_end))  # for the table's own solve
+        # A table of v and dv/du against u = sqrt(A - A_min) (v is smooth in u: alpha has a square
+        # root at A_min) for Newton's first guess by cubic Hermite interpolation: within ~1e-9 of
+        # the root, so that one Newton step and its check finish (five steps from the end's speed).
+        self._guess = (np.array([0.0, 1.0]), np.full(2, self.v_end), np.zeros(2))  # for the table's own solve
         u = np.sqrt(self.A_max - self.A_min) * np.linspace(0.0, 1.0, 400) ** 2
-        self._guess = (u, self._speed(self.A_min + u**2)[0])
+        v, dv_dA = self._speed_bracketed(self.A_min + u**2)
+        dv_du = 2.0 * u * dv_dA
+        dv_du[0] = (v[1] - v[0]) / (u[1] - u[0])  # dv/dA is unbounded at A_min; dv/du is not
+        self._guess = (u, v, dv_du)
         self._last = (None, None)
         self._check_single_valued()
 
     # -- the fixed point in the impact speed ------------------------------------------------------
 
     def _end_gap(self, v):
-        k, dk, d, dd = self.wall.slopes(v)
+        k, dk, d, dd = self.wall.slopes(v, checked=False)
         s, s_k, s_d = gen.corrected_end_speed(k, d)
         return v - s, 1.0 - s_k * dk - s_d * dd
 
@@ -123,28 +137,87 @@ class CorrectedLaw:
             raise ValueError(f"the corrected manifold's end: the impact speed v = 4 D(v)/(pi (1 + kappa(v))(1 + rho^2)) has {len(change)} solutions in {V_RANGE} (need one); {self._where()}")
         i = change[0]
         v_end = optimize.brentq(lambda x: self._end_gap(x)[0], v[i], v[i + 1], xtol=1e-15, rtol=4 * np.finfo(float).eps)
-        k, d = float(self.wall.kappa(v_end)), float(self.wall.depth(v_end))
+        k, d = float(self.wall.kappa(v_end)), float(self.wall.clearance(v_end))
         self.v_end, self.D_at_end = float(v_end), d
         return ManifoldEnd(float(gen.corrected_a_min(restitution.rho(k), d)), k, END_KINDS[0])
 
     def _upper_end(self) -> ManifoldEnd:
         v = V_RANGE[1]
-        k, d = float(self.wall.kappa(v)), float(self.wall.depth(v))
+        k, d = float(self.wall.kappa(v)), float(self.wall.clearance(v))
         low = float(gen.corrected_a_min(restitution.rho(k), d)) * (1 + 1e-12)  # the manifold with the top's kappa and D
         top = optimize.brentq(lambda A: gen.corrected_impact_speed(A, k, d)[0] - v, low, 10 * v + 10, xtol=1e-13)
         return ManifoldEnd(float(top), k, TOP_KIND)
 
     def _speed(self, A):
+        """(v, dv/dA) at amplitude(s) A inside the window: Newton from the table's guess on the
+        manifold (36) with alpha of (38), F(v) = (rho alpha)^2 + (D - alpha)^2 - A^2 = 0 where
+        alpha = pi v (1 + kappa) / 4 and kappa, rho, D are the wall's at v. F has no square root:
+        near A_min its other root (the unstable branch) is O(sqrt(A - A_min)) away, while Newton on
+        v = S(A, v) (S holds (36)'s square root, singular within O(A - A_min) of the root) took four
+        steps there and a corrected branch spends many points there. An element that does not
+        converge in 6 steps, or lands on the unstable branch, takes the bracketed solve."""
+        A = np.asarray(A, dtype=float)
+        at_end = A <= self.A_min
+        v = np.clip(self._first_guess(np.sqrt(np.maximum(A - self.A_min, 0.0))), self.v_end, V_RANGE[1])
+        for _ in range(6):
+            F, dF, on_stable = self._manifold_gap(A, v)
+            with np.errstate(invalid="ignore", divide="ignore"):
+                step = F / dF
+            # A step of 1e-9 leaves an error of order 1e-18 times F''/F' (quadratic convergence),
+            # and dF at the last iterate is dF at the root to that step: no evaluation after it.
+            converged = np.isfinite(step) & (np.abs(step) <= 1e-9 * v)
+            v = np.where(np.isfinite(step), np.clip(v - step, self.v_end, V_RANGE[1]), v)
+            if np.all(converged | at_end):
+                break
+        with np.errstate(invalid="ignore", divide="ignore"):
+            dv = 2.0 * A / dF
+        good = converged & on_stable & np.isfinite(dv)
+        if not np.all(good | at_end):
+            safe_v, safe_dv = self._speed_bracketed(A)
+            v, dv = np.where(good, v, safe_v), np.where(good, dv, safe_dv)
+        return np.where(at_end, self.v_end, v), np.where(at_end, np.inf, dv)
+
+    def _speed_one(self, A: float):
+        """:meth:`_speed` at one amplitude, in floats (a continuation asks for thousands, one at a
+        time, and numpy's per-call cost on 0-d arrays was most of a corrected branch's time)."""
+        if A <= self.A_min:
+            return self.v_end, math.inf
+        v = min(max(float(self._first_guess(math.sqrt(A - self.A_min))), self.v_end), V_RANGE[1])
+        for _ in range(6):
+            F, dF, on_stable = self._manifold_gap(A, v)
+            step = F / dF if dF != 0.0 else math.nan
+            if not math.isfinite(step):
+                break
+            v = min(max(v - step, self.v_end), V_RANGE[1])
+            if abs(step) <= 1e-9 * v:
+                if on_stable:
+                    return v, 2.0 * A / dF
+                break
+        v, dv = self._speed_bracketed(np.asarray(A))
+        return float(v), float(dv)
+
+    def _manifold_gap(self, A, v):
+        """F(v) of :meth:`_speed`, dF/dv, and whether alpha lies on S+ (alpha >= D / (1 + rho^2))."""
+        k, dk, D, dD = self.wall.slopes(v, checked=False)
+        rho = _rho(k)
+        drho = _drho_dkappa(k) * dk
+        alpha = 0.25 * np.pi * v * (1.0 + k)  # (38): v = 4 alpha / (pi (1 + kappa))
+        dalpha = 0.25 * np.pi * (1.0 + k + v * dk)
+        F = (rho * alpha) ** 2 + (D - alpha) ** 2 - A**2
+        dF = 2.0 * rho * alpha * (drho * alpha + rho * dalpha) + 2.0 * (D - alpha) * (dD - dalpha)
+        return F, dF, alpha >= D / (1.0 + rho**2) * (1.0 - 1e-12)
+
+    def _speed_bracketed(self, A):
         """(v, dv/dA) at amplitude(s) A inside the window: Newton on g(v) = v - S(A, kappa(v), D(v)),
         kept inside the bracket [v_end, v_max] (g < 0 at v_end for A > A_min; above the root D(v)
         grows until A falls below the manifold's end, where S is undefined: counted as g > 0)."""
         A = np.asarray(A, dtype=float)
         lo, hi = np.full(A.shape, self.v_end), np.full(A.shape, V_RANGE[1])
-        v = np.clip(np.interp(np.sqrt(np.maximum(A - self.A_min, 0.0)), *self._guess), lo, hi)
+        v = np.clip(self._first_guess(np.sqrt(np.maximum(A - self.A_min, 0.0))), lo, hi)
         defined = lo.copy()  # the last iterate at which (38) was defined
         for _ in range(100):
-            k, dk, d, dd = self.wall.slopes(v)
-            with np.errstate(invalid="ignore"):
+            k, dk, d, dd = self.wall.slopes(v, checked=False)
+            with np.errstate(invalid="ignore", divide="ignore"):  # dv/dA is unbounded at A_min: not used here
                 s, _, s_k, s_d = gen.corrected_impact_speed(A, k, d)
             g = np.where(np.isfinite(s), v - s, np.inf)
             defined = np.where(np.isfinite(s), v, defined)
@@ -160,7 +233,7 @@ class CorrectedLaw:
         # On the end itself v is the end's, and dv/dA infinite (alpha's square root at A_min).
         at_end = A <= self.A_min
         v = np.where(at_end, self.v_end, v)
-        k, dk, d, dd = self.wall.slopes(v)
+        k, dk, d, dd = self.wall.slopes(v, checked=False)
         with np.errstate(invalid="ignore", divide="ignore"):
             s, s_A, s_k, s_d = gen.corrected_impact_speed(A, k, d)
         # Within ~1e-9 of A_min the manifold's end moves with v faster than Newton's last step
@@ -169,16 +242,30 @@ class CorrectedLaw:
         undefined = ~np.isfinite(s) & ~at_end
         if np.any(undefined):
             v = np.where(undefined, defined, v)
-            k, dk, d, dd = self.wall.slopes(v)
+            k, dk, d, dd = self.wall.slopes(v, checked=False)
             with np.errstate(invalid="ignore", divide="ignore"):
                 s, s_A, s_k, s_d = gen.corrected_impact_speed(A, k, d)
-        return v, np.where(at_end, np.inf, s_A / (1.0 - s_k * dk - s_d * dd))
+        with np.errstate(invalid="ignore", divide="ignore"):
+            return v, np.where(at_end, np.inf, s_A / (1.0 - s_k * dk - s_d * dd))
+
+    def _first_guess(self, u):
+        """v at u = sqrt(A - A_min) from the table, cubic Hermite between its nodes."""
+        nodes, v, dv = self._guess
+        if isinstance(u, float):  # one amplitude: no array calls
+            i = min(max(bisect.bisect_right(nodes, u) - 1, 0), len(nodes) - 2)
+            h = nodes[i + 1] - nodes[i]
+            t = min(max((u - nodes[i]) / h, 0.0), 1.0)
+        else:
+            i = np.clip(np.searchsorted(nodes, u) - 1, 0, len(nodes) - 2)
+            h = nodes[i + 1] - nodes[i]
+            t = np.clip((u - nodes[i]) / h, 0.0, 1.0)
+        return (1 + 2 * t) * (1 - t) ** 2 * v[i] + t * (1 - t) ** 2 * h * dv[i] + t**2 * (3 - 2 * t) * v[i + 1] + t**2 * (t - 1) * h * dv[i + 1]
 
     def _check_single_valued(self):
         """The speed must grow with A along S+ (one fixed point): refuse a wall where it folds."""
         A = self.A_min + (min(self.A_max, 50.0) - self.A_min) * np.linspace(1e-6, 1.0, 200) ** 2
         k, dk, d, dd = self.wall.slopes(self._speed(A)[0])
-        with np.errstate(invalid="ignore"):  # s_A's square root at A_min; s_k and s_d are regular
+        with np.errstate(invalid="ignore", divide="ignore"):  # s_A's square root at A_min; s_k and s_d are regular
             _, _, s_k, s_d = gen.corrected_impact_speed(A, k, d)
         if np.any(1.0 - s_k * dk - s_d * dd <= 0):
             raise ValueError(f"the corrected model's impact speed folds on S+ (two fixed points at one amplitude): not supported; {self._where()}")
@@ -189,17 +276,20 @@ class CorrectedLaw:
     def _at(self, A):
         """(v, dv/dA, kappa, dkappa/dv, D, dD/dv) at A, the last scalar A remembered: a
         continuation step asks for the residual, the Jacobian and d/dparam at the same point."""
-        if np.ndim(A) == 0 and self._last[0] == float(A):
+        if np.ndim(A) == 0:
+            A = float(A)
+            if self._last[0] != A:
+                v, dv = self._speed_one(float(self._inside(A)))
+                self._last = (A, (v, dv) + tuple(self.wall.slopes(v, checked=False)))
             return self._last[1]
         v, dv = self._speed(self._inside(A))
-        result = (v, dv) + tuple(self.wall.slopes(v))
-        if np.ndim(A) == 0:
-            self._last = (float(A), result)
-        return result
+        return (v, dv) + tuple(self.wall.slopes(v, checked=False))  # v lies in [v_end, V_RANGE[1]]
 
     def _inside(self, A):
-        A = np.asarray(A, dtype=float)
         tol = 4 * np.finfo(float).eps
+        if isinstance(A, float) and self.A_min * (1 - tol) <= A <= self.A_max * (1 + tol):  # the continuation's case, without arrays
+            return min(max(A, self.A_min), self.A_max)
+        A = np.asarray(A, dtype=float)
         if np.any(~np.isfinite(A)) or np.any(A < self.A_min * (1 - tol)) or np.any(A > self.A_max * (1 + tol)):
             raise ValueError(f"amplitude A = {A.ravel()[:3]} lies outside S+ of the corrected model, A in [{self.A_min:.10g}, {self.A_max:.10g}]: {self.describe()}")
         return np.clip(A, self.A_min, self.A_max)
@@ -213,10 +303,10 @@ class CorrectedLaw:
     def rho(self, A):
         """rho on S+ at amplitude(s) A, and d rho/dA."""
         _, dv, k, dk, _, _ = self._at(A)
-        return restitution.rho(k), _drho_dkappa(k) * dk * dv
+        return _rho(k), _drho_dkappa(k) * dk * dv
 
     def clearance(self, A):
-        """The clearance D on S+ at amplitude(s) A (the wall's turning point), and dD/dA."""
+        """The clearance D on S+ at amplitude(s) A (the equivalent rigid wall's position), and dD/dA."""
         _, dv, _, _, d, dd = self._at(A)
         return d, dd * dv
 
@@ -246,7 +336,7 @@ class CorrectedLaw:
         w = self.wall
         return (
             f"{self.lower.describe()} (impact speed {self.v_end:.6g}, clearance D = {self.D_at_end:.6g}); "
-            f"{self.upper.describe()} (v0 = {V_RANGE[1]:g}); wall measured to {w.kappa_error:.1e} in kappa, {w.depth_error:.1e} in D"
+            f"{self.upper.describe()} (v0 = {V_RANGE[1]:g}); wall measured to {w.kappa_error:.1e} in kappa, {w.clearance_error:.1e} in D"
         )
 
     def branches(self, A_max: float, points: int = 300):

@@ -138,13 +138,15 @@ def start_orbit(
     return dataclasses.replace(start, found_from=f"{start.found_from} (the {settle}-period simulation has not reached a stable orbit: {why})")
 
 
-def orbit_from_slow_flow(params: Params, A: float, *, psi: float | None = None, segments: int = 4, rtol: float = 1e-10, atol: float = 1e-12, tol: float = 1e-10, backend: str = "auto"):
+def orbit_from_slow_flow(
+    params: Params, A: float, *, psi: float | None = None, segments: int = 4, rtol: float = 1e-10, atol: float = 1e-12, tol: float = 1e-10, backend: str = "auto", model: str = "slowflow",
+):
     """Newton on (9) from the slow flow's motion at amplitude A (a steady state of (46) at
-    ``params``; its phase ``psi`` when known, else from (46)): each arc starts on
-    :meth:`SlowFlow.fast_state` at its own start time, so that multiple shooting does not carry the
-    guess's error across the period. Returns a :class:`PeriodicOrbit` (``converged`` says whether
-    Newton found one)."""
-    flow = SlowFlow(params)
+    ``params``, or of the corrected slow flow with ``model="corrected"``; its phase ``psi`` when
+    known, else from (46)): each arc starts on :meth:`SlowFlow.fast_state` at its own start time,
+    so that multiple shooting does not carry the guess's error across the period. Returns a
+    :class:`PeriodicOrbit` (``converged`` says whether Newton found one)."""
+    flow = SlowFlow(params, model)
     psi = float(flow.steady_phase(A)) if psi is None else float(psi)
     problem = ShootingProblem(params, segments=segments, rtol=rtol, atol=atol, backend=backend)
     x = flow.fast_state(A, psi, problem.arc_times()[:-1]).ravel()

@@ -66,7 +66,7 @@ def asymptotics_concerns(params: Params, model: str = "slowflow") -> list:
     if check_model(model) == "corrected" and P.n < ASYMPTOTICS_LIMITS["corrected_n"]:
         concerns.append(
             f"n = {P.n} < {ASYMPTOTICS_LIMITS['corrected_n']}: the contact lasts a large part of the period and the vessel moves the particle during it, "
-            "which the corrected model (an instantaneous impact at the wall's kappa and clearance) leaves out; at n = 6 it is further from (9) than (46)"
+            "which the corrected model (an instantaneous impact at the wall's kappa and clearance) leaves out (n = 6: 1-8 % from (9) at the Fig. 10 set's forcing, 20 % and more at the Fig. 13 set's)"
         )
     delta = float(restitution.dissipation_at_unit_speed(P.lam, P.chi, P.n, P.pbar))
     if delta > ASYMPTOTICS_LIMITS["wall_dissipation"] and check_model(model) == "slowflow":

@@ -25,12 +25,11 @@ def compare_rows(family: OrbitFamily, fr: FrequencyResponse, sigmas):
     """For each sigma and each slow-flow state there: the orbit (on any traced 2pi branch) whose
     A1 is nearest, with the relative difference |A1 - A| / A, and the nearest *stable* orbit with
     its difference (stable to stable: what a simulation of (9) would settle on, if periodic)."""
-    two_pi = [ob for ob in family.branches if ob.problem.period_multiple == 1]
     nan = float("nan")
     nothing = dict(A1_shooting=nan, shooting_stable="", shooting_branch="", relative_difference=nan, A1_stable_orbit=nan, stable_orbit_branch="", relative_difference_stable_orbit=nan)
     for sigma in sigmas:
         slow = [(float(np.interp(sigma, b.p[s], b.x[s, 0])), bool(b.stable[s][i])) for b in fr.branches for s, i in _crossings(b.p, sigma)]
-        orbits = [(float(ob.measures["A1"][s][0] + (ob.measures["A1"][s][1] - ob.measures["A1"][s][0]) * w), _stable_at(ob.branch, s, sigma), ob.name) for ob in two_pi for s, w in _segments(ob.branch.p, sigma)]
+        orbits = orbits_at(family.branches, sigma)
         stable_orbits = [o for o in orbits if o[1]]
         for A, stable in slow:
             row = dict(sigma=float(sigma), A_slow_flow=A, slow_flow_stable=int(stable), **nothing)
@@ -41,6 +40,16 @@ def compare_rows(family: OrbitFamily, fr: FrequencyResponse, sigmas):
                 A1, _, name = min(stable_orbits, key=lambda o: abs(o[0] - A))
                 row.update(A1_stable_orbit=A1, stable_orbit_branch=name, relative_difference_stable_orbit=abs(A1 - A) / A)
             yield row
+
+
+def orbits_at(branches, sigma) -> list:
+    """(A1, stable, branch name) of every 2pi-orbit of the OrbitBranches ``branches`` at ``sigma``
+    (linear in A1 between a branch's points)."""
+    two_pi = [ob for ob in branches if ob.problem.period_multiple == 1]
+    return [
+        (float(ob.measures["A1"][s][0] + (ob.measures["A1"][s][1] - ob.measures["A1"][s][0]) * w), _stable_at(ob.branch, s, sigma), ob.name)
+        for ob in two_pi for s, w in _segments(ob.branch.p, sigma)
+    ]
 
 
 def _segments(p, value):

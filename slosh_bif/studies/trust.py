@@ -31,12 +31,13 @@ import numpy as np
 from slosh_bif.continuation import ConvergenceError
 from slosh_bif.model.corrected_law import check_model
 from slosh_bif.model.params import Params
-from slosh_bif.orbits.families import trace_orbits
-from slosh_bif.orbits.starts import slow_flow_start
+from slosh_bif.orbits.families import SHOOTING_OPTIONS, trace_orbits
+from slosh_bif.orbits.shooting import ShootingProblem, orbit_measures
+from slosh_bif.orbits.starts import orbit_from_slow_flow, slow_flow_start
 from slosh_bif.simulation.sweep import run_cells
 from slosh_bif.slowflow.flow import AsymptoticsWarning, asymptotics_concerns
 from slosh_bif.slowflow.steady_states import frequency_response
-from slosh_bif.studies.compare import compare_rows
+from slosh_bif.studies.compare import compare_rows, orbits_at
 
 __all__ = ["TrustPoint", "trust_point", "trust_map", "TRUST_COLUMNS"]
 
@@ -80,10 +81,19 @@ class TrustPoint:
         return dataclasses.asdict(self)
 
 
-def trust_point(params: Params, sigma_min: float = -6.0, sigma_max: float = 8.0, *, grid: int = 141, agree_within: float = 0.05, switch: bool = True, max_branches: int = 6, segments: int = 4, backend: str = "auto", model: str = "slowflow") -> TrustPoint:
+ISOLA_TRIES = 4
+"""Newton starts of (9) per parameter set from stable slow-flow states no traced orbit matches: a
+family on an isola (the Fig. 13 set at n = 6: stable impacting orbits at sigma in [-2, -1] apart
+from the symmetric branch) is found from one, and each costs a shooting Newton (~0.1-1 s)."""
+
+
+def trust_point(params: Params, sigma_min: float = -6.0, sigma_max: float = 8.0, *, grid: int = 141, agree_within: float = 0.05, switch: bool = True, max_branches: int = 6, segments: int = 4, backend: str = "auto", model: str = "slowflow", isola_tries: int = ISOLA_TRIES) -> TrustPoint:
     """Compare (46) with the 2pi-orbits of (9) over [sigma_min, sigma_max] at ``params``.
 
-    Never raises for a parameter set where the comparison cannot be made: ``status`` says why.
+    The orbits are the family continued from one start, and the families found from the slow
+    flow's stable states that no orbit of it matches (:func:`missed_families`, ``isola_tries``
+    of them at most). Never raises for a parameter set where the comparison cannot be made:
+    ``status`` says why.
     ``backend``: the integrator of (9) (compiled or scipy's DOP853). ``model``: the slow flow
     compared (the paper's or the corrected one); the orbits are found from the paper's slow flow
     with either, so both models are measured against the same family.
@@ -114,7 +124,9 @@ def trust_point(params: Params, sigma_min: float = -6.0, sigma_max: float = 8.0,
             family = trace_orbits(start.params, start.y0, p_min=sigma_min, p_max=sigma_max, segments=segments, switch=switch, max_branches=max_branches, backend=backend)
         except RuntimeError as err:  # ConvergenceError included
             return failed(f"orbit continuation failed: {err}", start.sigma)
-    rows = [r for r in compare_rows(family, fr, np.linspace(sigma_min, sigma_max, grid)) if r["slow_flow_stable"]]
+        sigmas = np.linspace(sigma_min, sigma_max, grid)
+        family.branches.extend(missed_families(params, fr, family, sigmas, model=model, agree_within=agree_within, tries=isola_tries, segments=segments, backend=backend))
+    rows = [r for r in compare_rows(family, fr, sigmas) if r["slow_flow_stable"]]
     if not rows:
         return failed("no stable steady state of (46) in the range", start.sigma)
     d = np.array([r["relative_difference"] for r in rows])
@@ -134,6 +146,51 @@ def trust_point(params: Params, sigma_min: float = -6.0, sigma_max: float = 8.0,
         seconds=time.perf_counter() - started,
         status="ok",
     )
+
+
+ISOLA_OPTIONS = dataclasses.replace(SHOOTING_OPTIONS, max_seconds=20.0)
+"""A missed family is continued for 20 s at most (the longest of the Fig. 13 grid's took 4 s;
+one at eps = 0.05, beta = 0.5, n = 50 crept on for minutes): what it traced by then is kept."""
+
+
+def missed_families(params: Params, fr, family, sigmas, *, model: str = "slowflow", agree_within: float = 0.05, tries: int = ISOLA_TRIES, segments: int = 4, backend: str = "auto") -> list:
+    """OrbitBranches of (9) that ``family`` (continued from one start) does not contain, found by
+    Newton from the slow flow's motion at up to ``tries`` of the stable states of ``fr`` on the
+    grid ``sigmas`` that have no orbit of ``family`` within ``agree_within``, and continued in sigma
+    over the grid's range (no switching). An orbit whose A1 equals one already traced there (to
+    1e-6) is not traced again; a start where Newton or the continuation fails is passed over:
+    the comparison then measures against the orbits that were found, as before."""
+    if not (isinstance(tries, int) and tries >= 0):
+        raise ValueError(f"tries must be an integer >= 0; got {tries!r}")
+    if tries == 0:
+        return []
+    lo, hi = float(np.min(sigmas)), float(np.max(sigmas))
+    lonely = [r for r in compare_rows(family, fr, sigmas) if r["slow_flow_stable"] and not r["relative_difference"] <= agree_within]
+    found = []
+    for row in lonely[:: max(1, len(lonely) // tries)][:tries]:
+        sigma, A = row["sigma"], row["A_slow_flow"]
+        at = params.replace(sigma=sigma)
+        try:
+            orbit = orbit_from_slow_flow(at, A, psi=_phase_near(fr, sigma, A), segments=segments, backend=backend, model=model)
+            if not orbit.converged:
+                continue
+            problem = ShootingProblem(at, segments=segments, backend=backend)
+            A1 = orbit_measures(problem, problem.initial_states(orbit.y0), sigma)["A1"]
+            if any(abs(a - A1) <= 1e-6 * A1 for a, _, _ in orbits_at(family.branches + found, sigma)):
+                continue
+            more = trace_orbits(
+                at, orbit.y0, p_min=lo, p_max=hi, segments=segments, switch=False, backend=backend, known=family.branches + found, options=ISOLA_OPTIONS,
+                found_from="Newton from a slow-flow state no traced orbit matched",
+            )
+        except (RuntimeError, ValueError):  # ConvergenceError included: this start found nothing
+            continue
+        found.extend(more.branches)
+    return found
+
+
+def _phase_near(fr, sigma, A) -> float:
+    """psi of the point of ``fr``'s branches nearest to (sigma, A): a Newton guess's phase."""
+    return min(((float(np.hypot(b.p[i] - sigma, b.x[i, 0] - A)), float(b.x[i, 1])) for b in fr.branches for i in range(len(b))))[1]
 
 
 def trust_map(base: Params, *, eps=(0.02, 0.05, 0.1, 0.2), beta=(0.0, 0.3, 0.5), n=(6, 10, 20, 50), sigma_min: float = -6.0, sigma_max: float = 8.0, max_workers: int | None = None, progress=None, done=None, keep=None, executor=None, **options) -> list:

@@ -1,10 +1,11 @@
-"""The wall's own restitution kappa(v0) and turning point d(v0) (issue 20, item 1): the
+"""The wall's own restitution kappa(v0), turning point d(v0) and clearance D(v0) (issue 20, item 1): the
 interpolants against direct tighter contacts off their nodes, and the contact integration itself
 against the closed forms of the conservative wall, the exact scaling of the Newtonian wall
 (pbar = 0) and eq. (21)'s second-order gap where the dissipation is small."""
 
 import numpy as np
 import pytest
+from scipy import special
 
 from slosh_bif.model.restitution import dissipation_at_unit_speed, kappa, simulate_rebound
 from slosh_bif.model.wall_law import contact, wall_law
@@ -13,17 +14,22 @@ from slosh_bif.model.wall_law import contact, wall_law
 @pytest.mark.parametrize("n, pbar", [(6, 2), (20, 2)])
 def test_the_interpolant_matches_direct_tight_contacts_off_its_nodes_to_1e_8(n, pbar):
     law = wall_law(0.1, 0.2, n, pbar)
-    assert law.kappa_error < 1e-8 and law.depth_error < 1e-8  # the measured error it states
+    assert max(law.kappa_error, law.depth_error, law.clearance_error) < 1e-8  # the measured error it states
     for v0 in (0.073, 1.37, 13.1):  # between nodes
         assert abs(float(law.kappa(v0)) - simulate_rebound(v0, 0.1, 0.2, n, pbar, rtol=1e-13, atol=1e-15)) < 1e-8
 
 
 def test_the_conservative_wall_returns_every_speed_and_turns_where_eq_17_says():
+    """And its equivalent rigid wall lies where the time spent in the wall puts it: the half
+    contact lasts (d / v0) int_0^1 (1 - u^m)^(-1/2) du = (d / v0) B(1/m, 1/2) / m, m = 2n + 2."""
     for n in (6, 50):
+        m = 2 * n + 2
         for v0 in (0.1, 1.0, 10.0):
             c = contact(v0, 0.0, 0.2, n, n)
             assert c.kappa == pytest.approx(1.0, abs=1e-10)
-            assert c.depth == pytest.approx(((n + 1) * v0**2 / 0.2) ** (1 / (2 * n + 2)), rel=1e-10)
+            d = ((n + 1) * v0**2 / 0.2) ** (1 / m)
+            assert c.depth == pytest.approx(d, rel=1e-10)
+            assert c.clearance == pytest.approx(d * special.beta(1 / m, 0.5) / m, rel=1e-10)
 
 
 def test_the_newtonian_wall_is_scale_invariant():
@@ -34,6 +40,7 @@ def test_the_newtonian_wall_is_scale_invariant():
         v = np.array([0.06, 0.5, 4.0, 19.0])
         assert np.ptp(law.kappa(v)) < 1e-10
         assert np.allclose(law.depth(v) / v ** (1 / (n + 1)), law.depth(1.0), rtol=1e-10, atol=0)
+        assert np.allclose(law.clearance(v) / v ** (1 / (n + 1)), law.clearance(1.0), rtol=1e-10, atol=0)
         assert float(law.kappa(1.0)) == pytest.approx(simulate_rebound(1.0, 0.35, 0.2, n, 0), abs=1e-9)
 
 

@@ -1,0 +1,48 @@
+"""The trust map measures a slow flow against every family of (9) it can find: a family on an isola
+(the Fig. 13 set at n = 6: stable impacting orbits at sigma in [-2, -1], apart from the branch
+continued from the start) made the corrected slow flow look 55 % off where the orbits it describes
+are 7-20 % away. Checked against what does not use the search: a simulation of (9) that settles on
+a stable orbit from the slow flow's state, whose amplitude must lie on a family found."""
+
+import warnings
+
+import numpy as np
+import pytest
+
+from slosh_bif import get_preset
+from slosh_bif.orbits.starts import settle_and_shoot
+from slosh_bif.slowflow.flow import AsymptoticsWarning, SlowFlow
+from slosh_bif.slowflow.steady_states import frequency_response
+from slosh_bif.studies.compare import orbits_at
+from slosh_bif.studies.trust import missed_families, trust_point
+
+P = get_preset("fig13").params.replace(n=6, beta=0.0)
+
+
+def test_the_isola_a_simulation_settles_on_is_among_the_families_found():
+    sigma = -1.5
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", AsymptoticsWarning)
+        fr = frequency_response(P, sigma_min=-6, sigma_max=8, model="corrected")
+        # the stable state of the corrected slow flow at sigma, and where (9) settles from its motion
+        b, i = next((b, i) for b in fr.branches for i in range(len(b) - 1) if b.stable[i] and (b.p[i] - sigma) * (b.p[i + 1] - sigma) <= 0)
+        orbit, A1 = settle_and_shoot(P.replace(sigma=float(b.p[i])), SlowFlow(P.replace(sigma=float(b.p[i])), "corrected").fast_state(*b.x[i], 0.0), first=0)
+    assert orbit.converged and orbit.stable
+    primary = trust_point(P, switch=False, model="corrected", isola_tries=0)
+    searched = trust_point(P, switch=False, model="corrected")
+    assert searched.branches > primary.branches and searched.median_difference < 0.5 * primary.median_difference
+    # the same orbit on a family the search added (A1 to the continuation's interpolation)
+    from slosh_bif.orbits.families import trace_orbits
+    from slosh_bif.orbits.starts import slow_flow_start
+
+    start = slow_flow_start(P, -6, 8, response=frequency_response(P, sigma_min=-6, sigma_max=8))
+    family = trace_orbits(start.params, start.y0, p_min=-6, p_max=8, switch=False)
+    assert not any(abs(a - A1) < 1e-3 * A1 for a, _, _ in orbits_at(family.branches, float(b.p[i])))  # the start's family misses it
+    found = missed_families(P, fr, family, np.linspace(-6, 8, 141), model="corrected")
+    assert any(abs(a - A1) < 1e-3 * A1 and stable for a, stable, _ in orbits_at(found, float(b.p[i])))
+
+
+def test_no_tries_no_search_and_bad_tries_refused():
+    assert missed_families(P, None, None, np.linspace(-1, 1, 3), tries=0) == []
+    with pytest.raises(ValueError, match="tries"):
+        missed_families(P, None, None, np.linspace(-1, 1, 3), tries=-1)
