@@ -116,7 +116,8 @@ class CorrectedLaw:
         self._guess = (np.array([0.0, 1.0]), np.full(2, self.v_end), np.zeros(2))  # for the table's own solve
         u = np.sqrt(self.A_max - self.A_min) * np.linspace(0.0, 1.0, 400) ** 2
         v, dv_dA = self._speed_bracketed(self.A_min + u**2)
-        dv_du = 2.0 * u * dv_dA
+        with np.errstate(invalid="ignore"):  # 0 * inf at u = 0, replaced below
+            dv_du = 2.0 * u * dv_dA
         dv_du[0] = (v[1] - v[0]) / (u[1] - u[0])  # dv/dA is unbounded at A_min; dv/du is not
         self._guess = (u, v, dv_du)
         self._last = (None, None)

@@ -153,7 +153,7 @@ def orbit_from_slow_flow(
     return orbit_at(problem, x, params.sigma, tol=tol)
 
 
-def slow_flow_start(params: Params, sigma_min: float, sigma_max: float, *, segments: int = 4, tries: int = 12, response=None, backend: str = "auto") -> StartOrbit:
+def slow_flow_start(params: Params, sigma_min: float, sigma_max: float, *, segments: int = 4, tries: int = 12, response=None, backend: str = "auto", skip: int = 0) -> StartOrbit:
     """A :class:`StartOrbit`: a 2pi-orbit of (9) found from a stable steady state of (46) in
     [sigma_min, sigma_max], for starting :func:`trace_orbits` without a simulation; its
     ``params`` carry the sigma of that steady state.
@@ -162,7 +162,8 @@ def slow_flow_start(params: Params, sigma_min: float, sigma_max: float, *, segme
     closest to (9) (Fig. 10 set: 8 of 16 evenly spread stable states converge, all with
     |sigma| >= 0.5; at the peak, where (46) and (9) differ by 30 %, none). Raises
     :class:`ConvergenceError` naming how many were tried. ``response``: the frequency response of
-    (46) over the range, if already traced.
+    (46) over the range, if already traced. ``skip``: pass over the first ``skip`` orbits found
+    (a caller whose continuation failed from the first asks for the next).
     """
     fr = response if response is not None else frequency_response(params, sigma_min=sigma_min, sigma_max=sigma_max)
     # (sigma, A, psi): the branch's own phase (at a branch's end on A_min, (46)'s phase balance is
@@ -175,7 +176,9 @@ def slow_flow_start(params: Params, sigma_min: float, sigma_max: float, *, segme
         at = params.replace(sigma=sigma)
         orbit = orbit_from_slow_flow(at, A, psi=psi, segments=segments, backend=backend)
         if orbit.converged:
-            return StartOrbit(at, orbit, f"Newton from the slow flow's motion on the stable steady state A = {A:.6g} of (46)")
+            if skip == 0:
+                return StartOrbit(at, orbit, f"Newton from the slow flow's motion on the stable steady state A = {A:.6g} of (46)")
+            skip -= 1
     raise ConvergenceError(f"no orbit of (9) found from {len(picks)} stable steady states of (46) in sigma in [{sigma_min}, {sigma_max}]")
 
 

@@ -81,6 +81,7 @@ class TrustPoint:
         return dataclasses.asdict(self)
 
 
+START_TRIES = 3  # starts of the family from the slow flow, tried in turn while the continuation fails from them
 ISOLA_TRIES = 4
 """Newton starts of (9) per parameter set from stable slow-flow states no traced orbit matches: a
 family on an isola (the Fig. 13 set at n = 6: stable impacting orbits at sigma in [-2, -1] apart
@@ -120,10 +121,18 @@ def trust_point(params: Params, sigma_min: float = -6.0, sigma_max: float = 8.0,
             start = slow_flow_start(params, sigma_min, sigma_max, segments=segments, response=paper, backend=backend)
         except (ConvergenceError, ValueError) as err:
             return failed(f"no start: {err}")
-        try:
-            family = trace_orbits(start.params, start.y0, p_min=sigma_min, p_max=sigma_max, segments=segments, switch=switch, max_branches=max_branches, backend=backend)
-        except RuntimeError as err:  # ConvergenceError included
-            return failed(f"orbit continuation failed: {err}", start.sigma)
+        for attempt in range(1, START_TRIES + 1):
+            try:
+                family = trace_orbits(start.params, start.y0, p_min=sigma_min, p_max=sigma_max, segments=segments, switch=switch, max_branches=max_branches, backend=backend)
+                break
+            except RuntimeError as err:  # ConvergenceError included
+                failure = failed(f"orbit continuation failed: {err}", start.sigma)
+            try:  # the next start (an orbit Newton found to 1e-10 can still defeat the continuation's first step)
+                start = slow_flow_start(params, sigma_min, sigma_max, segments=segments, response=paper, backend=backend, skip=attempt)
+            except (ConvergenceError, ValueError):
+                return failure
+        else:
+            return failure
         sigmas = np.linspace(sigma_min, sigma_max, grid)
         family.branches.extend(missed_families(params, fr, family, sigmas, model=model, agree_within=agree_within, tries=isola_tries, segments=segments, backend=backend))
     rows = [r for r in compare_rows(family, fr, sigmas) if r["slow_flow_stable"]]
