@@ -27,13 +27,14 @@ the checked range the slow flow's error is unknown and it is not used.
 
 The corrected slow flow (kappa and clearance of the wall itself, ``model="corrected"``) is the
 rung between (46) and shooting, for the frequency response and the critical forcing (the two
-questions its error was measured on, ``docs/bench``: same sigmas, same references): 0.25 and 0.36
+questions its error was measured on, ``docs/bench``: same sigmas, same references): 0.25 and 0.35
 (Fig. 10 set, where the critical forcing at sigma = 4, 6 is a torus bifurcation no slow flow sees;
-on the Fig. 13 set alone 0.074 and 0.024, against (46)'s 0.20 and 0.16). It costs about ten times
-(46) (0.1-0.2 s a curve, plus 0.3 s once per wall to measure it) and is used where (46) is out of
-its range or its error exceeds the tolerance, and the corrected model is in its own range: the
-wall's dissipation is no concern of it, but n < 10 is (the trust map: at n = 6 it is further from
-(9) than (46)).
+on the Fig. 13 set alone 0.10 and 0.038, against (46)'s 0.20 and 0.16). It costs 1.7-2.4 times
+(46) (0.08-0.25 s a curve in the bench, plus 1-3 s once per wall to measure it) and is used where
+(46) is out of its range or its error exceeds the tolerance, and the corrected model is in its own
+range: the wall's dissipation is no concern of it, but n < 10 is (the trust maps: at n = 6 it is
+within 1.6-6.6 % of (9) at the Fig. 10 set's forcing with eps <= 0.05, but 11-55 % at the Fig. 13
+set's weaker forcing).
 """
 
 from __future__ import annotations
