@@ -96,8 +96,9 @@ def trust_point(params: Params, sigma_min: float = -6.0, sigma_max: float = 8.0,
     of them at most). Never raises for a parameter set where the comparison cannot be made:
     ``status`` says why.
     ``backend``: the integrator of (9) (compiled or scipy's DOP853). ``model``: the slow flow
-    compared (the paper's or the corrected one); the orbits are found from the paper's slow flow
-    with either, so both models are measured against the same family.
+    compared (the paper's or the corrected one); the family is started from the paper's slow flow
+    with either, the missed families are searched from the compared model's own states (a model
+    is measured against every orbit near its states that Newton finds).
     """
     if not (np.isfinite(sigma_min) and np.isfinite(sigma_max) and sigma_min < sigma_max):
         raise ValueError(f"need finite sigma_min < sigma_max; got [{sigma_min}, {sigma_max}]")
