@@ -70,12 +70,6 @@ def manifold_law(params: Params, model: str = "slowflow"):
 _LAWS: dict = {}  # CorrectedLaw per wall (lam, chi, n, pbar): the law does not depend on the rest
 
 
-def _rho(k):
-    """rho of (31) without :func:`restitution.rho`'s input check (60 us a call, thousands a
-    branch): the measured wall's kappa lies in (0, 1]."""
-    return 2.0 * (1.0 - k) / (np.pi * (1.0 + k))
-
-
 def _drho_dkappa(k):
     return -4.0 / (np.pi * (1.0 + k) ** 2)
 
@@ -200,7 +194,7 @@ class CorrectedLaw:
     def _manifold_gap(self, A, v):
         """F(v) of :meth:`_speed`, dF/dv, and whether alpha lies on S+ (alpha >= D / (1 + rho^2))."""
         k, dk, D, dD = self.wall.slopes(v, checked=False)
-        rho = _rho(k)
+        rho = restitution.rho_unchecked(k)
         drho = _drho_dkappa(k) * dk
         alpha = 0.25 * np.pi * v * (1.0 + k)  # (38): v = 4 alpha / (pi (1 + kappa))
         dalpha = 0.25 * np.pi * (1.0 + k + v * dk)
@@ -304,7 +298,7 @@ class CorrectedLaw:
     def rho(self, A):
         """rho on S+ at amplitude(s) A, and d rho/dA."""
         _, dv, k, dk, _, _ = self._at(A)
-        return _rho(k), _drho_dkappa(k) * dk * dv
+        return restitution.rho_unchecked(k), _drho_dkappa(k) * dk * dv
 
     def clearance(self, A):
         """The clearance D on S+ at amplitude(s) A (the equivalent rigid wall's position), and dD/dA."""

@@ -354,7 +354,7 @@ class ManifoldLaw:
 
     def end_values(self, end: ManifoldEnd):
         """(rho,) at an end of S+ (its kappa is part of the end, and may be 0: a plastic wall)."""
-        return (float(2.0 * (1.0 - end.kappa) / (np.pi * (1.0 + end.kappa))),)
+        return (float(restitution.rho_unchecked(end.kappa)),)
 
     def describe(self) -> str:
         """The window of S+ and what ends it, in one line."""

@@ -128,12 +128,12 @@ def trust_point(params: Params, sigma_min: float = -6.0, sigma_max: float = 8.0,
                 break
             except RuntimeError as err:  # ConvergenceError included
                 failure = failed(f"orbit continuation failed: {err}", start.sigma)
+            if attempt == START_TRIES:
+                return failure
             try:  # the next start (an orbit Newton found to 1e-10 can still defeat the continuation's first step)
                 start = slow_flow_start(params, sigma_min, sigma_max, segments=segments, response=paper, backend=backend, skip=attempt)
             except (ConvergenceError, ValueError):
                 return failure
-        else:
-            return failure
         sigmas = np.linspace(sigma_min, sigma_max, grid)
         family.branches.extend(missed_families(params, fr, family, sigmas, model=model, agree_within=agree_within, tries=isola_tries, segments=segments, backend=backend))
     rows = [r for r in compare_rows(family, fr, sigmas) if r["slow_flow_stable"]]
