@@ -98,9 +98,18 @@ def _body(fn: Function) -> list[str]:
     return lines
 
 
+class _KernelPrinter(_Printer):
+    def _print_Pow(self, expr, rational=False):
+        # A power with a symbolic exponent (w^(2n+1), w^(2p)) is a whole power: int_power lets the
+        # compiled integrator square instead of calling libm's pow (slosh_bif/model/powers.py).
+        if expr.exp.free_symbols:
+            return f"int_power({self._print(expr.base)}, {self._print(expr.exp)})"
+        return super()._print_Pow(expr, rational=rational)
+
+
 def _kernel_body(fn: Function) -> list[str]:
     """Scalar statements writing ``fn.outputs`` (a column) into ``out`` in place."""
-    printer = _Printer()
+    printer = _KernelPrinter()
     replacements, reduced = sp.cse(list(fn.outputs), symbols=sp.numbered_symbols("x"), optimizations="basic", order="canonical")
     lines = [f"    {s} = pars[{i}]" for i, s in enumerate(fn.scalar_args)]
     for name, vector in fn.vector_args:
@@ -117,6 +126,7 @@ def render_kernels(title: str, script: str, functions: list[Function]) -> str:
     ``pars`` holds ``fn.scalar_args`` in order. Plain Python that numba compiles unchanged.
     """
     text = HEADER.format(title=title, script=script, sympy_range=SYMPY_RANGE)
+    text += "from slosh_bif.model.powers import int_power\n\n"
     for fn in functions:
         args = ["tau"] + [name for name, _ in fn.vector_args] + ["out", "pars"]
         text += f"\ndef {fn.name}({', '.join(args)}):\n"

@@ -18,6 +18,7 @@ from pathlib import Path
 import numpy as np
 from scipy.integrate._ivp import dop853_coefficients as _dop
 
+from slosh_bif.model import powers as _powers
 from slosh_bif.model._generated import kernels as _kernels
 
 try:  # a core dependency; the scipy path covers a machine where it fails to import
@@ -28,6 +29,12 @@ except ImportError:  # pragma: no cover - exercised on machines without numba
 __all__ = ["HAVE_NUMBA", "TABLEAU", "KERNELS", "WHICH", "MESSAGES", "OK", "dop853_loop", "grid_loop"]
 
 HAVE_NUMBA = numba is not None
+
+if HAVE_NUMBA:  # before any kernel compiles: the kernels' int_power becomes repeated squaring here
+
+    @numba.extending.overload(_powers.int_power)
+    def _int_power_compiled(x, k):
+        return _powers.int_power_by_squaring
 
 _STAGES = _dop.N_STAGES
 _A = np.ascontiguousarray(_dop.A[:_STAGES, :_STAGES])
@@ -59,14 +66,14 @@ def _jit(function=None, inline=False):
 
 
 def _forget_compilations_of_other_kernels(compiled):
-    """Remove this module's cached machine code when the generated kernels have changed since it
-    was compiled: numba keys a cache on the contents of the function's own file only, and the loops
+    """Remove this module's cached machine code when the generated kernels (or the integer power
+    they call) have changed since it was compiled: numba keys a cache on the contents of the function's own file only, and the loops
     here contain the kernels (a regenerated kernels.py ran the old equations, seen)."""
     try:
         folder = Path(compiled._cache._impl.locator.get_cache_path())
     except AttributeError:  # a numba without these internals: nothing to do
         return
-    digest = hashlib.sha256(Path(_kernels.__file__).read_bytes()).hexdigest()
+    digest = hashlib.sha256(b"".join(Path(m.__file__).read_bytes() for m in (_kernels, _powers))).hexdigest()
     marker = folder / "dop853.kernels.sha256"
     try:
         if marker.read_text() == digest:

@@ -10,6 +10,8 @@ fails when this file is stale. Equations are cited in the hand-written modules t
 # ruff: noqa
 import numpy
 
+from slosh_bif.model.powers import int_power
+
 
 def smooth_rhs_kernel(tau, y, out, pars):
     """out = f(tau, y) of (9); pars = (eps, beta, gamma, sigma, Abar, lam, chi, n, p)."""
@@ -34,7 +36,7 @@ def smooth_rhs_kernel(tau, y, out, pars):
     out[0] = Xd
     out[1] = X*x0 - eps*w*x0*x2*x3 - x4
     out[2] = wd
-    out[3] = -X*x0*x2*x3 - chi*w**(2*n + 1) - lam*w**(2*p)*wd + w*x0*x3*(eps + x1) - x4
+    out[3] = -X*x0*x2*x3 - chi*int_power(w, 2*n + 1) - lam*int_power(w, 2*p)*wd + w*x0*x3*(eps + x1) - x4
 
 
 def smooth_shooting_kernel(tau, z, out, pars):
@@ -91,7 +93,7 @@ def smooth_shooting_kernel(tau, z, out, pars):
     x11 = 2*n
     x12 = x11 + 1
     x13 = 2*p
-    x14 = lam*w**x13
+    x14 = lam*int_power(w, x13)
     x15 = eps + x1
     x16 = phi4*x6
     x17 = x3*x5
@@ -99,13 +101,13 @@ def smooth_shooting_kernel(tau, z, out, pars):
     x19 = phi6*x6
     x20 = phi7*x6
     x21 = x14 + x8
-    x22 = chi*w**x11*x12 + lam*w**max(0, x13 - 1)*wd*x13 - x0*x15*x2
+    x22 = chi*int_power(w, x11)*x12 + lam*int_power(w, max(0, x13 - 1))*wd*x13 - x0*x15*x2
     x23 = s1*x6
     x24 = -eps*x9 + q1*x6
     out[0] = Xd
     out[1] = X*x0 - x10 - x4*x5
     out[2] = wd
-    out[3] = -X*x0*x3 - chi*w**x12 + w*x0*x15*x2 - wd*x14 - x10
+    out[3] = -X*x0*x3 - chi*int_power(w, x12) + w*x0*x15*x2 - wd*x14 - x10
     out[4] = phi4
     out[5] = phi5
     out[6] = phi6
@@ -203,9 +205,9 @@ def smooth_pair_kernel(tau, z, out, pars):
     x13 = -Abar*eps*x12 + eps*x10 + wd*x11
     x14 = 2*n
     x15 = x14 + 1
-    x16 = w**x15
+    x16 = int_power(w, x15)
     x17 = 2*p
-    x18 = w**x17
+    x18 = int_power(w, x17)
     x19 = lam*x18
     x20 = X*x1
     x21 = eps + x2
@@ -216,7 +218,7 @@ def smooth_pair_kernel(tau, z, out, pars):
     x26 = phi6*x22
     x27 = phi7*x22
     x28 = x11 + x19
-    x29 = chi*w**x14*x15 + lam*w**max(0, x17 - 1)*wd*x17 - x1*x21*x6
+    x29 = chi*int_power(w, x14)*x15 + lam*int_power(w, max(0, x17 - 1))*wd*x17 - x1*x21*x6
     x30 = X*sigma
     x31 = Abar*x12
     x32 = eps*wd
