@@ -4,8 +4,9 @@ The generated kernels (``_generated/kernels.py``) spell every power with a symbo
 ``int_power(w, 2*n + 1)``. In Python (the scipy fallback) it is ``w ** k``; the compiled
 integrator (:mod:`slosh_bif.simulation.dop853`) gives numba its own implementation, repeated
 squaring, because libm's ``pow`` sits on the critical path of every Runge-Kutta stage: at
-n = 50 squaring made a period of (9) 30 % faster. The two differ in the last bits only
-(squaring is within about log2(k) roundings of the exact power).
+n = 6 and 50 squaring made a period of (9) 28-29 % faster. The two differ in rounding only: a
+squaring doubles the relative error it is given, so the result is within k roundings of the exact
+power (2e-14 relative at k = 101, far below any tolerance the integrator is given).
 """
 
 from __future__ import annotations
