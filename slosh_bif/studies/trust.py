@@ -33,9 +33,9 @@ from slosh_bif.model.corrected_law import check_model
 from slosh_bif.model.params import Params
 from slosh_bif.orbits.families import SHOOTING_OPTIONS, trace_orbits
 from slosh_bif.orbits.shooting import ShootingProblem, orbit_measures
-from slosh_bif.orbits.starts import orbit_from_slow_flow, slow_flow_start
+from slosh_bif.orbits.starts import orbit_from_simulation, orbit_from_slow_flow, slow_flow_start
 from slosh_bif.simulation.sweep import run_cells
-from slosh_bif.slowflow.flow import AsymptoticsWarning, asymptotics_concerns
+from slosh_bif.slowflow.flow import AsymptoticsWarning, SlowFlow, asymptotics_concerns
 from slosh_bif.slowflow.steady_states import frequency_response
 from slosh_bif.studies.compare import compare_rows, orbits_at
 
@@ -158,6 +158,11 @@ def trust_point(params: Params, sigma_min: float = -6.0, sigma_max: float = 8.0,
     )
 
 
+SETTLE_PERIODS = 150
+"""Where Newton from a slow-flow state fails, (9) is simulated from it this long and Newton tried
+from its last strobes (the Fig. 13 set at n = 6, beta = 0.3: a stable family 23-29 % from the
+corrected flow's states that Newton from them missed; 150 periods cost 3-30 ms)."""
+
 ISOLA_OPTIONS = dataclasses.replace(SHOOTING_OPTIONS, max_seconds=20.0)
 """A missed family is continued for 20 s at most (the longest of the Fig. 13 grid's took 4 s;
 one at eps = 0.05, beta = 0.5, n = 50 crept on for minutes): what it traced by then is kept."""
@@ -166,7 +171,9 @@ one at eps = 0.05, beta = 0.5, n = 50 crept on for minutes): what it traced by t
 def missed_families(params: Params, fr, family, sigmas, *, model: str = "slowflow", agree_within: float = 0.05, tries: int = ISOLA_TRIES, segments: int = 4, backend: str = "auto") -> list:
     """OrbitBranches of (9) that ``family`` (continued from one start) does not contain, found by
     Newton from the slow flow's motion at up to ``tries`` of the stable states of ``fr`` on the
-    grid ``sigmas`` that have no orbit of ``family`` within ``agree_within``, and continued in sigma
+    grid ``sigmas`` that have no orbit of ``family`` within ``agree_within`` (where Newton fails,
+    from the last strobes of a simulation of (9) settled from that motion over
+    ``SETTLE_PERIODS`` periods, when it settles), and continued in sigma
     over the grid's range (no switching). An orbit whose A1 equals one already traced there (to
     1e-6) is not traced again; a start where Newton or the continuation fails is passed over:
     the comparison then measures against the orbits that were found, as before."""
@@ -180,10 +187,12 @@ def missed_families(params: Params, fr, family, sigmas, *, model: str = "slowflo
     for row in lonely[:: max(1, len(lonely) // tries)][:tries]:
         sigma, A = row["sigma"], row["A_slow_flow"]
         at = params.replace(sigma=sigma)
+        psi = _phase_near(fr, sigma, A)
         try:
-            orbit = orbit_from_slow_flow(at, A, psi=_phase_near(fr, sigma, A), segments=segments, backend=backend, model=model)
-            if not orbit.converged:
-                continue
+            orbit = orbit_from_slow_flow(at, A, psi=psi, segments=segments, backend=backend, model=model)
+            if not orbit.converged:  # let (9) settle from the slow flow's motion, and Newton from there
+                state = SlowFlow(at, model).fast_state(A, psi, np.zeros(1)).ravel()
+                orbit = orbit_from_simulation(at, state, settle=SETTLE_PERIODS, segments=segments, tries=5, backend=backend, unsettled="raise").orbit
             problem = ShootingProblem(at, segments=segments, backend=backend)
             A1 = orbit_measures(problem, problem.initial_states(orbit.y0), sigma)["A1"]
             if any(abs(a - A1) <= 1e-6 * A1 for a, _, _ in orbits_at(family.branches + found, sigma)):

@@ -64,3 +64,22 @@ def test_a_start_the_continuation_cannot_leave_gives_way_to_the_next():
     # (whether the first start's corrector converges is decided near its tolerance: on this
     # machine it does not; elsewhere the first start may serve)
     assert point.status == "ok" and point.sigma_start in (first.sigma, second.sigma) and np.isfinite(point.median_difference)
+
+
+def test_where_newton_from_the_slow_flow_fails_the_settled_orbit_is_found():
+    # Fig. 13 set, n = 6, beta = 0.3: Newton from the corrected flow's motion converges nowhere near
+    # sigma = -1, but (9) settles from it on a stable orbit 23 % above the flow's amplitude; the
+    # search finds that orbit from the simulation (the map said 53 % without it, 19 % with it).
+    P3 = get_preset("fig13").params.replace(n=6, beta=0.3, eps=0.02)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", AsymptoticsWarning)
+        fr = frequency_response(P3, sigma_min=-6, sigma_max=8, model="corrected")
+        b, i = next((b, i) for b in fr.branches for i in range(len(b) - 1) if b.stable[i] and (b.p[i] + 1.0) * (b.p[i + 1] + 1.0) <= 0)
+        sigma = float(b.p[i])
+        orbit, A1 = settle_and_shoot(P3.replace(sigma=sigma), SlowFlow(P3.replace(sigma=sigma), "corrected").fast_state(*b.x[i], 0.0), first=0)
+        assert orbit.converged and orbit.stable and abs(A1 - b.x[i, 0]) > 0.15 * A1  # independent of the search
+        from slosh_bif.orbits.families import OrbitFamily
+
+        # no traced family, a grid around sigma: every stable state there is a start
+        found = missed_families(P3, fr, OrbitFamily(P3, "sigma", []), np.linspace(sigma - 0.2, sigma + 0.2, 5), model="corrected")
+    assert any(abs(a - A1) < 1e-3 * A1 and stable for a, stable, _ in orbits_at(found, sigma))
