@@ -32,14 +32,19 @@ REGIMES = ["regimes", "--preset", "fig13", "--sigma-points", "6", "--abar-points
 TRUST = ["trust", "--preset", "fig13", "--no-switch", "--eps", "0.02,0.05,0.1", "--beta", "0,0.3", "--n", "20,50"]
 
 
-def _stop_while_running(arguments, signum, out, wait=4.0):
+def _stop_while_running(arguments, signum, out, wait=4.0, ready=None):
+    """Start the map, wait for its pool, then ``wait`` seconds, or (``ready``) until ready() holds
+    (at most 120 s: a loaded machine may take longer than any fixed wait for its first cell)."""
     child = subprocess.Popen([sys.executable, "-m", "slosh_bif.cli", *arguments, "--workers", "2", "--out", str(out)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     deadline = time.monotonic() + 120
     workers = []
     while time.monotonic() < deadline and len(workers) < 2:  # the pool is up
         time.sleep(0.2)
         workers = [w for w in _children(child.pid) if _alive(w)]
-    time.sleep(wait)  # some points done
+    if ready is None:
+        time.sleep(wait)  # some points done
+    while ready is not None and time.monotonic() < deadline + 120 and not ready():
+        time.sleep(0.1)
     sent = time.monotonic()
     child.send_signal(signum)
     _, err = child.communicate(timeout=30)
@@ -79,9 +84,17 @@ def test_an_interrupted_map_resumed_equals_an_uninterrupted_one(tmp_path, capsys
 
     from slosh_bif.cli import main
 
-    returncode, err, _, _ = _stop_while_running(grid, signal.SIGINT, tmp_path / "a")
+    def stored(name):
+        try:
+            return len(json.loads((tmp_path / "a" / name).read_text())["cells"])
+        except (OSError, ValueError, KeyError):  # not written yet
+            return 0
+
+    # the running map rewrites <stem>.partial.json every 5 s: signal once it holds a cell
+    partial = store.replace(".json", ".partial.json")
+    returncode, err, _, _ = _stop_while_running(grid, signal.SIGINT, tmp_path / "a", ready=lambda: stored(partial) > 0)
     assert returncode == 130, err
-    kept = len(json.loads((tmp_path / "a" / store).read_text())["cells"])
+    kept = stored(store)
     assert 0 < kept < cells
     assert main([*grid, "--workers", "2", "--resume", "--out", str(tmp_path / "a")]) == 0
     assert f"resuming: {kept} of {cells}" in capsys.readouterr().err
