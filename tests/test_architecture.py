@@ -68,3 +68,19 @@ def test_modules_are_small_and_cite_what_they_implement():
         lines = len(path.read_text().splitlines())
         assert lines <= 400, f"{info.name} has {lines} lines (split it by role)"
         assert module.__doc__ and module.__doc__.strip(), f"{info.name} has no module docstring"
+
+
+def test_the_cli_starts_without_the_heavy_libraries():
+    # Start-up (issue 19: under 0.5 s) is measured in `slosh-bif bench`; this keeps its cause away:
+    # scipy.special and scipy.optimize at module level cost every command ~0.4 s, numba and
+    # matplotlib more. `info` must run without any of them.
+    code = (
+        "import sys\n"
+        "from slosh_bif.cli import main\n"
+        "assert main(['info', '--preset', 'fig10']) == 0\n"
+        "heavy = sorted({m.split('.')[0] for m in sys.modules} & {'scipy', 'numba', 'matplotlib', 'sympy'})\n"
+        "print(heavy)\n"
+        "sys.exit(1 if heavy else 0)\n"
+    )
+    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert run.returncode == 0, run.stdout[-300:] + run.stderr[-300:]

@@ -24,11 +24,10 @@ import functools
 import math
 
 import numpy as np
-from scipy import optimize
 
 from slosh_bif.model import restitution
 from slosh_bif.model._generated import slow_flow as gen
-from slosh_bif.model.manifold_law import END_KINDS, ManifoldEnd
+from slosh_bif.model.manifold_law import END_KINDS, ManifoldEnd, scipy_optimize
 from slosh_bif.model.params import Params
 from slosh_bif.model.wall_law import WallLaw, wall_law
 
@@ -131,7 +130,7 @@ class CorrectedLaw:
         if len(change) != 1:
             raise ValueError(f"the corrected manifold's end: the impact speed v = 4 D(v)/(pi (1 + kappa(v))(1 + rho^2)) has {len(change)} solutions in {V_RANGE} (need one); {self._where()}")
         i = change[0]
-        v_end = optimize.brentq(lambda x: self._end_gap(x)[0], v[i], v[i + 1], xtol=1e-15, rtol=4 * np.finfo(float).eps)
+        v_end = scipy_optimize().brentq(lambda x: self._end_gap(x)[0], v[i], v[i + 1], xtol=1e-15, rtol=4 * np.finfo(float).eps)
         k, d = float(self.wall.kappa(v_end)), float(self.wall.clearance(v_end))
         self.v_end, self.D_at_end = float(v_end), d
         return ManifoldEnd(float(gen.corrected_a_min(restitution.rho(k), d)), k, END_KINDS[0])
@@ -140,7 +139,7 @@ class CorrectedLaw:
         v = V_RANGE[1]
         k, d = float(self.wall.kappa(v)), float(self.wall.clearance(v))
         low = float(gen.corrected_a_min(restitution.rho(k), d)) * (1 + 1e-12)  # the manifold with the top's kappa and D
-        top = optimize.brentq(lambda A: gen.corrected_impact_speed(A, k, d)[0] - v, low, 10 * v + 10, xtol=1e-13)
+        top = scipy_optimize().brentq(lambda A: gen.corrected_impact_speed(A, k, d)[0] - v, low, 10 * v + 10, xtol=1e-13)
         return ManifoldEnd(float(top), k, TOP_KIND)
 
     def _speed(self, A):

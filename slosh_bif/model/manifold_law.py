@@ -32,7 +32,6 @@ import functools
 import math
 
 import numpy as np
-from scipy import optimize
 
 from slosh_bif.model import manifold, restitution
 from slosh_bif.model._generated import slow_flow as gen
@@ -42,6 +41,14 @@ __all__ = ["ManifoldLaw", "ManifoldEnd", "END_KINDS"]
 
 END_KINDS = ("manifold end (36)", "fold of (39)", "kappa reaches 0")
 _SCAN = np.geomspace(1e-4, 1e4, 801)  # amplitudes scanned for the window (refined at its ends)
+
+
+def scipy_optimize():
+    """scipy.optimize, imported on first use: at module level it cost every command ~0.2 s of
+    start-up (``slosh-bif info`` needs no root finding)."""
+    from scipy import optimize
+
+    return optimize
 
 
 @dataclasses.dataclass(frozen=True)
@@ -97,7 +104,7 @@ class _Eq39:
             return float(k_low + d)
         if not (np.isfinite(g) and g < 0 < self._G(hi, A)):
             return np.nan
-        return float(optimize.brentq(lambda k: self._G(k, A), k_low + d, hi, xtol=1e-16, rtol=4 * np.finfo(float).eps))
+        return float(scipy_optimize().brentq(lambda k: self._G(k, A), k_low + d, hi, xtol=1e-16, rtol=4 * np.finfo(float).eps))
 
     def _window(self):
         """The ends of the longest run of amplitudes on which the root of (39) exists and moves
@@ -136,7 +143,7 @@ class _Eq39:
         lo, hi = sorted((A_in, A_out))
         g0 = lambda A: self._G(1e-300, A)  # noqa: E731 - G at kappa -> 0+
         if lo > 0 and np.isfinite(g0(lo)) and np.isfinite(g0(hi)) and np.sign(g0(lo)) != np.sign(g0(hi)):
-            candidates.append(ManifoldEnd(float(optimize.brentq(g0, lo, hi, xtol=1e-15, rtol=4 * np.finfo(float).eps)), 0.0, END_KINDS[2]))
+            candidates.append(ManifoldEnd(float(scipy_optimize().brentq(g0, lo, hi, xtol=1e-15, rtol=4 * np.finfo(float).eps)), 0.0, END_KINDS[2]))
         # The scan's bracket is approximate near a fold (two close roots in one scan cell look
         # like none): widen it, then keep the candidate at which the tracked root itself ends
         # (another root may leave (0, 1] or fold away nearby, as for pbar = 2, n = 10).
@@ -166,7 +173,7 @@ class _Eq39:
         values = np.array([self._G(k, A) for k in grid])
         change = np.flatnonzero(np.isfinite(values[:-1]) & np.isfinite(values[1:]) & (np.sign(values[:-1]) * np.sign(values[1:]) < 0))
         if len(change):
-            k = optimize.brentq(lambda kk: self._G(kk, A), grid[change[0] + 1], grid[change[0]], xtol=1e-14)
+            k = scipy_optimize().brentq(lambda kk: self._G(kk, A), grid[change[0] + 1], grid[change[0]], xtol=1e-14)
         elif end.kind == END_KINDS[2]:
             return True  # no root left above kappa = 0
         else:
@@ -185,7 +192,7 @@ class _Eq39:
         s = np.linspace(-16, -3, 131)
         values = np.array([g(v) for v in s])
         i = int(np.argmin(values))
-        res = optimize.minimize_scalar(g, bounds=(s[max(i - 1, 0)], s[min(i + 1, len(s) - 1)]), method="bounded", options={"xatol": 1e-12})
+        res = scipy_optimize().minimize_scalar(g, bounds=(s[max(i - 1, 0)], s[min(i + 1, len(s) - 1)]), method="bounded", options={"xatol": 1e-12})
         return min(res.fun, values[i]), k_low + 10.0 ** (res.x if res.fun <= values[i] else s[i])
 
     def _fold_below_manifold_end(self, A36):
@@ -219,7 +226,7 @@ class _Eq39:
         values = [at_end(k) for k in grid]
         for i in range(len(grid) - 1):
             if np.sign(values[i]) != np.sign(values[i + 1]):
-                return float(optimize.brentq(at_end, grid[i + 1], grid[i], xtol=1e-15))
+                return float(scipy_optimize().brentq(at_end, grid[i + 1], grid[i], xtol=1e-15))
         return None
 
     def _fold(self, A, k):
@@ -321,7 +328,7 @@ class ManifoldLaw:
             near_fold = [e for e in fold if not np.isfinite(k) or abs(k - e.kappa) < 0.2]
             if near_fold and self._eq._G(near_fold[0].kappa, a) < 0:
                 # Two roots close to the fold fall in one cell of the scan: bracket the upper one.
-                k = optimize.brentq(lambda kk: self._eq._G(kk, a), near_fold[0].kappa, 1.0, xtol=1e-15)
+                k = scipy_optimize().brentq(lambda kk: self._eq._G(kk, a), near_fold[0].kappa, 1.0, xtol=1e-15)
             out[i] = k
         return out
 

@@ -33,11 +33,15 @@ kappa and :func:`kappa_on_manifold` solves it by bracketing. (The paper says (38
 from __future__ import annotations
 
 import dataclasses
+import math
 
 import numpy as np
-from scipy import special  # scipy.optimize and solve_ivp load where used: the CLI starts 0.2 s sooner
 
 from slosh_bif.model import manifold
+
+# log Gamma of (19) by math.lgamma, not scipy.special.gammaln: importing scipy.special cost every
+# command ~0.2 s of start-up; the arguments are positive and few.
+_lgamma = np.vectorize(math.lgamma, otypes=[float])
 
 __all__ = [
     "I",
@@ -62,7 +66,7 @@ def I(n, pbar):  # noqa: E743 - the paper's name
     if np.any(pbar <= -(n + 1)):
         raise ValueError(f"I(n, pbar) needs pbar > -(n+1); got n={n}, pbar={pbar}")
     a = pbar / (2 * (n + 1)) + 0.5
-    return np.sqrt(np.pi) * np.exp(special.gammaln(a) - special.gammaln(a + 1.5)) / (4 * (n + 1))
+    return np.sqrt(np.pi) * np.exp(_lgamma(a) - _lgamma(a + 1.5)) / (4 * (n + 1))
 
 
 def dissipation_at_unit_speed(lam, chi, n, pbar):
