@@ -67,8 +67,9 @@ def _jit(function=None, inline=False):
 
 def _forget_compilations_of_other_kernels(compiled):
     """Remove this module's cached machine code when the generated kernels (or the integer power
-    they call) have changed since it was compiled: numba keys a cache on the contents of the function's own file only, and the loops
-    here contain the kernels (a regenerated kernels.py ran the old equations, seen)."""
+    they call) have changed since it was compiled: numba keys a cache on the contents of the
+    function's own file only, and the loops here contain the kernels (a regenerated kernels.py
+    ran the old equations, seen)."""
     try:
         folder = Path(compiled._cache._impl.locator.get_cache_path())
     except AttributeError:  # a numba without these internals: nothing to do
