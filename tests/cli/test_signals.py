@@ -32,10 +32,19 @@ REGIMES = ["regimes", "--preset", "fig13", "--sigma-points", "6", "--abar-points
 TRUST = ["trust", "--preset", "fig13", "--no-switch", "--eps", "0.02,0.05,0.1", "--beta", "0,0.3", "--n", "20,50"]
 
 
+def default_sigint():
+    """Ctrl-C as a terminal gives it: a shell without job control starts background commands with
+    SIGINT ignored (POSIX), and an ignored SIGINT is inherited by every child, so a suite run with
+    ``&`` would see the map run to its end (exit 0) instead of stopping."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 def _stop_while_running(arguments, signum, out, wait=4.0, ready=None):
     """Start the map, wait for its pool, then ``wait`` seconds, or (``ready``) until ready() holds
     (at most 120 s: a loaded machine may take longer than any fixed wait for its first cell)."""
-    child = subprocess.Popen([sys.executable, "-m", "slosh_bif.cli", *arguments, "--workers", "2", "--out", str(out)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    child = subprocess.Popen(
+        [sys.executable, "-m", "slosh_bif.cli", *arguments, "--workers", "2", "--out", str(out)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, preexec_fn=default_sigint,
+    )
     deadline = time.monotonic() + 120
     workers = []
     while time.monotonic() < deadline and len(workers) < 2:  # the pool is up
