@@ -27,22 +27,11 @@ from slosh_bif.orbits.starts import slow_flow_start
 from slosh_bif.report.plotting import pyplot, save_figure
 from slosh_bif.slowflow.flow import AsymptoticsWarning
 from slosh_bif.slowflow.steady_states import frequency_response
-from slosh_bif.studies.compare import orbits_at
+from slosh_bif.studies.compare import orbits_at, states_at
 from slosh_bif.studies.trust import missed_families
 
 EPS = (0.01, 0.02, 0.05)  # Richardson from the first two; the third is the paper's grid value
 SIGMA_MIN, SIGMA_MAX, GRID = -6.0, 8.0, 57
-
-
-def stable_states(fr, sigma):
-    """The A of every stable steady state of a frequency response at sigma (linear between points)."""
-    out = []
-    for b in fr.branches:
-        for i in range(len(b) - 1):
-            p0, p1 = b.p[i], b.p[i + 1]
-            if p0 != p1 and min(p0, p1) <= sigma <= max(p0, p1) and b.stable[i] and b.stable[i + 1]:
-                out.append(float(b.x[i, 0] + (sigma - p0) / (p1 - p0) * (b.x[i + 1, 0] - b.x[i, 0])))
-    return out
 
 
 def main(argv=None):
@@ -68,7 +57,7 @@ def main(argv=None):
     rows = []
     for sigma in sigmas:
         for name, fr in models.items():
-            for A in stable_states(fr, sigma):
+            for A in (A for A, stable in states_at(fr, sigma) if stable):
                 near = {}
                 for eps, branches in families.items():
                     orbits = orbits_at(branches, sigma)

@@ -28,7 +28,7 @@ def compare_rows(family: OrbitFamily, fr: FrequencyResponse, sigmas):
     nan = float("nan")
     nothing = dict(A1_shooting=nan, shooting_stable="", shooting_branch="", relative_difference=nan, A1_stable_orbit=nan, stable_orbit_branch="", relative_difference_stable_orbit=nan)
     for sigma in sigmas:
-        slow = [(float(np.interp(sigma, b.p[s], b.x[s, 0])), bool(b.stable[s][i])) for b in fr.branches for s, i in _crossings(b.p, sigma)]
+        slow = states_at(fr, sigma)
         orbits = orbits_at(family.branches, sigma)
         stable_orbits = [o for o in orbits if o[1]]
         for A, stable in slow:
@@ -40,6 +40,12 @@ def compare_rows(family: OrbitFamily, fr: FrequencyResponse, sigmas):
                 A1, _, name = min(stable_orbits, key=lambda o: abs(o[0] - A))
                 row.update(A1_stable_orbit=A1, stable_orbit_branch=name, relative_difference_stable_orbit=abs(A1 - A) / A)
             yield row
+
+
+def states_at(fr: FrequencyResponse, sigma) -> list:
+    """(A, stable) of every steady state of a slow flow's frequency response at ``sigma`` (A linear
+    between a branch's points, the stability of the nearer point)."""
+    return [(float(np.interp(sigma, b.p[s], b.x[s, 0])), bool(b.stable[s][i])) for b in fr.branches for s, i in _crossings(b.p, sigma)]
 
 
 def orbits_at(branches, sigma) -> list:

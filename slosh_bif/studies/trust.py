@@ -190,16 +190,18 @@ def missed_families(params: Params, fr, family, sigmas, *, model: str = "slowflo
         psi = _phase_near(fr, sigma, A)
         try:
             orbit = orbit_from_slow_flow(at, A, psi=psi, segments=segments, backend=backend, model=model)
+            how = "Newton from a slow-flow state no traced orbit matched"
             if not orbit.converged:  # let (9) settle from the slow flow's motion, and Newton from there
                 state = SlowFlow(at, model).fast_state(A, psi, np.zeros(1)).ravel()
                 orbit = orbit_from_simulation(at, state, settle=SETTLE_PERIODS, segments=segments, tries=5, backend=backend, unsettled="raise").orbit
+                how = f"Newton from a {SETTLE_PERIODS}-period simulation settled from a slow-flow state no traced orbit matched"
             problem = ShootingProblem(at, segments=segments, backend=backend)
             A1 = orbit_measures(problem, problem.initial_states(orbit.y0), sigma)["A1"]
             if any(abs(a - A1) <= 1e-6 * A1 for a, _, _ in orbits_at(family.branches + found, sigma)):
                 continue
             more = trace_orbits(
                 at, orbit.y0, p_min=lo, p_max=hi, segments=segments, switch=False, backend=backend, known=family.branches + found, options=ISOLA_OPTIONS,
-                found_from="Newton from a slow-flow state no traced orbit matched",
+                found_from=how,
             )
         except (RuntimeError, ValueError):  # ConvergenceError included: this start found nothing
             continue
