@@ -26,7 +26,14 @@ import os
 import re
 import sys
 
-from slosh_bif.cli import chart, info, orbits, simulation, slowflow, studies, tank
+# One BLAS thread for the command and every process it starts (workers inherit the environment).
+# BLAS libraries read these when they load, and scipy's own OpenBLAS loads late, on first use of
+# scipy.linalg: a threadpool limit entered in main() would not reach it. The matrices here are
+# 4x4 to 32x32, where threads only cost, and on a busy machine they cost 40x (impact model, expm).
+for _name in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS", "BLIS_NUM_THREADS"):
+    os.environ[_name] = "1"
+
+from slosh_bif.cli import chart, info, orbits, simulation, slowflow, studies, tank  # noqa: E402
 
 __all__ = ["main", "build_parser"]
 
@@ -110,7 +117,7 @@ def main(argv=None) -> int:
         warnings.simplefilter("always")  # every warning reaches show(), which prints each message once
         try:
             _check_out(getattr(args, "out", None), is_file=getattr(args, "out_is_file", False))
-            with threadpool_limits(limits=1, user_api="blas"):  # tiny matrices: BLAS threads only cost
+            with threadpool_limits(limits=1, user_api="blas"):  # the BLAS already loaded when main() is called in-process
                 return args.run(args)
         except KeyboardInterrupt as stop:  # Ctrl-C or SIGTERM: workers are stopped where they run
             return _interrupted(args.command, stop)

@@ -71,9 +71,10 @@ def _chart(args) -> int:
     for status in (chart.status, regimes.status if regimes is not None else "complete"):
         if status != "complete":  # the files hold what was finished
             raise stopped(status)
-    cut = [k for k, c in enumerate(chart.curves) if c.status != "ok"]
-    if cut:
-        print(f"slosh-bif chart: curve(s) {', '.join(map(str, cut))} could not be continued to the box's edge (their status in curves.csv)", file=sys.stderr)
+    if chart.incomplete:
+        for line in chart.incomplete:
+            print(f"slosh-bif chart: {line}", file=sys.stderr)
+        print(f"slosh-bif chart: {len(chart.incomplete)} curve(s) cut short or not started (their status in curves.csv)", file=sys.stderr)
         return 3
     return 0
 

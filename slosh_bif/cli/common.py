@@ -140,7 +140,7 @@ def add_continuation_options(parser, *, rtol: str):
     parser.add_argument("--ds-max", type=float, default=None, help="largest arclength step (default: the method's)")
     parser.add_argument("--max-steps", type=int, default=None, help="accepted steps per direction at most (default: the method's)")
     parser.add_argument("--rtol", type=float, default=None, help=rtol)
-    parser.add_argument("--max-seconds", type=float, default=None, help="wall-clock time per branch direction at most; the branch then ends with status 'time limit' (default: the method's)")
+    parser.add_argument("--max-seconds", type=float, default=None, help="a wall-clock safety net per branch direction (default: none); a branch it cuts ends with status 'time limit', and where depends on the machine's load")
 
 
 def continuation_options(args, base):

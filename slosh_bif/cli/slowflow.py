@@ -74,7 +74,8 @@ def _critical(args) -> int:
         verdict = "steady states on S+ exist" if params.Abar >= at else "no steady state on S+ (expect a strongly modulated or non-resonant response)"
         print(f"at the preset's sigma = {params.sigma:g}: Abar_b = {at:.6g}; Abar = {params.Abar:g}: {verdict}")
     print(f"{len(curve.sigma)} points ({len(curve.fold_branches)} fold curve(s)); wrote {csv_path}, {png_path}")
-    for name, b in (("end-point curve", curve.end_branch), *((f"fold curve {k + 1}", f) for k, f in enumerate(curve.fold_branches))):
+    ends = (("end-point curve", curve.end_branch), ("upper end-point curve", curve.upper_end_branch))
+    for name, b in (*(e for e in ends if e[1] is not None), *((f"fold curve {k + 1}", f) for k, f in enumerate(curve.fold_branches))):
         if b.status != "ok":  # the reason a curve stopped early, not only in the npz metadata
             progress(f"{name} stopped early: {b.message}")
     return 0

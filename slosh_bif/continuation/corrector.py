@@ -90,6 +90,8 @@ def correct(problem, u_pred, t, opts):
         if not in_domain(problem, u):
             return None, k
         F = problem.residual(u[:-1], u[-1])
+        if not np.all(np.isfinite(F)):  # an evaluation failed (an integration, say): the step is cut, no Jacobian is formed
+            return None, k
         scale = 1.0 + np.linalg.norm(u)
         residual = np.linalg.norm(F)
         if k > 0 and residual <= max(opts.tol, 1e3 * np.finfo(float).eps * scale):

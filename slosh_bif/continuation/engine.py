@@ -100,7 +100,7 @@ def _run(problem, start: Point, opts, loop_guard: bool, callback=None):
             _mark_end(points[-1], STEPS, f"{STEPS} ({opts.max_steps} steps)")
             return points, STEPS
         if time.monotonic() > deadline:
-            _mark_end(points[-1], TIME, f"{TIME} ({opts.max_seconds:g} s)")
+            _mark_end(points[-1], TIME, f"{TIME} ({opts.max_seconds:g} s of wall clock, a safety net: where it ends depends on the machine's load)")
             return points, TIME
         a = points[-1]
         # A turn estimated at tiny steps may be noise: trusted only while it moves the guess by < h / 2.

@@ -52,8 +52,10 @@ class ContinuationOptions:
     locate_tol : float
         Arclength tolerance when locating a special point.
     max_seconds : float
-        Wall-clock time per direction at most; past it the direction ends ("time limit"), so a
-        run is bounded in time whatever its start.
+        An outer safety net of wall-clock time per direction (none by default): past it the
+        direction ends ("time limit"). What a run computes is bounded by counts (``max_steps``,
+        ``max_newton``, the step halvings down to ``step_min``), never by this: a result cut by
+        the clock depends on the machine's load, and says so in its status.
     curved_predictor : bool
         Predict along the tangent plus the curvature seen over the last step (second order)
         rather than along the tangent alone.

@@ -33,7 +33,7 @@ __all__ = ["OrbitBranch", "OrbitFamily", "trace_orbits", "mirror", "images", "un
 
 # Shooting residuals carry the integration's rounding (~1e-13 at rtol 1e-10), so the corrector's
 # tolerance sits above it; steps are capped so that orbits change little from one point to the next.
-SHOOTING_OPTIONS = ContinuationOptions(step=0.05, step_max=0.3, tol=1e-9, max_steps=3000, max_seconds=300.0)
+SHOOTING_OPTIONS = ContinuationOptions(step=0.05, step_max=0.3, tol=1e-9, max_steps=3000)
 # Liouville's check |det M - exp(int tr J)| / exp(int tr J) is ~1e-12..1e-9 at the default
 # tolerances; beyond this the monodromy, and the stability read from it, cannot be trusted.
 LIOUVILLE_TOL = 1e-6

@@ -187,7 +187,9 @@ class ShootingProblem:
         taus = self.arc_times()
         m = self.segments
         ends, mats, sens, trace, ok = np.empty((m, 4)), np.empty((m, 4, 4)), np.empty((m, 4, 2)), 0.0, True
-        for k in range(m):
+        if not np.all(np.isfinite(x)):  # no integration from a non-finite state: every arc fails
+            mats[:], sens[:], ok = np.nan, np.nan, False
+        for k in range(m if ok else 0):
             z0 = np.concatenate([x[4 * k : 4 * k + 4], np.eye(4).ravel(), np.zeros(9)])
             run = integrator.integrate(
                 params, z0, taus[k], taus[k + 1], shooting=True, rtol=self.rtol, atol=self.atol, backend=self.backend, sensitivities=self.sensitivities,

@@ -81,6 +81,7 @@ class FoldProblem:
     def __init__(self, params: Params, model: str = "slowflow"):
         self.r = _Residual46(params, model)
         self.A_edge = self.r.flow.A_min * (1 + FOLD_EDGE_MARGIN)
+        self.A_edge_high = self.r.flow.A_max * (1 - FOLD_EDGE_MARGIN)  # inf where S+ has no upper end
 
     def _parts(self, x, p):
         A, Abar = x
@@ -102,7 +103,7 @@ class FoldProblem:
         return np.array([g[1], self.r.hess_row(A, p, x[1])[1]]) / s
 
     def in_domain(self, x, p):
-        return bool(x[0] >= self.A_edge and x[1] > 0)
+        return bool(self.A_edge <= x[0] <= self.A_edge_high and x[1] > 0)
 
     def is_minimum(self, x, p):
         """Whether Abar(A) has a minimum (not a maximum) at this fold: -R_AA/R_Abar > 0."""
@@ -111,22 +112,26 @@ class FoldProblem:
 
 
 class EndProblem:
-    """The end-point condition R(A_min; sigma, Abar) = 0: x = (Abar,), continued in sigma.
+    """The end-point condition R(A_end; sigma, Abar) = 0: x = (Abar,), continued in sigma.
 
-    Evaluated exactly at the end A = A_min of S+: R and its derivatives in sigma and Abar are
-    regular there (only R_A, through d alpha/dA, is infinite, and it is not used).
+    Evaluated exactly at an end of S+, the lower A_min (``end="lower"``) or, where a fold of (39)
+    or kappa = 0 ends S+ above, its upper end A_max (``end="upper"``): R and its derivatives in
+    sigma and Abar are regular there (only R_A, through d alpha/dA or d kappa/dA, is infinite,
+    and it is not used).
     """
 
     names = ("Abar",)
     branch_kind = "manifold ends of (46)"
 
-    def __init__(self, params: Params, model: str = "slowflow"):
+    def __init__(self, params: Params, model: str = "slowflow", end: str = "lower"):
         self.r = _Residual46(params, model)
         law = self.r.flow.law
-        self.A = law.A_min
+        if end not in ("lower", "upper") or (end == "upper" and law.upper is None):
+            raise ValueError(f"end must be 'lower' or, where S+ has one, 'upper'; got {end!r} (S+: {law.describe()})")
+        self.A = law.A_min if end == "lower" else law.upper.A
         self.scale = np.pi**4 * self.A**2
         P = params
-        if law.lower.kind == END_KINDS[0]:  # alpha = alpha_min: the functions written for the end
+        if end == "lower" and law.lower.kind == END_KINDS[0]:  # alpha = alpha_min: the functions written for the end
             at_end, residual_end = law.end_values(law.lower), self.r.flow.generated("steady_residual_end")
             self._parts = lambda p, Abar: residual_end(*at_end, P.beta, P.gamma, p, Abar)
         else:  # a fold of (39) or kappa = 0 ends S+: alpha is regular there
@@ -235,6 +240,7 @@ class CriticalCurve:
     end_branch: object
     fold_branches: tuple
     model: str = "slowflow"
+    upper_end_branch: object = None  # the curve on the upper end of S+, where one ends it
 
 
 def _trace(problem, x0, sigma0, lo, hi, options):
@@ -255,9 +261,11 @@ def critical_curve(
     if not sigma_min < sigma_max:
         raise ValueError(f"need sigma_min < sigma_max; got {sigma_min} and {sigma_max}")
     opts = options or DEFAULT_OPTIONS
-    end_problem = EndProblem(params, model)
-    end = _trace(end_problem, [end_problem.abar_at(sigma_min)], float(sigma_min), sigma_min, sigma_max, opts)
-    report(f"end-point curve: {len(end)} points")
+    ends = []
+    for which in ("lower", "upper") if SlowFlow(params, model).law.upper is not None else ("lower",):
+        end_problem = EndProblem(params, model, which)
+        ends.append(_trace(end_problem, [end_problem.abar_at(sigma_min)], float(sigma_min), sigma_min, sigma_max, opts))
+        report(f"{which} end-point curve: {len(ends[-1])} points")
     fold_problem = FoldProblem(params, model)
     folds = []
     for k, sigma in enumerate(np.linspace(sigma_min, sigma_max, seeds)):
@@ -267,7 +275,7 @@ def critical_curve(
                 folds.append(_trace(fold_problem, x, float(sigma), sigma_min, sigma_max, opts))
                 report(f"fold curve {len(folds)}: {len(folds[-1])} points ({folds[-1].message})")
         report(f"seed {k + 1}/{seeds} at sigma = {sigma:.4g} done")
-    return dataclasses.replace(_envelope(params, end, tuple(folds), fold_problem), model=model)
+    return dataclasses.replace(_envelope(params, tuple(ends), tuple(folds), fold_problem), model=model)
 
 
 def _on_branch(branch, x, sigma, tol=1e-6):
@@ -277,9 +285,10 @@ def _on_branch(branch, x, sigma, tol=1e-6):
     return bool(np.min(np.linalg.norm(branch.x[near] - x, axis=1)) < max(tol, 0.5 * branch.options["step_max"]))
 
 
-def _envelope(params, end, folds, fold_problem) -> CriticalCurve:
-    """Least of the end curve and the minimum-type fold curves, point by point in sigma."""
-    candidates = [(end.p, end.x[:, 0], np.full(len(end), fold_problem.r.flow.A_min), "END")]
+def _envelope(params, ends, folds, fold_problem) -> CriticalCurve:
+    """Least of the end curves and the minimum-type fold curves, point by point in sigma."""
+    flow = fold_problem.r.flow
+    candidates = [(end.p, end.x[:, 0], np.full(len(end), A), "END") for end, A in zip(ends, (flow.A_min, flow.A_max))]
     for b in folds:
         minimum = np.array([fold_problem.is_minimum(x, p) for x, p in zip(b.x, b.p)])
         candidates.append((b.p[minimum], b.x[minimum, 1], b.x[minimum, 0], "LP"))
@@ -293,7 +302,7 @@ def _envelope(params, end, folds, fold_problem) -> CriticalCurve:
     # The same point can come from two curves (where they meet) or twice from one (a bound): keep one.
     rows = [r for i, r in enumerate(rows) if i == 0 or abs(r[0] - rows[i - 1][0]) > 1e-12 or abs(r[1] - rows[i - 1][1]) > 1e-12]
     sigma, Abar_b, A, kind = (np.array(c) for c in zip(*rows)) if rows else (np.array([]),) * 4
-    return CriticalCurve(params, sigma.astype(float), Abar_b.astype(float), A.astype(float), kind, end, folds)
+    return CriticalCurve(params, sigma.astype(float), Abar_b.astype(float), A.astype(float), kind, ends[0], folds, upper_end_branch=ends[1] if len(ends) > 1 else None)
 
 
 def interp_min(s, v, at):

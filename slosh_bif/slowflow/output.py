@@ -69,6 +69,9 @@ def plot_critical(curve, path, *, title=None) -> Path:
     fig, ax = pyplot().subplots(figsize=(8, 5.5))
     end = curve.end_branch
     ax.plot(end.p, end.x[:, 0], ":", color="0.5", lw=1, label="end-point condition (A = A_min)")
+    if curve.upper_end_branch is not None:
+        top = curve.upper_end_branch
+        ax.plot(top.p, top.x[:, 0], "-.", color="0.5", lw=1, label="end-point condition (upper end of S+)")
     for k, b in enumerate(curve.fold_branches):
         ax.plot(b.p, b.x[:, 1], "--", color="0.5", lw=1, label="fold of A(Abar)" if k == 0 else None)
     for kind, color, label in (("END", "tab:blue", "Abar_b at the manifold end"), ("LP", "tab:red", "Abar_b at an interior fold")):

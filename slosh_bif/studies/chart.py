@@ -46,17 +46,29 @@ from slosh_bif.orbits.families import trace_orbits
 from slosh_bif.orbits.scan import scan_families
 from slosh_bif.orbits.shooting import PARAMETERS, orbit_measures
 from slosh_bif.orbits.starts import start_orbit
-from slosh_bif.slowflow.critical import critical_curve, interp_min
+from slosh_bif.slowflow.critical import critical_curve, critical_forcing, interp_min
 
-__all__ = ["Chart", "bifurcation_chart", "critical_rows", "CRITICAL_COLUMNS", "FullCritical", "critical_forcing_full", "check_box"]
+__all__ = ["Chart", "CurveFailure", "bifurcation_chart", "lowest_stable_boundary", "critical_rows", "CRITICAL_COLUMNS", "FullCritical", "critical_forcing_full", "check_box"]
 
 CRITICAL_COLUMNS = ("sigma", "Abar_b_slowflow", "Abar_c_full", "rel_diff", "bounded_by")
 
 
 @dataclasses.dataclass(frozen=True)
+class CurveFailure:
+    """A special point from which no curve could be started, and why."""
+
+    kind: str
+    sigma: float
+    value: float  # of the chart's second parameter
+    origin: str
+    reason: str
+
+
+@dataclasses.dataclass(frozen=True)
 class Chart:
     """The chart's pieces: the orbit family it started from, the curves, the slow flow's critical
-    curve (None where (46) has none in the range), and whether every curve was traced."""
+    curve (None where (46) has none in the range), whether every start was tried (``status``) and
+    the starts that gave no curve (``failures``, each with its reason)."""
 
     params: Params
     sigma_range: tuple
@@ -67,6 +79,13 @@ class Chart:
     seconds: float
     status: str = "complete"  # or why the curves stopped early ("interrupted (SIGINT) after ...")
     second: str = "Abar"  # the chart's second parameter
+    failures: tuple = ()  # CurveFailure of each start that gave no curve
+
+    @property
+    def incomplete(self) -> list:
+        """Why the chart is not the whole answer, one line each: curves cut short, starts that gave no curve."""
+        cut = [f"curve {k} ({c.kind} from {c.origin}): {c.status}" for k, c in enumerate(self.curves) if c.status != "ok"]
+        return cut + [f"no {f.kind} curve from {f.origin}: {f.reason}" for f in self.failures]
 
 
 def _on_curve(curve: BifurcationCurve, sigma, value, tol=2e-3):
@@ -118,9 +137,10 @@ def _trace_job(job):
 
 
 def _trace_curves(starts, say, workers: int = 1, done=None, keep=None):
-    """(curves, status): the curve through each start that lies on no curve of its kind traced
-    from an earlier start, in start order, on ``workers`` processes; interrupted, the curves
-    finished by then and a status saying so. ``done``: {start index: curve} from an earlier run
+    """(curves, status, failures): the curve through each start that lies on no curve of its kind
+    traced from an earlier start, in start order, on ``workers`` processes; interrupted, the curves
+    finished by then and a status saying so; a :class:`CurveFailure` for each start whose curve
+    could not be started (in start order). ``done``: {start index: curve} from an earlier run
     (not traced again); ``keep(i, curve)`` is called as each curve finishes.
 
     Curves are independent, so they run side by side; a start is not submitted when a finished
@@ -128,6 +148,7 @@ def _trace_curves(starts, say, workers: int = 1, done=None, keep=None):
     is dropped at the end, so the result is the sequential one, whatever the timing.
     """
     traced = {i: c for i, c in (done or {}).items() if i < len(starts) and c.origin == starts[i].origin}  # start index -> curve
+    failed = {}  # start index -> why no curve
 
     def covered(i, among):
         return any(c.kind == starts[i].kind and _on_curve(c, starts[i].sigma, starts[i].value) for c in among)
@@ -135,7 +156,8 @@ def _trace_curves(starts, say, workers: int = 1, done=None, keep=None):
     def record(i, result):
         curve, err = result
         if curve is None:
-            say(f"no {starts[i].kind} curve from {starts[i].origin}: {err}")
+            failed[i] = CurveFailure(starts[i].kind, starts[i].sigma, starts[i].value, starts[i].origin, " ".join(err.split()))
+            say(f"no {starts[i].kind} curve from {starts[i].origin}: {failed[i].reason}")
         else:
             traced[i] = curve
             if keep is not None:
@@ -156,7 +178,9 @@ def _trace_curves(starts, say, workers: int = 1, done=None, keep=None):
     for i in sorted(traced):
         if not covered(i, kept):
             kept.append(traced[i])
-    return kept, status
+    # A failed start that a curve traced from another start passes through is covered, not missing.
+    failures = tuple(failed[i] for i in sorted(failed) if not covered(i, kept))
+    return kept, status, failures
 
 
 def _trace_in_pool(starts, workers, covered, record, traced):
@@ -245,14 +269,14 @@ def bifurcation_chart(
     say(f"{len(starts)} special points to start curves from, on {workers} process(es)")
     if done:
         say(f"{len(done)} curves from an earlier run")
-    curves, status = _trace_curves(starts, say, workers, done, keep)
+    curves, status, failures = _trace_curves(starts, say, workers, done, keep)
     slow = None
     if second == "Abar":
         try:
             slow = critical_curve(params, s0, s1, model=model)
         except (RuntimeError, ValueError) as err:
             say(f"no slow-flow critical curve: {err}")
-    return Chart(params, (s0, s1), (a0, a1), family, curves, slow, time.perf_counter() - started, status, second)
+    return Chart(params, (s0, s1), (a0, a1), family, curves, slow, time.perf_counter() - started, status, second, failures)
 
 
 def check_box(params: Params, sigma_range, second_range, second: str = "Abar"):
@@ -314,19 +338,19 @@ def critical_forcing_full(
     )
     pitchforks = _pitchforks(family)
     starts = [s for ob in family.branches if ob.problem.period_multiple == 1 for s in _starts(ob, "Abar", params, box, (a0, a1), pitchforks)]
-    curves, _ = _trace_curves(starts, say)
+    curves, _, failures = _trace_curves(starts, say)
     try:
         slow = critical_curve(params, *box, model=model)
     except (RuntimeError, ValueError):
         slow = None
-    chart = Chart(params, box, (a0, a1), family, curves, slow, time.perf_counter() - started)
+    chart = Chart(params, box, (a0, a1), family, curves, slow, time.perf_counter() - started, failures=failures)
     # The special points lie at sigma exactly; a curve read at sigma is interpolated between its
     # points (2e-3 off at the Fig. 13 set's NS), so it counts only where it crosses sigma away
     # from every special point: a crossing of a family the scan did not reach.
     exact = [(sp.p, sp.kind) for ob in family.branches if ob.problem.period_multiple == 1 for sp in ob.branch.special if _bounds_stable_contact(ob, sp)]
     value, kind = min(exact, default=(np.nan, ""))
     for c in curves:
-        crossed = _lowest_stable_boundary([c], sigma)[0]
+        crossed = lowest_stable_boundary([c], sigma)[0]
         if np.isfinite(crossed) and not crossed >= value and not any(k == c.kind and abs(a - crossed) <= 0.01 * a for a, k in exact):
             value, kind = crossed, c.kind
     return FullCritical(float(sigma), float(value), kind, chart)
@@ -355,7 +379,7 @@ def _bounds_stable_contact(ob, sp) -> bool:
     return bool(np.all(np.abs(rest) < 1) and orbit_measures(ob.problem, sp.x, sp.p)["max_abs_w"] >= 1.0)
 
 
-def _lowest_stable_boundary(curves, sigma):
+def lowest_stable_boundary(curves, sigma):
     """(Abar, kind) of the lowest point at sigma of the ``curves`` that bounds stable period-1
     orbits with wall contact, by linear interpolation along each curve; (nan, "") when none."""
     best = (np.nan, "")
@@ -369,6 +393,15 @@ def _lowest_stable_boundary(curves, sigma):
     return best
 
 
+def _slow_flow_critical_at(params: Params, sigma: float, model: str) -> float:
+    """Abar_b of the slow flow at sigma, computed there (not interpolated along the traced curve,
+    whose chords between points lie up to 2e-3 above it); NaN where (46) has no steady state."""
+    try:
+        return critical_forcing(params, float(sigma), model=model).Abar_b
+    except (RuntimeError, ValueError):
+        return np.nan
+
+
 def critical_rows(chart: Chart, points: int = 57):
     """``critical.csv`` rows: on a sigma grid, Abar_b of (46), Abar_c of (9) and which curve kind sets it
     (none for a chart whose second parameter is not Abar)."""
@@ -376,7 +409,7 @@ def critical_rows(chart: Chart, points: int = 57):
         return
     slow = chart.slow_flow_critical
     for sigma in np.linspace(*chart.sigma_range, points):
-        b = float(np.interp(sigma, slow.sigma, slow.Abar_b)) if slow is not None and len(slow.sigma) and slow.sigma[0] <= sigma <= slow.sigma[-1] else np.nan
-        c, kind = _lowest_stable_boundary(chart.curves, sigma)
+        b = _slow_flow_critical_at(chart.params, sigma, slow.model) if slow is not None else np.nan
+        c, kind = lowest_stable_boundary(chart.curves, sigma)
         rel = abs(c - b) / b if np.isfinite(b) and np.isfinite(c) and b > 0 else np.nan
         yield dict(sigma=float(sigma), Abar_b_slowflow=b, Abar_c_full=c, rel_diff=rel, bounded_by=kind)

@@ -6,7 +6,8 @@
 chart's second parameter), ``A1`` and
 ``max_abs_w`` (the orbit there), ``codim2`` (empty or CP, LPPD, LPNS, PDNS, R1-R4), ``bounds_stable``
 (1 when every multiplier but the critical one(s) is inside the unit circle), ``status`` (the curve's:
-``ok`` when it left the box or closed, else why it stopped) and ``origin``.
+``ok`` when it left the box or closed, else why it stopped) and ``origin``. A start from which no
+curve could be started has one row at the start point, its status ``failed to start: <reason>``.
 """
 
 from __future__ import annotations
@@ -19,7 +20,7 @@ import numpy as np
 from slosh_bif.orbits.codim2 import CODIM2_KINDS, BifurcationCurve
 from slosh_bif.report.files import read_store, write_text_atomically
 from slosh_bif.report.tables import write_rows
-from slosh_bif.studies.chart import CRITICAL_COLUMNS, critical_rows
+from slosh_bif.studies.chart import CRITICAL_COLUMNS, critical_rows, lowest_stable_boundary
 
 __all__ = ["CURVE_COLUMNS", "curve_rows", "write_curves_csv", "write_critical_csv", "plot_chart", "chart_settings", "curve_store", "curve_columns"]
 
@@ -40,6 +41,11 @@ def curve_rows(chart):
                 "max_abs_w": float(c["max_abs_w"][i]), "codim2": labels[i] if labels[i] in CODIM2_KINDS else "",
                 "bounds_stable": int(c.branch.stable[i]), "status": c.status, "origin": c.origin,
             }
+    for k, f in enumerate(chart.failures, start=len(chart.curves)):  # a start that gave no curve: one row at the start point
+        yield {
+            "curve": k, "kind": f.kind, "sigma": f.sigma, chart.second: f.value, "A1": np.nan, "max_abs_w": np.nan, "codim2": "", "bounds_stable": "",
+            "status": f"failed to start: {f.reason}", "origin": f.origin,
+        }
 
 
 def write_curves_csv(chart, path) -> Path:
@@ -76,9 +82,10 @@ def plot_chart(chart, path, *, regimes=None) -> Path:
     slow = chart.slow_flow_critical
     if slow is not None and len(slow.sigma):
         ax.plot(slow.sigma, slow.Abar_b, "k--", lw=1.4, label=r"slow flow $\bar A_b$ " + ("(46)" if slow.model == "slowflow" else "(corrected)"))
-    rows = list(critical_rows(chart, points=201))
-    if rows:
-        ax.plot([r["sigma"] for r in rows], [r["Abar_c_full"] for r in rows], "-", color="tab:green", lw=3, alpha=0.6, label=r"full model $\bar A_c$ (9)")
+    if chart.second == "Abar":
+        grid = np.linspace(*chart.sigma_range, 201)
+        full = [lowest_stable_boundary(chart.curves, sigma)[0] for sigma in grid]
+        ax.plot(grid, full, "-", color="tab:green", lw=3, alpha=0.6, label=r"full model $\bar A_c$ (9)")
     ax.plot([], [], "k*", label="codimension-2 point" + ("" if labelled else " (labels in curves.csv)"))
     ax.plot([], [], "k:", label="curve not bounding stable orbits")
     ax.set_xlim(*chart.sigma_range)

@@ -163,9 +163,10 @@ SETTLE_PERIODS = 150
 from its last strobes (the Fig. 13 set at n = 6, beta = 0.3: a stable family 23-29 % from the
 corrected flow's states that Newton from them missed; 150 periods cost 3-30 ms)."""
 
-ISOLA_OPTIONS = dataclasses.replace(SHOOTING_OPTIONS, max_seconds=20.0)
-"""A missed family is continued for 20 s at most (the longest of the Fig. 13 grid's took 4 s;
-one at eps = 0.05, beta = 0.5, n = 50 crept on for minutes): what it traced by then is kept."""
+ISOLA_OPTIONS = dataclasses.replace(SHOOTING_OPTIONS, max_steps=600)
+"""A missed family is continued for 600 points a direction at most (one at eps = 0.05, beta = 0.5,
+n = 50 crept on for minutes): what it traced by then is kept. A count, not a time, so that
+the trust map does not depend on the machine's load."""
 
 
 def missed_families(params: Params, fr, family, sigmas, *, model: str = "slowflow", agree_within: float = 0.05, tries: int = ISOLA_TRIES, segments: int = 4, backend: str = "auto") -> list:

@@ -24,9 +24,11 @@ def starts():
 
 
 def test_parallel_curves_are_the_sequential_curves_each_once(starts):
-    sequential, status = _trace_curves(starts, lambda message: None, workers=1)
+    sequential, status, failures = _trace_curves(starts, lambda message: None, workers=1)
+    assert failures == ()
     assert status == "complete" and sorted(c.kind for c in sequential) == ["BP", "LP"]
-    parallel, status = _trace_curves(starts, lambda message: None, workers=2)
+    parallel, status, failures = _trace_curves(starts, lambda message: None, workers=2)
+    assert failures == ()
     assert status == "complete" and [c.kind for c in parallel] == [c.kind for c in sequential]
     for a, b in zip(sequential, parallel):
         np.testing.assert_array_equal(a.branch.x, b.branch.x)
