@@ -49,7 +49,19 @@ def build_parser() -> argparse.ArgumentParser:
         family.add_commands(sub)
     for each in (parser, *sub.choices.values()):
         _numbers_may_start_with_minus(each)
+        for action in each._actions:
+            if action.dest == "out":
+                action.type = _out_path
     return parser
+
+
+def _out_path(text: str):
+    """--out as a Path; an empty one (Path("") is the current folder) is a slip, refused."""
+    from pathlib import Path
+
+    if not text.strip():
+        raise argparse.ArgumentTypeError("needs a folder or file name; got an empty string")
+    return Path(text)
 
 
 _NEGATIVE = re.compile(r"^-(\d|\.\d|inf|nan)", re.IGNORECASE)
@@ -79,6 +91,14 @@ def _check_out(out, *, is_file: bool = False) -> None:
         raise ValueError(f"--out {out}: {existing} is a file, not a folder")
     if not os.access(existing, os.W_OK | os.X_OK):
         raise ValueError(f"--out {out}: cannot create or write in {existing} (permission denied)")
+
+
+def _quiet_stdout() -> None:
+    """Point stdout at /dev/null, so that the interpreter's final flush into a closed pipe prints nothing."""
+    try:
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+    except (OSError, ValueError):
+        pass
 
 
 def _interrupted(command: str, stop: KeyboardInterrupt) -> int:
@@ -133,6 +153,9 @@ def main(argv=None) -> int:
         except RuntimeError as err:  # a method that could not answer says why (no traceback)
             print(f"slosh-bif {args.command}: failed: {err}", file=sys.stderr)
             return 1
+        except BrokenPipeError:  # the reader went away (`slosh-bif info | head -2`): stop quietly
+            _quiet_stdout()
+            return 0
         except OSError as err:  # e.g. the disk filled up while writing
             print(f"slosh-bif {args.command}: failed to read or write a file: {err}", file=sys.stderr)
             return 1

@@ -167,7 +167,10 @@ def preset_of(args):
     if not hasattr(args, "_preset_read"):
         from slosh_bif.model.parameter_file import read_parameter_file
 
-        args._preset_read = read_parameter_file(args.params)
+        try:
+            args._preset_read = read_parameter_file(args.params)
+        except ValueError as err:
+            raise ValueError(f"--params: {err}") from None
     return args._preset_read
 
 
@@ -189,9 +192,11 @@ def sigma_range(args, default=(-6.0, 8.0)):
 
 
 def abar_range(args, default):
+    """(--abar-min, --abar-max) or their defaults, checked; a default upper end of None (the
+    method's own) stays None."""
     lo = default[0] if args.abar_min is None else args.abar_min
     hi = default[1] if args.abar_max is None else args.abar_max
-    if not (0 <= lo < hi and math.isfinite(hi)):
+    if not (math.isfinite(lo) and lo >= 0 and (hi is None or (math.isfinite(hi) and lo < hi))):
         raise ValueError(f"need 0 <= --abar-min < --abar-max, both finite; got {lo} and {hi}")
     return lo, hi
 

@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import argparse
+import math
 import sys
 from pathlib import Path
 
@@ -33,19 +34,26 @@ from slosh_bif.cli.common import (
 
 __all__ = ["add_commands"]
 
+JUDGED = 4 * np.pi  # the least run after the transient that a regime is judged over: two forcing periods
+
 
 
 def _simulate(args) -> int:
     from slosh_bif.simulation.direct import simulate
     from slosh_bif.simulation.output import plot_simulation, write_summary, write_trajectory
-    from slosh_bif.simulation.regimes import classify
+    from slosh_bif.simulation.regimes import RegimeSummary, classify
 
     preset = preset_of(args)
     params = params_of(args)
     tmax = args.tmax if args.tmax is not None else float(preset.t_window[1])
     noise = preset.noise_std if args.noise is None else args.noise
-    if args.transient is not None and not (0 <= args.transient < tmax):
-        raise ValueError(f"--transient must be in [0, tmax = {tmax:g}); got {args.transient}")
+    params.require_positive_stiffness()
+    if not (np.isfinite(tmax) and tmax > 0):
+        raise ValueError(f"--tmax must be finite and > 0; got {tmax}")
+    if args.transient is not None and not (0 <= args.transient < tmax - JUDGED):
+        raise ValueError(f"--transient must be in [0, tmax - 4 pi = {tmax - JUDGED:g}): the regime is judged over at least two forcing periods after it; got {args.transient}")
+    if args.transient is None and tmax <= 2 * JUDGED:
+        raise ValueError(f"--tmax must be above {2 * JUDGED:.6g} (the regime is judged over the second half of the run, at least two forcing periods of 2 pi); got {tmax:g}")
     report = throttled(progress, passes=lambda message: message.startswith("simulated 100"))
     sim = simulate(
         params, state0_of(args, params), tmax, model=args.model, noise_std=noise, seed=args.seed, noise_cutoff=args.noise_cutoff, backend=args.backend,
@@ -55,7 +63,10 @@ def _simulate(args) -> int:
     if not sim.success and sim.status != "sticking":
         print(f"slosh-bif simulate: the run stopped early: {sim.message}", file=sys.stderr)
     transient = args.transient if args.transient is not None and args.transient < sim.t[-1] else None
-    summary = classify(sim, transient=transient)
+    try:
+        summary = classify(sim, transient=transient)
+    except ValueError:  # a run that stopped too early to be judged
+        summary = RegimeSummary.failed(f"the run stopped at tau = {sim.t[-1]:.6g}, too early to judge: {sim.message}", math.nan)
     paths = [
         write_trajectory(sim, args.out / "trajectory.npz"),
         write_summary(sim, summary, args.out / "summary.json"),

@@ -49,6 +49,8 @@ def _frc(args) -> int:
         opts = _options(args, ContinuationOptions())
         args.out.mkdir(parents=True, exist_ok=True)
         fr = frequency_response(params, sigma_min=lo, sigma_max=hi, options=opts, model=args.model)
+    if not any(len(branch) for branch in fr.branches):
+        raise RuntimeError(f"no steady state of the slow flow over the {args.parameter} range [{lo:g}, {hi if hi is not None else 'auto'}]: nothing to write")
     csv_path, png_path = write_frc_csv(fr, args.out / "frc.csv"), plot_frc(fr, args.out / "frc.png")
     for k, branch in enumerate(fr.branches):
         branch.save(args.out / f"frc_branch{k}.npz")

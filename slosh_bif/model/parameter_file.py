@@ -45,9 +45,11 @@ _WINDOW = (0.0, 600.0)
 
 def _load(path: Path) -> dict:
     try:
-        text = path.read_text()
+        text = path.read_text(encoding="utf-8")
     except OSError as err:
         raise ValueError(f"cannot read the parameter file {path}: {err.strerror or err}") from None
+    except UnicodeDecodeError:
+        raise ValueError(f"the parameter file {path} is not a text file (TOML or JSON in UTF-8)") from None
     try:
         data = json.loads(text) if path.suffix.lower() == ".json" else tomllib.loads(text)
     except (ValueError, tomllib.TOMLDecodeError) as err:

@@ -135,6 +135,17 @@ class Params:
                 f"kappa**2 = 1 - {delta:.6g} = {kappa_sq:.6g}. Lower lam or raise chi or n."
             )
 
+    def require_positive_stiffness(self) -> "Params":
+        """Self, or a one-line ValueError when the vessel's linear stiffness ``1 - eps sigma`` of (8)
+        and (9) is not positive: then X has no restoring force and every trajectory diverges. The
+        check belongs to what simulates (a continuation may pass such sets as a domain edge)."""
+        if self.eps * self.sigma >= 1.0:
+            raise ValueError(
+                f"eps * sigma = {self.eps * self.sigma:g} >= 1: the vessel's stiffness 1 - eps sigma of (8) and (9) is not positive "
+                f"and every trajectory diverges; sigma must be below 1/eps = {1 / self.eps:g}"
+            )
+        return self
+
     @property
     def p(self) -> int:
         """Exponent p of the dissipation force ``lam*w'*w**(2p)``, p = (pbar + n)/2."""

@@ -84,6 +84,14 @@ def _heights(q, depth):
     return depth * (1 - ratio)
 
 
+def _shallow_limit(q_last, depth, span: str, size: float):
+    """A one-line error when the tank is too shallow for the series: its tail is summed with
+    tanh q = 1, which needs q >= 3 at the last term (tanh 3 = 0.995)."""
+    if q_last < 3.0:
+        least = depth * 3.0 / q_last
+        raise ValueError(f"depth / {span} = {depth / size:.3g} is too shallow for the sloshing-mode series: the depth must be at least {least:.3g} m for this {span}")
+
+
 def _modes(omega2, ratio_all, q, depth, modes, tail):
     fixed = 1.0 - float(np.sum(ratio_all)) - tail
     return Modes(np.sqrt(omega2[:modes]), ratio_all[:modes].copy(), _heights(q[:modes], depth), fixed)
@@ -96,6 +104,7 @@ def cylinder_modes(radius: float, depth: float, *, modes: int = 3, gravity: floa
     _positive(radius=radius, depth=depth, gravity=gravity)
     xi = jnp_zeros(1, SERIES_TERMS)
     q = xi * depth / radius
+    _shallow_limit(q[-1], depth, "radius", radius)
     ratio = 2 * np.tanh(q) / (xi * (xi**2 - 1) * depth / radius)
     # The rest of the series: xi_k ~ (k - 1/4) pi and tanh -> 1, so m_k / m_F ~ 2 R / (h pi^3 (k - 1/4)^3).
     tail = 2 * radius / (depth * math.pi**3) * _cubic_tail(SERIES_TERMS + 0.75)
@@ -108,6 +117,7 @@ def rectangle_modes(length: float, depth: float, *, modes: int = 3, gravity: flo
     odd = 2 * np.arange(1, SERIES_TERMS + 1) - 1.0
     wavenumber = odd * math.pi / length
     q = wavenumber * depth
+    _shallow_limit(q[-1], depth, "length", length)
     ratio = 8 * np.tanh(q) / (odd**3 * math.pi**3 * depth / length)
     tail = 8 * length / (depth * math.pi**3) * _cubic_tail(2 * SERIES_TERMS + 1, step=2)
     return _modes(gravity * wavenumber * np.tanh(q), ratio, q, depth, _count(modes), tail)

@@ -201,6 +201,12 @@ def _simulate_impact_in_chunks(params, y0, t0, tmax, sample_step, progress, star
     )
 
 
+def diverged_beyond(params: Params) -> float:
+    """|X| or |X'| past which a run counts as diverged: no bounded response of (8) or (9) comes near
+    it (the linear resonance alone gives |X| ~ Abar / gamma, and the wall caps the particle)."""
+    return 1e4 * (1.0 + params.Abar) * (1.0 + 1.0 / max(params.gamma, 1e-3))
+
+
 def simulate(
     params: Params,
     state0,
@@ -230,6 +236,7 @@ def simulate(
         raise ValueError(f"model must be one of {', '.join(MODELS)}; got {model!r}")
     if not isinstance(params, Params):
         raise TypeError(f"params must be a slosh_bif.Params; got {type(params).__name__}")
+    params.require_positive_stiffness()
     if not (np.isfinite(t0) and np.isfinite(tmax) and tmax > t0):
         raise ValueError(f"tmax must be finite and greater than t0 = {t0}; got {tmax!r}")
     if not (np.isfinite(sample_step) and 0 < sample_step <= 0.5):
@@ -274,6 +281,9 @@ def simulate(
         states.append(part[1:])
         if progress is not None:
             progress((k + 1) / len(chunks))
+        if np.max(np.abs(part[:, :2])) > diverged_beyond(params):
+            status, message = "diverged", f"|X| or |X'| passed {diverged_beyond(params):g} by tau = {grid[-1]:.6g}"
+            break
     y = np.concatenate(states).T
     t = taus[: y.shape[1]]
     hit_t, side, v_in, v_out = wall_contacts(params, t, y, rtol=rtol, atol=atol, backend=backend, noise=noise)

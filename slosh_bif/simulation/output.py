@@ -109,7 +109,7 @@ def plot_motion_on_manifold(ax, sim, summary, proj):
 
 # --- regime maps (slosh-bif regimes) ----------------------------------------------------------
 
-REGIME_COLORS = {"periodic-resonant": "tab:green", "non-resonant": "tab:blue", "strongly-modulated": "tab:red", "free-decay": "tab:olive", "other": "tab:gray", "failed": "black", "not computed": "white"}
+REGIME_COLORS = {"periodic-resonant": "tab:green", "non-resonant": "tab:blue", "strongly-modulated": "tab:red", "free-decay": "tab:olive", "other": "tab:gray", "diverged": "tab:brown", "failed": "black", "not computed": "white"}
 REGIME_COLUMNS = ("sigma", "Abar", "regime", "impacts_per_period", "crossings_per_period", "envelope_min", "envelope_max", "modulation", "collapses", "reason")
 
 

@@ -25,6 +25,9 @@ Rules, in order (``THRESHOLDS`` holds the numbers):
 ``other``
     anything else (e.g. a period-2 or quasi-periodic response, or noise-driven modulation far
     above A_min).
+``diverged``
+    the run left every bounded response (:func:`~slosh_bif.simulation.direct.diverged_beyond`)
+    and was stopped there.
 
 :func:`regime_map` classifies a (sigma, Abar) grid through any ``concurrent.futures`` executor.
 """
@@ -45,7 +48,7 @@ from slosh_bif.simulation.sweep import run_cells
 
 __all__ = ["REGIMES", "THRESHOLDS", "RegimeSummary", "classify", "RegimeMap", "regime_map", "check_run_length"]
 
-REGIMES = ("periodic-resonant", "non-resonant", "strongly-modulated", "free-decay", "other", "failed")
+REGIMES = ("periodic-resonant", "non-resonant", "strongly-modulated", "free-decay", "other", "diverged", "failed")
 
 THRESHOLDS = {
     "impacts_for_engagement": 0.1,  # impacts per period below this: the particle is not engaged
@@ -115,6 +118,8 @@ def classify(simulation, *, transient: float | None = None) -> RegimeSummary:
     """Classify a :class:`~slosh_bif.simulation.direct.Simulation` after ``transient`` (default: its first half)."""
     sim = simulation
     t0, t1 = float(sim.t[0]), float(sim.t[-1])
+    if sim.status == "diverged":
+        return dataclasses.replace(RegimeSummary.failed(sim.message, math.nan if transient is None else transient), regime="diverged")
     if transient is None:
         transient = t0 + 0.5 * (t1 - t0)
     if not (np.isfinite(transient) and t0 <= transient < t1 - 4 * np.pi):
@@ -195,6 +200,8 @@ class RegimeMap:
 def _classify_point(params, state0, tmax, model, transient, sample_step, backend="auto"):
     # A module-level function so that process pools can pickle it.
     sim = simulate(params, state0, tmax, model=model, sample_step=sample_step, backend=backend)
+    if sim.status == "diverged":
+        return classify(sim)
     if not sim.success and sim.status != "sticking":
         return RegimeSummary.failed(f"simulation failed: {sim.message}", transient)
     return classify(sim, transient=transient)
@@ -256,6 +263,7 @@ def regime_map(
         raise ValueError(f"Abar must be >= 0 on the whole grid; got min {abars.min()}")
     transient = check_run_length(tmax, transient, sample_step)
     jobs = {(i, j): params.replace(sigma=float(s), Abar=float(a)) for i, a in enumerate(abars) for j, s in enumerate(sigmas)}
+    params.replace(sigma=float(sigmas.max())).require_positive_stiffness()  # every cell, before any work
     done = {key: s for key, s in (done or {}).items() if key in jobs and s.regime != "not computed"}
     state0 = np.asarray(state0, dtype=float)
     arguments = {key: (p, state0, tmax, model, transient, sample_step, backend) for key, p in jobs.items()}

@@ -46,7 +46,7 @@ class AsymptoticsWarning(UserWarning):
     """The slow flow is used where the asymptotics behind it are known, or expected, to be poor."""
 
 
-# Where the multiple-scales model was compared with the full model (README, "What the full model
+# Where the multiple-scales model was compared with the full model (docs/findings/regimes.md, "What the full model
 # says"): eps = 0.05-0.1, beta = 0-0.3, and eq. (21) is accurate only for small dissipation.
 ASYMPTOTICS_LIMITS = {"eps": 0.1, "beta": 0.5, "wall_dissipation": 0.5, "corrected_n": 10}
 

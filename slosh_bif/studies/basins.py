@@ -82,6 +82,7 @@ def basin_map(
     returns the cells done, the rest "not computed"."""
     if len(axes) != 2 or axes[0] == axes[1] or any(a not in STATE_NAMES for a in axes):
         raise ValueError(f"axes must be two different names of {', '.join(STATE_NAMES)}; got {axes!r}")
+    params.require_positive_stiffness()
     first, second = np.asarray(first, dtype=float), np.asarray(second, dtype=float)
     for name, grid in ((axes[0], first), (axes[1], second)):
         if grid.ndim != 1 or grid.size < 1 or not np.all(np.isfinite(grid)):

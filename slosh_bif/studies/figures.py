@@ -2,7 +2,7 @@
 
 Each ``figN(out, quick=False)`` computes what the figure shows and writes ``out/figN.png``;
 ``quick=True`` shortens simulations and coarsens grids (for tests). :data:`NOTES` says, per
-figure, where our result differs from the printed one; the README's gallery repeats it.
+figure, where our result differs from the printed one; the docs' gallery (docs/findings/gallery.md) repeats it.
 
 Figures 1 and 2 are sketches and are not reproduced. Fig. 4 (the modal masses of a cylinder, which
 the paper takes from Abramson) is computed by :mod:`slosh_bif.model.tank`.

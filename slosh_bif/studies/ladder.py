@@ -144,6 +144,8 @@ def answer(question: str, params: Params, *, tol: float = 0.05, state0=None, sig
         raise ValueError(f"state0 must be 4 finite numbers [X, X', w, w']; got {state0!r}")
     if not (np.isfinite(tmax) and tmax > 8 * np.pi):
         raise ValueError(f"tmax must be finite and longer than 4 forcing periods (8 pi); got {tmax!r}")
+    if question in ("time-response", "regime"):
+        params.require_positive_stiffness()
     lo = params.sigma - 3.0 if sigma_min is None else float(sigma_min)
     hi = params.sigma + 3.0 if sigma_max is None else float(sigma_max)
     if not (np.isfinite(lo) and np.isfinite(hi) and lo < params.sigma < hi):

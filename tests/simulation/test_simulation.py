@@ -234,7 +234,7 @@ def test_periodic_resonant_is_a_stable_periodic_orbit_of_the_smooth_model():
     peak = np.max(np.abs(integrate_grid(P, orbit.y0, taus)[:, 0]))
     assert summary.envelope_max == pytest.approx(peak, rel=1e-2)
     assert summary.envelope_min == pytest.approx(peak, rel=1e-2)
-    assert summary.impacts_per_period == pytest.approx(4.0, abs=0.05)  # two on each wall: see README
+    assert summary.impacts_per_period == pytest.approx(4.0, abs=0.05)  # two on each wall: see docs/findings/simulation.md
 
 
 def synthetic(envelope_per_period, sides_per_period, params):

@@ -126,7 +126,7 @@ def test_frequency_response_and_critical_forcing_hold_on_the_corrected_curve():
     assert cp.Abar_b == pytest.approx(np.nanmin(abar_on_curve(SlowFlow(P.replace(sigma=1.0), "corrected"), A)), rel=1e-6)
 
 
-# Measured (README, "The corrected slow flow"): at these five sigmas the corrected slow flow is
+# Measured (docs/findings/regimes.md, "The corrected slow flow"): at these five sigmas the corrected slow flow is
 # 0.8-8.1 % from the stable orbits of (9), eq. (46) 18-32 %; the bound leaves room for rounding
 # of the settling simulation, not for a different orbit (the next one is > 30 % away).
 N6_BOUND = 0.1

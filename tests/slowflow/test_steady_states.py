@@ -188,3 +188,14 @@ def test_frc_branch_round_trips(tmp_path):
     np.testing.assert_array_equal(loaded.x, branch.x)
     np.testing.assert_array_equal(loaded.stable, branch.stable)
     assert loaded.special_labels() == branch.special_labels()
+
+
+def test_critical_curve_reaches_an_upper_end_of_s_plus():
+    """A wall whose S+ ends above at a fold of (39): the curve is traced up to that end, and agrees
+    with the one-sigma minimisation over S+ at every sigma of the range (a held-out wall)."""
+    P = get_preset("fig10").params.replace(lam=0.5, chi=2, n=8, pbar=4, beta=0.1, Abar=1.5)
+    curve = critical_curve(P, -2.0, 3.0)
+    assert curve.upper_end_branch is not None and len(curve.upper_end_branch) > 2
+    assert curve.sigma[0] == -2.0 and curve.sigma[-1] == 3.0
+    for sigma, abar in zip(curve.sigma[::5], curve.Abar_b[::5]):
+        assert abar == pytest.approx(critical_forcing(P, sigma).Abar_b, rel=1e-7)

@@ -1,0 +1,68 @@
+"""The chart as a user runs it: every special point of the Fig. 10 family gives its curve, a
+start that cannot is a failure (exit 3, a row in curves.csv), and what is computed depends on
+counts only, not on the worker count or the machine's load."""
+
+import csv
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from slosh_bif import get_preset
+from slosh_bif.cli import main
+from slosh_bif.slowflow.flow import SlowFlow
+from slosh_bif.slowflow.steady_states import abar_on_curve
+from slosh_bif.studies.chart import Chart, CurveFailure
+from slosh_bif.studies.chart_output import curve_rows
+
+FIG10_NO_SWITCH = ["chart", "--preset", "fig10", "--sigma-min", "-6", "--sigma-max", "8", "--abar-min", "0.2", "--abar-max", "6", "--no-switch"]
+BETA_CHART = [
+    "chart", "--preset", "fig10", "--set", "sigma=-1.2", "--sigma-min", "-2", "--sigma-max", "1.5", "--second", "beta", "--second-min", "0", "--second-max", "0.3",
+    "--no-switch", "--seeds", "3",
+]
+
+
+def _rows(path):
+    with open(path, newline="") as f:
+        return list(csv.DictReader(f))
+
+
+def test_the_fig10_chart_draws_a_curve_from_every_start(tmp_path, capsys):
+    code = main([*FIG10_NO_SWITCH, "--out", str(tmp_path)])
+    err = capsys.readouterr().err
+    rows = _rows(tmp_path / "curves.csv")
+    assert code == 0, err
+    assert {r["status"] for r in rows} == {"ok"} and "no " not in err.replace("no steady", "")
+    kinds = {r["kind"] for r in rows}
+    assert {"LP", "NS", "BP"} <= kinds  # the fold curves are back (lost when a failed arc raised in the corrector)
+    # Abar_b of (46) in critical.csv at each sigma against the least Abar over a dense sampling of S+
+    flow_rows = [r for r in _rows(tmp_path / "critical.csv") if r["Abar_b_slowflow"] not in ("", "nan")]
+    P = get_preset("fig10").params
+    for r in flow_rows[::8]:
+        flow = SlowFlow(P.replace(sigma=float(r["sigma"])))
+        A = np.geomspace(flow.A_min * (1 + 1e-9), 50.0, 200_001)
+        dense = np.nanmin(abar_on_curve(flow, A))
+        assert float(r["Abar_b_slowflow"]) == pytest.approx(dense, rel=1e-6)
+
+
+def test_a_start_without_a_curve_is_a_failure_row():
+    chart = Chart(
+        params=get_preset("fig10").params, sigma_range=(-1, 1), abar_range=(0, 1), family=None, curves=[], slow_flow_critical=None, seconds=0.0,
+        failures=(CurveFailure("LP", -0.5, 0.7, "LP at sigma = -0.5", "Newton failed"),),
+    )
+    (row,) = curve_rows(chart)
+    assert row["kind"] == "LP" and row["status"] == "failed to start: Newton failed" and row["sigma"] == -0.5
+    assert chart.incomplete == ["no LP curve from LP at sigma = -0.5: Newton failed"]
+
+
+def test_the_curves_do_not_depend_on_workers_or_load(tmp_path):
+    assert main([*BETA_CHART, "--workers", "1", "--out", str(tmp_path / "one")]) == 0
+    burners = [subprocess.Popen([sys.executable, "-c", "while True: pass"]) for _ in range(2)]
+    try:
+        assert main([*BETA_CHART, "--workers", "2", "--out", str(tmp_path / "two")]) == 0
+    finally:
+        for b in burners:
+            b.kill()
+    one, two = (tmp_path / name / "curves.csv" for name in ("one", "two"))
+    assert one.read_text() == two.read_text()

@@ -1,0 +1,50 @@
+"""Every `slosh-bif` command printed in the README works as printed (exit status 0), read from the
+README itself so that the two cannot drift apart: the quick ones in the default run, those
+marked ``slow`` by ``pytest -m slow``. Each runs in a fresh folder, in the order printed (a
+command may use a file an earlier one wrote: ``--params tank.toml``)."""
+
+import re
+import shlex
+from pathlib import Path
+
+import pytest
+
+from slosh_bif.cli import main
+
+README = Path(__file__).resolve().parents[1] / "README.md"
+
+
+def readme_commands():
+    """(command, comment) of each ``$ slosh-bif ...`` line of the README, in order."""
+    found = []
+    for line in README.read_text().splitlines():
+        match = re.match(r"^\$ (slosh-bif .*?)\s+#\s*(.*)$", line)
+        if match:
+            found.append((match.group(1), match.group(2)))
+    return found
+
+
+def _is_slow(comment: str) -> bool:
+    return "(slow" in comment
+
+
+def test_the_readme_prints_commands_and_marks_the_slow_ones():
+    commands = readme_commands()
+    assert len(commands) >= 10 and any(_is_slow(c) for _, c in commands) and any(not _is_slow(c) for _, c in commands)
+    assert README.stat().st_size < 12_000
+
+
+def _run(commands, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    for command, comment in commands:
+        argv = shlex.split(command)[1:]
+        assert main(argv) == 0, f"README command failed: {command}"
+
+
+def test_the_readmes_quick_commands_work_as_printed(tmp_path, monkeypatch):
+    _run([c for c in readme_commands() if not _is_slow(c[1])], tmp_path, monkeypatch)
+
+
+@pytest.mark.slow
+def test_the_readmes_slow_commands_work_as_printed(tmp_path, monkeypatch):
+    _run([c for c in readme_commands() if _is_slow(c[1])], tmp_path, monkeypatch)
