@@ -259,6 +259,7 @@ def sweep_executor(args):
         from distributed import Client
     except ImportError:
         raise ValueError("--scheduler needs dask.distributed: pip install 'slosh_bif[dask]'") from None
+    _probe_scheduler(address)
     try:
         client = Client(address, timeout=5)
     except (OSError, TimeoutError) as err:
@@ -267,6 +268,37 @@ def sweep_executor(args):
         yield client.get_executor()
     finally:
         client.close()
+
+
+PROBE_SECONDS = 5.0  # how long a TCP scheduler address may take to greet
+
+
+def _probe_scheduler(address: str) -> None:
+    """A one-line error unless the tcp:// (or bare host:port) ``address`` greets like a dask
+    scheduler: on connection a scheduler writes its handshake first, a frame whose 8-byte
+    little-endian length is small. Any other service is refused before dask reads its bytes as
+    a length (an HTTP server's reply read so asked for 3 EiB). Other schemes are left to dask."""
+    import socket
+    import struct
+
+    scheme, _, rest = address.rpartition("://")
+    if scheme not in ("", "tcp"):
+        return
+    host, _, port = rest.rpartition(":")
+    if not (host and port.isdigit()):
+        raise ValueError(f"--scheduler {address}: expected tcp://HOST:PORT")
+    try:
+        with socket.create_connection((host.strip("[]"), int(port)), timeout=PROBE_SECONDS) as sock:
+            greeting = b""
+            while len(greeting) < 8:
+                chunk = sock.recv(8 - len(greeting))
+                if not chunk:
+                    break
+                greeting += chunk
+    except (OSError, TimeoutError) as err:
+        raise ValueError(f"--scheduler {address}: no dask scheduler answers there ({err})") from None
+    if len(greeting) < 8 or not 0 < struct.unpack("<Q", greeting)[0] < 1 << 20:
+        raise ValueError(f"--scheduler {address}: the service there is not a dask scheduler (it did not greet with a dask handshake)")
 
 
 def floats(text):

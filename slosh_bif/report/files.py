@@ -9,7 +9,15 @@ import os
 import time
 from pathlib import Path
 
-__all__ = ["replaced_atomically", "write_text_atomically", "read_store", "check_settings", "pickle_store", "CellStore"]
+__all__ = ["replaced_atomically", "write_text_atomically", "read_store", "check_settings", "pickle_store", "CellStore", "damaged"]
+
+# What reading a damaged store can raise: bad JSON or pickle, missing keys, wrong types, a cut zip.
+DAMAGE = (ValueError, KeyError, TypeError, IndexError, AttributeError, EOFError, OSError)
+
+
+def damaged(path, err) -> ValueError:
+    """The one-line error for a store that --resume cannot use."""
+    return ValueError(f"--resume: {path} is damaged or not this program's store ({type(err).__name__}: {err}); run without --resume or into another --out")
 
 
 @contextlib.contextmanager
@@ -42,6 +50,8 @@ def read_store(path, settings: dict, *, key: str | None = "settings") -> dict:
         stored = json.loads(Path(path).read_text())
     except (OSError, ValueError) as err:
         raise ValueError(f"--resume: cannot read {path}: {err}") from None
+    if not isinstance(stored, dict) or not isinstance(stored if key is None else stored.get(key, {}), dict):
+        raise damaged(path, TypeError("not a JSON object of settings"))
     check_settings(path, stored if key is None else stored.get(key, {}), settings)
     return stored
 
@@ -65,16 +75,21 @@ def pickle_store(path, settings: dict, *, resume: bool):
     if resume:
         try:
             stored = pickle.loads(path.read_bytes())
-        except (OSError, pickle.UnpicklingError, EOFError, AttributeError) as err:
-            raise ValueError(f"--resume: cannot read {path}: {err}") from None
-        check_settings(path, stored.get("settings", {}), settings)
-        done = stored["state"]
+            found, done = stored.get("settings", {}), stored["state"]
+        except (pickle.UnpicklingError, *DAMAGE) as err:
+            raise damaged(path, err) from None
+        check_settings(path, found, settings)
 
     def keep(*state):
         with replaced_atomically(path) as tmp:
             tmp.write_bytes(pickle.dumps({"settings": settings, "state": state}))
 
     return done, keep
+
+
+def _cell_key(text) -> tuple:
+    i, j = (int(v) for v in text.split(","))
+    return i, j
 
 
 class CellStore:
@@ -94,9 +109,15 @@ class CellStore:
         self.partial = self.path.with_name(f"{self.path.stem}.partial{self.path.suffix}")
         self.cells = {}
         if resume:
-            stored = read_store(self.partial if self.partial.exists() else self.path, settings)
-            self.cells = dict(stored["cells"])
-        self.done = {tuple(int(v) for v in key.split(",")): decode(record) for key, record in self.cells.items()}
+            source = self.partial if self.partial.exists() else self.path
+            stored = read_store(source, settings)
+            try:
+                self.cells = dict(stored["cells"])
+                self.done = {_cell_key(key): decode(record) for key, record in self.cells.items()}
+            except DAMAGE as err:
+                raise damaged(source, err) from None
+        else:
+            self.done = {}
         self._last = time.monotonic()
 
     def keep(self, key, value) -> None:

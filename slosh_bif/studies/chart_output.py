@@ -13,12 +13,13 @@ curve could be started has one row at the start point, its status ``failed to st
 from __future__ import annotations
 
 import json
+import zipfile
 from pathlib import Path
 
 import numpy as np
 
 from slosh_bif.orbits.codim2 import CODIM2_KINDS, BifurcationCurve
-from slosh_bif.report.files import read_store, write_text_atomically
+from slosh_bif.report.files import DAMAGE, damaged, read_store, write_text_atomically
 from slosh_bif.report.tables import write_rows
 from slosh_bif.studies.chart import CRITICAL_COLUMNS, critical_rows, lowest_stable_boundary
 
@@ -120,7 +121,12 @@ def curve_store(folder, settings: dict, *, resume: bool):
     marker = folder / "settings.json"
     if resume:
         read_store(marker, settings, key=None)
-        done = {int(path.stem.split("-")[1]): BifurcationCurve.load(path) for path in sorted(folder.glob("curve-*.npz"))}
+        done = {}
+        for path in sorted(folder.glob("curve-*.npz")):
+            try:
+                done[int(path.stem.split("-")[1])] = BifurcationCurve.load(path)
+            except (zipfile.BadZipFile, *DAMAGE) as err:
+                raise damaged(path, err) from None
     else:
         folder.mkdir(parents=True, exist_ok=True)
         for path in folder.glob("curve-*.npz"):

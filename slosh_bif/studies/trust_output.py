@@ -7,7 +7,7 @@ from pathlib import Path
 
 import numpy as np
 
-from slosh_bif.report.files import read_store, write_text_atomically
+from slosh_bif.report.files import DAMAGE, damaged, read_store, write_text_atomically
 from slosh_bif.report.tables import write_rows
 from slosh_bif.studies.trust import TRUST_COLUMNS, TrustPoint
 
@@ -86,7 +86,10 @@ def trust_store(path, settings: dict, *, resume: bool):
     done = {}
     if resume:
         stored = read_store(path, settings)
-        done = {int(i): TrustPoint(**row) for i, row in stored["points"].items() if not row["status"].startswith("not computed")}
+        try:
+            done = {int(i): TrustPoint(**row) for i, row in stored["points"].items() if not row["status"].startswith("not computed")}
+        except DAMAGE as err:
+            raise damaged(path, err) from None
 
     def keep(i, point):
         done[i] = point

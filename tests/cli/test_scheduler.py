@@ -32,3 +32,26 @@ def test_a_scheduler_that_does_not_answer_is_a_one_line_error(tmp_path, capsys):
     code = main(["regimes", "--preset", "fig13", "--sigma-points", "2", "--abar-points", "2", "--scheduler", "tcp://127.0.0.1:9", "--out", str(tmp_path)])
     err = capsys.readouterr().err
     assert code == 2 and "--scheduler tcp://127.0.0.1:9" in err and "Traceback" not in err
+
+
+def test_a_service_that_is_not_a_scheduler_is_refused_in_seconds(tmp_path, capsys):
+    """A server that greets with text (as an SSH or HTTP service may) is not read as a dask frame."""
+    import socket
+    import threading
+
+    server = socket.create_server(("127.0.0.1", 0))
+    port = server.getsockname()[1]
+
+    def greet():
+        for _ in range(2):
+            conn, _ = server.accept()
+            with conn:
+                conn.sendall(b"HTTP/1.1 400 Bad Request\r\n\r\n")
+
+    threading.Thread(target=greet, daemon=True).start()
+    try:
+        code = main(["regimes", "--preset", "fig13", "--sigma-points", "2", "--abar-points", "2", "--scheduler", f"tcp://127.0.0.1:{port}", "--out", str(tmp_path)])
+    finally:
+        server.close()
+    err = capsys.readouterr().err
+    assert code == 2 and "is not a dask scheduler" in err and "Traceback" not in err
