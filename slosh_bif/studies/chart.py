@@ -136,11 +136,12 @@ def _trace_job(job):
         return None, str(err)
 
 
-def _trace_curves(starts, say, workers: int = 1, done=None, keep=None):
+def _trace_curves(starts, say, workers: int = 1, done=None, keep=None, keep_partial: bool = True):
     """(curves, status, failures): the curve through each start that lies on no curve of its kind
     traced from an earlier start, in start order, on ``workers`` processes; interrupted, the curves
     finished by then and a status saying so; a :class:`CurveFailure` for each start whose curve
-    could not be started (in start order). ``done``: {start index: curve} from an earlier run
+    could not be started (in start order). ``keep_partial=False``: an interruption is raised on
+    (for a caller whose answer would be wrong from part of the curves). ``done``: {start index: curve} from an earlier run
     (not traced again); ``keep(i, curve)`` is called as each curve finishes.
 
     Curves are independent, so they run side by side; a start is not submitted when a finished
@@ -173,6 +174,8 @@ def _trace_curves(starts, say, workers: int = 1, done=None, keep=None):
         else:
             _trace_in_pool(starts, workers, covered, record, traced)
     except KeyboardInterrupt as stop:  # keep what is traced; the caller marks the chart partial
+        if not keep_partial:
+            raise
         status = f"interrupted ({getattr(stop, 'signal_name', 'SIGINT')}) after {len(traced)} curves, {len(starts)} starts"
     kept = []
     for i in sorted(traced):
@@ -338,7 +341,7 @@ def critical_forcing_full(
     )
     pitchforks = _pitchforks(family)
     starts = [s for ob in family.branches if ob.problem.period_multiple == 1 for s in _starts(ob, "Abar", params, box, (a0, a1), pitchforks)]
-    curves, _, failures = _trace_curves(starts, say)
+    curves, _, failures = _trace_curves(starts, say, keep_partial=False)
     try:
         slow = critical_curve(params, *box, model=model)
     except (RuntimeError, ValueError):

@@ -162,7 +162,7 @@ def answer(question: str, params: Params, *, tol: float = 0.05, state0=None, sig
             model, reason, error = FULL_MODEL[question], escape, FULL_MODEL_ERROR[question]
         reason += note
     if model not in (SLOW_FLOW, CORRECTED):
-        result = _full(question, params, y0, lo, hi, tmax)
+        result = _full(question, params, y0, lo, hi, tmax, say)
     return Answer(question, model, reason, float(error), result, time.perf_counter() - start)
 
 
@@ -181,12 +181,12 @@ def _slow(question, params, y0, lo, hi, tmax, model):
     return regime, "", f"; (45) from the initial state: {trajectory.message}"
 
 
-def _full(question, params, y0, lo, hi, tmax):
+def _full(question, params, y0, lo, hi, tmax, say=None):
     if question in ("time-response", "regime"):
         sim = simulate(params, y0, tmax)
         return sim if question == "time-response" else classify(sim)
     if question == "critical-forcing":  # every family at sigma, not only the one y0 settles on
-        return critical_forcing_full(params, y0)
+        return critical_forcing_full(params, y0, progress=say)
     orbit, _ = settle_and_shoot(params, y0)
     if not (orbit.converged and orbit.stable):
         raise RuntimeError(

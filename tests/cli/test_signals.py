@@ -151,3 +151,23 @@ def test_a_stopped_chart_keeps_its_finished_curves_and_leaves_no_worker(tmp_path
     with open(out / "curves.csv", newline="") as fh:
         rows = list(csv.DictReader(fh))
     assert stored and 0 < len({r["curve"] for r in rows}) <= len(stored)  # the finished curves (one of two duplicates dropped), complete
+
+
+@pytest.mark.parametrize("signum, code", [(signal.SIGINT, 130), (signal.SIGTERM, 143)])
+def test_the_critical_forcing_of_the_full_model_stops_on_a_signal(signum, code):
+    """``answer critical-forcing`` traces curves in process (as the bench's critical-forcing step
+    does): a signal while a curve is traced stops the command, it does not end that curve's
+    stage early and go on with a partial answer."""
+    child = subprocess.Popen(
+        [sys.executable, "-m", "slosh_bif.cli", "answer", "critical-forcing", "--preset", "fig13", "--tol", "0.3"],
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, preexec_fn=default_sigint,
+    )
+    for line in child.stderr:  # the curves are being traced
+        if "curve from" in line or "special points" in line:
+            break
+    sent = time.monotonic()
+    child.send_signal(signum)
+    _, err = child.communicate(timeout=60)
+    assert child.returncode == code, err
+    assert time.monotonic() - sent < 10  # within 2 s of work, on a busy machine
+    assert "Traceback" not in err
