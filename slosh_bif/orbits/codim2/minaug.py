@@ -123,8 +123,11 @@ class MultiplierCurveProblem:
         B[:n, :n], B[:n, n], B[n, :n] = J, self._b, self._c.conj()
         rhs = np.zeros(n + 1, dtype=J.dtype)
         rhs[-1] = 1.0
-        vg = np.linalg.solve(B, rhs)
-        wg = np.linalg.solve(B.conj().T, rhs)  # the adjoint system gives w
+        try:
+            vg = np.linalg.solve(B, rhs)
+            wg = np.linalg.solve(B.conj().T, rhs)  # the adjoint system gives w
+        except np.linalg.LinAlgError:  # a failed evaluation (NaN arcs) or an exactly singular border: the corrector cuts its step
+            vg = wg = np.full(n + 1, np.nan, dtype=J.dtype)
         result = (arcs, vg[:n], wg[:n], vg[n])
         if len(self._memo) > 8:
             self._memo.clear()
