@@ -47,6 +47,10 @@ def build_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
     for family in (info, tank, slowflow, orbits, chart, studies, simulation):
         family.add_commands(sub)
+    for each in sub.choices.values():
+        talk = each.add_mutually_exclusive_group()
+        talk.add_argument("-q", "--quiet", action="store_true", help="no progress messages (results and errors still print)")
+        talk.add_argument("-v", "--verbose", action="store_true", help="every progress message, and every special point on stdout")
     for each in (parser, *sub.choices.values()):
         _numbers_may_start_with_minus(each)
         for action in each._actions:
@@ -93,6 +97,16 @@ def _check_out(out, *, is_file: bool = False) -> None:
         raise ValueError(f"--out {out}: cannot create or write in {existing} (permission denied)")
 
 
+def _origin(category, filename: str, lineno: int) -> str:
+    """Where a warning comes from, for those that do not say it themselves (numpy's "invalid value
+    encountered in det"): its class and the package's line that raised it."""
+    if issubclass(category, UserWarning) and "slosh_bif" in str(filename):
+        return ""  # the package's own warnings name their subject
+    where = str(filename)
+    cut = where.rfind("slosh_bif" + os.sep)
+    return f" ({category.__name__} at {where[cut:] if cut >= 0 else os.path.basename(where)}:{lineno})"
+
+
 def _quiet_stdout() -> None:
     """Point stdout at /dev/null, so that the interpreter's final flush into a closed pipe prints nothing."""
     try:
@@ -114,16 +128,19 @@ def main(argv=None) -> int:
     from threadpoolctl import threadpool_limits
 
     from slosh_bif.cli.common import Terminated
+    from slosh_bif.cli.terminal import REPORTER
 
     parser = build_parser()
     args = parser.parse_args(sys.argv[1:] if argv is None else list(argv))
+    REPORTER.configure(quiet=args.quiet, verbose=args.verbose)
 
     shown = set()
 
-    def show(message, category, *_args, **_kwargs):  # one line, no source excerpt, each message once
+    def show(message, category, filename="", lineno=0, *_args, **_kwargs):  # one line, no source excerpt, each message once
         if str(message) not in shown:
             shown.add(str(message))
-            print(f"slosh-bif {args.command}: warning: {message}", file=sys.stderr)
+            REPORTER.close()  # a warning on its own line, not inside the status line
+            print(f"slosh-bif {args.command}: warning: {message}{_origin(category, filename, lineno)}", file=sys.stderr)
 
     def on_sigterm(_signum, _frame):
         raise Terminated("stopped")
@@ -160,6 +177,7 @@ def main(argv=None) -> int:
             print(f"slosh-bif {args.command}: failed to read or write a file: {err}", file=sys.stderr)
             return 1
         finally:
+            REPORTER.close()
             if previous is not None:
                 signal.signal(signal.SIGTERM, previous)
 

@@ -10,6 +10,7 @@ import math
 import sys
 from pathlib import Path
 
+from slosh_bif.cli.terminal import REPORTER
 from slosh_bif.model.params import FIELDS
 from slosh_bif.model.presets import CLASSIFY_TMAX, PRESETS, get_preset
 
@@ -202,7 +203,13 @@ def abar_range(args, default):
 
 
 def progress(message):
-    print(f"  {message}", file=sys.stderr, flush=True)
+    """A message to keep on screen (stderr; none with -q)."""
+    REPORTER.note(message)
+
+
+def passing(message):
+    """A passing state: the status line on a terminal (a plain line elsewhere, all of them with -v)."""
+    REPORTER.update(message)
 
 
 def throttled(report, every=1.0, *, passes=lambda message: "point" not in message):
@@ -214,9 +221,11 @@ def throttled(report, every=1.0, *, passes=lambda message: "point" not in messag
 
     def callback(message):
         now = time.monotonic()
-        if now - last[0] >= every or passes(message):
-            last[0] = now
+        if passes(message):
             report(message)
+        elif REPORTER.verbose or now - last[0] >= every:  # what is shown, not what is computed, depends on the clock
+            last[0] = now
+            (passing if report is progress else report)(message)
 
     return callback
 

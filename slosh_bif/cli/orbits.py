@@ -5,6 +5,7 @@ from __future__ import annotations
 import dataclasses
 import sys
 
+from slosh_bif.cli.terminal import REPORTER
 from slosh_bif.cli.common import (
     abar_range,
     add_abar_range_options,
@@ -95,8 +96,8 @@ def _shoot(args) -> int:
     families_path = write_families_csv(family, args.out / "families.csv")
     for k, ob in enumerate(family.branches):
         ob.branch.save(args.out / f"branch{k}_{ob.name}.npz")
-    print(family.summary())
-    print(f"wrote {csv_path}, {families_path}, {png_path}")
+    print(family.summary(detail=REPORTER.verbose))
+    print(f"wrote {csv_path}, {families_path}, {png_path}" + ("" if REPORTER.verbose else " (each special point in branch.csv's 'special' column; -v lists them here)"))
     return _family_status(family)
 
 

@@ -107,11 +107,19 @@ class OrbitFamily:
         """Whether every branch ended at a bound, an edge or by closing (none was cut short)."""
         return all(ob.branch.status == "ok" for ob in self.branches)
 
-    def summary(self) -> str:
+    def summary(self, detail: bool = False) -> str:
+        """One line per branch: its status, points, range and special points (counted by kind;
+        each with its parameter value when ``detail``)."""
         lines = []
         for ob in self.branches:
             b = ob.branch
-            kinds = ", ".join(f"{s.kind} {s.p:.6g}" for s in b.special) or "none"
+            if detail:
+                kinds = ", ".join(f"{s.kind} {s.p:.6g}" for s in b.special) or "none"
+            else:
+                counts = {}
+                for s in b.special:
+                    counts[s.kind] = counts.get(s.kind, 0) + 1
+                kinds = f"{len(b.special)} ({', '.join(f'{n} {k}' for k, n in counts.items())})" if counts else "none"
             lines.append(f"{ob.name}{' (' + ob.origin + ')' if ob.origin else ''}: {b.status}, {len(b)} points, {self.param} in [{b.p.min():.4g}, {b.p.max():.4g}], special: {kinds}")
         return "\n".join(lines)
 

@@ -310,7 +310,7 @@ def test_simulate_reports_bad_input(tmp_path, capsys):
     assert main(["simulate", "--preset", "fig10", "--model", "impact", "--noise", "1", "--out", str(tmp_path)]) == 2
     assert "smooth model only" in capsys.readouterr().err
     assert main(["simulate", "--preset", "fig10", "--tmax", "100", "--transient", "200", "--out", str(tmp_path)]) == 2
-    assert "--transient must be in [0, tmax = 100)" in capsys.readouterr().err
+    assert "--transient must be in [0, tmax - 4 pi = 87.4336)" in capsys.readouterr().err
 
 
 def test_regimes_writes_map_csv_and_png(tmp_path, capsys):
@@ -435,3 +435,19 @@ def test_basins_writes_csv_attractors_and_png(tmp_path, capsys):
     assert "basins at sigma = 3" in (out / "attractors.txt").read_text() and (out / "basins.png").stat().st_size > 10_000
     assert main(["basins", "--preset", "fig10", "--range1", "1", "1", "--out", str(out)]) == 2
     assert "--range1 needs finite LO < HI" in capsys.readouterr().err
+
+
+def test_quiet_and_verbose(tmp_path, capsys):
+    assert main(["shoot", "--preset", "fig10", "--no-switch", "--sigma-min", "4", "--sigma-max", "5", "-q", "--out", str(tmp_path / "q")]) == 0
+    quiet = capsys.readouterr()
+    assert quiet.err == "" and "special: " in quiet.out
+    assert main(["shoot", "--preset", "fig10", "--no-switch", "--sigma-min", "4", "--sigma-max", "5", "-v", "--out", str(tmp_path / "v")]) == 0
+    loud = capsys.readouterr()
+    assert "point 2," in loud.err and "BP 4.4" not in quiet.out and "END 4," in loud.out
+
+
+def test_a_warning_says_where_it_comes_from():
+    from slosh_bif.cli import _origin
+
+    assert _origin(RuntimeWarning, "/site/slosh_bif/orbits/shooting.py", 263) == " (RuntimeWarning at slosh_bif/orbits/shooting.py:263)"
+    assert _origin(UserWarning, "/site/slosh_bif/slowflow/flow.py", 10) == ""
