@@ -108,14 +108,20 @@ def _basins(args) -> int:
         if not (np.isfinite(lo) and np.isfinite(hi) and lo < hi):
             raise ValueError(f"{name} needs finite LO < HI; got {lo} {hi}")
     check_workers(args)
+    from slosh_bif.studies.basins import BASIN_TMAX
+
+    tmax = BASIN_TMAX if args.tmax is None else args.tmax
+    if not (np.isfinite(tmax) and 0 < tmax <= 1e3 * BASIN_TMAX):
+        raise ValueError(f"--tmax must be in (0, {1e3 * BASIN_TMAX:g}]; got {tmax}")
+    params.require_positive_stiffness()
     first, second = np.linspace(*args.range1, n1), np.linspace(*args.range2, n2)
-    store = basin_store(args.out / "basins.json", basin_settings(params, args.axes, first, second, args.tmax), resume=args.resume)
+    store = basin_store(args.out / "basins.json", basin_settings(params, args.axes, first, second, tmax), resume=args.resume)
     if args.resume:
         progress(f"resuming: {len(store.done)} of {n1 * n2} initial states already simulated in {args.out}")
     args.out.mkdir(parents=True, exist_ok=True)
     with sweep_executor(args) as executor:
         bmap = basin_map(
-            params, first, second, axes=tuple(args.axes), tmax=args.tmax, backend=args.backend, max_workers=args.workers, executor=executor,
+            params, first, second, axes=tuple(args.axes), tmax=tmax, backend=args.backend, max_workers=args.workers, executor=executor,
             done=store.done, on_result=store.keep, progress=cell_progress(throttled(progress, passes=lambda message: False), "initial states simulated"),
         )
     store.finish(bmap.status)
@@ -211,7 +217,7 @@ def add_commands(sub) -> None:
     basins.add_argument("--axes", nargs=2, default=("X", "w"), choices=("X", "Xd", "w", "wd"), metavar=("A", "B"), help="the state components varied (the other two start at zero; default X w)")
     basins.add_argument("--range1", type=float, nargs=2, default=(-3.0, 3.0), metavar=("LO", "HI"), help="range of the first axis (default -3 3)")
     basins.add_argument("--range2", type=float, nargs=2, default=(-1.0, 1.0), metavar=("LO", "HI"), help="range of the second axis (default -1 1, the clearance)")
-    add_tmax_option(basins)
+    basins.add_argument("--tmax", type=float, default=None, help="the longest each start is followed, in tau (default 2,000 forcing periods; a start stops as soon as its strobe settles)")
     basins.add_argument("--workers", type=int, default=None, help="worker processes (default: one per core)")
     add_scheduler_option(basins)
     add_backend_option(basins)

@@ -1,12 +1,23 @@
 """Basins of attraction of the full model (9) at one (sigma, Abar): which response each initial
 state reaches, where several coexist (stable symmetric and asymmetric orbits, a periodic response
-beside strongly modulated response; Figs. 9-15 start from one state each).
+beside strongly modulated response; Figs. 9-15 start from one state each), and how far the
+cell-by-cell picture can be believed.
 
-A plane of initial states (two of X, X', w, w'; the other two zero) is simulated with (9) and
-each run classified (:func:`~slosh_bif.simulation.regimes.classify`). Where the response is
-periodic, Newton on the 2pi-map from the run's last strobe finds the orbit it settled on, and
-orbits are told apart by their state at tau = 0 (a mirror pair's two members are two
-attractors), so each stable orbit gets its own basin; other responses are labelled by regime.
+A plane of initial states (two of X, X', w, w'; the other two zero) is followed on the
+stroboscopic map of (9) (one forcing period at a time) until its strobe settles: it moves by less
+than ``SETTLE_TOL`` (relative) for ``SETTLE_PERIODS`` periods in a row on a fixed point (or on a
+2-cycle), within ``tmax`` at most. A settled strobe on a fixed point is refined by Newton on the
+2pi-map to the orbit it settled on, and orbits are told apart by their state at tau = 0 (a mirror
+pair's two members are two attractors); a start that has not settled by ``tmax`` is simulated
+for ``TAIL_PERIODS`` more periods and labelled by its regime, marked unsettled. No fixed
+simulation time decides an outcome.
+
+Where the early motion is chaotic, the outcome of a start depends on digits no integration keeps.
+Each start is therefore also run from two perturbed copies (its first component moved by
+``PERTURBATIONS`` times the plane's span): a cell whose outcome changes under either is
+*uncertain*. The fraction f(eps) of uncertain cells at the two sizes gives the uncertainty
+exponent alpha of f ~ eps^alpha (Grebogi, McDonald, Ott and Yorke): alpha near 1 for smooth basin
+boundaries, near 0 where they are fractal and the picture at any resolution is rounding's.
 """
 
 from __future__ import annotations
@@ -17,27 +28,33 @@ import math
 import numpy as np
 
 from slosh_bif.model.params import Params
-from slosh_bif.model.presets import CLASSIFY_TMAX
 from slosh_bif.orbits.shooting import ShootingProblem, orbit_at, orbit_measures
 from slosh_bif.orbits.starts import START_TOL
-from slosh_bif.simulation.direct import MAX_SAMPLES, simulate
-from slosh_bif.simulation.integrator import resolve_backend
+from slosh_bif.simulation import integrator
+from slosh_bif.simulation.direct import diverged_beyond, simulate
 from slosh_bif.simulation.regimes import classify
 from slosh_bif.simulation.sweep import run_cells
 
-SAMPLE_STEP = 0.02  # the simulations' sampling (simulate's default), which bounds tmax by the samples kept
-
-__all__ = ["STATE_NAMES", "BasinMap", "basin_map"]
+__all__ = ["STATE_NAMES", "BasinMap", "basin_map", "SETTLE_TOL", "SETTLE_PERIODS", "PERTURBATIONS", "BASIN_TMAX"]
 
 STATE_NAMES = ("X", "Xd", "w", "wd")
+SETTLE_TOL = 1e-7  # the strobe's relative move per period (or per two) that counts as settled
+SETTLE_PERIODS = 3  # ... so many periods in a row
+TAIL_PERIODS = 60  # an unsettled start is simulated this much longer and its regime classified
+PERTURBATIONS = (1e-3, 1e-6)  # the perturbed copies of each start, as fractions of the plane's span along the first axis
+BASIN_TMAX = 2 * math.pi * 2000  # the longest any start is followed: 2,000 forcing periods
+PERIOD = 2 * math.pi
 
 
 @dataclasses.dataclass(frozen=True)
 class BasinMap:
     """``label[i, j]``: the attractor reached from the state with ``axes[0]`` = ``first[j]`` and
-    ``axes[1]`` = ``second[i]``; ``attractors``: {label: description} (for an orbit its kind, A1
-    and state at tau = 0); ``orbits``: {label: the orbit's state at tau = 0}; ``status``:
-    "complete", or why the map stopped (missing cells are "not computed")."""
+    ``axes[1]`` = ``second[i]``; ``uncertain[i, j]``: whether a perturbed copy of that start
+    (``PERTURBATIONS``) reached another; ``periods[i, j]``: forcing periods until its strobe
+    settled (NaN: not settled by ``tmax``); ``uncertain_fraction``: {eps: the share of cells whose
+    outcome changed under that perturbation}; ``attractors``: {label: description};
+    ``orbits``: {label: the orbit's state at tau = 0}; ``status``: "complete", or why the map
+    stopped (missing cells are "not computed")."""
 
     params: Params
     axes: tuple
@@ -48,6 +65,9 @@ class BasinMap:
     orbits: dict
     tmax: float
     status: str = "complete"
+    uncertain: np.ndarray | None = None
+    periods: np.ndarray | None = None
+    uncertain_fraction: dict = dataclasses.field(default_factory=dict)
 
     def fractions(self) -> dict:
         """The share of the plane's cells per attractor, largest first."""
@@ -55,29 +75,68 @@ class BasinMap:
         order = np.argsort(-counts, kind="stable")
         return {str(names[k]): float(counts[k]) / self.label.size for k in order}
 
+    def fraction_bounds(self) -> dict:
+        """{attractor: (share of cells certain to reach it, share reaching it counting the
+        uncertain ones)}: the basin's share lies between them at this resolution."""
+        computed = self.label.size
+        certain = ~self.uncertain if self.uncertain is not None else np.ones(self.label.shape, dtype=bool)
+        return {name: (float(np.sum((self.label == name) & certain)) / computed, share) for name, share in self.fractions().items()}
 
-def _basin_point(params, state0, tmax, backend):
-    """(regime, orbit state at tau = 0 or None) from one initial state (in a worker)."""
-    sim = simulate(params, state0, tmax, sample_step=SAMPLE_STEP, backend=backend)
+    @property
+    def uncertainty_exponent(self) -> float:
+        """alpha of f(eps) ~ eps^alpha from the two perturbation sizes (NaN when a fraction is 0)."""
+        (e1, f1), (e2, f2) = sorted(self.uncertain_fraction.items())[:2] if len(self.uncertain_fraction) >= 2 else ((1, 0), (1, 0))
+        return float(math.log(f2 / f1) / math.log(e2 / e1)) if f1 > 0 and f2 > 0 and e1 != e2 else math.nan
+
+
+def _settle(params, state0, max_periods: int, backend):
+    """(outcome, orbit state at tau = 0 or None, periods): the strobe of (9) from ``state0``
+    followed until it settles (see the module docstring). The outcome is "orbit" (Newton found
+    the 2pi-orbit it settled on), "period-2", a regime with "(not settled)", "diverged" or
+    "failed"."""
+    y, before, calm1, calm2 = np.asarray(state0, dtype=float), None, 0, 0
+    bound = diverged_beyond(params)
+    for k in range(1, max_periods + 1):
+        run = integrator.integrate(params, y, 0.0, PERIOD, rtol=1e-9, atol=1e-11, backend=backend)  # (9) is 2pi-periodic: every period alike
+        z = run.z
+        if not (run.success and np.all(np.isfinite(z))):
+            return "failed", None, k
+        if np.max(np.abs(z[:2])) > bound:
+            return "diverged", None, k
+        scale = SETTLE_TOL * (1.0 + np.linalg.norm(z))
+        calm1 = calm1 + 1 if np.linalg.norm(z - y) <= scale else 0
+        calm2 = calm2 + 1 if before is not None and np.linalg.norm(z - before) <= scale else 0
+        before, y = y, z
+        if calm1 >= SETTLE_PERIODS:
+            problem = ShootingProblem(params, segments=4, backend=backend)
+            orbit = orbit_at(problem, problem.initial_states(y), params.sigma, tol=START_TOL)
+            return ("orbit", orbit.y0, k) if orbit.converged else ("periodic (no 2pi orbit found)", None, k)
+        if calm2 >= SETTLE_PERIODS:
+            return "period-2", None, k
+    sim = simulate(params, y, max_periods * PERIOD + TAIL_PERIODS * PERIOD, t0=max_periods * PERIOD, backend=backend)
+    if sim.status == "diverged":
+        return "diverged", None, max_periods
     if not sim.success and sim.status != "sticking":
-        return "failed", None
-    regime = classify(sim).regime
-    if not regime.startswith("periodic"):
-        return regime, None
-    problem = ShootingProblem(params, segments=4, backend=backend)
-    orbit = orbit_at(problem, problem.initial_states(sim.y[:, -1]), params.sigma, tol=START_TOL)  # tmax is a whole number of periods
-    return regime, (orbit.y0 if orbit.converged else None)
+        return "failed", None, max_periods
+    return f"{classify(sim).regime} (not settled)", None, max_periods
+
+
+def _basin_point(params, state0, max_periods, backend, shifts):
+    """The outcome of ``state0`` and of its perturbed copies ``state0 + shift`` (in a worker):
+    a list of (outcome, orbit state or None, periods)."""
+    return [_settle(params, np.asarray(state0) + np.asarray(shift), max_periods, backend) for shift in ((0.0,) * 4, *shifts)]
 
 
 def basin_map(
-    params: Params, first, second, *, axes=("X", "w"), tmax: float = CLASSIFY_TMAX, backend: str = "auto", max_workers: int | None = None, progress=None,
+    params: Params, first, second, *, axes=("X", "w"), tmax: float = BASIN_TMAX, backend: str = "auto", max_workers: int | None = None, progress=None,
     executor=None, done=None, on_result=None,
 ) -> BasinMap:
-    """Simulate (9) from every state of the grid ``first`` x ``second`` in the state components
-    ``axes`` (the others zero) to ``tmax`` (rounded up to whole forcing periods) and label each by
-    the attractor it reaches; points run through ``executor`` (by default on ``max_workers``
-    local processes; see :func:`~slosh_bif.simulation.sweep.run_cells`), ``progress(done, total)``
-    and ``on_result((i, j), (regime, orbit state or None))`` as they finish. ``done``: such
+    """Follow (9) from every state of the grid ``first`` x ``second`` in the state components
+    ``axes`` (the others zero), and from two perturbed copies of each, until the strobe settles
+    or ``tmax`` (rounded up to whole forcing periods) is reached, and label each by the attractor
+    it reaches (see the module docstring); points run through ``executor`` (by default on
+    ``max_workers`` local processes; see :func:`~slosh_bif.simulation.sweep.run_cells`),
+    ``progress(done, total)`` and ``on_result((i, j), outcomes)`` as they finish. ``done``: such
     results of an earlier run with the same settings, not simulated again. Interrupted, it
     returns the cells done, the rest "not computed"."""
     if len(axes) != 2 or axes[0] == axes[1] or any(a not in STATE_NAMES for a in axes):
@@ -89,10 +148,16 @@ def basin_map(
             raise ValueError(f"the {name} grid must be a non-empty 1-d array of finite numbers")
     if not (np.isfinite(tmax) and tmax > 0):
         raise ValueError(f"tmax must be finite and > 0; got {tmax!r}")
-    if tmax / SAMPLE_STEP > MAX_SAMPLES:
-        raise ValueError(f"tmax = {tmax:g} would keep more than the {MAX_SAMPLES:.0e} samples allowed per simulation (one every {SAMPLE_STEP:g})")
-    backend = resolve_backend(backend)
-    tmax = 2 * np.pi * math.ceil(tmax / (2 * np.pi))
+    if tmax > 1e3 * BASIN_TMAX:
+        raise ValueError(f"tmax = {tmax:g} is more than a thousand times the default {BASIN_TMAX:g}: a start that has not settled by then will not")
+    backend = integrator.resolve_backend(backend)
+    max_periods = max(1, math.ceil(tmax / PERIOD))
+    span = float(np.ptp(first)) or 1.0
+    shifts = []
+    for eps in PERTURBATIONS:
+        shift = np.zeros(4)
+        shift[STATE_NAMES.index(axes[0])] = eps * span
+        shifts.append(tuple(shift))
     jobs = {}
     for i, b in enumerate(second):
         for j, a in enumerate(first):
@@ -100,29 +165,46 @@ def basin_map(
             state[STATE_NAMES.index(axes[0])], state[STATE_NAMES.index(axes[1])] = a, b
             jobs[(i, j)] = state
     done = {key: result for key, result in (done or {}).items() if key in jobs}
-    arguments = {key: (params, state, tmax, backend) for key, state in jobs.items()}
+    arguments = {key: (params, state, max_periods, backend, tuple(shifts)) for key, state in jobs.items()}
     results, status = run_cells(_basin_point, arguments, executor=executor, max_workers=max_workers, progress=progress, done=done, on_result=on_result)
-    label, attractors, orbits = _label(params, results, second.size, first.size, backend)
-    return BasinMap(params, tuple(axes), first, second, label, attractors, orbits, float(tmax), status)
+    names = _Names(params, backend)
+    label = np.full((second.size, first.size), "not computed", dtype=object)
+    uncertain = np.zeros(label.shape, dtype=bool)
+    periods = np.full(label.shape, np.nan)
+    changed = {eps: 0 for eps in PERTURBATIONS}
+    for (i, j), outcomes in sorted(results.items()):
+        labels = [names.of(outcome, y0) for outcome, y0, _ in outcomes]
+        label[i, j] = labels[0]
+        settled = not (labels[0].endswith("(not settled)") or labels[0] in ("failed", "diverged"))
+        periods[i, j] = outcomes[0][2] if settled else np.nan
+        for eps, other in zip(PERTURBATIONS, labels[1:]):
+            changed[eps] += other != labels[0]
+            uncertain[i, j] |= other != labels[0]
+    fraction = {eps: count / max(len(results), 1) for eps, count in changed.items()}
+    return BasinMap(params, tuple(axes), first, second, label, names.attractors, names.orbits, float(max_periods * PERIOD), status, uncertain, periods, fraction)
 
 
-def _label(params, results, rows, cols, backend):
-    """Cell labels: "orbit k" for the k-th distinct 2pi-orbit reached (by state at tau = 0), the
-    regime otherwise; and a description of each orbit."""
-    label = np.full((rows, cols), "not computed", dtype=object)
-    orbits = []  # state at tau = 0 of each distinct orbit
-    problem = ShootingProblem(params, segments=4, backend=backend)
-    attractors = {}
-    for (i, j), (regime, y0) in sorted(results.items()):
+class _Names:
+    """Attractor names by what they are: "symmetric orbit, A1 = 0.825", a mirror pair's members
+    "asymmetric orbit a/b, A1 = ...", "non-impacting orbit ..." (max |w| < 1); orbits told apart by
+    their state at tau = 0."""
+
+    def __init__(self, params, backend):
+        self.params, self.problem = params, ShootingProblem(params, segments=4, backend=backend)
+        self.orbits, self.attractors = {}, {}
+
+    def of(self, outcome: str, y0) -> str:
         if y0 is None:
-            label[i, j] = regime if regime != "periodic-resonant" else "periodic (no 2pi orbit found)"
-            continue
-        k = next((k for k, z in enumerate(orbits) if np.linalg.norm(z - y0) <= 1e-5 * (1 + np.linalg.norm(y0))), None)
-        if k is None:
-            orbits.append(y0)
-            k = len(orbits) - 1
-            m = orbit_measures(problem, problem.initial_states(y0), params.sigma, points_per_2pi=128)
-            kind = "symmetric" if m["symmetry_defect"] < 1e-6 else "asymmetric"
-            attractors[f"orbit {k + 1}"] = f"{kind} 2pi-orbit, A1 = {m['A1']:.4g}, max |w| = {m['max_abs_w']:.3g}, state at tau = 0: {np.round(y0, 4).tolist()}"
-        label[i, j] = f"orbit {k + 1}"
-    return label, attractors, {f"orbit {k + 1}": y0 for k, y0 in enumerate(orbits)}
+            return outcome
+        y0 = np.asarray(y0, dtype=float)
+        for name, z in self.orbits.items():
+            if np.linalg.norm(z - y0) <= 1e-5 * (1 + np.linalg.norm(y0)):
+                return name
+        m = orbit_measures(self.problem, self.problem.initial_states(y0), self.params.sigma, points_per_2pi=128)
+        kind = "non-impacting" if m["max_abs_w"] < 1.0 else "symmetric" if m["symmetry_defect"] < 1e-6 else "asymmetric"
+        same = sum(name.startswith(f"{kind} orbit") and f"A1 = {m['A1']:.4g}" in name for name in self.orbits)
+        tag = f" {'abcdefgh'[same]}" if kind == "asymmetric" else "" if same == 0 else f" ({same + 1})"
+        name = f"{kind} orbit{tag}, A1 = {m['A1']:.4g}"
+        self.orbits[name] = y0
+        self.attractors[name] = f"{kind} 2pi-orbit, A1 = {m['A1']:.4g}, max |w| = {m['max_abs_w']:.3g}, state at tau = 0: {np.round(y0, 4).tolist()}"
+        return name

@@ -12,7 +12,7 @@ from slosh_bif.studies.basins import basin_map
 @pytest.fixture(scope="module")
 def basins():
     P = get_preset("fig10").params.replace(sigma=3.0)
-    return P, basin_map(P, np.linspace(-3, 3, 4), np.linspace(-1, 1, 3), tmax=400, max_workers=2)
+    return P, basin_map(P, np.linspace(-3, 3, 4), np.linspace(-1, 1, 3), max_workers=2)
 
 
 def test_each_orbit_attractor_is_a_stable_periodic_orbit_by_scipy(basins, scipy_flow, scipy_multipliers):
@@ -33,3 +33,16 @@ def test_bad_axes_are_one_line_errors_before_any_work():
         basin_map(P, [0.0], [0.0], axes=("X", "X"))
     with pytest.raises(ValueError, match="tmax must be finite"):
         basin_map(P, [0.0], [0.0], tmax=float("nan"))
+
+
+def test_every_start_settles_and_the_shares_carry_their_uncertainty(basins):
+    """Every start settles on one of the pair within the default bound (a strobe that stopped
+    moving, not a fixed run length); the shares' bounds bracket the shares, and the chaotic early
+    motion shows as uncertain cells at both perturbation sizes, with an exponent near 0."""
+    P, bmap = basins
+    assert set(bmap.label.ravel()) == set(bmap.orbits) and np.all(np.isfinite(bmap.periods))
+    for name, (low, high) in bmap.fraction_bounds().items():
+        assert low <= bmap.fractions()[name] == high
+    assert sum(low for low, _ in bmap.fraction_bounds().values()) == pytest.approx(1 - np.mean(bmap.uncertain))
+    assert all(0 < f < 1 for f in bmap.uncertain_fraction.values())
+    assert sorted(name.split(",")[0] for name in bmap.orbits) == ["asymmetric orbit a", "asymmetric orbit b"]
