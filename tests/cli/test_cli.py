@@ -432,7 +432,7 @@ def test_basins_writes_csv_attractors_and_png(tmp_path, capsys):
     assert main(["basins", "--preset", "fig10", "--set", "sigma=3", "--grid", "2", "2", "--tmax", "100", "--workers", "1", "--out", str(out)]) == 0
     rows = list(csv.DictReader(open(out / "basins.csv")))
     assert len(rows) == 4 and set(rows[0]) == {"X", "w", "attractor", "uncertain", "periods_to_settle"}
-    assert all(r["attractor"].endswith("(not settled)") and r["periods_to_settle"] == "" for r in rows)  # 16 periods: too few to settle
+    assert all(r["attractor"].endswith("(not settled)") and r["periods_to_settle"] == "nan" for r in rows)  # 16 periods: too few to settle
     assert "basins at sigma = 3" in (out / "attractors.txt").read_text() and (out / "basins.png").stat().st_size > 10_000
     assert main(["basins", "--preset", "fig10", "--range1", "1", "1", "--out", str(out)]) == 2
     assert "--range1 needs finite LO < HI" in capsys.readouterr().err
