@@ -17,7 +17,7 @@ __all__ = ["add_commands"]
 
 def _chart(args) -> int:
     from slosh_bif.studies.chart import bifurcation_chart, check_box
-    from slosh_bif.studies.chart_output import chart_settings, curve_store, plot_chart, write_critical_csv, write_curves_csv
+    from slosh_bif.studies.chart_output import chart_settings, curve_store, plot_chart, write_codim2_csv, write_critical_csv, write_curves_csv
 
     params = params_of(args)
     lo, hi = sigma_range(args)
@@ -63,6 +63,7 @@ def _chart(args) -> int:
     paths = [write_curves_csv(chart, args.out / "curves.csv")]
     if args.second == "Abar":  # the critical forcing is a curve in (sigma, Abar)
         paths.append(write_critical_csv(chart, args.out / "critical.csv"))
+    paths.append(write_codim2_csv(chart, args.out / "codim2.csv"))
     paths.append(plot_chart(chart, args.out / "chart.png", regimes=regimes))
     for k, c in enumerate(chart.curves):
         codim2 = ", ".join(f"{label} ({sigma:.5g}, {abar:.5g})" for label, sigma, abar in c.codim2_points())

@@ -102,14 +102,32 @@ def plot_branch(ax, branch, y, *, x=None, color="tab:blue", label=None, label_en
     """
     x = branch.p if x is None else x
     for a, b in _runs(branch.stable):
-        ax.plot(x[a : b + 1], y[a : b + 1], "-" if branch.stable[a] else "--", color=color, lw=1.4, label=label if a == 0 else None)
+        ax.plot(x[a : b + 1], y[a : b + 1], "-" if branch.stable[a] else "--", color=color, lw=1.4)
+    if label is not None:  # the branch's legend entry in its colour, solid: dashes mean unstable only
+        ax.plot([], [], "-", color=color, lw=1.4, label=label)
+    labels = []
     for s in branch.special:
         marker, mcolor = SPECIAL_MARKERS[s.kind]
         ax.plot(x[s.index], y[s.index], marker, color=mcolor, ms=6, mfc="none" if s.kind == "LP" else mcolor)
-        if (s.kind == "END" and not label_ends) or not annotate:
-            continue
-        ax.annotate(s.kind, (x[s.index], y[s.index]), textcoords="offset points", xytext=(5, 5), fontsize=8, color=mcolor)
+        if annotate and (s.kind != "END" or label_ends):
+            labels.append((x[s.index], y[s.index], s.kind, mcolor))
+    place_labels(ax, labels)
     return ax
+
+
+def place_labels(ax, items, *, apart=(18, 10)):
+    """Annotate each (x, y, text, color) of ``items`` beside its point, skipping a label that would
+    land within ``apart`` display points of one already on ``ax`` (its marker still shows; tables
+    and legends carry the rest)."""
+    if not items:
+        return
+    ax.figure.canvas.draw()  # the final limits, so that display positions are right
+    placed = [tuple(ax.transData.transform(t.xy)) for t in ax.texts if hasattr(t, "xy")]  # labels of earlier calls
+    for x, y, text, color in items:
+        u, v = ax.transData.transform((x, y))
+        if ax.bbox.contains(u, v) and all(abs(u - p) > apart[0] or abs(v - q) > apart[1] for p, q in placed):
+            ax.annotate(text, (x, y), textcoords="offset points", xytext=(4, 4), fontsize=8, color=color)
+            placed.append((u, v))
 
 
 def cell_edges(v) -> np.ndarray:

@@ -145,8 +145,10 @@ def draw_regimes(ax, rmap, *, alpha=0.75):
 
     sigma_edges, abar_edges = cell_edges(rmap.sigma), cell_edges(rmap.Abar)
     ax.pcolormesh(sigma_edges, abar_edges, grid, cmap=ListedColormap(list(REGIME_COLORS.values())), vmin=-0.5, vmax=len(codes) - 0.5, alpha=alpha)
+    present = set(rmap.regime.ravel())
     for name, color in REGIME_COLORS.items():
-        ax.plot([], [], "s", color=color, ms=9, label=name)
+        if name in present:  # the legend lists what the map shows
+            ax.plot([], [], "s", color=color, ms=9, label=f"regime: {name}")
     return sigma_edges, abar_edges
 
 

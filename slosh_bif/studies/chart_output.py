@@ -1,5 +1,6 @@
 """The chart as files: ``curves.csv`` (one row per curve point, in curve order), ``critical.csv``
-(Abar_b of (46) against Abar_c of (9) on a sigma grid), ``chart.png``, and the curve store
+(Abar_b of (46) against Abar_c of (9) on a sigma grid), ``codim2.csv`` (the codimension-2 points,
+numbered as on the picture), ``chart.png``, and the curve store
 ``curves/`` (each curve's ``.npz`` as it finishes: what ``chart --resume`` reuses).
 
 ``curves.csv`` columns: ``curve`` (number), ``kind`` (LP, PD, NS or BP), ``sigma``, ``Abar`` (or the
@@ -23,7 +24,7 @@ from slosh_bif.report.files import DAMAGE, damaged, read_store, write_text_atomi
 from slosh_bif.report.tables import write_rows
 from slosh_bif.studies.chart import CRITICAL_COLUMNS, critical_rows, lowest_stable_boundary
 
-__all__ = ["CURVE_COLUMNS", "curve_rows", "write_curves_csv", "write_critical_csv", "plot_chart", "chart_settings", "curve_store", "curve_columns"]
+__all__ = ["CURVE_COLUMNS", "curve_rows", "write_curves_csv", "write_critical_csv", "write_codim2_csv", "codim2_rows", "plot_chart", "chart_settings", "curve_store", "curve_columns"]
 
 CURVE_COLUMNS = ("curve", "kind", "sigma", "Abar", "A1", "max_abs_w", "codim2", "bounds_stable", "status", "origin")
 
@@ -57,48 +58,117 @@ def write_critical_csv(chart, path) -> Path:
     return write_rows(critical_rows(chart), CRITICAL_COLUMNS, path)
 
 
-_LABELLED = 30  # codimension-2 points labelled on the chart at most
+CODIM2_COLUMNS = ("number", "label", "sigma", "Abar", "curve", "kind")
+
+
+def codim2_rows(chart):
+    """The codimension-2 points in curve order, numbered as on ``chart.png``."""
+    number = 0
+    for k, c in enumerate(chart.curves):
+        for label, sigma, value in c.codim2_points():
+            number += 1
+            yield {"number": number, "label": label, "sigma": sigma, chart.second: value, "curve": k, "kind": c.kind}
+
+
+def write_codim2_csv(chart, path) -> Path:
+    return write_rows(codim2_rows(chart), tuple(chart.second if c == "Abar" else c for c in CODIM2_COLUMNS), path)
+
+
+_COLORS = {"LP": "tab:red", "PD": "tab:blue", "NS": "tab:purple", "BP": "tab:orange"}
+
+
+def _primary(chart) -> str:
+    """The name of the chart's primary orbit branch (the one its curves start from first)."""
+    return chart.family.branches[0].name if chart.family is not None and chart.family.branches else ""
+
+
+def _draw(ax, chart, *, numbers: bool):
+    """The curves (the primary family's bold, the other families' faint; solid where they bound
+    stable orbits), the two critical forcings and the numbered codimension-2 points on ``ax``;
+    returns {legend label: handle} of what was drawn."""
+    from slosh_bif.report.plotting import place_labels
+
+    drawn = {}
+    primary = f"on the {_primary(chart)} branch"
+    for c in chart.curves:
+        main = primary in c.origin
+        s, a, st = c["sigma"], c[chart.second], c.branch.stable
+        style = dict(color=_COLORS[c.kind], lw=1.8 if main else 0.8, alpha=1.0 if main else 0.45)
+        (line,) = ax.plot(s, np.where(st, a, np.nan), "-", **style)
+        if np.any(st):
+            drawn.setdefault(f"{c.kind} curve" + ("" if main else " (other families)"), line)
+        if np.any(~st):
+            (dotted,) = ax.plot(s, np.where(st, np.nan, a), ":", **{**style, "lw": style["lw"] * 0.7})
+            drawn.setdefault("curve not bounding stable orbits (dotted)", dotted)
+    slow = chart.slow_flow_critical
+    if slow is not None and len(slow.sigma):
+        (line,) = ax.plot(slow.sigma, slow.Abar_b, "k--", lw=1.6)
+        drawn[r"slow flow $\bar A_b$ " + ("(46)" if slow.model == "slowflow" else "(corrected)")] = line
+    if chart.second == "Abar":
+        grid = np.linspace(*chart.sigma_range, 401)
+        full = np.array([lowest_stable_boundary(chart.curves, sigma)[0] for sigma in grid])
+        if np.any(np.isfinite(full)):
+            (line,) = ax.plot(grid, full, "-", color="tab:green", lw=4, alpha=0.55, zorder=1)
+            drawn[r"full model $\bar A_c$ (9): least stable periodic response"] = line
+    rows = list(codim2_rows(chart))
+    if rows:
+        (stars,) = ax.plot([r["sigma"] for r in rows], [r[chart.second] for r in rows], "k*", ms=7, zorder=5)
+        drawn["codimension-2 point (numbered; codim2.csv)"] = stars
+        if numbers:  # a number that would overlap one already placed is left to codim2.csv
+            place_labels(ax, [(r["sigma"], r[chart.second], str(r["number"]), "k") for r in rows])
+    return drawn
+
+
+def _zoom_box(chart):
+    """The resonance region: around the least full-model (or slow-flow) critical forcing, or None."""
+    grid = np.linspace(*chart.sigma_range, 401)
+    full = np.array([lowest_stable_boundary(chart.curves, sigma)[0] for sigma in grid])
+    slow = chart.slow_flow_critical
+    if np.any(np.isfinite(full)):
+        k = int(np.nanargmin(full))
+        centre, depth = grid[k], full[k]
+    elif slow is not None and len(slow.sigma):
+        k = int(np.argmin(slow.Abar_b))
+        centre, depth = slow.sigma[k], slow.Abar_b[k]
+    else:
+        return None
+    width = 0.2 * (chart.sigma_range[1] - chart.sigma_range[0])
+    lo, hi = max(chart.sigma_range[0], centre - width / 2), min(chart.sigma_range[1], centre + width / 2)
+    return (lo, hi), (chart.abar_range[0], min(chart.abar_range[1], max(3.0 * depth, chart.abar_range[0] + 0.1 * (chart.abar_range[1] - chart.abar_range[0]))))
 
 
 def plot_chart(chart, path, *, regimes=None) -> Path:
-    """The curves (solid where they bound stable orbits), codimension-2 points, Abar_b of (46),
-    Abar_c of (9), and the regime map behind them when given."""
+    """The chart in full and, for a (sigma, Abar) chart, a zoom on the resonance region; the
+    primary family's curves bold and the other families' faint, the critical forcings of both
+    models, numbered codimension-2 points (their table in ``codim2.csv``), and the regime map
+    behind them when given."""
     from slosh_bif.report.plotting import pyplot, save_figure
 
-    fig, ax = pyplot().subplots(figsize=(11.5, 6.5))
-    if regimes is not None:
-        from slosh_bif.simulation.output import draw_regimes
+    box = _zoom_box(chart) if chart.second == "Abar" else None
+    fig, axes = pyplot().subplots(1, 2 if box else 1, figsize=(16, 6.5) if box else (11.5, 6.5), gridspec_kw={"width_ratios": [1.6, 1]} if box else None, squeeze=False)
+    panels = [(axes[0][0], chart.sigma_range, chart.abar_range)] + ([(axes[0][1], *box)] if box else [])
+    drawn = {}
+    for ax, xlim, ylim in panels:
+        if regimes is not None:
+            from slosh_bif.simulation.output import draw_regimes
 
-        draw_regimes(ax, regimes, alpha=0.35)
-    colors = {"LP": "tab:red", "PD": "tab:blue", "NS": "tab:purple", "BP": "tab:orange"}
-    labelled = sum(len(c.codim2_points()) for c in chart.curves) <= _LABELLED  # beyond that the labels hide the curves
-    for k, c in enumerate(chart.curves):
-        s, a, st = c["sigma"], c[chart.second], c.branch.stable
-        ax.plot(s, np.where(st, a, np.nan), "-", color=colors[c.kind], lw=1.6, label=f"{c.kind} curve" if k == [d.kind for d in chart.curves].index(c.kind) else None)
-        ax.plot(s, np.where(st, np.nan, a), ":", color=colors[c.kind], lw=1.0)
-        for label, sigma, abar in c.codim2_points():
-            ax.plot(sigma, abar, "k*", ms=9 if labelled else 6)
-            if labelled:
-                ax.annotate(label, (sigma, abar), textcoords="offset points", xytext=(4, 4), fontsize=8)
-    slow = chart.slow_flow_critical
-    if slow is not None and len(slow.sigma):
-        ax.plot(slow.sigma, slow.Abar_b, "k--", lw=1.4, label=r"slow flow $\bar A_b$ " + ("(46)" if slow.model == "slowflow" else "(corrected)"))
-    if chart.second == "Abar":
-        grid = np.linspace(*chart.sigma_range, 201)
-        full = [lowest_stable_boundary(chart.curves, sigma)[0] for sigma in grid]
-        ax.plot(grid, full, "-", color="tab:green", lw=3, alpha=0.6, label=r"full model $\bar A_c$ (9)")
-    ax.plot([], [], "k*", label="codimension-2 point" + ("" if labelled else " (labels in curves.csv)"))
-    ax.plot([], [], "k:", label="curve not bounding stable orbits")
-    ax.set_xlim(*chart.sigma_range)
-    ax.set_ylim(*chart.abar_range)
-    ax.set_xlabel(r"detuning $\sigma$")
-    ax.set_ylabel(r"forcing $\bar A$" if chart.second == "Abar" else chart.second)
+            draw_regimes(ax, regimes, alpha=0.35)
+        ax.set_xlim(*xlim)
+        ax.set_ylim(*ylim)
+        drawn.update(_draw(ax, chart, numbers=ax is not panels[0][0] or box is None))
+        ax.set_xlabel(r"detuning $\sigma$")
+        ax.set_ylabel(r"forcing $\bar A$" if chart.second == "Abar" else chart.second)
+        ax.grid(alpha=0.3)
+    if box:
+        axes[0][1].set_title("the resonance region (numbers: codim2.csv)", fontsize=9)
+        axes[0][0].indicate_inset((box[0][0], box[1][0], box[0][1] - box[0][0], box[1][1] - box[1][0]), edgecolor="0.3")
     P = chart.params
     partial = "" if chart.status == "complete" else f"\nPARTIAL: {chart.status}"
     held = ", ".join(f"{name} = {getattr(P, name):g}" for name in ("eps", "beta", "gamma", "Abar", "n") if name != chart.second)
-    ax.set_title(f"Orbit bifurcations of (9) in (sigma, {chart.second}): {held}{partial}")
-    ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
-    ax.grid(alpha=0.3)
+    axes[0][0].set_title(f"Orbit bifurcations of (9) in (sigma, {chart.second}): {held}{partial}", fontsize=10)
+    regime_handles, regime_labels = axes[0][0].get_legend_handles_labels()  # the regime map's entries, if drawn
+    fig.legend(regime_handles + list(drawn.values()), regime_labels + list(drawn), fontsize=8, loc="lower center", ncol=3, frameon=False)
+    fig.tight_layout(rect=(0, 0.1, 1, 1))
     return save_figure(fig, path)
 
 

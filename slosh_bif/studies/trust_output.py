@@ -59,9 +59,10 @@ def plot_trust_map(points, path, *, title: str = "", model: str = "slowflow") ->
                     i, j = betas.index(p.beta), eps.index(p.eps)
                     grid[i, j] = getattr(p, key)
                     text = "n/a" if not np.isfinite(grid[i, j]) else f"{100 * grid[i, j]:.0f}%\n{p.median_difference:.1%}"
-                    ax.text(j, i, text, ha="center", va="center", fontsize=7)
-                    if p.warned:
-                        ax.add_patch(Rectangle((j - 0.5, i - 0.5), 1, 1, fill=False, hatch="//", edgecolor="0.5", lw=0))
+                    if p.warned:  # hatched at the cell's edge, clear of the numbers
+                        ax.add_patch(Rectangle((j - 0.5, i - 0.5), 1, 1, fill=False, hatch="//", edgecolor="0.55", lw=0, zorder=2))
+                    ax.text(j, i, text, ha="center", va="center", fontsize=9, fontweight="bold", zorder=3,
+                            bbox=dict(boxstyle="round,pad=0.25", facecolor="white", alpha=0.85, edgecolor="none"))
             image = ax.imshow(grid, origin="lower", cmap="RdYlGn", vmin=0, vmax=1, aspect="auto")
             ax.set_xticks(range(len(eps)), [f"{e:g}" for e in eps])
             ax.set_yticks(range(len(betas)), [f"{b:g}" for b in betas])
