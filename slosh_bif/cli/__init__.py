@@ -73,10 +73,9 @@ _NEGATIVE = re.compile(r"^-(\d|\.\d|inf|nan)", re.IGNORECASE)
 
 def _numbers_may_start_with_minus(parser) -> None:
     """A token such as -1e6, -inf or -1,0,0,0 is a value, not an option: argparse knows only plain
-    negative numbers (-3, -0.5) as values, so ``--sigma-min -1e6`` and ``--guess -1,0,0,0``
-    failed. Attaching such a value to its option (``--sigma-min=-1e6``) broke the pairs
-    (``--range1 -3 3``): the parser's own test is widened instead (no option of ours looks like a
-    number). Without that attribute (another Python's argparse) the plain-number rule stays."""
+    negative numbers (-3, -0.5) as values. The parser's own test is widened (no option of ours
+    looks like a number), which keeps pairs such as ``--range1 -3 3`` working. Without that
+    attribute (another Python's argparse) the plain-number rule stays."""
     if hasattr(parser, "_negative_number_matcher"):
         parser._negative_number_matcher = _NEGATIVE
 

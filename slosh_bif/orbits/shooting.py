@@ -66,9 +66,8 @@ MAX_PERIOD_MULTIPLE = 8  # longest period traced, in units of 2pi: a period-doub
 
 ARC_MAX_STEPS = 100_000
 """Steps one shooting arc may take. An orbit of the presets takes a few hundred a period; a Newton
-iterate deep in the n = 50 wall shrinks the steps until the 2,000,000 of a plain integration
-take minutes per arc (seen: a trust point's continuation stuck for 20 minutes in one corrector
-step). Past the limit the arc fails and the corrector halves its step."""
+iterate deep in the n = 50 wall shrinks the steps without bound. Past the limit the arc fails,
+the evaluation's residual is NaN, and the corrector halves its step."""
 
 
 class ShootingProblem:
@@ -295,9 +294,9 @@ class ShootingProblem:
 
     def liouville_error(self, x, p) -> float:
         """|det M - exp(int tr J)| / exp(int tr J): zero up to the integration error. det M is the
-        product of the arcs' determinants: the determinant of the formed product loses its digits
-        when M is ill-conditioned (a period-2 orbit of the Fig. 10 set, cond 1.7e15: 5.8e-5 from the
-        formed M, 1.4e-11 from the arcs), which flagged 29 accurate orbits as unreliable."""
+        product of the arcs' determinants, not the determinant of the formed product, which loses
+        its digits when M is ill-conditioned (cond M reaches 1e15 on period-2 orbits of the Fig. 10
+        set, where the arcs still give det M to 1e-11)."""
         _, trace, mats = self._monodromy_and_trace(x, p)
         expected = np.exp(trace)
         return float(abs(np.prod([np.linalg.det(Phi) for Phi in mats]) - expected) / expected)

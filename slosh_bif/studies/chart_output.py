@@ -120,21 +120,19 @@ def _draw(ax, chart, *, numbers: bool):
 
 
 def _zoom_box(chart):
-    """The resonance region: around the least full-model (or slow-flow) critical forcing, or None."""
-    grid = np.linspace(*chart.sigma_range, 401)
-    full = np.array([lowest_stable_boundary(chart.curves, sigma)[0] for sigma in grid])
-    slow = chart.slow_flow_critical
-    if np.any(np.isfinite(full)):
-        k = int(np.nanargmin(full))
-        centre, depth = grid[k], full[k]
-    elif slow is not None and len(slow.sigma):
-        k = int(np.argmin(slow.Abar_b))
-        centre, depth = slow.sigma[k], slow.Abar_b[k]
-    else:
+    """The resonance region: sigma around 0 (the 1:1 resonance of the scaled model), a fifth of
+    the box wide, and Abar up to two and a half times the slow flow's critical forcing there
+    (the full model's where the slow flow has none); None when the box does not reach it."""
+    (s0, s1), (a0, a1) = chart.sigma_range, chart.abar_range
+    half = 0.1 * (s1 - s0)
+    lo, hi = max(s0, -half), min(s1, half)
+    if not lo < hi:
         return None
-    width = 0.2 * (chart.sigma_range[1] - chart.sigma_range[0])
-    lo, hi = max(chart.sigma_range[0], centre - width / 2), min(chart.sigma_range[1], centre + width / 2)
-    return (lo, hi), (chart.abar_range[0], min(chart.abar_range[1], max(3.0 * depth, chart.abar_range[0] + 0.1 * (chart.abar_range[1] - chart.abar_range[0]))))
+    grid = np.linspace(lo, hi, 41)
+    slow = chart.slow_flow_critical
+    depth = np.interp(grid, slow.sigma, slow.Abar_b) if slow is not None and len(slow.sigma) else np.array([lowest_stable_boundary(chart.curves, g)[0] for g in grid])
+    top = 2.5 * float(np.nanmax(depth)) if np.any(np.isfinite(depth)) else a1
+    return (lo, hi), (a0, min(a1, max(top, a0 + 0.1 * (a1 - a0))))
 
 
 def plot_chart(chart, path, *, regimes=None) -> Path:
@@ -167,8 +165,8 @@ def plot_chart(chart, path, *, regimes=None) -> Path:
     held = ", ".join(f"{name} = {getattr(P, name):g}" for name in ("eps", "beta", "gamma", "Abar", "n") if name != chart.second)
     axes[0][0].set_title(f"Orbit bifurcations of (9) in (sigma, {chart.second}): {held}{partial}", fontsize=10)
     regime_handles, regime_labels = axes[0][0].get_legend_handles_labels()  # the regime map's entries, if drawn
-    fig.legend(regime_handles + list(drawn.values()), regime_labels + list(drawn), fontsize=8, loc="lower center", ncol=3, frameon=False)
-    fig.tight_layout(rect=(0, 0.1, 1, 1))
+    fig.legend(regime_handles + list(drawn.values()), regime_labels + list(drawn), fontsize=8, loc="lower center", ncol=4, frameon=False, bbox_to_anchor=(0.5, 0.0))
+    fig.tight_layout(rect=(0, 0.13, 1, 1))
     return save_figure(fig, path)
 
 

@@ -21,8 +21,8 @@ __all__ = ["BifurcationCurve", "trace_curve", "CURVE_OPTIONS", "CODIM2_KINDS"]
 
 # Like the one-parameter orbit branches (the corrector's tolerance above the integration's
 # rounding); a turn of a curve in p1 is no bifurcation, so folds and branch points of the
-# augmented system are not detected. (Steps up to 0.5 took 5-20 % less time on single Fig. 10
-# curves but left four more of the whole chart's curves stalled, and the chart no faster.)
+# augmented system are not detected. Steps are capped at 0.25: longer ones leave more curves
+# stalled at singular points of their systems, and the chart no faster.
 CURVE_OPTIONS = ContinuationOptions(step=0.05, step_max=0.25, tol=1e-9, max_steps=2000, detect_folds=False, detect_branch_points=False)
 
 CODIM2_KINDS = ("CP", "LPPD", "LPNS", "PDNS", "R1", "R2", "R3", "R4", "BPLP")

@@ -157,9 +157,9 @@ class MultiplierCurveProblem:
         """(d J / d e, d F_p / d e) at the orbit states y + e ``direction``, e = 0.
 
         Central differences: the wall's force grows like |w|^n, so the flow's third derivatives
-        are of order n^3 near contact; forward differences left 0.2 % errors in g's row there (Fig.
-        10 set, n = 50), and Newton with that row crept at steps of 1e-6 for thousands of points.
-        The step balances the O(h^2) truncation with the integration's rounding (rtol ~1e-10)."""
+        are of order n^3 near contact, where forward differences would leave errors of order 0.1 %
+        in g's row (Fig. 10 set, n = 50) and Newton would creep. The step balances the O(h^2)
+        truncation with the integration's rounding (rtol ~1e-10)."""
         size = np.linalg.norm(direction)
         if size == 0:
             return 0.0, 0.0
