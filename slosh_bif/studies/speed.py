@@ -8,6 +8,10 @@
   ``--set n=6 --set sigma=-6`` (a symmetric start at sigma = -6 for the n = 6 set).
 * **Start-up**: ``slosh-bif info --preset fig10`` in a fresh interpreter (target < 0.5 s), and
   the shooting start alone in this process (the settling simulation and Newton).
+* **Load independence**: ``slosh-bif simulate --preset fig9a --model impact --tmax 150`` (many
+  small matrix exponentials) with one CPU-burning process beside it, as a ratio to its time
+  without, measured back to back in one run; target at most 1.5 (BLAS threads that fight the
+  neighbour for the cores made it 26x).
 * **Peak memory** of the whole-process branch (the child's maximum resident set size), and of
   regime maps of 20 x 20 and 100 x 100 cells (Fig. 13 set, short runs: a memory case, not a regime
   study): the parent's and the largest worker's resident sets, which must not grow with the cells.
@@ -88,6 +92,16 @@ def speed_bench(*, quick: bool = False, progress=None) -> list:
             reference = _scipy_periods(params, get_preset("fig10").state_for(params), periods) * (1000 / periods)
             rows.append(dict(case=f"shoot --no-switch, {case}", seconds=seconds, reference_seconds=reference, ratio=seconds / reference, target=0.3, peak_rss_mb=peak,
                              note="whole process against 1,000 one-period scipy DOP853 integrations (rtol 1e-10)" + (" (100 measured, scaled)" if quick else "")))
+        say("speed: the impact model beside a CPU-burning process")
+        impact = ["simulate", "--preset", "fig9a", "--model", "impact", "--tmax", "150", "--out", os.path.join(tmp, "impact")]
+        alone = min(_run_cli(impact)[0] for _ in range(1 if quick else 2))
+        burner = subprocess.Popen([sys.executable, "-c", "while True: pass"])
+        try:
+            loaded = min(_run_cli(impact)[0] for _ in range(1 if quick else 2))
+        finally:
+            burner.kill()
+        rows.append(dict(case="simulate fig9a --model impact, beside a CPU-burning process", seconds=loaded, reference_seconds=alone, ratio=loaded / alone, target=1.5,
+                         peak_rss_mb=np.nan, note="whole process, against the same command with the machine otherwise idle"))
         say("speed: start-up")
         startup = min(_run_cli(["info", "--preset", "fig10"])[0] for _ in range(1 if quick else 3))
         rows.append(dict(case="slosh-bif info (start-up, cached)", seconds=startup, reference_seconds=np.nan, ratio=np.nan, target=0.5, peak_rss_mb=np.nan, note="seconds; target in seconds"))
