@@ -54,13 +54,19 @@ CRITICAL_COLUMNS = ("sigma", "Abar_b_slowflow", "Abar_c_full", "rel_diff", "boun
 
 
 @dataclasses.dataclass(frozen=True)
-class CurveFailure:
-    """A special point from which no curve could be started, and why."""
+class CurveStart:
+    """A special point of an orbit branch that a curve starts from."""
 
     kind: str
     sigma: float
     value: float  # of the chart's second parameter
     origin: str
+
+
+@dataclasses.dataclass(frozen=True)
+class CurveFailure(CurveStart):
+    """A special point from which no curve could be started, and why."""
+
     reason: str
 
 
@@ -93,13 +99,9 @@ def _on_curve(curve: BifurcationCurve, sigma, value, tol=2e-3):
 
 
 @dataclasses.dataclass(frozen=True)
-class _Start:
-    """A special point of an orbit branch that a curve starts from, and the curve's set-up."""
+class _Start(CurveStart):
+    """A curve's start and its set-up (the arguments of :func:`trace_curve`)."""
 
-    kind: str
-    sigma: float
-    value: float  # of the chart's second parameter
-    origin: str
     job: dict
 
 
