@@ -1,7 +1,7 @@
 """Every `slosh-bif` command printed in the README works as printed (exit status 0, or the one its
 comment announces), read from the
-README itself so that the two cannot drift apart: the quick ones in the default run, those
-marked ``slow`` by ``pytest -m slow``. Each runs in a fresh folder, in the order printed (a
+README itself so that the two cannot drift apart: the quick ones (at most 5 s as printed) in the
+default run, the rest (marked ``slow`` or longer) by ``pytest -m slow``. Each runs in a fresh folder, in the order printed (a
 command may use a file an earlier one wrote: ``--params tank.toml``)."""
 
 import re
@@ -25,8 +25,13 @@ def readme_commands():
     return found
 
 
+QUICK_SECONDS = 5  # a command printed with at most this time runs in the default suite
+
+
 def _is_slow(comment: str) -> bool:
-    return "(slow" in comment
+    """Marked slow, or printed with a time above QUICK_SECONDS (``(8 s)``)."""
+    timed = re.search(r"\((\d+(?:\.\d+)?) s\)", comment)
+    return "(slow" in comment or (timed is not None and float(timed.group(1)) > QUICK_SECONDS)
 
 
 def test_the_readme_prints_commands_and_marks_the_slow_ones():

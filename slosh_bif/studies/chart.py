@@ -39,35 +39,17 @@ import time
 import numpy as np
 
 from slosh_bif.continuation import ConvergenceError
-from slosh_bif.continuation.branch import polyline_distance
 from slosh_bif.model.params import Params
-from slosh_bif.orbits.codim2 import BifurcationCurve, trace_curve
 from slosh_bif.orbits.families import trace_orbits
 from slosh_bif.orbits.scan import scan_families
 from slosh_bif.orbits.shooting import PARAMETERS, orbit_measures
 from slosh_bif.orbits.starts import start_orbit
-from slosh_bif.slowflow.critical import critical_curve, critical_forcing, interp_min
+from slosh_bif.slowflow.critical import critical_curve, interp_min
+from slosh_bif.studies.chart_curves import CurveFailure, curve_starts, pitchforks_of, trace_curves
 
 __all__ = ["Chart", "CurveFailure", "bifurcation_chart", "lowest_stable_boundary", "critical_rows", "CRITICAL_COLUMNS", "FullCritical", "critical_forcing_full", "check_box"]
 
 CRITICAL_COLUMNS = ("sigma", "Abar_b_slowflow", "Abar_c_full", "rel_diff", "bounded_by")
-
-
-@dataclasses.dataclass(frozen=True)
-class CurveStart:
-    """A special point of an orbit branch that a curve starts from."""
-
-    kind: str
-    sigma: float
-    value: float  # of the chart's second parameter
-    origin: str
-
-
-@dataclasses.dataclass(frozen=True)
-class CurveFailure(CurveStart):
-    """A special point from which no curve could be started, and why."""
-
-    reason: str
 
 
 @dataclasses.dataclass(frozen=True)
@@ -94,122 +76,6 @@ class Chart:
         return cut + [f"no {f.kind} curve from {f.origin}: {f.reason}" for f in self.failures]
 
 
-def _on_curve(curve: BifurcationCurve, sigma, value, tol=2e-3):
-    return len(curve) > 0 and polyline_distance(np.column_stack([curve["sigma"], curve[curve.p2]]), np.array([sigma, value])) < tol
-
-
-@dataclasses.dataclass(frozen=True)
-class _Start(CurveStart):
-    """A curve's start and its set-up (the arguments of :func:`trace_curve`)."""
-
-    job: dict
-
-
-def _starts(ob, param, params, sigma_range, abar_range, pitchforks=(), backend="auto", second="Abar"):
-    """The located LP, PD, NS (and, on symmetric branches, BP) points of the orbit branch ``ob``
-    (in ``param``, sigma or ``second``, at ``params``) as starts of curves in (sigma, ``second``);
-    ``pitchforks``: the values of ``param`` at the family's pitchforks."""
-    for sp in ob.branch.special:
-        if sp.kind not in ("LP", "PD", "NS", "BP") or not sp.located:
-            continue
-        segments = ob.problem.segments * (2 if ob.problem.symmetric else 1)  # the curves start from the 2pi problem's states
-        if sp.kind == "BP" and (ob.kind != "symmetric" or segments % 2):
-            continue  # a pitchfork of symmetric orbits: the half-period map's condition
-        if sp.kind == "LP" and ob.kind == "asymmetric" and any(abs(sp.p - q) <= 1e-6 * (1 + abs(q)) for q in pitchforks):
-            continue  # where the pair meets its symmetric parent again: the pitchfork, not a fold
-        sigma, value = (sp.p, getattr(params, second)) if param == "sigma" else (params.sigma, sp.p)
-        origin = f"{sp.kind} at sigma = {sigma:.6g}, {second} = {value:.6g} on the {ob.name} branch in {param}"
-        job = dict(
-            params=params, x=ob.problem.full_states(sp.x), p=sp.p, kind=sp.kind, branch_param=param, p2=second, p1_range=sigma_range, p2_range=abar_range,
-            segments=segments, period_multiple=ob.problem.period_multiple, origin=origin, backend=backend,
-        )
-        yield _Start(sp.kind, float(sigma), float(value), origin, job)
-
-
-def _pitchforks(family) -> list:
-    return [sp.p for ob in family.branches if ob.kind == "symmetric" for sp in ob.branch.special if sp.kind == "BP"]
-
-
-def _trace_job(job):
-    """One curve (in a worker): (curve, None), or (None, why not)."""
-    try:
-        return trace_curve(**job), None
-    except (ConvergenceError, np.linalg.LinAlgError, ValueError) as err:
-        return None, str(err)
-
-
-def _trace_curves(starts, say, workers: int = 1, done=None, keep=None, keep_partial: bool = True):
-    """(curves, status, failures): the curve through each start that lies on no curve of its kind
-    traced from an earlier start, in start order, on ``workers`` processes; interrupted, the curves
-    finished by then and a status saying so; a :class:`CurveFailure` for each start whose curve
-    could not be started (in start order). ``keep_partial=False``: an interruption is raised on
-    (for a caller whose answer would be wrong from part of the curves). ``done``: {start index: curve} from an earlier run
-    (not traced again); ``keep(i, curve)`` is called as each curve finishes.
-
-    Curves are independent, so they run side by side; a start is not submitted when a finished
-    curve of its kind already passes through it, and a curve traced alongside one that covers it
-    is dropped at the end, so the result is the sequential one, whatever the timing.
-    """
-    traced = {i: c for i, c in (done or {}).items() if i < len(starts) and c.origin == starts[i].origin}  # start index -> curve
-    failed = {}  # start index -> why no curve
-
-    def covered(i, among):
-        return any(c.kind == starts[i].kind and _on_curve(c, starts[i].sigma, starts[i].value) for c in among)
-
-    def record(i, result):
-        curve, err = result
-        if curve is None:
-            failed[i] = CurveFailure(starts[i].kind, starts[i].sigma, starts[i].value, starts[i].origin, " ".join(err.split()))
-            say(f"no {starts[i].kind} curve from {starts[i].origin}: {failed[i].reason}")
-        else:
-            traced[i] = curve
-            if keep is not None:
-                keep(i, curve)
-            say(f"{curve.kind} curve from {starts[i].origin}: {len(curve)} points, {curve.status}")
-
-    status = "complete"
-    try:
-        if workers <= 1 or len(starts) <= 1:
-            for i in range(len(starts)):
-                if not covered(i, traced.values()):
-                    record(i, _trace_job(starts[i].job))
-        else:
-            _trace_in_pool(starts, workers, covered, record, traced)
-    except KeyboardInterrupt as stop:  # keep what is traced; the caller marks the chart partial
-        if not keep_partial:
-            raise
-        status = f"interrupted ({getattr(stop, 'signal_name', 'SIGINT')}) after {len(traced)} curves, {len(starts)} starts"
-    kept = []
-    for i in sorted(traced):
-        if not covered(i, kept):
-            kept.append(traced[i])
-    # A failed start that a curve traced from another start passes through is covered, not missing.
-    failures = tuple(failed[i] for i in sorted(failed) if not covered(i, kept))
-    return kept, status, failures
-
-
-def _trace_in_pool(starts, workers, covered, record, traced):
-    from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
-
-    from slosh_bif.simulation.sweep import stop_pool, worker_setup
-
-    pool = ProcessPoolExecutor(max_workers=workers, initializer=worker_setup)
-    try:
-        pending, running = list(range(len(starts))), {}
-        while pending or running:
-            while pending and len(running) < workers:
-                i = pending.pop(0)
-                if not covered(i, traced.values()):
-                    running[pool.submit(_trace_job, starts[i].job)] = i
-            finished, _ = wait(running, return_when=FIRST_COMPLETED)
-            for future in finished:
-                record(running.pop(future), future.result())
-    except BaseException:
-        stop_pool(pool)
-        raise
-    pool.shutdown()
-
-
 def bifurcation_chart(
     params: Params,
     state0,
@@ -234,7 +100,7 @@ def bifurcation_chart(
     continued in Abar, then the LP, PD, NS and BP curve through each of their special points
     (each curve once) in the box ``sigma_range`` x ``abar_range``, on ``workers`` processes (default:
     every core), integrating with ``backend``. Interrupted while tracing curves, it returns those
-    finished, ``status`` saying so. ``done`` and ``keep``: see :func:`_trace_curves` (a resumed run
+    finished, ``status`` saying so. ``done`` and ``keep``: see :func:`~slosh_bif.studies.chart_curves.trace_curves` (a resumed run
     with the same settings finds the same starts in the same order).
 
     ``second``: the chart's second parameter (any real field of :class:`Params` but sigma;
@@ -250,8 +116,8 @@ def bifurcation_chart(
         start.params, start.y0, p_min=s0, p_max=s1, segments=segments, switch=switch, max_branches=max_branches, backend=backend, progress=say,
     )
     say(f"orbit family: {len(family.branches)} branch(es), {sum(len(ob) for ob in family.branches)} points")
-    pitchforks = _pitchforks(family)
-    starts = [s for ob in family.branches for s in _starts(ob, "sigma", params, (s0, s1), (a0, a1), pitchforks, backend, second)]
+    pitchforks = pitchforks_of(family)
+    starts = [s for ob in family.branches for s in curve_starts(ob, "sigma", params, (s0, s1), (a0, a1), pitchforks, backend, second)]
     # Folds and period doublings met when the forcing falls: the primary branch's orbits at
     # ``seeds`` values of sigma, each continued in Abar (the second parameter) over the box.
     primary = family.branches[0]
@@ -270,11 +136,11 @@ def bifurcation_chart(
         except (ConvergenceError, ValueError) as err:
             say(f"no {second} branch at sigma = {at.sigma:.4g}: {err}")
             continue
-        starts += _starts(down.branches[0], second, at, (s0, s1), (a0, a1), backend=backend, second=second)
+        starts += curve_starts(down.branches[0], second, at, (s0, s1), (a0, a1), backend=backend, second=second)
     say(f"{len(starts)} special points to start curves from, on {workers} process(es)")
     if done:
         say(f"{len(done)} curves from an earlier run")
-    curves, status, failures = _trace_curves(starts, say, workers, done, keep)
+    curves, status, failures = trace_curves(starts, say, workers, done, keep)
     slow = None
     if second == "Abar":
         try:
@@ -341,9 +207,9 @@ def critical_forcing_full(
         params, state0, p_min=a0, p_max=a1, param="Abar", points=points, settle=settle, random_starts=random_starts, seed=seed, segments=segments,
         switch=switch, doublings=False, progress=progress,
     )
-    pitchforks = _pitchforks(family)
-    starts = [s for ob in family.branches if ob.problem.period_multiple == 1 for s in _starts(ob, "Abar", params, box, (a0, a1), pitchforks)]
-    curves, _, failures = _trace_curves(starts, say, keep_partial=False)
+    pitchforks = pitchforks_of(family)
+    starts = [s for ob in family.branches if ob.problem.period_multiple == 1 for s in curve_starts(ob, "Abar", params, box, (a0, a1), pitchforks)]
+    curves, _, failures = trace_curves(starts, say, keep_partial=False)
     try:
         slow = critical_curve(params, *box, model=model)
     except (RuntimeError, ValueError):
@@ -398,13 +264,36 @@ def lowest_stable_boundary(curves, sigma):
     return best
 
 
-def _slow_flow_critical_at(params: Params, sigma: float, model: str) -> float:
-    """Abar_b of the slow flow at sigma, computed there (not interpolated along the traced curve,
-    whose chords between points lie up to 2e-3 above it); NaN where (46) has no steady state."""
-    try:
-        return critical_forcing(params, float(sigma), model=model).Abar_b
-    except (RuntimeError, ValueError):
+def _slow_flow_critical_at(slow, sigma: float) -> float:
+    """Abar_b of the slow flow at sigma, computed there rather than read off the chords of the
+    traced curve ``slow`` (which lie up to 2e-3 above it): on an end of S+ by the end condition,
+    at a fold by Brent's method on Abar(A) of (46) about the traced curve's amplitude (what
+    :func:`~slosh_bif.slowflow.critical.critical_forcing` does over the whole window, at a
+    fraction of its cost on walls whose kappa(A) is solved for); NaN outside the curve."""
+    from scipy import optimize
+
+    from slosh_bif.slowflow.critical import EndProblem
+    from slosh_bif.slowflow.flow import SlowFlow
+    from slosh_bif.slowflow.steady_states import abar_on_curve
+
+    if slow is None or not len(slow.sigma) or not slow.sigma[0] <= sigma <= slow.sigma[-1]:
         return np.nan
+    near = np.argsort(np.abs(slow.sigma - sigma))[:3]
+    flow = SlowFlow(slow.params, slow.model)
+    values = []
+    for kind in set(slow.kind[near]):
+        A = slow.A[near][slow.kind[near] == kind]
+        try:
+            if kind == "END":
+                upper = slow.upper_end_branch is not None and abs(A[0] - flow.A_max) < abs(A[0] - flow.A_min)
+                values.append(EndProblem(slow.params, slow.model, "upper" if upper else "lower").abar_at(float(sigma)))
+            else:
+                lo, hi = max(flow.A_min, 0.9 * A.min()), min(flow.A_max, 1.1 * A.max())
+                found = optimize.minimize_scalar(lambda a: float(abar_on_curve(flow, a, sigma=float(sigma))), bounds=(lo, hi), method="bounded", options={"xatol": 1e-13 * A.max()})
+                values.append(float(found.fun))
+        except (RuntimeError, ValueError):
+            continue
+    return min(values, default=np.nan)
 
 
 def critical_rows(chart: Chart, points: int = 57):
@@ -414,7 +303,7 @@ def critical_rows(chart: Chart, points: int = 57):
         return
     slow = chart.slow_flow_critical
     for sigma in np.linspace(*chart.sigma_range, points):
-        b = _slow_flow_critical_at(chart.params, sigma, slow.model) if slow is not None else np.nan
+        b = _slow_flow_critical_at(slow, sigma)
         c, kind = lowest_stable_boundary(chart.curves, sigma)
         rel = abs(c - b) / b if np.isfinite(b) and np.isfinite(c) and b > 0 else np.nan
         yield dict(sigma=float(sigma), Abar_b_slowflow=b, Abar_c_full=c, rel_diff=rel, bounded_by=kind)

@@ -84,7 +84,7 @@ def test_a_stopped_map_keeps_what_it_did_and_leaves_no_worker(tmp_path, signum, 
     "grid, store, table, cells",
     [
         (["regimes", "--preset", "fig13", "--sigma-points", "5", "--abar-points", "5", "--tmax", "3000"], "regimes.json", "regimes.csv", 25),
-        (["basins", "--preset", "fig10", "--set", "sigma=3", "--grid", "16", "16"], "basins.json", "basins.csv", 256),
+        (["basins", "--preset", "fig10", "--set", "sigma=3", "--grid", "16", "16", "--tmax", "12000"], "basins.json", "basins.csv", 256),
     ],
     ids=["regimes", "basins"],
 )

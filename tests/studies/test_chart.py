@@ -6,7 +6,7 @@ import pytest
 
 from slosh_bif import get_preset
 from slosh_bif.orbits import orbit_from_simulation, trace_orbits
-from slosh_bif.studies.chart import _starts, _trace_curves
+from slosh_bif.studies.chart_curves import curve_starts as _starts, trace_curves as _trace_curves
 
 PRESET = get_preset("fig10")
 

@@ -18,7 +18,7 @@ from slosh_bif.studies.chart_output import curve_rows
 
 FIG10_NO_SWITCH = ["chart", "--preset", "fig10", "--sigma-min", "-6", "--sigma-max", "8", "--abar-min", "0.2", "--abar-max", "6", "--no-switch"]
 BETA_CHART = [
-    "chart", "--preset", "fig10", "--set", "sigma=-1.2", "--sigma-min", "-2", "--sigma-max", "1.5", "--second", "beta", "--second-min", "0", "--second-max", "0.3",
+    "chart", "--preset", "fig10", "--set", "sigma=-1.2", "--set", "beta=0.1", "--sigma-min", "-2", "--sigma-max", "1.5", "--second", "beta", "--second-min", "0.05", "--second-max", "0.3",
     "--no-switch", "--seeds", "3",
 ]
 
@@ -36,14 +36,16 @@ def test_the_fig10_chart_draws_a_curve_from_every_start(tmp_path, capsys):
     assert {r["status"] for r in rows} == {"ok"} and "no " not in err.replace("no steady", "")
     kinds = {r["kind"] for r in rows}
     assert {"LP", "NS", "BP"} <= kinds  # the fold curves are back (lost when a failed arc raised in the corrector)
-    # Abar_b of (46) in critical.csv at each sigma against the least Abar over a dense sampling of S+
+    # Abar_b of (46) in critical.csv at each sigma: the least Abar over S+, so at most the least of a
+    # dense sampling of S+, and within the sampling's own error of it (a chord of the traced curve
+    # between its points lay 2e-3 above)
     flow_rows = [r for r in _rows(tmp_path / "critical.csv") if r["Abar_b_slowflow"] not in ("", "nan")]
     P = get_preset("fig10").params
     for r in flow_rows[::8]:
         flow = SlowFlow(P.replace(sigma=float(r["sigma"])))
-        A = np.geomspace(flow.A_min * (1 + 1e-9), 50.0, 200_001)
+        A = np.geomspace(flow.A_min * (1 + 1e-12), 50.0, 200_001)
         dense = np.nanmin(abar_on_curve(flow, A))
-        assert float(r["Abar_b_slowflow"]) == pytest.approx(dense, rel=1e-6)
+        assert dense * (1 - 1e-5) <= float(r["Abar_b_slowflow"]) <= dense * (1 + 1e-12)
 
 
 def test_a_start_without_a_curve_is_a_failure_row():

@@ -1,0 +1,152 @@
+"""The curves of the (sigma, Abar) chart traced from the special points of orbit branches: which
+points start a curve, each curve traced once (side by side on several processes, the result the
+sequential one), and the starts that give no curve, with their reasons. The curves are the
+minimally augmented fold, period-doubling, Neimark-Sacker and symmetry-breaking conditions of
+periodic orbits of (9) (:mod:`slosh_bif.orbits.codim2`)."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+from slosh_bif.continuation import ConvergenceError
+from slosh_bif.continuation.branch import polyline_distance
+from slosh_bif.orbits.codim2 import BifurcationCurve, trace_curve
+
+__all__ = ["CurveStart", "CurveFailure", "curve_starts", "pitchforks_of", "trace_curves"]
+
+
+@dataclasses.dataclass(frozen=True)
+class CurveStart:
+    """A special point of an orbit branch that a curve starts from."""
+
+    kind: str
+    sigma: float
+    value: float  # of the chart's second parameter
+    origin: str
+
+
+@dataclasses.dataclass(frozen=True)
+class CurveFailure(CurveStart):
+    """A special point from which no curve could be started, and why."""
+
+    reason: str
+
+
+def _on_curve(curve: BifurcationCurve, sigma, value, tol=2e-3):
+    return len(curve) > 0 and polyline_distance(np.column_stack([curve["sigma"], curve[curve.p2]]), np.array([sigma, value])) < tol
+
+
+@dataclasses.dataclass(frozen=True)
+class _Start(CurveStart):
+    """A curve's start and its set-up (the arguments of :func:`trace_curve`)."""
+
+    job: dict
+
+
+def curve_starts(ob, param, params, sigma_range, abar_range, pitchforks=(), backend="auto", second="Abar"):
+    """The located LP, PD, NS (and, on symmetric branches, BP) points of the orbit branch ``ob``
+    (in ``param``, sigma or ``second``, at ``params``) as starts of curves in (sigma, ``second``);
+    ``pitchforks``: the values of ``param`` at the family's pitchforks."""
+    for sp in ob.branch.special:
+        if sp.kind not in ("LP", "PD", "NS", "BP") or not sp.located:
+            continue
+        segments = ob.problem.segments * (2 if ob.problem.symmetric else 1)  # the curves start from the 2pi problem's states
+        if sp.kind == "BP" and (ob.kind != "symmetric" or segments % 2):
+            continue  # a pitchfork of symmetric orbits: the half-period map's condition
+        if sp.kind == "LP" and ob.kind == "asymmetric" and any(abs(sp.p - q) <= 1e-6 * (1 + abs(q)) for q in pitchforks):
+            continue  # where the pair meets its symmetric parent again: the pitchfork, not a fold
+        sigma, value = (sp.p, getattr(params, second)) if param == "sigma" else (params.sigma, sp.p)
+        origin = f"{sp.kind} at sigma = {sigma:.6g}, {second} = {value:.6g} on the {ob.name} branch in {param}"
+        job = dict(
+            params=params, x=ob.problem.full_states(sp.x), p=sp.p, kind=sp.kind, branch_param=param, p2=second, p1_range=sigma_range, p2_range=abar_range,
+            segments=segments, period_multiple=ob.problem.period_multiple, origin=origin, backend=backend,
+        )
+        yield _Start(sp.kind, float(sigma), float(value), origin, job)
+
+
+def pitchforks_of(family) -> list:
+    return [sp.p for ob in family.branches if ob.kind == "symmetric" for sp in ob.branch.special if sp.kind == "BP"]
+
+
+def _trace_job(job):
+    """One curve (in a worker): (curve, None), or (None, why not)."""
+    try:
+        return trace_curve(**job), None
+    except (ConvergenceError, np.linalg.LinAlgError, ValueError) as err:
+        return None, str(err)
+
+
+def trace_curves(starts, say, workers: int = 1, done=None, keep=None, keep_partial: bool = True):
+    """(curves, status, failures): the curve through each start that lies on no curve of its kind
+    traced from an earlier start, in start order, on ``workers`` processes; interrupted, the curves
+    finished by then and a status saying so; a :class:`CurveFailure` for each start whose curve
+    could not be started (in start order). ``keep_partial=False``: an interruption is raised on
+    (for a caller whose answer would be wrong from part of the curves). ``done``: {start index: curve} from an earlier run
+    (not traced again); ``keep(i, curve)`` is called as each curve finishes.
+
+    Curves are independent, so they run side by side; a start is not submitted when a finished
+    curve of its kind already passes through it, and a curve traced alongside one that covers it
+    is dropped at the end, so the result is the sequential one, whatever the timing.
+    """
+    traced = {i: c for i, c in (done or {}).items() if i < len(starts) and c.origin == starts[i].origin}  # start index -> curve
+    failed = {}  # start index -> why no curve
+
+    def covered(i, among):
+        return any(c.kind == starts[i].kind and _on_curve(c, starts[i].sigma, starts[i].value) for c in among)
+
+    def record(i, result):
+        curve, err = result
+        if curve is None:
+            failed[i] = CurveFailure(starts[i].kind, starts[i].sigma, starts[i].value, starts[i].origin, " ".join(err.split()))
+            say(f"no {starts[i].kind} curve from {starts[i].origin}: {failed[i].reason}")
+        else:
+            traced[i] = curve
+            if keep is not None:
+                keep(i, curve)
+            say(f"{curve.kind} curve from {starts[i].origin}: {len(curve)} points, {curve.status}")
+
+    status = "complete"
+    try:
+        if workers <= 1 or len(starts) <= 1:
+            for i in range(len(starts)):
+                if not covered(i, traced.values()):
+                    record(i, _trace_job(starts[i].job))
+        else:
+            _trace_in_pool(starts, workers, covered, record, traced)
+    except KeyboardInterrupt as stop:  # keep what is traced; the caller marks the chart partial
+        if not keep_partial:
+            raise
+        status = f"interrupted ({getattr(stop, 'signal_name', 'SIGINT')}) after {len(traced)} curves, {len(starts)} starts"
+    kept = []
+    for i in sorted(traced):
+        if not covered(i, kept):
+            kept.append(traced[i])
+    # A failed start that a curve traced from another start passes through is covered, not missing.
+    failures = tuple(failed[i] for i in sorted(failed) if not covered(i, kept))
+    return kept, status, failures
+
+
+def _trace_in_pool(starts, workers, covered, record, traced):
+    from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
+
+    from slosh_bif.simulation.sweep import stop_pool, worker_setup
+
+    pool = ProcessPoolExecutor(max_workers=workers, initializer=worker_setup)
+    try:
+        pending, running = list(range(len(starts))), {}
+        while pending or running:
+            while pending and len(running) < workers:
+                i = pending.pop(0)
+                if not covered(i, traced.values()):
+                    running[pool.submit(_trace_job, starts[i].job)] = i
+            finished, _ = wait(running, return_when=FIRST_COMPLETED)
+            for future in finished:
+                record(running.pop(future), future.result())
+    except BaseException:
+        stop_pool(pool)
+        raise
+    pool.shutdown()
+
+
