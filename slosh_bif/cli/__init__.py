@@ -154,7 +154,9 @@ def main(argv=None) -> int:
         try:
             _check_out(getattr(args, "out", None), is_file=getattr(args, "out_is_file", False))
             with threadpool_limits(limits=1, user_api="blas"):  # the BLAS already loaded when main() is called in-process
-                return args.run(args)
+                status = args.run(args)
+            sys.stdout.flush()  # a closed pipe shows here, inside the handlers, not at the interpreter's exit
+            return status
         except KeyboardInterrupt as stop:  # Ctrl-C or SIGTERM: workers are stopped where they run
             return _interrupted(args.command, stop)
         except SystemError as err:
