@@ -100,6 +100,7 @@ def speed_bench(*, quick: bool = False, progress=None) -> list:
             loaded = min(_run_cli(impact)[0] for _ in range(1 if quick else 2))
         finally:
             burner.kill()
+            burner.wait()
         rows.append(dict(case="simulate fig9a --model impact, beside a CPU-burning process", seconds=loaded, reference_seconds=alone, ratio=loaded / alone, target=1.5,
                          peak_rss_mb=np.nan, note="whole process, against the same command with the machine otherwise idle"))
         say("speed: start-up")
