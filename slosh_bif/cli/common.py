@@ -119,10 +119,11 @@ def add_sigma_points_option(parser, *, default: int, old: str = "--grid"):
 
 
 def add_backend_option(parser):
-    """--backend on the commands that integrate (9): the compiled DOP853 or scipy's."""
+    """--backend on the commands that integrate (9) or (8): compiled or the scipy reference."""
     parser.add_argument(
         "--backend", choices=("auto", "numba", "scipy"), default="auto",
-        help="integrator of (9): the compiled DOP853 (auto, numba) or scipy's solve_ivp DOP853, the same method without compilation (default auto)",
+        help="compiled (auto, numba) or the scipy reference: for (9) the same DOP853 in scipy's solve_ivp; for (8) "
+        "the exact flow's expm event loop (default auto)",
     )
 
 

@@ -84,6 +84,16 @@ class ImpactModel:
         forcing = self.forcing.reshape((4,) + (1,) * (y.ndim - 1))
         return np.tensordot(self.matrix, y, axes=1) + forcing * np.cos(tau)
 
+    def augmented(self):
+        """The 6 x 6 matrix K of ``z' = K z`` on ``z = [y, cos tau, sin tau]``: (8) between impacts
+        made autonomous and linear, so that its flow over s is ``expm(K s)``."""
+        K = np.zeros((6, 6))
+        K[:4, :4] = self.matrix
+        K[:4, 4] = self.forcing
+        K[4, 5] = -1.0  # (cos tau)' = -sin tau
+        K[5, 4] = 1.0  # (sin tau)' = cos tau
+        return K
+
     def kappa(self, speed):
         """Restitution coefficient at impact speed(s) ``|w'-|``, eq. (21)."""
         P = self.params

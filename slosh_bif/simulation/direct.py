@@ -172,7 +172,7 @@ def wall_contacts(params: Params, t, y, *, rtol=1e-9, atol=1e-11, backend="auto"
     return wall_passages(np.concatenate(times)[order], np.concatenate(states, axis=1)[:, order])
 
 
-def _simulate_impact_in_chunks(params, y0, t0, tmax, sample_step, progress, start):
+def _simulate_impact_in_chunks(params, y0, t0, tmax, sample_step, progress, start, backend):
     """(8) over [t0, tmax] in up to 20 pieces so that progress can be reported; each piece starts
     from the previous one's end state (the flow is exact, so the pieces join seamlessly)."""
 
@@ -180,7 +180,7 @@ def _simulate_impact_in_chunks(params, y0, t0, tmax, sample_step, progress, star
     parts = []
     y = y0
     for k, (a, b) in enumerate(zip(edges[:-1], edges[1:])):
-        run = simulate_impact(params, y, (a, b), sample_step=sample_step)
+        run = simulate_impact(params, y, (a, b), sample_step=sample_step, backend=backend)
         parts.append(run)
         if progress is not None:
             progress((k + 1) / (len(edges) - 1))
@@ -226,8 +226,9 @@ def simulate(
     """Simulate from ``state0`` at ``t0`` to ``tmax`` and sample every ``sample_step``.
 
     ``model="smooth"`` integrates (9) with the compiled DOP853 of :mod:`slosh_bif.simulation.integrator`
-    (scipy's when numba is missing); ``"impact"`` runs the event-driven exact flow of (8)
-    (:func:`slosh_bif.simulation.vibro_impact.simulate_impact`). ``noise_std > 0`` adds the band-limited noise
+    (scipy's when numba is missing); ``"impact"`` runs the exact flow of (8)
+    (:func:`slosh_bif.simulation.vibro_impact.simulate_impact`: compiled, or the expm event loop with
+    ``backend="scipy"``). ``noise_std > 0`` adds the band-limited noise
     of (47) (smooth model only, see :mod:`slosh_bif.simulation.noise`) and then needs ``seed``.
     ``progress(fraction)`` is called as the run advances. Integration failure is not raised: the
     result's ``status`` and ``message`` say where and why it stopped.
@@ -262,7 +263,7 @@ def simulate(
 
     start = time.perf_counter()
     if model == "impact":
-        return _simulate_impact_in_chunks(params, y0, t0, tmax, min(sample_step, 0.05), progress, start)
+        return _simulate_impact_in_chunks(params, y0, t0, tmax, min(sample_step, 0.05), progress, start, backend)
 
     count = int(np.ceil((tmax - t0) / sample_step))
     taus = np.linspace(t0, tmax, count + 1)

@@ -21,14 +21,9 @@ from scipy.integrate._ivp import dop853_coefficients as _dop
 from slosh_bif.model import powers as _powers
 from slosh_bif.model._generated import kernels as _kernels
 
-try:  # a core dependency; the scipy path covers a machine where it fails to import
-    import numba
-except ImportError:  # pragma: no cover - exercised on machines without numba
-    numba = None
+from slosh_bif.simulation.compiled import HAVE_NUMBA, jit as _jit, numba
 
 __all__ = ["HAVE_NUMBA", "TABLEAU", "KERNELS", "WHICH", "MESSAGES", "OK", "dop853_loop", "grid_loop"]
-
-HAVE_NUMBA = numba is not None
 
 if HAVE_NUMBA:  # before any kernel compiles: the kernels' int_power becomes repeated squaring here
 
@@ -51,18 +46,6 @@ _MESSAGES = {
     _TOO_SMALL: "step size fell below the rounding limit",
     _NOT_FINITE: "the solution became non-finite",
 }
-
-
-def _jit(function=None, inline=False):
-    """numba.njit with an on-disk cache when numba is there; the plain function otherwise.
-    ``inline``: compiled into each caller (the kernels and their switch: a call between separately
-    compiled functions cost as much as the right-hand side itself, 25 ns, at every stage)."""
-    # error_model="numpy": a division by zero in a trial step gives inf/NaN (then the step is rejected)
-    # instead of raising, as in the scipy path.
-    if function is None:
-        return lambda f: _jit(f, inline)
-    options = {"cache": True, "error_model": "numpy", "inline": "always" if inline else "never"}
-    return numba.njit(**options)(function) if HAVE_NUMBA else function
 
 
 def _forget_compilations_of_other_kernels(compiled):

@@ -6,12 +6,12 @@ stays within the tolerance for those parameters, runs it and says which model it
 its error estimate.
 
 Cost order, measured (``docs/bench``, one run): the slow flow (eq. 46 continuation 0.02 s a
-curve; (45) integrated 0.1 s) < the smooth model (9) simulated with the compiled integrator
-(0.036 s / 100 periods) < the impact model (8) (0.89 s / 100 periods: its event-driven exact flow
-runs in Python) ; shooting on (9) costs a settling simulation plus Newton (0.15-0.2 s a point).
-The impact model is therefore never the lightest choice in this package: it is slower than the
-compiled smooth model and less accurate (frequency-response error floor 7 % on the Fig. 10 set,
-11 % on the Fig. 13 set, eq. 21's kappa vs the wall's), and it is not on any ladder below.
+curve; (45) integrated 0.1 s) < the impact model (8) simulated by its compiled exact flow (about
+0.01 s / 100 periods on the Fig. 10 set) < the smooth model (9) simulated with the compiled
+integrator (0.036 s / 100 periods at n = 50); shooting on (9) costs a settling simulation plus
+Newton (0.15-0.2 s a point). The impact model is not on a ladder below: its error is known only as
+a frequency-response floor (7 % on the Fig. 10 set, 11 % on the Fig. 13 set, eq. 21's kappa
+against the wall's), not per question, and the regime question needs (9)'s own regime map.
 
 Error of the slow flow, measured where the asymptotics are in range (``asymptotics_concerns``
 empty): amplitude of X, largest relative error over the sigmas of ``bench.FR_SIGMAS`` against
