@@ -42,6 +42,7 @@ class Kind(str, enum.Enum):
     FLIP_NS = "PDNS"  # -1 and a complex pair on the unit circle
     PITCHFORK_FOLD = "BPLP"  # a symmetry-breaking (pitchfork) curve meets a fold curve
     TURN = "TP"  # a curve of codimension-1 points turns back in its first parameter (no bifurcation)
+    GRAZING = "GR"  # of a hybrid orbit: a flight touches a switching surface with zero normal speed
 
     def __str__(self):
         return self.value

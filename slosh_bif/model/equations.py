@@ -29,7 +29,18 @@ from slosh_bif.model._generated import models as gen
 from slosh_bif.model.params import Params
 from slosh_bif.model.restitution import kappa as kappa_of_speed
 
-__all__ = ["SmoothModel", "ImpactModel"]
+__all__ = ["SmoothModel", "ImpactModel", "impact_augmented"]
+
+
+def impact_augmented(eps, beta, gamma, sigma, Abar):
+    """K of :meth:`ImpactModel.augmented` from bare numbers (no validation: for derivatives by
+    differences, which step outside the admissible ranges at their ends)."""
+    K = np.zeros((6, 6))
+    K[:4, :4] = gen.impact_matrix(eps, beta, gamma, sigma)
+    K[:4, 4] = gen.impact_forcing(eps, Abar)
+    K[4, 5] = -1.0  # (cos tau)' = -sin tau
+    K[5, 4] = 1.0  # (sin tau)' = cos tau
+    return K
 
 
 class SmoothModel:
@@ -87,12 +98,8 @@ class ImpactModel:
     def augmented(self):
         """The 6 x 6 matrix K of ``z' = K z`` on ``z = [y, cos tau, sin tau]``: (8) between impacts
         made autonomous and linear, so that its flow over s is ``expm(K s)``."""
-        K = np.zeros((6, 6))
-        K[:4, :4] = self.matrix
-        K[:4, 4] = self.forcing
-        K[4, 5] = -1.0  # (cos tau)' = -sin tau
-        K[5, 4] = 1.0  # (sin tau)' = cos tau
-        return K
+        P = self.params
+        return impact_augmented(P.eps, P.beta, P.gamma, P.sigma, P.Abar)
 
     def kappa(self, speed):
         """Restitution coefficient at impact speed(s) ``|w'-|``, eq. (21)."""

@@ -35,6 +35,7 @@ import numpy as np
 from slosh_bif.continuation.corrector import newton_solve
 from slosh_bif.model.params import REAL_FIELDS, Params, real_pair
 from slosh_bif.orbits.floquet import floquet_multipliers
+from slosh_bif.orbits.multipliers import describe_crossing, is_stable, multiplier_tests
 from slosh_bif.orbits.period_map import PeriodicOrbit, period_map, shoot
 from slosh_bif.simulation import integrator
 
@@ -61,7 +62,6 @@ class Arcs:
 _STATE = ("X", "Xd", "w", "wd")
 
 
-DOUBLE = 1e-5  # two multipliers this close to -1 (or a pair to +-1) are a double one, not a crossing
 MAX_PERIOD_MULTIPLE = 8  # longest period traced, in units of 2pi: a period-doubling cascade is followed to period 8
 
 ARC_MAX_STEPS = 100_000
@@ -288,9 +288,7 @@ class ShootingProblem:
         """The arcs' state transition matrices Phi_1 .. Phi_m (the monodromy is their product)."""
         return self._monodromy_and_trace(x, p)[2]
 
-    @staticmethod
-    def is_stable(multipliers) -> bool:
-        return bool(np.all(np.abs(multipliers) < 1))
+    is_stable = staticmethod(is_stable)
 
     def liouville_error(self, x, p) -> float:
         """|det M - exp(int tr J)| / exp(int tr J): zero up to the integration error. det M is the
@@ -303,29 +301,11 @@ class ShootingProblem:
 
     def test_functions(self, x, p):
         """(a multiplier of the map through -1, a complex pair through the unit circle)."""
-        mu = self.map_multipliers(x, p)
-        minus_one = np.prod(1 + mu).real
-        pairs = [mu[i] * mu[j] - 1 for i in range(4) for j in range(i + 1, 4)]
-        return minus_one, np.prod(pairs).real
+        return multiplier_tests(self.map_multipliers(x, p))
 
     def confirm(self, kind, x, p):
         """Say what a located PD/BP/NS point is, or None when it is a neutral saddle (not NS)."""
-        mu = self.map_multipliers(x, p)
-        if kind in ("PD", "BP"):
-            k = int(np.argmin(np.abs(mu + 1)))
-            if np.min(np.abs(np.delete(mu, k) + 1)) < DOUBLE:
-                # A double -1 is no simple crossing: off the walls at beta = 0 the particle drifts
-                # freely (G has -1 twice all along), and the test's sign flips on rounding.
-                return None
-            if kind == "BP":
-                return f"symmetry-breaking pitchfork: the half-period map's multiplier {mu[k].real:.6f} through -1 (the period map's through +1)"
-            return f"period doubling: multiplier {mu[k].real:.6f} through -1"
-        complex_pair = [m for m in mu if m.imag > 1e-7 * max(1.0, abs(m))]
-        for m in complex_pair:
-            if abs(abs(m) - 1) < 1e-3 and min(abs(m - 1), abs(m + 1)) >= DOUBLE:  # a pair split off a double +-1 by rounding is none
-                angle = abs(np.angle(m * m if self.symmetric else m))  # the period map's pair
-                return f"Neimark-Sacker: multipliers exp(+-i {angle:.6f}) on the unit circle (rotation {angle / (2 * np.pi):.6f})"
-        return None
+        return describe_crossing(kind, self.map_multipliers(x, p), self.symmetric)
 
     # -- what one orbit looks like ----------------------------------------------------------
 

@@ -32,14 +32,13 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy import linalg
 
-from slosh_bif.model.equations import ImpactModel
+from slosh_bif.model.equations import ImpactModel, impact_augmented
 from slosh_bif.model.params import Params
 from slosh_bif.model.restitution import dissipation_at_unit_speed
 from slosh_bif.simulation.compiled import jit
 
-__all__ = ["LEVELS", "ImpactFlow"]
+__all__ = ["LEVELS", "LINEAR_PARAMETERS", "ImpactFlow"]
 
 LEVELS = 48  # the finest interval is h 2**-48
 # Codes of the compiled run.
@@ -78,9 +77,31 @@ def _max_abs(z):
     return m
 
 
+@jit(inline=True)
+def _carry(P, Q, za, phi, dp, tmp):
+    """The variations over an interval of propagator P from state za: ``phi <- A phi`` and
+    ``dp <- A dp + Q za`` (A the top-left 4 x 4 block of P; Q the parameter derivative of P)."""
+    for i in range(4):
+        for j in range(4):
+            acc = 0.0
+            for m in range(4):
+                acc += P[i, m] * phi[m, j]
+            tmp[i, j] = acc
+    for i in range(4):
+        acc = 0.0
+        for m in range(4):
+            acc += P[i, m] * dp[m]
+        for m in range(6):
+            acc += Q[i, m] * za[m]
+        tmp[i, 4] = acc
+    phi[:, :] = tmp[:, :4]
+    dp[:] = tmp[:, 4]
+
+
 @jit
-def _piece(table, lengths, growth, row_norm, z, k0, out, stack_z, stack_k, stack_s):
-    """Advance ``z`` over one dyadic piece of length ``lengths[k0]``, or to the first impact in it.
+def _piece(table, dtable, lengths, growth, row_norm, z, k0, out, stack_z, stack_k, stack_s, jac, phi, dp, tmp):
+    """Advance ``z`` over one dyadic piece of length ``lengths[k0]``, or to the first impact in it;
+    with ``jac``, carry the variations ``phi`` (d y / d y0) and ``dp`` (d y / d param) along.
 
     Returns ``(side, s)``: side 0 and s the piece's length when it is free (``out`` is the end
     state), or the wall hit (+1/-1) and its offset s (``out`` is the state there, before the reset).
@@ -106,9 +127,13 @@ def _piece(table, lengths, growth, row_norm, z, k0, out, stack_z, stack_k, stack
         if not (up or down) or (k == LEVELS and abs(zb[2]) < 1.0):
             out[:] = zb  # free, or a tangency within rounding
             reached = s + L
+            if jac:
+                _carry(table[k], dtable[k], za, phi, dp, tmp)
             continue
         if k == LEVELS:
             out[:] = zb
+            if jac:
+                _carry(table[k], dtable[k], za, phi, dp, tmp)
             return (1 if zb[2] >= 1.0 else -1), s + L
         top += 1  # right half, then left half on top of it
         stack_k[top] = k + 1
@@ -121,10 +146,35 @@ def _piece(table, lengths, growth, row_norm, z, k0, out, stack_z, stack_k, stack
     return 0, reached
 
 
+@jit(inline=True)
+def _saltation(K, z_minus, z_plus, slope, phi, dp):
+    """``phi <- S phi``, ``dp <- S dp`` across an impact at w = +-1: the saltation matrix
+    ``S = G + (f+ - G f-) e_w^T / w'-`` of the reset ``w'+ = -kappa(|w'-|) w'-`` (G its Jacobian,
+    identity but ``G[3, 3] = slope = d w'+ / d w'-``; f-+ the vector field before and after)."""
+    col = np.empty(4)
+    for i in range(4):
+        f_minus = 0.0
+        f_plus = 0.0
+        for m in range(6):
+            f_minus += K[i, m] * z_minus[m]
+            f_plus += K[i, m] * z_plus[m]
+        col[i] = (f_plus - (slope if i == 3 else 1.0) * f_minus) / z_minus[3]
+    for j in range(phi.shape[1] + 1):
+        v = phi[:, j].copy() if j < phi.shape[1] else dp.copy()
+        v[3] *= slope
+        for i in range(4):
+            v[i] += col[i] * (phi[2, j] if j < phi.shape[1] else dp[2])
+        if j < phi.shape[1]:
+            phi[:, j] = v
+        else:
+            dp[:] = v
+
+
 @jit
-def _run(table, lengths, growth, row_norm, kappa_c, kappa_q, y0, t0, t1, h, stick_speed, max_impacts, capacity):
+def _run(table, dtable, K, lengths, growth, row_norm, kappa_c, kappa_q, y0, t0, t1, h, stick_speed, max_impacts, capacity, jac, phi, dp):
     """Samples every h from t0 to t1 (t1 last) with the impacts among them; see :class:`ImpactFlow`.
-    Stops with code _FULL when more than ``capacity`` impacts would be stored."""
+    Stops with code _FULL when more than ``capacity`` impacts would be stored. With ``jac``,
+    ``phi`` (identity on entry) and ``dp`` (zero) end as d y(t1) / d y0 and d y(t1) / d param."""
     count = int(math.ceil((t1 - t0) / h - 1e-12))
     times = np.empty(count + 1 + capacity)
     states = np.empty((count + 1 + capacity, 4))
@@ -134,6 +184,7 @@ def _run(table, lengths, growth, row_norm, kappa_c, kappa_q, y0, t0, t1, h, stic
     stack_s = np.empty(2 * LEVELS + 4)
     z = np.empty(6)
     zn = np.empty(6)
+    tmp = np.empty((4, 5))
     z[:4] = y0
     times[0] = t0
     states[0] = y0
@@ -152,7 +203,7 @@ def _run(table, lengths, growth, row_norm, kappa_c, kappa_q, y0, t0, t1, h, stic
                 unit = lengths[k] / h
                 if rest < unit * (1.0 - 1e-9):
                     continue
-                side, s = _piece(table, lengths, growth, row_norm, z, k, zn, stack_z, stack_k, stack_s)
+                side, s = _piece(table, dtable, lengths, growth, row_norm, z, k, zn, stack_z, stack_k, stack_s, jac, phi, dp, tmp)
                 z[:] = zn
                 if side != 0:
                     done += s
@@ -175,9 +226,14 @@ def _run(table, lengths, growth, row_norm, kappa_c, kappa_q, y0, t0, t1, h, stic
             if loss > 1.0:
                 impacts[hits, 3] = math.nan
                 return times, states, impacts, rows, hits + 1, _KAPPA_NOT_REAL
+            zn[:] = z
+            kappa = math.sqrt(1.0 - loss)
             z[2] = side  # exactly on the wall, so the next flight starts inside
-            z[3] = -math.sqrt(1.0 - loss) * v_minus
+            z[3] = -kappa * v_minus
             impacts[hits, 3] = z[3]
+            if jac:  # d w'+ / d w'- = -kappa - v kappa'(v), with kappa = sqrt(1 - c v**q)
+                slope = -kappa + (0.5 * kappa_q * loss / kappa if speed > 0.0 else 0.0)
+                _saltation(K, zn, z, slope, phi, dp)
             hits += 1
             times[rows] = ta + done
             states[rows] = z[:4]
@@ -195,35 +251,86 @@ def _run(table, lengths, growth, row_norm, kappa_c, kappa_q, y0, t0, t1, h, stic
 class ImpactFlow:
     """The compiled exact flow of (8) for one parameter set, sampled every ``step``.
 
-    ``run(y0, t0, t1, ...)`` returns the arrays of :class:`~slosh_bif.simulation.vibro_impact.ImpactTrajectory`.
+    ``run`` samples a trajectory (the arrays of :class:`~slosh_bif.simulation.vibro_impact.ImpactTrajectory`);
+    ``strobe`` maps a state over a time T with its Jacobian (the flights' propagators and the
+    impacts' saltation matrices) and its derivative with respect to ``param``, one of the
+    parameters in the linear part of (8) (eps, beta, gamma, sigma, Abar).
     """
 
-    def __init__(self, params: Params, step: float = 0.05):
+    def __init__(self, params: Params, step: float = 0.05, param: str | None = None):
         if not (np.isfinite(step) and 0 < step <= 0.5):
             raise ValueError(f"sample_step must be in (0, 0.5]; got {step!r}")
-        model = ImpactModel(params)
-        K = model.augmented()
+        if param is not None and param not in LINEAR_PARAMETERS:
+            raise ValueError(f"param must be one of {', '.join(LINEAR_PARAMETERS)} (those of the flow between impacts); got {param!r}")
+        K = ImpactModel(params).augmented()
+        self.K = K
         self.step = float(step)
         self.lengths = self.step * 0.5 ** np.arange(LEVELS + 2)
-        self.table = np.array([linalg.expm(K * L) for L in self.lengths])
+        if param is None:
+            self.table = _propagators(K, self.lengths)
+            self.dtable = np.zeros_like(self.table)
+        else:  # Q = d expm(K L) / d param: the lower-left block of expm([[K, 0], [K_p, K]] L)
+            block = np.block([[K, np.zeros_like(K)], [_derivative_of_K(params, param), K]])
+            both = _propagators(block, self.lengths)
+            self.table, self.dtable = both[:, :6, :6].copy(), both[:, 6:, :6].copy()
         self.growth = np.exp(np.abs(K).sum(axis=1).max() * self.lengths)
         self.row_norm = float(np.abs(K[3]).sum())  # |w''| <= row_norm |z|
         P = params
         self.kappa_c = float(dissipation_at_unit_speed(P.lam, P.chi, P.n, P.pbar))
         self.kappa_q = P.pbar / (P.n + 1)
 
+    def _call(self, y0, t0, t1, stick_speed, max_impacts, capacity, jac):
+        phi, dp = np.eye(4), np.zeros(4)
+        out = _run(
+            self.table, self.dtable, self.K, self.lengths, self.growth, self.row_norm, self.kappa_c, self.kappa_q,
+            np.asarray(y0, dtype=float), float(t0), float(t1), self.step, float(stick_speed), max_impacts, capacity, jac, phi, dp,
+        )
+        return out + (phi, dp)
+
     def run(self, y0, t0: float, t1: float, *, stick_speed: float, max_impacts: int):
         """``(t, y, impacts, code)``: sample times (with the impact instants), states ``(4, N)``
         (post-impact at an impact), impacts ``(K, 4)`` rows ``t, side, w'-, w'+`` and the end code
         (0 finished, 1 sticking, 2 kappa not real, 3 ``max_impacts`` reached)."""
         count = int(math.ceil((t1 - t0) / self.step - 1e-12))
-        y0 = np.asarray(y0, dtype=float)
         capacity = min(max_impacts, 2 * count + 64)
         while True:  # rerun with room for more impacts: the same inputs give the same run
-            times, states, impacts, rows, hits, code = _run(
-                self.table, self.lengths, self.growth, self.row_norm, self.kappa_c, self.kappa_q,
-                y0, float(t0), float(t1), self.step, float(stick_speed), max_impacts, capacity,
-            )
+            times, states, impacts, rows, hits, code, _, _ = self._call(y0, t0, t1, stick_speed, max_impacts, capacity, False)
             if code != _FULL:
                 return times[:rows], states[:rows].T, impacts[:hits], int(code)
             capacity = min(max_impacts, 4 * capacity)
+
+    def strobe(self, y0, t0: float, period: float, *, stick_speed: float = 1e-9, max_impacts: int = 10_000):
+        """``(y, phi, dp, impacts, code)``: the state at ``t0 + period``, its derivatives with respect
+        to y0 (4 x 4) and to ``param`` (zero without one), the impacts and the end code of :meth:`run`."""
+        capacity = min(max_impacts, 64)
+        while True:
+            _, states, impacts, rows, hits, code, phi, dp = self._call(y0, t0, t0 + period, stick_speed, max_impacts, capacity, True)
+            if code != _FULL:
+                return states[rows - 1].copy(), phi, dp, impacts[:hits], int(code)
+            capacity = min(max_impacts, 4 * capacity)
+
+
+LINEAR_PARAMETERS = ("eps", "beta", "gamma", "sigma", "Abar")
+
+
+def _propagators(K, lengths):
+    """``expm(K L)`` for the halving lengths L (longest first), by squaring up from the shortest:
+    with ``expm(K L) = I + E``, ``E(2L) = 2 E(L) + E(L)**2`` keeps E's relative accuracy (the
+    identity is never added in), so the 50 levels cost 50 small products instead of 50 expm."""
+    A = K * lengths[-1]
+    E = A @ (np.eye(len(K)) + A @ (np.eye(len(K)) / 2 + A @ (np.eye(len(K)) / 6 + A / 24)))  # |A| < 1e-15: exact
+    out = np.empty((len(lengths),) + K.shape)
+    out[-1] = E
+    for k in range(len(lengths) - 2, -1, -1):  # lengths[k] = 2 lengths[k + 1]
+        E = 2 * E + E @ E
+        out[k] = E
+    return out + np.eye(len(K))
+
+
+def _derivative_of_K(params: Params, param: str) -> np.ndarray:
+    """dK/d param by a five-point central difference (K's entries are polynomials of degree <= 4 in
+    the parameters, the first-order expansion of (9)'s coefficients: exact up to rounding)."""
+    values = {name: float(getattr(params, name)) for name in LINEAR_PARAMETERS}
+    step = 1e-3 * max(1.0, abs(values[param]))
+    K = [impact_augmented(**{**values, param: values[param] + k * step}) for k in (-2, -1, 1, 2)]
+    return (K[0] - 8 * K[1] + 8 * K[2] - K[3]) / (12 * step)

@@ -1,0 +1,157 @@
+"""Branches of periodic orbits of the vibro-impact model (8) across the edges of their problem.
+
+A continuation of :class:`~slosh_bif.orbits.impact_orbits.ImpactOrbitProblem` ends where an impact
+reaches the map's section or where the orbit grazes the wall. :func:`trace_impact_orbits` goes on
+in pieces, each direction on its own:
+
+* an impact on the section: the section moves to the middle of the orbit's longest flight (the
+  same orbits in new coordinates) and the continuation resumes from the located edge point in the
+  same direction of the parameter;
+* grazing (GR): the point is kept; the orbit with one impact more or fewer is sought just beyond
+  it (the map iterated from the grazing orbit, then Newton), and the branch goes on from there, or
+  ends at the grazing with a status that says so (the orbit beyond does not attract, or there is
+  none: a grazing can end a branch).
+
+The result is an :class:`ImpactBranch`: its pieces (each a :class:`~slosh_bif.continuation.Branch`
+with its section and impact count), the grazing points, and how each direction ended.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+from slosh_bif.continuation import Branch, ContinuationOptions, ConvergenceError, continuation
+from slosh_bif.continuation.branch import Kind
+from slosh_bif.continuation.corrector import newton_solve
+from slosh_bif.model.params import Params
+from slosh_bif.orbits.impact_orbits import GRAZING, SECTION, ImpactOrbitProblem
+
+__all__ = ["ImpactPiece", "ImpactBranch", "trace_impact_orbits", "quiet_section"]
+
+CROSSING_STEPS = (1e-6, 1e-5, 1e-4, 1e-3)  # parameter steps beyond a grazing point, tried in turn
+CROSSING_ITERATES = 300  # iterates of the map beyond a grazing point before Newton
+
+
+@dataclasses.dataclass(frozen=True)
+class ImpactPiece:
+    """One continuation run: its :class:`Branch`, the section ``phase`` its states sit on, and the
+    number of impacts per map period on it."""
+
+    branch: Branch
+    phase: float
+    impacts: int
+
+
+@dataclasses.dataclass(frozen=True)
+class ImpactBranch:
+    """A branch of orbits of (8) in pieces. ``grazing``: (p, x, phase) of each GR point;
+    ``ends``: how each direction ended (text); ``complete``: both reached a bound or closed."""
+
+    param: str
+    pieces: tuple
+    grazing: tuple
+    ends: tuple
+    complete: bool
+
+    def special(self, kind: str):
+        """(p, message) of every special point of one kind over all pieces (ends excluded)."""
+        return [(s.p, s.message) for piece in self.pieces for s in piece.branch.special if s.kind == kind]
+
+
+def quiet_section(problem: ImpactOrbitProblem, x, p):
+    """(phase, state) with the section moved to the middle of the orbit's longest flight."""
+    flow = problem.flow_at(p)
+    start = problem.phase
+    t, y, impacts, _ = flow.run(np.asarray(x, dtype=float), start, start + problem.period, stick_speed=1e-9, max_impacts=10_000)
+    if len(impacts) == 0:
+        return start, np.asarray(x, dtype=float)
+    times = np.concatenate([impacts[:, 0], [impacts[0, 0] + problem.period]])
+    k = int(np.argmax(np.diff(times)))
+    middle = 0.5 * (times[k] + times[k + 1])
+    if middle > start + problem.period:
+        middle -= problem.period
+    state = flow.run(np.asarray(x, dtype=float), start, middle, stick_speed=1e-9, max_impacts=10_000)[1][:, -1] if middle > start else np.asarray(x, dtype=float)
+    return float(middle % (2 * np.pi)), state
+
+
+def _problem(params, param, symmetric, phase, x, p):
+    probe = ImpactOrbitProblem(params, param, symmetric=symmetric, phase=phase)
+    return ImpactOrbitProblem(params, param, symmetric=symmetric, phase=phase, impacts=len(probe.evaluate(x, p).impacts))
+
+
+def _far_end(branch: Branch, p0: float, x0):
+    """The END point of a one-direction run that is not its start."""
+    ends = [s for s in branch.special if s.kind == Kind.END]
+    if not ends:
+        return None
+    return max(ends, key=lambda s: np.linalg.norm(s.x - x0) + abs(s.p - p0))
+
+
+def trace_impact_orbits(
+    params: Params, x0, *, param: str = "sigma", p_min: float, p_max: float, options: ContinuationOptions | None = None,
+    symmetric: bool = False, max_pieces: int = 40,
+) -> ImpactBranch:
+    """Continue the orbit of (8) through ``x0`` (its state at tau = 0, a fixed point of the map at
+    the value of ``param`` in ``params``) in both directions between ``p_min`` and ``p_max``."""
+    opts = dataclasses.replace(options or ContinuationOptions(step=0.05, step_max=0.3, tol=1e-10), p_min=p_min, p_max=p_max)
+    p0 = float(getattr(params, param))
+    first = ImpactOrbitProblem(params, param, symmetric=symmetric)
+    run = newton_solve(first, x0, p0, tol=1e-12)
+    if not run.converged:
+        raise ConvergenceError(f"no periodic orbit of (8) near x0 at {param} = {p0}: {run.message}")
+    pieces, grazing, ends = [], [], []
+    for direction in ("forward", "backward"):
+        phase, x = quiet_section(first, run.x, p0)
+        p, sign = p0, 1.0 if direction == "forward" else -1.0
+        problem = _problem(params, param, symmetric, phase, x, p)
+        while True:
+            if len(pieces) >= max_pieces:
+                ends.append(f"{direction}: stopped after {max_pieces} pieces")
+                break
+            branch = continuation(problem, x, p, param=param, options=dataclasses.replace(opts, direction="forward" if sign > 0 else "backward"))
+            pieces.append(ImpactPiece(branch, problem.phase, problem.impacts))
+            end = _far_end(branch, p, x)
+            if end is None or end.reason != "domain edge" or not (SECTION in end.message or end.message.endswith(GRAZING)):
+                ends.append(f"{direction}: {end.message if end is not None else branch.message}")
+                break
+            x_end, p_end = end.x, end.p
+            sign = 1.0 if end.tangent is None or end.tangent[-1] >= 0 else -1.0
+            if SECTION in end.message:
+                phase, x = quiet_section(problem, x_end, p_end)
+                p = p_end
+                problem = _problem(params, param, symmetric, phase, x, p)
+                continue
+            grazing.append((p_end, x_end, problem.phase))
+            beyond = _cross_grazing(params, param, symmetric, problem, x_end, p_end, sign, opts)
+            if beyond is None:
+                ends.append(f"{direction}: grazing at {param} = {p_end:.10g}; no orbit with another impact count found beyond it")
+                break
+            problem, x, p = beyond
+    complete = all(e.split(": ", 1)[1].startswith(("parameter bound", "closed loop")) for e in ends)
+    return ImpactBranch(param, tuple(pieces), tuple(grazing), tuple(ends), complete)
+
+
+def _cross_grazing(params, param, symmetric, problem, x, p, sign, opts):
+    """(problem, x, p) of the orbit just beyond a grazing point, on a problem holding its own
+    impact count, or None. The map is not smooth at grazing (the new impact's saltation grows as
+    1 / its speed), and Newton from the grazing orbit lands on the old side; the map's own iterates
+    from there, when the orbit beyond attracts, give the guess that Newton then polishes."""
+    for step in CROSSING_STEPS:
+        q = p + sign * step
+        if not opts.p_min <= q <= opts.p_max:
+            return None
+        probe = ImpactOrbitProblem(params, param, symmetric=symmetric, phase=problem.phase)
+        guess = np.asarray(x, dtype=float)
+        for _ in range(CROSSING_ITERATES):
+            m = probe.evaluate(guess, q)
+            if m.code != 0:
+                break
+            guess = m.y
+        run = newton_solve(probe, guess, q, tol=1e-12)
+        if run.converged and probe.in_domain(run.x, q):
+            count = len(probe.evaluate(run.x, q).impacts)
+            if count != problem.impacts:
+                return ImpactOrbitProblem(params, param, symmetric=symmetric, phase=problem.phase, impacts=count), run.x, q
+    return None

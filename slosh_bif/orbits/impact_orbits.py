@@ -1,0 +1,242 @@
+"""Periodic orbits of the vibro-impact model (8) with the restitution law (2), (21): fixed points of
+its stroboscopic map, for the continuation engine.
+
+The map is the exact flow of :mod:`slosh_bif.simulation.impact_flow` over the forcing period 2 pi
+(fixed period, no phase condition), or over pi followed by the mirror y -> -y for the symmetric
+orbits ``y(tau + pi) = -y(tau)`` (whose multiplier -1 is the symmetry-breaking pitchfork, as for
+(9)). Its Jacobian is the product of the flights' propagators and of the impacts' saltation
+matrices (the derivative of kappa in the impact speed included), and its derivative in the
+continued parameter comes from the propagators' own parameter derivatives: no finite differences.
+
+Where the branch leaves the problem's domain (the engine's edge): grazing (GR), where an orbit
+touches |w| = 1 with zero speed and the number of impacts per period changes (the map is not
+smooth there), and an impact reaching the section tau = phase, where the state on the section
+jumps from before the impact to after it. Each edge is located exactly (Newton on the map with
+the edge's condition: a flight's turning point at the wall, or w = +-1 on the section);
+:mod:`slosh_bif.orbits.impact_branches` moves the section or crosses the grazing and goes on.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections import OrderedDict
+
+import numpy as np
+from scipy import linalg, optimize
+
+from slosh_bif.model.params import Params
+from slosh_bif.orbits.multipliers import describe_crossing, is_stable, multiplier_tests
+from slosh_bif.simulation.impact_flow import LINEAR_PARAMETERS, ImpactFlow
+
+__all__ = ["ImpactOrbitProblem", "StrobeMap", "GrazingGap", "SECTION", "GRAZING"]
+
+SECTION, GRAZING = "an impact on the section", "grazing (GR)"
+_KEEP = 8  # evaluations and flows kept: one corrector step and its finite-difference-free tangent
+_CODES = {1: "the particle sticks to the wall (impacts accumulate)", 2: "kappa (eq. 21) is not real at an impact speed reached", 3: "more than 10,000 impacts a period"}
+
+
+@dataclasses.dataclass(frozen=True)
+class StrobeMap:
+    """One evaluation of the map at (x, p): the image ``y``, its Jacobian ``phi`` and parameter
+    derivative ``dp`` (the mirror applied for a symmetric problem), the impacts over the map's
+    time (rows t, side, w'-, w'+) and the flow's end code (0: reached the end)."""
+
+    y: np.ndarray
+    phi: np.ndarray
+    dp: np.ndarray
+    impacts: np.ndarray
+    code: int
+
+
+@dataclasses.dataclass(frozen=True)
+class GrazingGap:
+    """The orbit's nearest approach to grazing: ``gap`` (>= 0) at time ``t``, ``kind`` "flight"
+    (a turning point short of the wall) or "impact" (the depth beyond the wall an impact would have
+    reached), and the number of impacts over the map's time."""
+
+    gap: float
+    t: float
+    kind: str
+    impacts: int
+
+
+class ImpactOrbitProblem:
+    """Periodic orbits of (8) with period ``period_multiple * 2 pi`` (or symmetric ones on the
+    half-period map), continued in ``param``, one of the parameters of the flow between impacts
+    (eps, beta, gamma, sigma, Abar). x = [X, X', w, w'] at tau = ``phase``; ``impacts`` (when
+    given) is the number of impacts over the map's time that the domain holds to."""
+
+    branch_kind = "periodic orbits of (8)"
+    names = ("X", "Xd", "w", "wd")
+
+    def __init__(
+        self, params: Params, param: str = "sigma", *, symmetric: bool = False, period_multiple: int = 1, box: tuple | None = None,
+        phase: float = 0.0, impacts: int | None = None,
+    ):
+        if not isinstance(params, Params):
+            raise TypeError(f"params must be a slosh_bif.Params; got {type(params).__name__}")
+        if param not in LINEAR_PARAMETERS:
+            raise ValueError(f"param must be one of {', '.join(LINEAR_PARAMETERS)} for orbits of (8); got {param!r}")
+        if not (isinstance(period_multiple, int) and 1 <= period_multiple <= 8):
+            raise ValueError(f"period_multiple must be an integer in [1, 8]; got {period_multiple!r}")
+        if symmetric and period_multiple != 1:
+            raise ValueError("a symmetric problem (the half-period map) needs period_multiple = 1")
+        if box is not None and not (len(box) == 2 and box[0] < box[1]):
+            raise ValueError(f"box must be (low, high) with low < high for {param}; got {box!r}")
+        params.require_positive_stiffness()
+        self.params, self.param, self.box = params, param, box
+        self.symmetric, self.period_multiple = symmetric, period_multiple
+        self.closing = -1.0 if symmetric else 1.0
+        self.period = np.pi if symmetric else 2 * np.pi * period_multiple
+        self.test_kinds = ("BP", "NS") if symmetric else ("PD", "NS")
+        self.phase, self.impacts = float(phase), impacts
+        self.edge_name = GRAZING
+        self.state_bound = 1e3 * (1.0 + params.Abar)
+        self.evaluations = 0
+        self._flows: OrderedDict = OrderedDict()
+        self._maps: OrderedDict = OrderedDict()
+
+    def params_at(self, p: float) -> Params:
+        return self.params.replace(**{self.param: float(p)})
+
+    def flow_at(self, p: float) -> ImpactFlow:
+        key = float(p)
+        if key not in self._flows:
+            self._flows[key] = ImpactFlow(self.params_at(p), param=self.param)
+            if len(self._flows) > _KEEP:
+                self._flows.popitem(last=False)
+        return self._flows[key]
+
+    def evaluate(self, x, p) -> StrobeMap:
+        """The map at (x, p), kept for the few calls that follow at the same point."""
+        x = np.asarray(x, dtype=float)
+        key = (float(p), x.tobytes())
+        if key not in self._maps:
+            y, phi, dp, impacts, code = self.flow_at(p).strobe(x, self.phase, self.period)
+            self.evaluations += 1
+            self._maps[key] = StrobeMap(self.closing * y, self.closing * phi, self.closing * dp, impacts, code)
+            if len(self._maps) > _KEEP:
+                self._maps.popitem(last=False)
+        return self._maps[key]
+
+    def in_domain(self, x, p) -> bool:
+        if self.box is not None and not self.box[0] <= p <= self.box[1]:
+            return False
+        x = np.asarray(x, dtype=float)
+        if not (np.all(np.isfinite(x)) and abs(x[2]) <= 1.0 and np.abs(x).max() < self.state_bound):
+            return False
+        try:
+            self.params_at(p).require_positive_stiffness()
+        except ValueError:
+            return False
+        m = self.evaluate(x, p)
+        return m.code == 0 and (self.impacts is None or len(m.impacts) == self.impacts)
+
+    def residual(self, x, p):
+        m = self.evaluate(x, p)
+        return m.y - x if m.code == 0 else np.full(4, np.nan)
+
+    def jacobian(self, x, p):
+        return self.evaluate(x, p).phi - np.eye(4)
+
+    def dparam(self, x, p):
+        return self.evaluate(x, p).dp
+
+    def map_multipliers(self, x, p):
+        """The multipliers of the map solved for: the period map's, or G's = -phi_pi's."""
+        mu = np.linalg.eigvals(self.evaluate(x, p).phi)
+        return mu[np.argsort(-np.abs(mu), kind="stable")]
+
+    def eigenvalues(self, x, p):
+        """The Floquet multipliers over the orbit's whole period (for a symmetric orbit G's squares)."""
+        mu = self.map_multipliers(x, p)
+        return mu * mu if self.symmetric else mu
+
+    is_stable = staticmethod(is_stable)
+
+    def test_functions(self, x, p):
+        """(a multiplier of the map through -1, a complex pair through the unit circle)."""
+        return multiplier_tests(self.map_multipliers(x, p))
+
+    def confirm(self, kind, x, p):
+        return describe_crossing(kind, self.map_multipliers(x, p), self.symmetric)
+
+    # -- the domain's edges -------------------------------------------------------------------
+
+    def edge_distance(self, x, p) -> float:
+        """How near (x, p) is to an edge: the smaller of the grazing gap and 1 - |w| on the section."""
+        return min(self.grazing(x, p).gap, 1.0 - abs(float(x[2])))
+
+    def edge_point(self, x, p):
+        """The grazing point nearest (x, p), located: Newton on [map(x) - x, gap] in (x, p), the gap
+        signed (negative at an impact); None at an impact on the section, whose exact place is of no
+        interest (the section moves there). ``edge_name`` says which edge it is."""
+        on_section = 1.0 - abs(float(x[2])) < self.grazing(x, p).gap
+        self.edge_name = SECTION if on_section else GRAZING
+        if on_section:
+            return None
+
+        def condition(x, p):
+            g = self.grazing(x, p)
+            return g.gap if g.kind == "flight" else -g.gap
+
+        # Newton, keeping the best iterate: an iterate a hair beyond the grazing has a new impact
+        # of speed sqrt(gap), whose square-root term in the map puts the residual far above the
+        # last iterate's; near grazing from the impacting side the residual's floor is rounding
+        # times 1 / (the slow impact's speed), the map's Jacobian there.
+        u = np.append(np.asarray(x, dtype=float), float(p))
+        best, best_size = None, np.inf
+        for _ in range(12):
+            m = self.evaluate(*_split(u))
+            if m.code != 0:
+                break
+            F = np.append(m.y - u[:4], condition(*_split(u)))
+            size = np.abs(F).max()
+            if size < best_size:
+                best, best_size = u.copy(), size
+            if size < 1e-12:
+                break
+            row = np.empty(5)
+            for j in range(5):  # the condition's gradient by central differences
+                e = np.zeros(5)
+                e[j] = 1e-7 * max(1.0, abs(u[j]))
+                row[j] = (condition(*_split(u + e)) - condition(*_split(u - e))) / (2 * e[j])
+            J = np.vstack([np.column_stack([m.phi - np.eye(4), m.dp]), row])
+            try:
+                u = u - np.linalg.solve(J, F)
+            except np.linalg.LinAlgError:
+                break
+        return _split(best) if best_size < 1e-8 else None
+
+    def grazing(self, x, p) -> GrazingGap:
+        """The orbit's nearest approach to grazing: ``1 - |w|`` at a turning point of a flight short
+        of the wall, or the depth ``v**2 / (2 a)`` that an impact of speed v against an acceleration
+        a away from the wall would have reached beyond it."""
+        flow = self.flow_at(p)
+        t, y, impacts, _ = flow.run(np.asarray(x, dtype=float), self.phase, self.phase + self.period, stick_speed=1e-9, max_impacts=10_000)
+        best = GrazingGap(np.inf, 0.0, "flight", len(impacts))
+        K = flow.K
+        for tk, side, v_minus, _ in impacts:
+            i = int(np.searchsorted(t, tk))
+            z = np.array([y[0, i], y[1, i], side, v_minus, np.cos(tk), np.sin(tk)])
+            away = -side * (K[3] @ z)  # acceleration away from the wall just before the impact
+            if away > 0 and v_minus**2 / (2 * away) < best.gap:
+                best = GrazingGap(v_minus**2 / (2 * away), float(tk), "impact", len(impacts))
+        wd = y[3]
+        turns = np.flatnonzero((wd[:-1] * wd[1:] < 0) & (y[2, :-1] * wd[:-1] > 0) & (np.abs(y[2, 1:]) < 1))
+        for i in turns:
+            s, w = _turning_point(K, t[i], y[:, i], t[i + 1] - t[i])
+            if 1 - abs(w) < best.gap:
+                best = GrazingGap(1 - abs(w), float(t[i] + s), "flight", len(impacts))
+        return best
+
+
+def _split(u):
+    return u[:4], u[4]
+
+
+def _turning_point(K, t0, y0, h):
+    """(s, w) where w' = 0 on the flight from (t0, y0) within (0, h), by Brent on the exact flow."""
+    z0 = np.concatenate([y0, [np.cos(t0), np.sin(t0)]])
+    s = optimize.brentq(lambda s: (linalg.expm(K * s) @ z0)[3], 0.0, h, xtol=1e-15, rtol=1e-15)
+    return s, (linalg.expm(K * s) @ z0)[2]

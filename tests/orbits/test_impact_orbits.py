@@ -1,0 +1,121 @@
+"""Periodic orbits of (8) against independent evaluations: the saltation monodromy against finite
+differences of the compiled map, the orbits and multipliers against a scipy Newton with a
+finite-difference Jacobian on the expm event loop (the reference flow), grazing against scipy's
+event location of the turning point, and the branch across sections and grazings."""
+
+import numpy as np
+import pytest
+from scipy.integrate import solve_ivp
+from scipy.optimize import root
+
+from slosh_bif import ImpactModel, get_preset, simulate_impact
+from slosh_bif.continuation.corrector import newton
+from slosh_bif.orbits.impact_branches import trace_impact_orbits
+from slosh_bif.orbits.impact_orbits import ImpactOrbitProblem
+from slosh_bif.simulation.impact_flow import ImpactFlow
+from slosh_bif.simulation.integrator import HAVE_NUMBA
+
+pytestmark = pytest.mark.skipif(not HAVE_NUMBA, reason="the compiled flow needs numba")
+
+SETS = {
+    "fig10 sigma=3": ("fig10", {"sigma": 3.0}),
+    "fig13 sigma=0.5": ("fig13", {"sigma": 0.5}),
+    "pbar=2 wall": ("fig10", {"sigma": 1.0, "n": 20, "pbar": 2, "lam": 0.2}),
+}
+
+
+def _settled(name):
+    preset, changes = SETS[name]
+    p = get_preset(preset)
+    params = p.params.replace(**changes)
+    run = simulate_impact(params, p.state0, (0.0, 300 * np.pi))
+    assert run.success
+    return params, run.y[:, -1]
+
+
+def _reference_map(params, x):
+    """The 2pi map by the expm event loop (backend 'scipy'), independent of the compiled flow."""
+    return simulate_impact(params, x, (0.0, 2 * np.pi), backend="scipy").y[:, -1]
+
+
+def _fd_jacobian(f, x, h=1e-6):
+    return np.column_stack([(f(x + h * e) - f(x - h * e)) / (2 * h) for e in np.eye(len(x))])
+
+
+@pytest.mark.parametrize("name", list(SETS))
+def test_the_saltation_monodromy_and_parameter_derivative_match_finite_differences(name):
+    params, x = _settled(name)
+    for param in ("sigma", "Abar", "beta"):
+        flow = ImpactFlow(params, param=param)
+        y, phi, dp, impacts, code = flow.strobe(x, 0.0, 2 * np.pi)
+        assert code == 0 and len(impacts) >= 1
+        fd = _fd_jacobian(lambda z: flow.strobe(z, 0.0, 2 * np.pi)[0], x, h=1e-7)
+        np.testing.assert_allclose(phi, fd, rtol=0, atol=1e-6 * max(1.0, np.abs(fd).max()))
+        value, h = getattr(params, param), 1e-6
+
+        def image(s):
+            return ImpactFlow(params.replace(**{param: value + s * h})).strobe(x, 0.0, 2 * np.pi)[0]
+
+        # central differences, or one-sided second-order ones at the end of beta's range (beta = 0)
+        fd = (image(1) - image(-1)) / (2 * h) if value - h >= 0 else (-3 * image(0) + 4 * image(1) - image(2)) / (2 * h)
+        np.testing.assert_allclose(dp, fd, rtol=0, atol=1e-6 * max(1.0, np.abs(dp).max()))
+
+
+@pytest.mark.parametrize("name", list(SETS))
+def test_an_orbit_and_its_multipliers_match_an_independent_newton_on_the_reference_flow(name):
+    params, x0 = _settled(name)
+    problem = ImpactOrbitProblem(params)
+    p = params.sigma
+    x = newton(problem, x0, p, tol=1e-12)
+    independent = root(lambda z: _reference_map(params, z) - z, x0, method="hybr", options={"xtol": 1e-13})
+    assert independent.success
+    np.testing.assert_allclose(x, independent.x, rtol=0, atol=1e-8)
+    mu_fd = np.linalg.eigvals(_fd_jacobian(lambda z: _reference_map(params, z), independent.x))
+    mu = problem.eigenvalues(x, p)
+    np.testing.assert_allclose(np.sort_complex(mu), np.sort_complex(mu_fd), rtol=0, atol=1e-6)
+
+
+def _turning_gap(params, phase, x, t_graze):
+    """1 - |w| at the turning point nearest t_graze, by scipy's DOP853 with event location on the
+    flight (no walls in the way), from the orbit's state at the section."""
+    model = ImpactModel(params)
+    run = simulate_impact(params, x, (phase, t_graze - 0.3), backend="scipy")
+    t0, y0 = run.t[-1], run.y[:, -1]
+
+    def turn(t, y):
+        return y[3]
+
+    sol = solve_ivp(model.rhs, (t0, t0 + 0.6), y0, method="DOP853", rtol=1e-13, atol=1e-14, events=turn)
+    return 1.0 - np.abs(sol.y_events[0][:, 2]).max()
+
+
+def test_a_branch_crosses_sections_and_grazings_and_locates_pd_and_gr():
+    """The Fig. 10 set from sigma = 3 down to 1: the asymmetric pair's orbit, its period doubling,
+    and its grazing near sigma = 2.16 where a third impact appears (checked by scipy: the turning
+    point touches the wall), then the three-impact orbit on the other side."""
+    params, x0 = _settled("fig10 sigma=3")
+    branch = trace_impact_orbits(params, x0, p_min=1.0, p_max=3.2)
+    assert branch.grazing
+    p_gr, x_gr, phase = branch.grazing[0]
+    assert p_gr == pytest.approx(2.16104015, abs=1e-6)
+    where = ImpactOrbitProblem(params, phase=phase).grazing(x_gr, p_gr)  # only where to look
+    assert where.kind == "flight"
+    assert _turning_gap(params.replace(sigma=p_gr), phase, x_gr, where.t) == pytest.approx(0.0, abs=1e-8)
+    counts = {piece.impacts for piece in branch.pieces}
+    assert {2, 3} <= counts
+    pds = branch.special("PD")
+    assert pds
+    for p_pd, _ in pds[:1]:
+        piece = next(pc for pc in branch.pieces for s in pc.branch.special if s.kind == "PD" and s.p == p_pd)
+        point = next(s for s in piece.branch.special if s.kind == "PD" and s.p == p_pd)
+        problem = ImpactOrbitProblem(params, phase=piece.phase)
+        mu = problem.eigenvalues(point.x, point.p)
+        assert np.min(np.abs(mu + 1)) < 1e-6
+
+
+def test_bad_input_is_refused_before_any_work():
+    params = get_preset("fig10").params
+    with pytest.raises(ValueError, match="param must be one of eps, beta, gamma, sigma, Abar"):
+        ImpactOrbitProblem(params, "lam")
+    with pytest.raises(ValueError, match="stiffness"):
+        ImpactOrbitProblem(params.replace(sigma=25.0))
