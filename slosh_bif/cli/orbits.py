@@ -1,9 +1,11 @@
-"""``slosh-bif shoot``: periodic orbits of (9) by shooting, continued, with their bifurcations."""
+"""``slosh-bif shoot``: periodic orbits of (9) by shooting, or of (8) on its exact flow, continued, with their bifurcations."""
 
 from __future__ import annotations
 
 import dataclasses
 import sys
+
+import numpy as np
 
 from slosh_bif.cli.terminal import REPORTER
 from slosh_bif.cli.common import (
@@ -90,6 +92,8 @@ def _shoot(args) -> int:
         lo, hi = abar_range(args, default=(0.0, 2 * params.Abar))
     else:
         lo, hi = sigma_range(args)
+    if args.model == "impact":
+        return _shoot_impact(args, params, lo, hi)
     args.out.mkdir(parents=True, exist_ok=True)
     family = family_from_args(args, params, lo, hi, param=args.parameter)
     csv_path, png_path = write_branch_csv(family, args.out / "branch.csv"), plot_family(family, args.out / "branch.png")
@@ -99,6 +103,50 @@ def _shoot(args) -> int:
     print(family.summary(detail=REPORTER.verbose))
     print(f"wrote {csv_path}, {families_path}, {png_path}" + ("" if REPORTER.verbose else " (each special point in branch.csv's 'special' column; -v lists them here)"))
     return _family_status(family)
+
+
+def _shoot_impact(args, params, lo, hi) -> int:
+    """``shoot --model impact``: the branch of orbits of (8) through the orbit a simulation of (8)
+    settles on (or --guess), across sections and grazings."""
+    from slosh_bif.continuation import ContinuationOptions
+    from slosh_bif.orbits.impact_branches import trace_impact_orbits
+    from slosh_bif.orbits.impact_output import impact_rows, plot_impact_branch, write_impact_csv
+    from slosh_bif.simulation.vibro_impact import simulate_impact
+
+    if args.start != "simulation":
+        raise ValueError(f"--start {args.start} is for the smooth model (9); --model impact starts from a simulation of (8) or from --guess")
+    check_family_options(args)
+    p0 = getattr(params, args.parameter)
+    if not lo <= p0 <= hi:
+        raise ValueError(f"the start's {args.parameter} = {p0:g} (the preset's, or --set) must lie in the range [{lo:g}, {hi:g}]")
+    params.require_positive_stiffness()
+    options = continuation_options(args, ContinuationOptions(step=0.05, step_max=0.3, tol=1e-10))
+    args.out.mkdir(parents=True, exist_ok=True)
+    if args.guess is not None:
+        x0 = args.guess
+    else:
+        run = simulate_impact(params, state0_of(args, params), (0.0, 2 * np.pi * args.settle))
+        if not run.success:
+            raise ValueError(f"the simulation of (8) for a start orbit stopped: {run.message}; pass --guess X,Xd,w,wd")
+        x0 = run.y[:, -1]
+    result = trace_impact_orbits(params, x0, param=args.parameter, p_min=lo, p_max=hi, options=options)
+    rows = list(impact_rows(result, params))
+    csv_path, png_path = write_impact_csv(rows, args.out / "branch.csv"), plot_impact_branch(rows, params, args.out / "branch.png")
+    for k, piece in enumerate(result.pieces):
+        piece.branch.save(args.out / f"piece{k}.npz", phase=piece.phase, impacts=piece.impacts)
+    kinds = [kind for r in rows for kind in r["special"].split() if kind != "END"]
+    counts = ", ".join(f"{kinds.count(k)} {k}" for k in ("LP", "BP", "PD", "NS", "GR") if k in kinds) or "no special points"
+    print(f"orbits of (8): {len(rows)} points in {len(result.pieces)} pieces over {args.parameter} in [{min(r[args.parameter] for r in rows):.6g}, "
+          f"{max(r[args.parameter] for r in rows):.6g}], impacts per period {sorted({r['impacts'] for r in rows})}; {counts}")
+    for p_gr, _, _ in result.grazing:
+        print(f"  GR at {args.parameter} = {p_gr:.10g}")
+    print(f"wrote {csv_path}, {png_path}")
+    for end in result.ends:
+        progress(end)
+    if not result.complete:
+        print("slosh-bif: the branch does not cover the requested range (its ends above; exit status 3)", file=sys.stderr)
+        return 3
+    return 0
 
 
 def _family_status(family) -> int:
@@ -137,13 +185,18 @@ def add_commands(sub) -> None:
     """Register this family's commands on the ``slosh-bif`` subparsers ``sub``."""
     shoot = sub.add_parser(
         "shoot",
-        help="periodic orbits of the smooth model (9) by shooting, continued in sigma, with their bifurcations",
+        help="periodic orbits of the smooth model (9) by shooting (or of the impact model (8), --model impact), continued in sigma, with their bifurcations",
         epilog="exit status: 0 when every branch covers the requested range (or ends at a fold or closes), "
         "3 when a branch was cut short (its status in branch.csv and on stderr), 2 for bad input, 1 when a method fails",
     )
     add_params_options(shoot)
     add_range_options(shoot)
     shoot.add_argument("--parameter", choices=("sigma", "Abar"), default="sigma", help="continue in sigma (default) or in Abar at the preset's sigma")
+    shoot.add_argument(
+        "--model", choices=("smooth", "impact"), default="smooth",
+        help="smooth: orbits of (9) by multiple shooting (default); impact: orbits of the vibro-impact model (8) on its exact flow, "
+        "with saltation multipliers and grazing (GR); from --start simulation or --guess, no branch switching",
+    )
     add_abar_range_options(shoot)
     add_shooting_options(shoot)
     shoot.add_argument("--resume", action="store_true", help="with --start scan: reuse the families an interrupted scan stored in OUT/scan.pickle (same settings) and trace only the rest")

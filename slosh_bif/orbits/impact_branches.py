@@ -32,6 +32,7 @@ __all__ = ["ImpactPiece", "ImpactBranch", "trace_impact_orbits", "quiet_section"
 
 CROSSING_STEPS = (1e-6, 1e-5, 1e-4, 1e-3)  # parameter steps beyond a grazing point, tried in turn
 CROSSING_ITERATES = 300  # iterates of the map beyond a grazing point before Newton
+NEAR_GRAZING = 10.0  # an orbit beyond a grazing counts as its continuation within this times sqrt(step)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -101,7 +102,7 @@ def trace_impact_orbits(
     run = newton_solve(first, x0, p0, tol=1e-12)
     if not run.converged:
         raise ConvergenceError(f"no periodic orbit of (8) near x0 at {param} = {p0}: {run.message}")
-    pieces, grazing, ends = [], [], []
+    pieces, grazing, ends, starts = [], [], [], []
     for direction in ("forward", "backward"):
         phase, x = quiet_section(first, run.x, p0)
         p, sign = p0, 1.0 if direction == "forward" else -1.0
@@ -121,6 +122,10 @@ def trace_impact_orbits(
             if SECTION in end.message:
                 phase, x = quiet_section(problem, x_end, p_end)
                 p = p_end
+                if any(abs(phase - f) < 1e-7 and abs(p - q) < 1e-7 and np.linalg.norm(x - y) < 1e-6 for f, q, y in starts):
+                    ends.append(f"{direction}: closed loop (back at the section of {param} = {p:.10g})")
+                    break
+                starts.append((phase, p, x))
                 problem = _problem(params, param, symmetric, phase, x, p)
                 continue
             grazing.append((p_end, x_end, problem.phase))
@@ -150,7 +155,10 @@ def _cross_grazing(params, param, symmetric, problem, x, p, sign, opts):
                 break
             guess = m.y
         run = newton_solve(probe, guess, q, tol=1e-12)
-        if run.converged and probe.in_domain(run.x, q):
+        # the orbit beyond moves away from the grazing one as the square root of the step (the
+        # new impact's speed); one farther off is another attractor, not the branch's continuation
+        near = np.linalg.norm(run.x - x) <= NEAR_GRAZING * np.sqrt(step) * (1.0 + np.linalg.norm(x))
+        if run.converged and near and probe.in_domain(run.x, q):
             count = len(probe.evaluate(run.x, q).impacts)
             if count != problem.impacts:
                 return ImpactOrbitProblem(params, param, symmetric=symmetric, phase=problem.phase, impacts=count), run.x, q

@@ -208,6 +208,12 @@ class ImpactOrbitProblem:
                 break
         return _split(best) if best_size < 1e-8 else None
 
+    def orbit(self, x, p, *, step: float = 0.01):
+        """(t, y, impacts) of the orbit through x over the map's time, sampled every ``step`` and
+        at the impacts (post-impact states), impacts rows t, side, w'-, w'+."""
+        t, y, impacts, _ = ImpactFlow(self.params_at(p), step).run(np.asarray(x, dtype=float), self.phase, self.phase + self.period, stick_speed=1e-9, max_impacts=10_000)
+        return t, y, impacts
+
     def grazing(self, x, p) -> GrazingGap:
         """The orbit's nearest approach to grazing: ``1 - |w|`` at a turning point of a flight short
         of the wall, or the depth ``v**2 / (2 a)`` that an impact of speed v against an acceleration

@@ -84,8 +84,8 @@ def _runs(mask):
     return [(a, min(b, len(mask) - 1)) for a, b in zip(bounds[:-1], bounds[1:])]
 
 
-SPECIAL_MARKERS = {"LP": ("o", "tab:red"), "BP": ("s", "tab:green"), "PD": ("D", "tab:purple"), "NS": ("^", "tab:orange"), "END": ("x", "k")}
-SPECIAL_NAMES = {"LP": "fold (LP)", "BP": "branch point (BP)", "PD": "period doubling (PD)", "NS": "Neimark-Sacker (NS)", "END": "end"}
+SPECIAL_MARKERS = {"LP": ("o", "tab:red"), "BP": ("s", "tab:green"), "PD": ("D", "tab:purple"), "NS": ("^", "tab:orange"), "GR": ("*", "tab:brown"), "END": ("x", "k")}
+SPECIAL_NAMES = {"LP": "fold (LP)", "BP": "branch point (BP)", "PD": "period doubling (PD)", "NS": "Neimark-Sacker (NS)", "GR": "grazing (GR)", "END": "end"}
 
 
 def special_legend(ax, kinds=("LP", "BP", "PD", "NS")):

@@ -23,6 +23,8 @@ TANK = ["tank", "--shape", "cylinder", "--depth", "8", "--structure-mass", "2e6"
         (["basins", "--preset", "fig10", "--set", "sigma=30", "--grid", "3", "3"], "eps * sigma = 1.5 >= 1"),
         (["answer", "regime", "--preset", "fig10", "--set", "sigma=30"], "eps * sigma = 1.5 >= 1"),
         ([*TANK, "--radius", "1e9"], "too shallow for the sloshing-mode series"),
+        (["shoot", "--preset", "fig10", "--model", "impact", "--start", "scan"], "--model impact starts from a simulation of (8)"),
+        (["shoot", "--preset", "fig10", "--model", "impact", "--sigma-min", "2", "--sigma-max", "3"], "must lie in the range [2, 3]"),
     ],
 )
 def test_a_one_line_error_before_any_work(argv, words, tmp_path, capsys):

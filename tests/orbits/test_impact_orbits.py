@@ -89,28 +89,24 @@ def _turning_gap(params, phase, x, t_graze):
     return 1.0 - np.abs(sol.y_events[0][:, 2]).max()
 
 
-def test_a_branch_crosses_sections_and_grazings_and_locates_pd_and_gr():
-    """The Fig. 10 set from sigma = 3 down to 1: the asymmetric pair's orbit, its period doubling,
-    and its grazing near sigma = 2.16 where a third impact appears (checked by scipy: the turning
-    point touches the wall), then the three-impact orbit on the other side."""
+def test_a_branch_locates_its_period_doubling_and_ends_at_grazing():
+    """The Fig. 10 set from sigma = 3 down: the asymmetric pair's orbit, its period doubling, and
+    its grazing near sigma = 2.16 (checked by scipy: the turning point touches the wall), where no
+    orbit with a third impact continues it nearby: the branch ends there and says so."""
     params, x0 = _settled("fig10 sigma=3")
     branch = trace_impact_orbits(params, x0, p_min=1.0, p_max=3.2)
-    assert branch.grazing
+    assert branch.grazing and not branch.complete
+    assert any("grazing at sigma = 2.16104" in end and "no orbit" in end for end in branch.ends)
     p_gr, x_gr, phase = branch.grazing[0]
     assert p_gr == pytest.approx(2.16104015, abs=1e-6)
     where = ImpactOrbitProblem(params, phase=phase).grazing(x_gr, p_gr)  # only where to look
     assert where.kind == "flight"
     assert _turning_gap(params.replace(sigma=p_gr), phase, x_gr, where.t) == pytest.approx(0.0, abs=1e-8)
-    counts = {piece.impacts for piece in branch.pieces}
-    assert {2, 3} <= counts
-    pds = branch.special("PD")
+    pds = [(pc, s) for pc in branch.pieces for s in pc.branch.special if s.kind == "PD"]
     assert pds
-    for p_pd, _ in pds[:1]:
-        piece = next(pc for pc in branch.pieces for s in pc.branch.special if s.kind == "PD" and s.p == p_pd)
-        point = next(s for s in piece.branch.special if s.kind == "PD" and s.p == p_pd)
-        problem = ImpactOrbitProblem(params, phase=piece.phase)
-        mu = problem.eigenvalues(point.x, point.p)
-        assert np.min(np.abs(mu + 1)) < 1e-6
+    piece, point = pds[0]
+    mu = ImpactOrbitProblem(params, phase=piece.phase).eigenvalues(point.x, point.p)
+    assert np.min(np.abs(mu + 1)) < 1e-6
 
 
 def test_bad_input_is_refused_before_any_work():
@@ -119,3 +115,43 @@ def test_bad_input_is_refused_before_any_work():
         ImpactOrbitProblem(params, "lam")
     with pytest.raises(ValueError, match="stiffness"):
         ImpactOrbitProblem(params.replace(sigma=25.0))
+
+
+def test_shoot_model_impact_traces_the_fig13_branch_with_its_pitchforks_and_torus(tmp_path, capsys):
+    """``slosh-bif shoot --model impact`` on the Fig. 13 set: the symmetric primary branch over
+    sigma in [-3, 5] with two branch points and a Neimark-Sacker point, whose multipliers an
+    independent finite-difference Jacobian of the reference flow's map puts on the unit circle."""
+    import csv
+
+    from slosh_bif.cli import main
+
+    assert main(["shoot", "--preset", "fig13", "--model", "impact", "--sigma-min", "-3", "--sigma-max", "5", "--out", str(tmp_path)]) == 0
+    rows = list(csv.DictReader(open(tmp_path / "branch.csv")))
+    kinds = [k for r in rows for k in r["special"].split()]
+    assert kinds.count("BP") == 2 and kinds.count("NS") == 1
+    ns = next(r for r in rows if "NS" in r["special"].split())
+    params = get_preset("fig13").params.replace(sigma=float(ns["sigma"]))
+    piece = np.load(tmp_path / f"piece{ns['piece']}.npz")
+    x = piece["x"][np.argmin(np.abs(piece["p"] - float(ns["sigma"])))]
+    phase = float(ns["phase"])
+
+    def reference_map(z):
+        return simulate_impact(params, z, (phase, phase + 2 * np.pi), backend="scipy").y[:, -1]
+
+    mu = np.linalg.eigvals(_fd_jacobian(reference_map, x))
+    assert np.sort(np.abs(mu))[-2:] == pytest.approx([1.0, 1.0], abs=1e-5)
+    assert "wrote" in capsys.readouterr().out
+    # where an impact reached the section the branch went on from a section moved along the orbit:
+    # the new piece's first state is the old piece's last one carried there by the reference flow
+    pieces = [np.load(tmp_path / f"piece{k}.npz") for k in sorted({int(r["piece"]) for r in rows})]
+    pairs = [
+        (a, b, i, j) for a in pieces for b in pieces if float(a["phase"]) != float(b["phase"])
+        for i in (0, -1) for j in (0, -1) if a["p"][i] == b["p"][j]
+    ]
+    assert pairs
+    old, new, i, j = pairs[0]
+    phase_old, phase_new = float(old["phase"]), float(new["phase"])
+    at = get_preset("fig13").params.replace(sigma=float(old["p"][i]))
+    later = phase_new if phase_new > phase_old else phase_new + 2 * np.pi
+    carried = simulate_impact(at, old["x"][i], (phase_old, later), backend="scipy").y[:, -1]
+    np.testing.assert_allclose(carried, new["x"][j], atol=1e-6)

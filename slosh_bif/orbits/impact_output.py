@@ -1,0 +1,100 @@
+"""Writing a branch of periodic orbits of the vibro-impact model (8) as CSV and PNG.
+
+``branch.csv``: one row per point, pieces one after another (:mod:`slosh_bif.orbits.impact_branches`),
+columns ``sigma, Abar, A1, max_abs_X, impacts, min_impact_speed, stable, max_abs_multiplier,
+special, piece, phase``: A1 is the first-harmonic amplitude of X at the forcing frequency, as for
+(9); ``impacts`` the impacts per map period on the piece, ``phase`` its section; ``special`` the
+special point at that row (PD, NS, LP, BP, GR at a grazing end, END).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from slosh_bif.orbits.impact_branches import ImpactBranch
+from slosh_bif.orbits.impact_orbits import GRAZING, ImpactOrbitProblem
+from slosh_bif.report.tables import write_rows
+
+__all__ = ["IMPACT_COLUMNS", "orbit_measures", "impact_rows", "write_impact_csv", "plot_impact_branch"]
+
+IMPACT_COLUMNS = ("sigma", "Abar", "A1", "max_abs_X", "impacts", "min_impact_speed", "stable", "max_abs_multiplier", "special", "piece", "phase")
+MEASURE_STEP = 0.01  # sample step of an orbit for its measures: A1 to about 1e-5
+
+
+def orbit_measures(problem: ImpactOrbitProblem, x, p) -> dict:
+    """A1, max |X| and the slowest impact speed of the orbit of (8) through x on the problem's section."""
+    t, y, impacts = problem.orbit(x, p, step=MEASURE_STEP)
+    if problem.symmetric:  # over half its period: the other half is -y
+        t, y = np.concatenate([t, t[1:] + problem.period]), np.concatenate([y, -y[:, 1:]], axis=1)
+    f = y[0] * np.exp(-1j * t)
+    harmonic = np.sum(0.5 * (f[1:] + f[:-1]) * np.diff(t)) / np.pi  # the trapezoid rule
+    return {
+        "A1": float(abs(harmonic)),
+        "max_abs_X": float(np.abs(y[0]).max()),
+        "min_impact_speed": float(np.abs(impacts[:, 2]).min()) if len(impacts) else float("nan"),
+    }
+
+
+def _labels(branch):
+    labels = [""] * len(branch)
+    for s in branch.special:
+        kind = "GR" if s.kind == "END" and s.message.endswith(GRAZING) else s.kind
+        labels[s.index] = f"{labels[s.index]} {kind}".strip()
+    return labels
+
+
+def impact_rows(result: ImpactBranch, params, symmetric: bool = False):
+    for k, piece in enumerate(result.pieces):
+        b = piece.branch
+        labels = _labels(b)
+        problem = ImpactOrbitProblem(params, b.param, symmetric=symmetric, phase=piece.phase)
+        for i in range(len(b)):
+            at = params.replace(**{b.param: float(b.p[i])})
+            m = orbit_measures(problem, b.x[i], b.p[i])
+            yield {
+                "sigma": at.sigma, "Abar": at.Abar, **m, "impacts": piece.impacts, "stable": int(b.stable[i]),
+                "max_abs_multiplier": float(np.abs(b.eigenvalues[i]).max()), "special": labels[i], "piece": k, "phase": piece.phase,
+            }
+
+
+def write_impact_csv(rows, path) -> Path:
+    return write_rows(rows, IMPACT_COLUMNS, path)
+
+
+def plot_impact_branch(rows, params, path, *, title=None) -> Path:
+    """A1 against the parameter (stable solid, unstable dashed, special points marked) and the
+    impacts per period below."""
+    from slosh_bif.report.plotting import SPECIAL_MARKERS, place_labels, pyplot, save_figure, special_legend
+
+    rows = list(rows)
+    param = "sigma" if len({r["sigma"] for r in rows}) > 1 else "Abar"
+    fig, (ax, axi) = pyplot().subplots(2, 1, figsize=(9, 7.5), sharex=True, gridspec_kw={"height_ratios": [3, 1]})
+    labels = []
+    for k in sorted({r["piece"] for r in rows}):
+        part = [r for r in rows if r["piece"] == k]
+        p = np.array([r[param] for r in part])
+        a1 = np.array([r["A1"] for r in part])
+        stable = np.array([r["stable"] for r in part], dtype=bool)
+        for i in range(len(part) - 1):
+            ax.plot(p[i : i + 2], a1[i : i + 2], "-" if stable[i] and stable[i + 1] else "--", color="C0", lw=1.4)
+        axi.plot(p, [r["impacts"] for r in part], color="C0", lw=1.2)
+        for r in part:
+            for kind in r["special"].split():
+                if kind in SPECIAL_MARKERS and kind != "END":
+                    marker, color = SPECIAL_MARKERS[kind]
+                    ax.plot(r[param], r["A1"], marker, color=color, ms=7, mfc="none" if kind == "LP" else color)
+                    labels.append((r[param], r["A1"], kind, color))
+    place_labels(ax, labels)
+    ax.plot([], [], "k-", label="stable")
+    ax.plot([], [], "k--", label="unstable")
+    special_legend(ax, kinds=("LP", "BP", "PD", "NS", "GR"))
+    ax.set_ylabel("A1: first-harmonic amplitude of X")
+    axi.set_ylabel("impacts / period")
+    axi.set_xlabel(r"$\sigma$" if param == "sigma" else r"$\bar A$")
+    ax.set_title(title or f"Periodic orbits of the impact model (8): eps = {params.eps:g}, beta = {params.beta:g}, gamma = {params.gamma:g}, Abar = {params.Abar:g}, n = {params.n}")
+    ax.legend(fontsize=7, loc="best")
+    ax.grid(alpha=0.3)
+    axi.grid(alpha=0.3)
+    return save_figure(fig, path)
