@@ -361,6 +361,7 @@ def test_shoot_with_the_scipy_backend_agrees_with_the_compiled_one(tmp_path):
     np.testing.assert_allclose(np.interp(s, curves["scipy"][0][order], curves["scipy"][1][order]), a, rtol=1e-6)
 
 
+@pytest.mark.slow  # a regime map twice (10 s); the scipy fallback of the simulation has its own fast tests
 def test_regimes_with_the_scipy_backend_classify_as_the_compiled_one(tmp_path):
     """--backend on regimes: at sigma = 0.8, Abar = 3 (Fig. 10 set; a stable orbit there) scipy's
     DOP853 and the compiled one both settle on the periodic resonant response, with the same

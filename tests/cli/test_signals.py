@@ -64,7 +64,9 @@ def _stop_while_running(arguments, signum, out, wait=4.0, ready=None):
 
 @pytest.mark.skipif(not os.path.exists("/proc/self/task"), reason="reads worker processes from Linux's /proc")
 @pytest.mark.parametrize("signum, code", [(signal.SIGINT, 130), (signal.SIGTERM, 143)])
-@pytest.mark.parametrize("arguments, table, cells, column", [(REGIMES, "regimes.csv", 36, "regime"), (TRUST, "trust_map.csv", 12, "status")], ids=["regimes", "trust"])
+@pytest.mark.parametrize(
+    "arguments, table, cells, column", [(REGIMES, "regimes.csv", 36, "regime"), pytest.param(TRUST, "trust_map.csv", 12, "status", marks=pytest.mark.slow)], ids=["regimes", "trust"]
+)
 def test_a_stopped_map_keeps_what_it_did_and_leaves_no_worker(tmp_path, signum, code, arguments, table, cells, column):
     out = tmp_path / "map"
     returncode, err, elapsed, workers = _stop_while_running(arguments, signum, out)
@@ -84,7 +86,7 @@ def test_a_stopped_map_keeps_what_it_did_and_leaves_no_worker(tmp_path, signum, 
     "grid, store, table, cells",
     [
         (["regimes", "--preset", "fig13", "--sigma-points", "5", "--abar-points", "5", "--tmax", "3000"], "regimes.json", "regimes.csv", 25),
-        (["basins", "--preset", "fig10", "--set", "sigma=3", "--grid", "16", "16", "--tmax", "12000"], "basins.json", "basins.csv", 256),
+        pytest.param(["basins", "--preset", "fig10", "--set", "sigma=3", "--grid", "16", "16", "--tmax", "12000"], "basins.json", "basins.csv", 256, marks=pytest.mark.slow),
     ],
     ids=["regimes", "basins"],
 )
@@ -114,6 +116,7 @@ def test_an_interrupted_map_resumed_equals_an_uninterrupted_one(tmp_path, capsys
     assert "tmax differ" in capsys.readouterr().err
 
 
+@pytest.mark.slow  # resume after a stop: the regimes case of the next test covers it in the default run
 def test_a_killed_map_resumes_from_the_cells_stored_on_the_way(tmp_path, capsys):
     """SIGKILL (no handler runs): the partial store written every few seconds as cells finish is
     what a resumed run reuses, and the folder's previous complete results are untouched."""
@@ -140,6 +143,7 @@ def test_a_killed_map_resumes_from_the_cells_stored_on_the_way(tmp_path, capsys)
 CHART = ["chart", "--preset", "fig10", "--sigma-min", "-6", "--sigma-max", "8", "--abar-min", "0.2", "--abar-max", "6", "--no-switch"]
 
 
+@pytest.mark.slow  # stopping with workers: the maps' tests cover it in the default run
 @pytest.mark.skipif(not os.path.exists("/proc/self/task"), reason="reads worker processes from Linux's /proc")
 def test_a_stopped_chart_keeps_its_finished_curves_and_leaves_no_worker(tmp_path):
     out = tmp_path / "chart"

@@ -4,6 +4,8 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
 ROOT = Path(__file__).resolve().parents[2]
 
 
@@ -13,6 +15,7 @@ def test_derive_check_passes_on_the_committed_tree():
     assert result.returncode == 0, result.stderr
 
 
+@pytest.mark.slow  # a second derivation (25 s); the passing check runs by default
 def test_check_fails_on_stale_code(tmp_path):
     (tmp_path / "slosh_bif" / "_generated").mkdir(parents=True)
     (tmp_path / "slosh_bif" / "_generated" / "models.py").write_text("# stale\n")

@@ -120,7 +120,7 @@ def _special_in(at, kind, x, param, bracket=None):
     return nearest.p
 
 
-@pytest.mark.parametrize("curve_fixture, kind, mu", [("fold_curve", "LP", 1.0), ("flip_curve", "PD", -1.0)])
+@pytest.mark.parametrize("curve_fixture, kind, mu", [pytest.param("fold_curve", "LP", 1.0, marks=pytest.mark.slow), ("flip_curve", "PD", -1.0)])
 def test_curve_points_are_special_points_of_one_parameter_branches_and_of_scipys_monodromy(curve_fixture, kind, mu, request, scipy_multipliers):
     P, curve = request.getfixturevalue(curve_fixture)
     assert curve.kind == kind and len(curve) > 10 and curve.status == "ok", curve.branch.message
@@ -153,7 +153,7 @@ def eps_flip_curve():
     return P.replace(sigma=pd.p), trace_curve(P, pd.x, pd.p, kind="PD", branch_param="sigma", p1="Abar", p2="eps", p1_range=(2.6, 3.4), p2_range=(0.04, 0.06))
 
 
-@pytest.mark.parametrize("curve_fixture, mu", [("beta_fold_curve", 1.0), ("eps_flip_curve", -1.0)])
+@pytest.mark.parametrize("curve_fixture, mu", [pytest.param("beta_fold_curve", 1.0, marks=pytest.mark.slow), ("eps_flip_curve", -1.0)])
 def test_curves_in_other_parameter_pairs_match_one_parameter_runs_and_scipy(curve_fixture, mu, request, scipy_multipliers):
     # Any two real fields of Params: the curve's sensitivities come from the generated pair kernel;
     # a one-parameter run in p1 with p2 held (the dedicated or pair kernel of another problem)

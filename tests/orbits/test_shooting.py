@@ -250,7 +250,7 @@ def test_slow_flow_start_tries_steady_states_and_says_when_none_gives_an_orbit()
         slow_flow_start(P, 0.1, 0.3, tries=3)
 
 
-@pytest.mark.parametrize("backend", ["numba", "scipy"])
+@pytest.mark.parametrize("backend", ["numba", pytest.param("scipy", marks=pytest.mark.slow)])
 def test_default_start_does_not_depend_on_rounding_where_the_simulation_has_not_settled(backend):
     """Fig. 10 set at sigma = 1: the 150-period simulation is still strongly modulated, and Newton
     from its strobes lands on whichever orbit the last bits send it to (an asymmetric one after a

@@ -126,6 +126,7 @@ WALLS = list(_walls())
 # (0.35, 1, 4, 2): upper end a fold of (39); (0.35, 1, 10, 2): a fold, while the smaller root leaves
 # (0, 1] nearby; (0.35, 0.2, 10, 2): kappa reaches 0; (1, 1, 10, -2): the lower end is a fold.
 FAST = [(0.35, 1.0, 4, 2), (0.35, 1.0, 10, 2), (0.35, 0.2, 10, 2), (1.0, 1.0, 10, -2), (0.35, 0.2, 50, 0), (0.1, 5.0, 10, -2)]
+SLOW_WALLS = {(0.35, 1.0, 10, 2), (0.35, 0.2, 10, 2), (1.0, 1.0, 10, -2)}  # 5-7 s each: the rest of the default run covers each kind of window
 
 
 def _check_window(wall):
@@ -178,7 +179,9 @@ def _check_frc(P):
                 assert end.x[0] in (law.A_min, law.A_max)
 
 
-@pytest.mark.parametrize("wall", FAST, ids=[f"lam{w[0]}-chi{w[1]}-n{w[2]}-pbar{w[3]}" for w in FAST])
+@pytest.mark.parametrize(
+    "wall", [pytest.param(w, marks=pytest.mark.slow) if w in SLOW_WALLS else w for w in FAST], ids=[f"lam{w[0]}-chi{w[1]}-n{w[2]}-pbar{w[3]}" for w in FAST]
+)
 def test_window_of_s_plus_and_frc_against_an_independent_eq39(wall):
     P = _check_window(wall)
     if P is not None:
@@ -223,7 +226,7 @@ def _check_critical(P):
 # (0.35, 1, 4, 2): S+ ends at A_min (36) and at a fold of (39); (1, 1, 10, 2): a short window
 # ending where kappa reaches 0 (the branch's start used to lie outside it); (0.1, 5, 4, 2): S+ up
 # to A = 2664 (the Abar continuation used to stall); (0.1, 0.2, 4, 4): the least Abar at A_min.
-@pytest.mark.parametrize("wall", [(0.35, 1.0, 4, 2), (1.0, 1.0, 10, 2), (0.1, 5.0, 4, 2), (0.1, 0.2, 4, 4)])
+@pytest.mark.parametrize("wall", [(0.35, 1.0, 4, 2), pytest.param((1.0, 1.0, 10, 2), marks=pytest.mark.slow), pytest.param((0.1, 5.0, 4, 2), marks=pytest.mark.slow), (0.1, 0.2, 4, 4)])
 def test_critical_forcing_is_the_least_abar_over_the_window(wall):
     lam, chi, n, pbar = wall
     _check_critical(BASE.replace(lam=lam, chi=chi, n=n, pbar=pbar, beta=0.3))

@@ -52,6 +52,7 @@ def _read(path):
         return list(csv.DictReader(fh))
 
 
+@pytest.mark.slow  # the whole bench (78 s); its parts have the fast tests above and below
 def test_bench_command_writes_every_chart_and_table(tmp_path, capsys):
     assert main(["bench", "--out", str(tmp_path), "--quick"]) == 0
     for name in ("integrators", "frequency_response", "growth"):

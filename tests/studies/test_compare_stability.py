@@ -43,6 +43,7 @@ _POINT = (
 )
 
 
+@pytest.mark.slow  # three trust maps (18 s)
 @pytest.mark.skipif(not sys.platform.startswith("linux"), reason="GLIBC_TUNABLES selects glibc's libm code path")
 def test_the_trust_verdicts_are_the_same_on_glibcs_fma_and_plain_code_paths():
     # On a CPU with FMA and AVX2 the second run takes libm's other cos and pow (last bits differ);

@@ -52,6 +52,7 @@ def test_bad_input_is_named():
         answer("regime", FIG10, state0=[0, 1, 2])
 
 
+@pytest.mark.slow  # long simulations (15 s); test_answer_command covers the ladder by default
 def test_critical_forcing_of_the_full_model_is_where_simulation_loses_the_resonant_orbit():
     """The escalated critical-forcing answer (Abar_c over every family at sigma) against direct
     simulation of (9) started on the stable orbit just above it: periodic above, not below."""
@@ -80,6 +81,7 @@ def test_frequency_response_answers_by_the_chosen_model():
     assert np.all(ob.measures["A1"] > 0)
 
 
+@pytest.mark.slow  # a 221-cell regime map (39 s)
 def test_regime_error_in_the_table_matches_the_committed_regime_map():
     """SLOW_FLOW_ERROR["regime"] is the disagreement of the slow flow's prediction (integrated from
     the initial state: escape from S+ or a steady state) with the smooth model's classification on

@@ -19,6 +19,7 @@ from slosh_bif.studies.trust import missed_families, trust_point
 P = get_preset("fig13").params.replace(n=6, beta=0.0)
 
 
+@pytest.mark.slow  # an isola search (11 s); the next test covers the search by default
 def test_the_isola_a_simulation_settles_on_is_among_the_families_found():
     sigma = -1.5
     with warnings.catch_warnings():
