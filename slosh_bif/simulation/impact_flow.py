@@ -98,8 +98,50 @@ def _carry(P, Q, za, phi, dp, tmp):
     dp[:] = tmp[:, 4]
 
 
+@jit(inline=True)
+def _flow_taylor(K, terms, z, s, out):
+    """``out = expm(K s) z`` by its Taylor series in Horner form (``terms`` terms: exact to
+    rounding for s up to the sample step)."""
+    acc = np.empty(6)
+    acc[:] = z
+    for j in range(terms, 0, -1):
+        for i in range(6):
+            v = 0.0
+            for m in range(6):
+                v += K[i, m] * acc[m]
+            out[i] = z[i] + v * s / j
+        acc[:] = out
+
+
 @jit
-def _piece(table, dtable, lengths, growth, row_norm, z, k0, out, stack_z, stack_k, stack_s, jac, phi, dp, tmp):
+def _crossing(K, terms, za, side, L, out):
+    """The one s in (0, L] where ``side * w = 1``, with f = side * w - 1 increasing over [0, L] and
+    f(0) < 0 <= f(L): Newton on the Taylor-series flow from za, kept inside the bracket (bisection
+    where a Newton step leaves it); ``out`` is the state there (the caller puts w on the wall)."""
+    a, b = 0.0, L
+    s = 0.5 * L
+    for _ in range(200):
+        _flow_taylor(K, terms, za, s, out)
+        f = side * out[2] - 1.0
+        if f == 0.0:
+            return s
+        if f > 0.0:
+            b = s
+        else:
+            a = s
+        slope = side * out[3]
+        nxt = s - f / slope if slope > 0.0 else 0.5 * (a + b)
+        if not (a <= nxt <= b):
+            nxt = 0.5 * (a + b)
+        if abs(nxt - s) <= 2e-16 * s or b - a <= 2e-16 * b:
+            break
+        s = nxt
+    _flow_taylor(K, terms, za, nxt, out)
+    return nxt
+
+
+@jit
+def _piece(table, dtable, K, taylor, lengths, growth, row_norm, z, k0, out, stack_z, stack_k, stack_s, jac, phi, dp, tmp, za, zb):
     """Advance ``z`` over one dyadic piece of length ``lengths[k0]``, or to the first impact in it;
     with ``jac``, carry the variations ``phi`` (d y / d y0) and ``dp`` (d y / d param) along.
 
@@ -110,8 +152,6 @@ def _piece(table, dtable, lengths, growth, row_norm, z, k0, out, stack_z, stack_
     stack_k[0] = k0
     stack_s[0] = 0.0
     stack_z[0, :] = z
-    za = np.empty(6)
-    zb = np.empty(6)
     reached = 0.0
     out[:] = z
     while top >= 0:
@@ -135,6 +175,11 @@ def _piece(table, dtable, lengths, growth, row_norm, z, k0, out, stack_z, stack_
             if jac:
                 _carry(table[k], dtable[k], za, phi, dp, tmp)
             return (1 if zb[2] >= 1.0 else -1), s + L
+        if not jac and up != down:  # one wall only: a single crossing where f is certified monotone
+            side = 1.0 if up else -1.0
+            if side * zb[2] >= 1.0 and side * za[3] - B * L > 0.0:
+                offset = _crossing(K, taylor, za, side, L, out)
+                return int(side), s + offset
         top += 1  # right half, then left half on top of it
         stack_k[top] = k + 1
         stack_s[top] = s + lengths[k + 1]
@@ -171,7 +216,7 @@ def _saltation(K, z_minus, z_plus, slope, phi, dp):
 
 
 @jit
-def _run(table, dtable, K, lengths, growth, row_norm, kappa_c, kappa_q, y0, t0, t1, h, stick_speed, max_impacts, capacity, jac, phi, dp):
+def _run(table, dtable, K, taylor, lengths, growth, row_norm, kappa_c, kappa_q, y0, t0, t1, h, stick_speed, max_impacts, capacity, jac, phi, dp):
     """Samples every h from t0 to t1 (t1 last) with the impacts among them; see :class:`ImpactFlow`.
     Stops with code _FULL when more than ``capacity`` impacts would be stored. With ``jac``,
     ``phi`` (identity on entry) and ``dp`` (zero) end as d y(t1) / d y0 and d y(t1) / d param."""
@@ -184,6 +229,8 @@ def _run(table, dtable, K, lengths, growth, row_norm, kappa_c, kappa_q, y0, t0, 
     stack_s = np.empty(2 * LEVELS + 4)
     z = np.empty(6)
     zn = np.empty(6)
+    za = np.empty(6)
+    zb = np.empty(6)
     tmp = np.empty((4, 5))
     z[:4] = y0
     times[0] = t0
@@ -202,8 +249,10 @@ def _run(table, dtable, K, lengths, growth, row_norm, kappa_c, kappa_q, y0, t0, 
             for k in range(LEVELS + 1):
                 unit = lengths[k] / h
                 if rest < unit * (1.0 - 1e-9):
+                    if rest < lengths[LEVELS] / h:
+                        break
                     continue
-                side, s = _piece(table, dtable, lengths, growth, row_norm, z, k, zn, stack_z, stack_k, stack_s, jac, phi, dp, tmp)
+                side, s = _piece(table, dtable, K, taylor, lengths, growth, row_norm, z, k, zn, stack_z, stack_k, stack_s, jac, phi, dp, tmp, za, zb)
                 z[:] = zn
                 if side != 0:
                     done += s
@@ -275,6 +324,11 @@ class ImpactFlow:
             self.table, self.dtable = both[:, :6, :6].copy(), both[:, 6:, :6].copy()
         self.growth = np.exp(np.abs(K).sum(axis=1).max() * self.lengths)
         self.row_norm = float(np.abs(K[3]).sum())  # |w''| <= row_norm |z|
+        # terms of the Taylor series of expm(K s) z for s <= step: the rest below 1e-17 |z|
+        size, term, self.taylor = float(np.abs(K).sum(axis=1).max()) * self.step, 1.0, 0
+        while term > 1e-17 and self.taylor < 60:
+            self.taylor += 1
+            term *= size / self.taylor
         P = params
         self.kappa_c = float(dissipation_at_unit_speed(P.lam, P.chi, P.n, P.pbar))
         self.kappa_q = P.pbar / (P.n + 1)
@@ -282,7 +336,7 @@ class ImpactFlow:
     def _call(self, y0, t0, t1, stick_speed, max_impacts, capacity, jac):
         phi, dp = np.eye(4), np.zeros(4)
         out = _run(
-            self.table, self.dtable, self.K, self.lengths, self.growth, self.row_norm, self.kappa_c, self.kappa_q,
+            self.table, self.dtable, self.K, self.taylor, self.lengths, self.growth, self.row_norm, self.kappa_c, self.kappa_q,
             np.asarray(y0, dtype=float), float(t0), float(t1), self.step, float(stick_speed), max_impacts, capacity, jac, phi, dp,
         )
         return out + (phi, dp)

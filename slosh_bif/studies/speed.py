@@ -12,6 +12,9 @@
   small matrix exponentials) with one CPU-burning process beside it, as a ratio to its time
   without, measured back to back in one run; target at most 1.5 (BLAS threads that fight the
   neighbour for the cores made it 26x).
+* **The impact model**: 100 forcing periods of (8) by its compiled exact flow against 100 of (9)
+  at n = 50 (the Fig. 10 set, in this process; target at most 0.1), and ``shoot --model impact``
+  against the (9) branch above (target at most a third).
 * **Peak memory** of the whole-process branch (the child's maximum resident set size), and of
   regime maps of 20 x 20 and 100 x 100 cells (Fig. 13 set, short runs: a memory case, not a regime
   study): the parent's and the largest worker's resident sets, which must not grow with the cells.
@@ -34,6 +37,7 @@ from scipy.integrate import solve_ivp
 from slosh_bif.model.equations import SmoothModel
 from slosh_bif.model.presets import get_preset
 from slosh_bif.orbits.starts import orbit_from_simulation
+from slosh_bif.simulation.direct import simulate
 
 __all__ = ["speed_bench", "SPEED_COLUMNS"]
 
@@ -76,6 +80,17 @@ def _scipy_periods(params, y0, count=1000):
     return time.perf_counter() - start
 
 
+def _simulated(preset, model, repeats=3):
+    """Best of ``repeats`` wall times of 100 forcing periods of one model, in this process."""
+    simulate(preset.params, preset.state0, 2 * np.pi, model=model)  # compiled before timing
+    best = np.inf
+    for _ in range(repeats):
+        start = time.perf_counter()
+        simulate(preset.params, preset.state0, 200 * np.pi, model=model)
+        best = min(best, time.perf_counter() - start)
+    return best
+
+
 def speed_bench(*, quick: bool = False, progress=None) -> list:
     """Rows of :data:`SPEED_COLUMNS`: each whole-process branch against 1,000 scipy periods of its
     own parameter set, the start-up of ``slosh-bif info`` and the in-process shooting start."""
@@ -103,6 +118,11 @@ def speed_bench(*, quick: bool = False, progress=None) -> list:
             burner.wait()
         rows.append(dict(case="simulate fig9a --model impact, beside a CPU-burning process", seconds=loaded, reference_seconds=alone, ratio=loaded / alone, target=1.5,
                          peak_rss_mb=np.nan, note="whole process, against the same command with the machine otherwise idle"))
+        say("speed: the impact model's branch beside (9)'s")
+        impact_branch, _ = _run_cli([*SHOOT, "--model", "impact", "--out", os.path.join(tmp, "shoot8")])
+        smooth_branch = next(r["seconds"] for r in rows if r["case"].endswith("fig10 (n = 50)"))
+        rows.append(dict(case="shoot --model impact, fig10 (8)", seconds=impact_branch, reference_seconds=smooth_branch, ratio=impact_branch / smooth_branch, target=1 / 3,
+                         peak_rss_mb=np.nan, note="whole process against the (9) branch above; (8)'s branch from sigma = 1 ends at its grazing, sigma = 0.514"))
         say("speed: start-up")
         startup = min(_run_cli(["info", "--preset", "fig10"])[0] for _ in range(1 if quick else 3))
         rows.append(dict(case="slosh-bif info (start-up, cached)", seconds=startup, reference_seconds=np.nan, ratio=np.nan, target=0.5, peak_rss_mb=np.nan, note="seconds; target in seconds"))
@@ -112,6 +132,10 @@ def speed_bench(*, quick: bool = False, progress=None) -> list:
             rows.append(dict(case=f"regimes {cells} x {cells}, fig13, tmax 60 (memory)", seconds=seconds, reference_seconds=np.nan, ratio=np.nan, target=np.nan, peak_rss_mb=parent,
                              note=f"peak resident set of the parent; largest worker {worker:.0f} MB"))
     pre = get_preset("fig10")
+    say("speed: 100 periods of (8) and of (9)")
+    seconds = {model: _simulated(pre, model) for model in ("impact", "smooth")}
+    rows.append(dict(case="simulate (8), fig10, 100 periods", seconds=seconds["impact"], reference_seconds=seconds["smooth"], ratio=seconds["impact"] / seconds["smooth"],
+                     target=0.1, peak_rss_mb=np.nan, note="in process, best of 3, against (9) at n = 50 compiled; impact times to 1e-10"))
     start = time.perf_counter()
     orbit_from_simulation(pre.params, pre.state0)
     rows.append(dict(case="shooting start (settle 150 periods, Newton)", seconds=time.perf_counter() - start, reference_seconds=np.nan, ratio=np.nan, target=np.nan,
