@@ -5,8 +5,6 @@ from __future__ import annotations
 import dataclasses
 import sys
 
-import numpy as np
-
 from slosh_bif.cli.terminal import REPORTER
 from slosh_bif.cli.common import (
     abar_range,
@@ -109,9 +107,8 @@ def _shoot_impact(args, params, lo, hi) -> int:
     """``shoot --model impact``: the branch of orbits of (8) through the orbit a simulation of (8)
     settles on (or --guess), across sections and grazings."""
     from slosh_bif.continuation import ContinuationOptions
-    from slosh_bif.orbits.impact_branches import trace_impact_orbits
+    from slosh_bif.orbits.impact_branches import settled_orbit, trace_impact_orbits
     from slosh_bif.orbits.impact_output import impact_rows, plot_impact_branch, write_impact_csv
-    from slosh_bif.simulation.vibro_impact import simulate_impact
 
     if args.start != "simulation":
         raise ValueError(f"--start {args.start} is for the smooth model (9); --model impact starts from a simulation of (8) or from --guess")
@@ -122,13 +119,7 @@ def _shoot_impact(args, params, lo, hi) -> int:
     params.require_positive_stiffness()
     options = continuation_options(args, ContinuationOptions(step=0.05, step_max=0.3, tol=1e-10))
     args.out.mkdir(parents=True, exist_ok=True)
-    if args.guess is not None:
-        x0 = args.guess
-    else:
-        run = simulate_impact(params, state0_of(args, params), (0.0, 2 * np.pi * args.settle))
-        if not run.success:
-            raise ValueError(f"the simulation of (8) for a start orbit stopped: {run.message}; pass --guess X,Xd,w,wd")
-        x0 = run.y[:, -1]
+    x0 = args.guess if args.guess is not None else settled_orbit(params, state0_of(args, params), periods=args.settle)
     result = trace_impact_orbits(params, x0, param=args.parameter, p_min=lo, p_max=hi, options=options)
     rows = list(impact_rows(result, params))
     csv_path, png_path = write_impact_csv(rows, args.out / "branch.csv"), plot_impact_branch(rows, params, args.out / "branch.png")

@@ -28,7 +28,7 @@ from slosh_bif.continuation.corrector import newton_solve
 from slosh_bif.model.params import Params
 from slosh_bif.orbits.impact_orbits import GRAZING, SECTION, ImpactOrbitProblem
 
-__all__ = ["ImpactPiece", "ImpactBranch", "trace_impact_orbits", "quiet_section"]
+__all__ = ["ImpactPiece", "ImpactBranch", "trace_impact_orbits", "quiet_section", "settled_orbit"]
 
 CROSSING_STEPS = (1e-6, 1e-5, 1e-4, 1e-3)  # parameter steps beyond a grazing point, tried in turn
 CROSSING_ITERATES = 300  # iterates of the map beyond a grazing point before Newton
@@ -75,6 +75,25 @@ def quiet_section(problem: ImpactOrbitProblem, x, p):
         middle -= problem.period
     state = flow.run(np.asarray(x, dtype=float), start, middle, stick_speed=1e-9, max_impacts=10_000)[1][:, -1] if middle > start else np.asarray(x, dtype=float)
     return float(middle % (2 * np.pi)), state
+
+
+def settled_orbit(params: Params, state0, *, periods: int, tries: int = 4):
+    """A periodic orbit of (8) (its state at tau = 0) that a simulation from ``state0`` settles on:
+    Newton on the map from the strobe after ``periods`` forcing periods, then after twice as many
+    more, ... (``tries`` times: the early motion can be chaotic for a long time)."""
+    problem = ImpactOrbitProblem(params)
+    flow = problem.flow_at(params.sigma)
+    x, done = np.asarray(state0, dtype=float), 0
+    for k in range(tries):
+        count = periods * 2**k
+        t, y, _, code = flow.run(x, 0.0, 2 * np.pi * count, stick_speed=1e-9, max_impacts=10**7)
+        if code != 0:
+            raise ConvergenceError(f"the simulation of (8) for a start orbit stopped (code {code}) after {done + t[-1] / (2 * np.pi):.0f} periods")
+        x, done = y[:, -1], done + count
+        run = newton_solve(problem, x, params.sigma, tol=1e-12)
+        if run.converged and problem.in_domain(run.x, params.sigma):
+            return run.x
+    raise ConvergenceError(f"no periodic orbit of (8) near the strobe of a {done}-period simulation (it has not settled); pass --guess X,Xd,w,wd")
 
 
 def _problem(params, param, symmetric, phase, x, p):
