@@ -1,9 +1,9 @@
 """Pseudo-arclength continuation of any problem F(x, p) = 0; knows nothing of sloshing.
 
 One call joins a problem, options and a result: ``continuation(problem, x0, p0, param=...,
-options=ContinuationOptions(...)) -> Branch``. The problem protocol is described in
-:mod:`slosh_bif.continuation.engine`; the slow flow's steady states and the full model's
-shooting problem are both such problems.
+options=ContinuationOptions(...)) -> Branch``. The problem interface is written as types in
+:mod:`slosh_bif.continuation.problem`; the slow flow's steady states, the shooting problem of (9),
+the orbits of (8) and the bifurcation curves are all such problems.
 """
 
 from slosh_bif.continuation.branch import (
@@ -20,8 +20,12 @@ from slosh_bif.continuation.branch import (
 from slosh_bif.continuation.corrector import NewtonResult, newton, newton_solve
 from slosh_bif.continuation.engine import continuation, switch_branch
 from slosh_bif.continuation.options import ContinuationOptions, ConvergenceError
+from slosh_bif.continuation.problem import Capabilities, Problem, capabilities
 
 __all__ = [
+    "Problem",
+    "Capabilities",
+    "capabilities",
     "Branch",
     "SpecialPoint",
     "Kind",

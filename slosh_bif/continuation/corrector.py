@@ -13,6 +13,7 @@ import math
 import numpy as np
 
 from slosh_bif.continuation.options import ConvergenceError
+from slosh_bif.continuation.problem import capabilities
 
 __all__ = ["Point", "NewtonResult", "in_domain", "top_rows", "bordered", "solve", "make_point", "initial_tangent", "correct", "newton", "newton_solve"]
 
@@ -32,8 +33,7 @@ class Point:
 
 
 def in_domain(problem, u):
-    check = getattr(problem, "in_domain", None)
-    return bool(np.all(np.isfinite(u))) and (check is None or bool(check(u[:-1], u[-1])))
+    return capabilities(problem).in_domain(u)
 
 
 def top_rows(problem, u):
@@ -63,9 +63,7 @@ def make_point(problem, u, t_prev, iterations=0, **extra):
     t = solve(np.vstack([top, t_prev]), rhs)
     t /= np.linalg.norm(t)
     t = t if t @ t_prev >= 0 else -t
-    tests = (t[-1], np.linalg.det(np.vstack([top, t])))
-    if hasattr(problem, "test_functions"):
-        tests += tuple(float(v) for v in problem.test_functions(u[:-1], u[-1]))
+    tests = (t[-1], np.linalg.det(np.vstack([top, t]))) + capabilities(problem).tests(u[:-1], u[-1])
     return Point(u, t, iterations, tests=tests, jac=J, **extra)
 
 

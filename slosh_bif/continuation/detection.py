@@ -17,6 +17,7 @@ from scipy import optimize
 from slosh_bif.continuation.branch import BRANCH_POINT, FOLD
 from slosh_bif.continuation.corrector import Point, correct, make_point
 from slosh_bif.continuation.options import ConvergenceError
+from slosh_bif.continuation.problem import capabilities
 
 __all__ = ["locate", "special_between", "TEST_MEANING"]
 
@@ -62,8 +63,9 @@ TEST_MEANING = {
 def special_between(problem, a: Point, b: Point, h, opts, bend=None):
     found = []
     tests = [(0, FOLD, opts.detect_folds), (1, BRANCH_POINT, opts.detect_branch_points)]
-    tests += [(2 + i, kind, True) for i, kind in enumerate(getattr(problem, "test_kinds", ()))]
-    confirm = getattr(problem, "confirm", None)
+    caps = capabilities(problem)
+    tests += [(2 + i, kind, True) for i, kind in enumerate(caps.test_kinds)]
+    confirm = caps.confirm
     for which, kind, enabled in tests:
         if enabled and np.sign(a.tests[which]) * np.sign(b.tests[which]) < 0:
             try:

@@ -1,23 +1,9 @@
 """Pseudo-arclength continuation (Keller), knowing nothing about sloshing.
 
-A problem is any object with
-
-* ``names`` - names of the n state components;
-* ``residual(x, p)`` -> (n,), ``jacobian(x, p)`` -> (n, n), ``dparam(x, p)`` -> (n,);
-* optionally ``in_domain(x, p)`` -> bool (points outside are never evaluated),
-  ``edge_point(x, p)`` -> ``(x, p)`` or None: the exact point where the branch through (x, p)
-  leaves the domain, appended as the branch's end when it gets there (``edge_distance(x, p)``,
-  the relative distance to that edge, lets a stall within 1e-5 of it count as reaching it), and
-  ``eigenvalues(x, p)`` -> (n,) complex (stable when all real parts are negative); a problem
-  whose stability is that of its own Jacobian sets ``stability_from_jacobian = True`` instead,
-  and the engine reuses the Jacobian it already has at each point; ``is_stable(eigenvalues)``
-  -> bool replaces the default rule (all real parts negative), e.g. by Floquet multipliers;
-  ``branch_kind`` (text) names what the points are in the :class:`Branch`;
-  ``accept(x, p)`` is called after each accepted point (a minimally augmented problem updates
-  its bordering vectors there);
-  ``test_kinds`` (names) with ``test_functions(x, p)`` -> one real value per kind: further
-  special points at sign changes, located like folds; ``confirm(kind, x, p)`` -> message, or
-  None to drop a located point that is not what the kind means (e.g. a neutral saddle for NS).
+A problem is what :mod:`slosh_bif.continuation.problem` writes down as types: ``names``,
+``residual``, ``jacobian``, ``dparam``, and optional capabilities (a domain and its edges,
+stability, the problem's own test functions, an ``accept`` hook), read once per problem by
+:func:`~slosh_bif.continuation.problem.capabilities`.
 
 With ``u = (x, p)`` and the unit tangent ``t`` of the curve F(u) = 0, each step predicts
 ``u + h t`` (plus ``h^2 / 2`` times the tangent's turn per unit arclength over the last step, a
@@ -49,6 +35,7 @@ from slosh_bif.continuation.branch import END, Branch, SpecialPoint
 from slosh_bif.continuation.corrector import Point, correct, in_domain, initial_tangent, make_point, newton, top_rows
 from slosh_bif.continuation.detection import special_between
 from slosh_bif.continuation.options import BOUND, COMPLETE, EDGE, LOOP, STALL, STEPS, TIME, ContinuationOptions, ConvergenceError
+from slosh_bif.continuation.problem import capabilities
 
 __all__ = ["continuation", "switch_branch"]
 
@@ -93,7 +80,7 @@ def _run(problem, start: Point, opts, loop_guard: bool, callback=None):
     edge_hits = 0
     bend = None  # no turn known before the first step: a straight tangent predictor
     crept = 0  # accepted steps in a row at most CREEP * step_min
-    accept = getattr(problem, "accept", None)
+    accept = capabilities(problem).accept
     deadline = time.monotonic() + opts.max_seconds
     while True:
         if len(points) > opts.max_steps:
@@ -153,7 +140,8 @@ def _end_after_failures(problem, points, h, edge_hits, opts):
     """The end after the step fell below its minimum: at the domain's edge (the problem's exact
     edge point when it offers one) if the failures left the domain, else a stall."""
     a = points[-1]
-    near = getattr(problem, "edge_distance", None)
+    caps = capabilities(problem)
+    near = caps.edge_distance
     # A stall right at the edge is the edge: derivatives with a square root there (kappa(A) of
     # (39) at the manifold's end) make the corrector fail before the domain check does.
     at_named_edge = near is not None and near(a.u[:-1], a.u[-1]) < 1e-5
@@ -161,16 +149,16 @@ def _end_after_failures(problem, points, h, edge_hits, opts):
     bracket = (a.u[-1], (a.u + 2 * h * a.t)[-1])
     edge = _edge_point(problem, a, opts) if reason == EDGE else None
     if edge is not None:
-        points.append(Point(edge, a.t, 0, END, f"{reason}: {getattr(problem, 'edge_name', 'boundary')}", bracket, a.tests, reason=reason))
+        points.append(Point(edge, a.t, 0, END, f"{reason}: {caps.edge_name}", bracket, a.tests, reason=reason))
     else:
-        name = getattr(problem, "edge_name", None) if at_named_edge else None
+        name = caps.edge_name if at_named_edge and caps.edge_name != "boundary" else None
         _mark_end(a, reason, f"{reason}: {name + ', ' if name else ''}last step {2 * h:.3g} failed", bracket)
     return reason
 
 
 def _edge_point(problem, a: Point, opts):
     """The problem's exact edge point near a, if it offers one within the parameter bounds."""
-    hook = getattr(problem, "edge_point", None)
+    hook = capabilities(problem).edge_point
     edge = hook(a.u[:-1], a.u[-1]) if hook else None
     if edge is None:
         return None
@@ -198,6 +186,7 @@ def continuation(problem, x0, p0, *, param="p", options: ContinuationOptions | N
     ``callback(p, x)``, if given, is called after every accepted point (for progress reports).
     """
     opts = options or ContinuationOptions()
+    capabilities(problem)  # a TypeError naming what is missing, before any work
     if not opts.p_min <= p0 <= opts.p_max:
         raise ValueError(f"start parameter {param} = {p0} lies outside [p_min, p_max] = [{opts.p_min}, {opts.p_max}]")
     x0 = np.atleast_1d(np.asarray(x0, dtype=float))
@@ -272,23 +261,12 @@ def _trace(problem, u0, param, opts, orient=None, callback=None) -> Branch:
     return _assemble(problem, points, param, status, message, opts)
 
 
-def _eigenvalues(problem, q: Point):
-    n = len(q.u) - 1
-    if getattr(problem, "stability_from_jacobian", False):
-        J = q.jac if q.jac is not None else problem.jacobian(q.u[:-1], q.u[-1])
-        return np.linalg.eigvals(J) if np.all(np.isfinite(J)) else np.full(n, np.nan + 0j)
-    if hasattr(problem, "eigenvalues"):
-        return problem.eigenvalues(q.u[:-1], q.u[-1])
-    return np.full(n, np.nan + 0j)
-
-
 def _assemble(problem, points, param, status, message, opts) -> Branch:
     u = np.array([q.u for q in points])
     steps = np.linalg.norm(np.diff(u, axis=0), axis=1)
-    eigenvalues = np.array([_eigenvalues(problem, q) for q in points])
-    given = getattr(problem, "stability_from_jacobian", False) or hasattr(problem, "eigenvalues")
-    rule = getattr(problem, "is_stable", lambda ev: bool(np.all(ev.real < 0)))
-    stable = np.array([rule(ev) for ev in eigenvalues]) if given else np.ones(len(points), dtype=bool)
+    caps = capabilities(problem)
+    eigenvalues = np.array([caps.eigenvalues(q.u[:-1], q.u[-1], q.jac) for q in points])
+    stable = np.array([caps.is_stable(ev) for ev in eigenvalues]) if caps.has_stability else np.ones(len(points), dtype=bool)
     special = tuple(
         SpecialPoint(q.kind, i, float(q.u[-1]), q.u[:-1].copy(), tuple(float(v) for v in q.bracket), q.message, q.t.copy(), q.located, q.reason)
         for i, q in enumerate(points)
@@ -307,5 +285,5 @@ def _assemble(problem, points, param, status, message, opts) -> Branch:
         status=status,
         message=message,
         options=dataclasses.asdict(opts),
-        kind=getattr(problem, "branch_kind", ""),
+        kind=caps.branch_kind,
     )

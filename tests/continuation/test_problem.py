@@ -1,0 +1,77 @@
+"""The problem interface as types: every problem of the package satisfies it, the capabilities are
+read as the problems declare them, and a non-problem is refused before any work."""
+
+import numpy as np
+import pytest
+
+from slosh_bif import get_preset
+from slosh_bif.continuation import ContinuationOptions, Problem, capabilities, continuation
+from slosh_bif.continuation.problem import Domain, Edges, Stability, OwnTests
+from slosh_bif.orbits.impact_orbits import ImpactOrbitProblem
+from slosh_bif.orbits.shooting import ShootingProblem
+from slosh_bif.slowflow.critical import FoldProblem
+from slosh_bif.slowflow.steady_states import SteadyStateProblem
+
+P10 = get_preset("fig10").params
+
+
+class Circle:
+    """x^2 + p^2 = 1 with one test function of its own, x itself (zero at the circle's top and bottom in p)."""
+
+    names = ("x",)
+    test_kinds = ("XZ",)
+
+    def __init__(self):
+        self.calls = 0
+
+    def residual(self, x, p):
+        self.calls += 1
+        return np.array([x[0] ** 2 + p**2 - 1])
+
+    def jacobian(self, x, p):
+        return np.array([[2 * x[0]]])
+
+    def dparam(self, x, p):
+        return np.array([2 * p])
+
+    def test_functions(self, x, p):
+        return (x[0],)
+
+    def confirm(self, kind, x, p):
+        return f"x = 0 at p = {p:.6f}"
+
+
+def test_every_problem_of_the_package_satisfies_the_interface():
+    problems = [SteadyStateProblem(P10), ShootingProblem(P10), ImpactOrbitProblem(P10), FoldProblem(P10)]
+    for problem in problems:
+        assert isinstance(problem, Problem), type(problem).__name__
+    shooting, impact = problems[1], problems[2]
+    assert isinstance(shooting, (Stability, OwnTests, Domain)) and capabilities(shooting).test_kinds == ("PD", "NS")
+    assert isinstance(impact, Edges) and capabilities(impact).test_kinds == ("PD", "NS")
+    assert capabilities(problems[0]).from_jacobian
+
+
+def test_a_bare_problem_gets_the_defaults_and_its_own_tests_are_located():
+    problem = Circle()
+    caps = capabilities(problem)
+    assert caps.in_domain(np.array([0.5, 0.5])) and not caps.in_domain(np.array([np.nan, 0.0]))
+    assert not caps.has_stability and np.all(np.isnan(caps.eigenvalues(np.array([0.5]), 0.1)))
+    branch = continuation(problem, [1.0], 0.0, options=ContinuationOptions(step=0.1, step_max=0.2, p_min=-0.5, p_max=0.5))
+    assert branch.status == "ok" and np.all(branch.stable)
+    own = [s for s in branch.special if s.kind == "XZ"]
+    assert not own  # x stays near 1 for |p| <= 0.5: no sign change
+    full = continuation(Circle(), [1.0], 0.0, options=ContinuationOptions(step=0.1, step_max=0.2, max_steps=200))
+    crossings = [s for s in full.special if s.kind == "XZ"]
+    assert crossings and all(abs(abs(s.p) - 1.0) < 1e-8 for s in crossings)  # x = 0 where p = +-1 (the folds)
+    assert crossings[0].message.startswith("x = 0 at p =")
+
+
+def test_a_non_problem_is_refused_before_any_work():
+    class Missing:
+        names = ("x",)
+
+        def residual(self, x, p):
+            raise AssertionError("evaluated")
+
+    with pytest.raises(TypeError, match="lacks jacobian, dparam"):
+        continuation(Missing(), [1.0], 0.0)
