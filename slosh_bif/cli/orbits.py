@@ -133,7 +133,7 @@ def _shoot_impact(args, params, lo, hi) -> int:
         print(f"  GR at {args.parameter} = {p_gr:.10g}")
     print(f"wrote {csv_path}, {png_path}")
     for end in result.ends:
-        progress(end)
+        progress(str(end))
     if not result.complete:
         print("slosh-bif: the branch does not cover the requested range (its ends above; exit status 3)", file=sys.stderr)
         return 3

@@ -78,7 +78,8 @@ class SpecialPoint:
     branch points (or located end points) it was found between; ``message`` says what it is;
     ``tangent`` is the unit tangent of the branch in (x, p) there (None where not known);
     ``located`` is False when a sign change was detected but not located (then ``x`` is the
-    nearest computed point); ``reason`` is an END point's :class:`Status`.
+    nearest computed point); ``reason`` is an END point's :class:`Status`, and ``edge`` the
+    problem's name for the domain edge it reached (``reason`` "domain edge").
     """
 
     kind: str
@@ -90,6 +91,7 @@ class SpecialPoint:
     tangent: np.ndarray | None = None
     located: bool = True
     reason: str = ""
+    edge: str = ""
 
 
 @dataclasses.dataclass(frozen=True)
@@ -111,6 +113,8 @@ class Branch:
     message : the ends of both directions, in words
     options : the options used, as a dict
     kind : what the points are (e.g. ``"equilibria"``, ``"periodic orbits"``, ``"PD curve"``)
+    ends : ``(direction, reason)`` of each direction run, the reason a :class:`Status` value:
+        what the message says in words, as fields to test
 
     ``b[name]`` is a column by name: the continued parameter, or a state component of ``names``.
     """
@@ -128,6 +132,7 @@ class Branch:
     message: str
     options: dict
     kind: str = ""
+    ends: tuple = ()
 
     def __len__(self):
         return len(self.p)
@@ -184,8 +189,9 @@ class Branch:
             "message": self.message,
             "options": self.options,
             "kind": self.kind,
+            "ends": [list(e) for e in self.ends],
             "special": [
-                {"kind": str(s.kind), "index": s.index, "p": s.p, "bracket": list(s.bracket), "message": s.message, "located": s.located, "reason": str(s.reason)}
+                {"kind": str(s.kind), "index": s.index, "p": s.p, "bracket": list(s.bracket), "message": s.message, "located": s.located, "reason": str(s.reason), "edge": s.edge}
                 for s in self.special
             ],
         }
@@ -231,7 +237,7 @@ class Branch:
             special = tuple(
                 SpecialPoint(
                     s["kind"], int(s["index"]), float(s["p"]), data["special_x"][i].copy(), tuple(s["bracket"]), s["message"],
-                    tangent(i), bool(s.get("located", True)), s.get("reason", ""),
+                    tangent(i), bool(s.get("located", True)), s.get("reason", ""), s.get("edge", ""),
                 )
                 for i, s in enumerate(meta["special"])
             )
@@ -249,7 +255,20 @@ class Branch:
                 message=meta["message"],
                 options=meta["options"],
                 kind=meta.get("kind", ""),
+                ends=tuple(tuple(e) for e in meta["ends"]) if "ends" in meta else _ends_of(meta["message"]),
             )
+
+
+def _ends_of(message: str) -> tuple:
+    """The ``ends`` of a branch saved before they were stored: from its message's
+    "backward: REASON; forward: REASON" (each reason a :class:`Status` value, maybe with detail)."""
+    ends = []
+    for part in message.split("; "):
+        direction, _, rest = part.partition(": ")
+        reason = next((s.value for s in Status if rest.startswith(s.value)), "")
+        if direction in ("backward", "forward") and reason:
+            ends.append((direction, reason))
+    return tuple(ends)
 
 
 def polyline_distance(points, u) -> float:

@@ -30,6 +30,7 @@ class Point:
     jac: np.ndarray | None = None  # F_x here, kept for stability
     located: bool = True  # False: a sign change seen but not located (the point is the nearest computed one)
     reason: str = ""  # an END point's reason (a Status value)
+    edge: str = ""  # at a domain edge: the problem's name for it
 
 
 def in_domain(problem, u):

@@ -35,7 +35,7 @@ from slosh_bif.continuation.branch import END, Branch, SpecialPoint
 from slosh_bif.continuation.corrector import Point, correct, in_domain, initial_tangent, make_point, newton, top_rows
 from slosh_bif.continuation.detection import special_between
 from slosh_bif.continuation.options import BOUND, COMPLETE, EDGE, LOOP, STALL, STEPS, TIME, ContinuationOptions, ConvergenceError
-from slosh_bif.continuation.problem import capabilities
+from slosh_bif.continuation.problem import capabilities, require_problem
 
 __all__ = ["continuation", "switch_branch"]
 
@@ -149,10 +149,12 @@ def _end_after_failures(problem, points, h, edge_hits, opts):
     bracket = (a.u[-1], (a.u + 2 * h * a.t)[-1])
     edge = _edge_point(problem, a, opts) if reason == EDGE else None
     if edge is not None:
-        points.append(Point(edge, a.t, 0, END, f"{reason}: {caps.edge_name}", bracket, a.tests, reason=reason))
+        points.append(Point(edge, a.t, 0, END, f"{reason}: {caps.edge_name}", bracket, a.tests, reason=reason, edge=caps.edge_name))
     else:
         name = caps.edge_name if at_named_edge and caps.edge_name != "boundary" else None
         _mark_end(a, reason, f"{reason}: {name + ', ' if name else ''}last step {2 * h:.3g} failed", bracket)
+        if reason == EDGE:
+            a.edge = caps.edge_name
     return reason
 
 
@@ -186,7 +188,7 @@ def continuation(problem, x0, p0, *, param="p", options: ContinuationOptions | N
     ``callback(p, x)``, if given, is called after every accepted point (for progress reports).
     """
     opts = options or ContinuationOptions()
-    capabilities(problem)  # a TypeError naming what is missing, before any work
+    require_problem(problem)  # a TypeError naming what is missing, before any work
     if not opts.p_min <= p0 <= opts.p_max:
         raise ValueError(f"start parameter {param} = {p0} lies outside [p_min, p_max] = [{opts.p_min}, {opts.p_max}]")
     x0 = np.atleast_1d(np.asarray(x0, dtype=float))
@@ -218,6 +220,7 @@ def switch_branch(problem, point, *, param="p", options: ContinuationOptions | N
     if along is None:
         raise ValueError("switch_branch needs along= (the old branch's tangent at the branch point)")
     opts = options or ContinuationOptions()
+    require_problem(problem)
     x, p = (point.x, point.p) if hasattr(point, "x") else point
     u = np.append(np.asarray(x, dtype=float), float(p))
     null = np.linalg.svd(top_rows(problem, u)[1])[2][-2:]  # the two smallest right singular vectors
@@ -257,18 +260,19 @@ def _trace(problem, u0, param, opts, orient=None, callback=None) -> Branch:
         points = back[::-1] or ahead
     reasons = [r for r in (back_reason, ahead_reason) if r is not None]
     status = "ok" if all(r in COMPLETE for r in reasons) else next(r for r in reasons if r not in COMPLETE)
-    message = "; ".join(f"{name}: {r}" for name, r in (("backward", back_reason), ("forward", ahead_reason)) if r)
-    return _assemble(problem, points, param, status, message, opts)
+    ends = tuple((name, r) for name, r in (("backward", back_reason), ("forward", ahead_reason)) if r)
+    message = "; ".join(f"{name}: {r}" for name, r in ends)
+    return _assemble(problem, points, param, status, message, opts, ends)
 
 
-def _assemble(problem, points, param, status, message, opts) -> Branch:
+def _assemble(problem, points, param, status, message, opts, ends=()) -> Branch:
     u = np.array([q.u for q in points])
     steps = np.linalg.norm(np.diff(u, axis=0), axis=1)
     caps = capabilities(problem)
     eigenvalues = np.array([caps.eigenvalues(q.u[:-1], q.u[-1], q.jac) for q in points])
     stable = np.array([caps.is_stable(ev) for ev in eigenvalues]) if caps.has_stability else np.ones(len(points), dtype=bool)
     special = tuple(
-        SpecialPoint(q.kind, i, float(q.u[-1]), q.u[:-1].copy(), tuple(float(v) for v in q.bracket), q.message, q.t.copy(), q.located, q.reason)
+        SpecialPoint(q.kind, i, float(q.u[-1]), q.u[:-1].copy(), tuple(float(v) for v in q.bracket), q.message, q.t.copy(), q.located, q.reason, q.edge)
         for i, q in enumerate(points)
         if q.kind
     )
@@ -286,4 +290,5 @@ def _assemble(problem, points, param, status, message, opts) -> Branch:
         message=message,
         options=dataclasses.asdict(opts),
         kind=caps.branch_kind,
+        ends=tuple(ends),
     )

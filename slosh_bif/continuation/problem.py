@@ -33,7 +33,7 @@ from typing import Protocol, runtime_checkable
 
 import numpy as np
 
-__all__ = ["Problem", "Domain", "Edges", "Stability", "OwnTests", "Capabilities", "capabilities"]
+__all__ = ["Problem", "Domain", "Edges", "Stability", "OwnTests", "Capabilities", "capabilities", "require_problem"]
 
 REQUIRED = ("names", "residual", "jacobian", "dparam")
 
@@ -83,9 +83,6 @@ class Capabilities:
     """What one problem offers beyond :class:`Problem`, read once (see the module docstring)."""
 
     def __init__(self, problem):
-        missing = [name for name in REQUIRED if not hasattr(problem, name)]
-        if missing:
-            raise TypeError(f"{type(problem).__name__} is not a continuation problem: it lacks {', '.join(missing)} (see slosh_bif.continuation.problem)")
         self.problem = problem
         self._in_domain = getattr(problem, "in_domain", None)
         self.edge_point = getattr(problem, "edge_point", None)
@@ -126,6 +123,14 @@ class Capabilities:
 
 
 _KNOWN: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
+
+
+def require_problem(problem) -> None:
+    """A TypeError naming what ``problem`` lacks of :class:`Problem` (Newton alone needs less:
+    ``residual`` and ``jacobian``)."""
+    missing = [name for name in REQUIRED if not hasattr(problem, name)]
+    if missing:
+        raise TypeError(f"{type(problem).__name__} is not a continuation problem: it lacks {', '.join(missing)} (see slosh_bif.continuation.problem)")
 
 
 def capabilities(problem) -> Capabilities:

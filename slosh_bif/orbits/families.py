@@ -80,7 +80,7 @@ class OrbitBranch:
     @property
     def closed(self) -> bool:
         """Whether the branch closed on itself (an isola, or a loop through its start)."""
-        return Status.LOOP.value in self.branch.message
+        return any(reason == Status.LOOP.value for _, reason in self.branch.ends)
 
     def __getitem__(self, name: str) -> np.ndarray:
         """A column by name, as for a :class:`Branch`: a measure (``"A1"``, ``"max_abs_w"``, ...),

@@ -23,13 +23,14 @@ import dataclasses
 import numpy as np
 
 from slosh_bif.continuation import Branch, ContinuationOptions, ConvergenceError, continuation
-from slosh_bif.continuation.branch import Kind
+from slosh_bif.continuation.branch import Kind, Status
 from slosh_bif.continuation.corrector import newton_solve
 from slosh_bif.model.params import Params
 from slosh_bif.orbits.impact_orbits import GRAZING, SECTION, ImpactOrbitProblem
 
-__all__ = ["ImpactPiece", "ImpactBranch", "trace_impact_orbits", "quiet_section", "settled_orbit"]
+__all__ = ["ImpactPiece", "ImpactBranch", "BranchEnd", "trace_impact_orbits", "quiet_section", "settled_orbit"]
 
+GRAZES, PIECES = "grazing", "pieces"  # the tracer's own end reasons, beside the engine's
 CROSSING_STEPS = (1e-6, 1e-5, 1e-4, 1e-3)  # parameter steps beyond a grazing point, tried in turn
 CROSSING_ITERATES = 300  # iterates of the map beyond a grazing point before Newton
 NEAR_GRAZING = 10.0  # an orbit beyond a grazing counts as its continuation within this times sqrt(step)
@@ -46,9 +47,22 @@ class ImpactPiece:
 
 
 @dataclasses.dataclass(frozen=True)
+class BranchEnd:
+    """How one direction ended: ``reason`` a :class:`~slosh_bif.continuation.Status` value, or
+    ``"grazing"`` (no orbit found beyond a GR point) or ``"pieces"`` (``max_pieces`` reached)."""
+
+    direction: str
+    reason: str
+    message: str
+
+    def __str__(self):
+        return f"{self.direction}: {self.message}"
+
+
+@dataclasses.dataclass(frozen=True)
 class ImpactBranch:
     """A branch of orbits of (8) in pieces. ``grazing``: (p, x, phase) of each GR point;
-    ``ends``: how each direction ended (text); ``complete``: both reached a bound or closed."""
+    ``ends``: a :class:`BranchEnd` per direction; ``complete``: both reached a bound or closed."""
 
     param: str
     pieces: tuple
@@ -128,21 +142,22 @@ def trace_impact_orbits(
         problem = _problem(params, param, symmetric, phase, x, p)
         while True:
             if len(pieces) >= max_pieces:
-                ends.append(f"{direction}: stopped after {max_pieces} pieces")
+                ends.append(BranchEnd(direction, PIECES, f"stopped after {max_pieces} pieces"))
                 break
             branch = continuation(problem, x, p, param=param, options=dataclasses.replace(opts, direction="forward" if sign > 0 else "backward"))
             pieces.append(ImpactPiece(branch, problem.phase, problem.impacts))
             end = _far_end(branch, p, x)
-            if end is None or end.reason != "domain edge" or not (SECTION in end.message or end.message.endswith(GRAZING)):
-                ends.append(f"{direction}: {end.message if end is not None else branch.message}")
+            if end is None or end.reason != Status.EDGE.value or end.edge not in (SECTION, GRAZING):
+                reason = end.reason if end is not None else (branch.ends[-1][1] if branch.ends else branch.status)
+                ends.append(BranchEnd(direction, reason, end.message if end is not None else branch.message))
                 break
             x_end, p_end = end.x, end.p
             sign = 1.0 if end.tangent is None or end.tangent[-1] >= 0 else -1.0
-            if SECTION in end.message:
+            if end.edge == SECTION:
                 phase, x = quiet_section(problem, x_end, p_end)
                 p = p_end
                 if any(abs(phase - f) < 1e-7 and abs(p - q) < 1e-7 and np.linalg.norm(x - y) < 1e-6 for f, q, y in starts):
-                    ends.append(f"{direction}: closed loop (back at the section of {param} = {p:.10g})")
+                    ends.append(BranchEnd(direction, Status.LOOP.value, f"closed loop (back at the section of {param} = {p:.10g})"))
                     break
                 starts.append((phase, p, x))
                 problem = _problem(params, param, symmetric, phase, x, p)
@@ -150,10 +165,10 @@ def trace_impact_orbits(
             grazing.append((p_end, x_end, problem.phase))
             beyond = _cross_grazing(params, param, symmetric, problem, x_end, p_end, sign, opts)
             if beyond is None:
-                ends.append(f"{direction}: grazing at {param} = {p_end:.10g}; no orbit with another impact count found beyond it")
+                ends.append(BranchEnd(direction, GRAZES, f"grazing at {param} = {p_end:.10g}; no orbit with another impact count found beyond it"))
                 break
             problem, x, p = beyond
-    complete = all(e.split(": ", 1)[1].startswith(("parameter bound", "closed loop")) for e in ends)
+    complete = all(e.reason in (Status.BOUND.value, Status.LOOP.value) for e in ends)
     return ImpactBranch(param, tuple(pieces), tuple(grazing), tuple(ends), complete)
 
 

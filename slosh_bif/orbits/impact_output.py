@@ -40,7 +40,7 @@ def orbit_measures(problem: ImpactOrbitProblem, x, p) -> dict:
 def _labels(branch):
     labels = [""] * len(branch)
     for s in branch.special:
-        kind = "GR" if s.kind == "END" and s.message.endswith(GRAZING) else s.kind
+        kind = "GR" if s.kind == "END" and s.edge == GRAZING else s.kind
         labels[s.index] = f"{labels[s.index]} {kind}".strip()
     return labels
 

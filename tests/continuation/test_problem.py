@@ -46,7 +46,7 @@ def test_every_problem_of_the_package_satisfies_the_interface():
     for problem in problems:
         assert isinstance(problem, Problem), type(problem).__name__
     shooting, impact = problems[1], problems[2]
-    assert isinstance(shooting, (Stability, OwnTests, Domain)) and capabilities(shooting).test_kinds == ("PD", "NS")
+    assert all(isinstance(shooting, kind) for kind in (Stability, OwnTests, Domain)) and capabilities(shooting).test_kinds == ("PD", "NS")
     assert isinstance(impact, Edges) and capabilities(impact).test_kinds == ("PD", "NS")
     assert capabilities(problems[0]).from_jacobian
 
@@ -75,3 +75,31 @@ def test_a_non_problem_is_refused_before_any_work():
 
     with pytest.raises(TypeError, match="lacks jacobian, dparam"):
         continuation(Missing(), [1.0], 0.0)
+
+
+def test_end_reasons_and_edge_names_are_fields_that_survive_save_and_load(tmp_path):
+    """The Fig. 10 frequency response of (46) ends at the manifold's end on both sides: each END
+    carries its reason and the problem's name for the edge, and the branch its ends, through save
+    and load."""
+    import json
+
+    from slosh_bif.continuation import Branch
+    from slosh_bif.slowflow.steady_states import frequency_response
+
+    frc = frequency_response(get_preset("fig10").params)
+    edges = [(b, s) for b in frc.branches for s in b.special if s.kind == "END" and s.reason == "domain edge"]
+    assert edges
+    branch, end = edges[0]
+    assert end.edge.startswith("end of S+ at A = 0.06677")
+    assert branch.ends == (("backward", "domain edge"), ("forward", "domain edge"))
+    again = Branch.load(branch.save(tmp_path / "b.npz"))
+    assert again.ends == branch.ends
+    assert [s.edge for s in again.special] == [s.edge for s in branch.special]
+    # a branch saved before ``ends`` was stored: read from its message
+    with np.load(tmp_path / "b.npz") as data:
+        files = {k: data[k] for k in data.files}
+    meta = json.loads(str(files["meta"]))
+    del meta["ends"]
+    files["meta"] = np.array(json.dumps(meta))
+    np.savez(tmp_path / "old.npz", **files)
+    assert Branch.load(tmp_path / "old.npz").ends == branch.ends
