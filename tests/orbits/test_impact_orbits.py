@@ -156,3 +156,20 @@ def test_shoot_model_impact_traces_the_fig13_branch_with_its_pitchforks_and_toru
     later = phase_new if phase_new > phase_old else phase_new + 2 * np.pi
     carried = simulate_impact(at, old["x"][i], (phase_old, later), backend="scipy").y[:, -1]
     np.testing.assert_allclose(carried, new["x"][j], atol=1e-6)
+
+
+def test_a_symmetric_orbit_is_a_fixed_point_of_the_half_period_map_whose_multipliers_square_to_the_periods():
+    """Fig. 13 at sigma = -3: the orbit a simulation settles on is symmetric, y(tau + pi) = -y(tau);
+    Newton on the half-period map G = -phi_pi finds the same state, and the squares of G's
+    multipliers are the period map's (a separate product of propagators and saltations)."""
+    p = get_preset("fig13")
+    params = p.params.replace(sigma=-3.0)
+    x0 = simulate_impact(params, p.state0, (0.0, 300 * np.pi)).y[:, -1]
+    full, half = ImpactOrbitProblem(params), ImpactOrbitProblem(params, symmetric=True)
+    x_full = newton(full, x0, -3.0, tol=1e-12)
+    x_half = newton(half, x0, -3.0, tol=1e-12)
+    np.testing.assert_allclose(x_half, x_full, atol=1e-9)
+    mu_full = np.sort_complex(full.eigenvalues(x_full, -3.0))
+    mu_half = np.sort_complex(half.map_multipliers(x_half, -3.0) ** 2)
+    np.testing.assert_allclose(mu_half, mu_full, atol=1e-9)
+    np.testing.assert_allclose(np.sort_complex(half.eigenvalues(x_half, -3.0)), mu_full, atol=1e-9)
