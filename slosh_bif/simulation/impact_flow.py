@@ -14,9 +14,12 @@ in the max-norm), f lies below both parabolas ``f0 + d0 s + B s**2/2`` and ``f1 
 B (L - s)**2/2``. Their lower envelope is convex on each side of the single point where they meet,
 so if it is below the wall there and at s = L, f cannot reach the wall inside: the interval is free.
 An interval that is not free is halved, the left half first, so the first impact is found however
-fast or however grazing the approach; at the finest level (L = h 2**-LEVELS, 1e-16 of tau at the
-default step) an interval whose end lies at or beyond the wall holds the impact, and one whose end
-does not is a tangency within rounding, not an impact.
+fast or however grazing the approach. Once an interval ends beyond one wall only and f's slope is
+certified positive over it (``f'(0) - B L > 0``), it holds exactly one crossing, which Newton on the
+flow's Taylor series from the interval's start finds to rounding (the map with its Jacobian halves
+on to the finest level instead, whose propagators it multiplies). At the finest level (L = h
+2**-LEVELS, 1e-16 of tau at the default step) an interval whose end lies at or beyond the wall
+holds the impact, and one whose end does not is a tangency within rounding, not an impact.
 
 Impacts. ``w'+ = -kappa(|w'-|) w'-`` with kappa of (21), ``sqrt(1 - c v**q)``. A run stops with a
 status rather than going on without a model: ``"kappa-not-real"`` where (21) gives no real kappa,
