@@ -79,7 +79,7 @@ def quiet_section(problem: ImpactOrbitProblem, x, p):
     """(phase, state) with the section moved to the middle of the orbit's longest flight."""
     flow = problem.flow_at(p)
     start = problem.phase
-    t, y, impacts, _ = flow.run(np.asarray(x, dtype=float), start, start + problem.period, stick_speed=1e-9, max_impacts=10_000)
+    impacts = flow.run(np.asarray(x, dtype=float), start, start + problem.period, stick_speed=1e-9, max_impacts=10_000)[2]
     if len(impacts) == 0:
         return start, np.asarray(x, dtype=float)
     times = np.concatenate([impacts[:, 0], [impacts[0, 0] + problem.period]])

@@ -48,7 +48,7 @@ def test_the_saltation_monodromy_and_parameter_derivative_match_finite_differenc
     params, x = _settled(name)
     for param in ("sigma", "Abar", "beta"):
         flow = ImpactFlow(params, param=param)
-        y, phi, dp, impacts, code = flow.strobe(x, 0.0, 2 * np.pi)
+        _, phi, dp, impacts, code = flow.strobe(x, 0.0, 2 * np.pi)
         assert code == 0 and len(impacts) >= 1
         fd = _fd_jacobian(lambda z: flow.strobe(z, 0.0, 2 * np.pi)[0], x, h=1e-7)
         np.testing.assert_allclose(phi, fd, rtol=0, atol=1e-6 * max(1.0, np.abs(fd).max()))
