@@ -173,10 +173,11 @@ def wall_contacts(params: Params, t, y, *, rtol=1e-9, atol=1e-11, backend="auto"
 
 
 def _simulate_impact_in_chunks(params, y0, t0, tmax, sample_step, progress, start, backend):
-    """(8) over [t0, tmax] in up to 20 pieces so that progress can be reported; each piece starts
-    from the previous one's end state (the flow is exact, so the pieces join seamlessly)."""
+    """(8) over [t0, tmax] in up to 20 pieces of at least 200 time units, so that progress can be
+    reported; each piece starts from the previous one's end state (the flow is exact, so the pieces
+    join seamlessly)."""
 
-    edges = np.linspace(t0, tmax, max(2, min(21, int((tmax - t0) / 50) + 1)))
+    edges = np.linspace(t0, tmax, max(2, min(21, int((tmax - t0) / 200) + 1)))
     parts = []
     y = y0
     for k, (a, b) in enumerate(zip(edges[:-1], edges[1:])):

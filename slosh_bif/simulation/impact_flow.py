@@ -249,6 +249,12 @@ def _run(table, dtable, K, taylor, lengths, growth, row_norm, kappa_c, kappa_q, 
             z[5] = math.sin(tau)
             rest = (tb - tau) / h  # in steps; taken as its binary expansion
             side = 0
+            if not jac and rest >= 1.0 - 1e-9:  # a whole step certified free, without the search's set-up
+                _apply(table[0], z, zn)
+                B = row_norm * growth[0] * _max_abs(z)
+                if not (_may_reach(z[2], z[3], zn[2], zn[3], h, B) or _may_reach(-z[2], -z[3], -zn[2], -zn[3], h, B)):
+                    z[:] = zn
+                    break
             for k in range(LEVELS + 1):
                 unit = lengths[k] / h
                 if rest < unit * (1.0 - 1e-9):
