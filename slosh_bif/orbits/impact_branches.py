@@ -110,6 +110,21 @@ def settled_orbit(params: Params, state0, *, periods: int, tries: int = 4):
     raise ConvergenceError(f"no periodic orbit of (8) near the strobe of a {done}-period simulation (it has not settled); pass --guess X,Xd,w,wd")
 
 
+def _seen(starts, phase, p, x) -> bool:
+    """Whether a piece starting at (phase, p, x) repeats an earlier start, or the mirror image of
+    one (the orbit y(tau + pi) -> -y: the same family, traced again). The starts are the last points
+    before an impact reached the section, each where the step fell below its minimum, so they match
+    only to the corrector's reach: 1e-4 in p and 1e-3 in the state."""
+    for f, q, y in starts:
+        if abs(p - q) > 1e-4:
+            continue
+        if abs((phase - f + np.pi) % (2 * np.pi) - np.pi) < 1e-3 and np.linalg.norm(x - y) < 1e-3:
+            return True
+        if abs((phase - f) % (2 * np.pi) - np.pi) < 1e-3 and np.linalg.norm(x + y) < 1e-3:
+            return True
+    return False
+
+
 def _problem(params, param, symmetric, phase, x, p):
     probe = ImpactOrbitProblem(params, param, symmetric=symmetric, phase=phase)
     return ImpactOrbitProblem(params, param, symmetric=symmetric, phase=phase, impacts=len(probe.evaluate(x, p).impacts))
@@ -156,8 +171,8 @@ def trace_impact_orbits(
             if end.edge == SECTION:
                 phase, x = quiet_section(problem, x_end, p_end)
                 p = p_end
-                if any(abs(phase - f) < 1e-7 and abs(p - q) < 1e-7 and np.linalg.norm(x - y) < 1e-6 for f, q, y in starts):
-                    ends.append(BranchEnd(direction, Status.LOOP.value, f"closed loop (back at the section of {param} = {p:.10g})"))
+                if _seen(starts, phase, p, x):
+                    ends.append(BranchEnd(direction, Status.LOOP.value, f"closed loop (back at the section of {param} = {p:.10g}, or at its mirror image)"))
                     break
                 starts.append((phase, p, x))
                 problem = _problem(params, param, symmetric, phase, x, p)
