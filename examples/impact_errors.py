@@ -12,7 +12,6 @@ Writes OUT_DIR/impact_errors.csv (default OUT_DIR: results/impact_errors) and pr
 """
 
 import argparse
-import csv
 from pathlib import Path
 
 import numpy as np
@@ -22,6 +21,7 @@ from slosh_bif.orbits.families import trace_orbits
 from slosh_bif.orbits.impact_branches import settled_orbit, trace_impact_orbits
 from slosh_bif.orbits.impact_output import impact_rows
 from slosh_bif.orbits.starts import start_orbit
+from slosh_bif.report.tables import write_rows
 from slosh_bif.slowflow.steady_states import frequency_response
 from slosh_bif.studies.compare import orbits_at, states_at
 
@@ -40,9 +40,14 @@ def _impact_at(rows, sigma):
         for a, b in zip(part, part[1:]):
             if a["sigma"] <= sigma <= b["sigma"] and a["sigma"] < b["sigma"]:
                 w = (sigma - a["sigma"]) / (b["sigma"] - a["sigma"])
-                found.append((a["A1"] + w * (b["A1"] - a["A1"]), bool(a["stable"] and b["stable"])))
-    unique = {round(v, 9): s for v, s in found}  # a point shared by two pieces counts once
-    return _stable_one(list(unique.items()))
+                # the stability of the nearer end; an end that is a special point (where the
+                # multipliers cross the circle, its own label unreliable) gives way to the other
+                near, far = (a, b) if w <= 0.5 else (b, a)
+                stable = far["stable"] if near["special"] and near["special"] != "END" else near["stable"]
+                found.append((a["A1"] + w * (b["A1"] - a["A1"]), bool(stable)))
+    stable = sorted(v for v, s in found if s)
+    distinct = [v for k, v in enumerate(stable) if k == 0 or v - stable[k - 1] > 1e-3 * v]  # pieces that overlap count once
+    return distinct[0] if len(distinct) == 1 else float("nan")
 
 
 def main(argv=None):
@@ -71,10 +76,7 @@ def main(argv=None):
         table.append(dict(sigma=sigma, A_46=A, A1_8=A8, A1_9=A9, asymptotic=abs(A - A8) / A8, wall=abs(A8 - A9) / A9, total=abs(A - A9) / A9))
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    with open(out / "impact_errors.csv", "w", newline="") as fh:
-        writer = csv.DictWriter(fh, fieldnames=list(table[0]))
-        writer.writeheader()
-        writer.writerows(table)
+    write_rows(table, list(table[0]), out / "impact_errors.csv")
     print(f"{'sigma':>6} {'A (46)':>9} {'A1 (8)':>9} {'A1 (9)':>9} {'(46)-(8)':>9} {'(8)-(9)':>9} {'(46)-(9)':>9}")
     for r in table:
         print(f"{r['sigma']:6.2f} {r['A_46']:9.4f} {r['A1_8']:9.4f} {r['A1_9']:9.4f} {r['asymptotic']:9.2%} {r['wall']:9.2%} {r['total']:9.2%}")
