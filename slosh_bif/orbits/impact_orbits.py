@@ -26,7 +26,7 @@ from scipy import linalg, optimize
 
 from slosh_bif.model.params import Params
 from slosh_bif.orbits.multipliers import describe_crossing, is_stable, multiplier_tests
-from slosh_bif.simulation.impact_flow import LINEAR_PARAMETERS, ImpactFlow
+from slosh_bif.simulation.impact_flow import LINEAR_PARAMETERS, WALL_PARAMETERS, ImpactFlow
 
 __all__ = ["ImpactOrbitProblem", "StrobeMap", "GrazingGap", "SECTION", "GRAZING"]
 
@@ -62,8 +62,8 @@ class GrazingGap:
 
 class ImpactOrbitProblem:
     """Periodic orbits of (8) with period ``period_multiple * 2 pi`` (or symmetric ones on the
-    half-period map), continued in ``param``, one of the parameters of the flow between impacts
-    (eps, beta, gamma, sigma, Abar). x = [X, X', w, w'] at tau = ``phase``; ``impacts`` (when
+    half-period map), continued in ``param``: a parameter of the flow between impacts (eps, beta,
+    gamma, sigma, Abar) or of the wall's restitution law (lam, chi). x = [X, X', w, w'] at tau = ``phase``; ``impacts`` (when
     given) is the number of impacts over the map's time that the domain holds to."""
 
     branch_kind = "periodic orbits of (8)"
@@ -75,8 +75,8 @@ class ImpactOrbitProblem:
     ):
         if not isinstance(params, Params):
             raise TypeError(f"params must be a slosh_bif.Params; got {type(params).__name__}")
-        if param not in LINEAR_PARAMETERS:
-            raise ValueError(f"param must be one of {', '.join(LINEAR_PARAMETERS)} for orbits of (8); got {param!r}")
+        if param not in LINEAR_PARAMETERS + WALL_PARAMETERS:
+            raise ValueError(f"param must be one of {', '.join(LINEAR_PARAMETERS + WALL_PARAMETERS)} for orbits of (8) (n and pbar are integers); got {param!r}")
         if not (isinstance(period_multiple, int) and 1 <= period_multiple <= 8):
             raise ValueError(f"period_multiple must be an integer in [1, 8]; got {period_multiple!r}")
         if symmetric and period_multiple != 1:

@@ -41,7 +41,7 @@ from slosh_bif.model.params import Params
 from slosh_bif.model.restitution import dissipation_at_unit_speed
 from slosh_bif.simulation.compiled import jit
 
-__all__ = ["LEVELS", "LINEAR_PARAMETERS", "ImpactFlow"]
+__all__ = ["LEVELS", "LINEAR_PARAMETERS", "WALL_PARAMETERS", "ImpactFlow"]
 
 LEVELS = 48  # the finest interval is h 2**-48
 # Codes of the compiled run.
@@ -219,7 +219,7 @@ def _saltation(K, z_minus, z_plus, slope, phi, dp):
 
 
 @jit
-def _run(table, dtable, K, taylor, lengths, growth, row_norm, kappa_c, kappa_q, y0, t0, t1, h, stick_speed, max_impacts, capacity, jac, phi, dp):
+def _run(table, dtable, K, taylor, lengths, growth, row_norm, kappa_c, kappa_q, dc, y0, t0, t1, h, stick_speed, max_impacts, capacity, jac, phi, dp):
     """Samples every h from t0 to t1 (t1 last) with the impacts among them; see :class:`ImpactFlow`.
     Stops with code _FULL when more than ``capacity`` impacts would be stored. With ``jac``,
     ``phi`` (identity on entry) and ``dp`` (zero) end as d y(t1) / d y0 and d y(t1) / d param."""
@@ -292,6 +292,8 @@ def _run(table, dtable, K, taylor, lengths, growth, row_norm, kappa_c, kappa_q, 
             if jac:  # d w'+ / d w'- = -kappa - v kappa'(v), with kappa = sqrt(1 - c v**q)
                 slope = -kappa + (0.5 * kappa_q * loss / kappa if speed > 0.0 else 0.0)
                 _saltation(K, zn, z, slope, phi, dp)
+                if dc != 0.0:  # a wall parameter moves c: d w'+ / dp = v- speed**q dc / (2 kappa)
+                    dp[3] += v_minus * speed**kappa_q * dc / (2.0 * kappa)
             hits += 1
             times[rows] = ta + done
             states[rows] = z[:4]
@@ -311,20 +313,21 @@ class ImpactFlow:
 
     ``run`` samples a trajectory (the arrays of :class:`~slosh_bif.simulation.vibro_impact.ImpactTrajectory`);
     ``strobe`` maps a state over a time T with its Jacobian (the flights' propagators and the
-    impacts' saltation matrices) and its derivative with respect to ``param``, one of the
-    parameters in the linear part of (8) (eps, beta, gamma, sigma, Abar).
+    impacts' saltation matrices) and its derivative with respect to ``param``: one of the
+    parameters in the linear part of (8) (eps, beta, gamma, sigma, Abar), through the flights'
+    propagators, or of the wall's (lam, chi), through the restitution law at each impact.
     """
 
     def __init__(self, params: Params, step: float = 0.05, param: str | None = None):
         if not (np.isfinite(step) and 0 < step <= 0.5):
             raise ValueError(f"sample_step must be in (0, 0.5]; got {step!r}")
-        if param is not None and param not in LINEAR_PARAMETERS:
-            raise ValueError(f"param must be one of {', '.join(LINEAR_PARAMETERS)} (those of the flow between impacts); got {param!r}")
+        if param is not None and param not in LINEAR_PARAMETERS + WALL_PARAMETERS:
+            raise ValueError(f"param must be one of {', '.join(LINEAR_PARAMETERS + WALL_PARAMETERS)}; got {param!r}")
         K = ImpactModel(params).augmented()
         self.K = K
         self.step = float(step)
         self.lengths = self.step * 0.5 ** np.arange(LEVELS + 2)
-        if param is None:
+        if param not in LINEAR_PARAMETERS:  # none, or a wall parameter: the flights do not depend on it
             self.table = _propagators(K, self.lengths)
             self.dtable = np.zeros_like(self.table)
         else:  # Q = d expm(K L) / d param: the lower-left block of expm([[K, 0], [K_p, K]] L)
@@ -341,11 +344,14 @@ class ImpactFlow:
         P = params
         self.kappa_c = float(dissipation_at_unit_speed(P.lam, P.chi, P.n, P.pbar))
         self.kappa_q = P.pbar / (P.n + 1)
+        # dc / d param of kappa = sqrt(1 - c v**q) (21): c is linear in lam and goes as chi**-a
+        exponent = P.pbar / (2 * (P.n + 1)) + 0.5
+        self.dc = {"lam": float(dissipation_at_unit_speed(1.0, P.chi, P.n, P.pbar)), "chi": -exponent * self.kappa_c / P.chi}.get(param, 0.0)
 
     def _call(self, y0, t0, t1, stick_speed, max_impacts, capacity, jac):
         phi, dp = np.eye(4), np.zeros(4)
         out = _run(
-            self.table, self.dtable, self.K, self.taylor, self.lengths, self.growth, self.row_norm, self.kappa_c, self.kappa_q,
+            self.table, self.dtable, self.K, self.taylor, self.lengths, self.growth, self.row_norm, self.kappa_c, self.kappa_q, self.dc,
             np.asarray(y0, dtype=float), float(t0), float(t1), self.step, float(stick_speed), max_impacts, capacity, jac, phi, dp,
         )
         return out + (phi, dp)
@@ -374,6 +380,7 @@ class ImpactFlow:
 
 
 LINEAR_PARAMETERS = ("eps", "beta", "gamma", "sigma", "Abar")
+WALL_PARAMETERS = ("lam", "chi")  # enter only the restitution law (21)
 
 
 def _propagators(K, lengths):

@@ -46,7 +46,7 @@ def _fd_jacobian(f, x, h=1e-6):
 @pytest.mark.parametrize("name", list(SETS))
 def test_the_saltation_monodromy_and_parameter_derivative_match_finite_differences(name):
     params, x = _settled(name)
-    for param in ("sigma", "Abar", "beta"):
+    for param in ("sigma", "Abar", "beta", "lam", "chi"):
         flow = ImpactFlow(params, param=param)
         _, phi, dp, impacts, code = flow.strobe(x, 0.0, 2 * np.pi)
         assert code == 0 and len(impacts) >= 1
@@ -112,8 +112,8 @@ def test_a_branch_locates_its_period_doubling_and_ends_at_grazing():
 
 def test_bad_input_is_refused_before_any_work():
     params = get_preset("fig10").params
-    with pytest.raises(ValueError, match="param must be one of eps, beta, gamma, sigma, Abar"):
-        ImpactOrbitProblem(params, "lam")
+    with pytest.raises(ValueError, match="param must be one of eps, beta, gamma, sigma, Abar, lam, chi"):
+        ImpactOrbitProblem(params, "n")
     with pytest.raises(ValueError, match="stiffness"):
         ImpactOrbitProblem(params.replace(sigma=25.0))
 
