@@ -36,10 +36,11 @@ import math
 
 import numpy as np
 
-from slosh_bif.model.equations import ImpactModel, impact_augmented
+from slosh_bif.model.equations import ImpactModel
 from slosh_bif.model.params import Params
 from slosh_bif.model.restitution import dissipation_at_unit_speed
 from slosh_bif.simulation.compiled import jit
+from slosh_bif.simulation.impact_propagators import LINEAR_PARAMETERS, WALL_PARAMETERS, derivative_of_K, propagators
 
 __all__ = ["LEVELS", "LINEAR_PARAMETERS", "WALL_PARAMETERS", "ImpactFlow"]
 
@@ -328,11 +329,11 @@ class ImpactFlow:
         self.step = float(step)
         self.lengths = self.step * 0.5 ** np.arange(LEVELS + 2)
         if param not in LINEAR_PARAMETERS:  # none, or a wall parameter: the flights do not depend on it
-            self.table = _propagators(K, self.lengths)
+            self.table = propagators(K, self.lengths)
             self.dtable = np.zeros_like(self.table)
         else:  # Q = d expm(K L) / d param: the lower-left block of expm([[K, 0], [K_p, K]] L)
-            block = np.block([[K, np.zeros_like(K)], [_derivative_of_K(params, param), K]])
-            both = _propagators(block, self.lengths)
+            block = np.block([[K, np.zeros_like(K)], [derivative_of_K(params, param), K]])
+            both = propagators(block, self.lengths)
             self.table, self.dtable = both[:, :6, :6].copy(), both[:, 6:, :6].copy()
         self.growth = np.exp(np.abs(K).sum(axis=1).max() * self.lengths)
         self.row_norm = float(np.abs(K[3]).sum())  # |w''| <= row_norm |z|
@@ -377,30 +378,3 @@ class ImpactFlow:
             if code != _FULL:
                 return states[rows - 1].copy(), phi, dp, impacts[:hits], int(code)
             capacity = min(max_impacts, 4 * capacity)
-
-
-LINEAR_PARAMETERS = ("eps", "beta", "gamma", "sigma", "Abar")
-WALL_PARAMETERS = ("lam", "chi")  # enter only the restitution law (21)
-
-
-def _propagators(K, lengths):
-    """``expm(K L)`` for the halving lengths L (longest first), by squaring up from the shortest:
-    with ``expm(K L) = I + E``, ``E(2L) = 2 E(L) + E(L)**2`` keeps E's relative accuracy (the
-    identity is never added in), so the 50 levels cost 50 small products instead of 50 expm."""
-    A = K * lengths[-1]
-    E = A @ (np.eye(len(K)) + A @ (np.eye(len(K)) / 2 + A @ (np.eye(len(K)) / 6 + A / 24)))  # |A| < 1e-15: exact
-    out = np.empty((len(lengths),) + K.shape)
-    out[-1] = E
-    for k in range(len(lengths) - 2, -1, -1):  # lengths[k] = 2 lengths[k + 1]
-        E = 2 * E + E @ E
-        out[k] = E
-    return out + np.eye(len(K))
-
-
-def _derivative_of_K(params: Params, param: str) -> np.ndarray:
-    """dK/d param by a five-point central difference (K's entries are polynomials of degree <= 4 in
-    the parameters, the first-order expansion of (9)'s coefficients: exact up to rounding)."""
-    values = {name: float(getattr(params, name)) for name in LINEAR_PARAMETERS}
-    step = 1e-3 * max(1.0, abs(values[param]))
-    K = [impact_augmented(**{**values, param: values[param] + k * step}) for k in (-2, -1, 1, 2)]
-    return (K[0] - 8 * K[1] + 8 * K[2] - K[3]) / (12 * step)

@@ -1,0 +1,43 @@
+"""The propagators of the vibro-impact model (8) between impacts and their parameter derivatives.
+
+Between impacts (8) is ``z' = K z`` on ``z = [X, X', w, w', cos tau, sin tau]``
+(:meth:`~slosh_bif.model.equations.ImpactModel.augmented`); its flow over L is ``expm(K L)``, and
+the derivative of that flow in a parameter of K is the lower-left block of
+``expm([[K, 0], [K_p, K]] L)``. :mod:`slosh_bif.simulation.impact_flow` tabulates both for the
+sample step and its halvings.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from slosh_bif.model.equations import impact_augmented
+from slosh_bif.model.params import Params
+
+__all__ = ["LINEAR_PARAMETERS", "WALL_PARAMETERS", "propagators", "derivative_of_K"]
+
+LINEAR_PARAMETERS = ("eps", "beta", "gamma", "sigma", "Abar")
+WALL_PARAMETERS = ("lam", "chi")  # enter only the restitution law (21)
+
+
+def propagators(K, lengths):
+    """``expm(K L)`` for the halving lengths L (longest first), by squaring up from the shortest:
+    with ``expm(K L) = I + E``, ``E(2L) = 2 E(L) + E(L)**2`` keeps E's relative accuracy (the
+    identity is never added in), so the 50 levels cost 50 small products instead of 50 expm."""
+    A = K * lengths[-1]
+    E = A @ (np.eye(len(K)) + A @ (np.eye(len(K)) / 2 + A @ (np.eye(len(K)) / 6 + A / 24)))  # |A| < 1e-15: exact
+    out = np.empty((len(lengths),) + K.shape)
+    out[-1] = E
+    for k in range(len(lengths) - 2, -1, -1):  # lengths[k] = 2 lengths[k + 1]
+        E = 2 * E + E @ E
+        out[k] = E
+    return out + np.eye(len(K))
+
+
+def derivative_of_K(params: Params, param: str) -> np.ndarray:
+    """dK/d param by a five-point central difference (K's entries are polynomials of degree <= 4 in
+    the parameters, the first-order expansion of (9)'s coefficients: exact up to rounding)."""
+    values = {name: float(getattr(params, name)) for name in LINEAR_PARAMETERS}
+    step = 1e-3 * max(1.0, abs(values[param]))
+    K = [impact_augmented(**{**values, param: values[param] + k * step}) for k in (-2, -1, 1, 2)]
+    return (K[0] - 8 * K[1] + 8 * K[2] - K[3]) / (12 * step)
