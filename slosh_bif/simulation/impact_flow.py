@@ -350,31 +350,27 @@ class ImpactFlow:
         self.dc = {"lam": float(dissipation_at_unit_speed(1.0, P.chi, P.n, P.pbar)), "chi": -exponent * self.kappa_c / P.chi}.get(param, 0.0)
 
     def _call(self, y0, t0, t1, stick_speed, max_impacts, capacity, jac):
-        phi, dp = np.eye(4), np.zeros(4)
-        out = _run(
-            self.table, self.dtable, self.K, self.taylor, self.lengths, self.growth, self.row_norm, self.kappa_c, self.kappa_q, self.dc,
-            np.asarray(y0, dtype=float), float(t0), float(t1), self.step, float(stick_speed), max_impacts, capacity, jac, phi, dp,
-        )
-        return out + (phi, dp)
+        """The compiled run from room for ``capacity`` impacts up, rerun with four times the room
+        while it fills (the same inputs give the same run); its arrays cut to what was stored."""
+        while True:
+            phi, dp = np.eye(4), np.zeros(4)
+            times, states, impacts, rows, hits, code = _run(
+                self.table, self.dtable, self.K, self.taylor, self.lengths, self.growth, self.row_norm, self.kappa_c, self.kappa_q, self.dc,
+                np.asarray(y0, dtype=float), float(t0), float(t1), self.step, float(stick_speed), max_impacts, capacity, jac, phi, dp,
+            )
+            if code != _FULL:
+                return times[:rows], states[:rows].T, impacts[:hits], int(code), phi, dp
+            capacity = min(max_impacts, 4 * capacity)
 
     def run(self, y0, t0: float, t1: float, *, stick_speed: float, max_impacts: int):
         """``(t, y, impacts, code)``: sample times (with the impact instants), states ``(4, N)``
         (post-impact at an impact), impacts ``(K, 4)`` rows ``t, side, w'-, w'+`` and the end code
         (0 finished, 1 sticking, 2 kappa not real, 3 ``max_impacts`` reached)."""
         count = int(math.ceil((t1 - t0) / self.step - 1e-12))
-        capacity = min(max_impacts, 2 * count + 64)
-        while True:  # rerun with room for more impacts: the same inputs give the same run
-            times, states, impacts, rows, hits, code, _, _ = self._call(y0, t0, t1, stick_speed, max_impacts, capacity, False)
-            if code != _FULL:
-                return times[:rows], states[:rows].T, impacts[:hits], int(code)
-            capacity = min(max_impacts, 4 * capacity)
+        return self._call(y0, t0, t1, stick_speed, max_impacts, min(max_impacts, 2 * count + 64), False)[:4]
 
     def strobe(self, y0, t0: float, period: float, *, stick_speed: float = 1e-9, max_impacts: int = 10_000):
         """``(y, phi, dp, impacts, code)``: the state at ``t0 + period``, its derivatives with respect
         to y0 (4 x 4) and to ``param`` (zero without one), the impacts and the end code of :meth:`run`."""
-        capacity = min(max_impacts, 64)
-        while True:
-            _, states, impacts, rows, hits, code, phi, dp = self._call(y0, t0, t0 + period, stick_speed, max_impacts, capacity, True)
-            if code != _FULL:
-                return states[rows - 1].copy(), phi, dp, impacts[:hits], int(code)
-            capacity = min(max_impacts, 4 * capacity)
+        _, states, impacts, code, phi, dp = self._call(y0, t0, t0 + period, stick_speed, max_impacts, min(max_impacts, 64), True)
+        return states[:, -1].copy(), phi, dp, impacts, code
