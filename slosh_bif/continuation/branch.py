@@ -58,6 +58,7 @@ class Status(str, enum.Enum):
     STEPS = "step limit"
     STALL = "step below minimum"
     TIME = "time limit"
+    TERMINAL = "terminal point"  # a located special point where the curve ends by nature (an NS curve at R1 or R2)
 
     def __str__(self):
         return self.value
@@ -115,6 +116,8 @@ class Branch:
     kind : what the points are (e.g. ``"equilibria"``, ``"periodic orbits"``, ``"PD curve"``)
     ends : ``(direction, reason)`` of each direction run, the reason a :class:`Status` value:
         what the message says in words, as fields to test
+    diagnostics : {name: (N,) array}, the problem's per-point checks (for periodic orbits
+        ``liouville_error``), computed with the stability when each point was accepted
 
     ``b[name]`` is a column by name: the continued parameter, or a state component of ``names``.
     """
@@ -133,6 +136,7 @@ class Branch:
     options: dict
     kind: str = ""
     ends: tuple = ()
+    diagnostics: dict = dataclasses.field(default_factory=dict)
 
     def __len__(self):
         return len(self.p)
@@ -171,6 +175,7 @@ class Branch:
             eigenvalues=self.eigenvalues[keep].copy(),
             newton_iterations=self.newton_iterations[keep].copy(),
             arclength=self.arclength[keep].copy(),
+            diagnostics={k: v[keep].copy() for k, v in self.diagnostics.items()},
             special=tuple(sp for sp in self.special if sp.index <= stop),
             status="ok",
             message=f"{self.message}; cut at point {stop}: {reason}",
@@ -190,6 +195,7 @@ class Branch:
             "options": self.options,
             "kind": self.kind,
             "ends": [list(e) for e in self.ends],
+            "diagnostics": sorted(self.diagnostics),
             "special": [
                 {"kind": str(s.kind), "index": s.index, "p": s.p, "bracket": list(s.bracket), "message": s.message, "located": s.located, "reason": str(s.reason), "edge": s.edge}
                 for s in self.special
@@ -221,6 +227,7 @@ class Branch:
             arclength=self.arclength,
             special_x=special_x,
             special_tangent=special_t,
+            **{f"diagnostic_{k}": v for k, v in self.diagnostics.items()},
             **extra,
         )
 
@@ -256,6 +263,7 @@ class Branch:
                 options=meta["options"],
                 kind=meta.get("kind", ""),
                 ends=tuple(tuple(e) for e in meta["ends"]) if "ends" in meta else _ends_of(meta["message"]),
+                diagnostics={k: data[f"diagnostic_{k}"].copy() for k in meta.get("diagnostics", [])},
             )
 
 

@@ -31,6 +31,8 @@ class Point:
     located: bool = True  # False: a sign change seen but not located (the point is the nearest computed one)
     reason: str = ""  # an END point's reason (a Status value)
     edge: str = ""  # at a domain edge: the problem's name for it
+    eigenvalues: np.ndarray | None = None  # stability, computed once when the point joins the branch
+    diagnostics: dict | None = None  # the problem's per-point checks (e.g. Liouville's), likewise
 
 
 def in_domain(problem, u):

@@ -67,7 +67,8 @@ def special_between(problem, a: Point, b: Point, h, opts, bend=None):
     tests += [(2 + i, kind, True) for i, kind in enumerate(caps.test_kinds)]
     confirm = caps.confirm
     for which, kind, enabled in tests:
-        if enabled and np.sign(a.tests[which]) * np.sign(b.tests[which]) < 0:
+        floor = caps.test_floor.get(kind, 0.0)
+        if enabled and np.sign(a.tests[which]) * np.sign(b.tests[which]) < 0 and max(abs(a.tests[which]), abs(b.tests[which])) >= floor:
             try:
                 q, note = locate(problem, a, h, which, opts, bend)
             except (ConvergenceError, ValueError) as err:

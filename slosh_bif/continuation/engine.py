@@ -20,7 +20,8 @@ Special points are detected and located by :mod:`.detection`; the bordered corre
 two-dimensional null space of ``[F_x, F_p]`` that the old branch does not take.
 
 Each direction ends at a parameter bound (the end is computed on the bound), at the domain's
-edge, on closing a loop, after ``max_steps``, or when the step falls below ``step_min``.
+edge, on closing a loop, at a located special point of one of the problem's ``terminal_kinds``,
+after ``max_steps``, or when the step falls below ``step_min``.
 """
 
 from __future__ import annotations
@@ -34,7 +35,7 @@ import numpy as np
 from slosh_bif.continuation.branch import END, Branch, SpecialPoint
 from slosh_bif.continuation.corrector import Point, correct, in_domain, initial_tangent, make_point, newton, top_rows
 from slosh_bif.continuation.detection import special_between
-from slosh_bif.continuation.options import BOUND, COMPLETE, EDGE, LOOP, STALL, STEPS, TIME, ContinuationOptions, ConvergenceError
+from slosh_bif.continuation.options import BOUND, COMPLETE, EDGE, LOOP, STALL, STEPS, TERMINAL, TIME, ContinuationOptions, ConvergenceError
 from slosh_bif.continuation.problem import capabilities, require_problem
 
 __all__ = ["continuation", "switch_branch"]
@@ -80,9 +81,14 @@ def _run(problem, start: Point, opts, loop_guard: bool, callback=None):
     edge_hits = 0
     bend = None  # no turn known before the first step: a straight tangent predictor
     crept = 0  # accepted steps in a row at most CREEP * step_min
-    accept = capabilities(problem).accept
+    caps = capabilities(problem)
+    accept, terminal = caps.accept, caps.terminal_kinds
+    stamped = 0  # points[:stamped] have their stability (computed while the problem's caches hold them)
     deadline = time.monotonic() + opts.max_seconds
     while True:
+        for q in points[stamped:]:
+            _stamp(caps, q)
+        stamped = len(points)
         if len(points) > opts.max_steps:
             _mark_end(points[-1], STEPS, f"{STEPS} ({opts.max_steps} steps)")
             return points, STEPS
@@ -109,7 +115,13 @@ def _run(problem, start: Point, opts, loop_guard: bool, callback=None):
         if angle > 2 * opts.max_angle and h > 2 * opts.step_min:
             h *= 0.5 * opts.max_angle / angle + 0.25  # turned far too sharply: redo shorter
             continue
-        points.extend(special_between(problem, a, b, h, opts, turn))
+        found = special_between(problem, a, b, h, opts, turn)
+        end = next((i for i, q in enumerate(found) if q.kind in terminal and q.located), None)
+        if end is not None:  # the curve ends at this point by nature: nothing beyond it is kept
+            points.extend(found[: end + 1])
+            points[-1].reason = TERMINAL
+            return points, TERMINAL
+        points.extend(found)
         points.append(b)
         if opts.curved_predictor:  # the tangent's turn per unit arclength over the last step
             bend = (b.t - a.t) / max(float(np.linalg.norm(b.u - a.u)), np.finfo(float).tiny)
@@ -125,6 +137,13 @@ def _run(problem, start: Point, opts, loop_guard: bool, callback=None):
             # A closed curve has no end: the branch's message says it closed, no point is an END.
             return points, LOOP
         h = _next_step(h, iters, angle, opts)
+
+
+def _stamp(caps, q: Point):
+    """The point's stability and the problem's checks, computed once, when the point joins the branch."""
+    if q.eigenvalues is None:
+        q.eigenvalues = np.asarray(caps.eigenvalues(q.u[:-1], q.u[-1], q.jac), dtype=complex)
+        q.diagnostics = caps.diagnostics(q.u[:-1], q.u[-1])
 
 
 def _next_step(h, iterations, angle, opts):
@@ -243,6 +262,9 @@ def _trace(problem, u0, param, opts, orient=None, callback=None) -> Branch:
         if opts.direction == ("backward" if forward else "forward") or closed:
             continue
         start = make_point(problem, u0, initial_tangent(problem, u0, forward, orient))
+        if runs:  # the same start as the other direction's: its stability is known
+            first = next(iter(runs.values()))[0][0]
+            start.eigenvalues, start.diagnostics = first.eigenvalues, first.diagnostics
         runs[forward] = _run(problem, start, opts, loop_guard=True, callback=callback)
         closed = runs[forward][1] == LOOP
     back, back_reason = runs.get(False, ([], None))
@@ -269,8 +291,12 @@ def _assemble(problem, points, param, status, message, opts, ends=()) -> Branch:
     u = np.array([q.u for q in points])
     steps = np.linalg.norm(np.diff(u, axis=0), axis=1)
     caps = capabilities(problem)
-    eigenvalues = np.array([caps.eigenvalues(q.u[:-1], q.u[-1], q.jac) for q in points])
+    for q in points:  # the ends appended last
+        _stamp(caps, q)
+    eigenvalues = np.array([q.eigenvalues for q in points])
     stable = np.array([caps.is_stable(ev) for ev in eigenvalues]) if caps.has_stability else np.ones(len(points), dtype=bool)
+    names = sorted(set().union(*(q.diagnostics for q in points)))
+    diagnostics = {k: np.array([q.diagnostics.get(k, np.nan) for q in points]) for k in names}
     special = tuple(
         SpecialPoint(q.kind, i, float(q.u[-1]), q.u[:-1].copy(), tuple(float(v) for v in q.bracket), q.message, q.t.copy(), q.located, q.reason, q.edge)
         for i, q in enumerate(points)
@@ -291,4 +317,5 @@ def _assemble(problem, points, param, status, message, opts, ends=()) -> Branch:
         options=dataclasses.asdict(opts),
         kind=caps.branch_kind,
         ends=tuple(ends),
+        diagnostics=diagnostics,
     )

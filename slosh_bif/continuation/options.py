@@ -11,12 +11,12 @@ import math
 
 from slosh_bif.continuation.branch import Status
 
-__all__ = ["ContinuationOptions", "ConvergenceError", "BOUND", "EDGE", "LOOP", "STEPS", "STALL", "TIME", "COMPLETE"]
+__all__ = ["ContinuationOptions", "ConvergenceError", "BOUND", "EDGE", "LOOP", "TERMINAL", "STEPS", "STALL", "TIME", "COMPLETE"]
 
-# End reasons of one direction; the first three make a complete branch (status "ok").
-BOUND, EDGE, LOOP = Status.BOUND.value, Status.EDGE.value, Status.LOOP.value
+# End reasons of one direction; the first four make a complete branch (status "ok").
+BOUND, EDGE, LOOP, TERMINAL = Status.BOUND.value, Status.EDGE.value, Status.LOOP.value, Status.TERMINAL.value
 STEPS, STALL, TIME = Status.STEPS.value, Status.STALL.value, Status.TIME.value
-COMPLETE = (BOUND, EDGE, LOOP)
+COMPLETE = (BOUND, EDGE, LOOP, TERMINAL)
 
 
 class ConvergenceError(RuntimeError):

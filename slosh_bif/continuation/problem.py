@@ -15,7 +15,9 @@ It may offer any of these capabilities, each a protocol of its own:
 * :class:`Stability`: ``eigenvalues(x, p)`` -> (n,) complex, with ``is_stable(eigenvalues)`` ->
   bool when the rule is not "all real parts negative" (Floquet multipliers: inside the unit
   circle); or ``stability_from_jacobian = True`` for a problem whose stability is that of its own
-  Jacobian (the engine reuses the one it has).
+  Jacobian (the engine reuses the one it has). The engine asks once per point of the branch, when
+  the point is accepted (the problem need keep no cache of its own for it); ``diagnostics(x, p)``
+  -> {name: float}, per-point checks recorded beside it (``Branch.diagnostics``).
 * :class:`OwnTests`: ``test_kinds`` (names, e.g. PD, NS) with ``test_functions(x, p)`` -> one
   real value per kind, special points at their sign changes, located like folds; ``confirm(kind,
   x, p)`` -> a message, or None to drop a located point that is not what the kind means.
@@ -89,11 +91,14 @@ class Capabilities:
         self.edge_distance = getattr(problem, "edge_distance", None)
         self.from_jacobian = bool(getattr(problem, "stability_from_jacobian", False))
         self._eigenvalues = getattr(problem, "eigenvalues", None)
+        self._diagnostics = getattr(problem, "diagnostics", None)
         self.has_stability = self.from_jacobian or self._eigenvalues is not None
         self.is_stable = getattr(problem, "is_stable", _all_negative)
         self.test_kinds = tuple(getattr(problem, "test_kinds", ()))
         self._test_functions = getattr(problem, "test_functions", None)
         self.confirm = getattr(problem, "confirm", None)
+        self.terminal_kinds = frozenset(getattr(problem, "terminal_kinds", ()))
+        self.test_floor = dict(getattr(problem, "test_floor", {}))
         self.accept = getattr(problem, "accept", None)
         self.branch_kind = getattr(problem, "branch_kind", "")
 
@@ -109,6 +114,10 @@ class Capabilities:
     def tests(self, x, p) -> tuple:
         """The problem's own test values, in the order of ``test_kinds`` (empty without them)."""
         return () if self._test_functions is None else tuple(float(v) for v in self._test_functions(x, p))
+
+    def diagnostics(self, x, p) -> dict:
+        """The problem's per-point checks at (x, p) ({} without them)."""
+        return {} if self._diagnostics is None else {k: float(v) for k, v in self._diagnostics(x, p).items()}
 
     def eigenvalues(self, x, p, jac=None) -> np.ndarray:
         """The eigenvalues behind stability at (x, p) (NaN when the problem gives none);

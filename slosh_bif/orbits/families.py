@@ -161,7 +161,9 @@ def _measure(problem: ShootingProblem, branch: Branch, points_per_2pi: int, name
     rows = [orbit_measures(problem, x, p, points_per_2pi=points_per_2pi) for x, p in zip(branch.x, branch.p)]
     out = {key: np.array([r[key] for r in rows]) for key in rows[0]}
     out["max_abs_multiplier"] = np.max(np.abs(branch.eigenvalues), axis=1)
-    out["liouville_error"] = np.array([problem.liouville_error(x, p) for x, p in zip(branch.x, branch.p)])
+    out["liouville_error"] = branch.diagnostics.get("liouville_error")
+    if out["liouville_error"] is None:  # a branch saved without its diagnostics: from the arcs again
+        out["liouville_error"] = np.array([problem.liouville_error(x, p) for x, p in zip(branch.x, branch.p)])
     bad = out["liouville_error"] > LIOUVILLE_TOL
     if np.any(bad):
         warnings.warn(

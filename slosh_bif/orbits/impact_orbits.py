@@ -25,7 +25,7 @@ import numpy as np
 from scipy import linalg, optimize
 
 from slosh_bif.model.params import Params
-from slosh_bif.orbits.multipliers import describe_crossing, is_stable, multiplier_tests
+from slosh_bif.orbits.multipliers import TEST_FLOOR, describe_crossing, is_stable, multiplier_tests
 from slosh_bif.simulation.impact_flow import LINEAR_PARAMETERS, WALL_PARAMETERS, ImpactFlow
 
 __all__ = ["ImpactOrbitProblem", "StrobeMap", "GrazingGap", "SECTION", "GRAZING"]
@@ -89,6 +89,7 @@ class ImpactOrbitProblem:
         self.closing = -1.0 if symmetric else 1.0
         self.period = np.pi if symmetric else 2 * np.pi * period_multiple
         self.test_kinds = ("BP", "NS") if symmetric else ("PD", "NS")
+        self.test_floor = TEST_FLOOR
         self.phase, self.impacts = float(phase), impacts
         self.edge_name = GRAZING
         self.state_bound = 1e3 * (1.0 + params.Abar)

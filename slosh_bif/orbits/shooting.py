@@ -35,7 +35,7 @@ import numpy as np
 from slosh_bif.continuation.corrector import newton_solve
 from slosh_bif.model.params import REAL_FIELDS, Params, real_pair
 from slosh_bif.orbits.floquet import floquet_multipliers
-from slosh_bif.orbits.multipliers import describe_crossing, is_stable, multiplier_tests
+from slosh_bif.orbits.multipliers import TEST_FLOOR, describe_crossing, is_stable, multiplier_tests
 from slosh_bif.orbits.period_map import PeriodicOrbit, period_map, shoot
 from slosh_bif.simulation import integrator
 
@@ -115,6 +115,7 @@ class ShootingProblem:
         # G's multiplier -1 is the pitchfork (a branch point of the 2pi problem); M's -1 is a
         # period doubling, which a symmetric orbit does not have generically (M = G^2).
         self.test_kinds = ("BP", "NS") if symmetric else ("PD", "NS")
+        self.test_floor = TEST_FLOOR
         self.rtol, self.atol = rtol, atol
         self.backend = integrator.resolve_backend(backend)
         if box is not None and not (len(box) == 2 and box[0] < box[1]):
@@ -125,17 +126,15 @@ class ShootingProblem:
         self.state_bound = 1e3 * (1.0 + params.Abar)
         self.names = tuple(f"{c}{k}" for k in range(segments) for c in _STATE)
         self.evaluations = 0  # arc integrations so far (cost accounting)
-        self._cache: dict = {}  # the last few full arc results
-        # (M, int tr J, arc matrices) of every (x, p) integrated: a branch's stability and
-        # Liouville check, asked for after the branch is done, integrate nothing.
-        self._floquet: dict = {}
+        self._cache: dict = {}  # the last few full arc results (each with its M, int tr J and arc matrices)
+        self._mu = None  # (key, multipliers) of the last point asked: its tests and stability share them
         self._at = None  # (p, params_at(p)) of the last p asked for
 
     def __getstate__(self):
         """Pickled without the integration caches (a stored family would carry every arc of every
         point traced); they refill on demand."""
         state = dict(self.__dict__)
-        state.update(_cache={}, _floquet={}, _at=None)
+        state.update(_cache={}, _mu=None, _at=None)
         return state
 
     def params_at(self, p: float) -> Params:
@@ -211,7 +210,6 @@ class ShootingProblem:
         if len(self._cache) > 8:
             self._cache.clear()
         self._cache[key] = result
-        self._floquet[key] = (M, trace, mats)
         return result
 
     def _arcs(self, x, p):
@@ -268,10 +266,8 @@ class ShootingProblem:
         return M @ M if self.symmetric else M
 
     def _monodromy_and_trace(self, x, p):
-        key = (x.tobytes(), self.params_at(p))
-        if key not in self._floquet:
-            self._arcs(x, p)
-        return self._floquet[key]
+        arcs = self._arcs(x, p)
+        return arcs.monodromy, arcs.trace, arcs.mats
 
     def eigenvalues(self, x, p):
         """The Floquet multipliers of the orbit (over its whole period), largest modulus first, by
@@ -282,7 +278,14 @@ class ShootingProblem:
 
     def map_multipliers(self, x, p):
         """The multipliers of the map the problem solves for: M's, or G's = -phi_pi's for a symmetric problem."""
-        return self.closing * floquet_multipliers(self.arc_matrices(x, p))
+        key = (x.tobytes(), float(p))
+        if self._mu is None or self._mu[0] != key:
+            self._mu = (key, self.closing * floquet_multipliers(self.arc_matrices(x, p)))
+        return self._mu[1]
+
+    def diagnostics(self, x, p) -> dict:
+        """Per point of a branch: Liouville's check of the arcs' accuracy."""
+        return {"liouville_error": self.liouville_error(x, p)}
 
     def arc_matrices(self, x, p):
         """The arcs' state transition matrices Phi_1 .. Phi_m (the monodromy is their product)."""

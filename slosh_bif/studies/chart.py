@@ -243,7 +243,7 @@ def _bounds_stable_contact(ob, sp) -> bool:
     contact: every multiplier but the critical one(s) inside the unit circle, max |w| >= 1."""
     if sp.kind not in ("LP", "PD", "NS") or not sp.located:
         return False
-    mu = ob.problem.eigenvalues(sp.x, sp.p)
+    mu = ob.branch.eigenvalues[sp.index]
     target = {"LP": 1.0, "PD": -1.0}.get(sp.kind)
     distance = np.abs(mu - target) if target is not None else np.where(np.abs(mu.imag) > 1e-9, np.abs(np.abs(mu) - 1), np.inf)
     rest = np.delete(mu, np.argsort(distance)[: _CRITICAL_COUNT[sp.kind]])

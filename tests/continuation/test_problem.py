@@ -103,3 +103,53 @@ def test_end_reasons_and_edge_names_are_fields_that_survive_save_and_load(tmp_pa
     files["meta"] = np.array(json.dumps(meta))
     np.savez(tmp_path / "old.npz", **files)
     assert Branch.load(tmp_path / "old.npz").ends == branch.ends
+
+
+class Line:
+    """x = p with two tests of its own: ``NOISE``, a value of 1e-15 whose sign flips with every
+    hundredth of p (rounding, below the problem's floor), and ``STOP``, p - 0.3, where the line ends
+    by nature; and stability and a diagnostic counted per call."""
+
+    names = ("x",)
+    test_kinds = ("NOISE", "STOP")
+    test_floor = {"NOISE": 1e-12}
+    terminal_kinds = ("STOP",)
+
+    def __init__(self):
+        self.asked = 0
+
+    def residual(self, x, p):
+        return np.array([x[0] - p])
+
+    def jacobian(self, x, p):
+        return np.array([[1.0]])
+
+    def dparam(self, x, p):
+        return np.array([-1.0])
+
+    def test_functions(self, x, p):
+        return (1e-15 * (-1) ** int(np.floor(100 * p)), p - 0.3)
+
+    def eigenvalues(self, x, p):
+        self.asked += 1
+        return np.array([-1.0 + 0j])
+
+    def diagnostics(self, x, p):
+        return {"twice": 2 * p}
+
+
+def test_rounding_flips_are_no_crossings_and_a_terminal_point_ends_the_branch(tmp_path):
+    from slosh_bif.continuation import Branch
+
+    problem = Line()
+    branch = continuation(problem, [0.0], 0.0, options=ContinuationOptions(step=0.01, step_max=0.02, p_min=-1.0, p_max=1.0))
+    assert not [s for s in branch.special if s.kind == "NOISE"]
+    (stop,) = [s for s in branch.special if s.kind == "STOP"]
+    assert stop.p == pytest.approx(0.3, abs=1e-12) and stop.index == len(branch) - 1 and stop.reason == "terminal point"
+    assert branch.status == "ok" and branch.ends == (("backward", "parameter bound"), ("forward", "terminal point"))
+    assert branch.p.max() == pytest.approx(0.3, abs=1e-12)  # nothing beyond the terminal point is kept
+    # stability asked once per point of the branch; the diagnostics recorded beside it, saved and loaded
+    assert problem.asked == len(branch)
+    assert np.allclose(branch.diagnostics["twice"], 2 * branch.p)
+    again = Branch.load(branch.save(tmp_path / "line.npz"))
+    assert np.array_equal(again.diagnostics["twice"], branch.diagnostics["twice"])

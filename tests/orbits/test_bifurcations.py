@@ -13,6 +13,9 @@ from slosh_bif.orbits.starts import settle_and_shoot
 from slosh_bif.simulation.integrator import integrate_grid
 
 
+X0 = np.zeros(4)  # the states a GivenMonodromy ignores
+
+
 class GivenMonodromy(ShootingProblem):
     """A ShootingProblem whose monodromy is a given function of the parameter (no integration)."""
 
@@ -37,7 +40,7 @@ def test_test_functions_equal_determinants_computed_another_way():
     rng = np.random.default_rng(5)
     for _ in range(20):
         M = rng.normal(size=(4, 4))
-        pd, ns = GivenMonodromy(lambda p: M).test_functions(None, 0.0)
+        pd, ns = GivenMonodromy(lambda p: M).test_functions(X0, 0.0)
         assert pd == pytest.approx(np.linalg.det(M + np.eye(4)), rel=1e-9, abs=1e-12)
         assert ns == pytest.approx(np.linalg.det(second_compound(M) - np.eye(6)), rel=1e-9, abs=1e-12)
 
@@ -49,18 +52,18 @@ def rotation_block(r, theta):
 def test_pd_and_ns_test_functions_change_sign_exactly_where_multipliers_cross():
     # A real multiplier s through -1: only the PD function changes sign, at s = -1.
     pd_family = GivenMonodromy(lambda s: np.diag([s, 0.3, -0.2, 0.1]))
-    values = [pd_family.test_functions(None, s) for s in (-0.99, -1.01)]
+    values = [pd_family.test_functions(X0, s) for s in (-0.99, -1.01)]
     assert values[0][0] * values[1][0] < 0 and values[0][1] * values[1][1] > 0
-    assert pd_family.test_functions(None, -1.0)[0] == pytest.approx(0.0, abs=1e-15)
+    assert pd_family.test_functions(X0, -1.0)[0] == pytest.approx(0.0, abs=1e-15)
     # A complex pair r exp(+-0.7i) through the unit circle: only the NS function, at r = 1.
     ns_family = GivenMonodromy(lambda r: np.block([[rotation_block(r, 0.7), np.zeros((2, 2))], [np.zeros((2, 2)), np.diag([0.5, 0.2])]]))
-    values = [ns_family.test_functions(None, r) for r in (0.99, 1.01)]
+    values = [ns_family.test_functions(X0, r) for r in (0.99, 1.01)]
     assert values[0][1] * values[1][1] < 0 and values[0][0] * values[1][0] > 0
-    assert "Neimark-Sacker" in ns_family.confirm("NS", None, 1.0) and "rotation 0.111408" in ns_family.confirm("NS", None, 1.0)
+    assert "Neimark-Sacker" in ns_family.confirm("NS", X0, 1.0) and "rotation 0.111408" in ns_family.confirm("NS", X0, 1.0)
     # A real pair mu, 1/mu (a neutral saddle) zeroes the NS function too; confirm() drops it.
     saddle = GivenMonodromy(lambda p: np.diag([2.0, 0.5, 0.3, 0.1]))
-    assert saddle.test_functions(None, 0.0)[1] == pytest.approx(0.0, abs=1e-15)
-    assert saddle.confirm("NS", None, 0.0) is None
+    assert saddle.test_functions(X0, 0.0)[1] == pytest.approx(0.0, abs=1e-15)
+    assert saddle.confirm("NS", X0, 0.0) is None
 
 
 @pytest.fixture(scope="module")

@@ -62,6 +62,32 @@ def test_torus_curve_points_have_a_pair_on_the_unit_circle_by_scipy(torus_curve,
 
 
 @pytest.fixture(scope="module")
+def resonant_torus_curve():
+    """The NS curve of the Fig. 13 set through the symmetric orbit's torus point at sigma = 3.98266
+    (Abar = 1): down past a fold-NS point at sigma = 0.125, turning at -0.57 and back to a 1:1
+    resonance at sigma = 0.132."""
+    P = get_preset("fig13").params
+    start = orbit_from_simulation(P.replace(sigma=4.2), get_preset("fig13").state0, settle=150)
+    family = trace_orbits(start.params, start.y0, p_min=3.8, p_max=4.2, switch=False, points_per_2pi=32)
+    ns = [s for s in family.branches[0].branch.special_of("NS") if abs(s.p - 3.98266) < 1e-3][0]
+    return P, trace_curve(P, ns.x, ns.p, kind="NS", p1_range=(-1.0, 4.2), p2_range=(0.6, 1.2))
+
+
+def test_torus_curve_is_continued_to_a_strong_resonance_and_ends_there(resonant_torus_curve, scipy_multipliers):
+    # kappa = cos(theta) is regular through the 1:1 resonance: the test kappa - 1 changes sign,
+    # the point is located and the curve ends on it; scipy's monodromy there has a double +1.
+    P, curve = resonant_torus_curve
+    assert curve.status == "ok", curve.branch.message
+    (r1,) = [s for s in curve.branch.special if s.kind == "R1"]
+    assert r1.located and r1.reason == "terminal point" and r1.index in (0, len(curve) - 1)
+    assert r1.x[-1] == pytest.approx(1.0, abs=1e-8) and np.all(np.abs(curve["kappa"]) <= 1 + 1e-8)
+    assert r1.p == pytest.approx(0.1324, abs=2e-3) and r1.x[-2] == pytest.approx(0.797, abs=2e-3)
+    mu = scipy_multipliers(P.replace(sigma=float(r1.p), Abar=float(r1.x[-2])), r1.x[:4])
+    near_one = np.sort(np.abs(mu - 1))
+    assert near_one[1] < 1e-3 and near_one[2] > 0.01  # a double multiplier +1 (a Jordan block splits it by sqrt(rounding))
+
+
+@pytest.fixture(scope="module")
 def pitchfork_curve():
     """The symmetry-breaking curve through the pitchfork of the symmetric branch at sigma = 3.347."""
     P = PRESET.params

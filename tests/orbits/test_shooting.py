@@ -286,6 +286,8 @@ def test_liouville_check_survives_an_ill_conditioned_monodromy():
     M = mats[3] @ mats[2] @ mats[1] @ mats[0]
     trace = float(np.log(abs(np.prod(dets))))
     x = np.zeros(16)
-    problem._floquet[(x.tobytes(), problem.params_at(P.sigma))] = (M, trace, mats)
+    from slosh_bif.orbits.shooting import Arcs
+
+    problem._cache[(x.tobytes(), problem.params_at(P.sigma))] = Arcs(np.zeros((4, 4)), mats, np.zeros((4, 4, 2)), trace, M)
     assert np.linalg.cond(M) > 1e12
     assert problem.liouville_error(x, P.sigma) < 1e-12 * 16

@@ -35,7 +35,8 @@ class BifurcationCurve:
     ``curve["sigma"]``, ``curve["Abar"]`` (the two parameters), ``curve["A1"]`` and
     ``curve["max_abs_w"]`` (the orbit at each point) are arrays in curve order; ``branch`` is the
     continuation result (its special points are the codimension-2 points: CP, LPPD, LPNS, PDNS,
-    R1-R4, BPLP; its ``stable`` column says whether the point bounds stable orbits: every multiplier
+    R1-R4, BPLP; an NS curve ends at R1 and R2; ``curve["kappa"]``, ``curve["theta"]``: its pair's
+    cos(theta) and theta; its ``stable`` column says whether the point bounds stable orbits: every multiplier
     but the critical one inside the unit circle); ``origin`` where it was started;
     ``period_multiple`` the orbits' period in units of 2pi (2 on a period-2 branch's curves).
     """
@@ -56,8 +57,11 @@ class BifurcationCurve:
             return self.branch.p
         if name == self.p2:
             return self._p2_of(self.branch.x.T)
-        if name == "theta" and self.kind == "NS":
-            return self.branch.x[:, -1]
+        if name in ("theta", "kappa") and self.kind == "NS":
+            last = self.branch.x[:, -1]  # kappa = cos(theta); curves saved before kappa hold theta itself
+            if self.branch.names[-1] == name:
+                return last
+            return np.cos(last) if name == "kappa" else np.arccos(np.clip(last, -1.0, 1.0))
         if name in self.measures:
             return self.measures[name]
         raise KeyError(f"{name!r} is not a column of this curve; its columns are {self.p1}, {self.p2}, {', '.join(self.measures)}")
@@ -71,7 +75,7 @@ class BifurcationCurve:
         return [(sp.kind, float(sp.p), float(self._p2_of(sp.x))) for sp in self.branch.special if sp.kind in CODIM2_KINDS]
 
     def _p2_of(self, x):
-        return x[-2 if self.kind == "NS" else -1]  # theta follows p2 on an NS curve
+        return x[-2 if self.kind == "NS" else -1]  # kappa follows p2 on an NS curve
 
     def save(self, path) -> Path:
         """The branch's .npz with the curve's kind, parameters, origin and measures added."""
@@ -145,7 +149,7 @@ def trace_curve(
     if kind == "NS":
         problem = TorusCurveProblem(params, p1, p2, **setup)
         pair = mu[np.argmin(np.abs(np.abs(mu) - 1) + (np.abs(mu.imag) < 1e-9))]  # the pair on the unit circle
-        u0 = np.append(u0, abs(np.angle(pair)))
+        u0 = np.append(u0, np.cos(np.angle(pair)))
     else:
         problem = MultiplierCurveProblem(params, kind, p1, p2, **setup)
     problem.init_borders(u0, p1_0)

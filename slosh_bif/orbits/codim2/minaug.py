@@ -96,21 +96,30 @@ class MultiplierCurveProblem:
         arcs = self.shooting.arcs(x[:-1], self.params_at(x, p))
         return arcs, self.shooting.jacobian_of(arcs, self.mu)
 
+    _borders = 1  # bordering vectors (columns of b and c): 2 for the NS problem's real pair
+
     def init_borders(self, x, p):
         """b and c from the singular vectors of J_mu at (x, p): the directions g is read along."""
         U, _, Vh = np.linalg.svd(self._matrix_at(x, p)[1])
-        self._b, self._c = U[:, -1].copy(), Vh[-1].conj().copy()
+        k = self._borders
+        self._b, self._c = U[:, -k:].copy(), Vh[-k:].conj().T.copy()
         self._memo.clear()
         self._last_second = None
 
     def accept(self, x, p):
-        """Renew the borders from the null vectors at an accepted point (keeps [[J, b], [c^T, 0]] regular)."""
-        _, v, w, _ = self._solve(x, p)
-        self._b, self._c = w / np.linalg.norm(w), v / np.linalg.norm(v)
+        """Renew the borders from the null vectors at an accepted point (keeps the bordered matrix regular)."""
+        _, V, W, _ = self._bordered(x, p)
+        self._b, self._c = np.linalg.qr(W)[0], np.linalg.qr(V)[0]
         self._memo.clear()
         self._last_second = None
 
-    def _solve(self, x, p):
+    def _bordered(self, x, p):
+        """(arcs, V, W, G) of the bordered system at (x, p), one linear solver for every curve kind:
+
+            [[J, b], [c^H, 0]] [V; G] = [0; I],    [[J, b], [c^H, 0]]^H [W; H] = [0; I]
+
+        with k bordering columns (V, W: N x k; G: k x k). G vanishes where J has a k-dimensional
+        null space, and dG = -W^H dJ V."""
         key = (x.tobytes(), float(p))
         hit = self._memo.get(key)
         if hit is not None:
@@ -118,21 +127,26 @@ class MultiplierCurveProblem:
         if self._b is None:
             self.init_borders(x, p)
         arcs, J = self._matrix_at(x, p)
-        n = len(J)
-        B = np.zeros((n + 1, n + 1), dtype=J.dtype)
-        B[:n, :n], B[:n, n], B[n, :n] = J, self._b, self._c.conj()
-        rhs = np.zeros(n + 1, dtype=J.dtype)
-        rhs[-1] = 1.0
+        n, k = len(J), self._borders
+        B = np.zeros((n + k, n + k), dtype=np.result_type(J, self._b))
+        B[:n, :n], B[:n, n:], B[n:, :n] = J, self._b, self._c.conj().T
+        rhs = np.zeros((n + k, k), dtype=B.dtype)
+        rhs[n:] = np.eye(k)
         try:
-            vg = np.linalg.solve(B, rhs)
-            wg = np.linalg.solve(B.conj().T, rhs)  # the adjoint system gives w
+            VG = np.linalg.solve(B, rhs)
+            WH = np.linalg.solve(B.conj().T, rhs)
         except np.linalg.LinAlgError:  # a failed evaluation (NaN arcs) or an exactly singular border: the corrector cuts its step
-            vg = wg = np.full(n + 1, np.nan, dtype=J.dtype)
-        result = (arcs, vg[:n], wg[:n], vg[n])
+            VG = WH = np.full((n + k, k), np.nan, dtype=B.dtype)
+        result = (arcs, VG[:n], WH[:n], VG[n:])
         if len(self._memo) > 8:
             self._memo.clear()
         self._memo[key] = result
         return result
+
+    def _solve(self, x, p):
+        """(arcs, v, w, g) of the one-border system."""
+        arcs, V, W, G = self._bordered(x, p)
+        return arcs, V[:, 0], W[:, 0], G[0, 0]
 
     def _second(self, x, p):
         """(dg/d(x, p1, p2), w^T F_xx[v, v]) from the arcs at x +- h v (see :meth:`_along`).
@@ -203,11 +217,12 @@ class MultiplierCurveProblem:
     # -- multipliers and codimension-2 tests --------------------------------------------------
 
     def multipliers(self, x, p):
-        """The Floquet multipliers of the orbit at the curve point (x, p), kept for the point's
-        life on the curve: the tests ask at each new point, the branch's assembly at the end,
-        when the arcs have long been dropped (borders change at every point)."""
+        """The Floquet multipliers of the orbit at the curve point (x, p), kept for the last few
+        points asked (the tests and the engine's stability ask at the same point)."""
         key = (x.tobytes(), float(p))
         if key not in self._multipliers:
+            if len(self._multipliers) > 8:
+                self._multipliers.clear()
             arcs = self._solve(x, p)[0]
             finite = np.all(np.isfinite(arcs.monodromy))
             self._multipliers[key] = floquet_multipliers(arcs.mats) if finite else np.full(4, np.nan + 0j)
