@@ -14,7 +14,7 @@ from slosh_bif.continuation import ConvergenceError
 from slosh_bif.continuation.branch import polyline_distance
 from slosh_bif.orbits.codim2 import BifurcationCurve, trace_curve
 
-__all__ = ["CurveStart", "CurveFailure", "curve_starts", "pitchforks_of", "trace_curves"]
+__all__ = ["CurveStart", "CurveFailure", "curve_starts", "pitchforks_of", "repeats_early", "trace_curves"]
 
 
 @dataclasses.dataclass(frozen=True)
@@ -57,6 +57,8 @@ def curve_starts(ob, param, params, sigma_range, abar_range, pitchforks=(), back
             continue  # a pitchfork of symmetric orbits: the half-period map's condition
         if sp.kind == "LP" and ob.kind == "asymmetric" and any(abs(sp.p - q) <= 1e-6 * (1 + abs(q)) for q in pitchforks):
             continue  # where the pair meets its symmetric parent again: the pitchfork, not a fold
+        if sp.kind == "LP" and repeats_early(ob.problem, sp.x):
+            continue  # the parent's orbit at its period doubling, where the branch is born or ends: no fold
         sigma, value = (sp.p, getattr(params, second)) if param == "sigma" else (params.sigma, sp.p)
         origin = f"{sp.kind} at sigma = {sigma:.6g}, {second} = {value:.6g} on the {ob.name} branch in {param}"
         job = dict(
@@ -64,6 +66,19 @@ def curve_starts(ob, param, params, sigma_range, abar_range, pitchforks=(), back
             segments=segments, period_multiple=ob.problem.period_multiple, origin=origin, backend=backend,
         )
         yield _Start(sp.kind, float(sigma), float(value), origin, job)
+
+
+def repeats_early(problem, x, tol: float = 1e-3) -> bool:
+    """Whether the orbit x of a period-doubled problem (period 2k pi in an even number of equal
+    arcs) repeats after half its period: it is then its parent's orbit at the period doubling where
+    the branch meets it, and the branch's turn there (t_p = 0: the pitchfork shape of a flip
+    bifurcation seen on the doubled map) is no fold; the fold system is singular there (the
+    doubled orbit's multiplier +1 is the parent's -1 squared, with a second one beside it)."""
+    m = problem.segments
+    if problem.period_multiple < 2 or problem.period_multiple % 2 or m % 2 or problem.symmetric:
+        return False
+    states = np.asarray(x, dtype=float).reshape(m, 4)
+    return bool(np.linalg.norm(states[: m // 2] - states[m // 2 :]) <= tol * (1 + np.linalg.norm(states)))
 
 
 def pitchforks_of(family) -> list:

@@ -33,3 +33,25 @@ def test_parallel_curves_are_the_sequential_curves_each_once(starts):
     for a, b in zip(sequential, parallel):
         np.testing.assert_array_equal(a.branch.x, b.branch.x)
         np.testing.assert_array_equal(a.branch.p, b.branch.p)
+
+
+def test_a_period_two_branch_turning_where_it_meets_its_parent_gives_no_fold_curve():
+    # At the flip where a period-2 branch is born (or meets its parent again), the branch has
+    # t_p = 0 and the engine labels an LP; its orbit is the parent's, repeating after 2pi. The Fig.
+    # 13 chart tried fold curves from two such points and Newton failed on them (the doubled
+    # orbit's +1 is the parent's -1 squared): they are no starts; a genuine period-2 fold is.
+    from types import SimpleNamespace
+
+    from slosh_bif.continuation import SpecialPoint
+    from slosh_bif.orbits import ShootingProblem
+    from slosh_bif.studies.chart_curves import repeats_early
+
+    P = PRESET.params
+    problem = ShootingProblem(P, segments=4, period_multiple=2)
+    parent = np.array([0.3, -0.1, 0.9, 0.2, -0.2, 0.4, -0.7, 0.1])  # two arcs of pi: the 2pi orbit
+    for x, expected in ((np.tile(parent, 2), ["PD"]), (np.concatenate([parent, parent + 0.05]), ["LP", "PD"])):
+        assert repeats_early(problem, x) == (expected == ["PD"])
+        special = tuple(SpecialPoint(kind, 1, -1.0, x, (-1.1, -0.9), "", None) for kind in ("LP", "PD"))
+        ob = SimpleNamespace(branch=SimpleNamespace(special=special), problem=problem, kind="period-2", name="period-2")
+        assert [s.kind for s in _starts(ob, "sigma", P, (-2.0, 0.0), (2.0, 4.0))] == expected
+    assert not repeats_early(ShootingProblem(P, segments=4), np.tile(parent, 2))  # a 2pi problem has no parent to meet
