@@ -63,8 +63,8 @@ def impact_orbits_at(rows, sigma) -> list:
     farther where the nearer is a special point (its multiplier on the circle, its flag rounding).
     Pieces that overlap (the same orbits across a moved section) count once."""
     found = []
-    for piece in sorted({r["piece"] for r in rows}):
-        part = sorted((r for r in rows if r["piece"] == piece), key=lambda r: r["sigma"])
+    for piece in sorted({(r.get("branch", ""), r["piece"]) for r in rows}):
+        part = sorted((r for r in rows if (r.get("branch", ""), r["piece"]) == piece), key=lambda r: r["sigma"])
         for a, b in zip(part, part[1:]):
             if a["sigma"] <= sigma <= b["sigma"] and a["sigma"] < b["sigma"]:
                 w = (sigma - a["sigma"]) / (b["sigma"] - a["sigma"])
