@@ -16,6 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
+from slosh_bif.continuation import ContinuationOptions
 from slosh_bif.model.presets import get_preset
 from slosh_bif.orbits.families import trace_orbits
 from slosh_bif.orbits.impact_branches import settled_orbit, trace_impact_orbits
@@ -23,31 +24,13 @@ from slosh_bif.orbits.impact_output import impact_rows
 from slosh_bif.orbits.starts import start_orbit
 from slosh_bif.report.tables import write_rows
 from slosh_bif.slowflow.steady_states import frequency_response
-from slosh_bif.studies.compare import orbits_at, states_at
+from slosh_bif.studies.compare import impact_orbits_at, orbits_at, states_at
 
 
 def _stable_one(values):
     """The value of the one stable entry of (value, stable, ...) tuples, or NaN."""
     stable = [v[0] for v in values if v[1]]
     return stable[0] if len(stable) == 1 else float("nan")
-
-
-def _impact_at(rows, sigma):
-    """A1 of the stable orbit of (8) at sigma: linear between neighbouring rows of one piece."""
-    found = []
-    for piece in {r["piece"] for r in rows}:
-        part = sorted((r for r in rows if r["piece"] == piece), key=lambda r: r["sigma"])
-        for a, b in zip(part, part[1:]):
-            if a["sigma"] <= sigma <= b["sigma"] and a["sigma"] < b["sigma"]:
-                w = (sigma - a["sigma"]) / (b["sigma"] - a["sigma"])
-                # the stability of the nearer end; an end that is a special point (where the
-                # multipliers cross the circle, its own label unreliable) gives way to the other
-                near, far = (a, b) if w <= 0.5 else (b, a)
-                stable = far["stable"] if near["special"] and near["special"] != "END" else near["stable"]
-                found.append((a["A1"] + w * (b["A1"] - a["A1"]), bool(stable)))
-    stable = sorted(v for v, s in found if s)
-    distinct = [v for k, v in enumerate(stable) if k == 0 or v - stable[k - 1] > 1e-3 * v]  # pieces that overlap count once
-    return distinct[0] if len(distinct) == 1 else float("nan")
 
 
 def main(argv=None):
@@ -63,7 +46,8 @@ def main(argv=None):
     sigmas = np.linspace(lo, hi, args.points)
 
     slow = frequency_response(params, sigma_min=lo, sigma_max=hi)
-    impact = trace_impact_orbits(params, settled_orbit(params, preset.state0, periods=150), p_min=lo, p_max=hi)
+    fine = ContinuationOptions(step=0.02, step_max=0.05, tol=1e-10)  # A1 read between points to about 1e-4
+    impact = trace_impact_orbits(params, settled_orbit(params, preset.state0, periods=150), p_min=lo, p_max=hi, options=fine)
     rows8 = list(impact_rows(impact, params))
     start = start_orbit(params, preset.state0, (lo, hi))
     smooth = trace_orbits(start.params, start.y0, param="sigma", p_min=lo, p_max=hi, switch=False)
@@ -71,7 +55,7 @@ def main(argv=None):
     table = []
     for sigma in sigmas:
         A = _stable_one(states_at(slow, sigma))
-        A8 = _impact_at(rows8, sigma)
+        A8 = _stable_one(impact_orbits_at(rows8, sigma))
         A9 = _stable_one(orbits_at(smooth.branches, sigma))
         table.append(dict(sigma=sigma, A_46=A, A1_8=A8, A1_9=A9, asymptotic=abs(A - A8) / A8, wall=abs(A8 - A9) / A9, total=abs(A - A9) / A9))
     out = Path(args.out)

@@ -105,10 +105,12 @@ def _shoot(args) -> int:
 
 def _shoot_impact(args, params, lo, hi) -> int:
     """``shoot --model impact``: the branch of orbits of (8) through the orbit a simulation of (8)
-    settles on (or --guess), across sections and grazings."""
+    settles on (or --guess), across sections and grazings; a symmetric one on the half-period map,
+    with the asymmetric branches born at its pitchforks (unless --no-switch)."""
     from slosh_bif.continuation import ContinuationOptions
     from slosh_bif.orbits.impact_branches import settled_orbit, trace_impact_orbits
     from slosh_bif.orbits.impact_output import impact_rows, plot_impact_branch, write_impact_csv
+    from slosh_bif.orbits.impact_switching import asymmetric_branches, is_symmetric
 
     if args.start != "simulation":
         raise ValueError(f"--start {args.start} is for the smooth model (9); --model impact starts from a simulation of (8) or from --guess")
@@ -120,22 +122,31 @@ def _shoot_impact(args, params, lo, hi) -> int:
     options = continuation_options(args, ContinuationOptions(step=0.05, step_max=0.3, tol=1e-10))
     args.out.mkdir(parents=True, exist_ok=True)
     x0 = args.guess if args.guess is not None else settled_orbit(params, state0_of(args, params), periods=args.settle)
-    result = trace_impact_orbits(params, x0, param=args.parameter, p_min=lo, p_max=hi, options=options)
-    rows = list(impact_rows(result, params))
+    symmetric = is_symmetric(params, x0)  # then on the half-period map, where its pitchforks are regular points
+    result = trace_impact_orbits(params, x0, param=args.parameter, p_min=lo, p_max=hi, options=options, symmetric=symmetric)
+    branches = [("symmetric" if symmetric else "primary", result, symmetric)]
+    if symmetric and not args.no_switch:
+        for k, (origin, branch) in enumerate(asymmetric_branches(params, result, p_min=lo, p_max=hi, options=options, max_branches=args.max_branches - 1)):
+            branches.append(("asymmetric" + (f"-{k + 1}" if k else ""), branch, False))
+            progress(f"asymmetric{f'-{k + 1}' if k else ''}: from the {origin}, {len(branch.pieces)} pieces")
+    rows = [r for name, branch, half in branches for r in impact_rows(branch, params, symmetric=half, name=name)]
     csv_path, png_path = write_impact_csv(rows, args.out / "branch.csv"), plot_impact_branch(rows, params, args.out / "branch.png")
-    for k, piece in enumerate(result.pieces):
-        piece.branch.save(args.out / f"piece{k}.npz", phase=piece.phase, impacts=piece.impacts)
-    kinds = [kind for r in rows for kind in r["special"].split() if kind != "END"]
-    counts = ", ".join(f"{kinds.count(k)} {k}" for k in ("LP", "BP", "PD", "NS", "GR") if k in kinds) or "no special points"
-    print(f"orbits of (8): {len(rows)} points in {len(result.pieces)} pieces over {args.parameter} in [{min(r[args.parameter] for r in rows):.6g}, "
-          f"{max(r[args.parameter] for r in rows):.6g}], impacts per period {sorted({r['impacts'] for r in rows})}; {counts}")
-    for p_gr, _, _ in result.grazing:
-        print(f"  GR at {args.parameter} = {p_gr:.10g}")
+    for name, branch, _ in branches:
+        for k, piece in enumerate(branch.pieces):
+            piece.branch.save(args.out / f"{name}-piece{k}.npz", phase=piece.phase, impacts=piece.impacts)
+    for name, branch, _ in branches:
+        part = [r for r in rows if r["branch"] == name]
+        kinds = [kind for r in part for kind in r["special"].split() if kind != "END"]
+        counts = ", ".join(f"{kinds.count(k)} {k}" for k in ("LP", "BP", "PD", "NS", "GR") if k in kinds) or "no special points"
+        print(f"orbits of (8), {name}: {len(part)} points in {len(branch.pieces)} pieces over {args.parameter} in [{min(r[args.parameter] for r in part):.6g}, "
+              f"{max(r[args.parameter] for r in part):.6g}], impacts per period {sorted({r['impacts'] for r in part})}; {counts}")
+        for p_gr, _, _ in branch.grazing:
+            print(f"  GR at {args.parameter} = {p_gr:.10g}")
+        for end in branch.ends:
+            progress(f"{name}: {end}")
     print(f"wrote {csv_path}, {png_path}")
-    for end in result.ends:
-        progress(str(end))
-    if not result.complete:
-        print("slosh-bif: the branch does not cover the requested range (its ends above; exit status 3)", file=sys.stderr)
+    if not all(branch.complete for _, branch, _ in branches):
+        print("slosh-bif: a branch does not cover the requested range (its ends above; exit status 3)", file=sys.stderr)
         return 3
     return 0
 

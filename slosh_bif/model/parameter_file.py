@@ -26,6 +26,8 @@ import math
 import sys
 from pathlib import Path
 
+import numpy as np
+
 from slosh_bif.model.params import FIELDS, Params
 from slosh_bif.model.presets import KICKED, Preset
 from slosh_bif.model.tank import WALL_DEFAULTS, Site, Tank, tank_model
@@ -112,14 +114,15 @@ def read_parameter_file(path) -> Preset:
     return Preset(path.stem, params, uv0, window, note=f"from {path.name} ({source})")
 
 
-def _toml_value(value) -> str:
+def _plain(value):
+    """A value as TOML takes it (numpy numbers as Python's), or a TypeError naming it."""
     if isinstance(value, str):
-        return json.dumps(value)
-    if isinstance(value, (list, tuple)):
-        return "[" + ", ".join(_toml_value(v) for v in value) + "]"
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        return value
+    if isinstance(value, (list, tuple, np.ndarray)):
+        return [_plain(v) for v in value]
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, float, np.integer, np.floating)):
         raise TypeError(f"cannot write {value!r} to a parameter file")
-    return repr(int(value)) if isinstance(value, int) else repr(float(value))
+    return int(value) if isinstance(value, (int, np.integer)) else float(value)
 
 
 def render_parameter_file(*, params: Params | None = None, tank: dict | None = None, uv0=None, window=None, comment: str = "") -> str:
@@ -128,18 +131,18 @@ def render_parameter_file(*, params: Params | None = None, tank: dict | None = N
     lead the file. :func:`read_parameter_file` reads it back to the same :class:`Params`."""
     if (params is None) == (tank is None):
         raise ValueError("give exactly one of params and tank")
-    lines = [f"# {line}" if line else "#" for line in comment.splitlines()]
+    import tomli_w
+
+    document = {}
     if params is not None:
-        lines += ["[params]"] + [f"{name} = {_toml_value(getattr(params, name))}" for name in FIELDS]
+        document["params"] = {name: _plain(getattr(params, name)) for name in FIELDS}
     else:
         unknown = sorted(set(tank) - set(TANK_KEYS))
         if unknown:
             raise ValueError(f"unknown tank key {unknown[0]!r}; known: {', '.join(TANK_KEYS)}")
-        lines += ["[tank]"] + [f"{key} = {_toml_value(value)}" for key, value in tank.items() if value is not None]
-    if uv0 is not None or window is not None:
-        lines.append("\n[initial]")
-        if uv0 is not None:
-            lines.append(f"uv0 = {_toml_value([float(v) for v in uv0])}")
-        if window is not None:
-            lines.append(f"window = {_toml_value([float(v) for v in window])}")
-    return "\n".join(lines) + "\n"
+        document["tank"] = {key: _plain(value) for key, value in tank.items() if value is not None}
+    initial = {name: [float(v) for v in value] for name, value in (("uv0", uv0), ("window", window)) if value is not None}
+    if initial:
+        document["initial"] = initial
+    head = "".join(f"# {line}\n" if line else "#\n" for line in comment.splitlines())
+    return head + tomli_w.dumps(document)

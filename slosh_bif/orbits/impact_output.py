@@ -2,9 +2,11 @@
 
 ``branch.csv``: one row per point, pieces one after another (:mod:`slosh_bif.orbits.impact_branches`),
 columns ``sigma, Abar, A1, max_abs_X, impacts, min_impact_speed, stable, max_abs_multiplier,
-special, piece, phase``: A1 is the first-harmonic amplitude of X at the forcing frequency, as for
-(9); ``impacts`` the impacts per map period on the piece, ``phase`` its section; ``special`` the
-special point at that row (PD, NS, LP, BP, GR at a grazing end, END).
+special, branch, piece, phase``: A1 is the first-harmonic amplitude of X at the forcing frequency,
+as for (9); ``impacts`` the impacts per forcing period on the piece (twice those of the half
+period on a symmetric branch, traced on the half-period map), ``phase`` its section; ``special`` the special point at
+that row (PD, NS, LP, BP, GR at a grazing end, END); ``branch`` its name (``symmetric``,
+``asymmetric``, ``asymmetric-2``, ..., or ``primary`` when the start orbit is not symmetric).
 """
 
 from __future__ import annotations
@@ -19,7 +21,7 @@ from slosh_bif.report.tables import write_rows
 
 __all__ = ["IMPACT_COLUMNS", "orbit_measures", "impact_rows", "write_impact_csv", "plot_impact_branch"]
 
-IMPACT_COLUMNS = ("sigma", "Abar", "A1", "max_abs_X", "impacts", "min_impact_speed", "stable", "max_abs_multiplier", "special", "piece", "phase")
+IMPACT_COLUMNS = ("sigma", "Abar", "A1", "max_abs_X", "impacts", "min_impact_speed", "stable", "max_abs_multiplier", "special", "branch", "piece", "phase")
 MEASURE_STEP = 0.01  # sample step of an orbit for its measures: A1 to about 1e-5
 
 
@@ -45,7 +47,9 @@ def _labels(branch):
     return labels
 
 
-def impact_rows(result: ImpactBranch, params, symmetric: bool = False):
+def impact_rows(result: ImpactBranch, params, symmetric: bool = False, name: str = "primary"):
+    """One row per point of every piece of ``result`` (traced on the half-period map when
+    ``symmetric``), named ``name`` in the ``branch`` column."""
     for k, piece in enumerate(result.pieces):
         b = piece.branch
         labels = _labels(b)
@@ -54,8 +58,8 @@ def impact_rows(result: ImpactBranch, params, symmetric: bool = False):
             at = params.replace(**{b.param: float(b.p[i])})
             m = orbit_measures(problem, b.x[i], b.p[i])
             yield {
-                "sigma": at.sigma, "Abar": at.Abar, **m, "impacts": piece.impacts, "stable": int(b.stable[i]),
-                "max_abs_multiplier": float(np.abs(b.eigenvalues[i]).max()), "special": labels[i], "piece": k, "phase": piece.phase,
+                "sigma": at.sigma, "Abar": at.Abar, **m, "impacts": piece.impacts * (2 if symmetric else 1), "stable": int(b.stable[i]),
+                "max_abs_multiplier": float(np.abs(b.eigenvalues[i]).max()), "special": labels[i], "branch": name, "piece": k, "phase": piece.phase,
             }
 
 
@@ -72,14 +76,16 @@ def plot_impact_branch(rows, params, path, *, title=None) -> Path:
     param = "sigma" if len({r["sigma"] for r in rows}) > 1 else "Abar"
     fig, (ax, axi) = pyplot().subplots(2, 1, figsize=(9, 7.5), sharex=True, gridspec_kw={"height_ratios": [3, 1]})
     labels = []
-    for k in sorted({r["piece"] for r in rows}):
-        part = [r for r in rows if r["piece"] == k]
+    names = list(dict.fromkeys(r["branch"] for r in rows))
+    for name, k in sorted({(r["branch"], r["piece"]) for r in rows}, key=lambda nk: (names.index(nk[0]), nk[1])):
+        part = [r for r in rows if (r["branch"], r["piece"]) == (name, k)]
+        color = f"C{names.index(name)}"
         p = np.array([r[param] for r in part])
         a1 = np.array([r["A1"] for r in part])
         stable = np.array([r["stable"] for r in part], dtype=bool)
         for i in range(len(part) - 1):
-            ax.plot(p[i : i + 2], a1[i : i + 2], "-" if stable[i] and stable[i + 1] else "--", color="C0", lw=1.4)
-        axi.plot(p, [r["impacts"] for r in part], color="C0", lw=1.2)
+            ax.plot(p[i : i + 2], a1[i : i + 2], "-" if stable[i] and stable[i + 1] else "--", color=color, lw=1.4)
+        axi.plot(p, [r["impacts"] for r in part], color=color, lw=1.2)
         for r in part:
             for kind in r["special"].split():
                 if kind in SPECIAL_MARKERS and kind != "END":
@@ -87,6 +93,8 @@ def plot_impact_branch(rows, params, path, *, title=None) -> Path:
                     ax.plot(r[param], r["A1"], marker, color=color, ms=7, mfc="none" if kind == "LP" else color)
                     labels.append((r[param], r["A1"], kind, color))
     place_labels(ax, labels)
+    for j, name in enumerate(names if len(names) > 1 else ()):
+        ax.plot([], [], "-", color=f"C{j}", lw=3, label=name)
     ax.plot([], [], "k-", label="stable")
     ax.plot([], [], "k--", label="unstable")
     special_legend(ax, kinds=("LP", "BP", "PD", "NS", "GR"))

@@ -4,7 +4,7 @@ On the 2pi problem a pitchfork of symmetric orbits is a branch point: the border
 singular there, the corrector fails near it, and the engine can bracket it only to a step (Fig. 10
 set, Abar = 2.745: to 4e-4 in sigma). A symmetric orbit is a fixed point of the half-period map
 G(x) = -phi_pi(x), and at the pitchfork phi_pi has the multiplier +1 (G's -1): the minimally
-augmented system of :class:`~slosh_bif.orbits.codim2.MultiplierCurveProblem` (kind BP) at the
+augmented system of :class:`~slosh_bif.orbits.codim2.PitchforkCurveProblem` at the
 branch's parameter, with the other parameter held, is a regular system in (half-period states,
 parameter). Newton on it from the engine's point gives the pitchfork to the corrector's
 tolerance.
@@ -18,7 +18,7 @@ import numpy as np
 
 from slosh_bif.continuation import newton_solve
 from slosh_bif.continuation.branch import BRANCH_POINT, Branch
-from slosh_bif.orbits.codim2.minaug import MultiplierCurveProblem
+from slosh_bif.orbits.codim2.multiplier_curves import PitchforkCurveProblem
 from slosh_bif.orbits.shooting import ShootingProblem
 
 __all__ = ["refine_pitchforks"]
@@ -39,8 +39,8 @@ def refine_pitchforks(problem: ShootingProblem, branch: Branch, *, tol: float = 
 def _refined(problem: ShootingProblem, sp, other: str, tol: float):
     half = problem.segments // 2
     at = problem.params_at(sp.p)
-    condition = MultiplierCurveProblem(
-        at, "BP", p1=other, p2=problem.param, segments=half, rtol=problem.rtol, atol=problem.atol, backend=problem.backend,
+    condition = PitchforkCurveProblem(
+        at, p1=other, p2=problem.param, segments=half, rtol=problem.rtol, atol=problem.atol, backend=problem.backend,
     )  # no box: the branch's box bounds its parameter, which is p2 here
     u0 = np.append(sp.x[: 4 * half], sp.p)
     held = float(getattr(at, other))

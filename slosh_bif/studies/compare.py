@@ -1,9 +1,16 @@
-"""The slow flow (46) against the periodic orbits of (9): ``compare.csv``, ``compare.txt``, ``compare.png``.
+"""The slow flow (46) against the periodic orbits of (9), and optionally of (8):
+``compare.csv``, ``compare.txt``, ``compare.png``.
 
 ``compare.csv``: on a sigma grid, the slow-flow amplitude A of eq. (46) on each stable/unstable
 state against the first-harmonic amplitude A1 of the nearest orbit of the shooting branches,
 with the relative difference, and the same against the nearest stable orbit
-(``A1_stable_orbit``, ``stable_orbit_branch``, ``relative_difference_stable_orbit``).
+(``A1_stable_orbit``, ``stable_orbit_branch``, ``relative_difference_stable_orbit``). With the
+orbits of the vibro-impact model (8) (rows of :func:`~slosh_bif.orbits.impact_output.impact_rows`)
+beside them: ``A1_impact``, the stable orbit of (8) nearest the slow-flow state,
+``relative_difference_impact`` = |A1_impact - A| / A, the expansion's own error (the slow flow is
+derived from (8), with the same rigid wall and restitution law (21)), and ``wall_difference`` =
+|A1_impact - A1_stable_orbit| / A1_stable_orbit, the error of the rigid-wall idealisation against
+(9) at its n: the two errors that every slow-flow-against-(9) number mixes.
 """
 
 from __future__ import annotations
@@ -16,21 +23,26 @@ from slosh_bif.orbits.families import OrbitFamily
 from slosh_bif.report.tables import write_rows
 from slosh_bif.slowflow.steady_states import FrequencyResponse
 
-__all__ = ["COMPARE_COLUMNS", "compare_rows", "write_compare_csv", "compare_table", "plot_compare"]
+__all__ = ["COMPARE_COLUMNS", "IMPACT_COLUMNS", "compare_rows", "impact_orbits_at", "write_compare_csv", "compare_table", "plot_compare"]
 
 COMPARE_COLUMNS = ("sigma", "A_slow_flow", "slow_flow_stable", "A1_shooting", "shooting_stable", "shooting_branch", "relative_difference", "A1_stable_orbit", "stable_orbit_branch", "relative_difference_stable_orbit")
+IMPACT_COLUMNS = ("A1_impact", "relative_difference_impact", "wall_difference")
 
 
-def compare_rows(family: OrbitFamily, fr: FrequencyResponse, sigmas):
+def compare_rows(family: OrbitFamily, fr: FrequencyResponse, sigmas, impact=None):
     """For each sigma and each slow-flow state there: the orbit (on any traced 2pi branch) whose
     A1 is nearest, with the relative difference |A1 - A| / A, and the nearest *stable* orbit with
-    its difference (stable to stable: what a simulation of (9) would settle on, if periodic)."""
+    its difference (stable to stable: what a simulation of (9) would settle on, if periodic).
+    ``impact``: rows of orbits of (8) (``impact_rows``), for the columns of :data:`IMPACT_COLUMNS`."""
     nan = float("nan")
     nothing = dict(A1_shooting=nan, shooting_stable="", shooting_branch="", relative_difference=nan, A1_stable_orbit=nan, stable_orbit_branch="", relative_difference_stable_orbit=nan)
+    if impact is not None:
+        nothing.update(A1_impact=nan, relative_difference_impact=nan, wall_difference=nan)
     for sigma in sigmas:
         slow = states_at(fr, sigma)
         orbits = orbits_at(family.branches, sigma)
         stable_orbits = [o for o in orbits if o[1]]
+        stable_impact = [o for o in impact_orbits_at(impact, sigma) if o[1]] if impact is not None else []
         for A, stable in slow:
             row = dict(sigma=float(sigma), A_slow_flow=A, slow_flow_stable=int(stable), **nothing)
             if orbits:
@@ -39,7 +51,32 @@ def compare_rows(family: OrbitFamily, fr: FrequencyResponse, sigmas):
             if stable_orbits:
                 A1, _, name = min(stable_orbits, key=lambda o: abs(o[0] - A))
                 row.update(A1_stable_orbit=A1, stable_orbit_branch=name, relative_difference_stable_orbit=abs(A1 - A) / A)
+            if stable_impact:
+                A8 = min(stable_impact, key=lambda o: abs(o[0] - A))[0]
+                row.update(A1_impact=A8, relative_difference_impact=abs(A8 - A) / A, wall_difference=abs(A8 - row["A1_stable_orbit"]) / row["A1_stable_orbit"])
             yield row
+
+
+def impact_orbits_at(rows, sigma) -> list:
+    """(A1, stable, piece) of every orbit of (8) at ``sigma`` in ``rows`` (of ``impact_rows``):
+    linear in A1 between neighbouring rows of one piece; the stability of the nearer row, or of the
+    farther where the nearer is a special point (its multiplier on the circle, its flag rounding).
+    Pieces that overlap (the same orbits across a moved section) count once."""
+    found = []
+    for piece in sorted({(r.get("branch", ""), r["piece"]) for r in rows}):
+        part = sorted((r for r in rows if (r.get("branch", ""), r["piece"]) == piece), key=lambda r: r["sigma"])
+        for a, b in zip(part, part[1:]):
+            if a["sigma"] <= sigma <= b["sigma"] and a["sigma"] < b["sigma"]:
+                w = (sigma - a["sigma"]) / (b["sigma"] - a["sigma"])
+                near, far = (a, b) if w <= 0.5 else (b, a)
+                stable = far["stable"] if near["special"] and near["special"] != "END" else near["stable"]
+                found.append((a["A1"] + w * (b["A1"] - a["A1"]), bool(stable), piece))
+    kept = []
+    for f in sorted(found):
+        same = [g for g in kept if g[1] == f[1]]
+        if not same or f[0] - same[-1][0] > 1e-3 * f[0]:
+            kept.append(f)
+    return kept
 
 
 def states_at(fr: FrequencyResponse, sigma) -> list:
@@ -94,7 +131,8 @@ def _crossings(p, value):
 
 
 def write_compare_csv(rows, path) -> Path:
-    return write_rows(rows, COMPARE_COLUMNS, path)
+    with_impact = bool(rows) and "A1_impact" in rows[0]
+    return write_rows(rows, COMPARE_COLUMNS + (IMPACT_COLUMNS if with_impact else ()), path)
 
 
 def compare_table(rows, *, agree: float = 0.05) -> str:
@@ -126,10 +164,15 @@ def compare_table(rows, *, agree: float = 0.05) -> str:
     flush(run)
     confirmed = sum(r["relative_difference_stable_orbit"] <= agree for r in rows)
     lines.append(f"stable slow-flow states with a stable 2pi-orbit of (9) within {agree:.0%}: {confirmed} of {len(rows)}")
+    if "A1_impact" in rows[0]:
+        for key, what in (("relative_difference_impact", "the expansion's error, slow flow against (8)"), ("wall_difference", "the wall's error, (8) against (9)")):
+            d = np.array([r[key] for r in rows], dtype=float)
+            d = d[np.isfinite(d)]
+            lines.append(f"{what}: median {np.median(d):.2%}, largest {np.max(d):.2%} over {d.size} states" if d.size else f"{what}: no state with both")
     return "\n".join(lines)
 
 
-def plot_compare(family: OrbitFamily, fr: FrequencyResponse, rows, path) -> Path:
+def plot_compare(family: OrbitFamily, fr: FrequencyResponse, rows, path, impact=None) -> Path:
     from slosh_bif.report.plotting import pyplot, save_figure
 
     fig, (ax, axd) = pyplot().subplots(2, 1, figsize=(9, 7.5), sharex=True, gridspec_kw={"height_ratios": [3, 1.3]})
@@ -143,9 +186,15 @@ def plot_compare(family: OrbitFamily, fr: FrequencyResponse, rows, path) -> Path
         for st, marker in ((True, "o"), (False, ".")):
             mask = b.stable == st
             ax.plot(b.p[mask], ob.measures["A1"][mask], marker, ms=3 if st else 2, color=f"C{k}", label=f"shooting (9), {ob.name}, {'stable' if st else 'unstable'}")
+    if impact:
+        s8 = np.array([r["sigma"] for r in impact])
+        a8 = np.array([r["A1"] for r in impact])
+        st8 = np.array([bool(r["stable"]) for r in impact])
+        ax.plot(s8[st8], a8[st8], "s", ms=2.5, mfc="none", color="C3", label="impact model (8), stable")
+        ax.plot(s8[~st8], a8[~st8], "x", ms=2.5, color="C3", alpha=0.5, label="impact model (8), unstable")
     ax.set_ylabel("amplitude of X (A; A1 for orbits)")
     P = family.params
-    ax.set_title(f"{name[0].upper() + name[1:]} against periodic orbits of (9): eps = {P.eps:g}, beta = {P.beta:g}, Abar = {P.Abar:g}, n = {P.n}")
+    ax.set_title(f"{name[0].upper() + name[1:]} against periodic orbits of (9){' and (8)' if impact else ''}: eps = {P.eps:g}, beta = {P.beta:g}, Abar = {P.Abar:g}, n = {P.n}")
     ax.legend(fontsize=7)
     ax.grid(alpha=0.3)
     s = np.array([r["sigma"] for r in rows], dtype=float)
@@ -153,6 +202,9 @@ def plot_compare(family: OrbitFamily, fr: FrequencyResponse, rows, path) -> Path
     st = np.array([bool(r["slow_flow_stable"]) for r in rows], dtype=bool)
     axd.semilogy(s[st], d[st], "k.", ms=3, label="stable slow-flow states")
     axd.semilogy(s[~st], d[~st], ".", color="0.6", ms=3, label="unstable slow-flow states")
+    if impact:
+        for key, style, label in (("relative_difference_impact", "s", "slow flow against (8): the expansion"), ("wall_difference", "^", "(8) against (9): the wall")):
+            axd.semilogy(s, np.array([r[key] for r in rows], dtype=float), style, ms=3, mfc="none", label=label)
     axd.set_ylabel("|A1 - A| / A")
     axd.set_xlabel(r"$\sigma$")
     axd.legend(fontsize=7)

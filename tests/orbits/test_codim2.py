@@ -11,7 +11,7 @@ import pytest
 from slosh_bif import get_preset
 from slosh_bif.continuation import continuation
 from slosh_bif.orbits import ShootingProblem, orbit_at, orbit_from_simulation, settle_and_shoot, trace_orbits
-from slosh_bif.orbits.codim2 import BifurcationCurve, MultiplierCurveProblem, trace_curve
+from slosh_bif.orbits.codim2 import BifurcationCurve, FoldCurveProblem, curve_problem, trace_curve
 from slosh_bif.orbits.families import SHOOTING_OPTIONS
 from slosh_bif.orbits.pitchforks import refine_pitchforks
 
@@ -200,12 +200,19 @@ def test_the_curve_is_the_same_under_tighter_tolerances(fold_curve):
     P, curve = fold_curve
     i = len(curve) // 2
     x = curve.branch.x[i]
-    problem = MultiplierCurveProblem(P, "LP", rtol=1e-12, atol=1e-14)
+    problem = FoldCurveProblem(P, rtol=1e-12, atol=1e-14)
     problem.init_borders(x, curve["sigma"][i])
     from slosh_bif.continuation import newton
 
     tight = newton(problem, x, curve["sigma"][i], tol=1e-12)
     assert abs(tight[-1] - x[-1]) < 1e-7
+    # The curve does not depend on the bordering vectors: borders from another point of it, never
+    # refreshed, give the same point.
+    fixed = FoldCurveProblem(P, refresh_borders=False)
+    fixed.init_borders(curve.branch.x[i - 5], curve["sigma"][i - 5])
+    fixed.accept(x, curve["sigma"][i])  # a no-op without refreshing
+    again = newton(fixed, x + 1e-6, curve["sigma"][i], tol=1e-10)
+    assert np.max(np.abs(again - x)) < 1e-7
 
 
 def test_curve_round_trips_through_npz(fold_curve, tmp_path):
@@ -222,9 +229,9 @@ def test_bad_requests_fail_before_any_work():
     with pytest.raises(ValueError, match="kind must be one of LP, PD, BP, NS"):
         trace_curve(P, x, 0.0, kind="XX", p1_range=(-1, 1), p2_range=(1, 2))
     with pytest.raises(ValueError, match="'omega' is not a field of Params"):
-        MultiplierCurveProblem(P, "LP", "sigma", "omega")
+        curve_problem(P, "LP", "sigma", "omega")
     with pytest.raises(ValueError, match="the two parameters must differ"):
-        MultiplierCurveProblem(P, "LP", "sigma", "sigma")
+        curve_problem(P, "LP", "sigma", "sigma")
     with pytest.raises(ValueError, match="'n' is an integer"):
         trace_curve(P, x, 0.0, kind="LP", p1="sigma", p2="n", p1_range=(-1, 1), p2_range=(1, 60))
     with pytest.raises(ValueError, match="start branch's parameter must be one of"):

@@ -126,13 +126,14 @@ def test_shoot_model_impact_traces_the_fig13_branch_with_its_pitchforks_and_toru
 
     from slosh_bif.cli import main
 
-    assert main(["shoot", "--preset", "fig13", "--model", "impact", "--sigma-min", "-3", "--sigma-max", "5", "--out", str(tmp_path)]) == 0
+    assert main(["shoot", "--preset", "fig13", "--model", "impact", "--sigma-min", "-3", "--sigma-max", "5", "--no-switch", "--out", str(tmp_path)]) == 0
     rows = list(csv.DictReader(open(tmp_path / "branch.csv")))
+    assert {r["branch"] for r in rows} == {"symmetric"}  # a symmetric start: traced on the half-period map
     kinds = [k for r in rows for k in r["special"].split()]
     assert kinds.count("BP") == 2 and kinds.count("NS") == 1
     ns = next(r for r in rows if "NS" in r["special"].split())
     params = get_preset("fig13").params.replace(sigma=float(ns["sigma"]))
-    piece = np.load(tmp_path / f"piece{ns['piece']}.npz")
+    piece = np.load(tmp_path / f"symmetric-piece{ns['piece']}.npz")
     x = piece["x"][np.argmin(np.abs(piece["p"] - float(ns["sigma"])))]
     phase = float(ns["phase"])
 
@@ -144,7 +145,7 @@ def test_shoot_model_impact_traces_the_fig13_branch_with_its_pitchforks_and_toru
     assert "wrote" in capsys.readouterr().out
     # where an impact reached the section the branch went on from a section moved along the orbit:
     # the new piece's first state is the old piece's last one carried there by the reference flow
-    pieces = [np.load(tmp_path / f"piece{k}.npz") for k in sorted({int(r["piece"]) for r in rows})]
+    pieces = [np.load(tmp_path / f"symmetric-piece{k}.npz") for k in sorted({int(r["piece"]) for r in rows})]
     pairs = [
         (a, b, i, j) for a in pieces for b in pieces if float(a["phase"]) != float(b["phase"])
         for i in (0, -1) for j in (0, -1) if a["p"][i] == b["p"][j]
@@ -173,3 +174,33 @@ def test_a_symmetric_orbit_is_a_fixed_point_of_the_half_period_map_whose_multipl
     mu_half = np.sort_complex(half.map_multipliers(x_half, -3.0) ** 2)
     np.testing.assert_allclose(mu_half, mu_full, atol=1e-9)
     np.testing.assert_allclose(np.sort_complex(half.eigenvalues(x_half, -3.0)), mu_full, atol=1e-9)
+
+
+def test_shoot_model_impact_switches_at_the_pitchforks_of_the_symmetric_branch(tmp_path):
+    """The asymmetric branches of (8) born at the two pitchforks of the Fig. 13 symmetric branch
+    (sigma = 0.43717 and -2.00827, located on the half-period map): each starts at its pitchfork,
+    and its orbits are periodic but not symmetric under the reference flow (scipy's expm between
+    impacts), which also checks that the pitchfork's orbit is symmetric."""
+    import csv
+
+    from slosh_bif.cli import main
+
+    assert main(["shoot", "--preset", "fig13", "--model", "impact", "--sigma-min", "-3", "--sigma-max", "5", "--out", str(tmp_path)]) == 3  # they end at grazings
+    rows = list(csv.DictReader(open(tmp_path / "branch.csv")))
+    assert {r["branch"] for r in rows} == {"symmetric", "asymmetric", "asymmetric-2"}
+    bps = sorted(float(r["sigma"]) for r in rows if r["branch"] == "symmetric" and "BP" in r["special"].split())
+    assert bps == pytest.approx([-2.00827, 0.43717], abs=1e-4)
+    P = get_preset("fig13").params
+    for name, bp in (("asymmetric", bps[1]), ("asymmetric-2", bps[0])):
+        part = [r for r in rows if r["branch"] == name]
+        assert min(abs(float(r["sigma"]) - bp) for r in part) < 1e-4  # it reaches its pitchfork
+        piece = np.load(tmp_path / f"{name}-piece0.npz")
+        k = len(piece["p"]) // 2
+        x, sigma, phase = piece["x"][k], float(piece["p"][k]), float(piece["phase"])
+        assert abs(sigma - bp) > 0.02
+        at = P.replace(sigma=sigma)
+        full = simulate_impact(at, x, (phase, phase + 2 * np.pi), backend="scipy").y[:, -1]
+        half = simulate_impact(at, x, (phase, phase + np.pi), backend="scipy").y[:, -1]
+        np.testing.assert_allclose(full, x, atol=1e-7)
+        assert np.linalg.norm(half + x) > 1e-2  # y(tau + pi) != -y(tau): not symmetric
+

@@ -12,12 +12,23 @@ import numpy as np
 
 from slosh_bif.continuation import Branch, ContinuationOptions, continuation
 from slosh_bif.model.params import Params, real_pair
-from slosh_bif.orbits.codim2.minaug import CURVE_KINDS, MultiplierCurveProblem
+from slosh_bif.orbits.codim2.minaug import MinAugCurveProblem
+from slosh_bif.orbits.codim2.multiplier_curves import FlipCurveProblem, FoldCurveProblem, PitchforkCurveProblem
 from slosh_bif.orbits.codim2.torus import TorusCurveProblem
 from slosh_bif.orbits.floquet import floquet_multipliers
 from slosh_bif.orbits.shooting import PARAMETERS, ShootingProblem, orbit_measures
 
-__all__ = ["BifurcationCurve", "trace_curve", "CURVE_OPTIONS", "CODIM2_KINDS"]
+__all__ = ["BifurcationCurve", "trace_curve", "curve_problem", "CURVE_PROBLEMS", "CURVE_OPTIONS", "CODIM2_KINDS"]
+
+CURVE_PROBLEMS = {"LP": FoldCurveProblem, "PD": FlipCurveProblem, "BP": PitchforkCurveProblem, "NS": TorusCurveProblem}
+
+
+def curve_problem(params: Params, kind: str, p1: str = "sigma", p2: str = "Abar", **options) -> MinAugCurveProblem:
+    """The curve problem of ``kind`` (LP, PD, BP or NS) in (p1, p2); ``options`` as for
+    :class:`~slosh_bif.orbits.codim2.minaug.MinAugCurveProblem`."""
+    if kind not in CURVE_PROBLEMS:
+        raise ValueError(f"kind must be one of {', '.join(CURVE_PROBLEMS)}; got {kind!r}")
+    return CURVE_PROBLEMS[kind](params, p1, p2, **options)
 
 # Like the one-parameter orbit branches (the corrector's tolerance above the integration's
 # rounding); a turn of a curve in p1 is no bifurcation, so folds and branch points of the
@@ -120,8 +131,8 @@ def trace_curve(
     the starts of ``segments`` arcs of the period, or, from a symmetric branch (traced on the
     half-period map), of the ``segments / 2`` arcs of the half period.
     """
-    if kind not in (*CURVE_KINDS, "NS"):
-        raise ValueError(f"kind must be one of {', '.join(CURVE_KINDS)}, NS; got {kind!r}")
+    if kind not in CURVE_PROBLEMS:
+        raise ValueError(f"kind must be one of {', '.join(CURVE_PROBLEMS)}; got {kind!r}")
     x = np.asarray(x, dtype=float)
     if period_multiple == 1 and segments % 2 == 0 and x.shape == (2 * segments,):  # a symmetric branch's half-period states
         x = np.concatenate([x, -x])
@@ -146,12 +157,10 @@ def trace_curve(
         segments=segments, period_multiple=period_multiple, rtol=rtol, atol=rtol * 1e-2, box=(lo1 - 0.5 * span1, hi1 + 0.5 * span1), p2_box=(lo2, hi2), backend=backend,
     )
     u0 = np.append(np.asarray(x, dtype=float), p2_0)
+    problem = curve_problem(params, kind, p1, p2, **setup)
     if kind == "NS":
-        problem = TorusCurveProblem(params, p1, p2, **setup)
         pair = mu[np.argmin(np.abs(np.abs(mu) - 1) + (np.abs(mu.imag) < 1e-9))]  # the pair on the unit circle
         u0 = np.append(u0, np.cos(np.angle(pair)))
-    else:
-        problem = MultiplierCurveProblem(params, kind, p1, p2, **setup)
     problem.init_borders(u0, p1_0)
     opts = dataclasses.replace(options or CURVE_OPTIONS, p_min=lo1, p_max=hi1)
     branch = _once(continuation(problem, u0, p1_0, param=p1, options=opts, callback=callback))
@@ -191,7 +200,7 @@ def _check_start(at: Params, x, kind: str, segments: int, period_multiple: int, 
     return mu
 
 
-def _measures(problem: MultiplierCurveProblem, branch: Branch, points_per_2pi: int) -> dict:
+def _measures(problem: MinAugCurveProblem, branch: Branch, points_per_2pi: int) -> dict:
     rows = []
     n = len(problem.shooting.names)  # the orbit's states come first in each point
     critical = 2 if problem.kind == "NS" else 1  # multipliers on the unit circle come first
@@ -203,7 +212,7 @@ def _measures(problem: MultiplierCurveProblem, branch: Branch, points_per_2pi: i
     return out
 
 
-def _orbit_problem(problem: MultiplierCurveProblem, x, p):
+def _orbit_problem(problem: MinAugCurveProblem, x, p):
     """The one-parameter shooting problem over the whole period at the curve point's second
     parameter (for a BP curve, whose problem is the half-period map, twice its arcs)."""
     s = problem.shooting

@@ -1,5 +1,5 @@
-"""Curves of fold (LP) and period-doubling (PD) points of periodic orbits of (9) in two
-parameters, by a minimally augmented system on the multiple-shooting residual.
+"""The minimally augmented system on the multiple-shooting residual of (9), the base of every
+curve of orbit bifurcations in two parameters.
 
 Formulation
 -----------
@@ -20,10 +20,9 @@ branch integrates them once, and the system stays of size 4m + 1 (AUTO's and Mat
 it). The bordering vectors are renewed from v and w after every accepted point, as
 BifurcationKit's MinAug problems do, so that the bordered matrix stays regular along the curve.
 
-Codimension-2 points are located on these curves through test functions: on fold curves the cusp
-(CP: the fold's quadratic coefficient w^T F_xx[v, v] vanishes, from the same extra integration),
-fold-flip (LPPD: a second multiplier through -1) and fold-Neimark-Sacker (LPNS); on
-period-doubling curves the fold-flip (a multiplier through +1) and flip-Neimark-Sacker (PDNS).
+The kinds of curve (fold, flip, pitchfork: :mod:`.multiplier_curves`; Neimark-Sacker:
+:mod:`.torus`) share this base and its one bordered solver (:meth:`MinAugCurveProblem._bordered`),
+as BifurcationKit's MinAug problems do, and add their own codimension-2 test functions.
 """
 
 from __future__ import annotations
@@ -34,40 +33,43 @@ from slosh_bif.model.params import Params, real_pair
 from slosh_bif.orbits.floquet import floquet_multipliers
 from slosh_bif.orbits.shooting import ShootingProblem
 
-__all__ = ["MultiplierCurveProblem", "CURVE_KINDS"]
-
-# The critical multiplier of the problem's map on each kind of curve: the period map for LP and PD;
-# for BP the half-period map's phi_pi (the symmetric orbit's G = -phi_pi has -1 there: the
-# symmetry-breaking pitchfork, a regular codimension-1 condition of G).
-CURVE_KINDS = {"LP": 1.0, "PD": -1.0, "BP": 1.0}
+__all__ = ["MinAugCurveProblem"]
 
 
-class MultiplierCurveProblem:
-    """Points (x, p2) of (9) at p1 where the orbit through x has the multiplier of ``kind``.
+class MinAugCurveProblem:
+    """The minimally augmented base of every curve of orbit bifurcations of (9): points (x, p2)
+    at p1 where the orbit through x has the critical multiplier ``mu`` of its kind.
 
     A continuation problem in p1 (the engine's parameter); ``p2`` is the last state component.
     ``p2_box`` bounds p2 (points outside are never evaluated); ``box`` bounds p1's corrector
-    iterates as in :class:`ShootingProblem`.
+    iterates as in :class:`ShootingProblem`. ``refresh_borders``: renew the bordering vectors
+    from the null vectors at each accepted point (the default; without it they stay those of the
+    start, which is cheaper per point but lets the bordered matrix grow ill-conditioned along a
+    long curve). A kind (:mod:`.multiplier_curves`,
+    :mod:`.torus`) sets ``kind``, ``mu``, ``symmetric`` (on the half-period map), and its
+    codimension-2 tests: ``test_kinds``, ``test_functions`` and ``confirm``.
     """
 
+    kind = ""
+    mu = 1.0
+    symmetric = False
+    test_kinds: tuple = ()
 
     def __init__(
-        self, params: Params, kind: str, p1: str = "sigma", p2: str = "Abar", *, segments: int = 4, period_multiple: int = 1,
+        self, params: Params, p1: str = "sigma", p2: str = "Abar", *, segments: int = 4, period_multiple: int = 1,
         rtol: float = 1e-10, atol: float = 1e-12, box: tuple | None = None, p2_box: tuple | None = None, backend: str = "auto",
+        refresh_borders: bool = True,
     ):
-        if kind not in CURVE_KINDS:
-            raise ValueError(f"kind must be one of {', '.join(CURVE_KINDS)}; got {kind!r}")
         real_pair((p1, p2))
-        self.kind, self.mu = kind, CURVE_KINDS[kind]
+        self.refresh_borders = bool(refresh_borders)
         self.params, self.p1, self.p2 = params, p1, p2
         self.shooting = ShootingProblem(
-            params, p1, segments=segments, period_multiple=period_multiple, rtol=rtol, atol=atol, backend=backend, box=box, symmetric=kind == "BP",
+            params, p1, segments=segments, period_multiple=period_multiple, rtol=rtol, atol=atol, backend=backend, box=box, symmetric=self.symmetric,
             sensitivities=(p1, p2),
         )
         self.names = self.shooting.names + (p2,)
-        self.branch_kind = f"{kind} curve of periodic orbits of (9) in ({p1}, {p2})"
+        self.branch_kind = f"{self.kind} curve of periodic orbits of (9) in ({p1}, {p2})"
         self.p2_box = p2_box
-        self.test_kinds = {"LP": ("CP", "LPPD", "LPNS"), "PD": ("LPPD", "PDNS"), "BP": ("BPLP",)}[kind]
         self._columns = (0, 1)  # the arcs' sensitivities are (p1, p2)
         self._b = self._c = None
         self._memo = {}
@@ -76,7 +78,7 @@ class MultiplierCurveProblem:
 
     # -- the augmented system ----------------------------------------------------------------
 
-    _extra = 1  # unknowns after the orbit's states: p2 (the NS problem adds theta)
+    _extra = 1  # unknowns after the orbit's states: p2 (the NS problem adds kappa)
 
     def params_at(self, x, p) -> Params:
         return self.params.replace(**{self.p1: float(p), self.p2: float(x[-self._extra])})
@@ -108,6 +110,8 @@ class MultiplierCurveProblem:
 
     def accept(self, x, p):
         """Renew the borders from the null vectors at an accepted point (keeps the bordered matrix regular)."""
+        if not self.refresh_borders:
+            return
         _, V, W, _ = self._bordered(x, p)
         self._b, self._c = np.linalg.qr(W)[0], np.linalg.qr(V)[0]
         self._memo.clear()
@@ -239,28 +243,7 @@ class MultiplierCurveProblem:
         """The curve point bounds stable orbits: every multiplier but the critical one inside the unit circle."""
         return bool(np.all(np.abs(multipliers[1:]) < 1))
 
-    def test_functions(self, x, p):
-        mu = self.eigenvalues(x, p)
-        others = mu[1:]
-        ns = np.prod([others[i] * others[j] - 1 for i in range(3) for j in range(i + 1, 3)]).real
-        if self.kind == "LP":
-            return self._second(x, p)[3], np.prod(1 + others).real, ns
-        if self.kind == "BP":  # phi_pi's multiplier -1 is G's +1: the symmetric orbit folds
-            return (np.prod(1 + others).real,)
-        return np.prod(others - 1).real, ns
-
-    def confirm(self, kind, x, p):
-        mu = self.eigenvalues(x, p)
-        others = mu[1:]
-        if kind == "CP":
-            return "cusp: the fold's quadratic coefficient vanishes (two folds meet)"
-        if kind == "BPLP":
-            return "the symmetry-breaking curve meets a fold of the symmetric orbits"
-        if kind == "LPPD":
-            k = int(np.argmin(np.abs(others - (-self.mu))))
-            return f"fold-flip: multipliers {mu[0].real:.6f} and {others[k].real:.6f}"
-        pair = [m for m in others if m.imag > 1e-7 * max(1.0, abs(m)) and abs(abs(m) - 1) < 1e-3]
-        if not pair:
-            return None  # a neutral saddle of the other multipliers, not a Neimark-Sacker point
-        label = "fold-Neimark-Sacker" if kind == "LPNS" else "flip-Neimark-Sacker"
-        return f"{label}: {mu[0].real:.6f} with exp(+-i {np.angle(pair[0]):.6f})"
+    def other_multipliers(self, x, p):
+        """The multipliers but the critical one, and the NS test of their pairs."""
+        others = self.eigenvalues(x, p)[1:]
+        return others, np.prod([others[i] * others[j] - 1 for i in range(3) for j in range(i + 1, 3)]).real

@@ -29,7 +29,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from slosh_bif.orbits.codim2.minaug import MultiplierCurveProblem
+from slosh_bif.orbits.codim2.minaug import MinAugCurveProblem
 
 __all__ = ["TorusCurveProblem"]
 
@@ -37,16 +37,16 @@ RESONANCES = {"R1": 1.0, "R2": -1.0, "R3": -0.5, "R4": 0.0}
 NAMES = {"R1": "1:1 resonance", "R2": "1:2 resonance", "R3": "1:3 resonance", "R4": "1:4 resonance", "LPNS": "fold-Neimark-Sacker", "PDNS": "flip-Neimark-Sacker"}
 
 
-class TorusCurveProblem(MultiplierCurveProblem):
+class TorusCurveProblem(MinAugCurveProblem):
     """Points (x, p2, kappa) of (9) at p1 where the orbit has multipliers exp(+-i theta), kappa = cos(theta)."""
 
+    kind = "NS"
+    test_kinds = ("R1", "R2", "R3", "R4", "LPNS", "PDNS")
+    terminal_kinds = ("R1", "R2")
+
     def __init__(self, params, p1: str = "sigma", p2: str = "Abar", **options):
-        super().__init__(params, "LP", p1, p2, **options)  # LP: only for the shared set-up
-        self.kind = "NS"
+        super().__init__(params, p1, p2, **options)
         self.names = self.shooting.names + (p2, "kappa")
-        self.branch_kind = f"NS curve of periodic orbits of (9) in ({p1}, {p2})"
-        self.test_kinds = ("R1", "R2", "R3", "R4", "LPNS", "PDNS")
-        self.terminal_kinds = ("R1", "R2")
 
     _extra = 2  # p2 and kappa follow the orbit's states
     _borders = 2  # the real pair's two-dimensional null space

@@ -1,0 +1,78 @@
+"""Branch switching for periodic orbits of the vibro-impact model (8), eq. (8) with (21): the
+asymmetric orbits born at the symmetry-breaking pitchforks of its symmetric ones.
+
+A symmetric orbit y(tau + pi) = -y(tau) is a fixed point of the half-period map G = -phi_pi, and
+its pitchfork is G's multiplier -1: a regular zero of a test function there, located to the
+corrector's tolerance on a branch traced with ``symmetric=True``. On the full 2pi map the same
+point is a simple branch point, and :func:`~slosh_bif.continuation.switch_branch` from the exactly
+located point takes the other direction of the two-dimensional null space (from the full map's
+own bordered-determinant test the point is known only to the corrector's reach, too coarse for
+that direction: as for (9), whose pitchforks are refined on the half-period map). The asymmetric
+branch is then traced across sections and grazings like any other (its mirror image is the same
+family, found by going through the pitchfork).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+from slosh_bif.continuation import ContinuationOptions, ConvergenceError, switch_branch
+from slosh_bif.continuation.branch import BRANCH_POINT
+from slosh_bif.model.params import Params
+from slosh_bif.orbits.impact_branches import ImpactBranch, trace_impact_orbits
+from slosh_bif.orbits.impact_orbits import ImpactOrbitProblem
+
+__all__ = ["is_symmetric", "asymmetric_branches"]
+
+# Steps onto the new branch: a few short ones, so that the start of the traced branch lies on it
+# and clear of the pitchfork (where the full map's Jacobian is singular).
+SWITCH_OPTIONS = ContinuationOptions(step=0.005, step_max=0.02, tol=1e-10, max_steps=4, detect_branch_points=False)
+
+
+def is_symmetric(params: Params, x, tol: float = 1e-8) -> bool:
+    """Whether the orbit through x (its state at tau = 0) is symmetric: G(x) = x on the half-period map."""
+    half = ImpactOrbitProblem(params, "sigma", symmetric=True)
+    return bool(np.linalg.norm(half.residual(np.asarray(x, dtype=float), params.sigma)) <= tol * (1 + np.linalg.norm(x)))
+
+
+def asymmetric_branches(params: Params, symmetric: ImpactBranch, *, p_min: float, p_max: float, options: ContinuationOptions | None = None, max_branches: int = 4) -> list:
+    """(origin, ImpactBranch) of the asymmetric branch born at each located pitchfork of the
+    ``symmetric`` branch (traced on the half-period map), each family once: a pitchfork that an
+    earlier asymmetric branch passes through is not switched at again."""
+    param = symmetric.param
+    found = []
+    for piece in symmetric.pieces:
+        for sp in piece.branch.special:
+            if sp.kind != BRANCH_POINT or not sp.located or len(found) >= max_branches:
+                continue
+            if any(_passes_through(branch, sp.p) for _, branch in found):
+                continue
+            start = _switched_start(params, param, piece.phase, sp, p_min, p_max)
+            if start is None:
+                continue
+            x0, p = start
+            branch = trace_impact_orbits(params.replace(**{param: p}), x0, param=param, p_min=p_min, p_max=p_max, options=options)
+            found.append((f"BP at {param} = {sp.p:.6g} on the symmetric branch", branch))
+    return found
+
+
+def _switched_start(params, param, phase, sp, p_min, p_max):
+    """(state at tau = 0, p) of a point of the asymmetric branch a few short steps from the
+    pitchfork ``sp``, or None when switching finds no new branch."""
+    probe = ImpactOrbitProblem(params, param, phase=phase)
+    full = ImpactOrbitProblem(params, param, phase=phase, impacts=len(probe.evaluate(sp.x, sp.p).impacts))
+    try:
+        new = switch_branch(full, sp, param=param, options=dataclasses.replace(SWITCH_OPTIONS, p_min=p_min, p_max=p_max), along=sp.tangent)
+    except ConvergenceError:
+        return None
+    x, p = new.x[-1], float(new.p[-1])
+    flow = full.flow_at(p)  # from the section at ``phase`` on to tau = 2pi, the same state as at tau = 0
+    y = flow.run(x, phase, 2 * np.pi, stick_speed=1e-9, max_impacts=10_000)[1][:, -1] if phase > 0 else x
+    return y, p
+
+
+def _passes_through(branch: ImpactBranch, p: float) -> bool:
+    """Whether an asymmetric branch has a branch point at ``p`` (it reaches this pitchfork too)."""
+    return any(s.kind == BRANCH_POINT and abs(s.p - p) < 1e-4 * (1 + abs(p)) for piece in branch.pieces for s in piece.branch.special)
