@@ -123,7 +123,7 @@ def speed_bench(*, quick: bool = False, progress=None) -> list:
         impact_branch, _ = _run_cli([*SHOOT, "--model", "impact", "--set", "sigma=5", "--out", os.path.join(tmp, "shoot8")])
         smooth_branch = next(r["seconds"] for r in rows if r["case"].endswith("fig10 (n = 50)"))
         rows.append(dict(case="shoot --model impact --set sigma=5, fig10 (8)", seconds=impact_branch, reference_seconds=smooth_branch, ratio=impact_branch / smooth_branch, target=1 / 3,
-                         peak_rss_mb=np.nan, note="whole process against the (9) branch above; (8)'s symmetric branch from sigma = 5 ends at its grazing, sigma = 0.514"))
+                         peak_rss_mb=np.nan, note="whole process against the (9) branch above; (8)'s symmetric branch from sigma = 5, on the half-period map, ends at its grazing, sigma = 0.514"))
         say("speed: start-up")
         startup = min(_run_cli(["info", "--preset", "fig10"])[0] for _ in range(1 if quick else 3))
         rows.append(dict(case="slosh-bif info (start-up, cached)", seconds=startup, reference_seconds=np.nan, ratio=np.nan, target=0.5, peak_rss_mb=np.nan, note="seconds; target in seconds"))
