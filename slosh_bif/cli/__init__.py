@@ -35,7 +35,7 @@ for _name in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS", "BLI
 
 from slosh_bif.cli import chart, info, orbits, simulation, slowflow, studies, tank  # noqa: E402
 
-__all__ = ["main", "build_parser"]
+__all__ = ["main", "build_parser", "warning_origin"]
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -96,7 +96,7 @@ def _check_out(out, *, is_file: bool = False) -> None:
         raise ValueError(f"--out {out}: cannot create or write in {existing} (permission denied)")
 
 
-def _origin(category, filename: str, lineno: int) -> str:
+def warning_origin(category, filename: str, lineno: int) -> str:
     """Where a warning comes from, for those that do not say it themselves (numpy's "invalid value
     encountered in det"): its class and the package's line that raised it."""
     if issubclass(category, UserWarning) and "slosh_bif" in str(filename):
@@ -139,7 +139,7 @@ def main(argv=None) -> int:
         if str(message) not in shown:
             shown.add(str(message))
             REPORTER.close()  # a warning on its own line, not inside the status line
-            print(f"slosh-bif {args.command}: warning: {message}{_origin(category, filename, lineno)}", file=sys.stderr)
+            print(f"slosh-bif {args.command}: warning: {message}{warning_origin(category, filename, lineno)}", file=sys.stderr)
 
     def on_sigterm(_signum, _frame):
         raise Terminated("stopped")

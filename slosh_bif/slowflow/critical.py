@@ -28,7 +28,7 @@ from slosh_bif.model.params import Params
 from slosh_bif.slowflow.flow import SlowFlow
 from slosh_bif.slowflow.steady_states import EDGE_MARGIN, SteadyStateProblem, _amplitude_bound, abar_on_curve
 
-__all__ = ["CriticalPoint", "CriticalCurve", "abar_branch", "critical_forcing", "critical_curve", "FoldProblem", "EndProblem", "interp_min"]
+__all__ = ["CriticalPoint", "CriticalCurve", "abar_branch", "critical_forcing", "critical_curve", "FoldProblem", "EndProblem", "interp_min", "abar_at_upper_end"]
 
 
 class _Residual46:
@@ -204,7 +204,7 @@ def critical_forcing(params: Params, sigma: float, *, model: str = "slowflow") -
     # The ends by their own closed forms: at the lower end alpha has a square root in A (NaN at
     # A_min itself by rounding); at an upper end (a fold of (39), kappa = 0) alpha is regular, but
     # kappa(A) is found only inside, so the end's kappa gives rho there.
-    abar = np.concatenate([[EndProblem(P, model).abar_at(P.sigma)], abar_on_curve(flow, A[1:-1]), [_abar_at_upper_end(flow, top)]])
+    abar = np.concatenate([[EndProblem(P, model).abar_at(P.sigma)], abar_on_curve(flow, A[1:-1]), [abar_at_upper_end(flow, top)]])
     finite = np.isfinite(abar)
     if not np.any(finite):
         raise RuntimeError(f"(46) has no steady state on S+ at sigma = {sigma} for A in [{lo:.10g}, {top:.10g}]")
@@ -219,7 +219,7 @@ def critical_forcing(params: Params, sigma: float, *, model: str = "slowflow") -
     return CriticalPoint(sigma=float(sigma), Abar_b=float(found.fun), A=float(found.x), kind=cont.Kind.FOLD.value)
 
 
-def _abar_at_upper_end(flow: SlowFlow, A):
+def abar_at_upper_end(flow: SlowFlow, A):
     """Abar of the steady state at A, the largest amplitude searched: the upper end of S+ itself
     (its kappa from the end, not from (39)) when A is that end."""
     if A < flow.A_max:

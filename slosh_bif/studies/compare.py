@@ -23,7 +23,7 @@ from slosh_bif.orbits.families import OrbitFamily
 from slosh_bif.report.tables import write_rows
 from slosh_bif.slowflow.steady_states import FrequencyResponse
 
-__all__ = ["COMPARE_COLUMNS", "IMPACT_COLUMNS", "compare_rows", "impact_orbits_at", "write_compare_csv", "compare_table", "plot_compare"]
+__all__ = ["COMPARE_COLUMNS", "IMPACT_COLUMNS", "compare_rows", "impact_orbits_at", "stable_at", "write_compare_csv", "compare_table", "plot_compare"]
 
 COMPARE_COLUMNS = ("sigma", "A_slow_flow", "slow_flow_stable", "A1_shooting", "shooting_stable", "shooting_branch", "relative_difference", "A1_stable_orbit", "stable_orbit_branch", "relative_difference_stable_orbit")
 IMPACT_COLUMNS = ("A1_impact", "relative_difference_impact", "wall_difference")
@@ -90,7 +90,7 @@ def orbits_at(branches, sigma) -> list:
     (linear in A1 between a branch's points)."""
     two_pi = [ob for ob in branches if ob.problem.period_multiple == 1]
     return [
-        (float(ob.measures["A1"][s][0] + (ob.measures["A1"][s][1] - ob.measures["A1"][s][0]) * w), _stable_at(ob.branch, s, sigma), ob.name)
+        (float(ob.measures["A1"][s][0] + (ob.measures["A1"][s][1] - ob.measures["A1"][s][0]) * w), stable_at(ob.branch, s, sigma), ob.name)
         for ob in two_pi for s, w in _segments(ob.branch.p, sigma)
     ]
 
@@ -106,7 +106,7 @@ def _segments(p, value):
 _STABILITY_CHANGES = ("LP", "BP", "PD", "NS")
 
 
-def _stable_at(branch, s, sigma) -> bool:
+def stable_at(branch, s, sigma) -> bool:
     """Whether the branch's orbit at ``sigma`` in the segment ``s`` is stable, decided by the end
     on sigma's side of the located special point (LP, BP, PD or NS) in the segment, if one is:
     not by where the continuation happened to put its points, nor by the special point's own

@@ -39,7 +39,7 @@ from slosh_bif.model.presets import get_preset
 from slosh_bif.orbits.starts import orbit_from_simulation
 from slosh_bif.simulation.direct import simulate
 
-__all__ = ["speed_bench", "SPEED_COLUMNS"]
+__all__ = ["speed_bench", "run_cli", "SPEED_COLUMNS"]
 
 SPEED_COLUMNS = ("case", "seconds", "reference_seconds", "ratio", "target", "peak_rss_mb", "note")
 SHOOT = ["shoot", "--preset", "fig10", "--no-switch", "--sigma-min", "-6", "--sigma-max", "8"]
@@ -56,7 +56,7 @@ REGIMES = ["regimes", "--preset", "fig13", "--tmax", "60", "--workers", "2"]
 REGIME_GRIDS = (20, 100)
 
 
-def _run_cli(arguments, timeout=900.0, workers=False):
+def run_cli(arguments, timeout=900.0, workers=False):
     """Wall time and the child's own peak resident set (MB; ru_maxrss is in kB on Linux) of
     ``slosh-bif ARGUMENTS`` in a fresh interpreter; ``workers``: also its largest worker's."""
     start = time.perf_counter()
@@ -98,10 +98,10 @@ def speed_bench(*, quick: bool = False, progress=None) -> list:
     rows = []
     periods = 100 if quick else 1000
     with tempfile.TemporaryDirectory() as tmp:
-        _run_cli(["info", "--preset", "fig10"])  # compile and cache once, as an installed user has
+        run_cli(["info", "--preset", "fig10"])  # compile and cache once, as an installed user has
         for case, extra in CASES.items():
             say(f"speed: slosh-bif shoot, {case}")
-            seconds, peak = _run_cli([*SHOOT, *extra, "--out", os.path.join(tmp, "shoot")])
+            seconds, peak = run_cli([*SHOOT, *extra, "--out", os.path.join(tmp, "shoot")])
             params = get_preset("fig10").params.with_overrides(extra[1::2])
             say(f"speed: {periods} scipy DOP853 periods, {case}")
             reference = _scipy_periods(params, get_preset("fig10").state_for(params), periods) * (1000 / periods)
@@ -110,26 +110,26 @@ def speed_bench(*, quick: bool = False, progress=None) -> list:
         say("speed: the impact model beside a CPU-burning process")
         # the expm event loop (--backend scipy): many tiny matrix exponentials, what BLAS threads slowed
         impact = ["simulate", "--preset", "fig9a", "--model", "impact", "--backend", "scipy", "--tmax", "150", "--out", os.path.join(tmp, "impact")]
-        alone = min(_run_cli(impact)[0] for _ in range(1 if quick else 2))
+        alone = min(run_cli(impact)[0] for _ in range(1 if quick else 2))
         burner = subprocess.Popen([sys.executable, "-c", "while True: pass"])
         try:
-            loaded = min(_run_cli(impact)[0] for _ in range(1 if quick else 2))
+            loaded = min(run_cli(impact)[0] for _ in range(1 if quick else 2))
         finally:
             burner.kill()
             burner.wait()
         rows.append(dict(case="simulate fig9a --model impact --backend scipy, beside a CPU-burning process", seconds=loaded, reference_seconds=alone, ratio=loaded / alone, target=1.5,
                          peak_rss_mb=np.nan, note="whole process, against the same command with the machine otherwise idle"))
         say("speed: the impact model's branch beside (9)'s")
-        impact_branch, _ = _run_cli([*SHOOT, "--model", "impact", "--set", "sigma=5", "--out", os.path.join(tmp, "shoot8")])
+        impact_branch, _ = run_cli([*SHOOT, "--model", "impact", "--set", "sigma=5", "--out", os.path.join(tmp, "shoot8")])
         smooth_branch = next(r["seconds"] for r in rows if r["case"].endswith("fig10 (n = 50)"))
         rows.append(dict(case="shoot --model impact --set sigma=5, fig10 (8)", seconds=impact_branch, reference_seconds=smooth_branch, ratio=impact_branch / smooth_branch, target=1 / 3,
                          peak_rss_mb=np.nan, note="whole process against the (9) branch above; (8)'s symmetric branch from sigma = 5, on the half-period map, ends at its grazing, sigma = 0.514"))
         say("speed: start-up")
-        startup = min(_run_cli(["info", "--preset", "fig10"])[0] for _ in range(1 if quick else 3))
+        startup = min(run_cli(["info", "--preset", "fig10"])[0] for _ in range(1 if quick else 3))
         rows.append(dict(case="slosh-bif info (start-up, cached)", seconds=startup, reference_seconds=np.nan, ratio=np.nan, target=0.5, peak_rss_mb=np.nan, note="seconds; target in seconds"))
         for cells in REGIME_GRIDS[:1] if quick else REGIME_GRIDS:
             say(f"speed: regimes {cells} x {cells} (memory)")
-            seconds, parent, worker = _run_cli([*REGIMES, "--sigma-points", str(cells), "--abar-points", str(cells), "--out", os.path.join(tmp, f"regimes{cells}")], timeout=3600.0, workers=True)
+            seconds, parent, worker = run_cli([*REGIMES, "--sigma-points", str(cells), "--abar-points", str(cells), "--out", os.path.join(tmp, f"regimes{cells}")], timeout=3600.0, workers=True)
             rows.append(dict(case=f"regimes {cells} x {cells}, fig13, tmax 60 (memory)", seconds=seconds, reference_seconds=np.nan, ratio=np.nan, target=np.nan, peak_rss_mb=parent,
                              note=f"peak resident set of the parent; largest worker {worker:.0f} MB"))
     pre = get_preset("fig10")

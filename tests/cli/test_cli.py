@@ -449,7 +449,7 @@ def test_quiet_and_verbose(tmp_path, capsys):
 
 
 def test_a_warning_says_where_it_comes_from():
-    from slosh_bif.cli import _origin
+    from slosh_bif.cli import warning_origin
 
-    assert _origin(RuntimeWarning, "/site/slosh_bif/orbits/shooting.py", 263) == " (RuntimeWarning at slosh_bif/orbits/shooting.py:263)"
-    assert _origin(UserWarning, "/site/slosh_bif/slowflow/flow.py", 10) == ""
+    assert warning_origin(RuntimeWarning, "/site/slosh_bif/orbits/shooting.py", 263) == " (RuntimeWarning at slosh_bif/orbits/shooting.py:263)"
+    assert warning_origin(UserWarning, "/site/slosh_bif/slowflow/flow.py", 10) == ""

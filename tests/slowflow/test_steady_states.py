@@ -196,12 +196,12 @@ HELD_OUT_WALL = dict(lam=0.5, chi=2, n=8, pbar=4, beta=0.1, Abar=1.5)  # S+ ends
 def test_the_upper_end_condition_and_the_fold_curves_stay_on_s_plus():
     """The end condition on the upper end of S+ gives the forcing of the steady state there by
     (46)'s balances; fold curves are never evaluated past that end (they were, and failed)."""
-    from slosh_bif.slowflow.critical import EndProblem, FoldProblem, _abar_at_upper_end
+    from slosh_bif.slowflow.critical import EndProblem, FoldProblem, abar_at_upper_end
 
     P = get_preset("fig10").params.replace(**HELD_OUT_WALL)
     for sigma in (-1.0, 0.5, 2.0):
         flow = SlowFlow(P.replace(sigma=sigma))
-        assert EndProblem(P, end="upper").abar_at(sigma) == pytest.approx(_abar_at_upper_end(flow, flow.A_max), rel=1e-9)
+        assert EndProblem(P, end="upper").abar_at(sigma) == pytest.approx(abar_at_upper_end(flow, flow.A_max), rel=1e-9)
     folds = FoldProblem(P)
     assert not folds.in_domain(np.array([folds.r.flow.A_max * (1 + 1e-6), 1.0]), 0.0)
     assert folds.in_domain(np.array([folds.r.flow.A_max * 0.5, 1.0]), 0.0)

@@ -95,9 +95,9 @@ def test_bench_rejects_bad_input(tmp_path):
 def test_speed_bench_times_the_command_as_a_user_runs_it():
     """The speed question runs the CLI in a fresh interpreter; a failing command is an error that
     names it, not a time."""
-    from slosh_bif.studies.speed import _run_cli
+    from slosh_bif.studies.speed import run_cli
 
-    seconds, _ = _run_cli(["info", "--preset", "fig10"])
+    seconds, _ = run_cli(["info", "--preset", "fig10"])
     assert 0 < seconds < 120
     with pytest.raises(RuntimeError, match="slosh-bif info --preset nosuch failed"):
-        _run_cli(["info", "--preset", "nosuch"])
+        run_cli(["info", "--preset", "nosuch"])

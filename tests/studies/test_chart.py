@@ -6,7 +6,7 @@ import pytest
 
 from slosh_bif import get_preset
 from slosh_bif.orbits import orbit_from_simulation, trace_orbits
-from slosh_bif.studies.chart_curves import curve_starts as _starts, trace_curves as _trace_curves
+from slosh_bif.studies.chart_curves import curve_starts, trace_curves
 
 PRESET = get_preset("fig10")
 
@@ -18,16 +18,16 @@ def starts():
     P = PRESET.params
     start = orbit_from_simulation(P.replace(sigma=-1.2), PRESET.state0, settle=150)
     family = trace_orbits(start.params, start.y0, p_min=-1.6, p_max=-0.9, switch=False, points_per_2pi=32)
-    found = list(_starts(family.branches[0], "sigma", P, (-1.6, -0.9), (2.8, 3.2)))
+    found = list(curve_starts(family.branches[0], "sigma", P, (-1.6, -0.9), (2.8, 3.2)))
     assert sorted(s.kind for s in found) == ["BP", "LP"]
     return found + found
 
 
 def test_parallel_curves_are_the_sequential_curves_each_once(starts):
-    sequential, status, failures = _trace_curves(starts, lambda message: None, workers=1)
+    sequential, status, failures = trace_curves(starts, lambda message: None, workers=1)
     assert failures == ()
     assert status == "complete" and sorted(c.kind for c in sequential) == ["BP", "LP"]
-    parallel, status, failures = _trace_curves(starts, lambda message: None, workers=2)
+    parallel, status, failures = trace_curves(starts, lambda message: None, workers=2)
     assert failures == ()
     assert status == "complete" and [c.kind for c in parallel] == [c.kind for c in sequential]
     for a, b in zip(sequential, parallel):
@@ -53,5 +53,5 @@ def test_a_period_two_branch_turning_where_it_meets_its_parent_gives_no_fold_cur
         assert repeats_early(problem, x) == (expected == ["PD"])
         special = tuple(SpecialPoint(kind, 1, -1.0, x, (-1.1, -0.9), "", None) for kind in ("LP", "PD"))
         ob = SimpleNamespace(branch=SimpleNamespace(special=special), problem=problem, kind="period-2", name="period-2")
-        assert [s.kind for s in _starts(ob, "sigma", P, (-2.0, 0.0), (2.0, 4.0))] == expected
+        assert [s.kind for s in curve_starts(ob, "sigma", P, (-2.0, 0.0), (2.0, 4.0))] == expected
     assert not repeats_early(ShootingProblem(P, segments=4), np.tile(parent, 2))  # a 2pi problem has no parent to meet

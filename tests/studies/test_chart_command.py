@@ -7,7 +7,6 @@ import subprocess
 import sys
 
 import numpy as np
-import pytest
 
 from slosh_bif import get_preset
 from slosh_bif.cli import main

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from slosh_bif.continuation.branch import SpecialPoint
-from slosh_bif.studies.compare import _stable_at
+from slosh_bif.studies.compare import stable_at
 
 
 def _branch(p, stable, special):
@@ -23,18 +23,18 @@ def _branch(p, stable, special):
 def test_a_special_point_on_the_branch_does_not_decide_by_its_own_flag(flag_at_the_point):
     # The NS point itself is a branch point at p = 2; its multiplier is 1 to rounding.
     b = _branch([0, 1, 2, 3], [True, True, flag_at_the_point, False], [("NS", 2, 2.0)])
-    assert _stable_at(b, slice(1, 3), 1.5) is True
-    assert _stable_at(b, slice(2, 4), 2.5) is False
+    assert stable_at(b, slice(1, 3), 1.5) is True
+    assert stable_at(b, slice(2, 4), 2.5) is False
 
 
 def test_a_special_point_inside_a_segment_splits_it():
     b = _branch([0, 1, 2, 3], [True, True, False, False], [("LP", 1, 1.4)])
-    assert _stable_at(b, slice(1, 3), 1.3) is True and _stable_at(b, slice(1, 3), 1.6) is False
+    assert stable_at(b, slice(1, 3), 1.3) is True and stable_at(b, slice(1, 3), 1.6) is False
     # the same with the parameter decreasing along the branch
     r = _branch([3, 2, 1, 0], [False, False, True, True], [("LP", 1, 1.4)])
-    assert _stable_at(r, slice(1, 3), 1.3) is True and _stable_at(r, slice(1, 3), 1.6) is False
+    assert stable_at(r, slice(1, 3), 1.3) is True and stable_at(r, slice(1, 3), 1.6) is False
     # without a located special point, ends that disagree give "unstable"
-    assert _stable_at(_branch([0, 1], [True, False], []), slice(0, 2), 0.5) is False
+    assert stable_at(_branch([0, 1], [True, False], []), slice(0, 2), 0.5) is False
 
 
 _POINT = (
