@@ -353,7 +353,10 @@ def orbit_at(problem: ShootingProblem, x, p, *, tol=1e-10, max_iter=20) -> Perio
     """Newton on ``problem`` at fixed parameter p from x; the orbit with multipliers and checks."""
     run = newton_solve(problem, x, p, tol=tol, max_iter=max_iter, criterion="residual")
     x = run.x
-    finite = bool(np.isfinite(run.residual))
+    # Multipliers and checks of a converged orbit only: a failed run's last iterate may never have
+    # been integrated (Newton stopped as it left the domain) and can lie deep in the wall, where
+    # one integration of its arcs took minutes (the critical forcing at sigma = 4, Fig. 10 set).
+    finite = run.converged and bool(np.isfinite(run.residual))
     mu = problem.eigenvalues(x, p) if finite else np.full(4, np.nan + 0j)
     return PeriodicOrbit(
         y0=x[:4].copy(),

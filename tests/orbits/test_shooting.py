@@ -291,3 +291,21 @@ def test_liouville_check_survives_an_ill_conditioned_monodromy():
     problem._cache[(x.tobytes(), problem.params_at(P.sigma))] = Arcs(np.zeros((4, 4)), mats, np.zeros((4, 4, 2)), trace, M)
     assert np.linalg.cond(M) > 1e12
     assert problem.liouville_error(x, P.sigma) < 1e-12 * 16
+
+
+def test_a_failed_newton_run_integrates_nothing_more():
+    # Newton stops where an iterate leaves the domain, without integrating it; the orbit's
+    # multipliers and checks are then not computed either (such an iterate deep in the n = 50
+    # wall once took minutes of one arc integration in the critical-forcing bench).
+    P = get_preset("fig10").params
+
+    class Fenced(ShootingProblem):
+        def in_domain(self, x, p):
+            return bool(np.array_equal(x, self.start))
+
+    problem = Fenced(P, segments=4)
+    problem.start = problem.initial_states(get_preset("fig10").state0)
+    orbit = orbit_at(problem, problem.start.copy(), P.sigma)
+    assert not orbit.converged and "left the problem's domain" in orbit.message
+    assert problem.evaluations == 4  # the start's four arcs, once
+    assert np.all(np.isnan(orbit.multipliers)) and not orbit.stable
