@@ -113,7 +113,7 @@ class MinAugCurveProblem:
         if not self.refresh_borders:
             return
         _, V, W, _ = self._bordered(x, p)
-        self._b, self._c = np.linalg.qr(W)[0], np.linalg.qr(V)[0]
+        self._b, self._c = _orthonormal(W), _orthonormal(V)
         self._memo.clear()
         self._last_second = None
 
@@ -247,3 +247,14 @@ class MinAugCurveProblem:
         """The multipliers but the critical one, and the NS test of their pairs."""
         others = self.eigenvalues(x, p)[1:]
         return others, np.prod([others[i] * others[j] - 1 for i in range(3) for j in range(i + 1, 3)]).real
+
+
+def _orthonormal(A):
+    """An orthonormal basis of A's columns that keeps their orientation (Q R with R's diagonal
+    positive; one column: a / |a|): a border whose sign flipped from one point to the next would
+    flip the sign of the fold's quadratic coefficient and report a cusp at every flip."""
+    Q, R = np.linalg.qr(A)
+    signs = np.sign(np.diag(R).real)
+    signs[signs == 0] = 1.0
+    return Q * signs
+
