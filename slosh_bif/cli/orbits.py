@@ -127,8 +127,9 @@ def _shoot_impact(args, params, lo, hi) -> int:
     branches = [("symmetric" if symmetric else "primary", result, symmetric)]
     if symmetric and not args.no_switch:
         for k, (origin, branch) in enumerate(asymmetric_branches(params, result, p_min=lo, p_max=hi, options=options, max_branches=args.max_branches - 1)):
-            branches.append(("asymmetric" + (f"-{k + 1}" if k else ""), branch, False))
-            progress(f"asymmetric{f'-{k + 1}' if k else ''}: from the {origin}, {len(branch.pieces)} pieces")
+            name = "asymmetric" + (f"-{k + 1}" if k else "")
+            branches.append((name, branch, False))
+            progress(f"{name}: from the {origin}, {len(branch.pieces)} pieces")
     rows = [r for name, branch, half in branches for r in impact_rows(branch, params, symmetric=half, name=name)]
     csv_path, png_path = write_impact_csv(rows, args.out / "branch.csv"), plot_impact_branch(rows, params, args.out / "branch.png")
     for name, branch, _ in branches:
