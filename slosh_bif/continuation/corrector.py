@@ -33,6 +33,7 @@ class Point:
     edge: str = ""  # at a domain edge: the problem's name for it
     eigenvalues: np.ndarray | None = None  # stability, computed once when the point joins the branch
     diagnostics: dict | None = None  # the problem's per-point checks (e.g. Liouville's), likewise
+    refined: bool = False  # a stalled direction was resumed here with the problem's finer version
 
 
 def in_domain(problem, u):

@@ -45,6 +45,12 @@ __all__ = ["continuation", "switch_branch"]
 # 2,000 points in 1e-7 of parameter), not making progress.
 CREEP, CREEP_STEPS = 1e3, 50
 
+# A direction that stalls at a point where the problem is nearly singular may only lack
+# precision there (a fold curve's second derivatives are finite differences of integrations
+# to rtol): a problem that offers ``refined()`` is resumed from the stall with that finer
+# version, at most this many times per direction, before the stall is reported.
+REFINEMENTS = 2
+
 
 def _bound_message(bound, opts):
     return f"{BOUND} {'p_max' if bound == opts.p_max else 'p_min'} = {bound}"
@@ -81,6 +87,7 @@ def _run(problem, start: Point, opts, loop_guard: bool, callback=None):
     edge_hits = 0
     bend = None  # no turn known before the first step: a straight tangent predictor
     crept = 0  # accepted steps in a row at most CREEP * step_min
+    refinements = 0  # times this direction was resumed with a finer problem after a stall
     caps = capabilities(problem)
     accept, terminal = caps.accept, caps.terminal_kinds
     stamped = 0  # points[:stamped] have their stability (computed while the problem's caches hold them)
@@ -104,6 +111,12 @@ def _run(problem, start: Point, opts, loop_guard: bool, callback=None):
             edge_hits += not in_domain(problem, guess) or iters < opts.max_newton
             h *= 0.5
             if h < opts.step_min:
+                finer = _finer(caps, points, refinements) if _stalls(caps, points[-1], edge_hits) else None
+                if finer is not None:  # resume with the finer problem from the last point
+                    problem, caps, refinements, h, bend = finer, capabilities(finer), refinements + 1, opts.step, None
+                    accept, terminal = caps.accept, caps.terminal_kinds
+                    _restart_at(finer, points)
+                    continue
                 return points, _end_after_failures(problem, points, h, edge_hits, opts)
             continue
         edge_hits = 0
@@ -130,6 +143,13 @@ def _run(problem, start: Point, opts, loop_guard: bool, callback=None):
         if callback is not None:
             callback(float(u[-1]), u[:-1])
         crept = crept + 1 if h <= CREEP * opts.step_min else 0
+        if crept >= CREEP_STEPS and (finer := _finer(caps, points, refinements)) is not None:
+            # Newton converges only for tiny steps: resume where the creeping began with the finer problem
+            del points[len(points) - crept :]
+            problem, caps, refinements, h, bend, crept = finer, capabilities(finer), refinements + 1, opts.step, None, 0
+            accept, terminal = caps.accept, caps.terminal_kinds
+            _restart_at(finer, points)
+            continue
         if crept >= CREEP_STEPS:  # Newton converges only for tiny steps: a singular point, not progress
             _mark_end(points[-1], STALL, f"{STALL}: {CREEP_STEPS} steps in a row below {CREEP * opts.step_min:.1g} (a singular point of the system)")
             return points, STALL
@@ -137,6 +157,23 @@ def _run(problem, start: Point, opts, loop_guard: bool, callback=None):
             # A closed curve has no end: the branch's message says it closed, no point is an END.
             return points, LOOP
         h = _next_step(h, iters, angle, opts)
+
+
+def _finer(caps, points, refinements):
+    """The problem's finer version to resume a stalled direction with (None: it has none, or this
+    direction was resumed ``REFINEMENTS`` times already)."""
+    if caps.refined is None or refinements >= REFINEMENTS:
+        return None
+    return caps.refined()
+
+
+def _restart_at(problem, points):
+    """The last point's tangent and tests recomputed with ``problem`` (the finer one), so that the
+    next step's sign changes compare values of one problem; its stability stays as stamped."""
+    a = points[-1]
+    q = make_point(problem, a.u, a.t, a.iterations)
+    a.t, a.tests, a.jac = q.t, q.tests, q.jac
+    a.refined = True
 
 
 def _stamp(caps, q: Point):
@@ -160,10 +197,7 @@ def _end_after_failures(problem, points, h, edge_hits, opts):
     edge point when it offers one) if the failures left the domain, else a stall."""
     a = points[-1]
     caps = capabilities(problem)
-    near = caps.edge_distance
-    # A stall right at the edge is the edge: derivatives with a square root there (kappa(A) of
-    # (39) at the manifold's end) make the corrector fail before the domain check does.
-    at_named_edge = near is not None and near(a.u[:-1], a.u[-1]) < 1e-5
+    at_named_edge = _at_named_edge(caps, a)
     reason = EDGE if edge_hits or at_named_edge else STALL
     bracket = (a.u[-1], (a.u + 2 * h * a.t)[-1])
     edge = _edge_point(problem, a, opts) if reason == EDGE else None
@@ -175,6 +209,18 @@ def _end_after_failures(problem, points, h, edge_hits, opts):
         if reason == EDGE:
             a.edge = caps.edge_name
     return reason
+
+
+def _at_named_edge(caps, a: Point) -> bool:
+    """A stall right at the edge is the edge: derivatives with a square root there (kappa(A) of
+    (39) at the manifold's end) make the corrector fail before the domain check does."""
+    near = caps.edge_distance
+    return near is not None and near(a.u[:-1], a.u[-1]) < 1e-5
+
+
+def _stalls(caps, a: Point, edge_hits) -> bool:
+    """Whether failed steps from a end the direction as a stall (not at the domain's edge)."""
+    return not edge_hits and not _at_named_edge(caps, a)
 
 
 def _edge_point(problem, a: Point, opts):
@@ -284,6 +330,9 @@ def _trace(problem, u0, param, opts, orient=None, callback=None) -> Branch:
     status = "ok" if all(r in COMPLETE for r in reasons) else next(r for r in reasons if r not in COMPLETE)
     ends = tuple((name, r) for name, r in (("backward", back_reason), ("forward", ahead_reason)) if r)
     message = "; ".join(f"{name}: {r}" for name, r in ends)
+    resumed = [f"{q.u[-1]:.6g}" for q in points if q.refined]
+    if resumed:
+        message += f" (resumed with the finer problem after a stall at {param} = {', '.join(resumed)})"
     return _assemble(problem, points, param, status, message, opts, ends)
 
 

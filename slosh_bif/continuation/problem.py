@@ -21,6 +21,9 @@ It may offer any of these capabilities, each a protocol of its own:
 * :class:`OwnTests`: ``test_kinds`` (names, e.g. PD, NS) with ``test_functions(x, p)`` -> one
   real value per kind, special points at their sign changes, located like folds; ``confirm(kind,
   x, p)`` -> a message, or None to drop a located point that is not what the kind means.
+* :class:`Refinable`: ``refined()`` -> the same problem computed more precisely (tighter
+  integration tolerances), or None when there is none: a direction that stalls is resumed with
+  it from where the stall began, at most twice, before the stall is reported.
 * ``accept(x, p)``, called after each accepted point (a minimally augmented problem refreshes its
   bordering vectors there); ``branch_kind``, what the points are, for the :class:`Branch`.
 
@@ -35,7 +38,7 @@ from typing import Protocol, runtime_checkable
 
 import numpy as np
 
-__all__ = ["Problem", "Domain", "Edges", "Stability", "OwnTests", "Capabilities", "capabilities", "require_problem"]
+__all__ = ["Problem", "Domain", "Edges", "Stability", "OwnTests", "Refinable", "Capabilities", "capabilities", "require_problem"]
 
 REQUIRED = ("names", "residual", "jacobian", "dparam")
 
@@ -77,6 +80,11 @@ class OwnTests(Protocol):
     def confirm(self, kind, x, p) -> str | None: ...
 
 
+@runtime_checkable
+class Refinable(Protocol):
+    def refined(self): ...
+
+
 def _all_negative(eigenvalues) -> bool:
     return bool(np.all(eigenvalues.real < 0))
 
@@ -100,6 +108,7 @@ class Capabilities:
         self.terminal_kinds = frozenset(getattr(problem, "terminal_kinds", ()))
         self.test_floor = dict(getattr(problem, "test_floor", {}))
         self.accept = getattr(problem, "accept", None)
+        self.refined = getattr(problem, "refined", None)
         self.branch_kind = getattr(problem, "branch_kind", "")
 
     @property

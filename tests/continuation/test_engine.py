@@ -191,3 +191,31 @@ def test_a_start_on_a_parameter_bound_is_the_end_and_appears_once(x0):
     branch = continuation(Cubic(), [x0], x0**3 - x0, options=ContinuationOptions(p_min=bounds[0], p_max=bounds[1], step=0.05))
     assert np.all(np.linalg.norm(np.diff(np.column_stack([branch.x, branch.p]), axis=0), axis=1) > 1e-6)  # no point twice
     assert [e.p for e in branch.special_of("END")] == pytest.approx(bounds) and branch.status == "ok"
+
+
+@dataclasses.dataclass
+class CoarseCircle(Circle):
+    """The circle with a Jacobian of the wrong sign on the stretch 0.3 < p < 0.7, x > 0 (a coarse
+    evaluation there); ``refined()`` gives the exact one."""
+
+    coarse: bool = True
+
+    def jacobian(self, x, p):
+        wrong = self.coarse and abs(p - 0.5) < 0.2 and x[0] > 0
+        return np.array([[-2 * x[0] if wrong else 2 * x[0]]])
+
+    def refined(self):
+        return CoarseCircle(coarse=False) if self.coarse else None
+
+
+def test_a_stalled_direction_is_resumed_with_the_problems_finer_version():
+    options = ContinuationOptions(step=0.02, step_max=0.05)
+    branch = continuation(CoarseCircle(), [1.0], 0.0, options=options)
+    assert branch.status == "ok" and "closed loop" in branch.message
+    assert "resumed with the finer problem after a stall at p = 0.3" in branch.message
+    np.testing.assert_allclose(branch.x[:, 0] ** 2 + branch.p**2, 1.0, atol=1e-10)
+    without = dataclasses.replace(CoarseCircle(), coarse=True)
+    without.refined = lambda: None  # no finer version: the same stall is reported
+    stalled = continuation(without, [1.0], 0.0, options=options)
+    assert stalled.status == "step below minimum" and "resumed" not in stalled.message
+    assert not np.any((np.abs(stalled.p - 0.5) < 0.18) & (stalled.x[:, 0] > 0))  # both directions stop at the stretch

@@ -11,7 +11,7 @@ import pytest
 from slosh_bif import get_preset
 from slosh_bif.continuation import continuation
 from slosh_bif.orbits import ShootingProblem, orbit_at, orbit_from_simulation, settle_and_shoot, trace_orbits
-from slosh_bif.orbits.codim2 import BifurcationCurve, FoldCurveProblem, curve_problem, trace_curve
+from slosh_bif.orbits.codim2 import CURVE_OPTIONS, BifurcationCurve, FoldCurveProblem, curve_problem, trace_curve
 from slosh_bif.orbits.families import SHOOTING_OPTIONS
 from slosh_bif.orbits.pitchforks import refine_pitchforks
 
@@ -262,3 +262,37 @@ def test_renewed_borders_keep_their_orientation():
     Q = _orthonormal(A)
     np.testing.assert_allclose(Q.conj().T @ Q, np.eye(2), atol=1e-14)
     assert np.real(np.vdot(Q[:, 0], A[:, 0])) > 0
+
+
+# A fold of the Fig. 13 set's asymmetric orbits (four arcs' start states, then Abar) at
+# sigma = 0.238629, just past a fold-flip point, on the chart's fold curve from the asymmetric
+# branch's fold at sigma = -0.395572, Abar = 1.
+ASYMMETRIC_FOLD = (0.2386292151495742, [
+    -0.7148530978941231, 1.5185409394108365, 0.09556320805221538, 0.6849721281700706, 1.507156846438365, 0.6925015690759277,
+    0.9656768661778115, -0.16523146758683027, 0.6744090981333701, -1.5049301688991485, -1.0668776001923508, 1.0449367740631663,
+    -1.5147752552889249, -0.709203058911448, 0.46435318899334305, -1.3351344263412561, 0.6452025739910295,
+])
+
+
+def test_a_fold_curve_that_stalls_is_resumed_with_finer_arcs_and_passes(scipy_multipliers):
+    # Past the cusp at sigma = 0.2401 the curve runs by a nearly singular stretch (the augmented
+    # Jacobian's least singular value 6e-7 near sigma = 0.2394) where the finite differences of
+    # arcs integrated to rtol 1e-10 are too coarse and the steps creep to nothing. Resumed with
+    # the arcs at 1e-12 it passes, through a second fold-flip point to the box's edge.
+    p, u = ASYMMETRIC_FOLD
+    P = get_preset("fig13").params.replace(Abar=u[-1])
+    options = dataclasses.replace(CURVE_OPTIONS, direction="forward", max_steps=200)
+    curve = trace_curve(P, u[:-1], p, kind="LP", p1_range=(-0.25, 1.0), p2_range=(0.3, 1.0), options=options)
+    branch = curve.branch
+    assert branch.status == "ok" and "resumed with the finer problem" in branch.message, branch.message
+    assert set(branch.diagnostics["rtol"]) == {1e-10, 1e-12}
+    assert branch.p[-1] == -0.25  # ended on the box, not at the stall
+    (cusp,) = branch.special_of("CP")
+    assert cusp.p == pytest.approx(0.2401, abs=2e-4)
+    flips = [s for s in branch.special_of("LPPD") if s.p < 0]
+    assert len(flips) == 1
+    mu = scipy_multipliers(P.replace(sigma=float(flips[0].p), Abar=float(flips[0].x[-1])), flips[0].x[:4])
+    assert np.min(np.abs(mu - 1)) < 1e-6 and np.min(np.abs(mu + 1)) < 1e-6
+    for i in np.linspace(0, len(branch) - 1, 5).astype(int):  # fold points by scipy on both sides of the stall
+        mu = scipy_multipliers(P.replace(sigma=float(branch.p[i]), Abar=float(branch.x[i, -1])), branch.x[i, :4])
+        assert np.min(np.abs(mu - 1)) < 1e-6

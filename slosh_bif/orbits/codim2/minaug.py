@@ -27,6 +27,8 @@ as BifurcationKit's MinAug problems do, and add their own codimension-2 test fun
 
 from __future__ import annotations
 
+import copy
+
 import numpy as np
 
 from slosh_bif.model.params import Params, real_pair
@@ -217,6 +219,32 @@ class MinAugCurveProblem:
 
     def dparam(self, x, p):
         return self._rows(x, p, self._g_row(self._second(x, p)))[:, -1]
+
+    # -- precision -------------------------------------------------------------------------------
+
+    FINEST_RTOL = 1e-12  # the arcs' tolerance below which no finer problem is offered
+
+    def refined(self):
+        """This curve with the arcs integrated 100 times more tightly (rtol down to
+        ``FINEST_RTOL``), its borders kept; None when it is there already. The engine resumes a
+        stalled direction with it: g's derivatives are central differences of the arcs, whose
+        rounding (rtol / h) can hide a nearly singular but regular stretch of the curve (past
+        the cusps of the Fig. 10 and Fig. 13 fold curves of asymmetric orbits)."""
+        s = self.shooting
+        if s.rtol <= self.FINEST_RTOL:
+            return None
+        factor = max(self.FINEST_RTOL / s.rtol, 1e-2)
+        finer = copy.copy(self)
+        finer.shooting = ShootingProblem(
+            s.params, s.param, segments=s.segments, period_multiple=s.period_multiple, rtol=s.rtol * factor, atol=s.atol * factor, backend=s.backend,
+            box=s.box, symmetric=s.symmetric, sensitivities=s.sensitivities,
+        )
+        finer._memo, finer._last_second, finer._multipliers = {}, None, {}
+        return finer
+
+    def diagnostics(self, x, p) -> dict:
+        """The arcs' relative tolerance at the point (tighter where a stall was resumed)."""
+        return {"rtol": self.shooting.rtol}
 
     # -- multipliers and codimension-2 tests --------------------------------------------------
 
