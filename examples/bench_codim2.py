@@ -15,8 +15,8 @@ import time
 import numpy as np
 
 from slosh_bif import get_preset
-from slosh_bif.orbits import orbit_from_simulation, trace_orbits
-from slosh_bif.orbits.codim2 import trace_curve
+from slosh_bif.orbits import NO_SWITCHING, ShootingSettings, orbit_from_simulation, trace_orbits
+from slosh_bif.orbits.codim2 import CurveSeed, trace_curve
 
 
 def _median_per_point(run, repeats=3):
@@ -34,7 +34,7 @@ def main():
     start = orbit_from_simulation(P.replace(sigma=-1.2), preset.state0, settle=150)
 
     def branch():
-        family = trace_orbits(start.params, start.y0, p_min=-1.6, p_max=1.2, switch=False, points_per_2pi=64)
+        family = trace_orbits(start.params, start.y0, p_min=-1.6, p_max=1.2, shooting=ShootingSettings(points_per_2pi=64), branching=NO_SWITCHING)
         branch.result = family.branches[0]
         return len(family.branches[0])
 
@@ -45,7 +45,7 @@ def main():
         sp = [s for s in branch.result.branch.special if s.kind == kind and abs(s.p - near) < 1e-3][0]
 
         def curve():
-            return len(trace_curve(P, sp.x, sp.p, kind=kind, p1_range=(-2.0, 3.0), p2_range=(0.5, 6.0), points_per_2pi=64))
+            return len(trace_curve(P, CurveSeed(kind, sp.x, sp.p), box={"sigma": (-2.0, 3.0), "Abar": (0.5, 6.0)}, shooting=ShootingSettings(points_per_2pi=64)))
 
         per_curve_point, n_curve = _median_per_point(curve)
         print(f"{kind} curve: {n_curve} points, {1e3 * per_curve_point:.2f} ms a point, {per_curve_point / per_branch_point:.2f}x a branch point (target <= 3)")

@@ -50,7 +50,7 @@ def main(argv=None):
         params = base.replace(eps=eps)
         print(f"orbits of (9) at eps = {eps} (n = {args.n}, beta = {args.beta})", flush=True)
         start = slow_flow_start(params, SIGMA_MIN, SIGMA_MAX, segments=4)
-        family = trace_orbits(start.params, start.y0, p_min=SIGMA_MIN, p_max=SIGMA_MAX, segments=4, switch=True, max_branches=6)
+        family = trace_orbits(start.params, start.y0, p_min=SIGMA_MIN, p_max=SIGMA_MAX)
         for name, fr in models.items():  # the families near the models' states that the first start missed (as `trust` does)
             family.branches.extend(missed_families(params, fr, family, sigmas, model=name))
         families[eps] = family.branches

@@ -18,6 +18,7 @@ import numpy as np
 
 from slosh_bif.continuation import ContinuationOptions
 from slosh_bif.model.presets import get_preset
+from slosh_bif.orbits import NO_SWITCHING
 from slosh_bif.orbits.families import trace_orbits
 from slosh_bif.orbits.impact_branches import settled_orbit, trace_impact_orbits
 from slosh_bif.orbits.impact_output import impact_rows
@@ -50,7 +51,7 @@ def main(argv=None):
     impact = trace_impact_orbits(params, settled_orbit(params, preset.state0, periods=150), p_min=lo, p_max=hi, options=fine)
     rows8 = list(impact_rows(impact, params))
     start = start_orbit(params, preset.state0, (lo, hi))
-    smooth = trace_orbits(start.params, start.y0, param="sigma", p_min=lo, p_max=hi, switch=False)
+    smooth = trace_orbits(start.params, start.y0, param="sigma", p_min=lo, p_max=hi, branching=NO_SWITCHING)
 
     table = []
     for sigma in sigmas:

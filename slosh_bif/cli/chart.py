@@ -16,7 +16,8 @@ __all__ = ["add_commands"]
 
 
 def _chart(args) -> int:
-    from slosh_bif.studies.chart import bifurcation_chart, check_box
+    from slosh_bif.orbits.settings import BranchingSettings, Resume, ShootingSettings
+    from slosh_bif.studies.chart import ChartSettings, bifurcation_chart, check_box
     from slosh_bif.studies.chart_output import chart_settings, curve_store, plot_chart, write_codim2_csv, write_critical_csv, write_curves_csv
 
     params = params_of(args)
@@ -48,8 +49,9 @@ def _chart(args) -> int:
     settings = chart_settings(params, state0, (lo, hi), (a_lo, a_hi), **options)
     done, keep = curve_store(args.out / "curves", settings, resume=args.resume)
     chart = bifurcation_chart(
-        params, state0, sigma_range=(lo, hi), abar_range=(a_lo, a_hi), switch=not args.no_switch, seeds=args.seeds, workers=args.workers, backend=args.backend,
-        done=done, keep=keep, progress=throttled(progress, passes=lambda message: ": point " not in message), second=args.second, model=args.model,
+        params, state0, sigma_range=(lo, hi), abar_range=(a_lo, a_hi), second=args.second, shooting=ShootingSettings(backend=args.backend),
+        branching=BranchingSettings(switch=not args.no_switch), settings=ChartSettings(seeds=args.seeds, workers=args.workers, model=args.model),
+        progress=throttled(progress, passes=lambda message: ": point " not in message), resume=Resume(done, keep),
     )
     regimes = None
     if args.regimes is not None and chart.status == "complete":

@@ -41,8 +41,9 @@ def check_family_options(args) -> float:
 
 def family_from_args(args, params, lo, hi, param="sigma"):
     """The family of orbits ``shoot`` and ``compare`` trace: from --start's orbit, over [lo, hi] of ``param``."""
-    from slosh_bif.orbits.families import SHOOTING_OPTIONS, trace_orbits
+    from slosh_bif.orbits.families import SHOOTING_OPTIONS, trace_new_family
     from slosh_bif.orbits.scan import scan_families
+    from slosh_bif.orbits.settings import BranchingSettings, Resume, ShootingSettings, StartSettings
     from slosh_bif.orbits.starts import slow_flow_start, start_orbit
     from slosh_bif.report.files import pickle_store
 
@@ -50,6 +51,8 @@ def family_from_args(args, params, lo, hi, param="sigma"):
     options = continuation_options(args, SHOOTING_OPTIONS)
     if getattr(args, "resume", False) and args.start != "scan":
         raise ValueError("--resume continues an interrupted --start scan; the other starts trace one family, which is not stored part by part")
+    shooting = ShootingSettings(segments=args.segments, rtol=rtol, atol=rtol * 1e-2, backend=args.backend)
+    branching = BranchingSettings(switch=not args.no_switch, max_branches=args.max_branches)
     if args.start == "scan":
         settings = dict(
             params=params.as_dict(), param=param, range=[lo, hi], points=args.scan_points, random=args.scan_random, seed=args.seed, settle=args.settle,
@@ -58,10 +61,10 @@ def family_from_args(args, params, lo, hi, param="sigma"):
         done, keep = pickle_store(args.out / "scan.pickle", settings, resume=getattr(args, "resume", False))
         if done is not None:
             progress(f"resuming: {done[0]} converged starts already dealt with, {len(done[1])} branch(es) traced, in {args.out / 'scan.pickle'}")
+        starts = StartSettings(points=args.scan_points, settle=args.settle, random_starts=args.scan_random, seed=args.seed)
         return scan_families(
-            params, state0_of(args, params), p_min=lo, p_max=hi, param=param, points=args.scan_points, settle=args.settle, random_starts=args.scan_random,
-            seed=args.seed, segments=args.segments, backend=args.backend, done=done, keep=keep,
-            options=options, switch=not args.no_switch, max_branches=args.max_branches, rtol=rtol, atol=rtol * 1e-2, progress=throttled(progress),
+            params, state0_of(args, params), param=param, p_min=lo, p_max=hi, starts=starts, shooting=shooting, branching=branching, options=options,
+            progress=throttled(progress), resume=Resume(done, keep),
         )
     if args.start == "slow-flow":
         start = slow_flow_start(params, lo, hi, segments=args.segments, backend=args.backend)
@@ -74,9 +77,9 @@ def family_from_args(args, params, lo, hi, param="sigma"):
     mu = ", ".join(f"{abs(m):.4g}" for m in start.orbit.multipliers)
     which = "from the slow flow " if args.start == "slow-flow" else ""
     progress(f"start orbit {which}at sigma = {start.sigma:.5g}: |X(0)| = {abs(start.y0[0]):.4g}, multipliers |mu| = {mu} ({start.found_from})")
-    return trace_orbits(
-        start.params, start.y0, param=param, p_min=lo, p_max=hi, segments=args.segments, options=options, rtol=rtol, atol=rtol * 1e-2,
-        switch=not args.no_switch, max_branches=args.max_branches, progress=throttled(progress), found_from=start.found_from, backend=args.backend,
+    return trace_new_family(
+        start.params, start.y0, (), param=param, p_min=lo, p_max=hi, shooting=shooting, branching=branching, options=options, progress=throttled(progress),
+        found_from=start.found_from,
     )
 
 

@@ -80,6 +80,7 @@ MAX_REPEATS = 100  # timing rounds per benchmark point: the median of 100 is as 
 
 
 def _trust(args) -> int:
+    from slosh_bif.orbits.settings import BranchingSettings, Resume, ShootingSettings
     from slosh_bif.studies.trust import trust_map
     from slosh_bif.studies.trust_output import plot_trust_map, trust_store, trust_table, write_trust_csv
 
@@ -103,8 +104,9 @@ def _trust(args) -> int:
 
     with sweep_executor(args) as executor:
         points = trust_map(
-            base, eps=args.eps, beta=args.beta, n=args.n, sigma_min=lo, sigma_max=hi, grid=args.sigma_points, switch=not args.no_switch, max_branches=args.max_branches,
-            backend=args.backend, model=args.model, max_workers=args.workers, progress=report, done=done, keep=keep, executor=executor,
+            base, eps=args.eps, beta=args.beta, n=args.n, sigma_min=lo, sigma_max=hi, grid=args.sigma_points, shooting=ShootingSettings(backend=args.backend),
+            branching=BranchingSettings(switch=not args.no_switch, max_branches=args.max_branches), model=args.model, max_workers=args.workers, progress=report,
+            resume=Resume(done, keep), executor=executor,
         )
     table = trust_table(points, model=args.model)
     write_text_atomically(args.out / "trust_map.txt", table + "\n")

@@ -27,9 +27,10 @@ from slosh_bif.continuation import ContinuationOptions, ConvergenceError, contin
 from slosh_bif.continuation.branch import BRANCH_POINT, PERIOD_DOUBLING, Branch, Status, polyline_distance
 from slosh_bif.model.params import Params
 from slosh_bif.orbits.pitchforks import refine_pitchforks
+from slosh_bif.orbits.settings import BRANCHING, SHOOTING, BranchingSettings, ShootingSettings
 from slosh_bif.orbits.shooting import MAX_PERIOD_MULTIPLE, PARAMETERS, ShootingProblem, orbit_at, orbit_measures
 
-__all__ = ["OrbitBranch", "OrbitFamily", "trace_orbits", "mirror", "images", "unique_name", "SHOOTING_OPTIONS", "LIOUVILLE_TOL"]
+__all__ = ["OrbitBranch", "OrbitFamily", "trace_orbits", "trace_new_family", "mirror", "images", "unique_name", "SHOOTING_OPTIONS", "LIOUVILLE_TOL"]
 
 # Shooting residuals carry the integration's rounding (~1e-13 at rtol 1e-10), so the corrector's
 # tolerance sits above it; steps are capped so that orbits change little from one point to the next.
@@ -219,7 +220,7 @@ def _cut_where_it_rejoins(new: Branch, problem: ShootingProblem, parent: OrbitBr
     return new, None
 
 
-def _check(params, param, p_min, p_max, max_branches):
+def _check(params, param, p_min, p_max):
     if param not in PARAMETERS:
         raise ValueError(f"param must be one of {PARAMETERS}; got {param!r}")
     if not (np.isfinite(p_min) and np.isfinite(p_max) and p_min < p_max):
@@ -227,8 +228,6 @@ def _check(params, param, p_min, p_max, max_branches):
     p0 = getattr(params, param)
     if not p_min <= p0 <= p_max:
         raise ValueError(f"{param} = {p0} of the start orbit lies outside [{p_min}, {p_max}]")
-    if not (isinstance(max_branches, int) and max_branches >= 1):
-        raise ValueError(f"max_branches must be an integer >= 1; got {max_branches!r}")
 
 
 def _point_counter(say, name, param):
@@ -291,30 +290,33 @@ def trace_orbits(
     param: str = "sigma",
     p_min: float,
     p_max: float,
-    segments: int = 4,
+    shooting: ShootingSettings = SHOOTING,
+    branching: BranchingSettings = BRANCHING,
     options: ContinuationOptions | None = None,
-    switch: bool = True,
-    max_branches: int = 6,
-    points_per_2pi: int = 256,
-    rtol: float = 1e-10,
-    atol: float = 1e-12,
-    backend: str = "auto",
     progress=None,
-    known=(),
-    found_from: str = "",
-    doublings: bool = True,
 ) -> OrbitFamily:
     """Continue the 2pi-orbit through the guess y0 (at the preset's value of ``param``) over
     [p_min, p_max], then the branches born at its branch points and period doublings.
 
-    ``progress(message)`` is called as the work goes on (one call per accepted point and per
-    branch). ``known``: OrbitBranches already traced (by other starts): a switched branch on one
-    of them (or its mirror image) is not traced again, and names stay unique among them.
-    ``found_from`` describes the start. ``doublings=False`` switches at branch points only (the
-    period-1 orbits: symmetric and asymmetric). Period doublings are followed up to period 8. Raises :class:`ConvergenceError` when no orbit is found near y0.
+    ``shooting``: how each orbit is computed and measured; ``branching``: which branches are
+    followed beyond the first (``NO_SWITCHING``: the first alone); ``options``: the
+    continuation's step control (:data:`SHOOTING_OPTIONS` by default). ``progress(message)`` is
+    called as the work goes on (one call per accepted point and per branch). Period doublings are
+    followed up to period 8. Raises :class:`ConvergenceError` when no orbit is found near y0.
     """
-    _check(params, param, p_min, p_max, max_branches)
+    return trace_new_family(params, y0, (), param=param, p_min=p_min, p_max=p_max, shooting=shooting, branching=branching, options=options, progress=progress)
+
+
+def trace_new_family(
+    params: Params, y0, known, *, param: str, p_min: float, p_max: float, shooting: ShootingSettings, branching: BranchingSettings,
+    options: ContinuationOptions | None, progress=None, found_from: str = "",
+) -> OrbitFamily:
+    """:func:`trace_orbits` beside the OrbitBranches ``known`` already traced (by other starts of
+    a scan): a switched branch on one of them (or its mirror image) is not traced again, and
+    names stay unique among them. ``found_from`` describes the start."""
+    _check(params, param, p_min, p_max)
     opts = dataclasses.replace(options or SHOOTING_OPTIONS, p_min=p_min, p_max=p_max)
+    segments, points_per_2pi = shooting.segments, shooting.points_per_2pi
     say = progress or (lambda message: None)
 
     span = p_max - p_min
@@ -322,14 +324,14 @@ def trace_orbits(
 
     def make_problem(multiple, symmetric=False):  # a period of multiple * 2 pi, in as many times the arcs (half for the half period)
         arcs = segments // 2 if symmetric else multiple * segments
-        return ShootingProblem(params, param, segments=arcs, period_multiple=multiple, rtol=rtol, atol=atol, backend=backend, box=box, symmetric=symmetric)
+        return ShootingProblem(params, param, segments=arcs, period_multiple=multiple, rtol=shooting.rtol, atol=shooting.atol, backend=shooting.backend, box=box, symmetric=symmetric)
 
     family = [_primary(params, y0, param, opts, make_problem, points_per_2pi, say, known, found_from)]
-    if not switch:
+    if not branching.switch:
         return OrbitFamily(params, param, family)
-    switched = (BRANCH_POINT, PERIOD_DOUBLING) if doublings else (BRANCH_POINT,)
+    switched = (BRANCH_POINT, PERIOD_DOUBLING) if branching.doublings else (BRANCH_POINT,)
     queue = [(family[0], s) for s in family[0].branch.special if s.kind in switched]
-    while queue and len(family) < max_branches:
+    while queue and len(family) < branching.max_branches:
         parent, sp = queue.pop(0)
         origin = f"{sp.kind} at {param} = {sp.p:.6g} on the {parent.name} branch"
         if sp.kind == PERIOD_DOUBLING and 2 * parent.problem.period_multiple > MAX_PERIOD_MULTIPLE:

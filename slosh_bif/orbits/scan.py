@@ -22,7 +22,9 @@ import numpy as np
 
 from slosh_bif.continuation import ConvergenceError, newton_solve
 from slosh_bif.model.params import Params
-from slosh_bif.orbits.families import SHOOTING_OPTIONS, OrbitBranch, OrbitFamily, images, trace_orbits, unique_name
+from slosh_bif.continuation import ContinuationOptions
+from slosh_bif.orbits.families import SHOOTING_OPTIONS, OrbitBranch, OrbitFamily, images, trace_new_family, unique_name
+from slosh_bif.orbits.settings import BRANCHING, SHOOTING, STARTS, BranchingSettings, Resume, ShootingSettings, StartSettings
 from slosh_bif.orbits.starts import START_TOL, scan_starts
 
 __all__ = ["scan_families", "on_traced_branch"]
@@ -83,52 +85,43 @@ def scan_families(
     params: Params,
     state0,
     *,
+    param: str = "sigma",
     p_min: float,
     p_max: float,
-    param: str = "sigma",
-    points: int = 5,
-    settle: int = 100,
-    random_starts: int = 4,
-    seed: int = 0,
-    segments: int = 4,
-    options=None,
-    switch: bool = True,
-    doublings: bool = True,
-    max_branches: int = 6,
-    rtol: float = 1e-10,
-    atol: float = 1e-12,
-    backend: str = "auto",
+    starts: StartSettings = STARTS,
+    shooting: ShootingSettings = SHOOTING,
+    branching: BranchingSettings = BRANCHING,
+    options: ContinuationOptions | None = None,
     progress=None,
-    done=None,
-    keep=None,
+    resume: Resume | None = None,
 ) -> OrbitFamily:
     """Every family of 2pi-orbits of (9) (and what branches off them) over [p_min, p_max] of
     ``param`` (sigma or Abar) that the starts of :func:`~slosh_bif.orbits.starts.scan_starts`
     reach, each traced once.
 
-    ``max_branches`` bounds the branches of each family (the primary one included). Returns one
-    :class:`OrbitFamily` holding every branch; each branch's ``found_from`` says which start found
-    it. Raises :class:`ConvergenceError` when no start converges. ``keep(k, branches)`` is called
-    after the k-th converged start is dealt with (its family traced, or found known); ``done``,
-    such a ``(k, branches)`` of an earlier run with the same settings, skips the first k starts
-    (they are found again, in the same order, but not traced): a resumed scan.
+    ``starts``: where starts are sought; ``shooting``, ``branching`` and ``options`` as for
+    :func:`~slosh_bif.orbits.families.trace_orbits` (``branching.max_branches`` bounds the
+    branches of each family, the primary one included). Returns one :class:`OrbitFamily` holding
+    every branch; each branch's ``found_from`` says which start found it. Raises
+    :class:`ConvergenceError` when no start converges. ``resume``: a :class:`Resume` whose
+    ``done``, a ``(k, branches)`` of an earlier run with the same settings, skips the first k
+    starts (they are found again, in the same order, but not traced), and whose ``keep(k,
+    branches)`` is called after the k-th converged start is dealt with (its family traced, or
+    found known).
     """
     if not (np.isfinite(p_min) and np.isfinite(p_max) and p_min < p_max):
         raise ValueError(f"need finite p_min < p_max; got [{p_min}, {p_max}]")
     say = progress or (lambda message: None)
-    skip, branches = done if done is not None else (0, [])
+    resume = resume or Resume()
+    skip, branches = resume.done if resume.done is not None else (0, [])
     branches, tried = list(branches), 0
-    starts = scan_starts(
-        params, state0, p_min, p_max, param=param, points=points, settle=settle, random_starts=random_starts, seed=seed, segments=segments, say=say, backend=backend,
-    )
-    for start in starts:
+    for start in scan_starts(params, state0, p_min, p_max, param=param, starts=starts, shooting=shooting, say=say):
         tried += 1
         if tried <= skip:
             continue
-        _take(start, branches, say, param=param, p_min=p_min, p_max=p_max, segments=segments, options=options or SHOOTING_OPTIONS, switch=switch,
-              max_branches=max_branches, rtol=rtol, atol=atol, progress=progress, doublings=doublings, backend=backend)
-        if keep is not None:
-            keep(tried, branches)
+        _take(start, branches, say, param=param, p_min=p_min, p_max=p_max, shooting=shooting, branching=branching, options=options or SHOOTING_OPTIONS, progress=progress)
+        if resume.keep is not None:
+            resume.keep(tried, branches)
     if not branches:
         raise ConvergenceError(f"no periodic orbit of (9) found from {tried} converged starts in {param} in [{p_min}, {p_max}]" if tried else f"no start converged to a periodic orbit of (9) in {param} in [{p_min}, {p_max}]")
     return OrbitFamily(params, param, _renamed(branches))
@@ -147,7 +140,7 @@ def _take(start, branches: list, say, *, param, **tracing) -> None:
         return
     say(f"scan: a new family from {start.found_from}")
     try:
-        family = trace_orbits(start.params, start.y0, param=param, known=branches, found_from=start.found_from, **tracing)
+        family = trace_new_family(start.params, start.y0, branches, param=param, found_from=start.found_from, **tracing)
     except ConvergenceError as err:
         say(f"scan: no family traced from {start.found_from}: {err}")
         return

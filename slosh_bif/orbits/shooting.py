@@ -62,6 +62,7 @@ class Arcs:
 _STATE = ("X", "Xd", "w", "wd")
 
 
+BACKENDS = integrator.BACKENDS  # the arcs' integrators ("auto": numba's when it imports)
 MAX_PERIOD_MULTIPLE = 8  # longest period traced, in units of 2pi: a period-doubling cascade is followed to period 8
 
 ARC_MAX_STEPS = 100_000

@@ -16,6 +16,7 @@ import numpy as np
 from slosh_bif.continuation import ConvergenceError
 from slosh_bif.model.equations import SmoothModel
 from slosh_bif.model.params import Params
+from slosh_bif.orbits.settings import SHOOTING, STARTS, ShootingSettings, StartSettings
 from slosh_bif.orbits.shooting import PeriodicOrbit, ShootingProblem, orbit_at, orbit_measures
 from slosh_bif.simulation.direct import simulate
 from slosh_bif.simulation.integrator import integrate_grid
@@ -243,42 +244,37 @@ _RANDOM_BOX = np.array([3.0, 3.0, 1.0, 3.0])  # |X|, |X'|, |w|, |w'| of the rand
 
 
 def scan_starts(
-    params: Params, state0, p_min: float, p_max: float, *, param: str = "sigma", points: int = 5, settle: int = 100, random_starts: int = 4,
-    seed: int = 0, segments: int = 4, say=None, backend: str = "auto",
+    params: Params, state0, p_min: float, p_max: float, *, param: str = "sigma", starts: StartSettings = STARTS, shooting: ShootingSettings = SHOOTING, say=None,
 ):
     """Converged 2pi-orbits of (9) from many starts over [p_min, p_max] of ``param`` (sigma or
     Abar), one :class:`StartOrbit` per start that converges (duplicates included: the caller
     keeps the new).
 
-    At ``points`` evenly spread values of the parameter: Newton from the impact-free linear
-    response, and from the last strobe state of a ``settle``-period simulation from ``state0``,
-    from rest, from the slow flow's motion on each steady state of (46) there and from
-    ``random_starts`` states drawn uniformly from |X|, |X'|, |w'| <= 3, |w| <= 1 (numpy's
-    generator seeded with ``seed``); then Newton from the slow flow's motion itself on every
+    With ``starts`` (:class:`StartSettings`), at ``starts.points`` evenly spread values of the
+    parameter: Newton from the impact-free linear response, and from the last strobe state of a
+    ``starts.settle``-period simulation from ``state0``, from rest, from the slow flow's motion on
+    each steady state of (46) there and from ``starts.random_starts`` states drawn uniformly from
+    |X|, |X'|, |w'| <= 3, |w| <= 1 (numpy's generator seeded with ``starts.seed``); then Newton from the slow flow's motion itself on every
     steady state of (46) (stable and unstable, each at its own parameter value).
     """
     if param not in ("sigma", "Abar"):
         raise ValueError(f"param must be 'sigma' or 'Abar'; got {param!r}")
-    if not (isinstance(points, int) and points >= 1):
-        raise ValueError(f"points (scan values of {param}) must be an integer >= 1; got {points!r}")
-    if not (isinstance(settle, int) and settle >= 1):
-        raise ValueError(f"settle must be an integer >= 1 (forcing periods); got {settle!r}")
-    if not (isinstance(random_starts, int) and random_starts >= 0):
-        raise ValueError(f"random_starts must be an integer >= 0; got {random_starts!r}")
     say = say or (lambda message: None)
+    points, settle, random_starts, seed = starts.points, starts.settle, starts.random_starts, starts.seed
+    segments, backend = shooting.segments, shooting.backend
     rng = np.random.default_rng(seed)
     grid = np.linspace(p_min, p_max, points + 2)[1:-1]
     states = _steady_states_near(params, param, grid, p_min, p_max)
     for v in grid:
         at = params.replace(**{param: float(v)})
-        problem = ShootingProblem(at, segments=segments, backend=backend)
+        problem = ShootingProblem(at, segments=segments, rtol=shooting.rtol, atol=shooting.atol, backend=backend)
         guesses = [(linear_response_state(at), "the impact-free linear response")]
-        starts = [(np.asarray(state0, dtype=float), "the preset's initial state"), (np.zeros(4), "rest")]
+        initial = [(np.asarray(state0, dtype=float), "the preset's initial state"), (np.zeros(4), "rest")]
         if at.Abar > 0:
             flow = SlowFlow(at)
-            starts += [(flow.fast_state(A, float(flow.steady_phase(A)), 0.0), f"the slow flow's state A = {A:.4g}") for at_v, _, A, _ in states if at_v == v and A > flow.A_min]
-        starts += [(rng.uniform(-_RANDOM_BOX, _RANDOM_BOX), f"random state {k + 1} (seed {seed})") for k in range(random_starts)]
-        for y, what in starts:
+            initial += [(flow.fast_state(A, float(flow.steady_phase(A)), 0.0), f"the slow flow's state A = {A:.4g}") for at_v, _, A, _ in states if at_v == v and A > flow.A_min]
+        initial += [(rng.uniform(-_RANDOM_BOX, _RANDOM_BOX), f"random state {k + 1} (seed {seed})") for k in range(random_starts)]
+        for y, what in initial:
             try:
                 guesses.append((integrate_grid(at, y, [0.0, 2 * np.pi * settle], backend=backend)[-1], f"a {settle}-period simulation from {what}"))
             except RuntimeError as err:
@@ -293,7 +289,7 @@ def scan_starts(
         if not A > SlowFlow(at).A_min:  # a state on the end of S+: (46)'s phase there is a root of rounding
             continue
         say(f"scan: Newton at {param} = {value:.4g} from the slow flow's motion on A = {A:.4g}")
-        orbit = orbit_from_slow_flow(at, A, segments=segments, backend=backend)
+        orbit = orbit_from_slow_flow(at, A, segments=segments, rtol=shooting.rtol, atol=shooting.atol, backend=backend)
         if orbit.converged:
             yield StartOrbit(at, orbit, f"Newton from the slow flow's motion on the {'stable' if stable else 'unstable'} steady state A = {A:.6g} of (46) at {param} = {value:.6g}")
 

@@ -52,8 +52,11 @@ class Integration(typing.NamedTuple):
     message: str
 
 
+BACKENDS = ("auto", "numba", "scipy")
+
+
 def resolve_backend(backend: str) -> str:
-    if backend not in ("auto", "numba", "scipy"):
+    if backend not in BACKENDS:
         raise ValueError(f"backend must be 'auto', 'numba' or 'scipy'; got {backend!r}")
     if backend == "numba" and not HAVE_NUMBA:
         raise ValueError("backend 'numba' needs numba, a dependency of slosh_bif that failed to import here: pip install numba (or use backend='scipy')")

@@ -42,12 +42,13 @@ from slosh_bif.continuation import ConvergenceError
 from slosh_bif.model.params import Params
 from slosh_bif.orbits.families import trace_orbits
 from slosh_bif.orbits.scan import scan_families
+from slosh_bif.orbits.settings import BRANCHING, NO_SWITCHING, SHOOTING, STARTS, BranchingSettings, Resume, ShootingSettings, StartSettings
 from slosh_bif.orbits.shooting import PARAMETERS, orbit_measures
 from slosh_bif.orbits.starts import start_orbit
 from slosh_bif.slowflow.critical import critical_curve, interp_min
 from slosh_bif.studies.chart_curves import CurveFailure, curve_starts, pitchforks_of, trace_curves
 
-__all__ = ["Chart", "CurveFailure", "bifurcation_chart", "lowest_stable_boundary", "critical_rows", "CRITICAL_COLUMNS", "FullCritical", "critical_forcing_full", "check_box"]
+__all__ = ["Chart", "ChartSettings", "CurveFailure", "bifurcation_chart", "lowest_stable_boundary", "critical_rows", "CRITICAL_COLUMNS", "FullCritical", "critical_forcing_full", "check_box"]
 
 CRITICAL_COLUMNS = ("sigma", "Abar_b_slowflow", "Abar_c_full", "rel_diff", "bounded_by")
 
@@ -76,48 +77,74 @@ class Chart:
         return cut + [f"no {f.kind} curve from {f.origin}: {f.reason}" for f in self.failures]
 
 
+@dataclasses.dataclass(frozen=True)
+class ChartSettings:
+    """How a chart finds its curves' starts and shares the work.
+
+    Attributes
+    ----------
+    settle : int
+        Forcing periods of the simulation from the initial state that finds the start orbit.
+    seeds : int
+        Orbits of the primary branch, at evenly spread values of sigma, each continued in the
+        second parameter (their folds and period doublings start curves too).
+    workers : int or None
+        Processes tracing curves side by side (None: every core); the result does not depend on it.
+    model : str
+        The slow flow whose least forcing of the upper branch is drawn beside the curves.
+    """
+
+    settle: int = 150
+    seeds: int = 7
+    workers: int | None = None
+    model: str = "slowflow"
+
+    def __post_init__(self):
+        for name, low in (("settle", 1), ("seeds", 0)):
+            value = getattr(self, name)
+            if not (isinstance(value, int) and value >= low):
+                raise ValueError(f"ChartSettings.{name} must be an integer >= {low}; got {value!r}")
+        _workers(self.workers)
+
+
 def bifurcation_chart(
     params: Params,
     state0,
     *,
     sigma_range: tuple,
     abar_range: tuple,
-    switch: bool = True,
-    max_branches: int = 6,
-    segments: int = 4,
-    settle: int = 150,
-    seeds: int = 7,
-    workers: int | None = None,
-    backend: str = "auto",
-    done=None,
-    keep=None,
-    progress=None,
     second: str = "Abar",
-    model: str = "slowflow",
+    shooting: ShootingSettings = SHOOTING,
+    branching: BranchingSettings = BRANCHING,
+    settings: ChartSettings | None = None,
+    progress=None,
+    resume: Resume | None = None,
 ) -> Chart:
     """Trace the family of orbits at the parameter set's Abar over ``sigma_range`` (from a
-    simulation from ``state0``) and the primary branch's orbits at ``seeds`` values of sigma
-    continued in Abar, then the LP, PD, NS and BP curve through each of their special points
-    (each curve once) in the box ``sigma_range`` x ``abar_range``, on ``workers`` processes (default:
-    every core), integrating with ``backend``. Interrupted while tracing curves, it returns those
-    finished, ``status`` saying so. ``done`` and ``keep``: see :func:`~slosh_bif.studies.chart_curves.trace_curves` (a resumed run
-    with the same settings finds the same starts in the same order).
+    simulation from ``state0``, switched as ``branching`` says) and the primary branch's orbits at
+    ``settings.seeds`` values of sigma continued in Abar, then the LP, PD, NS and BP curve through
+    each of their special points (each curve once) in the box ``sigma_range`` x ``abar_range``,
+    on ``settings.workers`` processes (:class:`ChartSettings`), every orbit computed with ``shooting``. Interrupted while
+    tracing curves, it returns those finished, ``status`` saying so. ``resume``: its ``done``,
+    {start index: curve} of an earlier run with the same settings (which finds the same starts in
+    the same order), and ``keep(i, curve)``, called as each curve finishes.
 
     ``second``: the chart's second parameter (any real field of :class:`Params` but sigma;
     ``abar_range`` is then its range, the seeds are continued in it, and there is no slow-flow
-    critical curve). ``model``: the slow flow whose Abar_b is drawn beside the curves."""
+    critical curve). ``settings.model``: the slow flow whose Abar_b is drawn beside the curves."""
     check_box(params, sigma_range, abar_range, second)
     (s0, s1), (a0, a1) = sigma_range, abar_range
-    workers = _workers(workers)
+    box = {"sigma": (s0, s1), second: (a0, a1)}
+    settings = settings or ChartSettings()
+    workers = _workers(settings.workers)
+    resume = resume or Resume()
     say = progress or (lambda message: None)
     started = time.perf_counter()
-    start = start_orbit(params, state0, (s0, s1), settle=settle, segments=segments, backend=backend)
-    family = trace_orbits(
-        start.params, start.y0, p_min=s0, p_max=s1, segments=segments, switch=switch, max_branches=max_branches, backend=backend, progress=say,
-    )
+    start = start_orbit(params, state0, (s0, s1), settle=settings.settle, segments=shooting.segments, backend=shooting.backend)
+    family = trace_orbits(start.params, start.y0, p_min=s0, p_max=s1, shooting=shooting, branching=branching, progress=say)
     say(f"orbit family: {len(family.branches)} branch(es), {sum(len(ob) for ob in family.branches)} points")
     pitchforks = pitchforks_of(family)
-    starts = [s for ob in family.branches for s in curve_starts(ob, "sigma", params, (s0, s1), (a0, a1), pitchforks, backend, second)]
+    starts = [s for ob in family.branches for s in curve_starts(ob, params, box, pitchforks, shooting)]
     # Folds and period doublings met when the forcing falls: the primary branch's orbits at
     # ``seeds`` values of sigma, each continued in Abar (the second parameter) over the box.
     primary = family.branches[0]
@@ -126,25 +153,25 @@ def bifurcation_chart(
     regular = np.ones(len(primary.branch), dtype=bool)
     for sp in primary.branch.special:
         regular[max(sp.index - 2, 0) : sp.index + 3] = False
-    for sigma in np.linspace(s0, s1, seeds + 2)[1:-1]:
+    for sigma in np.linspace(s0, s1, settings.seeds + 2)[1:-1]:
         i = int(np.argmin(np.where(regular, np.abs(primary.branch.p - sigma), np.inf)))
         at = params.replace(sigma=float(primary.branch.p[i]))
         if not a0 <= getattr(at, second) <= a1:
             continue
         try:
-            down = trace_orbits(at, primary.branch.x[i, :4], param=second, p_min=a0, p_max=a1, segments=segments, switch=False, backend=backend, progress=say)
+            down = trace_orbits(at, primary.branch.x[i, :4], param=second, p_min=a0, p_max=a1, shooting=shooting, branching=NO_SWITCHING, progress=say)
         except (ConvergenceError, ValueError) as err:
             say(f"no {second} branch at sigma = {at.sigma:.4g}: {err}")
             continue
-        starts += curve_starts(down.branches[0], second, at, (s0, s1), (a0, a1), backend=backend, second=second)
+        starts += curve_starts(down.branches[0], at, box, shooting=shooting)
     say(f"{len(starts)} special points to start curves from, on {workers} process(es)")
-    if done:
-        say(f"{len(done)} curves from an earlier run")
-    curves, status, failures = trace_curves(starts, say, workers, done, keep)
+    if resume.done:
+        say(f"{len(resume.done)} curves from an earlier run")
+    curves, status, failures = trace_curves(starts, say, workers, resume.done, resume.keep)
     slow = None
     if second == "Abar":
         try:
-            slow = critical_curve(params, s0, s1, model=model)
+            slow = critical_curve(params, s0, s1, model=settings.model)
         except (RuntimeError, ValueError) as err:
             say(f"no slow-flow critical curve: {err}")
     return Chart(params, (s0, s1), (a0, a1), family, curves, slow, time.perf_counter() - started, status, second, failures)
@@ -180,13 +207,13 @@ class FullCritical:
 
 
 def critical_forcing_full(
-    params: Params, state0, *, abar_range: tuple | None = None, halfwidth: float = 0.25, switch: bool = True, segments: int = 4, points: int = 5,
-    settle: int = 100, random_starts: int = 4, seed: int = 0, progress=None, model: str = "slowflow",
+    params: Params, state0, *, abar_range: tuple | None = None, halfwidth: float = 0.25, starts: StartSettings = STARTS, shooting: ShootingSettings = SHOOTING,
+    branching: BranchingSettings = BRANCHING, progress=None, model: str = "slowflow",
 ) -> FullCritical:
     """Abar_c(sigma) of (9) at ``params.sigma``: every family of orbits there in Abar over
     ``abar_range`` (default [0.05, max(2 Abar, 3)]), found by :func:`~slosh_bif.orbits.scan.scan_families`
-    (starts from ``state0`` and others at ``points`` values of Abar; switched at branch points,
-    not at period doublings: only period-1 orbits count), then the curve through each
+    (starts from ``state0`` and others as ``starts`` says; switched at branch points as
+    ``branching`` says, never at period doublings: only period-1 orbits count), then the curve through each
     of their LP, PD and NS points in the box sigma +- ``halfwidth`` x ``abar_range``; the lowest
     curve point at sigma that bounds stable period-1 orbits with wall contact.
 
@@ -204,12 +231,12 @@ def critical_forcing_full(
     sigma = params.sigma
     box = (sigma - halfwidth, sigma + halfwidth)
     family = scan_families(
-        params, state0, p_min=a0, p_max=a1, param="Abar", points=points, settle=settle, random_starts=random_starts, seed=seed, segments=segments,
-        switch=switch, doublings=False, progress=progress,
+        params, state0, p_min=a0, p_max=a1, param="Abar", starts=starts, shooting=shooting, branching=dataclasses.replace(branching, doublings=False), progress=progress,
     )
     pitchforks = pitchforks_of(family)
-    starts = [s for ob in family.branches if ob.problem.period_multiple == 1 for s in curve_starts(ob, "Abar", params, box, (a0, a1), pitchforks)]
-    curves, _, failures = trace_curves(starts, say, keep_partial=False)
+    curve_box = {"sigma": box, "Abar": (a0, a1)}
+    seeds = [s for ob in family.branches if ob.problem.period_multiple == 1 for s in curve_starts(ob, params, curve_box, pitchforks, shooting)]
+    curves, _, failures = trace_curves(seeds, say, keep_partial=False)
     try:
         slow = critical_curve(params, *box, model=model)
     except (RuntimeError, ValueError):

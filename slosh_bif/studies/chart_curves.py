@@ -12,7 +12,8 @@ import numpy as np
 
 from slosh_bif.continuation import ConvergenceError
 from slosh_bif.continuation.branch import polyline_distance
-from slosh_bif.orbits.codim2 import BifurcationCurve, trace_curve
+from slosh_bif.orbits.codim2 import BifurcationCurve, CurveSeed, trace_curve
+from slosh_bif.orbits.settings import SHOOTING, ShootingSettings
 
 __all__ = ["CurveStart", "CurveFailure", "curve_starts", "pitchforks_of", "repeats_early", "trace_curves"]
 
@@ -45,10 +46,12 @@ class _Start(CurveStart):
     job: dict
 
 
-def curve_starts(ob, param, params, sigma_range, abar_range, pitchforks=(), backend="auto", second="Abar"):
+def curve_starts(ob, params, box: dict, pitchforks=(), shooting: ShootingSettings = SHOOTING):
     """The located LP, PD, NS (and, on symmetric branches, BP) points of the orbit branch ``ob``
-    (in ``param``, sigma or ``second``, at ``params``) as starts of curves in (sigma, ``second``);
-    ``pitchforks``: the values of ``param`` at the family's pitchforks."""
+    (continued in sigma or the chart's second parameter, at ``params``) as starts of curves over
+    ``box`` ({"sigma": range, second: range}), computed with ``shooting``; ``pitchforks``: the
+    values of the branch's parameter at the family's pitchforks."""
+    param, second = ob.branch.param, list(box)[1]
     for sp in ob.branch.special:
         if sp.kind not in ("LP", "PD", "NS", "BP") or not sp.located:
             continue
@@ -61,10 +64,8 @@ def curve_starts(ob, param, params, sigma_range, abar_range, pitchforks=(), back
             continue  # the parent's orbit at its period doubling, where the branch is born or ends: no fold
         sigma, value = (sp.p, getattr(params, second)) if param == "sigma" else (params.sigma, sp.p)
         origin = f"{sp.kind} at sigma = {sigma:.6g}, {second} = {value:.6g} on the {ob.name} branch in {param}"
-        job = dict(
-            params=params, x=ob.problem.full_states(sp.x), p=sp.p, kind=sp.kind, branch_param=param, p2=second, p1_range=sigma_range, p2_range=abar_range,
-            segments=segments, period_multiple=ob.problem.period_multiple, origin=origin, backend=backend,
-        )
+        arcs = shooting.replace(segments=segments // ob.problem.period_multiple)  # the branch's own arcs per forcing period
+        job = dict(params=params, seed=CurveSeed.on(ob, sp, origin), box=box, shooting=arcs)
         yield _Start(sp.kind, float(sigma), float(value), origin, job)
 
 

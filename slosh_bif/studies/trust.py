@@ -31,7 +31,8 @@ import numpy as np
 from slosh_bif.continuation import ConvergenceError
 from slosh_bif.model.corrected_law import check_model
 from slosh_bif.model.params import Params
-from slosh_bif.orbits.families import SHOOTING_OPTIONS, trace_orbits
+from slosh_bif.orbits.families import SHOOTING_OPTIONS, trace_new_family, trace_orbits
+from slosh_bif.orbits.settings import BRANCHING, NO_SWITCHING, SHOOTING, BranchingSettings, Resume, ShootingSettings
 from slosh_bif.orbits.shooting import ShootingProblem, orbit_measures
 from slosh_bif.orbits.starts import orbit_from_simulation, orbit_from_slow_flow, slow_flow_start
 from slosh_bif.simulation.sweep import run_cells
@@ -88,14 +89,18 @@ family on an isola (the Fig. 13 set at n = 6: stable impacting orbits at sigma i
 from the symmetric branch) is found from one, and each costs a shooting Newton (~0.1-1 s)."""
 
 
-def trust_point(params: Params, sigma_min: float = -6.0, sigma_max: float = 8.0, *, grid: int = 141, agree_within: float = 0.05, switch: bool = True, max_branches: int = 6, segments: int = 4, backend: str = "auto", model: str = "slowflow", isola_tries: int = ISOLA_TRIES) -> TrustPoint:
+def trust_point(
+    params: Params, sigma_min: float = -6.0, sigma_max: float = 8.0, *, grid: int = 141, agree_within: float = 0.05, shooting: ShootingSettings = SHOOTING,
+    branching: BranchingSettings = BRANCHING, model: str = "slowflow", isola_tries: int = ISOLA_TRIES,
+) -> TrustPoint:
     """Compare (46) with the 2pi-orbits of (9) over [sigma_min, sigma_max] at ``params``.
 
     The orbits are the family continued from one start, and the families found from the slow
     flow's stable states that no orbit of it matches (:func:`missed_families`, ``isola_tries``
     of them at most). Never raises for a parameter set where the comparison cannot be made:
     ``status`` says why.
-    ``backend``: the integrator of (9) (compiled or scipy's DOP853). ``model``: the slow flow
+    ``shooting``: how the orbits of (9) are computed; ``branching``: which branches the family
+    follows beyond the first. ``model``: the slow flow
     compared (the paper's or the corrected one); the family is started from the paper's slow flow
     with either, the missed families are searched from the compared model's own states (a model
     is measured against every orbit near its states that Newton finds).
@@ -119,23 +124,23 @@ def trust_point(params: Params, sigma_min: float = -6.0, sigma_max: float = 8.0,
         try:
             paper = frequency_response(params, sigma_min=sigma_min, sigma_max=sigma_max)
             fr = paper if model == "slowflow" else frequency_response(params, sigma_min=sigma_min, sigma_max=sigma_max, model=model)
-            start = slow_flow_start(params, sigma_min, sigma_max, segments=segments, response=paper, backend=backend)
+            start = slow_flow_start(params, sigma_min, sigma_max, segments=shooting.segments, response=paper, backend=shooting.backend)
         except (ConvergenceError, ValueError) as err:
             return failed(f"no start: {err}")
         for attempt in range(1, START_TRIES + 1):
             try:
-                family = trace_orbits(start.params, start.y0, p_min=sigma_min, p_max=sigma_max, segments=segments, switch=switch, max_branches=max_branches, backend=backend)
+                family = trace_orbits(start.params, start.y0, p_min=sigma_min, p_max=sigma_max, shooting=shooting, branching=branching)
                 break
             except RuntimeError as err:  # ConvergenceError included
                 failure = failed(f"orbit continuation failed: {err}", start.sigma)
             if attempt == START_TRIES:
                 return failure
             try:  # the next start (an orbit Newton found to 1e-10 can still defeat the continuation's first step)
-                start = slow_flow_start(params, sigma_min, sigma_max, segments=segments, response=paper, backend=backend, skip=attempt)
+                start = slow_flow_start(params, sigma_min, sigma_max, segments=shooting.segments, response=paper, backend=shooting.backend, skip=attempt)
             except (ConvergenceError, ValueError):
                 return failure
         sigmas = np.linspace(sigma_min, sigma_max, grid)
-        family.branches.extend(missed_families(params, fr, family, sigmas, model=model, agree_within=agree_within, tries=isola_tries, segments=segments, backend=backend))
+        family.branches.extend(missed_families(params, fr, family, sigmas, model=model, agree_within=agree_within, tries=isola_tries, shooting=shooting))
     rows = [r for r in compare_rows(family, fr, sigmas) if r["slow_flow_stable"]]
     if not rows:
         return failed("no stable steady state of (46) in the range", start.sigma)
@@ -169,7 +174,7 @@ n = 50 crept on for minutes): what it traced by then is kept. A count, not a tim
 the trust map does not depend on the machine's load."""
 
 
-def missed_families(params: Params, fr, family, sigmas, *, model: str = "slowflow", agree_within: float = 0.05, tries: int = ISOLA_TRIES, segments: int = 4, backend: str = "auto") -> list:
+def missed_families(params: Params, fr, family, sigmas, *, model: str = "slowflow", agree_within: float = 0.05, tries: int = ISOLA_TRIES, shooting: ShootingSettings = SHOOTING) -> list:
     """OrbitBranches of (9) that ``family`` (continued from one start) does not contain, found by
     Newton from the slow flow's motion at up to ``tries`` of the stable states of ``fr`` on the
     grid ``sigmas`` that have no orbit of ``family`` within ``agree_within`` (where Newton fails,
@@ -190,19 +195,18 @@ def missed_families(params: Params, fr, family, sigmas, *, model: str = "slowflo
         at = params.replace(sigma=sigma)
         psi = _phase_near(fr, sigma, A)
         try:
-            orbit = orbit_from_slow_flow(at, A, psi=psi, segments=segments, backend=backend, model=model)
+            orbit = orbit_from_slow_flow(at, A, psi=psi, segments=shooting.segments, backend=shooting.backend, model=model)
             how = "Newton from a slow-flow state no traced orbit matched"
             if not orbit.converged:  # let (9) settle from the slow flow's motion, and Newton from there
                 state = SlowFlow(at, model).fast_state(A, psi, np.zeros(1)).ravel()
-                orbit = orbit_from_simulation(at, state, settle=SETTLE_PERIODS, segments=segments, tries=5, backend=backend, unsettled="raise").orbit
+                orbit = orbit_from_simulation(at, state, settle=SETTLE_PERIODS, segments=shooting.segments, tries=5, backend=shooting.backend, unsettled="raise").orbit
                 how = f"Newton from a {SETTLE_PERIODS}-period simulation settled from a slow-flow state no traced orbit matched"
-            problem = ShootingProblem(at, segments=segments, backend=backend)
+            problem = ShootingProblem(at, segments=shooting.segments, backend=shooting.backend)
             A1 = orbit_measures(problem, problem.initial_states(orbit.y0), sigma)["A1"]
             if any(abs(a - A1) <= 1e-6 * A1 for a, _, _ in orbits_at(family.branches + found, sigma)):
                 continue
-            more = trace_orbits(
-                at, orbit.y0, p_min=lo, p_max=hi, segments=segments, switch=False, backend=backend, known=family.branches + found, options=ISOLA_OPTIONS,
-                found_from=how,
+            more = trace_new_family(
+                at, orbit.y0, family.branches + found, param="sigma", p_min=lo, p_max=hi, shooting=shooting, branching=NO_SWITCHING, options=ISOLA_OPTIONS, found_from=how,
             )
         except (RuntimeError, ValueError):  # ConvergenceError included: this start found nothing
             continue
@@ -215,7 +219,10 @@ def _phase_near(fr, sigma, A) -> float:
     return min(((float(np.hypot(b.p[i] - sigma, b.x[i, 0] - A)), float(b.x[i, 1])) for b in fr.branches for i in range(len(b))))[1]
 
 
-def trust_map(base: Params, *, eps=(0.02, 0.05, 0.1, 0.2), beta=(0.0, 0.3, 0.5), n=(6, 10, 20, 50), sigma_min: float = -6.0, sigma_max: float = 8.0, max_workers: int | None = None, progress=None, done=None, keep=None, executor=None, **options) -> list:
+def trust_map(
+    base: Params, *, eps=(0.02, 0.05, 0.1, 0.2), beta=(0.0, 0.3, 0.5), n=(6, 10, 20, 50), sigma_min: float = -6.0, sigma_max: float = 8.0, max_workers: int | None = None,
+    progress=None, resume: Resume | None = None, executor=None, **options,
+) -> list:
     """:func:`trust_point` at every (eps, beta, n) of the grid, the other parameters from ``base``.
 
     Points run through ``executor`` (by default local processes, ``max_workers`` of them; see
@@ -223,25 +230,23 @@ def trust_map(base: Params, *, eps=(0.02, 0.05, 0.1, 0.2), beta=(0.0, 0.3, 0.5),
     called as they finish. ``options`` go to :func:`trust_point`. Returns the points in grid
     order (eps slowest, n fastest). Interrupted (Ctrl-C, or SIGTERM through the CLI), it kills
     its workers and returns the points done, the others with status ``"not computed: ..."``.
-    ``done``: {grid index: TrustPoint} of an earlier run (not computed again); ``keep(i, point)``
-    is called as each point finishes.
+    ``resume``: its ``done``, {grid index: TrustPoint} of an earlier run (not computed again),
+    and ``keep(i, point)``, called as each point finishes.
     """
-    from slosh_bif.simulation.integrator import resolve_backend
-
     if not isinstance(base, Params):
         raise TypeError(f"base must be a slosh_bif.Params; got {type(base).__name__}")
     grid = list(itertools.product(eps, beta, n))
     if not grid:
         raise ValueError("the (eps, beta, n) grid is empty")
     jobs = [base.replace(eps=float(e), beta=float(b), n=int(k)) for e, b, k in grid]  # Params checks each value
-    resolve_backend(options.get("backend", "auto"))  # a bad name fails here, not in every worker
-    done = {i: point for i, point in (done or {}).items() if 0 <= i < len(jobs)}
+    resume = resume or Resume()
+    done = {i: point for i, point in (resume.done or {}).items() if 0 <= i < len(jobs)}
     count = [len(done)]
 
     def finished(i, point):
         count[0] += 1
-        if keep is not None:
-            keep(i, point)
+        if resume.keep is not None:
+            resume.keep(i, point)
         if progress is not None:
             progress(point, count[0], len(jobs))
 

@@ -198,7 +198,7 @@ def test_chart_in_sigma_and_another_parameter(tmp_path, capsys):
     # at a curve point's beta finds the fold at the curve's sigma (the curves' own accuracy is
     # tested in tests/orbits/test_codim2.py).
     from slosh_bif import get_preset
-    from slosh_bif.orbits import orbit_from_simulation, trace_orbits
+    from slosh_bif.orbits import NO_SWITCHING, orbit_from_simulation, trace_orbits
 
     out = tmp_path / "chart"
     box = ["--sigma-min", "-1.6", "--sigma-max", "-1.2", "--second", "beta", "--second-min", "0", "--second-max", "0.2"]
@@ -209,7 +209,7 @@ def test_chart_in_sigma_and_another_parameter(tmp_path, capsys):
     row = rows[len(rows) // 2]
     P = get_preset("fig10").params.replace(beta=float(row["beta"]), sigma=-1.2)
     start = orbit_from_simulation(P, get_preset("fig10").state0, settle=150)
-    (lp,) = trace_orbits(start.params, start.y0, p_min=-1.6, p_max=-1.2, switch=False).branches[0].branch.special_of("LP")
+    (lp,) = trace_orbits(start.params, start.y0, p_min=-1.6, p_max=-1.2, branching=NO_SWITCHING).branches[0].branch.special_of("LP")
     assert lp.p == pytest.approx(float(row["sigma"]), abs=1e-6)
     capsys.readouterr()
     for bad, says in [

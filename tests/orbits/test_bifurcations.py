@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 from slosh_bif import get_preset
+from slosh_bif.orbits import BranchingSettings
 from slosh_bif.orbits.families import trace_orbits
 from slosh_bif.orbits.shooting import ShootingProblem
 from slosh_bif.orbits.starts import settle_and_shoot
@@ -73,7 +74,7 @@ def period_doubling():
     preset = get_preset("fig10")
     P = preset.params.replace(sigma=-3.0)
     orbit, _ = settle_and_shoot(P, preset.state0)
-    family = trace_orbits(P, orbit.y0, p_min=-3.0, p_max=-1.5, max_branches=2)
+    family = trace_orbits(P, orbit.y0, p_min=-3.0, p_max=-1.5, branching=BranchingSettings(max_branches=2))
     return P, family
 
 

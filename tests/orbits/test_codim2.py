@@ -10,8 +10,8 @@ import pytest
 
 from slosh_bif import get_preset
 from slosh_bif.continuation import continuation
-from slosh_bif.orbits import ShootingProblem, orbit_at, orbit_from_simulation, settle_and_shoot, trace_orbits
-from slosh_bif.orbits.codim2 import CURVE_OPTIONS, BifurcationCurve, FoldCurveProblem, curve_problem, trace_curve
+from slosh_bif.orbits import NO_SWITCHING, ShootingProblem, ShootingSettings, orbit_at, orbit_from_simulation, settle_and_shoot, trace_orbits
+from slosh_bif.orbits.codim2 import CURVE_OPTIONS, BifurcationCurve, CurveSeed, FoldCurveProblem, curve_problem, trace_curve
 from slosh_bif.orbits.families import SHOOTING_OPTIONS
 from slosh_bif.orbits.pitchforks import refine_pitchforks
 
@@ -24,9 +24,9 @@ def fold_curve():
     in a small box."""
     P = PRESET.params
     start = orbit_from_simulation(P.replace(sigma=-1.2), PRESET.state0, settle=150)
-    family = trace_orbits(start.params, start.y0, p_min=-1.6, p_max=-1.2, switch=False)
+    family = trace_orbits(start.params, start.y0, p_min=-1.6, p_max=-1.2, branching=NO_SWITCHING)
     (lp,) = family.branches[0].branch.special_of("LP")
-    return P, trace_curve(P, lp.x, lp.p, kind="LP", p1_range=(-1.8, -1.0), p2_range=(2.4, 3.6))
+    return P, trace_curve(P, CurveSeed("LP", lp.x, lp.p), box={"sigma": (-1.8, -1.0), "Abar": (2.4, 3.6)})
 
 
 @pytest.fixture(scope="module")
@@ -34,9 +34,9 @@ def flip_curve():
     """The period-doubling curve through the PD of the asymmetric orbit at sigma = -2.5358."""
     P = PRESET.params.replace(sigma=-3.0)
     orbit, _ = settle_and_shoot(P, PRESET.state0)
-    family = trace_orbits(P, orbit.y0, p_min=-3.0, p_max=-2.3, switch=False)
+    family = trace_orbits(P, orbit.y0, p_min=-3.0, p_max=-2.3, branching=NO_SWITCHING)
     (pd,) = family.branches[0].branch.special_of("PD")
-    return P, trace_curve(P, pd.x, pd.p, kind="PD", p1_range=(-2.9, -2.2), p2_range=(2.7, 3.3))
+    return P, trace_curve(P, CurveSeed("PD", pd.x, pd.p), box={"sigma": (-2.9, -2.2), "Abar": (2.7, 3.3)})
 
 
 @pytest.fixture(scope="module")
@@ -44,9 +44,9 @@ def torus_curve():
     """The Neimark-Sacker curve through the NS point of the symmetric branch at sigma = 0.8806."""
     P = PRESET.params
     start = orbit_from_simulation(P.replace(sigma=6.0), PRESET.state0, settle=100)  # the symmetric orbit
-    family = trace_orbits(start.params, start.y0, p_min=-1.6, p_max=6.0, switch=False, points_per_2pi=32)  # past the fold at -1.40
+    family = trace_orbits(start.params, start.y0, p_min=-1.6, p_max=6.0, shooting=ShootingSettings(points_per_2pi=32), branching=NO_SWITCHING)  # past the fold at -1.40
     ns = [s for s in family.branches[0].branch.special_of("NS") if abs(s.p - 0.8806) < 1e-3][0]
-    return P, trace_curve(P, ns.x, ns.p, kind="NS", p1_range=(0.6, 1.2), p2_range=(2.6, 3.4))
+    return P, trace_curve(P, CurveSeed("NS", ns.x, ns.p), box={"sigma": (0.6, 1.2), "Abar": (2.6, 3.4)})
 
 
 def test_torus_curve_points_have_a_pair_on_the_unit_circle_by_scipy(torus_curve, scipy_multipliers):
@@ -68,9 +68,9 @@ def resonant_torus_curve():
     resonance at sigma = 0.132."""
     P = get_preset("fig13").params
     start = orbit_from_simulation(P.replace(sigma=4.2), get_preset("fig13").state0, settle=150)
-    family = trace_orbits(start.params, start.y0, p_min=3.8, p_max=4.2, switch=False, points_per_2pi=32)
+    family = trace_orbits(start.params, start.y0, p_min=3.8, p_max=4.2, shooting=ShootingSettings(points_per_2pi=32), branching=NO_SWITCHING)
     ns = [s for s in family.branches[0].branch.special_of("NS") if abs(s.p - 3.98266) < 1e-3][0]
-    return P, trace_curve(P, ns.x, ns.p, kind="NS", p1_range=(-1.0, 4.2), p2_range=(0.6, 1.2))
+    return P, trace_curve(P, CurveSeed("NS", ns.x, ns.p), box={"sigma": (-1.0, 4.2), "Abar": (0.6, 1.2)})
 
 
 def test_torus_curve_is_continued_to_a_strong_resonance_and_ends_there(resonant_torus_curve, scipy_multipliers):
@@ -92,9 +92,9 @@ def pitchfork_curve():
     """The symmetry-breaking curve through the pitchfork of the symmetric branch at sigma = 3.347."""
     P = PRESET.params
     start = orbit_from_simulation(P.replace(sigma=6.0), PRESET.state0, settle=100)
-    family = trace_orbits(start.params, start.y0, p_min=3.0, p_max=6.0, switch=False, points_per_2pi=32)
+    family = trace_orbits(start.params, start.y0, p_min=3.0, p_max=6.0, shooting=ShootingSettings(points_per_2pi=32), branching=NO_SWITCHING)
     (bp,) = family.branches[0].branch.special_of("BP")
-    return P, trace_curve(P, bp.x, bp.p, kind="BP", p1_range=(2.5, 4.5), p2_range=(2.5, 3.5))
+    return P, trace_curve(P, CurveSeed("BP", bp.x, bp.p), box={"sigma": (2.5, 4.5), "Abar": (2.5, 3.5)})
 
 
 def test_pitchfork_curve_points_are_branch_points_of_the_full_problem(pitchfork_curve, scipy_multipliers):
@@ -163,9 +163,9 @@ def beta_fold_curve():
     """A fold curve in (sigma, beta): the fold of the symmetric branch at beta = 0.1 (Abar = 3)."""
     P = PRESET.params.replace(beta=0.1)
     start = orbit_from_simulation(P.replace(sigma=-1.2), PRESET.state0, settle=150)
-    family = trace_orbits(start.params, start.y0, p_min=-1.7, p_max=-1.2, switch=False)
+    family = trace_orbits(start.params, start.y0, p_min=-1.7, p_max=-1.2, branching=NO_SWITCHING)
     (lp,) = family.branches[0].branch.special_of("LP")
-    return P, trace_curve(P, lp.x, lp.p, kind="LP", p1="sigma", p2="beta", p1_range=(-1.8, -1.0), p2_range=(0.02, 0.25))
+    return P, trace_curve(P, CurveSeed("LP", lp.x, lp.p), box={"sigma": (-1.8, -1.0), "beta": (0.02, 0.25)})
 
 
 @pytest.fixture(scope="module")
@@ -174,9 +174,9 @@ def eps_flip_curve():
     sigma branch (sigma = -2.5358 held): the start branch's parameter is neither of the two."""
     P = PRESET.params.replace(sigma=-3.0)
     orbit, _ = settle_and_shoot(P, PRESET.state0)
-    family = trace_orbits(P, orbit.y0, p_min=-3.0, p_max=-2.3, switch=False)
+    family = trace_orbits(P, orbit.y0, p_min=-3.0, p_max=-2.3, branching=NO_SWITCHING)
     (pd,) = family.branches[0].branch.special_of("PD")
-    return P.replace(sigma=pd.p), trace_curve(P, pd.x, pd.p, kind="PD", branch_param="sigma", p1="Abar", p2="eps", p1_range=(2.6, 3.4), p2_range=(0.04, 0.06))
+    return P.replace(sigma=pd.p), trace_curve(P, CurveSeed("PD", pd.x, pd.p, branch_param="sigma"), box={"Abar": (2.6, 3.4), "eps": (0.04, 0.06)})
 
 
 @pytest.mark.parametrize("curve_fixture, mu", [pytest.param("beta_fold_curve", 1.0, marks=pytest.mark.slow), ("eps_flip_curve", -1.0)])
@@ -227,19 +227,19 @@ def test_bad_requests_fail_before_any_work():
     P = PRESET.params
     x = np.zeros(16)
     with pytest.raises(ValueError, match="kind must be one of LP, PD, BP, NS"):
-        trace_curve(P, x, 0.0, kind="XX", p1_range=(-1, 1), p2_range=(1, 2))
+        trace_curve(P, CurveSeed("XX", x, 0.0), box={"sigma": (-1, 1), "Abar": (1, 2)})
     with pytest.raises(ValueError, match="'omega' is not a field of Params"):
         curve_problem(P, "LP", "sigma", "omega")
     with pytest.raises(ValueError, match="the two parameters must differ"):
         curve_problem(P, "LP", "sigma", "sigma")
     with pytest.raises(ValueError, match="'n' is an integer"):
-        trace_curve(P, x, 0.0, kind="LP", p1="sigma", p2="n", p1_range=(-1, 1), p2_range=(1, 60))
+        trace_curve(P, CurveSeed("LP", x, 0.0), box={"sigma": (-1, 1), "n": (1, 60)})
     with pytest.raises(ValueError, match="start branch's parameter must be one of"):
-        trace_curve(P, x, 0.0, kind="LP", branch_param="pbar", p1_range=(-1, 1), p2_range=(1, 4))
+        trace_curve(P, CurveSeed("LP", x, 0.0, branch_param="pbar"), box={"sigma": (-1, 1), "Abar": (1, 4)})
     with pytest.raises(ValueError, match="empty box"):
-        trace_curve(P, x, 0.0, kind="LP", p1_range=(1, -1), p2_range=(1, 2))
+        trace_curve(P, CurveSeed("LP", x, 0.0), box={"sigma": (1, -1), "Abar": (1, 2)})
     with pytest.raises(ValueError, match="outside the box"):
-        trace_curve(P, x, 5.0, kind="LP", p1_range=(-1, 1), p2_range=(1, 4))
+        trace_curve(P, CurveSeed("LP", x, 5.0), box={"sigma": (-1, 1), "Abar": (1, 4)})
 
 
 def test_a_start_that_is_not_a_special_point_of_the_kind_is_refused(flip_curve):
@@ -247,7 +247,7 @@ def test_a_start_that_is_not_a_special_point_of_the_kind_is_refused(flip_curve):
     x, sigma = curve.branch.x[5, :-1], curve["sigma"][5]
     at = P.replace(Abar=float(curve["Abar"][5]))
     with pytest.raises(ValueError, match="the start is not a LP point"):
-        trace_curve(at, x, sigma, kind="LP", p1_range=(-2.9, -2.2), p2_range=(2.7, 3.3))
+        trace_curve(at, CurveSeed("LP", x, sigma), box={"sigma": (-2.9, -2.2), "Abar": (2.7, 3.3)})
 
 
 def test_renewed_borders_keep_their_orientation():
@@ -282,7 +282,7 @@ def test_a_fold_curve_that_stalls_is_resumed_with_finer_arcs_and_passes(scipy_mu
     p, u = ASYMMETRIC_FOLD
     P = get_preset("fig13").params.replace(Abar=u[-1])
     options = dataclasses.replace(CURVE_OPTIONS, direction="forward", max_steps=200)
-    curve = trace_curve(P, u[:-1], p, kind="LP", p1_range=(-0.25, 1.0), p2_range=(0.3, 1.0), options=options)
+    curve = trace_curve(P, CurveSeed("LP", u[:-1], p), box={"sigma": (-0.25, 1.0), "Abar": (0.3, 1.0)}, options=options)
     branch = curve.branch
     assert branch.status == "ok" and "resumed with the finer problem" in branch.message, branch.message
     assert set(branch.diagnostics["rtol"]) == {1e-10, 1e-12}

@@ -12,7 +12,7 @@ import pytest
 
 from slosh_bif import get_preset
 from slosh_bif.continuation import continuation
-from slosh_bif.orbits import orbit_from_simulation, trace_orbits
+from slosh_bif.orbits import NO_SWITCHING, ShootingSettings, orbit_from_simulation, trace_orbits
 from slosh_bif.orbits.families import SHOOTING_OPTIONS
 from slosh_bif.orbits.pitchforks import refine_pitchforks
 from slosh_bif.orbits.shooting import ShootingProblem
@@ -23,7 +23,7 @@ PRESET = get_preset("fig10")
 @pytest.fixture(scope="module")
 def symmetric_branch():
     start = orbit_from_simulation(PRESET.params.replace(sigma=-1.2), PRESET.state0, settle=150)
-    return trace_orbits(start.params, start.y0, p_min=-1.6, p_max=1.2, switch=False, points_per_2pi=32).branches[0]
+    return trace_orbits(start.params, start.y0, p_min=-1.6, p_max=1.2, shooting=ShootingSettings(points_per_2pi=32), branching=NO_SWITCHING).branches[0]
 
 
 def test_every_pitchfork_of_the_half_period_map_has_a_multiplier_at_one_by_scipy(symmetric_branch, scipy_multipliers):
@@ -56,7 +56,7 @@ def test_no_pitchfork_off_the_walls_where_the_free_particle_makes_minus_one_doub
     along; its test flips sign on rounding. No BP may be reported there, neither located nor
     detected; the genuine pitchfork where the orbit touches the wall is kept."""
     start = orbit_from_simulation(PRESET.params.replace(sigma=6.0), PRESET.state0, settle=100)
-    ob = trace_orbits(start.params, start.y0, param="Abar", p_min=0.2, p_max=6.0, switch=False, points_per_2pi=64).branches[0]
+    ob = trace_orbits(start.params, start.y0, param="Abar", p_min=0.2, p_max=6.0, shooting=ShootingSettings(points_per_2pi=64), branching=NO_SWITCHING).branches[0]
     assert ob.kind == "symmetric"
     off_wall = ob.measures["max_abs_w"] < 0.9
     assert np.sum(off_wall) >= 10  # the stretch the test is about is on the branch

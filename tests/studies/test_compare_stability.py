@@ -38,8 +38,8 @@ def test_a_special_point_inside_a_segment_splits_it():
 
 
 _POINT = (
-    "from slosh_bif import get_preset; from slosh_bif.studies.trust import trust_point; "
-    "t = trust_point(get_preset('fig13').params.replace(eps=0.02, beta=0.0, n=50), switch=False); print(repr((t.agree, t.confirmed)))"
+    "from slosh_bif import NO_SWITCHING, get_preset; from slosh_bif.studies.trust import trust_point; "
+    "t = trust_point(get_preset('fig13').params.replace(eps=0.02, beta=0.0, n=50), branching=NO_SWITCHING); print(repr((t.agree, t.confirmed)))"
 )
 
 

@@ -9,7 +9,7 @@ import warnings
 import numpy as np
 import pytest
 
-from slosh_bif import get_preset
+from slosh_bif import NO_SWITCHING, get_preset
 from slosh_bif.orbits.starts import settle_and_shoot
 from slosh_bif.slowflow.flow import AsymptoticsWarning, SlowFlow
 from slosh_bif.slowflow.steady_states import frequency_response
@@ -29,15 +29,15 @@ def test_the_isola_a_simulation_settles_on_is_among_the_families_found():
         b, i = next((b, i) for b in fr.branches for i in range(len(b) - 1) if b.stable[i] and (b.p[i] - sigma) * (b.p[i + 1] - sigma) <= 0)
         orbit, A1 = settle_and_shoot(P.replace(sigma=float(b.p[i])), SlowFlow(P.replace(sigma=float(b.p[i])), "corrected").fast_state(*b.x[i], 0.0), first=0)
     assert orbit.converged and orbit.stable
-    primary = trust_point(P, switch=False, model="corrected", isola_tries=0)
-    searched = trust_point(P, switch=False, model="corrected")
+    primary = trust_point(P, branching=NO_SWITCHING, model="corrected", isola_tries=0)
+    searched = trust_point(P, branching=NO_SWITCHING, model="corrected")
     assert searched.branches > primary.branches and searched.median_difference < 0.5 * primary.median_difference
     # the same orbit on a family the search added (A1 to the continuation's interpolation)
     from slosh_bif.orbits.families import trace_orbits
     from slosh_bif.orbits.starts import slow_flow_start
 
     start = slow_flow_start(P, -6, 8, response=frequency_response(P, sigma_min=-6, sigma_max=8))
-    family = trace_orbits(start.params, start.y0, p_min=-6, p_max=8, switch=False)
+    family = trace_orbits(start.params, start.y0, p_min=-6, p_max=8, branching=NO_SWITCHING)
     assert not any(abs(a - A1) < 1e-3 * A1 for a, _, _ in orbits_at(family.branches, float(b.p[i])))  # the start's family misses it
     found = missed_families(P, fr, family, np.linspace(-6, 8, 141), model="corrected")
     assert any(abs(a - A1) < 1e-3 * A1 and stable for a, stable, _ in orbits_at(found, float(b.p[i])))
@@ -61,7 +61,7 @@ def test_a_start_the_continuation_cannot_leave_gives_way_to_the_next():
         fr = frequency_response(Q, sigma_min=-6, sigma_max=8)
         first, second = (slow_flow_start(Q, -6, 8, response=fr, skip=k) for k in (0, 1))
     assert first.orbit.converged and second.orbit.converged and first.sigma != second.sigma
-    point = trust_point(Q, switch=False, isola_tries=0)
+    point = trust_point(Q, branching=NO_SWITCHING, isola_tries=0)
     # (whether the first start's corrector converges is decided near its tolerance: on this
     # machine it does not; elsewhere the first start may serve)
     assert point.status == "ok" and point.sigma_start in (first.sigma, second.sigma) and np.isfinite(point.median_difference)

@@ -2,12 +2,12 @@
 doubling (PD), pitchfork (BP) and Neimark-Sacker (NS) curves, one problem class each on a shared
 minimally augmented base, their codimension-2 points, and the curve result object."""
 
-from slosh_bif.orbits.codim2.curves import CODIM2_KINDS, CURVE_OPTIONS, CURVE_PROBLEMS, BifurcationCurve, curve_problem, trace_curve
+from slosh_bif.orbits.codim2.curves import CODIM2_KINDS, CURVE_OPTIONS, CURVE_PROBLEMS, BifurcationCurve, CurveSeed, curve_problem, trace_curve
 from slosh_bif.orbits.codim2.minaug import MinAugCurveProblem
 from slosh_bif.orbits.codim2.multiplier_curves import FlipCurveProblem, FoldCurveProblem, PitchforkCurveProblem
 from slosh_bif.orbits.codim2.torus import TorusCurveProblem
 
 __all__ = [
-    "BifurcationCurve", "trace_curve", "curve_problem", "CURVE_PROBLEMS", "MinAugCurveProblem", "FoldCurveProblem", "FlipCurveProblem",
+    "BifurcationCurve", "CurveSeed", "trace_curve", "curve_problem", "CURVE_PROBLEMS", "MinAugCurveProblem", "FoldCurveProblem", "FlipCurveProblem",
     "PitchforkCurveProblem", "TorusCurveProblem", "CURVE_OPTIONS", "CODIM2_KINDS",
 ]

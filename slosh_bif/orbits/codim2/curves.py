@@ -16,9 +16,10 @@ from slosh_bif.orbits.codim2.minaug import MinAugCurveProblem
 from slosh_bif.orbits.codim2.multiplier_curves import FlipCurveProblem, FoldCurveProblem, PitchforkCurveProblem
 from slosh_bif.orbits.codim2.torus import TorusCurveProblem
 from slosh_bif.orbits.floquet import floquet_multipliers
+from slosh_bif.orbits.settings import SHOOTING, ShootingSettings
 from slosh_bif.orbits.shooting import PARAMETERS, ShootingProblem, orbit_measures
 
-__all__ = ["BifurcationCurve", "trace_curve", "curve_problem", "CURVE_PROBLEMS", "CURVE_OPTIONS", "CODIM2_KINDS"]
+__all__ = ["BifurcationCurve", "CurveSeed", "trace_curve", "curve_problem", "CURVE_PROBLEMS", "CURVE_OPTIONS", "CODIM2_KINDS"]
 
 CURVE_PROBLEMS = {"LP": FoldCurveProblem, "PD": FlipCurveProblem, "BP": PitchforkCurveProblem, "NS": TorusCurveProblem}
 
@@ -102,61 +103,78 @@ class BifurcationCurve:
         return cls(meta["kind"], meta["p1"], meta["p2"], branch, measures, meta["origin"], int(meta.get("period_multiple", 1)))
 
 
+@dataclasses.dataclass(frozen=True)
+class CurveSeed:
+    """Where a curve starts: the special point of ``kind`` (LP, PD, NS or BP) at ``p`` on a
+    branch of orbits continued in ``branch_param``, whose period is ``period_multiple`` forcing
+    periods. ``x`` holds the orbit's states at the starts of its arcs (the settings' ``segments``
+    per forcing period), or, from a symmetric branch (traced on the half-period map), the half
+    period's. ``origin`` says where the point was found (it is kept with the curve)."""
+
+    kind: str
+    x: np.ndarray
+    p: float
+    branch_param: str = "sigma"
+    period_multiple: int = 1
+    origin: str = ""
+
+    @classmethod
+    def on(cls, orbit_branch, point, origin: str = "") -> "CurveSeed":
+        """The seed at the special point ``point`` of the :class:`~slosh_bif.orbits.families.OrbitBranch` ``orbit_branch``."""
+        problem = orbit_branch.problem
+        return cls(point.kind, problem.full_states(point.x), float(point.p), orbit_branch.branch.param, problem.period_multiple, origin)
+
+
 def trace_curve(
     params: Params,
-    x,
-    p: float,
+    seed: CurveSeed,
     *,
-    kind: str,
-    branch_param: str = "sigma",
-    p1: str = "sigma",
-    p2: str = "Abar",
-    p1_range: tuple,
-    p2_range: tuple,
-    segments: int = 4,
-    period_multiple: int = 1,
+    box: dict,
+    shooting: ShootingSettings = SHOOTING,
     options: ContinuationOptions | None = None,
-    rtol: float = 1e-10,
-    origin: str = "",
-    points_per_2pi: int = 256,
-    backend: str = "auto",
     callback=None,
 ) -> BifurcationCurve:
-    """Trace the curve of ``kind`` (LP, PD, NS or BP) through the special point (x, p) of a one-parameter
-    branch in ``branch_param`` over the box p1_range x p2_range, in both directions until it
-    leaves the box, closes, or cannot be continued (its status says which). p1 and p2 are any two
-    real fields of :class:`Params`; when ``branch_param`` is neither, the curve lies in the plane
-    where it is held at the special point's p (a sigma branch's fold continued in (Abar, eps)).
-    ``backend``: the integrator of the arcs (compiled or scipy's DOP853). x holds the states at
-    the starts of ``segments`` arcs of the period, or, from a symmetric branch (traced on the
-    half-period map), of the ``segments / 2`` arcs of the half period.
+    """Trace the curve of ``seed.kind`` (LP, PD, NS or BP) through the seed's special point over
+    ``box``, ``{p1: (low, high), p2: (low, high)}``, in both directions until it leaves the box,
+    closes, or cannot be continued (its status says which). p1 and p2 are any two real fields of
+    :class:`Params`; when the seed's branch parameter is neither, the curve lies in the plane
+    where it is held at the seed's p (a sigma branch's fold continued in (Abar, eps)).
+    ``shooting``: the arcs (``segments`` per forcing period), their integrator and tolerance
+    (``atol`` is ``rtol`` / 100 on curves), and the samples of each point's measures;
+    ``options``: the continuation's (:data:`CURVE_OPTIONS` by default; its parameter bounds are
+    the box's). ``callback(p, x)`` is called at each accepted point.
     """
+    kind, period_multiple, branch_param = seed.kind, seed.period_multiple, seed.branch_param
     if kind not in CURVE_PROBLEMS:
         raise ValueError(f"kind must be one of {', '.join(CURVE_PROBLEMS)}; got {kind!r}")
-    x = np.asarray(x, dtype=float)
+    if not (isinstance(box, dict) and len(box) == 2 and all(len(r) == 2 for r in box.values())):
+        raise ValueError(f"box must be {{p1: (low, high), p2: (low, high)}} for two parameters; got {box!r}")
+    (p1, (lo1, hi1)), (p2, (lo2, hi2)) = box.items()
+    segments = shooting.segments * period_multiple  # arcs of the orbit's whole period
+    x = np.asarray(seed.x, dtype=float)
     if period_multiple == 1 and segments % 2 == 0 and x.shape == (2 * segments,):  # a symmetric branch's half-period states
         x = np.concatenate([x, -x])
     if kind == "BP":  # the half-period map: the first half of the arcs of a symmetric orbit
         if segments % 2:
             raise ValueError(f"a BP curve starts from a symmetric orbit in an even number of arcs; got {segments}")
         segments //= 2
-        x = np.asarray(x, dtype=float)[: 4 * segments]
+        x = x[: 4 * segments]
     real_pair((p1, p2))
     if branch_param not in PARAMETERS:
         raise ValueError(f"the start branch's parameter must be one of {', '.join(PARAMETERS)}; got {branch_param!r}")
-    (lo1, hi1), (lo2, hi2) = p1_range, p2_range
     if not (lo1 < hi1 and lo2 < hi2):
         raise ValueError(f"empty box: {p1} in [{lo1}, {hi1}], {p2} in [{lo2}, {hi2}]")
-    params = params.replace(**{branch_param: float(p)})
+    params = params.replace(**{branch_param: float(seed.p)})
     p1_0, p2_0 = float(getattr(params, p1)), float(getattr(params, p2))
     if not (lo1 <= p1_0 <= hi1 and lo2 <= p2_0 <= hi2):
         raise ValueError(f"the start point ({p1} = {p1_0:g}, {p2} = {p2_0:g}) lies outside the box")
     span1 = hi1 - lo1
-    mu = _check_start(params.replace(**{p1: p1_0, p2: p2_0}), x, kind, segments, period_multiple, p1, symmetric=kind == "BP", backend=backend)
+    mu = _check_start(params.replace(**{p1: p1_0, p2: p2_0}), x, kind, segments, period_multiple, p1, symmetric=kind == "BP", backend=shooting.backend)
     setup = dict(
-        segments=segments, period_multiple=period_multiple, rtol=rtol, atol=rtol * 1e-2, box=(lo1 - 0.5 * span1, hi1 + 0.5 * span1), p2_box=(lo2, hi2), backend=backend,
+        segments=segments, period_multiple=period_multiple, rtol=shooting.rtol, atol=shooting.rtol * 1e-2, box=(lo1 - 0.5 * span1, hi1 + 0.5 * span1), p2_box=(lo2, hi2),
+        backend=shooting.backend,
     )
-    u0 = np.append(np.asarray(x, dtype=float), p2_0)
+    u0 = np.append(x, p2_0)
     problem = curve_problem(params, kind, p1, p2, **setup)
     if kind == "NS":
         pair = mu[np.argmin(np.abs(np.abs(mu) - 1) + (np.abs(mu.imag) < 1e-9))]  # the pair on the unit circle
@@ -164,8 +182,8 @@ def trace_curve(
     problem.init_borders(u0, p1_0)
     opts = dataclasses.replace(options or CURVE_OPTIONS, p_min=lo1, p_max=hi1)
     branch = _once(continuation(problem, u0, p1_0, param=p1, options=opts, callback=callback))
-    measures = _measures(problem, branch, points_per_2pi)
-    return BifurcationCurve(kind, p1, p2, branch, measures, origin, period_multiple)
+    measures = _measures(problem, branch, shooting.points_per_2pi)
+    return BifurcationCurve(kind, p1, p2, branch, measures, seed.origin, period_multiple)
 
 
 def _once(branch: Branch) -> Branch:

@@ -1,0 +1,140 @@
+"""Settings of the orbit computations of (9), each a frozen object passed whole.
+
+* :class:`ShootingSettings`: how one orbit is computed (multiple shooting in ``segments`` arcs
+  per forcing period, the arcs' integrator and tolerances) and how finely its measures (A1,
+  max |X|, max |w|) are sampled;
+* :class:`BranchingSettings`: which branches a family follows off its first one (switching at
+  the symmetry-breaking pitchforks and at period doublings, up to ``max_branches``);
+* :class:`StartSettings`: where :func:`~slosh_bif.orbits.scan.scan_families` looks for starts;
+* :class:`Resume`: what an earlier, interrupted run finished, and where a run records its pieces.
+
+Continuation's own step control is :class:`~slosh_bif.continuation.ContinuationOptions`. Each
+object checks its fields on construction; an error names the field and what it may be.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+from slosh_bif.orbits.shooting import BACKENDS
+
+__all__ = ["ShootingSettings", "BranchingSettings", "StartSettings", "Resume", "SHOOTING", "BRANCHING", "NO_SWITCHING", "STARTS"]
+
+
+def _need(settings, ok: bool, name: str, allowed: str) -> None:
+    if not ok:
+        raise ValueError(f"{type(settings).__name__}.{name} must be {allowed}; got {getattr(settings, name)!r}")
+
+
+def _integer(value, low: int, high: float = float("inf")) -> bool:
+    return isinstance(value, int) and not isinstance(value, bool) and low <= value <= high
+
+
+@dataclasses.dataclass(frozen=True)
+class ShootingSettings:
+    """How an orbit of (9) is computed and measured.
+
+    Attributes
+    ----------
+    segments : int
+        Shooting arcs per forcing period (a period-k orbit has k times as many; a symmetric
+        orbit's half-period map half as many), 1 to 64.
+    rtol, atol : float
+        The arcs' integration tolerances.
+    backend : str
+        The arcs' integrator: "auto" (numba's compiled integrator when numba imports, else scipy's), "numba" or "scipy".
+    points_per_2pi : int
+        Samples per forcing period of each orbit's measures.
+    """
+
+    segments: int = 4
+    rtol: float = 1e-10
+    atol: float = 1e-12
+    backend: str = "auto"
+    points_per_2pi: int = 256
+
+    def __post_init__(self):
+        _need(self, _integer(self.segments, 1, 64), "segments", "an integer in [1, 64]")
+        _need(self, isinstance(self.rtol, float | int) and 1e-14 <= self.rtol <= 1e-4, "rtol", "in [1e-14, 1e-4]")
+        _need(self, isinstance(self.atol, float | int) and 0 < self.atol <= 1e-4, "atol", "in (0, 1e-4]")
+        _need(self, self.backend in BACKENDS, "backend", f"one of {', '.join(BACKENDS)}")
+        _need(self, _integer(self.points_per_2pi, 8, 1 << 16), "points_per_2pi", "an integer in [8, 65536]")
+
+    def replace(self, **changes) -> ShootingSettings:
+        return dataclasses.replace(self, **changes)
+
+
+@dataclasses.dataclass(frozen=True)
+class BranchingSettings:
+    """Which branches a family of orbits follows beyond its first.
+
+    Attributes
+    ----------
+    switch : bool
+        Switch onto the branches born at the first branch's pitchforks (and period doublings).
+    doublings : bool
+        Switch at period doublings too (followed up to period 8), not only at pitchforks.
+    max_branches : int
+        Branches per family at most, the first one included.
+    """
+
+    switch: bool = True
+    doublings: bool = True
+    max_branches: int = 6
+
+    def __post_init__(self):
+        _need(self, isinstance(self.switch, bool), "switch", "True or False")
+        _need(self, isinstance(self.doublings, bool), "doublings", "True or False")
+        _need(self, _integer(self.max_branches, 1), "max_branches", "an integer >= 1")
+
+
+@dataclasses.dataclass(frozen=True)
+class StartSettings:
+    """Where a scan for every family looks for start orbits (see
+    :func:`~slosh_bif.orbits.starts.scan_starts`).
+
+    Attributes
+    ----------
+    points : int
+        Values of the parameter, evenly spread over the range, at which starts are simulated.
+    settle : int
+        Forcing periods each start simulation runs before Newton.
+    random_starts : int
+        Random initial states per value (drawn from numpy's generator seeded with ``seed``).
+    seed : int
+        The seed of those draws.
+    """
+
+    points: int = 5
+    settle: int = 100
+    random_starts: int = 4
+    seed: int = 0
+
+    def __post_init__(self):
+        _need(self, _integer(self.points, 1), "points", "an integer >= 1 (scan values of the parameter)")
+        _need(self, _integer(self.settle, 1), "settle", "an integer >= 1 (forcing periods)")
+        _need(self, _integer(self.random_starts, 0), "random_starts", "an integer >= 0")
+        _need(self, _integer(self.seed, 0), "seed", "an integer >= 0")
+
+
+@dataclasses.dataclass(frozen=True)
+class Resume:
+    """A long run's pieces (a scan's starts, a chart's curves) kept as they finish and reused.
+
+    Attributes
+    ----------
+    done :
+        What an earlier run with the same settings finished (its form is the run's: a scan's
+        ``(k, branches)``, a chart's ``{start index: curve}``); None for a fresh run.
+    keep :
+        ``keep(k, piece)``, called as each piece finishes (to store it), or None.
+    """
+
+    done: object = None
+    keep: object = None
+
+
+SHOOTING = ShootingSettings()
+BRANCHING = BranchingSettings()
+NO_SWITCHING = BranchingSettings(switch=False)
+STARTS = StartSettings()
