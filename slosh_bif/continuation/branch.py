@@ -16,10 +16,11 @@ from __future__ import annotations
 import dataclasses
 import enum
 import json
-import os
 from pathlib import Path
 
 import numpy as np
+
+from slosh_bif.atomic import replaced_atomically
 
 __all__ = ["Branch", "SpecialPoint", "Kind", "Status", "polyline_distance", "FOLD", "BRANCH_POINT", "PERIOD_DOUBLING", "NEIMARK_SACKER", "END"]
 
@@ -204,15 +205,9 @@ class Branch:
         special_x = np.array([s.x for s in self.special]) if self.special else np.zeros((0, self.x.shape[1]))
         width = self.x.shape[1] + 1
         special_t = np.array([s.tangent if s.tangent is not None else np.full(width, np.nan) for s in self.special]) if self.special else np.zeros((0, width))
-        # Whole or not at all (as slosh_bif.report.files does for the wings, which this layer cannot import).
         path = Path(path) if str(path).endswith(".npz") else Path(f"{path}.npz")  # numpy's naming
-        tmp = path.with_name(f".{path.stem}.{os.getpid()}.partial.npz")
-        try:
+        with replaced_atomically(path) as tmp:  # whole or not at all
             self._savez(tmp, meta, special_x, special_t, extra)
-            os.replace(tmp, path)
-        finally:
-            if tmp.exists():
-                tmp.unlink()
         return path
 
     def _savez(self, tmp, meta, special_x, special_t, extra):

@@ -1,13 +1,13 @@
-"""Files written whole or not at all: a reader (or a later run) sees the previous complete file or
-the new complete one, never a partial file left by a kill, a full disk or an exception."""
+"""The stores that long runs resume from (settings checked before anything is reused; damaged
+ones refused in one line), written whole or not at all by :mod:`slosh_bif.atomic`."""
 
 from __future__ import annotations
 
-import contextlib
 import json
-import os
 import time
 from pathlib import Path
+
+from slosh_bif.atomic import replaced_atomically, write_text_atomically
 
 __all__ = ["replaced_atomically", "write_text_atomically", "read_store", "check_settings", "pickle_store", "CellStore", "damaged"]
 
@@ -18,28 +18,6 @@ DAMAGE = (ValueError, KeyError, TypeError, IndexError, AttributeError, EOFError,
 def damaged(path, err) -> ValueError:
     """The one-line error for a store that --resume cannot use."""
     return ValueError(f"--resume: {path} is damaged or not this program's store ({type(err).__name__}: {err}); run without --resume or into another --out")
-
-
-@contextlib.contextmanager
-def replaced_atomically(path):
-    """Yield a temporary path beside ``path`` (same folder, same suffix, so that writers that
-    choose a format by the suffix still do); when the block ends normally it is renamed onto
-    ``path`` (``os.replace``: atomic on POSIX and Windows), otherwise it is removed and ``path``
-    is left as it was."""
-    path = Path(path)
-    tmp = path.with_name(f".{path.stem}.{os.getpid()}.partial{path.suffix}")
-    try:
-        yield tmp
-        os.replace(tmp, path)
-    finally:
-        with contextlib.suppress(FileNotFoundError):
-            tmp.unlink()
-
-
-def write_text_atomically(path, text: str) -> Path:
-    with replaced_atomically(path) as tmp:
-        tmp.write_text(text)
-    return Path(path)
 
 
 def read_store(path, settings: dict, *, key: str | None = "settings") -> dict:

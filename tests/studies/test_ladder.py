@@ -1,14 +1,12 @@
 """The lightest model for each question: choices, escalation, and the answers checked independently."""
 
-import csv
 import json
 import warnings
-from pathlib import Path
 
 import numpy as np
 import pytest
 
-from slosh_bif import get_preset
+from slosh_bif import get_preset, regime_map
 from slosh_bif.cli import main
 from slosh_bif.simulation.direct import simulate
 from slosh_bif.simulation.regimes import classify
@@ -81,23 +79,26 @@ def test_frequency_response_answers_by_the_chosen_model():
     assert np.all(ob.measures["A1"] > 0)
 
 
-@pytest.mark.slow  # a 221-cell regime map (39 s)
-def test_regime_error_in_the_table_matches_the_committed_regime_map():
+@pytest.mark.slow  # a 221-cell regime map of (9) (about a minute on 2 cores)
+def test_regime_error_in_the_table_matches_a_fresh_regime_map():
     """SLOW_FLOW_ERROR["regime"] is the disagreement of the slow flow's prediction (integrated from
-    the initial state: escape from S+ or a steady state) with the smooth model's classification on
-    the committed map docs/regimes_fig13 (17 x 13 simulations of 4,000 time units)."""
-    path = Path(__file__).resolve().parents[2] / "docs" / "regimes_fig13" / "regimes.csv"
+    the initial state: escape from S+ or a steady state) with the smooth model's classification
+    over the Fig. 13 box (17 x 13 simulations of 4,000 time units), simulated here. Border cells
+    depend on rounding (the early motion is chaotic: two runs differ in up to 11 of the 221
+    cells), so the measured error is within 0.05 of the table's."""
     pre = get_preset("fig13")
-    wrong = total = 0
-    with open(path, newline="") as fh, warnings.catch_warnings():
+    sigmas, abars = np.linspace(-3, 5, 17), np.linspace(0.1, 2.5, 13)
+    fresh = regime_map(pre.params, pre.state0, sigmas, abars, tmax=4000)
+    assert fresh.complete
+    wrong = 0
+    with warnings.catch_warnings():
         warnings.simplefilter("ignore", AsymptoticsWarning)
-        for row in csv.DictReader(fh):
-            flow = SlowFlow(pre.params.replace(sigma=float(row["sigma"]), Abar=float(row["Abar"])))
-            resonant = not flow.integrate(*flow.start_from_state(pre.state0), (0.0, pre.params.eps * 4000 * 2 * np.pi)).escaped
-            wrong += resonant != (row["regime"] == "periodic-resonant")
-            total += 1
-    assert total == 221
-    assert wrong / total == pytest.approx(SLOW_FLOW_ERROR["regime"], abs=0.01)
+        for i, abar in enumerate(abars):
+            for j, sigma in enumerate(sigmas):
+                flow = SlowFlow(pre.params.replace(sigma=float(sigma), Abar=float(abar)))
+                resonant = not flow.integrate(*flow.start_from_state(pre.state0), (0.0, pre.params.eps * 4000 * 2 * np.pi)).escaped
+                wrong += resonant != (fresh.regime[i, j] == "periodic-resonant")
+    assert wrong / fresh.regime.size == pytest.approx(SLOW_FLOW_ERROR["regime"], abs=0.05)
 
 
 def test_answer_command_reports_model_reason_and_error(capsys, tmp_path):

@@ -144,12 +144,10 @@ def trace_curve(
     ``options``: the continuation's (:data:`CURVE_OPTIONS` by default; its parameter bounds are
     the box's). ``callback(p, x)`` is called at each accepted point.
     """
-    kind, period_multiple, branch_param = seed.kind, seed.period_multiple, seed.branch_param
+    kind, period_multiple = seed.kind, seed.period_multiple
     if kind not in CURVE_PROBLEMS:
         raise ValueError(f"kind must be one of {', '.join(CURVE_PROBLEMS)}; got {kind!r}")
-    if not (isinstance(box, dict) and len(box) == 2 and all(len(r) == 2 for r in box.values())):
-        raise ValueError(f"box must be {{p1: (low, high), p2: (low, high)}} for two parameters; got {box!r}")
-    (p1, (lo1, hi1)), (p2, (lo2, hi2)) = box.items()
+    (p1, (lo1, hi1)), (p2, (lo2, hi2)) = read_box(box)
     segments = shooting.segments * period_multiple  # arcs of the orbit's whole period
     x = np.asarray(seed.x, dtype=float)
     if period_multiple == 1 and segments % 2 == 0 and x.shape == (2 * segments,):  # a symmetric branch's half-period states
@@ -159,31 +157,72 @@ def trace_curve(
             raise ValueError(f"a BP curve starts from a symmetric orbit in an even number of arcs; got {segments}")
         segments //= 2
         x = x[: 4 * segments]
-    real_pair((p1, p2))
-    if branch_param not in PARAMETERS:
-        raise ValueError(f"the start branch's parameter must be one of {', '.join(PARAMETERS)}; got {branch_param!r}")
-    if not (lo1 < hi1 and lo2 < hi2):
-        raise ValueError(f"empty box: {p1} in [{lo1}, {hi1}], {p2} in [{lo2}, {hi2}]")
-    params = params.replace(**{branch_param: float(seed.p)})
-    p1_0, p2_0 = float(getattr(params, p1)), float(getattr(params, p2))
-    if not (lo1 <= p1_0 <= hi1 and lo2 <= p2_0 <= hi2):
-        raise ValueError(f"the start point ({p1} = {p1_0:g}, {p2} = {p2_0:g}) lies outside the box")
+    at = start_params(params, seed, box)
     span1 = hi1 - lo1
-    mu = _check_start(params.replace(**{p1: p1_0, p2: p2_0}), x, kind, segments, period_multiple, p1, symmetric=kind == "BP", backend=shooting.backend)
+    if x.shape != (4 * segments,) or not np.all(np.isfinite(x)):
+        raise ValueError(f"the start must be {4 * segments} finite numbers (the states at the starts of {segments} arcs); got shape {x.shape}")
+    check = ShootingProblem(at, p1, segments=segments, period_multiple=period_multiple, symmetric=kind == "BP", backend=shooting.backend)
+    mu = start_multipliers(check, x, at, kind)
     setup = dict(
         segments=segments, period_multiple=period_multiple, rtol=shooting.rtol, atol=shooting.rtol * 1e-2, box=(lo1 - 0.5 * span1, hi1 + 0.5 * span1), p2_box=(lo2, hi2),
         backend=shooting.backend,
     )
-    u0 = np.append(x, p2_0)
-    problem = curve_problem(params, kind, p1, p2, **setup)
-    if kind == "NS":
-        pair = mu[np.argmin(np.abs(np.abs(mu) - 1) + (np.abs(mu.imag) < 1e-9))]  # the pair on the unit circle
-        u0 = np.append(u0, np.cos(np.angle(pair)))
-    problem.init_borders(u0, p1_0)
-    opts = dataclasses.replace(options or CURVE_OPTIONS, p_min=lo1, p_max=hi1)
-    branch = _once(continuation(problem, u0, p1_0, param=p1, options=opts, callback=callback))
+    problem = curve_problem(at, kind, p1, p2, **setup)
+    branch = continue_curve(problem, x, mu, at, box, options, callback)
     measures = _measures(problem, branch, shooting.points_per_2pi)
     return BifurcationCurve(kind, p1, p2, branch, measures, seed.origin, period_multiple)
+
+
+def read_box(box) -> tuple:
+    """((p1, (low, high)), (p2, (low, high))) of a curve's box, or a one-line error."""
+    if not (isinstance(box, dict) and len(box) == 2 and all(len(r) == 2 for r in box.values())):
+        raise ValueError(f"box must be {{p1: (low, high), p2: (low, high)}} for two parameters; got {box!r}")
+    (p1, (lo1, hi1)), (p2, (lo2, hi2)) = box.items()
+    real_pair((p1, p2))
+    if not (lo1 < hi1 and lo2 < hi2):
+        raise ValueError(f"empty box: {p1} in [{lo1}, {hi1}], {p2} in [{lo2}, {hi2}]")
+    return (p1, (lo1, hi1)), (p2, (lo2, hi2))
+
+
+def start_params(params: Params, seed, box) -> Params:
+    """The parameter set at the seed (its branch parameter at the seed's value), checked inside the box."""
+    if seed.branch_param not in PARAMETERS:
+        raise ValueError(f"the start branch's parameter must be one of {', '.join(PARAMETERS)}; got {seed.branch_param!r}")
+    at = params.replace(**{seed.branch_param: float(seed.p)})
+    (p1, (lo1, hi1)), (p2, (lo2, hi2)) = read_box(box)
+    p1_0, p2_0 = float(getattr(at, p1)), float(getattr(at, p2))
+    if not (lo1 <= p1_0 <= hi1 and lo2 <= p2_0 <= hi2):
+        raise ValueError(f"the start point ({p1} = {p1_0:g}, {p2} = {p2_0:g}) lies outside the box")
+    return at
+
+
+def start_multipliers(orbits, x, at: Params, kind: str):
+    """The multipliers of the orbit x at ``at`` (``orbits``: its orbit equations), or a one-line
+    error, before any continuation, when it is not an orbit with the multiplier of ``kind`` (to
+    1e-3: a located special point has it to the corrector's tolerance)."""
+    arcs = orbits.arcs(x, at)
+    mu = floquet_multipliers(arcs.mats) if np.all(np.isfinite(arcs.mats)) else np.full(4, np.nan + 0j)
+    residual = np.linalg.norm(orbits.residual_of(x, arcs))
+    critical = {
+        "LP": np.min(np.abs(mu - 1)), "PD": np.min(np.abs(mu + 1)), "BP": np.min(np.abs(mu - 1)),
+        "NS": np.min(np.abs(np.abs(mu[np.abs(mu.imag) > 1e-9]) - 1), initial=np.inf),
+    }[kind]
+    if not (residual < 1e-6 and critical < 1e-3):
+        raise ValueError(f"the start is not a {kind} point of a periodic orbit (residual {residual:.2g}, multipliers {np.round(mu, 4)})")
+    return mu
+
+
+def continue_curve(problem: MinAugCurveProblem, x, mu, at: Params, box, options, callback) -> Branch:
+    """The curve of ``problem`` through the orbit x at ``at`` (multipliers ``mu``), over ``box``."""
+    (p1, (lo1, hi1)), (p2, _) = read_box(box)
+    u0 = np.append(x, float(getattr(at, p2)))
+    if problem.kind == "NS":
+        pair = mu[np.argmin(np.abs(np.abs(mu) - 1) + (np.abs(mu.imag) < 1e-9))]  # the pair on the unit circle
+        u0 = np.append(u0, np.cos(np.angle(pair)))
+    p1_0 = float(getattr(at, p1))
+    problem.init_borders(u0, p1_0)
+    opts = dataclasses.replace(options or CURVE_OPTIONS, p_min=lo1, p_max=hi1)
+    return _once(continuation(problem, u0, p1_0, param=p1, options=opts, callback=callback))
 
 
 def _once(branch: Branch) -> Branch:
@@ -198,29 +237,9 @@ def _once(branch: Branch) -> Branch:
     return dataclasses.replace(branch, special=tuple(kept))
 
 
-def _check_start(at: Params, x, kind: str, segments: int, period_multiple: int, p1: str, symmetric: bool = False, backend: str = "auto"):
-    """A one-line error, before any continuation, when (x) at ``at`` is not an orbit with the
-    multiplier of ``kind`` (to 1e-3: a located special point has it to the corrector's tolerance);
-    else the multipliers (an NS curve starts from their angle)."""
-    x = np.asarray(x, dtype=float)
-    if x.shape != (4 * segments,) or not np.all(np.isfinite(x)):
-        raise ValueError(f"the start must be {4 * segments} finite numbers (the states at the starts of {segments} arcs); got shape {x.shape}")
-    problem = ShootingProblem(at, p1, segments=segments, period_multiple=period_multiple, symmetric=symmetric, backend=backend)
-    arcs = problem.arcs(x, at)
-    mu = floquet_multipliers(arcs.mats)
-    residual = np.linalg.norm(problem.residual_of(x, arcs))
-    critical = {
-        "LP": np.min(np.abs(mu - 1)), "PD": np.min(np.abs(mu + 1)), "BP": np.min(np.abs(mu - 1)),
-        "NS": np.min(np.abs(np.abs(mu[np.abs(mu.imag) > 1e-9]) - 1), initial=np.inf),
-    }[kind]
-    if not (residual < 1e-6 and critical < 1e-3):
-        raise ValueError(f"the start is not a {kind} point of a periodic orbit (residual {residual:.2g}, multipliers {np.round(mu, 4)})")
-    return mu
-
-
 def _measures(problem: MinAugCurveProblem, branch: Branch, points_per_2pi: int) -> dict:
     rows = []
-    n = len(problem.shooting.names)  # the orbit's states come first in each point
+    n = len(problem.orbits.names)  # the orbit's states come first in each point
     critical = 2 if problem.kind == "NS" else 1  # multipliers on the unit circle come first
     for x, p in zip(branch.x, branch.p):
         single = _orbit_problem(problem, x, p)
@@ -233,6 +252,6 @@ def _measures(problem: MinAugCurveProblem, branch: Branch, points_per_2pi: int) 
 def _orbit_problem(problem: MinAugCurveProblem, x, p):
     """The one-parameter shooting problem over the whole period at the curve point's second
     parameter (for a BP curve, whose problem is the half-period map, twice its arcs)."""
-    s = problem.shooting
+    s = problem.orbits
     segments = 2 * s.segments if s.symmetric else s.segments
     return ShootingProblem(problem.params_at(x, p), problem.p1, segments=segments, period_multiple=s.period_multiple, rtol=s.rtol, atol=s.atol, backend=s.backend)

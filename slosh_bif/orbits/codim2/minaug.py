@@ -43,6 +43,11 @@ class MinAugCurveProblem:
     at p1 where the orbit through x has the critical multiplier ``mu`` of its kind.
 
     A continuation problem in p1 (the engine's parameter); ``p2`` is the last state component.
+    ``orbits``: the orbit equations, by default the multiple shooting of (9) built from
+    ``segments``, ``period_multiple``, the tolerances, ``box`` and ``backend``; or another object
+    with the same interface (names, ``arcs(x, params)`` with ends, arc matrices and the
+    derivatives in (p1, p2), ``residual_of``, ``jacobian_of``, ``in_domain``; e.g. the
+    stroboscopic map of (8), :class:`~slosh_bif.orbits.codim2.impact_strobe.ImpactStrobe`).
     ``p2_box`` bounds p2 (points outside are never evaluated); ``box`` bounds p1's corrector
     iterates as in :class:`ShootingProblem`. ``refresh_borders``: renew the bordering vectors
     from the null vectors at each accepted point (the default; without it they stay those of the
@@ -60,17 +65,21 @@ class MinAugCurveProblem:
     def __init__(
         self, params: Params, p1: str = "sigma", p2: str = "Abar", *, segments: int = 4, period_multiple: int = 1,
         rtol: float = 1e-10, atol: float = 1e-12, box: tuple | None = None, p2_box: tuple | None = None, backend: str = "auto",
-        refresh_borders: bool = True,
+        refresh_borders: bool = True, orbits=None,
     ):
         real_pair((p1, p2))
         self.refresh_borders = bool(refresh_borders)
         self.params, self.p1, self.p2 = params, p1, p2
-        self.shooting = ShootingProblem(
-            params, p1, segments=segments, period_multiple=period_multiple, rtol=rtol, atol=atol, backend=backend, box=box, symmetric=self.symmetric,
-            sensitivities=(p1, p2),
-        )
-        self.names = self.shooting.names + (p2,)
-        self.branch_kind = f"{self.kind} curve of periodic orbits of (9) in ({p1}, {p2})"
+        if orbits is None:  # multiple shooting of (9)
+            orbits = ShootingProblem(
+                params, p1, segments=segments, period_multiple=period_multiple, rtol=rtol, atol=atol, backend=backend, box=box, symmetric=self.symmetric,
+                sensitivities=(p1, p2),
+            )
+        elif orbits.symmetric != self.symmetric or orbits.sensitivities != (p1, p2):
+            raise ValueError(f"the orbit equations must be {'symmetric' if self.symmetric else 'whole-period'} ones with derivatives in ({p1}, {p2})")
+        self.orbits = orbits
+        self.names = self.orbits.names + (p2,)
+        self.branch_kind = f"{self.kind} curve of {orbits.branch_kind} in ({p1}, {p2})"
         self.p2_box = p2_box
         self._columns = (0, 1)  # the arcs' sensitivities are (p1, p2)
         self._b = self._c = None
@@ -93,12 +102,12 @@ class MinAugCurveProblem:
             self.params_at(x, p)
         except ValueError:  # no parameter set (Abar < 0, eps <= 0, an imaginary restitution, ...)
             return False
-        return self.shooting.in_domain(x[: -self._extra], p)
+        return self.orbits.in_domain(x[: -self._extra], p)
 
     def _matrix_at(self, x, p):
         """(arcs, J_mu) at (x, p); the NS problem makes J complex."""
-        arcs = self.shooting.arcs(x[:-1], self.params_at(x, p))
-        return arcs, self.shooting.jacobian_of(arcs, self.mu)
+        arcs = self.orbits.arcs(x[:-1], self.params_at(x, p))
+        return arcs, self.orbits.jacobian_of(arcs, self.mu)
 
     _borders = 1  # bordering vectors (columns of b and c): 2 for the NS problem's real pair
 
@@ -184,8 +193,8 @@ class MinAugCurveProblem:
         if size == 0:
             return 0.0, 0.0
         h = 1e-6 * (1 + np.linalg.norm(y)) / size
-        ahead, behind = self.shooting.arcs(y + h * direction, P), self.shooting.arcs(y - h * direction, P)
-        dJ = (self.shooting.jacobian_of(ahead) - self.shooting.jacobian_of(behind)) / (2 * h)
+        ahead, behind = self.orbits.arcs(y + h * direction, P), self.orbits.arcs(y - h * direction, P)
+        dJ = (self.orbits.jacobian_of(ahead) - self.orbits.jacobian_of(behind)) / (2 * h)
         dS = (ahead.sens - behind.sens).reshape(len(y), -1) / (2 * h)
         return dJ, dS
 
@@ -199,7 +208,7 @@ class MinAugCurveProblem:
 
     def residual(self, x, p):
         arcs, _, _, g = self._solve(x, p)
-        return np.append(self.shooting.residual_of(x[:-1], arcs), g)
+        return np.append(self.orbits.residual_of(x[:-1], arcs), g)
 
     def _g_row(self, second):
         """g's derivatives (see :meth:`_second`) as a row over (x, p2, p1)."""
@@ -211,7 +220,7 @@ class MinAugCurveProblem:
         arcs = self._solve(x, p)[0]
         n = len(x) - self._extra
         sens = arcs.sens.reshape(n, -1)
-        top = np.column_stack([self.shooting.jacobian_of(arcs), sens[:, self._columns[1]], np.zeros((n, self._extra - 1)), sens[:, self._columns[0]]])
+        top = np.column_stack([self.orbits.jacobian_of(arcs), sens[:, self._columns[1]], np.zeros((n, self._extra - 1)), sens[:, self._columns[0]]])
         return np.vstack([top, g_row.real, g_row.imag]) if np.iscomplexobj(g_row) else np.vstack([top, g_row])
 
     def jacobian(self, x, p):
@@ -230,12 +239,12 @@ class MinAugCurveProblem:
         stalled direction with it: g's derivatives are central differences of the arcs, whose
         rounding (rtol / h) can hide a nearly singular but regular stretch of the curve (past
         the cusps of the Fig. 10 and Fig. 13 fold curves of asymmetric orbits)."""
-        s = self.shooting
-        if s.rtol <= self.FINEST_RTOL:
+        s = self.orbits
+        if not isinstance(s, ShootingProblem) or s.rtol <= self.FINEST_RTOL:  # an exact map has nothing finer
             return None
         factor = max(self.FINEST_RTOL / s.rtol, 1e-2)
         finer = copy.copy(self)
-        finer.shooting = ShootingProblem(
+        finer.orbits = ShootingProblem(
             s.params, s.param, segments=s.segments, period_multiple=s.period_multiple, rtol=s.rtol * factor, atol=s.atol * factor, backend=s.backend,
             box=s.box, symmetric=s.symmetric, sensitivities=s.sensitivities,
         )
@@ -243,8 +252,8 @@ class MinAugCurveProblem:
         return finer
 
     def diagnostics(self, x, p) -> dict:
-        """The arcs' relative tolerance at the point (tighter where a stall was resumed)."""
-        return {"rtol": self.shooting.rtol}
+        """The arcs' relative tolerance at the point (tighter where a stall was resumed); 0 for an exact map."""
+        return {"rtol": getattr(self.orbits, "rtol", 0.0)}
 
     # -- multipliers and codimension-2 tests --------------------------------------------------
 

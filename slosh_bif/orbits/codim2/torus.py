@@ -46,7 +46,7 @@ class TorusCurveProblem(MinAugCurveProblem):
 
     def __init__(self, params, p1: str = "sigma", p2: str = "Abar", **options):
         super().__init__(params, p1, p2, **options)
-        self.names = self.shooting.names + (p2, "kappa")
+        self.names = self.orbits.names + (p2, "kappa")
 
     _extra = 2  # p2 and kappa follow the orbit's states
     _borders = 2  # the real pair's two-dimensional null space
@@ -58,8 +58,8 @@ class TorusCurveProblem(MinAugCurveProblem):
         return abs(x[-1]) <= self.KAPPA_MAX and super().in_domain(x, p)
 
     def _matrix_at(self, x, p):
-        arcs = self.shooting.arcs(x[:-2], self.params_at(x, p))
-        J0 = self.shooting.jacobian_of(arcs, 0.0)
+        arcs = self.orbits.arcs(x[:-2], self.params_at(x, p))
+        J0 = self.orbits.jacobian_of(arcs, 0.0)
         n = len(J0)
         A = np.zeros((2 * n, 2 * n))
         A[:n, :n] = A[n:, n:] = J0
@@ -88,7 +88,7 @@ class TorusCurveProblem(MinAugCurveProblem):
 
     def residual(self, x, p):
         arcs, _, _, g = self._solve(x, p)
-        return np.concatenate([self.shooting.residual_of(x[:-2], arcs), g])
+        return np.concatenate([self.orbits.residual_of(x[:-2], arcs), g])
 
     def _g_row(self, second):
         g_x, g_p1, g_p2, g_kappa = second

@@ -1,0 +1,104 @@
+"""The stroboscopic map of the vibro-impact model (8) as the orbit equations of the curves in two
+parameters (:mod:`.minaug`): with it the fold, flip, pitchfork and Neimark-Sacker curve classes
+trace curves of (8) unchanged.
+
+It is one arc in the terms of multiple shooting: the map over the forcing period (over pi for the
+symmetric orbits, whose closing is the mirror y -> -y), from the section tau = ``phase``, with its
+Jacobian and its derivatives in both parameters exact (the flights' propagators and the impacts'
+saltation matrices, the derivative of kappa (21) in the impact speed included:
+:class:`~slosh_bif.orbits.impact_orbits.ImpactOrbitProblem`). The domain holds the number of
+impacts per period fixed: where it changes (grazing) or an impact reaches the section, the map is
+not smooth, and a curve ends there at the domain's edge.
+"""
+
+from __future__ import annotations
+
+from collections import OrderedDict
+
+import numpy as np
+
+from slosh_bif.model.params import Params, real_pair
+from slosh_bif.orbits.impact_orbits import ImpactOrbitProblem
+from slosh_bif.orbits.shooting import Arcs
+
+__all__ = ["ImpactStrobe"]
+
+_KEEP = 8  # parameter sets whose problems are kept (a corrector step and its differences)
+
+
+class ImpactStrobe:
+    """Orbits of (8) through x = [X, X', w, w'] at tau = ``phase`` for the curve problems, with
+    the interface of :class:`~slosh_bif.orbits.shooting.ShootingProblem` they use: one arc,
+    ``sensitivities`` = (p1, p2). ``impacts``: the number of impacts over the map's time that
+    the domain holds to (None: any)."""
+
+    branch_kind = "periodic orbits of (8)"
+    names = ("X", "Xd", "w", "wd")
+    segments = 1
+
+    def __init__(
+        self, params: Params, sensitivities: tuple, *, symmetric: bool = False, period_multiple: int = 1, box: tuple | None = None,
+        phase: float = 0.0, impacts: int | None = None,
+    ):
+        self.sensitivities = real_pair(sensitivities, "sensitivities")
+        self.params, self.param = params, self.sensitivities[0]
+        self.symmetric, self.period_multiple = bool(symmetric), period_multiple
+        self.closing = -1.0 if symmetric else 1.0
+        self.box, self.phase, self.impacts = box, float(phase), impacts
+        # One problem per parameter of the pair: each gives the map's derivative in its own.
+        self._problems: OrderedDict = OrderedDict()
+        self._check = self._maps_of(params)[0]  # a bad parameter set or pair fails here, before any work
+        self.state_bound = self._check.state_bound
+
+    def _maps_of(self, params: Params):
+        key = params
+        if key not in self._problems:
+            self._problems[key] = tuple(
+                ImpactOrbitProblem(params, name, symmetric=self.symmetric, period_multiple=self.period_multiple, phase=self.phase) for name in self.sensitivities
+            )
+            if len(self._problems) > _KEEP:
+                self._problems.popitem(last=False)
+        return self._problems[key]
+
+    def params_at(self, p: float) -> Params:
+        return self.params.replace(**{self.param: float(p)})
+
+    def arcs(self, x, params: Params) -> Arcs:
+        """The map at (x, params) as one arc: its end (before the mirror), its Jacobian and its
+        derivatives in (p1, p2); NaN where the flow stops short (sticking, a complex kappa) or
+        the number of impacts is not the domain's."""
+        x = np.asarray(x, dtype=float)
+        first, second = self._maps_of(params)
+        m1 = first.evaluate(x, getattr(params, self.sensitivities[0]))
+        m2 = second.evaluate(x, getattr(params, self.sensitivities[1])) if m1.code == 0 else m1
+        if m1.code != 0 or m2.code != 0 or (self.impacts is not None and len(m1.impacts) != self.impacts):
+            nan = np.full((4, 4), np.nan)
+            return Arcs(np.full((1, 4), np.nan), nan[None], np.full((1, 4, 2), np.nan), np.nan, nan)
+        c = self.closing  # the problems give G = closing * map; the arc is the map itself
+        phi = c * m1.phi
+        return Arcs((c * m1.y)[None], phi[None], np.column_stack([c * m1.dp, c * m2.dp])[None], np.nan, phi)
+
+    def residual_of(self, x, arcs: Arcs):
+        return arcs.ends[0] - self.closing * np.asarray(x, dtype=float)
+
+    def jacobian_of(self, arcs: Arcs, wrap: complex | None = None):
+        """phi - wrap I: singular where the map's Jacobian has the multiplier ``wrap`` (the
+        residual's own Jacobian by default: ``closing``)."""
+        wrap = self.closing if wrap is None else wrap
+        return arcs.mats[0] - wrap * np.eye(4)
+
+    def in_domain(self, x, p) -> bool:
+        if self.box is not None and not self.box[0] <= p <= self.box[1]:
+            return False
+        x = np.asarray(x, dtype=float)
+        if not (np.all(np.isfinite(x)) and abs(x[2]) <= 1.0 and np.abs(x).max() < self.state_bound):
+            return False
+        try:
+            self.params_at(p).require_positive_stiffness()
+        except ValueError:
+            return False
+        return True
+
+    def full_states(self, x):
+        """The orbit's state on the section (the whole-period map's unknowns are the same four)."""
+        return np.asarray(x, dtype=float)
