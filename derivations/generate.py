@@ -91,7 +91,7 @@ def _kernels_module() -> str:
     augmented = (("z", tuple(m.STATE) + tuple(phi) + tuple(s_sigma) + tuple(s_abar) + (sp.Symbol("trace"),)),)
     F = codegen.Function
     return codegen.render_kernels(
-        "Scalar kernels of the smooth model (9) for the compiled integrator (slosh_bif.simulation.integrator).",
+        "Scalar kernels of the smooth model (9) for the compiled integrator (slosh_bif.flows.integrator).",
         SCRIPT,
         [
             F("smooth_rhs_kernel", "out = f(tau, y) of (9); pars = (eps, beta, gamma, sigma, Abar, lam, chi, n, p).", state, m.PARAMS, f),

@@ -3,7 +3,7 @@ branch switching, start orbits (from a simulation or from the slow flow), the sc
 family, and their output.
 
 Seams to the other wings (documented in ``docs/architecture.md`` and allowed by the import
-contract): :mod:`.shooting` integrates with :mod:`slosh_bif.simulation.integrator`, and
+contract): :mod:`.shooting` integrates with :mod:`slosh_bif.flows.integrator`, and
 :mod:`.starts` takes start guesses from :mod:`slosh_bif.simulation` and :mod:`slosh_bif.slowflow`.
 """
 

@@ -1,7 +1,7 @@
 """Periodic orbits of the vibro-impact model (8) with the restitution law (2), (21): fixed points of
 its stroboscopic map, for the continuation engine.
 
-The map is the exact flow of :mod:`slosh_bif.simulation.impact_flow` over the forcing period 2 pi
+The map is the exact flow of :mod:`slosh_bif.flows.impact_flow` over the forcing period 2 pi
 (fixed period, no phase condition), or over pi followed by the mirror y -> -y for the symmetric
 orbits ``y(tau + pi) = -y(tau)`` (whose multiplier -1 is the symmetry-breaking pitchfork, as for
 (9)). Its Jacobian is the product of the flights' propagators and of the impacts' saltation
@@ -26,7 +26,7 @@ from scipy import linalg, optimize
 
 from slosh_bif.model.params import Params
 from slosh_bif.orbits.multipliers import TEST_FLOOR, describe_crossing, is_stable, multiplier_tests
-from slosh_bif.simulation.impact_flow import LINEAR_PARAMETERS, WALL_PARAMETERS, ImpactFlow
+from slosh_bif.flows.impact_flow import LINEAR_PARAMETERS, WALL_PARAMETERS, ImpactFlow
 
 __all__ = ["ImpactOrbitProblem", "StrobeMap", "GrazingGap", "SECTION", "GRAZING"]
 

@@ -19,7 +19,7 @@ from slosh_bif.model.params import Params
 from slosh_bif.orbits.settings import SHOOTING, STARTS, ShootingSettings, StartSettings
 from slosh_bif.orbits.shooting import PeriodicOrbit, ShootingProblem, orbit_at, orbit_measures
 from slosh_bif.simulation.direct import simulate
-from slosh_bif.simulation.integrator import integrate_grid
+from slosh_bif.flows.integrator import integrate_grid
 from slosh_bif.slowflow.flow import SlowFlow
 from slosh_bif.slowflow.steady_states import forcing_response, frequency_response
 

@@ -1,7 +1,7 @@
 """Direct simulation of the smooth model (9) and the vibro-impact model (8), with the noise of (47).
 
-:func:`simulate` is the entry point: (9) through the compiled DOP853 of :mod:`slosh_bif.simulation.integrator`
-(optionally with the band-limited noise of :mod:`slosh_bif.simulation.noise`), or (8) through the exact
+:func:`simulate` is the entry point: (9) through the compiled DOP853 of :mod:`slosh_bif.flows.integrator`
+(optionally with the band-limited noise of :mod:`slosh_bif.flows.noise`), or (8) through the exact
 event-driven flow of :mod:`slosh_bif.simulation.vibro_impact`; both return a :class:`Simulation` with the
 impacts. :func:`integrate_smooth` keeps scipy's ``solve_ivp`` with the generated analytic Jacobian
 for the implicit methods (Radau, BDF, LSODA), which the integrator chart compares: the wall term
@@ -18,8 +18,8 @@ from scipy.integrate import solve_ivp
 
 from slosh_bif.model.equations import SmoothModel
 from slosh_bif.model.params import Params
-from slosh_bif.simulation import integrator
-from slosh_bif.simulation.noise import MAX_NOISE_STD, band_limited_noise
+from slosh_bif.flows import integrator
+from slosh_bif.flows.noise import MAX_NOISE_STD, band_limited_noise
 from slosh_bif.simulation.vibro_impact import simulate_impact
 
 __all__ = ["MODELS", "MAX_SAMPLES", "Simulation", "Trajectory", "integrate_smooth", "simulate", "wall_contacts", "wall_passages"]
@@ -88,7 +88,7 @@ class Simulation:
     impact_v_minus, impact_v_plus : (K,) the impacts (exact for the impact model; for the smooth
     model the passages of |w| through 1 into the wall, located on the samples by linear
     interpolation, with w' at entry and exit); status, message : how the run ended
-    (``"finished"`` or why it stopped); noise : the realised :class:`~slosh_bif.simulation.noise.BandLimitedNoise`
+    (``"finished"`` or why it stopped); noise : the realised :class:`~slosh_bif.flows.noise.BandLimitedNoise`
     or None; seconds : wall-clock time of the integration.
     """
 
@@ -226,11 +226,11 @@ def simulate(
 ) -> Simulation:
     """Simulate from ``state0`` at ``t0`` to ``tmax`` and sample every ``sample_step``.
 
-    ``model="smooth"`` integrates (9) with the compiled DOP853 of :mod:`slosh_bif.simulation.integrator`
+    ``model="smooth"`` integrates (9) with the compiled DOP853 of :mod:`slosh_bif.flows.integrator`
     (scipy's when numba is missing); ``"impact"`` runs the exact flow of (8)
     (:func:`slosh_bif.simulation.vibro_impact.simulate_impact`: compiled, or the expm event loop with
     ``backend="scipy"``). ``noise_std > 0`` adds the band-limited noise
-    of (47) (smooth model only, see :mod:`slosh_bif.simulation.noise`) and then needs ``seed``.
+    of (47) (smooth model only, see :mod:`slosh_bif.flows.noise`) and then needs ``seed``.
     ``progress(fraction)`` is called as the run advances. Integration failure is not raised: the
     result's ``status`` and ``message`` say where and why it stopped.
     """

@@ -250,7 +250,7 @@ def regime_map(
     point finishes (to store it on the way). ``backend``: the integrator of the smooth model
     (see :func:`~slosh_bif.simulation.direct.simulate`).
     """
-    from slosh_bif.simulation.integrator import resolve_backend
+    from slosh_bif.flows.integrator import resolve_backend
 
     backend = resolve_backend(backend)  # a bad name is an error here, not in every worker
 

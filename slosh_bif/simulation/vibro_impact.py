@@ -1,6 +1,6 @@
 """Event-driven simulation of the vibro-impact model (8) with the restitution law (2), (21).
 
-:func:`simulate_impact` runs the compiled exact flow of :mod:`slosh_bif.simulation.impact_flow` (impacts
+:func:`simulate_impact` runs the compiled exact flow of :mod:`slosh_bif.flows.impact_flow` (impacts
 found with a certificate) by default, and with ``backend="scipy"`` the event loop below, its
 independent reference:
 
@@ -26,8 +26,8 @@ from scipy import linalg, optimize
 
 from slosh_bif.model.equations import ImpactModel
 from slosh_bif.model.params import Params
-from slosh_bif.simulation.impact_flow import ImpactFlow
-from slosh_bif.simulation.integrator import resolve_backend
+from slosh_bif.flows.impact_flow import ImpactFlow
+from slosh_bif.flows.integrator import resolve_backend
 
 __all__ = ["ImpactTrajectory", "simulate_impact"]
 

@@ -30,7 +30,7 @@ import numpy as np
 from slosh_bif.model.params import Params
 from slosh_bif.orbits.shooting import ShootingProblem, orbit_at, orbit_measures
 from slosh_bif.orbits.starts import START_TOL
-from slosh_bif.simulation import integrator
+from slosh_bif.flows import integrator
 from slosh_bif.simulation.direct import diverged_beyond, simulate
 from slosh_bif.simulation.regimes import classify
 from slosh_bif.simulation.sweep import run_cells

@@ -43,7 +43,7 @@ from slosh_bif.model.presets import get_preset
 from slosh_bif.orbits.families import SHOOTING_OPTIONS
 from slosh_bif.orbits.shooting import ShootingProblem
 from slosh_bif.orbits.starts import settle_and_shoot
-from slosh_bif.simulation import integrator
+from slosh_bif.flows import integrator
 from slosh_bif.simulation.direct import simulate
 from slosh_bif.simulation.regimes import regime_map
 from slosh_bif.slowflow.critical import critical_forcing

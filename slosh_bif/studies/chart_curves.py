@@ -12,7 +12,7 @@ import numpy as np
 
 from slosh_bif.continuation import ConvergenceError
 from slosh_bif.continuation.branch import polyline_distance
-from slosh_bif.orbits.codim2 import BifurcationCurve, CurveSeed, trace_curve
+from slosh_bif.orbits.codim2 import BifurcationCurve, CurveSeed, repeats_early, trace_curve
 from slosh_bif.orbits.settings import SHOOTING, ShootingSettings
 
 __all__ = ["CurveStart", "CurveFailure", "curve_starts", "pitchforks_of", "repeats_early", "trace_curves"]
@@ -67,19 +67,6 @@ def curve_starts(ob, params, box: dict, pitchforks=(), shooting: ShootingSetting
         arcs = shooting.replace(segments=segments // ob.problem.period_multiple)  # the branch's own arcs per forcing period
         job = dict(params=params, seed=CurveSeed.on(ob, sp, origin), box=box, shooting=arcs)
         yield _Start(sp.kind, float(sigma), float(value), origin, job)
-
-
-def repeats_early(problem, x, tol: float = 1e-3) -> bool:
-    """Whether the orbit x of a period-doubled problem (period 2k pi in an even number of equal
-    arcs) repeats after half its period: it is then its parent's orbit at the period doubling where
-    the branch meets it, and the branch's turn there (t_p = 0: the pitchfork shape of a flip
-    bifurcation seen on the doubled map) is no fold; the fold system is singular there (the
-    doubled orbit's multiplier +1 is the parent's -1 squared, with a second one beside it)."""
-    m = problem.segments
-    if problem.period_multiple < 2 or problem.period_multiple % 2 or m % 2 or problem.symmetric:
-        return False
-    states = np.asarray(x, dtype=float).reshape(m, 4)
-    return bool(np.linalg.norm(states[: m // 2] - states[m // 2 :]) <= tol * (1 + np.linalg.norm(states)))
 
 
 def pitchforks_of(family) -> list:

@@ -21,7 +21,7 @@ from slosh_bif.model.presets import get_preset
 from slosh_bif.model.tank import cylinder_modes
 from slosh_bif.report.plotting import plot_manifold, plot_projection, plot_time_history, pyplot, save_figure
 from slosh_bif.simulation.direct import simulate
-from slosh_bif.simulation.noise import band_limited_noise
+from slosh_bif.flows.noise import band_limited_noise
 from slosh_bif.simulation.output import plot_motion_on_manifold
 from slosh_bif.simulation.regimes import classify
 from slosh_bif.simulation.wavelet import morlet_transform
@@ -41,7 +41,7 @@ NOTES = {
     "fig11": "No impacts after the transient; beta = 0.3 adds the particle's free oscillation. Wavelets: Morlet, amplitude-normalised.",
     "fig12": "Strongly modulated as printed; with n = 6 the restitution of eq. (21) (0.27) is far from the wall's (0.63), so (8) and (9) modulate differently.",
     "fig13": "Transition to the periodic response as printed; the settled amplitude (peak |X| 0.28) is 10 % below the slow flow's 0.31.",
-    "fig14": "Band-limited noise (std 4, cutoff 10, seed 0) instead of one draw per step: see slosh_bif.simulation.noise for why and for the equivalent step.",
+    "fig14": "Band-limited noise (std 4, cutoff 10, seed 0) instead of one draw per step: see slosh_bif.flows.noise for why and for the equivalent step.",
     "fig15": "sigma_bar not printed; 4 assumed. With cutoff 10 the noise modulates the envelope by about 50 % (the paper: 'no major qualitative difference').",
 }
 

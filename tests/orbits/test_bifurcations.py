@@ -11,7 +11,7 @@ from slosh_bif.orbits import BranchingSettings
 from slosh_bif.orbits.families import trace_orbits
 from slosh_bif.orbits.shooting import ShootingProblem
 from slosh_bif.orbits.starts import settle_and_shoot
-from slosh_bif.simulation.integrator import integrate_grid
+from slosh_bif.flows.integrator import integrate_grid
 
 
 X0 = np.zeros(4)  # the states a GivenMonodromy ignores

@@ -296,3 +296,20 @@ def test_a_fold_curve_that_stalls_is_resumed_with_finer_arcs_and_passes(scipy_mu
     for i in np.linspace(0, len(branch) - 1, 5).astype(int):  # fold points by scipy on both sides of the stall
         mu = scipy_multipliers(P.replace(sigma=float(branch.p[i]), Abar=float(branch.x[i, -1])), branch.x[i, :4])
         assert np.min(np.abs(mu - 1)) < 1e-6
+
+
+def test_a_fold_curve_of_doubled_orbits_ends_where_the_orbit_becomes_its_parents():
+    # At a degenerate period doubling of the parent the fold curve of the doubled orbits meets
+    # the parent's flip curve; the doubled orbit repeats after half its period there and the
+    # fold system is singular (the Fig. 10 chart's period-2 fold curve crept to a stop within
+    # 3e-5 of it). The problem's domain ends 1e-3 short, its edge named.
+    from slosh_bif.orbits.codim2 import MEETS_PARENT
+
+    P = PRESET.params
+    problem = FoldCurveProblem(P, segments=8, period_multiple=2)
+    parent = np.array([0.3, -0.1, 0.9, 0.2, -0.2, 0.4, -0.7, 0.1, 0.25, 0.3, -0.4, -0.6, -0.3, 0.1, 0.2, 0.5])
+    assert not problem.in_domain(np.append(np.tile(parent, 2), P.Abar), P.sigma)
+    assert problem.edge_name == MEETS_PARENT
+    apart = np.concatenate([parent, parent + 0.05])
+    assert problem.in_domain(np.append(apart, P.Abar), P.sigma)
+    assert FoldCurveProblem(P, segments=4).in_domain(np.append(np.tile(parent[:8], 2), P.Abar), P.sigma)  # period 1: no parent

@@ -10,8 +10,8 @@ from scipy.integrate import solve_ivp
 from slosh_bif import ImpactModel, SmoothModel, get_preset, simulate_impact
 from slosh_bif.orbits.shooting import periodic_orbit
 from slosh_bif.simulation.direct import Simulation, simulate
-from slosh_bif.simulation.integrator import integrate_grid
-from slosh_bif.simulation.noise import band_limited_noise
+from slosh_bif.flows.integrator import integrate_grid
+from slosh_bif.flows.noise import band_limited_noise
 from slosh_bif.simulation.regimes import classify
 from slosh_bif.slowflow.critical import critical_forcing
 from slosh_bif.slowflow.steady_states import frequency_response
@@ -328,7 +328,7 @@ def test_cached_machine_code_is_dropped_when_the_generated_kernels_change(tmp_pa
 
     from slosh_bif.model import powers
     from slosh_bif.model._generated import kernels
-    from slosh_bif.simulation import dop853
+    from slosh_bif.flows import dop853
 
     locator = types.SimpleNamespace(get_cache_path=lambda: str(tmp_path))
     compiled = types.SimpleNamespace(_cache=types.SimpleNamespace(_impl=types.SimpleNamespace(locator=locator)))

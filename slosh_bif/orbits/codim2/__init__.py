@@ -7,10 +7,11 @@ from slosh_bif.orbits.codim2.curves import CODIM2_KINDS, CURVE_OPTIONS, CURVE_PR
 from slosh_bif.orbits.codim2.impact_curves import ImpactCurveSeed, trace_impact_curve
 from slosh_bif.orbits.codim2.impact_strobe import ImpactStrobe
 from slosh_bif.orbits.codim2.minaug import MinAugCurveProblem
-from slosh_bif.orbits.codim2.multiplier_curves import FlipCurveProblem, FoldCurveProblem, PitchforkCurveProblem
+from slosh_bif.orbits.codim2.multiplier_curves import MEETS_PARENT, FlipCurveProblem, FoldCurveProblem, PitchforkCurveProblem, repeats_early
 from slosh_bif.orbits.codim2.torus import TorusCurveProblem
 
 __all__ = [
     "BifurcationCurve", "CurveSeed", "trace_curve", "curve_problem", "CURVE_PROBLEMS", "MinAugCurveProblem", "FoldCurveProblem", "FlipCurveProblem",
-    "PitchforkCurveProblem", "TorusCurveProblem", "CURVE_OPTIONS", "CODIM2_KINDS", "ImpactCurveSeed", "trace_impact_curve", "ImpactStrobe",
+    "PitchforkCurveProblem", "TorusCurveProblem", "CURVE_OPTIONS", "CODIM2_KINDS", "ImpactCurveSeed", "trace_impact_curve", "ImpactStrobe", "repeats_early",
+    "MEETS_PARENT",
 ]

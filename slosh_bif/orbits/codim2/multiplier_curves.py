@@ -17,7 +17,11 @@ import numpy as np
 
 from slosh_bif.orbits.codim2.minaug import MinAugCurveProblem
 
-__all__ = ["FoldCurveProblem", "FlipCurveProblem", "PitchforkCurveProblem"]
+__all__ = ["FoldCurveProblem", "FlipCurveProblem", "PitchforkCurveProblem", "repeats_early", "MEETS_PARENT"]
+
+# The edge of a fold curve of doubled orbits: where the orbit becomes its parent's, at a degenerate
+# period doubling of the parent, the fold system is singular and the curve ends.
+MEETS_PARENT = "the doubled orbit meets its parent (a degenerate period doubling)"
 
 
 def _through_unit_circle(label, mu, others):
@@ -28,11 +32,38 @@ def _through_unit_circle(label, mu, others):
     return f"{label}: {mu[0].real:.6f} with exp(+-i {np.angle(pair[0]):.6f})"
 
 
+def repeats_early(problem, x, tol: float = 1e-3) -> bool:
+    """Whether the orbit x of a period-doubled problem (period 2k pi in an even number of equal
+    arcs) repeats after half its period (to ``tol``): it is then its parent's orbit at a period
+    doubling, where the doubled orbit's multiplier +1 is the parent's -1 squared with a second
+    one beside it, and the fold system is singular. On a one-parameter branch that is where the
+    branch is born or ends (its turn there, the pitchfork shape of a flip seen on the doubled
+    map, is no fold); a fold curve of doubled orbits ends there, at a degenerate period doubling
+    of the parent."""
+    m = problem.segments
+    if problem.period_multiple < 2 or problem.period_multiple % 2 or m % 2 or problem.symmetric:
+        return False
+    states = np.asarray(x, dtype=float)[: 4 * m].reshape(m, 4)
+    return bool(np.linalg.norm(states[: m // 2] - states[m // 2 :]) <= tol * (1 + np.linalg.norm(states)))
+
+
 class FoldCurveProblem(MinAugCurveProblem):
-    """Points (x, p2) at p1 where the orbit has the multiplier +1: a curve of folds."""
+    """Points (x, p2) at p1 where the orbit has the multiplier +1: a curve of folds. A curve of
+    folds of doubled orbits ends at the domain's edge where the orbit becomes its parent's
+    (:func:`repeats_early`; the edge's name :data:`MEETS_PARENT`)."""
 
     kind, mu = "LP", 1.0
     test_kinds = ("CP", "LPPD", "LPNS")
+    edge_name = "boundary"
+
+    def in_domain(self, x, p) -> bool:
+        if not super().in_domain(x, p):
+            self.edge_name = "boundary"
+            return False
+        if repeats_early(self.orbits, x[: -self._extra]):
+            self.edge_name = MEETS_PARENT
+            return False
+        return True
 
     def test_functions(self, x, p):
         others, ns = self.other_multipliers(x, p)

@@ -1,4 +1,4 @@
-"""Integration of the smooth model (9): DOP853 in a numba hot loop (:mod:`slosh_bif.simulation.dop853`),
+"""Integration of the smooth model (9): DOP853 in a numba hot loop (:mod:`slosh_bif.flows.dop853`),
 scipy as the fallback.
 
 Both backends run the same method (DOP853 with scipy's error norm, step-size control and initial
@@ -24,8 +24,8 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 from slosh_bif.model.params import REAL_FIELDS, Params, real_pair
-from slosh_bif.simulation.dop853 import HAVE_NUMBA, KERNELS, MESSAGES, OK, TABLEAU, WHICH, dop853_loop, grid_loop
-from slosh_bif.simulation.noise import BandLimitedNoise
+from slosh_bif.flows.dop853 import HAVE_NUMBA, KERNELS, MESSAGES, OK, TABLEAU, WHICH, dop853_loop, grid_loop
+from slosh_bif.flows.noise import BandLimitedNoise
 
 __all__ = ["HAVE_NUMBA", "Integration", "integrate", "integrate_grid", "SHOOTING_SIZE", "resolve_backend", "DEFAULT_SENSITIVITIES"]
 
@@ -104,7 +104,7 @@ def _check_noise(noise, tau0, tau1):
     if noise is None:
         return
     if not isinstance(noise, BandLimitedNoise):
-        raise TypeError(f"noise must be a slosh_bif.simulation.noise.BandLimitedNoise (see band_limited_noise); got {type(noise).__name__}")
+        raise TypeError(f"noise must be a slosh_bif.flows.noise.BandLimitedNoise (see band_limited_noise); got {type(noise).__name__}")
     if tau0 < noise.t0 - 1e-9 or tau1 > noise.t0 + noise.duration + 1e-9:
         raise ValueError(
             f"the noise signal covers tau in [{noise.t0:g}, {noise.t0 + noise.duration:g}]; "
@@ -143,7 +143,7 @@ def integrate(
 
     With ``shooting=True`` z = [y, Phi (row-major), dy/dp1, dy/dp2, int tr J] for the two
     parameters named by ``sensitivities`` (any two of ``REAL_FIELDS``). ``h0 > 0`` warm-starts the step size (pass the previous call's ``h_next``); 0 lets the rule
-    choose. ``noise`` (a :class:`~slosh_bif.simulation.noise.BandLimitedNoise`) adds the random forcing of
+    choose. ``noise`` (a :class:`~slosh_bif.flows.noise.BandLimitedNoise`) adds the random forcing of
     (47) (plain model only). Never raises on integration failure: ``success`` and ``message`` say
     what happened.
     """

@@ -4,8 +4,8 @@ the error norm, step-size control and initial-step rule of scipy's ``solve_ivp(m
 kernels that the sympy derivation writes for (9) (``_generated/kernels.py``): (9) alone, (9) with
 everything shooting needs (variational equations, two parameter sensitivities, the Liouville
 integral; the (sigma, Abar) kernel or the pair kernel for any two parameters), and (9) with the
-random forcing of (47), the noise spline of :mod:`slosh_bif.simulation.noise` added where cos(tau)
-enters. :mod:`slosh_bif.simulation.integrator` is the interface; without numba these are the plain
+random forcing of (47), the noise spline of :mod:`slosh_bif.flows.noise` added where cos(tau)
+enters. :mod:`slosh_bif.flows.integrator` is the interface; without numba these are the plain
 Python functions (never called: the scipy path runs instead).
 """
 
@@ -21,7 +21,7 @@ from scipy.integrate._ivp import dop853_coefficients as _dop
 from slosh_bif.model import powers as _powers
 from slosh_bif.model._generated import kernels as _kernels
 
-from slosh_bif.simulation.compiled import HAVE_NUMBA, jit as _jit, numba
+from slosh_bif.flows.compiled import HAVE_NUMBA, jit as _jit, numba
 
 __all__ = ["HAVE_NUMBA", "TABLEAU", "KERNELS", "WHICH", "MESSAGES", "OK", "dop853_loop", "grid_loop"]
 
@@ -263,7 +263,7 @@ def _dop853_loop(which, t0, t1, z0, pars, rtol, atol, h, max_steps, A, B, C, E3,
 if HAVE_NUMBA:
     _forget_compilations_of_other_kernels(_dop853_loop)
 
-# The interface of :mod:`slosh_bif.simulation.integrator`.
+# The interface of :mod:`slosh_bif.flows.integrator`.
 TABLEAU = (_A, _B, _C, _E3, _E5)
 KERNELS, WHICH, MESSAGES, OK = _RAW, _WHICH, _MESSAGES, _OK
 dop853_loop, grid_loop = _dop853_loop, _grid_loop
