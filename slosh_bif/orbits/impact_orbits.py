@@ -120,7 +120,9 @@ class ImpactOrbitProblem:
                 self._maps.popitem(last=False)
         return self._maps[key]
 
-    def in_domain(self, x, p) -> bool:
+    def admissible(self, x, p) -> bool:
+        """(x, p) may be mapped: p inside the ``box``, a parameter set with a positive vessel
+        stiffness, the particle between the walls and the state finite and within ``state_bound``."""
         if self.box is not None and not self.box[0] <= p <= self.box[1]:
             return False
         x = np.asarray(x, dtype=float)
@@ -129,6 +131,11 @@ class ImpactOrbitProblem:
         try:
             self.params_at(p).require_positive_stiffness()
         except ValueError:
+            return False
+        return True
+
+    def in_domain(self, x, p) -> bool:
+        if not self.admissible(x, p):
             return False
         m = self.evaluate(x, p)
         return m.code == 0 and (self.impacts is None or len(m.impacts) == self.impacts)

@@ -47,8 +47,8 @@ class ImpactStrobe:
         self.box, self.phase, self.impacts = box, float(phase), impacts
         # One problem per parameter of the pair: each gives the map's derivative in its own.
         self._problems: OrderedDict = OrderedDict()
-        self._check = self._maps_of(params)[0]  # a bad parameter set or pair fails here, before any work
-        self.state_bound = self._check.state_bound
+        self._maps_of(params)  # a bad parameter set or pair fails here, before any work
+        self._probe = ImpactOrbitProblem(params, self.param, symmetric=self.symmetric, period_multiple=period_multiple, box=box, phase=self.phase)
 
     def _maps_of(self, params: Params):
         key = params
@@ -59,9 +59,6 @@ class ImpactStrobe:
             if len(self._problems) > _KEEP:
                 self._problems.popitem(last=False)
         return self._problems[key]
-
-    def params_at(self, p: float) -> Params:
-        return self.params.replace(**{self.param: float(p)})
 
     def arcs(self, x, params: Params) -> Arcs:
         """The map at (x, params) as one arc: its end (before the mirror), its Jacobian and its
@@ -88,16 +85,9 @@ class ImpactStrobe:
         return arcs.mats[0] - wrap * np.eye(4)
 
     def in_domain(self, x, p) -> bool:
-        if self.box is not None and not self.box[0] <= p <= self.box[1]:
-            return False
-        x = np.asarray(x, dtype=float)
-        if not (np.all(np.isfinite(x)) and abs(x[2]) <= 1.0 and np.abs(x).max() < self.state_bound):
-            return False
-        try:
-            self.params_at(p).require_positive_stiffness()
-        except ValueError:
-            return False
-        return True
+        """(x, p) may be mapped (:meth:`ImpactOrbitProblem.admissible`, p1 in ``box``); the map's
+        own failures and another impact count show as a non-finite residual."""
+        return self._probe.admissible(x, p)
 
     def full_states(self, x):
         """The orbit's state on the section (the whole-period map's unknowns are the same four)."""
