@@ -9,7 +9,7 @@ from pathlib import Path
 
 import numpy as np
 
-from slosh_bif.cli.common import abar_range, add_abar_range_options, add_backend_option, add_model_option, add_params_options, add_tmax_option, check_workers, params_of, progress, sigma_range, state0_of, stopped, throttled
+from slosh_bif.cli.common import abar_range, add_abar_range_options, add_backend_option, add_params_options, add_tmax_option, check_workers, params_of, progress, sigma_range, state0_of, stopped, throttled
 from slosh_bif.model.params import REAL_FIELDS
 
 __all__ = ["add_commands"]
@@ -42,17 +42,30 @@ def _chart(args) -> int:
     if args.seeds < 0:
         raise ValueError(f"--seeds must be an integer >= 0; got {args.seeds}")
     check_workers(args)
+    if args.model == "impact" and (args.second != "Abar" or args.resume):
+        raise ValueError("--model impact draws the (sigma, Abar) chart of (8) in one run: without --second and --resume")
     state0 = state0_of(args, params)
     options = dict(switch=not args.no_switch, seeds=args.seeds, backend=args.backend)
     if args.second != "Abar":  # (a stored Abar chart's settings stay as they were: --resume keeps working)
         options["second"] = args.second
+    if args.model == "impact":
+        options["model"] = "impact"
     settings = chart_settings(params, state0, (lo, hi), (a_lo, a_hi), **options)
     done, keep = curve_store(args.out / "curves", settings, resume=args.resume)
-    chart = bifurcation_chart(
-        params, state0, sigma_range=(lo, hi), abar_range=(a_lo, a_hi), second=args.second, shooting=ShootingSettings(backend=args.backend),
-        branching=BranchingSettings(switch=not args.no_switch), settings=ChartSettings(seeds=args.seeds, workers=args.workers, model=args.model),
-        progress=throttled(progress, passes=lambda message: ": point " not in message), resume=Resume(done, keep),
-    )
+    say = throttled(progress, passes=lambda message: ": point " not in message)
+    if args.model == "impact":
+        from slosh_bif.studies.impact_chart import impact_chart
+
+        chart = impact_chart(
+            params, state0, sigma_range=(lo, hi), abar_range=(a_lo, a_hi), branching=BranchingSettings(switch=not args.no_switch),
+            settings=ChartSettings(workers=args.workers), progress=say,
+        )
+    else:
+        chart = bifurcation_chart(
+            params, state0, sigma_range=(lo, hi), abar_range=(a_lo, a_hi), second=args.second, shooting=ShootingSettings(backend=args.backend),
+            branching=BranchingSettings(switch=not args.no_switch), settings=ChartSettings(seeds=args.seeds, workers=args.workers, model=args.model),
+            progress=say, resume=Resume(done, keep),
+        )
     regimes = None
     if args.regimes is not None and chart.status == "complete":
         from slosh_bif.simulation.regimes import regime_map
@@ -60,6 +73,7 @@ def _chart(args) -> int:
         n, m = args.regimes
         regimes = regime_map(
             params, state0, np.linspace(lo, hi, n), np.linspace(a_lo, a_hi, m), tmax=args.tmax, max_workers=args.workers, backend=args.backend,
+            model="impact" if args.model == "impact" else "smooth",
             progress=lambda done, total, report=throttled(progress, passes=lambda message: False): report(f"regimes: {done} of {total}"),
         )
     paths = [write_curves_csv(chart, args.out / "curves.csv")]
@@ -107,5 +121,8 @@ def add_commands(sub) -> None:
     chart.add_argument("--resume", action="store_true", help="reuse the curves stored in OUT/curves/ by an earlier run with the same settings (an interrupted one) and trace only the rest")
     chart.add_argument("--workers", type=int, default=None, help="processes tracing curves (and the regime map) side by side (default: one per core)")
     chart.add_argument("--out", type=Path, required=True, help="output folder (created if missing)")
-    add_model_option(chart)
+    chart.add_argument(
+        "--model", choices=("slowflow", "corrected", "impact"), default="slowflow",
+        help="curves of (9) with the slow flow (46) beside them (default) or the corrected slow flow ('corrected'); 'impact': the curves of the impact model (8) (from its branches in sigma), with (46) beside them",
+    )
     chart.set_defaults(run=_chart)

@@ -204,10 +204,11 @@ def _end_after_failures(problem, points, h, edge_hits, opts):
     if edge is not None:
         points.append(Point(edge, a.t, 0, END, f"{reason}: {caps.edge_name}", bracket, a.tests, reason=reason, edge=caps.edge_name))
     else:
-        name = caps.edge_name if at_named_edge and caps.edge_name != "boundary" else None
+        near = caps.edge_name_near(a.u) if reason == EDGE else "boundary"
+        name = near if (at_named_edge or reason == EDGE) and near != "boundary" else None
         _mark_end(a, reason, f"{reason}: {name + ', ' if name else ''}last step {2 * h:.3g} failed", bracket)
         if reason == EDGE:
-            a.edge = caps.edge_name
+            a.edge = near
     return reason
 
 

@@ -11,7 +11,8 @@ It may offer any of these capabilities, each a protocol of its own:
 * :class:`Edges`: ``edge_point(x, p)`` -> ``(x, p)`` or None, the exact point where the branch
   through (x, p) leaves the domain (appended as the branch's end); ``edge_distance(x, p)``, the
   relative distance to that edge (a stall within 1e-5 of it counts as reaching it); ``edge_name``,
-  what the edge is (read after ``edge_point``, which may set it).
+  what the edge is (read after ``edge_point``, which may set it), or ``edge_name_at(x, p)``, the
+  name of the edge that failed steps from (x, p) ran into.
 * :class:`Stability`: ``eigenvalues(x, p)`` -> (n,) complex, with ``is_stable(eigenvalues)`` ->
   bool when the rule is not "all real parts negative" (Floquet multipliers: inside the unit
   circle); or ``stability_from_jacobian = True`` for a problem whose stability is that of its own
@@ -97,6 +98,7 @@ class Capabilities:
         self._in_domain = getattr(problem, "in_domain", None)
         self.edge_point = getattr(problem, "edge_point", None)
         self.edge_distance = getattr(problem, "edge_distance", None)
+        self._edge_name_at = getattr(problem, "edge_name_at", None)
         self.from_jacobian = bool(getattr(problem, "stability_from_jacobian", False))
         self._eigenvalues = getattr(problem, "eigenvalues", None)
         self._diagnostics = getattr(problem, "diagnostics", None)
@@ -115,6 +117,11 @@ class Capabilities:
     def edge_name(self) -> str:
         """Read when asked: a problem's ``edge_point`` may name the edge it found."""
         return getattr(self.problem, "edge_name", "boundary")
+
+    def edge_name_near(self, u) -> str:
+        """The name of the edge that failed steps from u = (x, p) ran into: the problem's
+        ``edge_name_at(x, p)`` where it has one, else :attr:`edge_name`."""
+        return self._edge_name_at(u[:-1], u[-1]) if self._edge_name_at is not None else self.edge_name
 
     def in_domain(self, u) -> bool:
         """u = (x, p) is finite and inside the problem's domain."""

@@ -26,7 +26,8 @@ MEASURE_STEP = 0.01  # sample step of an orbit for its measures: A1 to about 1e-
 
 
 def orbit_measures(problem: ImpactOrbitProblem, x, p) -> dict:
-    """A1, max |X| and the slowest impact speed of the orbit of (8) through x on the problem's section."""
+    """A1, max |X|, max |w| (1 on an orbit with impacts) and the slowest impact speed of the orbit
+    of (8) through x on the problem's section."""
     t, y, impacts = problem.orbit(x, p, step=MEASURE_STEP)
     if problem.symmetric:  # over half its period: the other half is -y
         t, y = np.concatenate([t, t[1:] + problem.period]), np.concatenate([y, -y[:, 1:]], axis=1)
@@ -35,6 +36,7 @@ def orbit_measures(problem: ImpactOrbitProblem, x, p) -> dict:
     return {
         "A1": float(abs(harmonic)),
         "max_abs_X": float(np.abs(y[0]).max()),
+        "max_abs_w": float(np.abs(y[2]).max()),
         "min_impact_speed": float(np.abs(impacts[:, 2]).min()) if len(impacts) else float("nan"),
     }
 

@@ -69,6 +69,7 @@ class Chart:
     status: str = "complete"  # or why the curves stopped early ("interrupted (SIGINT) after ...")
     second: str = "Abar"  # the chart's second parameter
     failures: tuple = ()  # CurveFailure of each start that gave no curve
+    orbits: str = "(9)"  # the model whose orbits the curves are of: the smooth model (9) or the impact model (8)
 
     @property
     def incomplete(self) -> list:
@@ -104,7 +105,7 @@ class ChartSettings:
             value = getattr(self, name)
             if not (isinstance(value, int) and value >= low):
                 raise ValueError(f"ChartSettings.{name} must be an integer >= {low}; got {value!r}")
-        _workers(self.workers)
+        chart_workers(self.workers)
 
 
 def bifurcation_chart(
@@ -136,7 +137,7 @@ def bifurcation_chart(
     (s0, s1), (a0, a1) = sigma_range, abar_range
     box = {"sigma": (s0, s1), second: (a0, a1)}
     settings = settings or ChartSettings()
-    workers = _workers(settings.workers)
+    workers = chart_workers(settings.workers)
     resume = resume or Resume()
     say = progress or (lambda message: None)
     started = time.perf_counter()
@@ -254,7 +255,8 @@ def critical_forcing_full(
     return FullCritical(float(sigma), float(value), kind, chart)
 
 
-def _workers(workers):
+def chart_workers(workers) -> int:
+    """The number of processes tracing curves: ``workers``, or every core for None."""
     if workers is None:
         return os.cpu_count() or 1
     if not (isinstance(workers, int) and workers >= 1):

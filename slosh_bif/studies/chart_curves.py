@@ -27,6 +27,12 @@ class CurveStart:
     value: float  # of the chart's second parameter
     origin: str
 
+    @staticmethod
+    def with_job(kind: str, sigma: float, value: float, origin: str, job: dict) -> "CurveStart":
+        """The start and its set-up: the keyword arguments of :func:`trace_curve`, or of the
+        tracer given as ``job["trace"]`` (the curves of (8))."""
+        return _Start(kind, sigma, value, origin, job)
+
 
 @dataclasses.dataclass(frozen=True)
 class CurveFailure(CurveStart):
@@ -41,7 +47,7 @@ def _on_curve(curve: BifurcationCurve, sigma, value, tol=2e-3):
 
 @dataclasses.dataclass(frozen=True)
 class _Start(CurveStart):
-    """A curve's start and its set-up (the arguments of :func:`trace_curve`)."""
+    """A curve's start and its set-up (the arguments of :func:`trace_curve`, or of ``job["trace"]``)."""
 
     job: dict
 
@@ -66,7 +72,7 @@ def curve_starts(ob, params, box: dict, pitchforks=(), shooting: ShootingSetting
         origin = f"{sp.kind} at sigma = {sigma:.6g}, {second} = {value:.6g} on the {ob.name} branch in {param}"
         arcs = shooting.replace(segments=segments // ob.problem.period_multiple)  # the branch's own arcs per forcing period
         job = dict(params=params, seed=CurveSeed.on(ob, sp, origin), box=box, shooting=arcs)
-        yield _Start(sp.kind, float(sigma), float(value), origin, job)
+        yield CurveStart.with_job(sp.kind, float(sigma), float(value), origin, job)
 
 
 def pitchforks_of(family) -> list:
@@ -75,8 +81,10 @@ def pitchforks_of(family) -> list:
 
 def _trace_job(job):
     """One curve (in a worker): (curve, None), or (None, why not)."""
+    arguments = dict(job)
+    trace = arguments.pop("trace", trace_curve)
     try:
-        return trace_curve(**job), None
+        return trace(**arguments), None
     except (ConvergenceError, np.linalg.LinAlgError, ValueError) as err:
         return None, str(err)
 

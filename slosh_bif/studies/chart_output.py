@@ -109,7 +109,7 @@ def _draw(ax, chart, *, numbers: bool):
         full = np.array([lowest_stable_boundary(chart.curves, sigma)[0] for sigma in grid])
         if np.any(np.isfinite(full)):
             (line,) = ax.plot(grid, full, "-", color="tab:green", lw=4, alpha=0.55, zorder=1)
-            drawn[r"full model $\bar A_c$ (9): least stable periodic response"] = line
+            drawn[rf"full model $\bar A_c$ {chart.orbits}: least stable periodic response"] = line
     rows = list(codim2_rows(chart))
     if rows:
         (stars,) = ax.plot([r["sigma"] for r in rows], [r[chart.second] for r in rows], "k*", ms=7, zorder=5)
@@ -163,7 +163,7 @@ def plot_chart(chart, path, *, regimes=None) -> Path:
     P = chart.params
     partial = "" if chart.status == "complete" else f"\nPARTIAL: {chart.status}"
     held = ", ".join(f"{name} = {getattr(P, name):g}" for name in ("eps", "beta", "gamma", "Abar", "n") if name != chart.second)
-    axes[0][0].set_title(f"Orbit bifurcations of (9) in (sigma, {chart.second}): {held}{partial}", fontsize=10)
+    axes[0][0].set_title(f"Orbit bifurcations of {chart.orbits} in (sigma, {chart.second}): {held}{partial}", fontsize=10)
     regime_handles, regime_labels = axes[0][0].get_legend_handles_labels()  # the regime map's entries, if drawn
     fig.legend(regime_handles + list(drawn.values()), regime_labels + list(drawn), fontsize=8, loc="lower center", ncol=4, frameon=False, bbox_to_anchor=(0.5, 0.0))
     fig.tight_layout(rect=(0, 0.13, 1, 1))

@@ -308,8 +308,9 @@ def test_a_fold_curve_of_doubled_orbits_ends_where_the_orbit_becomes_its_parents
     P = PRESET.params
     problem = FoldCurveProblem(P, segments=8, period_multiple=2)
     parent = np.array([0.3, -0.1, 0.9, 0.2, -0.2, 0.4, -0.7, 0.1, 0.25, 0.3, -0.4, -0.6, -0.3, 0.1, 0.2, 0.5])
-    assert not problem.in_domain(np.append(np.tile(parent, 2), P.Abar), P.sigma)
-    assert problem.edge_name == MEETS_PARENT
+    doubled = np.append(np.tile(parent, 2), P.Abar)
+    assert not problem.in_domain(doubled, P.sigma)
+    assert problem.edge_name_at(doubled, P.sigma) == MEETS_PARENT
     apart = np.concatenate([parent, parent + 0.05])
     assert problem.in_domain(np.append(apart, P.Abar), P.sigma)
     assert FoldCurveProblem(P, segments=4).in_domain(np.append(np.tile(parent[:8], 2), P.Abar), P.sigma)  # period 1: no parent

@@ -79,15 +79,15 @@ def trace_impact_curve(params: Params, seed: ImpactCurveSeed, *, box: dict, opti
 
 
 def _measures(problem, branch) -> dict:
-    """A1, max |X| and the slowest impact speed of each point's orbit, and the largest multiplier
-    but the critical ones."""
+    """A1, max |X|, max |w| and the slowest impact speed of each point's orbit, and the largest
+    multiplier but the critical ones."""
     orbits = problem.orbits
     rows = []
     for u, p in zip(branch.x, branch.p):
         at = problem.params_at(u, p)
         single = ImpactOrbitProblem(at, problem.p1, symmetric=orbits.symmetric, period_multiple=orbits.period_multiple, phase=orbits.phase)
         rows.append(orbit_measures(single, u[:4], p))
-    out = {key: np.array([r[key] for r in rows]) for key in ("A1", "max_abs_X", "min_impact_speed")} if rows else {}
+    out = {key: np.array([r[key] for r in rows]) for key in ("A1", "max_abs_X", "max_abs_w", "min_impact_speed")} if rows else {}
     critical = 2 if problem.kind == "NS" else 1
     out["max_abs_multiplier"] = np.max(np.abs(branch.eigenvalues[:, critical:]), axis=1) if len(branch) else np.array([])
     return out

@@ -18,12 +18,18 @@ from collections import OrderedDict
 import numpy as np
 
 from slosh_bif.model.params import Params, real_pair
-from slosh_bif.orbits.impact_orbits import ImpactOrbitProblem
+from slosh_bif.orbits.impact_orbits import SECTION, ImpactOrbitProblem
 from slosh_bif.orbits.shooting import Arcs
 
-__all__ = ["ImpactStrobe"]
+__all__ = ["ImpactStrobe", "MIN_IMPACT_SPEED", "NEAR_GRAZING"]
 
 _KEEP = 8  # parameter sets whose problems are kept (a corrector step and its differences)
+
+# Near grazing the saltation matrices grow like 1 / (impact speed) and the map's second
+# derivatives (central differences) lose all accuracy: a curve ends where its slowest impact
+# falls below this speed (the Fig. 13 fold curves crept to a stop at 0.004, with a multiplier 1e6).
+MIN_IMPACT_SPEED = 1e-2
+NEAR_GRAZING = f"grazing (GR): an impact slower than {MIN_IMPACT_SPEED:g}, or the number of impacts changes"
 
 
 class ImpactStrobe:
@@ -62,13 +68,14 @@ class ImpactStrobe:
 
     def arcs(self, x, params: Params) -> Arcs:
         """The map at (x, params) as one arc: its end (before the mirror), its Jacobian and its
-        derivatives in (p1, p2); NaN where the flow stops short (sticking, a complex kappa) or
-        the number of impacts is not the domain's."""
+        derivatives in (p1, p2); NaN where the flow stops short (sticking, a complex kappa), the
+        number of impacts is not the domain's or an impact is slower than ``MIN_IMPACT_SPEED``."""
         x = np.asarray(x, dtype=float)
         first, second = self._maps_of(params)
         m1 = first.evaluate(x, getattr(params, self.sensitivities[0]))
         m2 = second.evaluate(x, getattr(params, self.sensitivities[1])) if m1.code == 0 else m1
-        if m1.code != 0 or m2.code != 0 or (self.impacts is not None and len(m1.impacts) != self.impacts):
+        grazing = (self.impacts is not None and len(m1.impacts) != self.impacts) or (len(m1.impacts) and np.abs(m1.impacts[:, 2]).min() < MIN_IMPACT_SPEED)
+        if m1.code != 0 or m2.code != 0 or grazing:
             nan = np.full((4, 4), np.nan)
             return Arcs(np.full((1, 4), np.nan), nan[None], np.full((1, 4, 2), np.nan), np.nan, nan)
         c = self.closing  # the problems give G = closing * map; the arc is the map itself
@@ -88,6 +95,17 @@ class ImpactStrobe:
         """(x, p) may be mapped (:meth:`ImpactOrbitProblem.admissible`, p1 in ``box``); the map's
         own failures and another impact count show as a non-finite residual."""
         return self._probe.admissible(x, p)
+
+    def edge_name_at(self, x, params: Params) -> str | None:
+        """The edge near the orbit x at ``params``: grazing when its slowest impact is within a
+        factor 2 of ``MIN_IMPACT_SPEED`` (or it has no longer the domain's impacts), the section
+        when the particle sits within 1e-3 of a wall there; None for neither."""
+        m = self._maps_of(params)[0].evaluate(np.asarray(x, dtype=float), getattr(params, self.sensitivities[0]))
+        if (self.impacts is not None and len(m.impacts) != self.impacts) or (len(m.impacts) and np.abs(m.impacts[:, 2]).min() < 2 * MIN_IMPACT_SPEED):
+            return NEAR_GRAZING
+        if 1.0 - abs(float(x[2])) < 1e-3:
+            return SECTION
+        return None
 
     def full_states(self, x):
         """The orbit's state on the section (the whole-period map's unknowns are the same four)."""

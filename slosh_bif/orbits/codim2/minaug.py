@@ -83,6 +83,7 @@ class MinAugCurveProblem:
         self.p2_box = p2_box
         self._columns = (0, 1)  # the arcs' sensitivities are (p1, p2)
         self._b = self._c = None
+        self._edge = None  # set by a kind's own domain check (a named edge)
         self._memo = {}
         self._last_second = None  # (u, the derivatives there) of the last computation
         self._multipliers = {}
@@ -94,7 +95,16 @@ class MinAugCurveProblem:
     def params_at(self, x, p) -> Params:
         return self.params.replace(**{self.p1: float(p), self.p2: float(x[-self._extra])})
 
+    def edge_name_at(self, x, p) -> str:
+        """The edge that failed steps from the curve point (x, p) ran into: the kind's own (set by
+        its domain check), else the orbit equations' (grazing or the section for (8)), else the box."""
+        if self._edge:
+            return self._edge
+        near = getattr(self.orbits, "edge_name_at", None)
+        return (near(x[: -self._extra], self.params_at(x, p)) if near else None) or "boundary"
+
     def in_domain(self, x, p) -> bool:
+        self._edge = None
         p2 = x[-self._extra]
         if self.p2_box is not None and not self.p2_box[0] <= p2 <= self.p2_box[1]:
             return False

@@ -54,14 +54,12 @@ class FoldCurveProblem(MinAugCurveProblem):
 
     kind, mu = "LP", 1.0
     test_kinds = ("CP", "LPPD", "LPNS")
-    edge_name = "boundary"
 
     def in_domain(self, x, p) -> bool:
         if not super().in_domain(x, p):
-            self.edge_name = "boundary"
             return False
         if repeats_early(self.orbits, x[: -self._extra]):
-            self.edge_name = MEETS_PARENT
+            self._edge = MEETS_PARENT
             return False
         return True
 

@@ -1,0 +1,157 @@
+"""The (sigma, Abar) chart of the vibro-impact model (8): the curves where its periodic orbits
+fold (LP), double their period (PD), lose stability to a torus (NS) or break their symmetry (BP),
+traced in two parameters (:func:`~slosh_bif.orbits.codim2.impact_curves.trace_impact_curve`) from
+every special point of its branches in sigma (the branch a simulation of (8) settles on and, for a
+symmetric one, the asymmetric branches born at its pitchforks), and the least forcing Abar_c at
+which (8) has a stable periodic orbit, read off them as for (9) (:mod:`.chart`). The result is a
+:class:`~slosh_bif.studies.chart.Chart`, written and drawn by the chart's own output functions.
+
+A curve keeps its start's number of impacts per period; it ends at the domain's edge where that
+changes (grazing) or an impact reaches the section of its start (the chart does not yet follow a
+curve across either).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import time
+
+import numpy as np
+
+from slosh_bif.continuation import ConvergenceError
+from slosh_bif.model.params import Params
+from slosh_bif.orbits.codim2 import ImpactCurveSeed, trace_impact_curve
+from slosh_bif.orbits.impact_branches import settled_orbit, trace_impact_orbits
+from slosh_bif.orbits.impact_orbits import ImpactOrbitProblem
+from slosh_bif.orbits.impact_switching import asymmetric_branches, is_symmetric
+from slosh_bif.orbits.settings import BRANCHING, BranchingSettings
+from slosh_bif.slowflow.critical import critical_curve
+from slosh_bif.studies.chart import Chart, ChartSettings, chart_workers, check_box
+from slosh_bif.studies.chart_curves import CurveStart, trace_curves
+
+__all__ = ["impact_chart", "impact_curve_starts", "ImpactFamily", "NamedImpactBranch"]
+
+
+@dataclasses.dataclass(frozen=True)
+class NamedImpactBranch:
+    """A branch of orbits of (8) in sigma (:class:`~slosh_bif.orbits.impact_branches.ImpactBranch`),
+    its name, and whether it was traced on the half-period map (symmetric orbits)."""
+
+    name: str
+    branch: object
+    symmetric: bool
+
+
+@dataclasses.dataclass(frozen=True)
+class ImpactFamily:
+    """The branches of (8) a chart's curves start from, the primary one first."""
+
+    branches: list
+
+
+def impact_chart(
+    params: Params, state0, *, sigma_range: tuple, abar_range: tuple, branching: BranchingSettings = BRANCHING, settings: ChartSettings | None = None,
+    progress=None,
+) -> Chart:
+    """The chart of (8) over ``sigma_range`` x ``abar_range``: the branch of orbits of (8) through
+    the orbit a ``settings.settle``-period simulation from ``state0`` settles on (at the set's
+    sigma and Abar), the asymmetric branches born at its pitchforks (unless ``branching.switch``
+    is off), the primary branch's orbits at ``settings.seeds`` values of sigma continued in Abar,
+    and the curve through each of their LP, PD, NS and BP points (each curve once), on
+    ``settings.workers`` processes; the paper's slow flow's Abar_b beside them."""
+    check_box(params, sigma_range, abar_range)
+    settings = settings or ChartSettings()
+    (s0, s1), (a0, a1) = sigma_range, abar_range
+    say = progress or (lambda message: None)
+    started = time.perf_counter()
+    params.require_positive_stiffness()
+    x0 = settled_orbit(params, state0, periods=settings.settle)
+    symmetric = is_symmetric(params, x0)
+    primary = trace_impact_orbits(params, x0, param="sigma", p_min=s0, p_max=s1, symmetric=symmetric)
+    family = [NamedImpactBranch("symmetric" if symmetric else "primary", primary, symmetric)]
+    if symmetric and branching.switch:
+        for k, (_, branch) in enumerate(asymmetric_branches(params, primary, p_min=s0, p_max=s1, max_branches=branching.max_branches - 1)):
+            family.append(NamedImpactBranch("asymmetric" + (f"-{k + 1}" if k else ""), branch, False))
+    say(f"orbits of (8): {len(family)} branch(es), {sum(len(piece.branch) for nb in family for piece in nb.branch.pieces)} points")
+    box = {"sigma": (s0, s1), "Abar": (a0, a1)}
+    pitchforks = [s.p for piece in primary.pieces for s in piece.branch.special if s.kind == "BP"] if symmetric else []
+    starts = [s for nb in family for s in impact_curve_starts(nb, params, box, pitchforks)]
+    # Folds and period doublings met when the forcing falls: the primary branch's orbits at
+    # ``settings.seeds`` values of sigma, each continued in Abar over the box.
+    for sigma in np.linspace(s0, s1, settings.seeds + 2)[1:-1]:
+        seed = _seed_in_abar(family[0], params, float(sigma), (a0, a1))
+        if seed is not None:
+            starts += list(impact_curve_starts(seed, seed.at, box))
+    workers = chart_workers(settings.workers)
+    say(f"{len(starts)} special points of (8) to start curves from, on {workers} process(es)")
+    curves, status, failures = trace_curves(starts, say, workers)
+    slow = None
+    try:
+        slow = critical_curve(params, s0, s1)
+    except (RuntimeError, ValueError) as err:
+        say(f"no slow-flow critical curve: {err}")
+    return Chart(params, (s0, s1), (a0, a1), ImpactFamily(family), curves, slow, time.perf_counter() - started, status, "Abar", failures, orbits="(8)")
+
+
+def impact_curve_starts(named: NamedImpactBranch, params: Params, box: dict, pitchforks=()):
+    """The located LP, PD, NS (and, on a symmetric branch, BP) points of a branch of (8) (in
+    sigma or Abar, at ``params``) as starts of curves over ``box``. ``pitchforks``: sigma at the
+    family's pitchforks, where an asymmetric branch's LP (the mirror pair turning in sigma where
+    it is born) is no fold."""
+    param = named.branch.param
+    for piece in named.branch.pieces:
+        for sp in piece.branch.special:
+            if sp.kind not in ("LP", "PD", "NS", "BP") or not sp.located or (sp.kind == "BP" and not named.symmetric):
+                continue
+            if sp.kind == "LP" and not named.symmetric and any(abs(sp.p - q) <= 1e-6 * (1 + abs(q)) for q in pitchforks):
+                continue
+            at = params.replace(**{param: float(sp.p)})
+            origin = f"{sp.kind} at sigma = {at.sigma:.6g}, Abar = {at.Abar:.6g} on the {named.name} branch of (8) in {param}"
+            seed = ImpactCurveSeed(sp.kind, sp.x, float(sp.p), param, symmetric=named.symmetric, phase=piece.phase, impacts=piece.impacts, origin=origin)
+            yield CurveStart.with_job(sp.kind, at.sigma, at.Abar, origin, dict(trace=trace_impact_curve, params=params, seed=seed, box=box))
+
+
+@dataclasses.dataclass(frozen=True)
+class _SeedBranch(NamedImpactBranch):
+    at: Params = None  # the parameter set it was continued at (its sigma)
+
+
+def _seed_in_abar(primary: NamedImpactBranch, params: Params, sigma: float, abar_range) -> _SeedBranch | None:
+    """The primary branch's orbit nearest ``sigma`` (away from its special points) continued in
+    Abar over ``abar_range`` at that sigma, or None where there is none or it cannot be continued."""
+    best = None
+    for piece in primary.branch.pieces:
+        b = piece.branch
+        regular = np.ones(len(b), dtype=bool)
+        for sp in b.special:
+            regular[max(sp.index - 2, 0) : sp.index + 3] = False
+        if not np.any(regular):
+            continue
+        i = int(np.argmin(np.where(regular, np.abs(b.p - sigma), np.inf)))
+        if best is None or abs(b.p[i] - sigma) < abs(best[0].branch.p[best[1]] - sigma):
+            best = (piece, i)
+    if best is None or not abar_range[0] <= params.Abar <= abar_range[1]:
+        return None
+    piece, i = best
+    at = params.replace(sigma=float(piece.branch.p[i]))
+    problem = ImpactOrbitProblem(at, "sigma", symmetric=primary.symmetric, phase=piece.phase)
+    try:
+        x0 = state_at_zero(problem, piece.branch.x[i], at.sigma)
+        branch = trace_impact_orbits(at, x0, param="Abar", p_min=abar_range[0], p_max=abar_range[1], symmetric=primary.symmetric)
+    except (ConvergenceError, ValueError):
+        return None
+    return _SeedBranch(primary.name, branch, primary.symmetric, at)
+
+
+def state_at_zero(problem: ImpactOrbitProblem, x, p):
+    """The state at tau = 0 of the orbit through x on the problem's section tau = phase: the flow
+    of (8) from the section to the next multiple of the map's period, mirrored once per half
+    period for a symmetric orbit."""
+    periods = int(np.ceil(problem.phase / problem.period - 1e-12))
+    end = periods * problem.period
+    if end == problem.phase:
+        return np.asarray(x, dtype=float)
+    _, y, _, code = problem.flow_at(p).run(np.asarray(x, dtype=float), problem.phase, end, stick_speed=1e-9, max_impacts=10_000)
+    if code != 0:
+        raise ValueError(f"the orbit of (8) cannot be followed from its section to tau = {end:g} (code {code})")
+    return y[:, -1] * (problem.closing**periods)

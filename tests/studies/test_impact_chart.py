@@ -1,0 +1,71 @@
+"""The chart of the impact model (8): ``chart --model impact`` from a fresh folder, its critical
+forcing checked against a one-parameter branch of (8) in Abar (another problem class, its fold
+located by its own test), and a curve ending near grazing by its stated rule."""
+
+import csv
+
+import numpy as np
+import pytest
+
+from slosh_bif import get_preset
+from slosh_bif.cli import main
+from slosh_bif.orbits.impact_branches import settled_orbit, trace_impact_orbits
+
+
+@pytest.fixture(scope="module")
+def impact_chart_folder(tmp_path_factory):
+    out = tmp_path_factory.mktemp("chart8")
+    argv = ["chart", "--preset", "fig13", "--model", "impact", "--sigma-min", "-3", "--sigma-max", "5", "--abar-min", "0.1", "--abar-max", "2.5", "--out", str(out)]
+    assert main(argv) == 0
+    return out
+
+
+def _rows(path):
+    with open(path, newline="") as fh:
+        return list(csv.DictReader(fh))
+
+
+def test_the_impact_chart_writes_every_curve_and_names_its_model(impact_chart_folder):
+    curves = _rows(impact_chart_folder / "curves.csv")
+    last = {r["curve"]: r for r in curves}
+    assert {r["kind"] for r in last.values()} >= {"LP", "PD", "NS", "BP"}
+    assert all(r["status"] == "ok" for r in last.values())
+    assert all("branch of (8)" in r["origin"] for r in last.values())
+    assert (impact_chart_folder / "chart.png").stat().st_size > 10_000
+
+
+def test_the_impact_charts_critical_forcing_is_the_fold_of_a_one_parameter_branch(impact_chart_folder):
+    # Below the resonance the least forcing with a stable orbit of (8) is the fold of its
+    # resonant symmetric orbits: the one-parameter branch in Abar at sigma = -2 locates it.
+    row = next(r for r in _rows(impact_chart_folder / "critical.csv") if float(r["sigma"]) == -2.0)
+    pre = get_preset("fig13")
+    P = pre.params.replace(sigma=-2.0, Abar=0.4)
+    branch = trace_impact_orbits(P, settled_orbit(P, pre.state_for(P), periods=150), param="Abar", p_min=0.1, p_max=1.0, symmetric=True)
+    (fold,) = branch.special("LP")
+    assert row["bounded_by"] == "LP" and float(row["Abar_c_full"]) == pytest.approx(fold[0], rel=1e-3)  # the chart interpolates between curve points
+    assert float(row["Abar_b_slowflow"]) == pytest.approx(0.3266, abs=1e-3)
+
+
+def test_an_impact_curve_ends_near_grazing_by_its_rule():
+    # The Fig. 13 set's fold curve of (8) from sigma = 1 runs down in sigma towards an orbit whose
+    # slowest impact vanishes (grazing); it ends where that impact falls below MIN_IMPACT_SPEED,
+    # at the domain's edge, named.
+    from slosh_bif.orbits.codim2 import ImpactCurveSeed, trace_impact_curve
+    from slosh_bif.orbits.codim2.impact_strobe import MIN_IMPACT_SPEED, NEAR_GRAZING
+    from slosh_bif.orbits.impact_orbits import ImpactOrbitProblem
+    from slosh_bif.studies.impact_chart import state_at_zero
+
+    pre = get_preset("fig13")
+    P = pre.params.replace(sigma=1.0)  # Abar = 1: the resonant symmetric orbit, continued down in Abar
+    x0 = settled_orbit(P, pre.state_for(P), periods=150)
+    branch = trace_impact_orbits(P, x0, param="Abar", p_min=0.1, p_max=1.2, symmetric=True)
+    (piece, lp), = [(pc, s) for pc in branch.pieces for s in pc.branch.special if s.kind == "LP"]
+    seed = ImpactCurveSeed("LP", lp.x, lp.p, "Abar", symmetric=True, phase=piece.phase, impacts=piece.impacts)
+    curve = trace_impact_curve(P, seed, box={"sigma": (-3.0, 5.0), "Abar": (0.1, 2.5)})
+    ends = [s for s in curve.branch.special if s.kind == "END" and s.edge == NEAR_GRAZING]
+    assert curve.status == "ok" and len(ends) == 1
+    assert np.nanmin(curve["min_impact_speed"]) >= MIN_IMPACT_SPEED
+    # the state-at-zero helper: the section's orbit mapped back to tau = 0 is a fixed point there
+    problem = ImpactOrbitProblem(P.replace(Abar=lp.p), "Abar", symmetric=True, phase=piece.phase)
+    at_zero = ImpactOrbitProblem(P.replace(Abar=lp.p), "Abar", symmetric=True)
+    assert np.linalg.norm(at_zero.residual(state_at_zero(problem, lp.x, lp.p), lp.p)) < 1e-9
