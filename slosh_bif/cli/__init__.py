@@ -33,7 +33,7 @@ import sys
 for _name in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS", "BLIS_NUM_THREADS"):
     os.environ[_name] = "1"
 
-from slosh_bif.cli import chart, info, orbits, simulation, slowflow, studies, tank  # noqa: E402
+from slosh_bif.cli import chart, identify, info, orbits, simulation, slowflow, studies, tank  # noqa: E402
 
 __all__ = ["main", "build_parser", "warning_origin"]
 
@@ -45,7 +45,7 @@ def build_parser() -> argparse.ArgumentParser:
         "nonlinear liquid sloshing (Farid & Gendelman).",
     )
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
-    for family in (info, tank, slowflow, orbits, chart, studies, simulation):
+    for family in (info, tank, slowflow, orbits, chart, studies, simulation, identify):
         family.add_commands(sub)
     for each in sub.choices.values():
         talk = each.add_mutually_exclusive_group()
