@@ -111,7 +111,7 @@ def _run(problem, start: Point, opts, loop_guard: bool, callback=None):
             edge_hits += not in_domain(problem, guess) or iters < opts.max_newton
             h *= 0.5
             if h < opts.step_min:
-                finer = _finer(caps, points, refinements) if _stalls(caps, points[-1], edge_hits) else None
+                finer = _finer(caps, refinements) if _stalls(caps, points[-1], edge_hits) else None
                 if finer is not None:  # resume with the finer problem from the last point
                     problem, caps, refinements, h, bend = finer, capabilities(finer), refinements + 1, opts.step, None
                     accept, terminal = caps.accept, caps.terminal_kinds
@@ -143,7 +143,7 @@ def _run(problem, start: Point, opts, loop_guard: bool, callback=None):
         if callback is not None:
             callback(float(u[-1]), u[:-1])
         crept = crept + 1 if h <= CREEP * opts.step_min else 0
-        if crept >= CREEP_STEPS and (finer := _finer(caps, points, refinements)) is not None:
+        if crept >= CREEP_STEPS and (finer := _finer(caps, refinements)) is not None:
             # Newton converges only for tiny steps: resume where the creeping began with the finer problem
             del points[len(points) - crept :]
             problem, caps, refinements, h, bend, crept = finer, capabilities(finer), refinements + 1, opts.step, None, 0
@@ -159,7 +159,7 @@ def _run(problem, start: Point, opts, loop_guard: bool, callback=None):
         h = _next_step(h, iters, angle, opts)
 
 
-def _finer(caps, points, refinements):
+def _finer(caps, refinements):
     """The problem's finer version to resume a stalled direction with (None: it has none, or this
     direction was resumed ``REFINEMENTS`` times already)."""
     if caps.refined is None or refinements >= REFINEMENTS:

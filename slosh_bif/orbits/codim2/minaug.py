@@ -1,5 +1,6 @@
-"""The minimally augmented system on the multiple-shooting residual of (9), the base of every
-curve of orbit bifurcations in two parameters.
+"""The minimally augmented system on the multiple-shooting residual of (9) (or on the
+stroboscopic map of (8), :mod:`.impact_strobe`), the base of every curve of orbit bifurcations in
+two parameters.
 
 Formulation
 -----------
