@@ -108,6 +108,17 @@ class WallFit:
         }
 
 
+def _misfit(records: ImpactRecords, q: float) -> float:
+    """The fit's misfit at the exponent q, on the log-likelihood's scale: chi-square in kappa
+    with the records' std, else N log(RSS) (the likelihood with the scale estimated)."""
+    rss = _fit_C(records, q)[2]
+    if records.std is not None:
+        C = _fit_C(records, q)[0]
+        kappa_fit = np.sqrt(np.clip(1.0 - C * records.v0**q, 0.0, None))
+        return float(np.sum(((records.kappa - kappa_fit) * records.v0 / records.std) ** 2))
+    return float(len(records.v0) * math.log(max(rss, 1e-300)))
+
+
 def _fit_C(records: ImpactRecords, q: float):
     """(C, its standard error, residual sum of squares in kappa) for the exponent q: weighted
     linear least squares on delta_i = 1 - kappa_i**2 = C v0_i**q, each delta's standard deviation
@@ -138,8 +149,8 @@ def _prefactor(lam, chi, n, pbar) -> float:
 
 def fit_wall(records: ImpactRecords, base: Params, free) -> WallFit:
     """Fit (21) to ``records``: ``free`` a subset of lam, chi, pbar (the rest from ``base``; n is
-    the wall's power, always given). With pbar free it is profiled over 0..PBAR_MAX and the best
-    kept; then C is estimated and turned into the free one of lam and chi (the other from
+    the wall's power, always given). With pbar free it is profiled over 0..PBAR_MAX (of n's
+    parity, as pbar = 2p - n requires) and the best kept; then C is estimated and turned into the free one of lam and chi (the other from
     ``base``). Both lam and chi free: only lam chi**(-a) is determined; the fit keeps chi at
     ``base``'s value, says so in ``not_identifiable``, and reports the combination."""
     free = tuple(free)
@@ -147,11 +158,13 @@ def fit_wall(records: ImpactRecords, base: Params, free) -> WallFit:
     if unknown or not free:
         raise ValueError(f"--free takes one or more of {', '.join(FREE_NAMES)} for impact records; got {', '.join(free) or 'nothing'}")
     n = base.n
-    candidates = range(0, PBAR_MAX + 1) if "pbar" in free else (base.pbar,)
-    profile = {}
-    for pbar in candidates:
-        profile[pbar] = _fit_C(records, pbar / (n + 1))[2]
-    pbar = min(profile, key=profile.get)
+    # pbar = 2p - n with p a non-negative integer: the parity of n (Params checks the same)
+    candidates = range(n % 2, PBAR_MAX + 1, 2) if "pbar" in free else (base.pbar,)
+    profile = {pbar: _fit_C(records, pbar / (n + 1))[2] for pbar in candidates}
+    misfit = {pbar: _misfit(records, pbar / (n + 1)) for pbar in candidates}
+    pbar = min(misfit, key=misfit.get)
+    # pbar values the records cannot tell from the best (likelihood ratio, 95 %: chi-square(1) 3.84)
+    consistent = sorted(k for k, v in misfit.items() if v - misfit[pbar] <= 3.841458820694124)
     q = pbar / (n + 1)
     C, C_std, rss = _fit_C(records, q)
     dof = len(records.v0) - 1
@@ -177,7 +190,12 @@ def fit_wall(records: ImpactRecords, base: Params, free) -> WallFit:
         bounds = sorted(((lam * K / c) ** (1.0 / a) if c > 0 else math.inf) for c in interval)
         estimate["chi"] = {"value": chi, "std": chi / a * C_std / C, "interval_95": bounds}
     if "pbar" in free:
-        estimate["pbar"] = {"value": pbar, "profile": "least residual over 0..%d" % PBAR_MAX}
+        estimate["pbar"] = {"value": pbar, "consistent_95": consistent, "profile": f"least misfit over {n % 2}..{PBAR_MAX} in steps of 2 (the parity of n = {n})"}
+        if len(consistent) > 1:
+            note = (note + " " if note else "") + (
+                f"pbar is not determined: {', '.join(map(str, consistent))} fit the records equally at 95 % (likelihood ratio); the other estimates and "
+                f"intervals hold given pbar = {pbar}. Records over a wider range of impact speeds would tell them apart."
+            )
     values = {"lam": float(lam), "chi": float(chi), "n": int(n), "pbar": int(pbar)}
     rms = math.sqrt(rss / len(records.v0))
     return WallFit(values, C, C_std, interval, q, estimate, profile, rms, note, len(records.v0))
