@@ -3,7 +3,7 @@ fold (LP), double their period (PD), lose stability to a torus (NS) or break the
 traced in two parameters (:func:`~slosh_bif.orbits.codim2.impact_curves.trace_impact_curve`) from
 every special point of its branches in sigma (the branch a simulation of (8) settles on and, for a
 symmetric one, the asymmetric branches born at its pitchforks), and the least forcing Abar_c at
-which (8) has a stable periodic orbit, read off them as for (9) (:mod:`.chart`). The result is a
+which (8) has a stable periodic orbit, read off them as for (9) (:mod:`slosh_bif.studies.chart`). The result is a
 :class:`~slosh_bif.studies.chart.Chart`, written and drawn by the chart's own output functions.
 
 A curve keeps its start's number of impacts per period; it ends at the domain's edge where that
