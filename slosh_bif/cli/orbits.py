@@ -111,9 +111,10 @@ def _shoot_impact(args, params, lo, hi) -> int:
     settles on (or --guess), across sections and grazings; a symmetric one on the half-period map,
     with the asymmetric branches born at its pitchforks (unless --no-switch)."""
     from slosh_bif.continuation import ContinuationOptions
-    from slosh_bif.orbits.impact_branches import settled_orbit, trace_impact_orbits
+    from slosh_bif.orbits.impact_branches import settled_orbit
     from slosh_bif.orbits.impact_output import impact_rows, plot_impact_branch, write_impact_csv
-    from slosh_bif.orbits.impact_switching import asymmetric_branches, is_symmetric
+    from slosh_bif.orbits.settings import BranchingSettings
+    from slosh_bif.studies.impact_chart import impact_family
 
     if args.start != "simulation":
         raise ValueError(f"--start {args.start} is for the smooth model (9); --model impact starts from a simulation of (8) or from --guess")
@@ -125,14 +126,9 @@ def _shoot_impact(args, params, lo, hi) -> int:
     options = continuation_options(args, ContinuationOptions(step=0.05, step_max=0.3, tol=1e-10))
     args.out.mkdir(parents=True, exist_ok=True)
     x0 = args.guess if args.guess is not None else settled_orbit(params, state0_of(args, params), periods=args.settle)
-    symmetric = is_symmetric(params, x0)  # then on the half-period map, where its pitchforks are regular points
-    result = trace_impact_orbits(params, x0, param=args.parameter, p_min=lo, p_max=hi, options=options, symmetric=symmetric)
-    branches = [("symmetric" if symmetric else "primary", result, symmetric)]
-    if symmetric and not args.no_switch:
-        for k, (origin, branch) in enumerate(asymmetric_branches(params, result, p_min=lo, p_max=hi, options=options, max_branches=args.max_branches - 1)):
-            name = "asymmetric" + (f"-{k + 1}" if k else "")
-            branches.append((name, branch, False))
-            progress(f"{name}: from the {origin}, {len(branch.pieces)} pieces")
+    branching = BranchingSettings(switch=not args.no_switch, max_branches=args.max_branches)
+    family = impact_family(params, x0, param=args.parameter, p_range=(lo, hi), branching=branching, options=options, say=progress)
+    branches = [(nb.name, nb.branch, nb.symmetric) for nb in family]
     rows = [r for name, branch, half in branches for r in impact_rows(branch, params, symmetric=half, name=name)]
     csv_path, png_path = write_impact_csv(rows, args.out / "branch.csv"), plot_impact_branch(rows, params, args.out / "branch.png")
     for name, branch, _ in branches:

@@ -29,7 +29,7 @@ from slosh_bif.slowflow.critical import critical_curve
 from slosh_bif.studies.chart import Chart, ChartSettings, chart_workers, check_box
 from slosh_bif.studies.chart_curves import CurveStart, trace_curves
 
-__all__ = ["impact_chart", "impact_curve_starts", "ImpactFamily", "NamedImpactBranch"]
+__all__ = ["impact_chart", "impact_family", "impact_curve_starts", "ImpactFamily", "NamedImpactBranch"]
 
 
 @dataclasses.dataclass(frozen=True)
@@ -65,13 +65,8 @@ def impact_chart(
     say = progress or (lambda message: None)
     started = time.perf_counter()
     params.require_positive_stiffness()
-    x0 = settled_orbit(params, state0, periods=settings.settle)
-    symmetric = is_symmetric(params, x0)
-    primary = trace_impact_orbits(params, x0, param="sigma", p_min=s0, p_max=s1, symmetric=symmetric)
-    family = [NamedImpactBranch("symmetric" if symmetric else "primary", primary, symmetric)]
-    if symmetric and branching.switch:
-        for k, (_, branch) in enumerate(asymmetric_branches(params, primary, p_min=s0, p_max=s1, max_branches=branching.max_branches - 1)):
-            family.append(NamedImpactBranch("asymmetric" + (f"-{k + 1}" if k else ""), branch, False))
+    family = impact_family(params, settled_orbit(params, state0, periods=settings.settle), param="sigma", p_range=(s0, s1), branching=branching)
+    primary, symmetric = family[0].branch, family[0].symmetric
     say(f"orbits of (8): {len(family)} branch(es), {sum(len(piece.branch) for nb in family for piece in nb.branch.pieces)} points")
     box = {"sigma": (s0, s1), "Abar": (a0, a1)}
     pitchforks = [s.p for piece in primary.pieces for s in piece.branch.special if s.kind == "BP"] if symmetric else []
@@ -91,6 +86,23 @@ def impact_chart(
     except (RuntimeError, ValueError) as err:
         say(f"no slow-flow critical curve: {err}")
     return Chart(params, (s0, s1), (a0, a1), ImpactFamily(family), curves, slow, time.perf_counter() - started, status, "Abar", failures, orbits="(8)")
+
+
+def impact_family(params: Params, x0, *, param: str, p_range: tuple, branching: BranchingSettings = BRANCHING, options=None, say=None) -> list:
+    """The branch of orbits of (8) through x0 (its state at tau = 0) over ``p_range`` of
+    ``param`` (a symmetric one on the half-period map) and, unless ``branching.switch`` is off,
+    the asymmetric branches born at its pitchforks, as :class:`NamedImpactBranch` (the first one
+    first); ``say(message)`` hears of each switched branch."""
+    lo, hi = p_range
+    symmetric = is_symmetric(params, x0)  # then on the half-period map, where its pitchforks are regular points
+    primary = trace_impact_orbits(params, x0, param=param, p_min=lo, p_max=hi, options=options, symmetric=symmetric)
+    family = [NamedImpactBranch("symmetric" if symmetric else "primary", primary, symmetric)]
+    if symmetric and branching.switch:
+        for k, (origin, branch) in enumerate(asymmetric_branches(params, primary, p_min=lo, p_max=hi, options=options, max_branches=branching.max_branches - 1)):
+            family.append(NamedImpactBranch("asymmetric" + (f"-{k + 1}" if k else ""), branch, False))
+            if say is not None:
+                say(f"{family[-1].name}: from the {origin}, {len(branch.pieces)} pieces")
+    return family
 
 
 def impact_curve_starts(named: NamedImpactBranch, params: Params, box: dict, pitchforks=()):
