@@ -33,9 +33,18 @@ import sys
 for _name in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS", "BLIS_NUM_THREADS"):
     os.environ[_name] = "1"
 
-from slosh_bif.cli import chart, identify, info, orbits, simulation, slowflow, studies, tank  # noqa: E402
+from slosh_bif.cli import (
+    chart,
+    identify,
+    info,
+    orbits,
+    simulation,
+    slowflow,
+    studies,
+    tank,
+)
 
-__all__ = ["main", "build_parser", "warning_origin"]
+__all__ = ["build_parser", "main", "warning_origin"]
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -51,33 +60,18 @@ def build_parser() -> argparse.ArgumentParser:
         talk = each.add_mutually_exclusive_group()
         talk.add_argument("-q", "--quiet", action="store_true", help="no progress messages (results and errors still print)")
         talk.add_argument("-v", "--verbose", action="store_true", help="every progress message, and every special point on stdout")
-    for each in (parser, *sub.choices.values()):
-        _numbers_may_start_with_minus(each)
-        for action in each._actions:
-            if action.dest == "out":
-                action.type = _out_path
     return parser
 
 
-def _out_path(text: str):
-    """--out as a Path; an empty one (Path("") is the current folder) is a slip, refused."""
-    from pathlib import Path
-
-    if not text.strip():
-        raise argparse.ArgumentTypeError("needs a folder or file name; got an empty string")
-    return Path(text)
+_NUMBER = re.compile(r"^-(\d|\.\d|inf|nan)", re.IGNORECASE)
 
 
-_NEGATIVE = re.compile(r"^-(\d|\.\d|inf|nan)", re.IGNORECASE)
-
-
-def _numbers_may_start_with_minus(parser) -> None:
-    """A token such as -1e6, -inf or -1,0,0,0 is a value, not an option: argparse knows only plain
-    negative numbers (-3, -0.5) as values. The parser's own test is widened (no option of ours
-    looks like a number), which keeps pairs such as ``--range1 -3 3`` working. Without that
-    attribute (another Python's argparse) the plain-number rule stays."""
-    if hasattr(parser, "_negative_number_matcher"):
-        parser._negative_number_matcher = _NEGATIVE
+def values_may_start_with_minus(tokens: list[str]) -> list[str]:
+    """A token such as -1e6, -inf or -1,0,0,0 is a value, not an option: argparse takes only plain
+    negative numbers (-3, -0.5) as values. Such tokens are handed to argparse with a leading space
+    (only a token that starts with '-' can be an option; the converters strip the space), which
+    keeps pairs such as ``--range1 -3 3`` working. No option of ours looks like a number."""
+    return [" " + token if _NUMBER.match(token) else token for token in tokens]
 
 
 def _check_out(out, *, is_file: bool = False) -> None:
@@ -130,7 +124,7 @@ def main(argv=None) -> int:
     from slosh_bif.cli.terminal import REPORTER
 
     parser = build_parser()
-    args = parser.parse_args(sys.argv[1:] if argv is None else list(argv))
+    args = parser.parse_args(values_may_start_with_minus(sys.argv[1:] if argv is None else list(argv)))
     REPORTER.configure(quiet=args.quiet, verbose=args.verbose)
 
     shown = set()

@@ -5,11 +5,24 @@ Abar_b beside it (optionally over a simulated regime map)."""
 from __future__ import annotations
 
 import sys
-from pathlib import Path
 
 import numpy as np
 
-from slosh_bif.cli.common import abar_range, add_abar_range_options, add_backend_option, add_params_options, add_tmax_option, check_workers, params_of, progress, sigma_range, state0_of, stopped, throttled
+from slosh_bif.cli.common import (
+    abar_range,
+    add_abar_range_options,
+    add_backend_option,
+    add_params_options,
+    add_tmax_option,
+    check_workers,
+    out_path,
+    params_of,
+    progress,
+    sigma_range,
+    state0_of,
+    stopped,
+    throttled,
+)
 from slosh_bif.model.params import REAL_FIELDS
 
 __all__ = ["add_commands"]
@@ -18,7 +31,14 @@ __all__ = ["add_commands"]
 def _chart(args) -> int:
     from slosh_bif.orbits.settings import BranchingSettings, Resume, ShootingSettings
     from slosh_bif.studies.chart import ChartSettings, bifurcation_chart, check_box
-    from slosh_bif.studies.chart_output import chart_settings, curve_store, plot_chart, write_codim2_csv, write_critical_csv, write_curves_csv
+    from slosh_bif.studies.chart_output import (
+        chart_settings,
+        curve_store,
+        plot_chart,
+        write_codim2_csv,
+        write_critical_csv,
+        write_curves_csv,
+    )
 
     params = params_of(args)
     lo, hi = sigma_range(args)
@@ -120,7 +140,7 @@ def add_commands(sub) -> None:
     add_backend_option(chart)
     chart.add_argument("--resume", action="store_true", help="reuse the curves stored in OUT/curves/ by an earlier run with the same settings (an interrupted one) and trace only the rest")
     chart.add_argument("--workers", type=int, default=None, help="processes tracing curves (and the regime map) side by side (default: one per core)")
-    chart.add_argument("--out", type=Path, required=True, help="output folder (created if missing)")
+    chart.add_argument("--out", type=out_path, required=True, help="output folder (created if missing)")
     chart.add_argument(
         "--model", choices=("slowflow", "corrected", "impact"), default="slowflow",
         help="curves of (9) with the slow flow (46) beside them (default) or the corrected slow flow ('corrected'); 'impact': the curves of the impact model (8) (from its branches in sigma), with (46) beside them",

@@ -15,21 +15,22 @@ from slosh_bif.model.params import FIELDS
 from slosh_bif.model.presets import CLASSIFY_TMAX, PRESETS, get_preset
 
 __all__ = [
-    "add_params_options",
-    "add_range_options",
+    "Deprecated",
+    "abar_range",
     "add_abar_range_options",
     "add_continuation_options",
+    "add_params_options",
+    "add_range_options",
     "add_sigma_points_option",
     "continuation_options",
+    "floats",
+    "out_path",
     "params_of",
     "preset_of",
-    "state0_of",
-    "sigma_range",
-    "abar_range",
     "progress",
+    "sigma_range",
+    "state0_of",
     "throttled",
-    "floats",
-    "Deprecated",
 ]
 
 
@@ -55,6 +56,13 @@ class Terminated(KeyboardInterrupt):
 MAX_GRID = 2000  # values along one axis of a map (regimes, basins): 2000 x 2000 cells is days of work on 2 cores
 MAX_WORKERS = 256  # local worker processes: beyond that, a cluster (--scheduler) is the way
 MAX_SIGMA_POINTS = 100_000  # sigma values a comparison samples: far past any branch's resolution
+
+
+def out_path(text: str) -> Path:
+    """--out as a Path; an empty one (Path("") is the current folder) is a slip, refused."""
+    if not text.strip():
+        raise argparse.ArgumentTypeError("needs a folder or file name; got an empty string")
+    return Path(text)
 
 
 def check_workers(args) -> None:
@@ -94,7 +102,7 @@ def add_params_options(parser):
 def add_range_options(parser):
     parser.add_argument("--sigma-min", type=float, default=None, help="lower end of the sigma range (default -6)")
     parser.add_argument("--sigma-max", type=float, default=None, help="upper end of the sigma range (default 8)")
-    parser.add_argument("--out", type=Path, required=True, help="output folder (created if missing)")
+    parser.add_argument("--out", type=out_path, required=True, help="output folder (created if missing)")
 
 
 def add_model_option(parser):

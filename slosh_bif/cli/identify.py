@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from slosh_bif.cli.common import add_params_options, params_of
+from slosh_bif.cli.common import add_params_options, out_path, params_of
 
 __all__ = ["add_commands"]
 
@@ -44,5 +44,5 @@ def add_commands(sub) -> None:
     add_params_options(fit)
     fit.add_argument("--data", type=Path, required=True, help="CSV of impact records: v0, v_out[, std]")
     fit.add_argument("--free", required=True, help="the parameters to fit, comma-separated: lam, chi, pbar (lam and chi together: only their combination is determined)")
-    fit.add_argument("--out", type=Path, required=True, help="output folder (created if missing)")
+    fit.add_argument("--out", type=out_path, required=True, help="output folder (created if missing)")
     fit.set_defaults(run=_fit)

@@ -8,7 +8,7 @@ import json
 import sys
 from pathlib import Path
 
-from slosh_bif.cli.common import add_params_options, params_of, preset_of
+from slosh_bif.cli.common import add_params_options, out_path, params_of, preset_of
 from slosh_bif.model import manifold, restitution
 
 __all__ = ["add_commands"]
@@ -82,7 +82,7 @@ def add_commands(sub) -> None:
     info = sub.add_parser("info", help="print a preset's parameters and its restitution coefficient, rho and A_min")
     add_params_options(info)
     info.add_argument("--json", action="store_true", help="print JSON instead of text")
-    info.add_argument("--out", type=Path, default=None, metavar="FILE", help="also write the parameter set (overrides applied) as a TOML parameter file for --params")
+    info.add_argument("--out", type=out_path, default=None, metavar="FILE", help="also write the parameter set (overrides applied) as a TOML parameter file for --params")
     info.set_defaults(run=_info, out_is_file=True)
 
     derive = sub.add_parser("derive", help="regenerate slosh_bif/model/_generated from the sympy derivations")

@@ -5,7 +5,6 @@ from __future__ import annotations
 import dataclasses
 import sys
 
-from slosh_bif.cli.terminal import REPORTER
 from slosh_bif.cli.common import (
     abar_range,
     add_abar_range_options,
@@ -21,6 +20,7 @@ from slosh_bif.cli.common import (
     state0_of,
     throttled,
 )
+from slosh_bif.cli.terminal import REPORTER
 
 __all__ = ["add_commands"]
 
@@ -43,7 +43,12 @@ def family_from_args(args, params, lo, hi, param="sigma"):
     """The family of orbits ``shoot`` and ``compare`` trace: from --start's orbit, over [lo, hi] of ``param``."""
     from slosh_bif.orbits.families import SHOOTING_OPTIONS, trace_new_family
     from slosh_bif.orbits.scan import scan_families
-    from slosh_bif.orbits.settings import BranchingSettings, Resume, ShootingSettings, StartSettings
+    from slosh_bif.orbits.settings import (
+        BranchingSettings,
+        Resume,
+        ShootingSettings,
+        StartSettings,
+    )
     from slosh_bif.orbits.starts import slow_flow_start, start_orbit
     from slosh_bif.report.files import pickle_store
 
@@ -84,7 +89,11 @@ def family_from_args(args, params, lo, hi, param="sigma"):
 
 
 def _shoot(args) -> int:
-    from slosh_bif.orbits.output import plot_family, write_branch_csv, write_families_csv
+    from slosh_bif.orbits.output import (
+        plot_family,
+        write_branch_csv,
+        write_families_csv,
+    )
 
     params = params_of(args)
     if args.parameter == "Abar":
@@ -112,7 +121,11 @@ def _shoot_impact(args, params, lo, hi) -> int:
     with the asymmetric branches born at its pitchforks (unless --no-switch)."""
     from slosh_bif.continuation import ContinuationOptions
     from slosh_bif.orbits.impact_branches import settled_orbit
-    from slosh_bif.orbits.impact_output import impact_rows, plot_impact_branch, write_impact_csv
+    from slosh_bif.orbits.impact_output import (
+        impact_rows,
+        plot_impact_branch,
+        write_impact_csv,
+    )
     from slosh_bif.orbits.settings import BranchingSettings
     from slosh_bif.studies.impact_chart import impact_family
 

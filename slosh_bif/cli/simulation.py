@@ -6,7 +6,6 @@ from __future__ import annotations
 import argparse
 import math
 import sys
-from pathlib import Path
 
 import numpy as np
 
@@ -22,6 +21,7 @@ from slosh_bif.cli.common import (
     add_tmax_option,
     cell_progress,
     check_workers,
+    out_path,
     params_of,
     preset_of,
     progress,
@@ -40,7 +40,11 @@ JUDGED = 4 * np.pi  # the least run after the transient that a regime is judged 
 
 def _simulate(args) -> int:
     from slosh_bif.simulation.direct import simulate
-    from slosh_bif.simulation.output import plot_simulation, write_summary, write_trajectory
+    from slosh_bif.simulation.output import (
+        plot_simulation,
+        write_summary,
+        write_trajectory,
+    )
     from slosh_bif.simulation.regimes import RegimeSummary, classify
 
     preset = preset_of(args)
@@ -78,7 +82,12 @@ def _simulate(args) -> int:
 
 
 def _regimes(args) -> int:
-    from slosh_bif.simulation.output import plot_regime_map, regime_settings, regime_store, write_regime_csv
+    from slosh_bif.simulation.output import (
+        plot_regime_map,
+        regime_settings,
+        regime_store,
+        write_regime_csv,
+    )
     from slosh_bif.simulation.regimes import regime_map
     from slosh_bif.slowflow.critical import critical_curve
 
@@ -125,7 +134,7 @@ def add_commands(sub) -> None:
     sim.add_argument("--noise-cutoff", type=float, default=10.0, help="highest angular frequency of the band-limited noise (default 10)")
     sim.add_argument("--transient", type=float, default=None, help="tau after which the regime is judged (default: half the run)")
     add_backend_option(sim)
-    sim.add_argument("--out", type=Path, required=True, help="output folder (created if missing)")
+    sim.add_argument("--out", type=out_path, required=True, help="output folder (created if missing)")
     sim.set_defaults(run=_simulate)
 
     regimes = sub.add_parser("regimes", help="map of response regimes over (sigma, Abar), simulated in parallel")

@@ -4,7 +4,6 @@ the slow flow, the orbits and the simulations."""
 from __future__ import annotations
 
 import json
-from pathlib import Path
 
 import numpy as np
 
@@ -21,6 +20,7 @@ from slosh_bif.cli.common import (
     check_sigma_points,
     check_workers,
     floats,
+    out_path,
     params_of,
     progress,
     sigma_range,
@@ -29,7 +29,11 @@ from slosh_bif.cli.common import (
     sweep_executor,
     throttled,
 )
-from slosh_bif.cli.orbits import add_shooting_options, check_family_options, family_from_args
+from slosh_bif.cli.orbits import (
+    add_shooting_options,
+    check_family_options,
+    family_from_args,
+)
 from slosh_bif.report.files import write_text_atomically
 
 __all__ = ["add_commands"]
@@ -37,7 +41,12 @@ __all__ = ["add_commands"]
 
 def _compare(args) -> int:
     from slosh_bif.slowflow.steady_states import frequency_response
-    from slosh_bif.studies.compare import compare_rows, compare_table, plot_compare, write_compare_csv
+    from slosh_bif.studies.compare import (
+        compare_rows,
+        compare_table,
+        plot_compare,
+        write_compare_csv,
+    )
 
     params = params_of(args)
     lo, hi = sigma_range(args)
@@ -82,7 +91,12 @@ MAX_REPEATS = 100  # timing rounds per benchmark point: the median of 100 is as 
 def _trust(args) -> int:
     from slosh_bif.orbits.settings import BranchingSettings, Resume, ShootingSettings
     from slosh_bif.studies.trust import trust_map
-    from slosh_bif.studies.trust_output import plot_trust_map, trust_store, trust_table, write_trust_csv
+    from slosh_bif.studies.trust_output import (
+        plot_trust_map,
+        trust_store,
+        trust_table,
+        write_trust_csv,
+    )
 
     base = params_of(args)
     lo, hi = sigma_range(args)
@@ -121,7 +135,14 @@ def _trust(args) -> int:
 
 def _basins(args) -> int:
     from slosh_bif.studies.basins import basin_map
-    from slosh_bif.studies.basins_output import attractor_table, basin_settings, basin_store, plot_basins, write_attractors, write_basins_csv
+    from slosh_bif.studies.basins_output import (
+        attractor_table,
+        basin_settings,
+        basin_store,
+        plot_basins,
+        write_attractors,
+        write_basins_csv,
+    )
 
     params = params_of(args)
     n1, n2 = args.grid
@@ -250,11 +271,11 @@ def add_commands(sub) -> None:
     add_scheduler_option(basins)
     add_backend_option(basins)
     basins.add_argument("--resume", action="store_true", help="reuse the initial states simulated in OUT/basins.json by an earlier run with the same settings (an interrupted one) and simulate only the rest")
-    basins.add_argument("--out", type=Path, required=True, help="output folder (created if missing)")
+    basins.add_argument("--out", type=out_path, required=True, help="output folder (created if missing)")
     basins.set_defaults(run=_basins)
 
     figures = sub.add_parser("figures", help="regenerate the paper's Figs. 3-15 as PNG files (about 15 s)")
-    figures.add_argument("--out", type=Path, required=True, help="output folder (created if missing)")
+    figures.add_argument("--out", type=out_path, required=True, help="output folder (created if missing)")
     figures.add_argument("--only", nargs="+", default=None, metavar="FIG", help="only these figures, e.g. fig10 fig11")
     figures.add_argument("--quick", action="store_true", help="short simulations and coarse grids (a smoke test)")
     figures.set_defaults(run=_figures)
@@ -266,11 +287,11 @@ def add_commands(sub) -> None:
     ans.add_argument("--sigma-min", type=float, default=None, help="frequency response: lower end of sigma (default sigma - 3)")
     ans.add_argument("--sigma-max", type=float, default=None, help="frequency response: upper end of sigma (default sigma + 3)")
     add_tmax_option(ans)
-    ans.add_argument("--out", type=Path, default=None, help="output folder for answer.json (the choice, its reason and error estimate)")
+    ans.add_argument("--out", type=out_path, default=None, help="output folder for answer.json (the choice, its reason and error estimate)")
     ans.set_defaults(run=_answer)
 
     bench = sub.add_parser("bench", help="work-precision charts: frequency-response question, integrators, cost of growth (a few minutes)")
-    bench.add_argument("--out", type=Path, required=True, help="output folder (created if missing)")
+    bench.add_argument("--out", type=out_path, required=True, help="output folder (created if missing)")
     bench.add_argument("--only", nargs="+", default=None, choices=("frequency-response", "integration", "growth", "speed"), help="only these benchmarks")
     bench.add_argument("--repeats", type=int, default=3, help="timing rounds per point; the median is reported (default 3)")
     bench.add_argument("--quick", action="store_true", help="fewer points and one round (a smoke test, not a measurement)")

@@ -8,13 +8,17 @@ import dataclasses
 import json
 import sys
 import warnings
-from pathlib import Path
+
+from slosh_bif.cli.common import out_path
 
 __all__ = ["add_commands"]
 
 
 def _tank(args) -> int:
-    from slosh_bif.model.parameter_file import read_parameter_file, render_parameter_file
+    from slosh_bif.model.parameter_file import (
+        read_parameter_file,
+        render_parameter_file,
+    )
     from slosh_bif.model.tank import WALL_DEFAULTS, Site, Tank, check_wall, tank_model
 
     geometry = {"radius": args.radius} if args.shape == "cylinder" else {"length": args.length, "width": args.width}
@@ -79,5 +83,5 @@ def add_commands(sub) -> None:
     for name, value in (("n", 50), ("pbar", 0)):
         tank.add_argument(f"--{name}", type=int, default=None, help=f"wall law exponent (eq. 9; default {value}, the paper's)")
     tank.add_argument("--json", action="store_true", help="print JSON instead of a table")
-    tank.add_argument("--out", type=Path, default=None, metavar="FILE", help="write a parameter file (TOML) for --params")
+    tank.add_argument("--out", type=out_path, default=None, metavar="FILE", help="write a parameter file (TOML) for --params")
     tank.set_defaults(run=_tank, out_is_file=True)

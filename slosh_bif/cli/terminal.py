@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import sys
 
-__all__ = ["Reporter", "REPORTER"]
+__all__ = ["REPORTER", "Reporter"]
 
 
 class Reporter:

@@ -19,7 +19,8 @@ def jit(function=None, inline=False):
     ``inline``: compiled into each caller (a call between separately compiled functions costs as
     much as a small right-hand side, 25 ns)."""
     # error_model="numpy": a division by zero gives inf/NaN (which the callers test) instead of raising.
+    # nogil: a worker's watch on its parent (slosh_bif.simulation.sweep) runs during a long call.
     if function is None:
         return lambda f: jit(f, inline)
-    options = {"cache": True, "error_model": "numpy", "inline": "always" if inline else "never"}
+    options = {"cache": True, "nogil": True, "error_model": "numpy", "inline": "always" if inline else "never"}
     return numba.njit(**options)(function) if HAVE_NUMBA else function

@@ -12,47 +12,73 @@ from __future__ import annotations
 
 from concurrent.futures import ProcessPoolExecutor, as_completed
 
-__all__ = ["run_cells", "worker_setup", "stop_pool"]
+__all__ = ["WorkerPool", "run_cells", "worker_setup"]
 
 
-def worker_setup() -> None:
+def worker_setup(pids=None) -> None:
     """Initializer of every worker process: one BLAS thread (the matrices here are tiny, and a
-    busy machine makes OpenBLAS's threads cost 300x), and Ctrl-C and SIGTERM left to the parent,
+    busy machine makes OpenBLAS's threads cost 300x), Ctrl-C and SIGTERM left to the parent,
     which stops the workers itself (a terminal's SIGINT reaches the whole process group, and
-    each worker would print a traceback)."""
+    each worker would print a traceback), and a watch on the parent. ``pids``: a queue on which
+    the worker announces its process id, so that its pool can kill it."""
+    import os
     import signal
 
     from threadpoolctl import threadpool_limits
 
-    threadpool_limits(limits=1, user_api="blas")
+    if pids is not None:
+        pids.put(os.getpid())
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
-    _die_with_parent()
+    _exit_with_parent(os.getppid())
+    threadpool_limits(limits=1, user_api="blas")
 
 
-def _die_with_parent() -> None:
-    """On Linux, ask the kernel to kill this worker when its parent dies: a parent killed by
-    SIGKILL (or the OOM killer) runs no handler that could stop its workers."""
-    import ctypes
-    import signal
-    import sys
+def _exit_with_parent(parent: int, every: float = 0.2) -> None:
+    """A daemon thread that ends this worker when its parent is gone (the worker is then adopted
+    and its parent id changes): a parent killed by SIGKILL or the OOM killer runs no handler that
+    could stop its workers. The compiled code releases the GIL, so the watch runs during it."""
+    import os
+    import threading
+    import time
 
-    if sys.platform.startswith("linux"):
-        try:
-            ctypes.CDLL("libc.so.6", use_errno=True).prctl(1, signal.SIGKILL)  # PR_SET_PDEATHSIG = 1
-        except OSError:
-            pass
+    def watch():
+        while os.getppid() == parent:
+            time.sleep(every)
+        os._exit(1)
+
+    threading.Thread(target=watch, name="parent-watch", daemon=True).start()
 
 
-def stop_pool(pool) -> None:
-    """Cancel what has not started and kill the workers of a ``ProcessPoolExecutor`` at once (a
-    simulation in a worker cannot be interrupted any other way)."""
-    processes = list(getattr(pool, "_processes", {}).values())  # the executor keeps no public handle on them
-    pool.shutdown(wait=False, cancel_futures=True)
-    for process in processes:
-        process.kill()
-    for process in processes:
-        process.join(timeout=2.0)
+class WorkerPool:
+    """Local worker processes (``max_workers``, one per core by default) that can be stopped at
+    once: a ``ProcessPoolExecutor`` whose workers announce their process ids, since a simulation in
+    a worker cannot be interrupted any other way than by killing it."""
+
+    def __init__(self, max_workers: int | None = None):
+        import multiprocessing
+
+        self._pids = multiprocessing.get_context().SimpleQueue()
+        self.executor = ProcessPoolExecutor(max_workers=max_workers, initializer=worker_setup, initargs=(self._pids,))
+
+    def submit(self, function, *arguments):
+        return self.executor.submit(function, *arguments)
+
+    def close(self) -> None:
+        """Wait for the submitted work, then end the workers."""
+        self.executor.shutdown()
+
+    def stop(self) -> None:
+        """Cancel what has not started and kill the workers now."""
+        import os
+        import signal
+
+        self.executor.shutdown(wait=False, cancel_futures=True)
+        while not self._pids.empty():
+            try:
+                os.kill(self._pids.get(), signal.SIGKILL)
+            except ProcessLookupError:  # already ended
+                pass
 
 
 def run_cells(function, jobs: dict, *, executor=None, max_workers: int | None = None, progress=None, done=None, on_result=None, total: int | None = None):
@@ -66,7 +92,8 @@ def run_cells(function, jobs: dict, *, executor=None, max_workers: int | None = 
     total = len(jobs) if total is None else total
     todo = {key: arguments for key, arguments in jobs.items() if key not in results}
     own = executor is None
-    pool = ProcessPoolExecutor(max_workers=max_workers, initializer=worker_setup) if own else executor
+    workers = WorkerPool(max_workers) if own else None
+    pool = workers.executor if own else executor
     status, futures = "complete", {}
     try:
         futures = {pool.submit(function, *arguments): key for key, arguments in todo.items()}
@@ -80,11 +107,11 @@ def run_cells(function, jobs: dict, *, executor=None, max_workers: int | None = 
     except KeyboardInterrupt as stop:
         status = f"interrupted ({getattr(stop, 'signal_name', 'SIGINT')}) after {len(results)} of {total} points"
         if own:
-            stop_pool(pool)
+            workers.stop()
         else:
             for future in futures:
                 future.cancel()
     finally:
         if own and status == "complete":
-            pool.shutdown()
+            workers.close()
     return results, status

@@ -140,11 +140,11 @@ def trace_curves(starts, say, workers: int = 1, done=None, keep=None, keep_parti
 
 
 def _trace_in_pool(starts, workers, covered, record, traced):
-    from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
+    from concurrent.futures import FIRST_COMPLETED, wait
 
-    from slosh_bif.simulation.sweep import stop_pool, worker_setup
+    from slosh_bif.simulation.sweep import WorkerPool
 
-    pool = ProcessPoolExecutor(max_workers=workers, initializer=worker_setup)
+    pool = WorkerPool(workers)
     try:
         pending, running = list(range(len(starts))), {}
         while pending or running:
@@ -156,8 +156,8 @@ def _trace_in_pool(starts, workers, covered, record, traced):
             for future in finished:
                 record(running.pop(future), future.result())
     except BaseException:
-        stop_pool(pool)
+        pool.stop()
         raise
-    pool.shutdown()
+    pool.close()
 
 

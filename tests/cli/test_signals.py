@@ -130,7 +130,7 @@ def test_a_killed_map_resumes_from_the_cells_stored_on_the_way(tmp_path, capsys)
     returncode, err, _, workers = _stop_while_running(grid, signal.SIGKILL, tmp_path / "a", wait=8.0)  # past the first store, 5 s in
     assert returncode == -signal.SIGKILL
     time.sleep(1.0)
-    assert workers and not any(_alive(w) for w in workers)  # they die with their parent (PR_SET_PDEATHSIG)
+    assert workers and not any(_alive(w) for w in workers)  # they end with their parent (a watch on it in each worker)
     assert not (tmp_path / "a" / "regimes.json").exists()  # never completed: no result file claims to be one
     kept = len(json.loads((tmp_path / "a" / "regimes.partial.json").read_text())["cells"])
     assert 0 < kept < 36
