@@ -18,7 +18,7 @@ an assertion where the paper's argument allows it.
 7. :func:`manifold_kappa` - kappa on the manifold (39): the impact speed (38) fed to (21).
 8. The corrected slow flow (issue 20): steps 4-6 with the wall at |w| = D instead of 1 (D, the
    clearance the smooth wall of (9) lets the particle use, and kappa both measured per impact
-   speed by :mod:`slosh_bif.model.wall_law`); :func:`corrected_reduces_to_46` checks that D = 1
+   speed by :mod:`slosh_bif.model.restitution.wall`); :func:`corrected_reduces_to_46` checks that D = 1
    gives (45), (46) back, and that kappa from (21) gives (39) back.
 
 Symbols: ``phase`` is eta + psi, the phase of X0 at an impact on the wall w = +1.
@@ -288,7 +288,7 @@ def generated_functions(Function):
 def corrected_impact_speed():
     """The impact speed (38) on S+ with the wall at |w| = D, as a function of (A, kappa, D):
     4 alpha_S+(A, rho(kappa), D) / (pi (1 + kappa)). kappa and D are the wall's at this speed,
-    which makes it a fixed point in the speed (solved numerically, slosh_bif.model.corrected_law)."""
+    which makes it a fixed point in the speed (solved numerically, slosh_bif.model.restitution.corrected)."""
     ic = impact_conditions(D)
     speed = sp.simplify(ic["impact_speed"].subs(rho, ic["rho"]))
     assert sp.simplify(speed - 4 * alpha / (sp.pi * (1 + kappa))) == 0

@@ -107,7 +107,7 @@ def add_range_options(parser):
 
 def add_model_option(parser):
     """``--model slowflow|corrected``: which slow flow (eq. 46 as derived, or with the wall's own
-    restitution and clearance, :mod:`slosh_bif.model.corrected_law`)."""
+    restitution and clearance, :mod:`slosh_bif.model.restitution.corrected`)."""
     parser.add_argument(
         "--model", choices=("slowflow", "corrected"), default="slowflow",
         help="slow flow: eq. (46) as derived (default, the paper's) or 'corrected' (kappa and clearance of the wall of (9), measured per impact speed)",

@@ -7,9 +7,15 @@ Everything else in the package is built on this folder; it imports nothing from 
 
 from slosh_bif.model.equations import ImpactModel, SmoothModel
 from slosh_bif.model.manifold import ManifoldProjection, project_on_manifold
-from slosh_bif.model.manifold_law import ManifoldLaw
 from slosh_bif.model.params import FIELDS, Params
-from slosh_bif.model.presets import PRESETS, Preset, get_preset, state_from_uv, uv_from_state
+from slosh_bif.model.presets import (
+    PRESETS,
+    Preset,
+    get_preset,
+    state_from_uv,
+    uv_from_state,
+)
+from slosh_bif.model.restitution import ManifoldLaw
 
 __all__ = [
     "Params",

@@ -32,8 +32,6 @@ import dataclasses
 import math
 import numbers
 
-from slosh_bif.model.restitution import dissipation_at_unit_speed
-
 __all__ = ["Params", "FIELDS", "REAL_FIELDS", "real_pair"]
 
 FIELDS = ("eps", "beta", "gamma", "sigma", "Abar", "lam", "chi", "n", "pbar")
@@ -123,6 +121,8 @@ class Params:
         self._check_restitution()
 
     def _check_restitution(self):
+        from slosh_bif.model.restitution.eq21 import dissipation_at_unit_speed
+
         try:
             delta = dissipation_at_unit_speed(self.lam, self.chi, self.n, self.pbar)
         except OverflowError:  # (n + 1)/chi to a huge power (pbar = 1e9 was a traceback): no real kappa

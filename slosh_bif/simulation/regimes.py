@@ -40,7 +40,7 @@ import math
 import numpy as np
 
 from slosh_bif.model.manifold import project_on_manifold
-from slosh_bif.model.manifold_law import ManifoldLaw
+from slosh_bif.model.restitution import ManifoldLaw
 from slosh_bif.model.params import Params
 from slosh_bif.model.presets import CLASSIFY_TMAX
 from slosh_bif.simulation.direct import MAX_SAMPLES, simulate

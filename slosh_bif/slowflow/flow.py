@@ -36,7 +36,7 @@ from scipy.integrate import solve_ivp
 
 from slosh_bif.model import restitution
 from slosh_bif.model._generated import slow_flow as gen
-from slosh_bif.model.corrected_law import check_model, manifold_law
+from slosh_bif.model.restitution import check_model, manifold_law
 from slosh_bif.model.params import Params
 
 __all__ = ["AsymptoticsWarning", "SlowFlow", "SlowTrajectory", "asymptotics_concerns", "triangle_wave"]
@@ -90,7 +90,7 @@ class SlowFlow:
 
     ``model``: ``"slowflow"`` (the paper's: kappa of (21)/(39), the wall at |w| = 1) or
     ``"corrected"`` (kappa and the clearance D of the measured wall,
-    :mod:`slosh_bif.model.corrected_law`); every method below is the same for both.
+    :mod:`slosh_bif.model.restitution.corrected`); every method below is the same for both.
     """
 
     def __init__(self, params: Params, model: str = "slowflow"):

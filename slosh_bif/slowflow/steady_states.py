@@ -23,7 +23,7 @@ import numpy as np
 
 import slosh_bif.continuation as cont
 from slosh_bif.continuation.branch import Branch
-from slosh_bif.model.manifold_law import END_KINDS
+from slosh_bif.model.restitution import END_KINDS
 from slosh_bif.model.params import Params
 from slosh_bif.slowflow.flow import SlowFlow
 

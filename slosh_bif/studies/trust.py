@@ -29,7 +29,7 @@ import warnings
 import numpy as np
 
 from slosh_bif.continuation import ConvergenceError
-from slosh_bif.model.corrected_law import check_model
+from slosh_bif.model.restitution import check_model
 from slosh_bif.model.params import Params
 from slosh_bif.orbits.families import SHOOTING_OPTIONS, trace_new_family, trace_orbits
 from slosh_bif.orbits.settings import BRANCHING, NO_SWITCHING, SHOOTING, BranchingSettings, Resume, ShootingSettings

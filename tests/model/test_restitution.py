@@ -120,3 +120,24 @@ def test_eq21_error_constant_is_q_over_8(n, pbar, v0):
 def test_simulate_rebound_reports_an_overdamped_wall():
     with pytest.raises(RuntimeError, match="did not return to x = 0"):
         restitution.simulate_rebound(1.0, lam=50.0, chi=0.2, n=1, pbar=-1)
+
+
+def test_the_speed_laws_share_one_interface_and_agree_where_eq21_is_exact():
+    """speed_law: eq. (21) (D = 1) and the measured wall answer kappa(v0), D(v0) and their slopes;
+    the slopes of (21) match central differences, and at small dissipation the measured wall's
+    kappa approaches (21)'s (the error is second order in delta)."""
+    from slosh_bif.model import Params
+    from slosh_bif.model.restitution import SpeedLaw, speed_law
+
+    P = Params(eps=0.05, beta=0.3, gamma=0.5, sigma=0.0, Abar=0.5, lam=0.005, chi=1.0, n=6, pbar=2)
+    first, wall = speed_law(P), speed_law(P, "corrected")
+    assert isinstance(first, SpeedLaw) and isinstance(wall, SpeedLaw)
+    v, h = np.array([0.3, 1.0, 4.0]), 1e-6
+    k, dk, d, dd = first.slopes(v)
+    np.testing.assert_allclose(dk, (first.kappa(v + h) - first.kappa(v - h)) / (2 * h), rtol=1e-6)
+    assert np.all(d == 1.0) and np.all(dd == 0.0)
+    delta = 1.0 - k**2
+    assert np.all(np.abs(wall.kappa(v) - k) < delta**2)
+    assert np.all(wall.clearance(v) > 1.0)  # the particle penetrates the wall
+    with pytest.raises(TypeError, match="Params"):
+        speed_law({"lam": 0.1})

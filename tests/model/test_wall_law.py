@@ -8,7 +8,7 @@ import pytest
 from scipy import special
 
 from slosh_bif.model.restitution import dissipation_at_unit_speed, kappa, simulate_rebound
-from slosh_bif.model.wall_law import contact, wall_law
+from slosh_bif.model.restitution.wall import contact, wall_law
 
 
 @pytest.mark.parametrize("n, pbar", [(6, 2), (20, 2)])

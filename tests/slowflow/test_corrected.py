@@ -16,7 +16,8 @@ from scipy.integrate import solve_ivp
 from slosh_bif import get_preset
 from slosh_bif.cli import main
 from slosh_bif.model._generated import slow_flow as gen
-from slosh_bif.model.corrected_law import V_RANGE, manifold_law
+from slosh_bif.model.restitution import manifold_law
+from slosh_bif.model.restitution.corrected import V_RANGE
 from slosh_bif.slowflow.critical import critical_forcing
 from slosh_bif.slowflow.flow import AsymptoticsWarning, SlowFlow
 from slosh_bif.slowflow.steady_states import frequency_response

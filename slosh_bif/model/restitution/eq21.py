@@ -53,6 +53,7 @@ __all__ = [
     "kappa_low",
     "ManifoldKappa",
     "simulate_rebound",
+    "Eq21Law",
 ]
 
 
@@ -214,11 +215,36 @@ def simulate_rebound(v0, lam, chi, n, pbar, *, rtol=1e-12, atol=1e-14):
     """Measured restitution ``-v_+/v0`` (13) of one particle rebounding in the wall of eq. (10).
 
     The particle starts at ``x = 0`` with speed ``v0 > 0`` and is integrated (DOP853) until it
-    crosses ``x = 0`` again (:func:`slosh_bif.model.wall_law.contact`). This is the physical
+    crosses ``x = 0`` again (:func:`slosh_bif.model.restitution.wall.contact`). This is the physical
     check of eq. (21), independent of (16)-(19).
 
     Raises ``RuntimeError`` if the particle does not come back (an overdamped wall).
     """
-    from slosh_bif.model.wall_law import contact
+    from slosh_bif.model.restitution.wall import contact
 
     return contact(v0, lam, chi, n, pbar, rtol=rtol, atol=atol).kappa
+
+
+@dataclasses.dataclass(frozen=True)
+class Eq21Law:
+    """Eq. (21) as a :class:`~slosh_bif.model.restitution.laws.SpeedLaw`: kappa(v0) =
+    sqrt(1 - delta(1) v0^(pbar/(n+1))) with the wall at |w| = 1 (D = 1)."""
+
+    lam: float
+    chi: float
+    n: int
+    pbar: int
+
+    def kappa(self, v0):
+        return kappa(v0, self.lam, self.chi, self.n, self.pbar)
+
+    def clearance(self, v0):
+        return np.ones_like(np.asarray(v0, dtype=float))
+
+    def slopes(self, v0, *, checked: bool = True):
+        """(kappa, d kappa/dv0, D, dD/dv0) at v0: d kappa/dv0 = -(pbar/(n+1)) delta / (2 kappa v0)."""
+        v0 = np.asarray(v0, dtype=float)
+        k = self.kappa(v0)
+        exponent = self.pbar / (self.n + 1)
+        dk = -exponent * (1.0 - k**2) / (2.0 * k * v0)
+        return k, dk, np.ones_like(k), np.zeros_like(k)

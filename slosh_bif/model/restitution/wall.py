@@ -1,7 +1,7 @@
 """The smooth wall's own restitution kappa(v0) and turning point d(v0), measured once per wall (issue 20).
 
 Eq. (21) gives the restitution of the wall of eq. (10) to first order in its dissipation; at the
-paper's n = 6 sets it says 0.27 where the wall returns 0.63 (:mod:`slosh_bif.model.restitution`).
+paper's n = 6 sets it says 0.27 where the wall returns 0.63 (:mod:`slosh_bif.model.restitution.eq21`).
 And the particle penetrates the wall: it turns at |w| = d(v0), the clearance it actually uses,
 not at the nominal |w| = 1 (n = 50: d = 1.054 at unit speed; n = 6: 1.25). Both
 are functions of the impact speed v0 alone, so they are measured by integrating single contacts

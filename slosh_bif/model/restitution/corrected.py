@@ -2,7 +2,7 @@
 
 The paper's slow flow takes kappa from eq. (21) (first order in the wall's dissipation) and the
 wall at |w| = 1. The smooth wall of (9)/(10) returns kappa_wall(v0), and the free flights in and
-out of a contact are those of a rigid wall at |w| = D(v0) (:mod:`slosh_bif.model.wall_law`: where
+out of a contact are those of a rigid wall at |w| = D(v0) (:mod:`slosh_bif.model.restitution.wall`: where
 the two flights' lines meet, beyond the turning point d(v0) because the particle lingers there;
 n = 6, unit speed: d = 1.25, D = 1.39), both functions of the impact speed v0 alone. The
 corrected slow flow puts the wall at |w| = D(v0) in (31)-(36) and uses kappa_wall(v0): the
@@ -22,51 +22,30 @@ from __future__ import annotations
 import bisect
 import functools
 import math
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from slosh_bif.model import restitution
 from slosh_bif.model._generated import slow_flow as gen
-from slosh_bif.model.manifold_law import END_KINDS, ManifoldEnd, scipy_optimize
-from slosh_bif.model.params import Params
-from slosh_bif.model.wall_law import WallLaw, wall_law
+from slosh_bif.model.restitution import eq21 as restitution
+from slosh_bif.model.restitution.checks import check_params
+from slosh_bif.model.restitution.on_manifold import (
+    END_KINDS,
+    ManifoldEnd,
+    scipy_optimize,
+)
+from slosh_bif.model.restitution.wall import WallLaw, wall_law
 
-__all__ = ["CorrectedLaw", "V_RANGE", "MODELS", "check_model", "manifold_law"]
+if TYPE_CHECKING:  # the parameter set is read by attribute; params.py validates with eq21
+    from slosh_bif.model.params import Params
+
+__all__ = ["CorrectedLaw", "V_RANGE", "TOP_KIND", "measured_wall"]
 
 V_RANGE = (0.05, 100.0)
 """Impact speeds over which the wall is measured: the manifold's end of every preset lies near
 0.6 and v grows like A on S+, so A up to ~100 is covered."""
 NODES = 32
-MODELS = ("slowflow", "corrected")
-"""``slowflow``: eq. (46) as derived (kappa of (21)/(39), wall at |w| = 1); ``corrected``: kappa and
-clearance of the measured wall (this module)."""
 TOP_KIND = "top of the measured wall law"
-
-
-def check_model(model: str) -> str:
-    if model not in MODELS:
-        raise ValueError(f"model must be one of {', '.join(MODELS)}; got {model!r}")
-    return model
-
-
-def manifold_law(params: Params, model: str = "slowflow"):
-    """The law on S+ of ``model``: a :class:`~slosh_bif.model.manifold_law.ManifoldLaw` or a
-    :class:`CorrectedLaw` (which depends on the wall alone: one per wall and process)."""
-    from slosh_bif.model.manifold_law import ManifoldLaw
-
-    if check_model(model) == "slowflow":
-        return ManifoldLaw(params)
-    if not isinstance(params, Params):
-        raise TypeError(f"params must be a slosh_bif.Params; got {type(params).__name__}")
-    key = (params.lam, params.chi, params.n, params.pbar)
-    if key not in _LAWS:
-        if len(_LAWS) >= 32:
-            _LAWS.pop(next(iter(_LAWS)))
-        _LAWS[key] = CorrectedLaw(params)
-    return _LAWS[key]
-
-
-_LAWS: dict = {}  # CorrectedLaw per wall (lam, chi, n, pbar): the law does not depend on the rest
 
 
 def _drho_dkappa(k):
@@ -74,7 +53,8 @@ def _drho_dkappa(k):
 
 
 @functools.lru_cache(maxsize=32)
-def _measured(lam, chi, n, pbar) -> WallLaw:
+def measured_wall(lam, chi, n, pbar) -> WallLaw:
+    """The wall's :class:`WallLaw` over :data:`V_RANGE` (one per wall and process)."""
     try:
         return wall_law(lam, chi, n, pbar, *V_RANGE, nodes=NODES)
     except RuntimeError as err:
@@ -84,7 +64,7 @@ def _measured(lam, chi, n, pbar) -> WallLaw:
 class CorrectedLaw:
     """kappa(A), rho(A), D(A) on S+ of the corrected slow flow, and the ends of S+.
 
-    The interface of :class:`~slosh_bif.model.manifold_law.ManifoldLaw` (``lower``, ``upper``,
+    The interface of :class:`~slosh_bif.model.restitution.on_manifold.ManifoldLaw` (``lower``, ``upper``,
     ``A_min``, ``A_max``, ``kappa``, ``rho``, ``alpha``, ``describe``, ``branches``) and
     ``clearance``; ``values``/``slopes``/``end_values`` are the arguments the generated
     ``corrected_*`` functions take after A.
@@ -94,11 +74,10 @@ class CorrectedLaw:
     newtonian = False  # D(A) varies even where kappa does not
 
     def __init__(self, params: Params):
-        if not isinstance(params, Params):
-            raise TypeError(f"params must be a slosh_bif.Params; got {type(params).__name__}")
+        check_params(params)
         P = params
         self.wall_params = (P.lam, P.chi, P.n, P.pbar)  # all the law depends on
-        self.wall = _measured(*self.wall_params)
+        self.wall = measured_wall(*self.wall_params)
         self.lower = self._lower_end()
         self.upper = self._upper_end()
         self.A_min, self.A_max = self.lower.A, self.upper.A

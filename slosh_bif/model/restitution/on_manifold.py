@@ -30,12 +30,17 @@ from __future__ import annotations
 import dataclasses
 import functools
 import math
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from slosh_bif.model import manifold, restitution
+from slosh_bif.model import manifold
 from slosh_bif.model._generated import slow_flow as gen
-from slosh_bif.model.params import Params
+from slosh_bif.model.restitution import eq21 as restitution
+from slosh_bif.model.restitution.checks import check_params
+
+if TYPE_CHECKING:  # the parameter set is read by attribute; params.py validates with eq21
+    from slosh_bif.model.params import Params
 
 __all__ = ["ManifoldLaw", "ManifoldEnd", "END_KINDS"]
 
@@ -290,8 +295,7 @@ class ManifoldLaw:
     prefix = ""
 
     def __init__(self, params: Params):
-        if not isinstance(params, Params):
-            raise TypeError(f"params must be a slosh_bif.Params; got {type(params).__name__}")
+        check_params(params)
         P = self.params = params
         self.newtonian = P.pbar == 0
         self._delta1 = float(restitution.dissipation_at_unit_speed(P.lam, P.chi, P.n, P.pbar))
