@@ -15,7 +15,12 @@ import time
 import numpy as np
 
 from slosh_bif import get_preset
-from slosh_bif.orbits import NO_SWITCHING, ShootingSettings, orbit_from_simulation, trace_orbits
+from slosh_bif.orbits import (
+    NO_SWITCHING,
+    ShootingSettings,
+    orbit_from_simulation,
+    trace_orbits,
+)
 from slosh_bif.orbits.codim2 import CurveSeed, trace_curve
 
 

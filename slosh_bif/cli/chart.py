@@ -89,11 +89,12 @@ def _chart(args) -> int:
     regimes = None
     if args.regimes is not None and chart.status == "complete":
         from slosh_bif.simulation.regimes import regime_map
+        from slosh_bif.simulation.settings import SimulationSettings, Workers
 
         n, m = args.regimes
         regimes = regime_map(
-            params, state0, np.linspace(lo, hi, n), np.linspace(a_lo, a_hi, m), tmax=args.tmax, max_workers=args.workers, backend=args.backend,
-            model="impact" if args.model == "impact" else "smooth",
+            params, state0, np.linspace(lo, hi, n), np.linspace(a_lo, a_hi, m), tmax=args.tmax, workers=Workers(max_workers=args.workers),
+            settings=SimulationSettings(model="impact" if args.model == "impact" else "smooth", backend=args.backend),
             progress=lambda done, total, report=throttled(progress, passes=lambda message: False): report(f"regimes: {done} of {total}"),
         )
     paths = [write_curves_csv(chart, args.out / "curves.csv")]

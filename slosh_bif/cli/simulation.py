@@ -39,7 +39,7 @@ JUDGED = 4 * np.pi  # the least run after the transient that a regime is judged 
 
 
 def _simulate(args) -> int:
-    from slosh_bif.simulation.direct import simulate
+    from slosh_bif.simulation.direct import Noise, SimulationSettings, simulate
     from slosh_bif.simulation.output import (
         plot_simulation,
         write_summary,
@@ -59,10 +59,7 @@ def _simulate(args) -> int:
     if args.transient is None and tmax <= 2 * JUDGED:
         raise ValueError(f"--tmax must be above {2 * JUDGED:.6g} (the regime is judged over the second half of the run, at least two forcing periods of 2 pi); got {tmax:g}")
     report = throttled(progress, passes=lambda message: message.startswith("simulated 100"))
-    sim = simulate(
-        params, state0_of(args, params), tmax, model=args.model, noise_std=noise, seed=args.seed, noise_cutoff=args.noise_cutoff, backend=args.backend,
-        progress=lambda f: report(f"simulated {100 * f:.0f} % of tau in [0, {tmax:g}]"),
-    )
+    sim = simulate(params, state0_of(args, params), tmax, progress=lambda f: report(f"simulated {100 * f:.0f} % of tau in [0, {tmax:g}]"), settings=SimulationSettings(model=args.model, backend=args.backend), noise=Noise(std=noise, seed=args.seed, cutoff=args.noise_cutoff))
     args.out.mkdir(parents=True, exist_ok=True)
     if not sim.success and sim.status != "sticking":
         print(f"slosh-bif simulate: the run stopped early: {sim.message}", file=sys.stderr)
@@ -82,6 +79,7 @@ def _simulate(args) -> int:
 
 
 def _regimes(args) -> int:
+    from slosh_bif.report.files import Resume
     from slosh_bif.simulation.output import (
         plot_regime_map,
         regime_settings,
@@ -89,6 +87,7 @@ def _regimes(args) -> int:
         write_regime_csv,
     )
     from slosh_bif.simulation.regimes import regime_map
+    from slosh_bif.simulation.settings import SimulationSettings, Workers
     from slosh_bif.slowflow.critical import critical_curve
 
     params = params_of(args)
@@ -109,8 +108,8 @@ def _regimes(args) -> int:
     report = throttled(progress, passes=lambda message: False)
     with sweep_executor(args) as executor:
         rmap = regime_map(
-            params, state0, sigmas, abars, tmax=args.tmax, model=args.model, backend=args.backend, max_workers=args.workers, done=store.done, on_result=store.keep,
-            progress=cell_progress(report, "grid points classified"), executor=executor,
+            params, state0, sigmas, abars, tmax=args.tmax, settings=SimulationSettings(model=args.model, backend=args.backend), workers=Workers(executor, args.workers),
+            resume=Resume(store.done, store.keep), progress=cell_progress(report, "grid points classified"),
         )
     store.finish(rmap.status)
     curve = critical_curve(params, lo, hi) if rmap.complete else None  # stopped: write what was computed, at once

@@ -90,6 +90,7 @@ MAX_REPEATS = 100  # timing rounds per benchmark point: the median of 100 is as 
 
 def _trust(args) -> int:
     from slosh_bif.orbits.settings import BranchingSettings, Resume, ShootingSettings
+    from slosh_bif.simulation.settings import Workers
     from slosh_bif.studies.trust import trust_map
     from slosh_bif.studies.trust_output import (
         plot_trust_map,
@@ -119,8 +120,8 @@ def _trust(args) -> int:
     with sweep_executor(args) as executor:
         points = trust_map(
             base, eps=args.eps, beta=args.beta, n=args.n, sigma_min=lo, sigma_max=hi, grid=args.sigma_points, shooting=ShootingSettings(backend=args.backend),
-            branching=BranchingSettings(switch=not args.no_switch, max_branches=args.max_branches), model=args.model, max_workers=args.workers, progress=report,
-            resume=Resume(done, keep), executor=executor,
+            branching=BranchingSettings(switch=not args.no_switch, max_branches=args.max_branches), model=args.model, progress=report,
+            resume=Resume(done, keep), workers=Workers(executor, args.workers),
         )
     table = trust_table(points, model=args.model)
     write_text_atomically(args.out / "trust_map.txt", table + "\n")
@@ -152,6 +153,8 @@ def _basins(args) -> int:
         if not (np.isfinite(lo) and np.isfinite(hi) and lo < hi):
             raise ValueError(f"{name} needs finite LO < HI; got {lo} {hi}")
     check_workers(args)
+    from slosh_bif.report.files import Resume
+    from slosh_bif.simulation.settings import Workers
     from slosh_bif.studies.basins import BASIN_TMAX
 
     tmax = BASIN_TMAX if args.tmax is None else args.tmax
@@ -165,8 +168,8 @@ def _basins(args) -> int:
     args.out.mkdir(parents=True, exist_ok=True)
     with sweep_executor(args) as executor:
         bmap = basin_map(
-            params, first, second, axes=tuple(args.axes), tmax=tmax, backend=args.backend, max_workers=args.workers, executor=executor,
-            done=store.done, on_result=store.keep, progress=cell_progress(throttled(progress, passes=lambda message: False), "initial states simulated"),
+            params, first, second, axes=tuple(args.axes), tmax=tmax, backend=args.backend, workers=Workers(executor, args.workers),
+            resume=Resume(store.done, store.keep), progress=cell_progress(throttled(progress, passes=lambda message: False), "initial states simulated"),
         )
     store.finish(bmap.status)
     paths = [write_basins_csv(bmap, args.out / "basins.csv"), write_attractors(bmap, args.out / "attractors.txt"), plot_basins(bmap, args.out / "basins.png")]

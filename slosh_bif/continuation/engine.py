@@ -33,9 +33,28 @@ import time
 import numpy as np
 
 from slosh_bif.continuation.branch import END, Branch, SpecialPoint
-from slosh_bif.continuation.corrector import Point, correct, in_domain, initial_tangent, make_point, newton, top_rows
+from slosh_bif.continuation.corrector import (
+    Point,
+    correct,
+    in_domain,
+    initial_tangent,
+    make_point,
+    newton,
+    top_rows,
+)
 from slosh_bif.continuation.detection import special_between
-from slosh_bif.continuation.options import BOUND, COMPLETE, EDGE, LOOP, STALL, STEPS, TERMINAL, TIME, ContinuationOptions, ConvergenceError
+from slosh_bif.continuation.options import (
+    BOUND,
+    COMPLETE,
+    EDGE,
+    LOOP,
+    STALL,
+    STEPS,
+    TERMINAL,
+    TIME,
+    ContinuationOptions,
+    ConvergenceError,
+)
 from slosh_bif.continuation.problem import capabilities, require_problem
 
 __all__ = ["continuation", "switch_branch"]

@@ -18,10 +18,10 @@ from pathlib import Path
 import numpy as np
 from scipy.integrate._ivp import dop853_coefficients as _dop
 
+from slosh_bif.flows.compiled import HAVE_NUMBA, numba
+from slosh_bif.flows.compiled import jit as _jit
 from slosh_bif.model import powers as _powers
 from slosh_bif.model._generated import kernels as _kernels
-
-from slosh_bif.flows.compiled import HAVE_NUMBA, jit as _jit, numba
 
 __all__ = ["HAVE_NUMBA", "TABLEAU", "KERNELS", "WHICH", "MESSAGES", "OK", "dop853_loop", "grid_loop"]
 

@@ -36,11 +36,16 @@ import math
 
 import numpy as np
 
+from slosh_bif.flows.compiled import jit
+from slosh_bif.flows.impact_propagators import (
+    LINEAR_PARAMETERS,
+    WALL_PARAMETERS,
+    derivative_of_K,
+    propagators,
+)
 from slosh_bif.model.equations import ImpactModel
 from slosh_bif.model.params import Params
 from slosh_bif.model.restitution import dissipation_at_unit_speed
-from slosh_bif.flows.compiled import jit
-from slosh_bif.flows.impact_propagators import LINEAR_PARAMETERS, WALL_PARAMETERS, derivative_of_K, propagators
 
 __all__ = ["LEVELS", "LINEAR_PARAMETERS", "WALL_PARAMETERS", "ImpactFlow"]
 

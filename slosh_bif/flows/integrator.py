@@ -23,9 +23,18 @@ import typing
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from slosh_bif.model.params import REAL_FIELDS, Params, real_pair
-from slosh_bif.flows.dop853 import HAVE_NUMBA, KERNELS, MESSAGES, OK, TABLEAU, WHICH, dop853_loop, grid_loop
+from slosh_bif.flows.dop853 import (
+    HAVE_NUMBA,
+    KERNELS,
+    MESSAGES,
+    OK,
+    TABLEAU,
+    WHICH,
+    dop853_loop,
+    grid_loop,
+)
 from slosh_bif.flows.noise import BandLimitedNoise
+from slosh_bif.model.params import REAL_FIELDS, Params, real_pair
 
 __all__ = ["HAVE_NUMBA", "Integration", "integrate", "integrate_grid", "SHOOTING_SIZE", "resolve_backend", "DEFAULT_SENSITIVITIES"]
 

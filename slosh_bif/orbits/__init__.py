@@ -7,12 +7,35 @@ contract): :mod:`.shooting` integrates with :mod:`slosh_bif.flows.integrator`, a
 :mod:`.starts` takes start guesses from :mod:`slosh_bif.simulation` and :mod:`slosh_bif.slowflow`.
 """
 
-from slosh_bif.orbits.families import SHOOTING_OPTIONS, OrbitBranch, OrbitFamily, mirror, trace_orbits
+from slosh_bif.orbits.families import (
+    SHOOTING_OPTIONS,
+    OrbitBranch,
+    OrbitFamily,
+    mirror,
+    trace_orbits,
+)
 from slosh_bif.orbits.scan import on_traced_branch, scan_families
-from slosh_bif.orbits.settings import NO_SWITCHING, BranchingSettings, Resume, ShootingSettings, StartSettings
-from slosh_bif.orbits.shooting import PeriodicOrbit, ShootingProblem, orbit_at, periodic_orbit
+from slosh_bif.orbits.settings import (
+    NO_SWITCHING,
+    BranchingSettings,
+    Resume,
+    ShootingSettings,
+    StartSettings,
+)
+from slosh_bif.orbits.shooting import (
+    PeriodicOrbit,
+    ShootingProblem,
+    orbit_at,
+    periodic_orbit,
+)
 from slosh_bif.orbits.stability import StabilityLoss, loss_of_stability
-from slosh_bif.orbits.starts import StartOrbit, orbit_from_simulation, orbit_from_slow_flow, settle_and_shoot, slow_flow_start
+from slosh_bif.orbits.starts import (
+    StartOrbit,
+    orbit_from_simulation,
+    orbit_from_slow_flow,
+    settle_and_shoot,
+    slow_flow_start,
+)
 
 __all__ = [
     "ShootingProblem",

@@ -23,12 +23,34 @@ import warnings
 
 import numpy as np
 
-from slosh_bif.continuation import ContinuationOptions, ConvergenceError, continuation, switch_branch
-from slosh_bif.continuation.branch import BRANCH_POINT, PERIOD_DOUBLING, Branch, Status, polyline_distance
+from slosh_bif.continuation import (
+    ContinuationOptions,
+    ConvergenceError,
+    continuation,
+    switch_branch,
+)
+from slosh_bif.continuation.branch import (
+    BRANCH_POINT,
+    PERIOD_DOUBLING,
+    Branch,
+    Status,
+    polyline_distance,
+)
 from slosh_bif.model.params import Params
 from slosh_bif.orbits.pitchforks import refine_pitchforks
-from slosh_bif.orbits.settings import BRANCHING, SHOOTING, BranchingSettings, ShootingSettings
-from slosh_bif.orbits.shooting import MAX_PERIOD_MULTIPLE, PARAMETERS, ShootingProblem, orbit_at, orbit_measures
+from slosh_bif.orbits.settings import (
+    BRANCHING,
+    SHOOTING,
+    BranchingSettings,
+    ShootingSettings,
+)
+from slosh_bif.orbits.shooting import (
+    MAX_PERIOD_MULTIPLE,
+    PARAMETERS,
+    ShootingProblem,
+    orbit_at,
+    orbit_measures,
+)
 
 __all__ = ["OrbitBranch", "OrbitFamily", "trace_orbits", "trace_new_family", "mirror", "images", "unique_name", "SHOOTING_OPTIONS", "LIOUVILLE_TOL"]
 

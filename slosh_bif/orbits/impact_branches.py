@@ -22,7 +22,12 @@ import dataclasses
 
 import numpy as np
 
-from slosh_bif.continuation import Branch, ContinuationOptions, ConvergenceError, continuation
+from slosh_bif.continuation import (
+    Branch,
+    ContinuationOptions,
+    ConvergenceError,
+    continuation,
+)
 from slosh_bif.continuation.branch import Kind, Status
 from slosh_bif.continuation.corrector import newton_solve
 from slosh_bif.model.params import Params

@@ -24,9 +24,14 @@ from collections import OrderedDict
 import numpy as np
 from scipy import linalg, optimize
 
-from slosh_bif.model.params import Params
-from slosh_bif.orbits.multipliers import TEST_FLOOR, describe_crossing, is_stable, multiplier_tests
 from slosh_bif.flows.impact_flow import LINEAR_PARAMETERS, WALL_PARAMETERS, ImpactFlow
+from slosh_bif.model.params import Params
+from slosh_bif.orbits.multipliers import (
+    TEST_FLOOR,
+    describe_crossing,
+    is_stable,
+    multiplier_tests,
+)
 
 __all__ = ["ImpactOrbitProblem", "StrobeMap", "GrazingGap", "SECTION", "GRAZING"]
 

@@ -72,7 +72,13 @@ def write_impact_csv(rows, path) -> Path:
 def plot_impact_branch(rows, params, path, *, title=None) -> Path:
     """A1 against the parameter (stable solid, unstable dashed, special points marked) and the
     impacts per period below."""
-    from slosh_bif.report.plotting import SPECIAL_MARKERS, place_labels, pyplot, save_figure, special_legend
+    from slosh_bif.report.plotting import (
+        SPECIAL_MARKERS,
+        place_labels,
+        pyplot,
+        save_figure,
+        special_legend,
+    )
 
     rows = list(rows)
     param = "sigma" if len({r["sigma"] for r in rows}) > 1 else "Abar"

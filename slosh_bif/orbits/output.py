@@ -67,7 +67,12 @@ def plot_family(family: OrbitFamily, path, *, slow_flow=None, title=None) -> Pat
     """A1 against the parameter for every branch (stable solid, unstable dashed, special points
     marked), with the slow-flow curve in grey when given (``slow_flow``: a frequency response of
     (46), anything with ``branches``); the largest multiplier below."""
-    from slosh_bif.report.plotting import plot_branch, pyplot, save_figure, special_legend
+    from slosh_bif.report.plotting import (
+        plot_branch,
+        pyplot,
+        save_figure,
+        special_legend,
+    )
 
     fig, (ax, axm) = pyplot().subplots(2, 1, figsize=(9, 8), sharex=True, gridspec_kw={"height_ratios": [3, 1.2]})
     if slow_flow is not None:

@@ -20,11 +20,25 @@ import dataclasses
 
 import numpy as np
 
-from slosh_bif.continuation import ConvergenceError, newton_solve
+from slosh_bif.continuation import ContinuationOptions, ConvergenceError, newton_solve
 from slosh_bif.model.params import Params
-from slosh_bif.continuation import ContinuationOptions
-from slosh_bif.orbits.families import SHOOTING_OPTIONS, OrbitBranch, OrbitFamily, images, trace_new_family, unique_name
-from slosh_bif.orbits.settings import BRANCHING, SHOOTING, STARTS, BranchingSettings, Resume, ShootingSettings, StartSettings
+from slosh_bif.orbits.families import (
+    SHOOTING_OPTIONS,
+    OrbitBranch,
+    OrbitFamily,
+    images,
+    trace_new_family,
+    unique_name,
+)
+from slosh_bif.orbits.settings import (
+    BRANCHING,
+    SHOOTING,
+    STARTS,
+    BranchingSettings,
+    Resume,
+    ShootingSettings,
+    StartSettings,
+)
 from slosh_bif.orbits.starts import START_TOL, scan_starts
 
 __all__ = ["scan_families", "on_traced_branch"]

@@ -17,6 +17,7 @@ from __future__ import annotations
 import dataclasses
 
 from slosh_bif.orbits.shooting import BACKENDS
+from slosh_bif.report.files import Resume  # noqa: F401 - one object for every resumable run
 
 __all__ = ["ShootingSettings", "BranchingSettings", "StartSettings", "Resume", "SHOOTING", "BRANCHING", "NO_SWITCHING", "STARTS"]
 
@@ -115,23 +116,6 @@ class StartSettings:
         _need(self, _integer(self.settle, 1), "settle", "an integer >= 1 (forcing periods)")
         _need(self, _integer(self.random_starts, 0), "random_starts", "an integer >= 0")
         _need(self, _integer(self.seed, 0), "seed", "an integer >= 0")
-
-
-@dataclasses.dataclass(frozen=True)
-class Resume:
-    """A long run's pieces (a scan's starts, a chart's curves) kept as they finish and reused.
-
-    Attributes
-    ----------
-    done :
-        What an earlier run with the same settings finished (its form is the run's: a scan's
-        ``(k, branches)``, a chart's ``{start index: curve}``); None for a fresh run.
-    keep :
-        ``keep(k, piece)``, called as each piece finishes (to store it), or None.
-    """
-
-    done: object = None
-    keep: object = None
 
 
 SHOOTING = ShootingSettings()

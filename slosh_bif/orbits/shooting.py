@@ -33,11 +33,16 @@ import dataclasses
 import numpy as np
 
 from slosh_bif.continuation.corrector import newton_solve
+from slosh_bif.flows import integrator
 from slosh_bif.model.params import REAL_FIELDS, Params, real_pair
 from slosh_bif.orbits.floquet import floquet_multipliers
-from slosh_bif.orbits.multipliers import TEST_FLOOR, describe_crossing, is_stable, multiplier_tests
+from slosh_bif.orbits.multipliers import (
+    TEST_FLOOR,
+    describe_crossing,
+    is_stable,
+    multiplier_tests,
+)
 from slosh_bif.orbits.period_map import PeriodicOrbit, period_map, shoot
-from slosh_bif.flows import integrator
 
 __all__ = ["PeriodicOrbit", "ShootingProblem", "Arcs", "PARAMETERS", "period_map", "shoot", "periodic_orbit", "orbit_at", "orbit_measures"]
 

@@ -10,7 +10,12 @@ import dataclasses
 
 import numpy as np
 
-from slosh_bif.continuation import Branch, ContinuationOptions, ConvergenceError, continuation
+from slosh_bif.continuation import (
+    Branch,
+    ContinuationOptions,
+    ConvergenceError,
+    continuation,
+)
 from slosh_bif.model.params import Params
 from slosh_bif.orbits.families import SHOOTING_OPTIONS
 from slosh_bif.orbits.shooting import ShootingProblem, orbit_at

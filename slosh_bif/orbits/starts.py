@@ -14,12 +14,17 @@ import warnings
 import numpy as np
 
 from slosh_bif.continuation import ConvergenceError
+from slosh_bif.flows.integrator import integrate_grid
 from slosh_bif.model.equations import SmoothModel
 from slosh_bif.model.params import Params
 from slosh_bif.orbits.settings import SHOOTING, STARTS, ShootingSettings, StartSettings
-from slosh_bif.orbits.shooting import PeriodicOrbit, ShootingProblem, orbit_at, orbit_measures
-from slosh_bif.simulation.direct import simulate
-from slosh_bif.flows.integrator import integrate_grid
+from slosh_bif.orbits.shooting import (
+    PeriodicOrbit,
+    ShootingProblem,
+    orbit_at,
+    orbit_measures,
+)
+from slosh_bif.simulation.direct import SimulationSettings, simulate
 from slosh_bif.slowflow.flow import SlowFlow
 from slosh_bif.slowflow.steady_states import forcing_response, frequency_response
 
@@ -201,7 +206,7 @@ def settle_and_shoot(params: Params, state0, rtol: float = 1e-10, *, segments: i
     tau, orbit = 0.0, None
     for periods in range(first, most + 1, every):
         if periods > 0:
-            sim = simulate(params, y, periods * 2 * np.pi, t0=tau, rtol=sim_rtol, atol=sim_rtol * 1e-2, sample_step=0.1)
+            sim = simulate(params, y, periods * 2 * np.pi, t0=tau, settings=SimulationSettings(rtol=sim_rtol, atol=sim_rtol * 1e-2, sample_step=0.1))
             if not sim.success:
                 raise RuntimeError(f"settling simulation failed: {sim.message}")
             y, tau = sim.y[:, -1], periods * 2 * np.pi

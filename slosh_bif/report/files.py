@@ -3,16 +3,37 @@ ones refused in one line), written whole or not at all by :mod:`slosh_bif.atomic
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import time
 from pathlib import Path
 
 from slosh_bif.atomic import replaced_atomically, write_text_atomically
 
-__all__ = ["replaced_atomically", "write_text_atomically", "read_store", "check_settings", "pickle_store", "CellStore", "damaged"]
+__all__ = ["Resume", "replaced_atomically", "write_text_atomically", "read_store", "check_settings", "pickle_store", "CellStore", "damaged"]
 
 # What reading a damaged store can raise: bad JSON or pickle, missing keys, wrong types, a cut zip.
 DAMAGE = (ValueError, KeyError, TypeError, IndexError, AttributeError, EOFError, OSError)
+
+
+
+@dataclasses.dataclass(frozen=True)
+class Resume:
+    """A long run's pieces (a scan's starts, a chart's curves, a sweep's cells) kept as they finish
+    and reused.
+
+    Attributes
+    ----------
+    done :
+        What an earlier run with the same settings finished (its form is the run's: a scan's
+        ``(k, branches)``, a chart's ``{start index: curve}``, a sweep's ``{cell: result}``); None for a fresh run.
+    keep :
+        ``keep(k, piece)``, called as each piece finishes (to store it), or None.
+    """
+
+    done: object = None
+    keep: object = None
+
 
 
 def damaged(path, err) -> ValueError:

@@ -4,7 +4,13 @@
 from slosh_bif.flows.integrator import HAVE_NUMBA, integrate, integrate_grid
 from slosh_bif.flows.noise import BandLimitedNoise, band_limited_noise
 from slosh_bif.simulation.direct import Simulation, simulate
-from slosh_bif.simulation.regimes import REGIMES, RegimeMap, RegimeSummary, classify, regime_map
+from slosh_bif.simulation.regimes import (
+    REGIMES,
+    RegimeMap,
+    RegimeSummary,
+    classify,
+    regime_map,
+)
 from slosh_bif.simulation.vibro_impact import ImpactTrajectory, simulate_impact
 
 __all__ = [

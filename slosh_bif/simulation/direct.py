@@ -16,13 +16,14 @@ import time
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from slosh_bif.model.equations import SmoothModel
-from slosh_bif.model.params import Params
 from slosh_bif.flows import integrator
 from slosh_bif.flows.noise import MAX_NOISE_STD, band_limited_noise
+from slosh_bif.model.equations import SmoothModel
+from slosh_bif.model.params import Params
+from slosh_bif.simulation.settings import SIMULATION, Noise, SimulationSettings
 from slosh_bif.simulation.vibro_impact import simulate_impact
 
-__all__ = ["MODELS", "MAX_SAMPLES", "Simulation", "Trajectory", "integrate_smooth", "simulate", "wall_contacts", "wall_passages"]
+__all__ = ["MODELS", "MAX_SAMPLES", "Noise", "Simulation", "SimulationSettings", "Trajectory", "integrate_smooth", "simulate", "wall_contacts", "wall_passages"]
 
 _METHODS = ("DOP853", "RK45", "RK23", "Radau", "BDF", "LSODA")
 _IMPLICIT = ("Radau", "BDF", "LSODA")
@@ -214,26 +215,24 @@ def simulate(
     tmax: float,
     *,
     t0: float = 0.0,
-    model: str = "smooth",
-    noise_std: float = 0.0,
-    seed=None,
-    noise_cutoff: float = 10.0,
-    sample_step: float = 0.02,
-    rtol: float = 1e-9,
-    atol: float = 1e-11,
-    backend: str = "auto",
+    settings: SimulationSettings = SIMULATION,
+    noise: Noise | None = None,
     progress=None,
 ) -> Simulation:
     """Simulate from ``state0`` at ``t0`` to ``tmax`` and sample every ``sample_step``.
 
-    ``model="smooth"`` integrates (9) with the compiled DOP853 of :mod:`slosh_bif.flows.integrator`
-    (scipy's when numba is missing); ``"impact"`` runs the exact flow of (8)
-    (:func:`slosh_bif.simulation.vibro_impact.simulate_impact`: compiled, or the expm event loop with
-    ``backend="scipy"``). ``noise_std > 0`` adds the band-limited noise
-    of (47) (smooth model only, see :mod:`slosh_bif.flows.noise`) and then needs ``seed``.
+    ``settings.model="smooth"`` integrates (9) with the compiled DOP853 of
+    :mod:`slosh_bif.flows.integrator` (scipy's when numba is missing); ``"impact"`` runs the exact
+    flow of (8) (:func:`slosh_bif.simulation.vibro_impact.simulate_impact`: compiled, or the expm
+    event loop with ``backend="scipy"``). ``noise`` with ``std > 0`` adds the band-limited noise of
+    (47) (smooth model only, see :mod:`slosh_bif.flows.noise`) and then needs a seed.
     ``progress(fraction)`` is called as the run advances. Integration failure is not raised: the
     result's ``status`` and ``message`` say where and why it stopped.
     """
+    if not isinstance(settings, SimulationSettings):
+        raise TypeError(f"settings must be a SimulationSettings; got {type(settings).__name__}")
+    model, sample_step, rtol, atol, backend = settings.model, settings.sample_step, settings.rtol, settings.atol, settings.backend
+    noise_std, seed, noise_cutoff = (0.0, None, 10.0) if noise is None else (noise.std, noise.seed, noise.cutoff)
     if model not in MODELS:
         raise ValueError(f"model must be one of {', '.join(MODELS)}; got {model!r}")
     if not isinstance(params, Params):
@@ -244,7 +243,7 @@ def simulate(
     if not (np.isfinite(sample_step) and 0 < sample_step <= 0.5):
         raise ValueError(f"sample_step must be in (0, 0.5]; got {sample_step!r}")
     if not (np.isfinite(noise_std) and 0 <= noise_std <= MAX_NOISE_STD):
-        raise ValueError(f"noise_std (sigma_bar of eq. 47) must be in [0, {MAX_NOISE_STD:g}]; got {noise_std!r}")
+        raise ValueError(f"noise std (sigma_bar of eq. 47) must be in [0, {MAX_NOISE_STD:g}]; got {noise_std!r}")
     samples = (tmax - t0) / (min(sample_step, 0.05) if model == "impact" else sample_step)
     if samples > MAX_SAMPLES:  # the samples are kept in memory (5 doubles each): refuse before integrating
         raise ValueError(
@@ -254,13 +253,13 @@ def simulate(
     y0 = np.asarray(state0, dtype=float)
     if y0.shape != (4,) or not np.all(np.isfinite(y0)):
         raise ValueError(f"state0 must be 4 finite numbers [X, X', w, w']; got {state0!r}")
-    noise = None
+    forcing = None
     if noise_std > 0:
         if model != "smooth":
             raise ValueError("noise (eq. 47) is supported for the smooth model only; use model='smooth'")
         if seed is None:
             raise ValueError("noise needs a seed (any non-negative integer) so that the run is reproducible")
-        noise = band_limited_noise(noise_std, seed=seed, duration=tmax - t0, t0=t0, cutoff=noise_cutoff)
+        forcing = band_limited_noise(noise_std, seed=seed, duration=tmax - t0, t0=t0, cutoff=noise_cutoff)
 
     start = time.perf_counter()
     if model == "impact":
@@ -276,7 +275,7 @@ def simulate(
         if grid.size < 2:
             continue
         try:
-            part = integrator.integrate_grid(params, states[-1][-1], grid, rtol=rtol, atol=atol, backend=backend, noise=noise)
+            part = integrator.integrate_grid(params, states[-1][-1], grid, rtol=rtol, atol=atol, backend=backend, noise=forcing)
         except RuntimeError as err:
             status, message = "failed", str(err)
             break
@@ -288,5 +287,5 @@ def simulate(
             break
     y = np.concatenate(states).T
     t = taus[: y.shape[1]]
-    hit_t, side, v_in, v_out = wall_contacts(params, t, y, rtol=rtol, atol=atol, backend=backend, noise=noise)
-    return Simulation("smooth", params, t, y, hit_t, side, v_in, v_out, status, message, noise, time.perf_counter() - start)
+    hit_t, side, v_in, v_out = wall_contacts(params, t, y, rtol=rtol, atol=atol, backend=backend, noise=forcing)
+    return Simulation("smooth", params, t, y, hit_t, side, v_in, v_out, status, message, forcing, time.perf_counter() - start)

@@ -17,7 +17,14 @@ import numpy as np
 from slosh_bif.model.manifold import project_on_manifold
 from slosh_bif.model.restitution import ManifoldLaw
 from slosh_bif.report.files import CellStore, replaced_atomically, write_text_atomically
-from slosh_bif.report.plotting import cell_edges, plot_projection, plot_slow_manifold, plot_time_history, pyplot, save_figure
+from slosh_bif.report.plotting import (
+    cell_edges,
+    plot_projection,
+    plot_slow_manifold,
+    plot_time_history,
+    pyplot,
+    save_figure,
+)
 from slosh_bif.report.tables import write_rows
 from slosh_bif.simulation.regimes import RegimeSummary
 

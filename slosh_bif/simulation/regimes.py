@@ -40,10 +40,12 @@ import math
 import numpy as np
 
 from slosh_bif.model.manifold import project_on_manifold
-from slosh_bif.model.restitution import ManifoldLaw
 from slosh_bif.model.params import Params
 from slosh_bif.model.presets import CLASSIFY_TMAX
+from slosh_bif.model.restitution import ManifoldLaw
+from slosh_bif.report.files import Resume
 from slosh_bif.simulation.direct import MAX_SAMPLES, simulate
+from slosh_bif.simulation.settings import LOCAL, SIMULATION, SimulationSettings, Workers
 from slosh_bif.simulation.sweep import run_cells
 
 __all__ = ["REGIMES", "THRESHOLDS", "RegimeSummary", "classify", "RegimeMap", "regime_map", "check_run_length"]
@@ -197,9 +199,9 @@ class RegimeMap:
         return self.status == "complete"
 
 
-def _classify_point(params, state0, tmax, model, transient, sample_step, backend="auto"):
+def _classify_point(params, state0, tmax, transient, settings):
     # A module-level function so that process pools can pickle it.
-    sim = simulate(params, state0, tmax, model=model, sample_step=sample_step, backend=backend)
+    sim = simulate(params, state0, tmax, settings=settings)
     if sim.status == "diverged":
         return classify(sim)
     if not sim.success and sim.status != "sticking":
@@ -229,30 +231,25 @@ def regime_map(
     *,
     tmax: float = CLASSIFY_TMAX,
     transient: float | None = None,
-    model: str = "smooth",
-    sample_step: float = 0.02,
-    backend: str = "auto",
-    executor=None,
-    max_workers: int | None = None,
+    settings: SimulationSettings = SIMULATION,
+    workers: Workers = LOCAL,
+    resume: Resume | None = None,
     progress=None,
-    done=None,
-    on_result=None,
 ) -> RegimeMap:
     """Simulate and classify every (sigma, Abar) of the grid from ``state0``.
 
-    The points run through ``executor`` (any ``concurrent.futures.Executor``, e.g. a Dask
-    cluster's ``distributed.Client().get_executor()``); by default a local
-    ``ProcessPoolExecutor(max_workers)``. ``progress(done, total)`` is called as points finish.
+    ``settings``: the model and its integrator (:class:`~slosh_bif.simulation.settings.SimulationSettings`).
+    The points run on ``workers`` (:class:`~slosh_bif.simulation.settings.Workers`: a Dask
+    cluster's executor, or local processes). ``progress(done, total)`` is called as points finish.
     Interrupted (KeyboardInterrupt, or SIGTERM turned into one by the CLI), it kills its own
     workers at once and returns what it has: ``status`` says why it stopped, the points it did not
-    reach are ``"not computed"``. ``done``: {(i, j): RegimeSummary} of points already classified
-    (a resumed run), which are not simulated again; ``on_result((i, j), summary)`` is called as each
-    point finishes (to store it on the way). ``backend``: the integrator of the smooth model
-    (see :func:`~slosh_bif.simulation.direct.simulate`).
+    reach are ``"not computed"``. ``resume.done``: {(i, j): RegimeSummary} of points already classified
+    (a resumed run), which are not simulated again; ``resume.keep((i, j), summary)`` is called as each
+    point finishes (to store it on the way).
     """
     from slosh_bif.flows.integrator import resolve_backend
 
-    backend = resolve_backend(backend)  # a bad name is an error here, not in every worker
+    settings = settings.replace(backend=resolve_backend(settings.backend))  # a bad name is an error here, not in every worker
 
     sigmas = np.asarray(sigmas, dtype=float)
     abars = np.asarray(abars, dtype=float)
@@ -261,17 +258,18 @@ def regime_map(
             raise ValueError(f"the {name} grid must be a non-empty 1-d array of finite numbers")
     if np.any(abars < 0):
         raise ValueError(f"Abar must be >= 0 on the whole grid; got min {abars.min()}")
-    transient = check_run_length(tmax, transient, sample_step)
+    transient = check_run_length(tmax, transient, settings.sample_step)
     jobs = {(i, j): params.replace(sigma=float(s), Abar=float(a)) for i, a in enumerate(abars) for j, s in enumerate(sigmas)}
     params.replace(sigma=float(sigmas.max())).require_positive_stiffness()  # every cell, before any work
-    done = {key: s for key, s in (done or {}).items() if key in jobs and s.regime != "not computed"}
+    resume = resume or Resume()
+    done = {key: s for key, s in (resume.done or {}).items() if key in jobs and s.regime != "not computed"}
     state0 = np.asarray(state0, dtype=float)
-    arguments = {key: (p, state0, tmax, model, transient, sample_step, backend) for key, p in jobs.items()}
-    results, status = run_cells(_classify_point, arguments, executor=executor, max_workers=max_workers, progress=progress, done=done, on_result=on_result)
+    arguments = {key: (p, state0, tmax, transient, settings) for key, p in jobs.items()}
+    results, status = run_cells(_classify_point, arguments, workers=workers, resume=dataclasses.replace(resume, done=done), progress=progress)
     regime = np.empty((abars.size, sigmas.size), dtype=object)
     summaries = [[None] * sigmas.size for _ in abars]
     for i, j in jobs:
         summary = results.get((i, j)) or RegimeSummary.not_computed(status, transient)
         regime[i, j] = summary.regime
         summaries[i][j] = summary
-    return RegimeMap(params, sigmas, abars, regime, summaries, float(tmax), model, status)
+    return RegimeMap(params, sigmas, abars, regime, summaries, float(tmax), settings.model, status)

@@ -12,6 +12,9 @@ from __future__ import annotations
 
 from concurrent.futures import ProcessPoolExecutor, as_completed
 
+from slosh_bif.report.files import Resume
+from slosh_bif.simulation.settings import LOCAL, Workers
+
 __all__ = ["WorkerPool", "run_cells", "worker_setup"]
 
 
@@ -81,19 +84,22 @@ class WorkerPool:
                 pass
 
 
-def run_cells(function, jobs: dict, *, executor=None, max_workers: int | None = None, progress=None, done=None, on_result=None, total: int | None = None):
-    """``function(*arguments)`` for every ``key: arguments`` of ``jobs`` not already in ``done``.
+def run_cells(function, jobs: dict, *, workers: Workers = LOCAL, resume: Resume | None = None, progress=None, total: int | None = None):
+    """``function(*arguments)`` for every ``key: arguments`` of ``jobs`` not already in
+    ``resume.done``, on ``workers``.
 
-    Returns ``(results, status)``: {key: result} (``done``'s included) and "complete", or
+    Returns ``(results, status)``: {key: result} (``resume.done``'s included) and "complete", or
     "interrupted (SIGNAL) after k of n points". ``progress(count, total)`` and
-    ``on_result(key, result)`` are called as cells finish, in the order they finish.
+    ``resume.keep(key, result)`` are called as cells finish, in the order they finish.
     """
-    results = dict(done or {})
+    resume = resume or Resume()
+    on_result = resume.keep
+    results = dict(resume.done or {})
     total = len(jobs) if total is None else total
     todo = {key: arguments for key, arguments in jobs.items() if key not in results}
-    own = executor is None
-    workers = WorkerPool(max_workers) if own else None
-    pool = workers.executor if own else executor
+    own = workers.executor is None
+    local = WorkerPool(workers.max_workers) if own else None
+    pool = local.executor if own else workers.executor
     status, futures = "complete", {}
     try:
         futures = {pool.submit(function, *arguments): key for key, arguments in todo.items()}
@@ -107,11 +113,11 @@ def run_cells(function, jobs: dict, *, executor=None, max_workers: int | None = 
     except KeyboardInterrupt as stop:
         status = f"interrupted ({getattr(stop, 'signal_name', 'SIGINT')}) after {len(results)} of {total} points"
         if own:
-            workers.stop()
+            local.stop()
         else:
             for future in futures:
                 future.cancel()
     finally:
         if own and status == "complete":
-            workers.close()
+            local.close()
     return results, status

@@ -24,10 +24,10 @@ import functools
 import numpy as np
 from scipy import linalg, optimize
 
-from slosh_bif.model.equations import ImpactModel
-from slosh_bif.model.params import Params
 from slosh_bif.flows.impact_flow import ImpactFlow
 from slosh_bif.flows.integrator import resolve_backend
+from slosh_bif.model.equations import ImpactModel
+from slosh_bif.model.params import Params
 
 __all__ = ["ImpactTrajectory", "simulate_impact"]
 

@@ -23,10 +23,15 @@ import numpy as np
 from scipy import optimize
 
 import slosh_bif.continuation as cont
-from slosh_bif.model.restitution import END_KINDS
 from slosh_bif.model.params import Params
+from slosh_bif.model.restitution import END_KINDS
 from slosh_bif.slowflow.flow import SlowFlow
-from slosh_bif.slowflow.steady_states import EDGE_MARGIN, SteadyStateProblem, _amplitude_bound, abar_on_curve
+from slosh_bif.slowflow.steady_states import (
+    EDGE_MARGIN,
+    SteadyStateProblem,
+    _amplitude_bound,
+    abar_on_curve,
+)
 
 __all__ = ["CriticalPoint", "CriticalCurve", "abar_branch", "critical_forcing", "critical_curve", "FoldProblem", "EndProblem", "interp_min", "abar_at_upper_end"]
 

@@ -36,8 +36,8 @@ from scipy.integrate import solve_ivp
 
 from slosh_bif.model import restitution
 from slosh_bif.model._generated import slow_flow as gen
-from slosh_bif.model.restitution import check_model, manifold_law
 from slosh_bif.model.params import Params
+from slosh_bif.model.restitution import check_model, manifold_law
 
 __all__ = ["AsymptoticsWarning", "SlowFlow", "SlowTrajectory", "asymptotics_concerns", "triangle_wave"]
 

@@ -23,8 +23,8 @@ import numpy as np
 
 import slosh_bif.continuation as cont
 from slosh_bif.continuation.branch import Branch
-from slosh_bif.model.restitution import END_KINDS
 from slosh_bif.model.params import Params
+from slosh_bif.model.restitution import END_KINDS
 from slosh_bif.slowflow.flow import SlowFlow
 
 __all__ = ["SteadyStateProblem", "FrequencyResponse", "frequency_response", "forcing_response", "sigma_on_curve", "abar_on_curve"]

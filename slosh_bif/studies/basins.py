@@ -27,12 +27,14 @@ import math
 
 import numpy as np
 
+from slosh_bif.flows import integrator
 from slosh_bif.model.params import Params
 from slosh_bif.orbits.shooting import ShootingProblem, orbit_at, orbit_measures
 from slosh_bif.orbits.starts import START_TOL
-from slosh_bif.flows import integrator
-from slosh_bif.simulation.direct import diverged_beyond, simulate
+from slosh_bif.report.files import Resume
+from slosh_bif.simulation.direct import SimulationSettings, diverged_beyond, simulate
 from slosh_bif.simulation.regimes import classify
+from slosh_bif.simulation.settings import LOCAL, Workers
 from slosh_bif.simulation.sweep import run_cells
 
 __all__ = ["STATE_NAMES", "BasinMap", "basin_map", "SETTLE_TOL", "SETTLE_PERIODS", "PERTURBATIONS", "BASIN_TMAX"]
@@ -113,7 +115,7 @@ def _settle(params, state0, max_periods: int, backend):
             return ("orbit", orbit.y0, k) if orbit.converged else ("periodic (no 2pi orbit found)", None, k)
         if calm2 >= SETTLE_PERIODS:
             return "period-2", None, k
-    sim = simulate(params, y, max_periods * PERIOD + TAIL_PERIODS * PERIOD, t0=max_periods * PERIOD, backend=backend)
+    sim = simulate(params, y, max_periods * PERIOD + TAIL_PERIODS * PERIOD, t0=max_periods * PERIOD, settings=SimulationSettings(backend=backend))
     if sim.status == "diverged":
         return "diverged", None, max_periods
     if not sim.success and sim.status != "sticking":
@@ -128,15 +130,15 @@ def _basin_point(params, state0, max_periods, backend, shifts):
 
 
 def basin_map(
-    params: Params, first, second, *, axes=("X", "w"), tmax: float = BASIN_TMAX, backend: str = "auto", max_workers: int | None = None, progress=None,
-    executor=None, done=None, on_result=None,
+    params: Params, first, second, *, axes=("X", "w"), tmax: float = BASIN_TMAX, backend: str = "auto", workers: Workers = LOCAL,
+    resume: Resume | None = None, progress=None,
 ) -> BasinMap:
     """Follow (9) from every state of the grid ``first`` x ``second`` in the state components
     ``axes`` (the others zero), and from two perturbed copies of each, until the strobe settles
     or ``tmax`` (rounded up to whole forcing periods) is reached, and label each by the attractor
-    it reaches (see the module docstring); points run through ``executor`` (by default on
-    ``max_workers`` local processes; see :func:`~slosh_bif.simulation.sweep.run_cells`),
-    ``progress(done, total)`` and ``on_result((i, j), outcomes)`` as they finish. ``done``: such
+    it reaches (see the module docstring); points run on ``workers`` (see
+    :func:`~slosh_bif.simulation.sweep.run_cells`), ``progress(done, total)`` and
+    ``resume.keep((i, j), outcomes)`` as they finish. ``resume.done``: such
     results of an earlier run with the same settings, not simulated again. Interrupted, it
     returns the cells done, the rest "not computed"."""
     if len(axes) != 2 or axes[0] == axes[1] or any(a not in STATE_NAMES for a in axes):
@@ -164,9 +166,10 @@ def basin_map(
             state = np.zeros(4)
             state[STATE_NAMES.index(axes[0])], state[STATE_NAMES.index(axes[1])] = a, b
             jobs[(i, j)] = state
-    done = {key: result for key, result in (done or {}).items() if key in jobs}
+    resume = resume or Resume()
+    done = {key: result for key, result in (resume.done or {}).items() if key in jobs}
     arguments = {key: (params, state, max_periods, backend, tuple(shifts)) for key, state in jobs.items()}
-    results, status = run_cells(_basin_point, arguments, executor=executor, max_workers=max_workers, progress=progress, done=done, on_result=on_result)
+    results, status = run_cells(_basin_point, arguments, workers=workers, resume=dataclasses.replace(resume, done=done), progress=progress)
     names = _Names(params, backend)
     label = np.full((second.size, first.size), "not computed", dtype=object)
     uncertain = np.zeros(label.shape, dtype=bool)

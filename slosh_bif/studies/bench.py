@@ -38,14 +38,15 @@ from scipy.integrate import solve_ivp
 from scipy.interpolate import CubicSpline
 
 from slosh_bif.continuation import ContinuationOptions, continuation
+from slosh_bif.flows import integrator
 from slosh_bif.model.equations import SmoothModel
 from slosh_bif.model.presets import get_preset
 from slosh_bif.orbits.families import SHOOTING_OPTIONS
 from slosh_bif.orbits.shooting import ShootingProblem
 from slosh_bif.orbits.starts import settle_and_shoot
-from slosh_bif.flows import integrator
-from slosh_bif.simulation.direct import simulate
+from slosh_bif.simulation.direct import SimulationSettings, simulate
 from slosh_bif.simulation.regimes import regime_map
+from slosh_bif.simulation.settings import Workers
 from slosh_bif.slowflow.critical import critical_forcing
 from slosh_bif.slowflow.flow import AsymptoticsWarning, SlowFlow
 from slosh_bif.slowflow.steady_states import frequency_response
@@ -193,7 +194,7 @@ def _methods(preset, refs):
         def answer(periods):
             out = []
             for s in sigmas:
-                sim = simulate(pre.params.replace(sigma=s), pre.state0, periods * PERIOD, model=model, rtol=1e-8, atol=1e-10, sample_step=0.05)
+                sim = simulate(pre.params.replace(sigma=s), pre.state0, periods * PERIOD, settings=SimulationSettings(model=model, rtol=1e-8, atol=1e-10, sample_step=0.05))
                 out.append(first_harmonic(sim.t, sim.y[0], 10) if sim.success else np.nan)
             return out
 
@@ -340,14 +341,14 @@ def growth_bench(*, quick: bool = False, repeats: int = 3, progress=None):
     for periods in (25, 100) if quick else (25, 50, 100, 200, 400):
         say(f"growth: interval of {periods} periods")
         for model in ("smooth", "impact"):
-            seconds, sim, _ = timed(lambda: simulate(pre.params, pre.state0, periods * PERIOD, model=model, sample_step=0.05), repeats=rep, min_seconds=0.0)
+            seconds, sim, _ = timed(lambda: simulate(pre.params, pre.state0, periods * PERIOD, settings=SimulationSettings(model=model, sample_step=0.05)), repeats=rep, min_seconds=0.0)
             rows.append(dict(study="interval", x=periods, method=f"{model} model simulated", seconds=seconds, detail=f"{len(sim.impact_t)} impacts"))
     sides = (2, 3) if quick else (2, 3, 4, 6)
     for workers in (1, 2):
         for side in sides:
             say(f"growth: regime map {side} x {side}, {workers} worker(s)")
             sigmas, abars = np.linspace(-2.0, 4.0, side), np.linspace(0.5, 3.0, side)
-            seconds, _, _ = timed(lambda: regime_map(pre.params, pre.state0, sigmas, abars, tmax=60 * PERIOD, max_workers=workers), repeats=1, min_seconds=0.0)
+            seconds, _, _ = timed(lambda: regime_map(pre.params, pre.state0, sigmas, abars, tmax=60 * PERIOD, workers=Workers(max_workers=workers)), repeats=1, min_seconds=0.0)
             rows.append(dict(study="regime map", x=side * side, method=f"{workers} worker{'s' if workers > 1 else ''}", seconds=seconds, detail="60 periods per point"))
     return rows
 

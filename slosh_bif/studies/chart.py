@@ -42,11 +42,25 @@ from slosh_bif.continuation import ConvergenceError
 from slosh_bif.model.params import Params
 from slosh_bif.orbits.families import trace_orbits
 from slosh_bif.orbits.scan import scan_families
-from slosh_bif.orbits.settings import BRANCHING, NO_SWITCHING, SHOOTING, STARTS, BranchingSettings, Resume, ShootingSettings, StartSettings
+from slosh_bif.orbits.settings import (
+    BRANCHING,
+    NO_SWITCHING,
+    SHOOTING,
+    STARTS,
+    BranchingSettings,
+    Resume,
+    ShootingSettings,
+    StartSettings,
+)
 from slosh_bif.orbits.shooting import PARAMETERS, orbit_measures
 from slosh_bif.orbits.starts import start_orbit
 from slosh_bif.slowflow.critical import critical_curve, interp_min
-from slosh_bif.studies.chart_curves import CurveFailure, curve_starts, pitchforks_of, trace_curves
+from slosh_bif.studies.chart_curves import (
+    CurveFailure,
+    curve_starts,
+    pitchforks_of,
+    trace_curves,
+)
 
 __all__ = ["Chart", "ChartSettings", "CurveFailure", "bifurcation_chart", "lowest_stable_boundary", "critical_rows", "CRITICAL_COLUMNS", "FullCritical", "critical_forcing_full", "check_box"]
 

@@ -12,7 +12,12 @@ import numpy as np
 
 from slosh_bif.continuation import ConvergenceError
 from slosh_bif.continuation.branch import polyline_distance
-from slosh_bif.orbits.codim2 import BifurcationCurve, CurveSeed, repeats_early, trace_curve
+from slosh_bif.orbits.codim2 import (
+    BifurcationCurve,
+    CurveSeed,
+    repeats_early,
+    trace_curve,
+)
 from slosh_bif.orbits.settings import SHOOTING, ShootingSettings
 
 __all__ = ["CurveStart", "CurveFailure", "curve_starts", "pitchforks_of", "repeats_early", "trace_curves"]

@@ -22,7 +22,11 @@ import numpy as np
 from slosh_bif.orbits.codim2 import CODIM2_KINDS, BifurcationCurve
 from slosh_bif.report.files import DAMAGE, damaged, read_store, write_text_atomically
 from slosh_bif.report.tables import write_rows
-from slosh_bif.studies.chart import CRITICAL_COLUMNS, critical_rows, lowest_stable_boundary
+from slosh_bif.studies.chart import (
+    CRITICAL_COLUMNS,
+    critical_rows,
+    lowest_stable_boundary,
+)
 
 __all__ = ["CURVE_COLUMNS", "curve_rows", "write_curves_csv", "write_critical_csv", "write_codim2_csv", "codim2_rows", "plot_chart", "chart_settings", "curve_store", "curve_columns"]
 

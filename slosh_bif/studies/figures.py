@@ -14,14 +14,20 @@ from pathlib import Path
 
 import numpy as np
 
+from slosh_bif.flows.noise import band_limited_noise
 from slosh_bif.model import manifold, restitution
 from slosh_bif.model.manifold import project_on_manifold
 from slosh_bif.model.params import Params
 from slosh_bif.model.presets import get_preset
 from slosh_bif.model.tank import cylinder_modes
-from slosh_bif.report.plotting import plot_manifold, plot_projection, plot_time_history, pyplot, save_figure
-from slosh_bif.simulation.direct import simulate
-from slosh_bif.flows.noise import band_limited_noise
+from slosh_bif.report.plotting import (
+    plot_manifold,
+    plot_projection,
+    plot_time_history,
+    pyplot,
+    save_figure,
+)
+from slosh_bif.simulation.direct import Noise, SimulationSettings, simulate
 from slosh_bif.simulation.output import plot_motion_on_manifold
 from slosh_bif.simulation.regimes import classify
 from slosh_bif.simulation.wavelet import morlet_transform
@@ -189,7 +195,7 @@ def fig9(out, *, quick=False):
         preset = get_preset(name)
         P = preset.params
         smooth = simulate(P, preset.state0, t_end)
-        impact = simulate(P, preset.state0, t_end, model="impact")
+        impact = simulate(P, preset.state0, t_end, settings=SimulationSettings(model="impact"))
         proj = project_on_manifold(impact.t, impact.y)
         flow = SlowFlow(P)
         slow = flow.integrate(proj.A[0], 0.0, (P.eps * proj.t[0], P.eps * t_end), t_eval=P.eps * proj.t)
@@ -209,7 +215,7 @@ def _response(name, out, *, quick, window=None, title=""):
     plt = pyplot()
     preset = get_preset(name)
     t_end = preset.t_window[1] * (0.2 if quick else 1.0)
-    sim = simulate(preset.params, preset.state0, t_end, noise_std=preset.noise_std, seed=0)
+    sim = simulate(preset.params, preset.state0, t_end, noise=Noise(std=preset.noise_std, seed=0))
     summary = classify(sim)
     fig, (ax_t, ax_m) = plt.subplots(1, 2, figsize=(13, 4.8), gridspec_kw=dict(width_ratios=[1.6, 1]))
     lo, hi = window if window is not None and not quick else (sim.t[0], sim.t[-1])
@@ -234,7 +240,7 @@ def fig11(out, *, quick=False):
     for row, name in enumerate(["fig11a", "fig11b"]):
         preset = get_preset(name)
         t_end = preset.t_window[1] * (0.2 if quick else 1.0)
-        sim = simulate(preset.params, preset.state0, t_end, sample_step=0.05)
+        sim = simulate(preset.params, preset.state0, t_end, settings=SimulationSettings(sample_step=0.05))
         plot_time_history(axes[row, 0], sim.t, sim.y)
         axes[row, 0].legend(loc="upper right", fontsize=8)
         axes[row, 0].set_title(f"{name}: beta = {preset.params.beta:g}, regime {classify(sim).regime}", fontsize=10)

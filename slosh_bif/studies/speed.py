@@ -37,7 +37,7 @@ from scipy.integrate import solve_ivp
 from slosh_bif.model.equations import SmoothModel
 from slosh_bif.model.presets import get_preset
 from slosh_bif.orbits.starts import orbit_from_simulation
-from slosh_bif.simulation.direct import simulate
+from slosh_bif.simulation.direct import SimulationSettings, simulate
 
 __all__ = ["speed_bench", "run_cli", "SPEED_COLUMNS"]
 
@@ -82,11 +82,11 @@ def _scipy_periods(params, y0, count=1000):
 
 def _simulated(preset, model, repeats=3):
     """Best of ``repeats`` wall times of 100 forcing periods of one model, in this process."""
-    simulate(preset.params, preset.state0, 2 * np.pi, model=model)  # compiled before timing
+    simulate(preset.params, preset.state0, 2 * np.pi, settings=SimulationSettings(model=model))  # compiled before timing
     best = np.inf
     for _ in range(repeats):
         start = time.perf_counter()
-        simulate(preset.params, preset.state0, 200 * np.pi, model=model)
+        simulate(preset.params, preset.state0, 200 * np.pi, settings=SimulationSettings(model=model))
         best = min(best, time.perf_counter() - start)
     return best
 

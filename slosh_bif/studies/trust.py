@@ -29,12 +29,24 @@ import warnings
 import numpy as np
 
 from slosh_bif.continuation import ConvergenceError
-from slosh_bif.model.restitution import check_model
 from slosh_bif.model.params import Params
+from slosh_bif.model.restitution import check_model
 from slosh_bif.orbits.families import SHOOTING_OPTIONS, trace_new_family, trace_orbits
-from slosh_bif.orbits.settings import BRANCHING, NO_SWITCHING, SHOOTING, BranchingSettings, Resume, ShootingSettings
+from slosh_bif.orbits.settings import (
+    BRANCHING,
+    NO_SWITCHING,
+    SHOOTING,
+    BranchingSettings,
+    Resume,
+    ShootingSettings,
+)
 from slosh_bif.orbits.shooting import ShootingProblem, orbit_measures
-from slosh_bif.orbits.starts import orbit_from_simulation, orbit_from_slow_flow, slow_flow_start
+from slosh_bif.orbits.starts import (
+    orbit_from_simulation,
+    orbit_from_slow_flow,
+    slow_flow_start,
+)
+from slosh_bif.simulation.settings import LOCAL, Workers
 from slosh_bif.simulation.sweep import run_cells
 from slosh_bif.slowflow.flow import AsymptoticsWarning, SlowFlow, asymptotics_concerns
 from slosh_bif.slowflow.steady_states import frequency_response
@@ -220,12 +232,12 @@ def _phase_near(fr, sigma, A) -> float:
 
 
 def trust_map(
-    base: Params, *, eps=(0.02, 0.05, 0.1, 0.2), beta=(0.0, 0.3, 0.5), n=(6, 10, 20, 50), sigma_min: float = -6.0, sigma_max: float = 8.0, max_workers: int | None = None,
-    progress=None, resume: Resume | None = None, executor=None, **options,
+    base: Params, *, eps=(0.02, 0.05, 0.1, 0.2), beta=(0.0, 0.3, 0.5), n=(6, 10, 20, 50), sigma_min: float = -6.0, sigma_max: float = 8.0,
+    workers: Workers = LOCAL, resume: Resume | None = None, progress=None, **options,
 ) -> list:
     """:func:`trust_point` at every (eps, beta, n) of the grid, the other parameters from ``base``.
 
-    Points run through ``executor`` (by default local processes, ``max_workers`` of them; see
+    Points run on ``workers`` (by default local processes, one per core; see
     :func:`~slosh_bif.simulation.sweep.run_cells`); ``progress(point, done, total)`` is
     called as they finish. ``options`` go to :func:`trust_point`. Returns the points in grid
     order (eps slowest, n fastest). Interrupted (Ctrl-C, or SIGTERM through the CLI), it kills
@@ -251,7 +263,7 @@ def trust_map(
             progress(point, count[0], len(jobs))
 
     one = functools.partial(trust_point, sigma_min=sigma_min, sigma_max=sigma_max, **options)
-    results, status = run_cells(one, {i: (p,) for i, p in enumerate(jobs)}, executor=executor, max_workers=max_workers, done=done, on_result=finished)
+    results, status = run_cells(one, {i: (p,) for i, p in enumerate(jobs)}, workers=workers, resume=Resume(done, finished))
     why = f"not computed: {status}"  # only for the points an interruption left
     return [results[i] if i in results else _not_computed(job, why, options.get("model", "slowflow")) for i, job in enumerate(jobs)]
 

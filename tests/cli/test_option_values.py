@@ -24,9 +24,9 @@ def _started(*_args, **_kwargs):
 @pytest.fixture
 def no_work(monkeypatch):
     """The first step of each command's work raises _WorkStarted."""
+    import slosh_bif.flows.integrator as integrator
     import slosh_bif.orbits.scan as scan
     import slosh_bif.orbits.starts as starts
-    import slosh_bif.flows.integrator as integrator
     import slosh_bif.simulation.sweep as sweep
     import slosh_bif.slowflow.steady_states as steady_states
     import slosh_bif.studies.chart as chart

@@ -5,7 +5,12 @@ import dataclasses
 import numpy as np
 import pytest
 
-from slosh_bif.continuation import ContinuationOptions, ConvergenceError, continuation, switch_branch
+from slosh_bif.continuation import (
+    ContinuationOptions,
+    ConvergenceError,
+    continuation,
+    switch_branch,
+)
 from slosh_bif.continuation.branch import Branch
 
 

@@ -5,8 +5,13 @@ import numpy as np
 import pytest
 
 from slosh_bif import get_preset
-from slosh_bif.continuation import ContinuationOptions, Problem, capabilities, continuation
-from slosh_bif.continuation.problem import Domain, Edges, Stability, OwnTests
+from slosh_bif.continuation import (
+    ContinuationOptions,
+    Problem,
+    capabilities,
+    continuation,
+)
+from slosh_bif.continuation.problem import Domain, Edges, OwnTests, Stability
 from slosh_bif.orbits.impact_orbits import ImpactOrbitProblem
 from slosh_bif.orbits.shooting import ShootingProblem
 from slosh_bif.slowflow.critical import FoldProblem

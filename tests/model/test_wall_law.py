@@ -7,7 +7,11 @@ import numpy as np
 import pytest
 from scipy import special
 
-from slosh_bif.model.restitution import dissipation_at_unit_speed, kappa, simulate_rebound
+from slosh_bif.model.restitution import (
+    dissipation_at_unit_speed,
+    kappa,
+    simulate_rebound,
+)
 from slosh_bif.model.restitution.wall import contact, wall_law
 
 

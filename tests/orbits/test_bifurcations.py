@@ -7,12 +7,11 @@ import numpy as np
 import pytest
 
 from slosh_bif import get_preset
+from slosh_bif.flows.integrator import integrate_grid
 from slosh_bif.orbits import BranchingSettings
 from slosh_bif.orbits.families import trace_orbits
 from slosh_bif.orbits.shooting import ShootingProblem
 from slosh_bif.orbits.starts import settle_and_shoot
-from slosh_bif.flows.integrator import integrate_grid
-
 
 X0 = np.zeros(4)  # the states a GivenMonodromy ignores
 

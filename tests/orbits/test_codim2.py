@@ -10,8 +10,23 @@ import pytest
 
 from slosh_bif import get_preset
 from slosh_bif.continuation import continuation
-from slosh_bif.orbits import NO_SWITCHING, ShootingProblem, ShootingSettings, orbit_at, orbit_from_simulation, settle_and_shoot, trace_orbits
-from slosh_bif.orbits.codim2 import CURVE_OPTIONS, BifurcationCurve, CurveSeed, FoldCurveProblem, curve_problem, trace_curve
+from slosh_bif.orbits import (
+    NO_SWITCHING,
+    ShootingProblem,
+    ShootingSettings,
+    orbit_at,
+    orbit_from_simulation,
+    settle_and_shoot,
+    trace_orbits,
+)
+from slosh_bif.orbits.codim2 import (
+    CURVE_OPTIONS,
+    BifurcationCurve,
+    CurveSeed,
+    FoldCurveProblem,
+    curve_problem,
+    trace_curve,
+)
 from slosh_bif.orbits.families import SHOOTING_OPTIONS
 from slosh_bif.orbits.pitchforks import refine_pitchforks
 

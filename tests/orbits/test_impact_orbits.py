@@ -10,10 +10,10 @@ from scipy.optimize import root
 
 from slosh_bif import ImpactModel, get_preset, simulate_impact
 from slosh_bif.continuation.corrector import newton
-from slosh_bif.orbits.impact_branches import trace_impact_orbits
-from slosh_bif.orbits.impact_orbits import ImpactOrbitProblem
 from slosh_bif.flows.impact_flow import ImpactFlow
 from slosh_bif.flows.integrator import HAVE_NUMBA
+from slosh_bif.orbits.impact_branches import trace_impact_orbits
+from slosh_bif.orbits.impact_orbits import ImpactOrbitProblem
 
 pytestmark = pytest.mark.skipif(not HAVE_NUMBA, reason="the compiled flow needs numba")
 

@@ -12,7 +12,12 @@ import pytest
 
 from slosh_bif import get_preset
 from slosh_bif.continuation import continuation
-from slosh_bif.orbits import NO_SWITCHING, ShootingSettings, orbit_from_simulation, trace_orbits
+from slosh_bif.orbits import (
+    NO_SWITCHING,
+    ShootingSettings,
+    orbit_from_simulation,
+    trace_orbits,
+)
 from slosh_bif.orbits.families import SHOOTING_OPTIONS
 from slosh_bif.orbits.pitchforks import refine_pitchforks
 from slosh_bif.orbits.shooting import ShootingProblem

@@ -10,8 +10,8 @@ import pytest
 
 from slosh_bif import get_preset
 from slosh_bif.cli import main
-from slosh_bif.orbits import ShootingProblem, on_traced_branch, orbit_at, scan_families
 from slosh_bif.flows.integrator import integrate_grid
+from slosh_bif.orbits import ShootingProblem, on_traced_branch, orbit_at, scan_families
 
 N6 = get_preset("fig13").params.replace(n=6)  # the Fig. 13 set at n = 6: Abar = 1, several families
 

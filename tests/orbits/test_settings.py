@@ -3,7 +3,13 @@
 import pytest
 
 from slosh_bif import get_preset
-from slosh_bif.orbits import BranchingSettings, ShootingSettings, StartSettings, scan_families, trace_orbits
+from slosh_bif.orbits import (
+    BranchingSettings,
+    ShootingSettings,
+    StartSettings,
+    scan_families,
+    trace_orbits,
+)
 from slosh_bif.studies.chart import ChartSettings
 
 

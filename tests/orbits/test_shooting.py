@@ -6,8 +6,16 @@ from scipy import linalg
 
 from slosh_bif import SmoothModel, get_preset
 from slosh_bif.continuation import ContinuationOptions, continuation
-from slosh_bif.orbits.shooting import PARAMETERS, ShootingProblem, orbit_at, orbit_measures, period_map, periodic_orbit, shoot
 from slosh_bif.flows import integrator
+from slosh_bif.orbits.shooting import (
+    PARAMETERS,
+    ShootingProblem,
+    orbit_at,
+    orbit_measures,
+    period_map,
+    periodic_orbit,
+    shoot,
+)
 
 ZETA, OMEGA = 0.05, 1.3
 A_LIN = np.array([[0.0, 1.0], [-(OMEGA**2), -2 * ZETA]])
@@ -257,7 +265,11 @@ def test_default_start_does_not_depend_on_rounding_where_the_simulation_has_not_
     change of summation order in the compiled loop). The default start takes the slow flow's
     instead, on either integrator: the same symmetric orbit of the same sigma (issue 18)."""
     from slosh_bif.orbits.shooting import ShootingProblem
-    from slosh_bif.orbits.starts import UnsettledStartError, orbit_from_simulation, start_orbit
+    from slosh_bif.orbits.starts import (
+        UnsettledStartError,
+        orbit_from_simulation,
+        start_orbit,
+    )
 
     pre = get_preset("fig10")
     with pytest.raises(UnsettledStartError, match="has not settled"):

@@ -8,11 +8,12 @@ import pytest
 from scipy.integrate import solve_ivp
 
 from slosh_bif import ImpactModel, SmoothModel, get_preset, simulate_impact
-from slosh_bif.orbits.shooting import periodic_orbit
-from slosh_bif.simulation.direct import Simulation, simulate
 from slosh_bif.flows.integrator import integrate_grid
 from slosh_bif.flows.noise import band_limited_noise
+from slosh_bif.orbits.shooting import periodic_orbit
+from slosh_bif.simulation.direct import Noise, Simulation, SimulationSettings, simulate
 from slosh_bif.simulation.regimes import classify
+from slosh_bif.simulation.settings import Workers
 from slosh_bif.slowflow.critical import critical_forcing
 from slosh_bif.slowflow.steady_states import frequency_response
 
@@ -59,9 +60,9 @@ def test_noise_is_reproducible_bit_for_bit_and_seed_dependent():
     assert np.array_equal(a.table, b.table)
     assert not np.array_equal(a.table, c.table)
     P = get_preset("fig15").params
-    runs = [simulate(P, get_preset("fig15").state0, 40.0, noise_std=4.0, seed=5) for _ in range(2)]
+    runs = [simulate(P, get_preset("fig15").state0, 40.0, noise=Noise(std=4.0, seed=5)) for _ in range(2)]
     assert np.array_equal(runs[0].y, runs[1].y)
-    assert not np.array_equal(runs[0].y, simulate(P, get_preset("fig15").state0, 40.0, noise_std=4.0, seed=6).y)
+    assert not np.array_equal(runs[0].y, simulate(P, get_preset("fig15").state0, 40.0, noise=Noise(std=4.0, seed=6)).y)
 
 
 @pytest.mark.parametrize(
@@ -85,16 +86,16 @@ def test_noisy_response_converges_as_the_step_shrinks():
     (With the paper's one draw per step the forcing itself would change with every step.)
     """
     preset = get_preset("fig14")
-    noise_kw = dict(noise_std=4.0, seed=1, sample_step=0.05)
-    ends = [simulate(preset.params, preset.state0, 30.0, rtol=r, atol=r * 1e-2, **noise_kw).y[:, -1] for r in (1e-5, 1e-7, 1e-9, 1e-11)]
+    noise, coarse = Noise(std=4.0, seed=1), SimulationSettings(sample_step=0.05)
+    ends = [simulate(preset.params, preset.state0, 30.0, noise=noise, settings=coarse.replace(rtol=r, atol=r * 1e-2)).y[:, -1] for r in (1e-5, 1e-7, 1e-9, 1e-11)]
     diffs = [np.max(np.abs(ends[k + 1] - ends[k])) for k in range(3)]
     assert diffs[0] > diffs[1] > diffs[2]
     assert diffs[2] < 1e-5
     # The scipy fallback integrates the same forcing to the same answer.
-    other = simulate(preset.params, preset.state0, 30.0, rtol=1e-11, atol=1e-13, backend="scipy", **noise_kw).y[:, -1]
+    other = simulate(preset.params, preset.state0, 30.0, noise=noise, settings=coarse.replace(rtol=1e-11, atol=1e-13, backend="scipy")).y[:, -1]
     np.testing.assert_allclose(other, ends[-1], atol=1e-5)
     # And the noise matters: without it the end state is elsewhere.
-    quiet = simulate(preset.params, preset.state0, 30.0, rtol=1e-11, atol=1e-13, sample_step=0.05).y[:, -1]
+    quiet = simulate(preset.params, preset.state0, 30.0, settings=SimulationSettings(rtol=1e-11, atol=1e-13, sample_step=0.05)).y[:, -1]
     assert np.max(np.abs(quiet - ends[-1])) > 1e-2
 
 
@@ -102,15 +103,15 @@ def test_simulate_rejects_bad_input():
     P = get_preset("fig10").params
     y0 = get_preset("fig10").state0
     with pytest.raises(ValueError, match="model must be one of smooth, impact"):
-        simulate(P, y0, 10.0, model="rk4")
+        simulate(P, y0, 10.0, settings=SimulationSettings(model="rk4"))
     with pytest.raises(ValueError, match="noise needs a seed"):
-        simulate(P, y0, 10.0, noise_std=1.0)
+        simulate(P, y0, 10.0, noise=Noise(std=1.0))
     with pytest.raises(ValueError, match="smooth model only"):
-        simulate(P, y0, 10.0, model="impact", noise_std=1.0, seed=0)
+        simulate(P, y0, 10.0, settings=SimulationSettings(model="impact"), noise=Noise(std=1.0, seed=0))
     with pytest.raises(ValueError, match="tmax must be finite"):
         simulate(P, y0, -1.0)
-    with pytest.raises(ValueError, match="noise_std"):
-        simulate(P, y0, 10.0, noise_std=np.nan, seed=0)
+    with pytest.raises(ValueError, match="noise std"):
+        simulate(P, y0, 10.0, noise=Noise(std=np.nan, seed=0))
 
 
 # --- the impact model's events against an independent event search ------------------------
@@ -151,8 +152,8 @@ def test_smooth_wall_passages_do_not_depend_on_the_sampling():
     # Up to tau = 45 only: the Fig. 10 response amplifies differences ~16-fold a period, so runs
     # with different output grids (hence different steps) part after ~8 periods.
     preset = get_preset("fig10")
-    coarse = simulate(preset.params, preset.state0, 45.0, sample_step=0.02)
-    fine = simulate(preset.params, preset.state0, 45.0, sample_step=0.004, rtol=1e-11, atol=1e-13)
+    coarse = simulate(preset.params, preset.state0, 45.0, settings=SimulationSettings(sample_step=0.02))
+    fine = simulate(preset.params, preset.state0, 45.0, settings=SimulationSettings(sample_step=0.004, rtol=1e-11, atol=1e-13))
     assert coarse.impact_t.size == fine.impact_t.size > 15
     np.testing.assert_allclose(coarse.impact_t, fine.impact_t, atol=5e-3)
     np.testing.assert_array_equal(coarse.impact_side, fine.impact_side)
@@ -165,8 +166,8 @@ def test_contacts_shorter_than_a_sample_are_found_from_the_state(n):
     found, at the same time and with the same speeds, and each reverses w'."""
     preset = get_preset("fig10")
     P = preset.params.replace(n=n)
-    coarse = simulate(P, preset.state_for(P), 12.0, sample_step=0.02)
-    fine = simulate(P, preset.state_for(P), 12.0, sample_step=2e-5)
+    coarse = simulate(P, preset.state_for(P), 12.0, settings=SimulationSettings(sample_step=0.02))
+    fine = simulate(P, preset.state_for(P), 12.0, settings=SimulationSettings(sample_step=2e-5))
     assert coarse.impact_t.size == fine.impact_t.size >= 7
     np.testing.assert_array_equal(coarse.impact_side, fine.impact_side)
     np.testing.assert_allclose(coarse.impact_t, fine.impact_t, atol=1e-6)
@@ -185,7 +186,7 @@ def test_non_resonant_on_the_closed_form_linear_response():
         Y = linear_periodic_response(P, model)
         assert np.max(np.abs(Y[2])) < 0.1
         y0 = Y.real  # the state at tau = 0
-        summary = classify(simulate(P, y0, 300.0, model=model))
+        summary = classify(simulate(P, y0, 300.0, settings=SimulationSettings(model=model)))
         assert summary.regime == "non-resonant", summary.reason
         assert summary.impacts_per_period == 0
         # The measured envelope is the closed-form amplitude of X (sampled peaks: 1e-3).
@@ -225,7 +226,7 @@ def test_periodic_resonant_is_a_stable_periodic_orbit_of_the_smooth_model():
     P = preset.params.replace(sigma=0.8)
     # Close to the Neimark-Sacker point at sigma = 0.881 the approach is a slowly decaying
     # oscillation of the envelope: judge the last 50 of 300 periods.
-    sim = simulate(P, preset.state0, 2 * np.pi * 300, sample_step=0.01)
+    sim = simulate(P, preset.state0, 2 * np.pi * 300, settings=SimulationSettings(sample_step=0.01))
     summary = classify(sim, transient=2 * np.pi * 250)
     assert summary.regime == "periodic-resonant", summary.reason
     orbit = periodic_orbit(P, sim.y[:, -1], segments=4)
@@ -274,7 +275,7 @@ def test_regime_map_runs_through_any_executor():
     preset = get_preset("fig12")
     sigmas, abars = [0.0, 1.0], [0.05, 0.5]
     with ThreadPoolExecutor(2) as pool:
-        rmap = regime_map(preset.params, preset.state0, sigmas, abars, tmax=400.0, executor=pool)
+        rmap = regime_map(preset.params, preset.state0, sigmas, abars, tmax=400.0, workers=Workers(pool))
     assert rmap.regime.shape == (2, 2)
     for i, a in enumerate(abars):
         for j, s in enumerate(sigmas):
@@ -282,7 +283,7 @@ def test_regime_map_runs_through_any_executor():
             assert rmap.regime[i, j] == alone.regime
             assert rmap.summaries[i][j].envelope_max == alone.envelope_max
     with pytest.raises(ValueError, match="Abar must be >= 0"):
-        regime_map(preset.params, preset.state0, sigmas, [-1.0], executor=pool)
+        regime_map(preset.params, preset.state0, sigmas, [-1.0], workers=Workers(pool))
 
 
 def test_morlet_ridge_reads_the_amplitude_and_frequency_of_a_cosine():
@@ -313,7 +314,7 @@ def test_a_failed_run_in_a_regime_map_is_recorded_as_failed_with_its_reason(monk
 
     monkeypatch.setattr(regimes, "simulate", failing)
     with ThreadPoolExecutor(1) as pool:
-        rmap = regimes.regime_map(P, [0.0, 0.0, 0.5, 0.0], [1.0], [1.0], tmax=100.0, executor=pool)
+        rmap = regimes.regime_map(P, [0.0, 0.0, 0.5, 0.0], [1.0], [1.0], tmax=100.0, workers=Workers(pool))
     assert rmap.regime[0, 0] == "failed"
     assert "simulation failed: step size fell below the rounding limit" in rmap.summaries[0][0].reason
     row = next(csv.DictReader(open(write_regime_csv(rmap, tmp_path / "regimes.csv"))))
@@ -326,9 +327,9 @@ def test_cached_machine_code_is_dropped_when_the_generated_kernels_change(tmp_pa
     import hashlib
     import types
 
+    from slosh_bif.flows import dop853
     from slosh_bif.model import powers
     from slosh_bif.model._generated import kernels
-    from slosh_bif.flows import dop853
 
     locator = types.SimpleNamespace(get_cache_path=lambda: str(tmp_path))
     compiled = types.SimpleNamespace(_cache=types.SimpleNamespace(_impl=types.SimpleNamespace(locator=locator)))

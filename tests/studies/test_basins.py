@@ -6,13 +6,14 @@ import numpy as np
 import pytest
 
 from slosh_bif import get_preset
+from slosh_bif.simulation.settings import Workers
 from slosh_bif.studies.basins import basin_map
 
 
 @pytest.fixture(scope="module")
 def basins():
     P = get_preset("fig10").params.replace(sigma=3.0)
-    return P, basin_map(P, np.linspace(-3, 3, 4), np.linspace(-1, 1, 3), max_workers=2)
+    return P, basin_map(P, np.linspace(-3, 3, 4), np.linspace(-1, 1, 3), workers=Workers(max_workers=2))
 
 
 def test_each_orbit_attractor_is_a_stable_periodic_orbit_by_scipy(basins, scipy_flow, scipy_multipliers):

@@ -41,9 +41,9 @@ def test_reference_orbit_is_converged_and_agrees_with_a_long_simulation():
     ref = bench.reference_orbits("fig10", [4.0])[0]
     assert ref.self_error < 1e-8 and ref.max_multiplier < 1
     pre = get_preset("fig10")
-    from slosh_bif.simulation.direct import simulate
+    from slosh_bif.simulation.direct import SimulationSettings, simulate
 
-    sim = simulate(pre.params.replace(sigma=4.0), pre.state0, 400 * 2 * np.pi, rtol=1e-11, atol=1e-13)
+    sim = simulate(pre.params.replace(sigma=4.0), pre.state0, 400 * 2 * np.pi, settings=SimulationSettings(rtol=1e-11, atol=1e-13))
     assert bench.first_harmonic(sim.t, sim.y[0], 20) == pytest.approx(ref.A1, rel=1e-5)
 
 

@@ -5,7 +5,12 @@ import numpy as np
 import pytest
 
 from slosh_bif import get_preset
-from slosh_bif.orbits import NO_SWITCHING, ShootingSettings, orbit_from_simulation, trace_orbits
+from slosh_bif.orbits import (
+    NO_SWITCHING,
+    ShootingSettings,
+    orbit_from_simulation,
+    trace_orbits,
+)
 from slosh_bif.studies.chart_curves import curve_starts, trace_curves
 
 PRESET = get_preset("fig10")

@@ -3,11 +3,25 @@ period doubling (PD), pitchfork (BP) and Neimark-Sacker (NS) curves, one problem
 shared minimally augmented base over either model's orbit equations (multiple shooting of (9),
 the stroboscopic map of (8)), their codimension-2 points, and the curve result object."""
 
-from slosh_bif.orbits.codim2.curves import CODIM2_KINDS, CURVE_OPTIONS, CURVE_PROBLEMS, BifurcationCurve, CurveSeed, curve_problem, trace_curve
+from slosh_bif.orbits.codim2.curves import (
+    CODIM2_KINDS,
+    CURVE_OPTIONS,
+    CURVE_PROBLEMS,
+    BifurcationCurve,
+    CurveSeed,
+    curve_problem,
+    trace_curve,
+)
 from slosh_bif.orbits.codim2.impact_curves import ImpactCurveSeed, trace_impact_curve
 from slosh_bif.orbits.codim2.impact_strobe import ImpactStrobe
 from slosh_bif.orbits.codim2.minaug import MinAugCurveProblem
-from slosh_bif.orbits.codim2.multiplier_curves import MEETS_PARENT, FlipCurveProblem, FoldCurveProblem, PitchforkCurveProblem, repeats_early
+from slosh_bif.orbits.codim2.multiplier_curves import (
+    MEETS_PARENT,
+    FlipCurveProblem,
+    FoldCurveProblem,
+    PitchforkCurveProblem,
+    repeats_early,
+)
 from slosh_bif.orbits.codim2.torus import TorusCurveProblem
 
 __all__ = [

@@ -13,7 +13,11 @@ import numpy as np
 from slosh_bif.continuation import Branch, ContinuationOptions, continuation
 from slosh_bif.model.params import Params, real_pair
 from slosh_bif.orbits.codim2.minaug import MinAugCurveProblem
-from slosh_bif.orbits.codim2.multiplier_curves import FlipCurveProblem, FoldCurveProblem, PitchforkCurveProblem
+from slosh_bif.orbits.codim2.multiplier_curves import (
+    FlipCurveProblem,
+    FoldCurveProblem,
+    PitchforkCurveProblem,
+)
 from slosh_bif.orbits.codim2.torus import TorusCurveProblem
 from slosh_bif.orbits.floquet import floquet_multipliers
 from slosh_bif.orbits.settings import SHOOTING, ShootingSettings

@@ -17,7 +17,15 @@ import numpy as np
 
 from slosh_bif.continuation import ContinuationOptions
 from slosh_bif.model.params import Params
-from slosh_bif.orbits.codim2.curves import CURVE_PROBLEMS, BifurcationCurve, continue_curve, curve_problem, read_box, start_multipliers, start_params
+from slosh_bif.orbits.codim2.curves import (
+    CURVE_PROBLEMS,
+    BifurcationCurve,
+    continue_curve,
+    curve_problem,
+    read_box,
+    start_multipliers,
+    start_params,
+)
 from slosh_bif.orbits.codim2.impact_strobe import ImpactStrobe
 from slosh_bif.orbits.impact_orbits import ImpactOrbitProblem
 from slosh_bif.orbits.impact_output import orbit_measures
