@@ -20,7 +20,10 @@ def check_sympy_version():
     """Refuse to write code with a sympy outside the pinned series: the output would differ."""
     major, minor = (int(x) for x in sp.__version__.split(".")[:2])
     if (major, minor) != (1, 14):
-        raise RuntimeError(f"sympy {sp.__version__} is outside the pinned series {SYMPY_RANGE}; install it from pyproject.toml")
+        raise RuntimeError(
+            f"sympy {sp.__version__} is outside the pinned series {SYMPY_RANGE}; install it from "
+            "pyproject.toml"
+        )
 
 
 HEADER = '''\
@@ -110,7 +113,9 @@ class _KernelPrinter(_Printer):
 def _kernel_body(fn: Function) -> list[str]:
     """Scalar statements writing ``fn.outputs`` (a column) into ``out`` in place."""
     printer = _KernelPrinter()
-    replacements, reduced = sp.cse(list(fn.outputs), symbols=sp.numbered_symbols("x"), optimizations="basic", order="canonical")
+    replacements, reduced = sp.cse(
+        list(fn.outputs), symbols=sp.numbered_symbols("x"), optimizations="basic", order="canonical"
+    )
     lines = [f"    {s} = pars[{i}]" for i, s in enumerate(fn.scalar_args)]
     for name, vector in fn.vector_args:
         lines += [f"    {s} = {name}[{i}]" for i, s in enumerate(vector)]

@@ -19,12 +19,11 @@ HERE = Path(__file__).resolve().parent
 if str(HERE) not in sys.path:
     sys.path.insert(0, str(HERE))
 
-import sympy as sp  # noqa: E402
-
 import codegen  # noqa: E402
 import models as m  # noqa: E402
 import report  # noqa: E402
 import slow_flow  # noqa: E402
+import sympy as sp  # noqa: E402
 
 ROOT = HERE.parent
 GENERATED = Path("slosh_bif") / "model" / "_generated"
@@ -45,7 +44,13 @@ def _models_module() -> str:
     impact_forcing = impact.diff(m.Abar).subs(m.tau, 0) * m.Abar
     functions = [
         F("smooth_rhs", "Right-hand side of the smooth model (9); y = [X, X', w, w'].", state, full, smooth),
-        F("smooth_jac", "Jacobian d(rhs)/dy of the smooth model (9), shape (4, 4, ...).", state, full, m.jacobian(smooth)),
+        F(
+            "smooth_jac",
+            "Jacobian d(rhs)/dy of the smooth model (9), shape (4, 4, ...).",
+            state,
+            full,
+            m.jacobian(smooth),
+        ),
         F(
             "smooth_variational",
             "Variational equations of (9): d/dtau [y, Phi] = [f(y), J(y) Phi], Phi row-major (16,).",
@@ -53,15 +58,59 @@ def _models_module() -> str:
             full,
             variational,
         ),
-        F("smooth_energy", "Energy H of the smooth model (9).", state, m.PARAMS, sp_matrix([m.smooth_energy()])),
-        F("smooth_power", "dH/dtau of the smooth model (9) along solutions.", state, full, sp_matrix([m.smooth_power()])),
-        F("impact_matrix", "Matrix M of the linear flow y' = M y + F cos(tau) of model (8).", (), m.LINEAR_PARAMS, impact_matrix),
-        F("impact_forcing", "Forcing vector F of the linear flow of model (8).", (), (m.eps, m.Abar), impact_forcing),
-        F("impact_weight", "Weight mu of the w-row in the energy of model (8).", (), (m.eps, m.beta, m.sigma), sp_matrix([m.impact_weight()])),
-        F("impact_energy", "Energy H of model (8) between impacts.", state, m.LINEAR_PARAMS, sp_matrix([m.impact_energy()])),
-        F("impact_power", "dH/dtau of model (8) between impacts.", state, (m.tau,) + m.LINEAR_PARAMS + (m.Abar,), sp_matrix([m.impact_power()])),
+        F(
+            "smooth_energy",
+            "Energy H of the smooth model (9).",
+            state,
+            m.PARAMS,
+            sp_matrix([m.smooth_energy()]),
+        ),
+        F(
+            "smooth_power",
+            "dH/dtau of the smooth model (9) along solutions.",
+            state,
+            full,
+            sp_matrix([m.smooth_power()]),
+        ),
+        F(
+            "impact_matrix",
+            "Matrix M of the linear flow y' = M y + F cos(tau) of model (8).",
+            (),
+            m.LINEAR_PARAMS,
+            impact_matrix,
+        ),
+        F(
+            "impact_forcing",
+            "Forcing vector F of the linear flow of model (8).",
+            (),
+            (m.eps, m.Abar),
+            impact_forcing,
+        ),
+        F(
+            "impact_weight",
+            "Weight mu of the w-row in the energy of model (8).",
+            (),
+            (m.eps, m.beta, m.sigma),
+            sp_matrix([m.impact_weight()]),
+        ),
+        F(
+            "impact_energy",
+            "Energy H of model (8) between impacts.",
+            state,
+            m.LINEAR_PARAMS,
+            sp_matrix([m.impact_energy()]),
+        ),
+        F(
+            "impact_power",
+            "dH/dtau of model (8) between impacts.",
+            state,
+            (m.tau,) + m.LINEAR_PARAMS + (m.Abar,),
+            sp_matrix([m.impact_power()]),
+        ),
     ]
-    return codegen.render_module("Right-hand sides, Jacobians and energies of models (8) and (9).", SCRIPT, functions)
+    return codegen.render_module(
+        "Right-hand sides, Jacobians and energies of models (8) and (9).", SCRIPT, functions
+    )
 
 
 def _kernels_module() -> str:
@@ -81,12 +130,20 @@ def _kernels_module() -> str:
     s_sigma = sp_matrix(sp.symbols("s0:4", real=True))
     s_abar = sp_matrix(sp.symbols("q0:4", real=True))
     shooting = sp_matrix(
-        list(f) + list(J * phi) + list(J * s_sigma + f.diff(m.sigma)) + list(J * s_abar + f.diff(m.Abar)) + [J.trace()]
+        list(f)
+        + list(J * phi)
+        + list(J * s_sigma + f.diff(m.sigma))
+        + list(J * s_abar + f.diff(m.Abar))
+        + [J.trace()]
     )
     weights = [sp.symbols(f"{slot}_{q}", real=True) for slot in ("a", "b") for q in m.REAL_PARAMS]
     slot_a, slot_b = weights[: len(m.REAL_PARAMS)], weights[len(m.REAL_PARAMS) :]
-    forced = [sum((c * f.diff(q) for c, q in zip(slot, m.REAL_PARAMS)), sp.zeros(4, 1)) for slot in (slot_a, slot_b)]
-    pair = sp_matrix(list(f) + list(J * phi) + list(J * s_sigma + forced[0]) + list(J * s_abar + forced[1]) + [J.trace()])
+    forced = [
+        sum((c * f.diff(q) for c, q in zip(slot, m.REAL_PARAMS)), sp.zeros(4, 1)) for slot in (slot_a, slot_b)
+    ]
+    pair = sp_matrix(
+        list(f) + list(J * phi) + list(J * s_sigma + forced[0]) + list(J * s_abar + forced[1]) + [J.trace()]
+    )
     state = (("y", m.STATE),)
     augmented = (("z", tuple(m.STATE) + tuple(phi) + tuple(s_sigma) + tuple(s_abar) + (sp.Symbol("trace"),)),)
     F = codegen.Function
@@ -94,7 +151,13 @@ def _kernels_module() -> str:
         "Scalar kernels of the smooth model (9) for the compiled integrator (slosh_bif.flows.integrator).",
         SCRIPT,
         [
-            F("smooth_rhs_kernel", "out = f(tau, y) of (9); pars = (eps, beta, gamma, sigma, Abar, lam, chi, n, p).", state, m.PARAMS, f),
+            F(
+                "smooth_rhs_kernel",
+                "out = f(tau, y) of (9); pars = (eps, beta, gamma, sigma, Abar, lam, chi, n, p).",
+                state,
+                m.PARAMS,
+                f,
+            ),
             F(
                 "smooth_shooting_kernel",
                 "out = d/dtau [y, Phi, dy/dsigma, dy/dAbar, int tr J] for (9), 29 components.",
@@ -104,7 +167,8 @@ def _kernels_module() -> str:
             ),
             F(
                 "smooth_pair_kernel",
-                "out = d/dtau [y, Phi, dy/da, dy/db, int tr J] for (9), 29 components; a and b are the directions "
+                "out = d/dtau [y, Phi, dy/da, dy/db, int tr J] for (9), 29 components; a and b are "
+                "the directions "
                 "pars[9:16] and pars[16:23] in (eps, beta, gamma, sigma, Abar, lam, chi).",
                 augmented,
                 m.PARAMS + tuple(slot_a) + tuple(slot_b),
@@ -121,11 +185,13 @@ def sp_matrix(items):
 def render_all() -> dict[Path, str]:
     """Path (relative to the repository root) -> text of every generated file."""
     return {
-        GENERATED / "__init__.py": '"""Generated code: written by derivations/generate.py, never edited by hand."""\n',
+        GENERATED
+        / "__init__.py": '"""Generated code: written by derivations/generate.py, never edited by hand."""\n',
         GENERATED / "models.py": _models_module(),
         GENERATED / "kernels.py": _kernels_module(),
         GENERATED / "slow_flow.py": codegen.render_module(
-            "The slow invariant manifold (36), slow flow (45), steady states (46) and kappa on the manifold (39).",
+            "The slow invariant manifold (36), slow flow (45), steady states (46) and kappa on the "
+            "manifold (39).",
             SCRIPT,
             slow_flow.generated_functions(codegen.Function) + slow_flow.corrected_functions(codegen.Function),
         ),
@@ -134,16 +200,29 @@ def render_all() -> dict[Path, str]:
 
 
 def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--check", action="store_true", help="exit 1 if the committed generated code is stale")
-    parser.add_argument("--out", type=Path, default=ROOT, help="repository root to write or check (default: this checkout)")
+    parser = argparse.ArgumentParser(
+        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
+    parser.add_argument(
+        "--check", action="store_true", help="exit 1 if the committed generated code is stale"
+    )
+    parser.add_argument(
+        "--out", type=Path, default=ROOT, help="repository root to write or check (default: this checkout)"
+    )
     args = parser.parse_args(argv)
     codegen.check_sympy_version()
     rendered = render_all()
     if args.check:
-        stale = [str(path) for path, text in rendered.items() if not (args.out / path).is_file() or (args.out / path).read_text() != text]
+        stale = [
+            str(path)
+            for path, text in rendered.items()
+            if not (args.out / path).is_file() or (args.out / path).read_text() != text
+        ]
         if stale:
-            print(f"stale generated code under {args.out}: {', '.join(stale)}; run `slosh-bif derive`", file=sys.stderr)
+            print(
+                f"stale generated code under {args.out}: {', '.join(stale)}; run `slosh-bif derive`",
+                file=sys.stderr,
+            )
             return 1
         print(f"generated code under {args.out} is fresh ({len(rendered)} files)")
         return 0

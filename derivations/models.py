@@ -35,7 +35,12 @@ forcing = eps * Abar * sp.cos(tau)
 def smooth_coefficients():
     """The exact coefficients a, b, c, d of (9) (see the module docstring)."""
     detuned = (1 - eps * sigma) / (1 + eps * beta**2)
-    return (1 - eps * sigma, eps * (1 - beta**2) * detuned, (1 - beta**2) * detuned, (eps + beta**2) * detuned)
+    return (
+        1 - eps * sigma,
+        eps * (1 - beta**2) * detuned,
+        (1 - beta**2) * detuned,
+        (eps + beta**2) * detuned,
+    )
 
 
 def smooth_rhs():
@@ -85,7 +90,9 @@ def impact_coefficients():
 def impact_rhs():
     """Right-hand side of (8) between impacts (linear in the state)."""
     a, b, c, d = impact_coefficients()
-    return sp.Matrix([Xd, forcing - a * X - b * w - eps * gamma * Xd, wd, forcing - c * X - d * w - eps * gamma * Xd])
+    return sp.Matrix(
+        [Xd, forcing - a * X - b * w - eps * gamma * Xd, wd, forcing - c * X - d * w - eps * gamma * Xd]
+    )
 
 
 def impact_weight():

@@ -28,9 +28,8 @@ from __future__ import annotations
 
 import functools
 
-import sympy as sp
-
 import models as m
+import sympy as sp
 
 T0, T1 = sp.symbols("T0 T1", real=True)
 A, psi, alpha, eta, phase = sp.symbols("A psi alpha eta phase", real=True)
@@ -69,7 +68,15 @@ def expansion():
     # (41): D0^2 X1 + X1 = -2 D0 D1 X0 - gamma D0 X0 - (1 - beta^2) w0 (+ sigma X0 + Abar cos T0 when forced).
     rhs_41 = -2 * X0.diff(T0, T1) - gamma * X0.diff(T0) - (1 - beta**2) * w0 + sigma * X0 + Abar * sp.cos(T0)
     assert sp.simplify(oe_X - (X1.diff(T0, 2) + X1 - rhs_41)) == 0
-    return {"X0": X0, "X1": X1, "w0": w0, "order1_X": o1_X, "order1_w": o1_w, "order_eps_X": oe_X, "rhs_41": rhs_41}
+    return {
+        "X0": X0,
+        "X1": X1,
+        "w0": w0,
+        "order1_X": o1_X,
+        "order1_w": o1_w,
+        "order_eps_X": oe_X,
+        "rhs_41": rhs_41,
+    }
 
 
 @functools.cache
@@ -157,7 +164,10 @@ def slow_flow(clearance=ONE):
     rhs = rhs.subs({sp.Derivative(A_f, T1): dA, sp.Derivative(psi_f, T1): dpsi}).subs({A_f: A, psi_f: psi})
     # Project on cos(T0 + psi) and sin(T0 + psi): with theta = T0 + psi, over one period.
     in_theta = sp.expand(sp.expand_trig(rhs.subs(T0, theta - psi)))
-    secular = [sp.integrate(in_theta * basis, (theta, 0, 2 * sp.pi)) / sp.pi for basis in (sp.cos(theta), sp.sin(theta))]
+    secular = [
+        sp.integrate(in_theta * basis, (theta, 0, 2 * sp.pi)) / sp.pi
+        for basis in (sp.cos(theta), sp.sin(theta))
+    ]
     solved = sp.solve(secular, [dA, dpsi], dict=True)[0]
     ic = impact_conditions(clearance)
     on_manifold = {sp.cos(phase): ic["cos_phase"], sp.sin(phase): ic["sin_phase"]}
@@ -177,7 +187,13 @@ def steady_state(clearance=ONE):
     energy = sp.expand(scale * cos_psi)
     phase_balance = sp.expand(scale * sin_psi)
     residual = energy**2 + phase_balance**2 - sp.pi**4 * A**2 * Abar**2
-    return {"residual": residual, "energy": energy, "phase": phase_balance, "cos_psi": cos_psi / Abar, "sin_psi": sin_psi / Abar}
+    return {
+        "residual": residual,
+        "energy": energy,
+        "phase": phase_balance,
+        "cos_psi": cos_psi / Abar,
+        "sin_psi": sin_psi / Abar,
+    }
 
 
 @functools.cache
@@ -221,12 +237,49 @@ def generated_functions(Function):
     A_only = ("A", "rho", "kappa")
     slow = (beta, gamma, sigma, Abar)
     return [
-        Function("sim_alpha", "alpha on the stable branch S+ of the manifold, eq. (36).", (), (A, rho), sp.Matrix([ic["alpha_stable"]]), A_only),
-        Function("sim_alpha_unstable", "alpha on the unstable branch of the manifold, eq. (36).", (), (A, rho), sp.Matrix([ic["alpha_unstable"]]), A_only),
-        Function("sim_a_min", "End A_min of the manifold, eq. (36).", (), (rho,), sp.Matrix([ic["A_min"]]), A_only),
-        Function("sim_alpha_min", "alpha at the manifold's end, eq. (36).", (), (rho,), sp.Matrix([ic["alpha_min"]]), A_only),
-        Function("slow_rhs", "Forced slow flow (45) on S+: [D1 A, D1 psi].", (), (A, psi, rho) + slow, rhs, ("A", "psi")),
-        Function("slow_jac", "Jacobian of (45) in (A, psi); rho = rho(A) with slope drho.", (), (A, psi, rho, drho) + slow, jac, ("A", "psi")),
+        Function(
+            "sim_alpha",
+            "alpha on the stable branch S+ of the manifold, eq. (36).",
+            (),
+            (A, rho),
+            sp.Matrix([ic["alpha_stable"]]),
+            A_only,
+        ),
+        Function(
+            "sim_alpha_unstable",
+            "alpha on the unstable branch of the manifold, eq. (36).",
+            (),
+            (A, rho),
+            sp.Matrix([ic["alpha_unstable"]]),
+            A_only,
+        ),
+        Function(
+            "sim_a_min", "End A_min of the manifold, eq. (36).", (), (rho,), sp.Matrix([ic["A_min"]]), A_only
+        ),
+        Function(
+            "sim_alpha_min",
+            "alpha at the manifold's end, eq. (36).",
+            (),
+            (rho,),
+            sp.Matrix([ic["alpha_min"]]),
+            A_only,
+        ),
+        Function(
+            "slow_rhs",
+            "Forced slow flow (45) on S+: [D1 A, D1 psi].",
+            (),
+            (A, psi, rho) + slow,
+            rhs,
+            ("A", "psi"),
+        ),
+        Function(
+            "slow_jac",
+            "Jacobian of (45) in (A, psi); rho = rho(A) with slope drho.",
+            (),
+            (A, psi, rho, drho) + slow,
+            jac,
+            ("A", "psi"),
+        ),
         Function(
             "slow_dparams",
             "Derivatives of (45) in the parameters: columns d/dsigma, d/dAbar.",
@@ -235,7 +288,14 @@ def generated_functions(Function):
             sp.Matrix([[sp.diff(e, sigma), sp.diff(e, Abar)] for e in rhs]),
             ("A", "psi"),
         ),
-        Function("steady_residual", "Steady-state residual (46) on S+ (derived sign).", (), (A, rho) + slow, sp.Matrix([residual]), A_only),
+        Function(
+            "steady_residual",
+            "Steady-state residual (46) on S+ (derived sign).",
+            (),
+            (A, rho) + slow,
+            sp.Matrix([residual]),
+            A_only,
+        ),
         Function(
             "steady_residual_grad",
             "[dR/dA, dR/dsigma, dR/dAbar] of (46); rho = rho(A) with slope drho.",
@@ -244,7 +304,14 @@ def generated_functions(Function):
             sp.Matrix([_total_dA(residual), sp.diff(residual, sigma), sp.diff(residual, Abar)]),
             A_only,
         ),
-        Function("steady_balances", "[pi^2 A Abar cos psi, pi^2 A Abar sin psi] at a steady state of (45).", (), (A, rho) + slow, balances, A_only),
+        Function(
+            "steady_balances",
+            "[pi^2 A Abar cos psi, pi^2 A Abar sin psi] at a steady state of (45).",
+            (),
+            (A, rho) + slow,
+            balances,
+            A_only,
+        ),
         Function(
             "slow_rhs_end",
             "Forced slow flow (45) at the manifold's end (36), A = A_min, alpha = alpha_min: [D1 A, D1 psi].",
@@ -258,7 +325,9 @@ def generated_functions(Function):
             "Derivatives of (45) at the manifold's end in psi, sigma and Abar (rows D1 A, D1 psi).",
             (),
             (psi, rho) + slow,
-            sp.Matrix([[sp.diff(_at_manifold_end(e), v) for v in (psi, sigma, Abar)] for e in slow_flow()["forced"]]),
+            sp.Matrix(
+                [[sp.diff(_at_manifold_end(e), v) for v in (psi, sigma, Abar)] for e in slow_flow()["forced"]]
+            ),
             ("psi",),
         ),
         Function(
@@ -266,16 +335,35 @@ def generated_functions(Function):
             "[R, dR/dsigma, dR/dAbar] of (46) at the manifold's end (36), A = A_min, alpha = alpha_min.",
             (),
             (rho,) + slow,
-            sp.Matrix([_at_manifold_end(ss["residual"]), sp.diff(_at_manifold_end(ss["residual"]), sigma), sp.diff(_at_manifold_end(ss["residual"]), Abar)]),
+            sp.Matrix(
+                [
+                    _at_manifold_end(ss["residual"]),
+                    sp.diff(_at_manifold_end(ss["residual"]), sigma),
+                    sp.diff(_at_manifold_end(ss["residual"]), Abar),
+                ]
+            ),
             ("rho",),
         ),
-        Function("manifold_kappa_residual", "kappa^2 - 1 + delta1 v^expo with v the impact speed (38), eq. (39).", (), (kappa, A, delta1, expo), sp.Matrix([_on_stable_branch(mk["residual"]).subs(rho, ic["rho"])]), A_only),
+        Function(
+            "manifold_kappa_residual",
+            "kappa^2 - 1 + delta1 v^expo with v the impact speed (38), eq. (39).",
+            (),
+            (kappa, A, delta1, expo),
+            sp.Matrix([_on_stable_branch(mk["residual"]).subs(rho, ic["rho"])]),
+            A_only,
+        ),
         Function(
             "manifold_kappa_residual_grad",
             "[d/dkappa, d/dA] of the residual of eq. (39).",
             (),
             (kappa, A, delta1, expo),
-            sp.Matrix([sp.diff(e, v) for e in [_on_stable_branch(mk["residual"]).subs(rho, ic["rho"])] for v in (kappa, A)]),
+            sp.Matrix(
+                [
+                    sp.diff(e, v)
+                    for e in [_on_stable_branch(mk["residual"]).subs(rho, ic["rho"])]
+                    for v in (kappa, A)
+                ]
+            ),
             A_only,
         ),
     ]
@@ -324,18 +412,116 @@ def corrected_functions(Function):
     end = [_at_manifold_end(e, D) for e in forced]
     end_residual = _at_manifold_end(ss["residual"], D)
     return [
-        Function("corrected_alpha", "alpha on S+ with the wall at |w| = D, eq. (36) with clearance D.", (), (A, rho, D), sp.Matrix([ic["alpha_stable"]]), names),
-        Function("corrected_alpha_unstable", "alpha on the unstable branch with the wall at |w| = D.", (), (A, rho, D), sp.Matrix([ic["alpha_unstable"]]), names),
-        Function("corrected_a_min", "End A_min = D rho / sqrt(1 + rho^2) of the manifold with clearance D.", (), (rho, D), sp.Matrix([ic["A_min"]]), names),
-        Function("corrected_slow_rhs", "Slow flow (45) on S+ with clearance D: [D1 A, D1 psi].", (), (A, psi, rho, D) + slow, rhs, ("A", "psi")),
-        Function("corrected_slow_jac", "Jacobian of the corrected (45) in (A, psi); rho(A), D(A) with slopes drho, dD.", (), (A, psi, rho, drho, D, dD) + slow, sp.Matrix([[_total_dA(e), sp.diff(e, psi)] for e in rhs]), ("A", "psi")),
-        Function("corrected_slow_dparams", "Derivatives of the corrected (45) in sigma and Abar (columns).", (), (A, psi, rho, D) + slow, sp.Matrix([[sp.diff(e, sigma), sp.diff(e, Abar)] for e in rhs]), ("A", "psi")),
-        Function("corrected_steady_residual", "Steady-state residual (46) with clearance D.", (), (A, rho, D) + slow, sp.Matrix([residual]), names),
-        Function("corrected_steady_residual_grad", "[dR/dA, dR/dsigma, dR/dAbar] of the corrected (46); slopes drho, dD.", (), (A, rho, drho, D, dD) + slow, sp.Matrix([_total_dA(residual), sp.diff(residual, sigma), sp.diff(residual, Abar)]), names),
-        Function("corrected_steady_balances", "[pi^2 A Abar cos psi, pi^2 A Abar sin psi] at a steady state of the corrected (45).", (), (A, rho, D) + slow, sp.Matrix([_on_stable_branch(ss["energy"], D), _on_stable_branch(ss["phase"], D)]), names),
-        Function("corrected_slow_rhs_end", "The corrected (45) at the manifold's end, A = A_min(rho, D): [D1 A, D1 psi].", (), (psi, rho, D) + slow, sp.Matrix(end), ("psi",)),
-        Function("corrected_slow_end_jac", "Derivatives of the corrected (45) at the manifold's end in psi, sigma, Abar.", (), (psi, rho, D) + slow, sp.Matrix([[sp.diff(e, v) for v in (psi, sigma, Abar)] for e in end]), ("psi",)),
-        Function("corrected_steady_residual_end", "[R, dR/dsigma, dR/dAbar] of the corrected (46) at the manifold's end.", (), (rho, D) + slow, sp.Matrix([end_residual, sp.diff(end_residual, sigma), sp.diff(end_residual, Abar)]), ("rho",)),
-        Function("corrected_impact_speed", "[v, dv/dA, dv/dkappa, dv/dD]: the impact speed (38) on S+ with clearance D.", (), (A, kappa, D), sp.Matrix([speed["speed"]] + [sp.diff(speed["speed"], x) for x in (A, kappa, D)]), names),
-        Function("corrected_end_speed", "[v, dv/dkappa, dv/dD]: the impact speed at the manifold's end (alpha = alpha_min).", (), (kappa, D), sp.Matrix([speed["speed_at_end"]] + [sp.diff(speed["speed_at_end"], x) for x in (kappa, D)]), ("kappa",)),
+        Function(
+            "corrected_alpha",
+            "alpha on S+ with the wall at |w| = D, eq. (36) with clearance D.",
+            (),
+            (A, rho, D),
+            sp.Matrix([ic["alpha_stable"]]),
+            names,
+        ),
+        Function(
+            "corrected_alpha_unstable",
+            "alpha on the unstable branch with the wall at |w| = D.",
+            (),
+            (A, rho, D),
+            sp.Matrix([ic["alpha_unstable"]]),
+            names,
+        ),
+        Function(
+            "corrected_a_min",
+            "End A_min = D rho / sqrt(1 + rho^2) of the manifold with clearance D.",
+            (),
+            (rho, D),
+            sp.Matrix([ic["A_min"]]),
+            names,
+        ),
+        Function(
+            "corrected_slow_rhs",
+            "Slow flow (45) on S+ with clearance D: [D1 A, D1 psi].",
+            (),
+            (A, psi, rho, D) + slow,
+            rhs,
+            ("A", "psi"),
+        ),
+        Function(
+            "corrected_slow_jac",
+            "Jacobian of the corrected (45) in (A, psi); rho(A), D(A) with slopes drho, dD.",
+            (),
+            (A, psi, rho, drho, D, dD) + slow,
+            sp.Matrix([[_total_dA(e), sp.diff(e, psi)] for e in rhs]),
+            ("A", "psi"),
+        ),
+        Function(
+            "corrected_slow_dparams",
+            "Derivatives of the corrected (45) in sigma and Abar (columns).",
+            (),
+            (A, psi, rho, D) + slow,
+            sp.Matrix([[sp.diff(e, sigma), sp.diff(e, Abar)] for e in rhs]),
+            ("A", "psi"),
+        ),
+        Function(
+            "corrected_steady_residual",
+            "Steady-state residual (46) with clearance D.",
+            (),
+            (A, rho, D) + slow,
+            sp.Matrix([residual]),
+            names,
+        ),
+        Function(
+            "corrected_steady_residual_grad",
+            "[dR/dA, dR/dsigma, dR/dAbar] of the corrected (46); slopes drho, dD.",
+            (),
+            (A, rho, drho, D, dD) + slow,
+            sp.Matrix([_total_dA(residual), sp.diff(residual, sigma), sp.diff(residual, Abar)]),
+            names,
+        ),
+        Function(
+            "corrected_steady_balances",
+            "[pi^2 A Abar cos psi, pi^2 A Abar sin psi] at a steady state of the corrected (45).",
+            (),
+            (A, rho, D) + slow,
+            sp.Matrix([_on_stable_branch(ss["energy"], D), _on_stable_branch(ss["phase"], D)]),
+            names,
+        ),
+        Function(
+            "corrected_slow_rhs_end",
+            "The corrected (45) at the manifold's end, A = A_min(rho, D): [D1 A, D1 psi].",
+            (),
+            (psi, rho, D) + slow,
+            sp.Matrix(end),
+            ("psi",),
+        ),
+        Function(
+            "corrected_slow_end_jac",
+            "Derivatives of the corrected (45) at the manifold's end in psi, sigma, Abar.",
+            (),
+            (psi, rho, D) + slow,
+            sp.Matrix([[sp.diff(e, v) for v in (psi, sigma, Abar)] for e in end]),
+            ("psi",),
+        ),
+        Function(
+            "corrected_steady_residual_end",
+            "[R, dR/dsigma, dR/dAbar] of the corrected (46) at the manifold's end.",
+            (),
+            (rho, D) + slow,
+            sp.Matrix([end_residual, sp.diff(end_residual, sigma), sp.diff(end_residual, Abar)]),
+            ("rho",),
+        ),
+        Function(
+            "corrected_impact_speed",
+            "[v, dv/dA, dv/dkappa, dv/dD]: the impact speed (38) on S+ with clearance D.",
+            (),
+            (A, kappa, D),
+            sp.Matrix([speed["speed"]] + [sp.diff(speed["speed"], x) for x in (A, kappa, D)]),
+            names,
+        ),
+        Function(
+            "corrected_end_speed",
+            "[v, dv/dkappa, dv/dD]: the impact speed at the manifold's end (alpha = alpha_min).",
+            (),
+            (kappa, D),
+            sp.Matrix([speed["speed_at_end"]] + [sp.diff(speed["speed_at_end"], x) for x in (kappa, D)]),
+            ("kappa",),
+        ),
     ]

@@ -53,11 +53,20 @@ def speed_target(repeats):
         problem = ShootingProblem(P, segments=4)
         t = time.perf_counter()
         start = orbit_at(problem, problem.initial_states(FIG10_ORBIT_GUESS), 1.0, tol=1e-9)
-        branch = continuation(problem, problem.initial_states(start.y0), 1.0, param="sigma", options=dataclasses.replace(SHOOTING_OPTIONS, p_min=-6.0, p_max=8.0))
+        branch = continuation(
+            problem,
+            problem.initial_states(start.y0),
+            1.0,
+            param="sigma",
+            options=dataclasses.replace(SHOOTING_OPTIONS, p_min=-6.0, p_max=8.0),
+        )
         branch_times.append(time.perf_counter() - t)
     base, mine = np.median(baseline), np.median(branch_times)
     print(f"1,000 one-period DOP853 integrations (scipy, rtol 1e-10): median {base:.2f} s (of {repeats})")
-    print(f"whole symmetric branch, sigma in [-6, 8]: median {mine:.2f} s, {len(branch)} points, {problem.evaluations} arc integrations,")
+    print(
+        f"whole symmetric branch, sigma in [-6, 8]: median {mine:.2f} s, {len(branch)} points, "
+        f"{problem.evaluations} arc integrations,"
+    )
     print("  special points: " + ", ".join(f"{s.kind} {s.p:.5f}" for s in branch.special))
     print(f"ratio branch / baseline = {mine / base:.3f} (target < 1)")
     return base, mine
@@ -65,14 +74,18 @@ def speed_target(repeats):
 
 def main():
     np.seterr(all="ignore")  # scipy's trial steps deep in the wall overflow; the error control rejects them
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser = argparse.ArgumentParser(
+        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--out", type=Path, default=Path("results/charts"))
     args = parser.parse_args()
     if not integrator.HAVE_NUMBA:
         print("numba is not installed: the compiled path is unavailable (pip install -e '.[fast]')")
     speed_target(args.repeats)
-    for path in bench.run(args.out, only=["integration"], repeats=args.repeats):  # the same chart as `slosh-bif bench`
+    for path in bench.run(
+        args.out, only=["integration"], repeats=args.repeats
+    ):  # the same chart as `slosh-bif bench`
         print(f"wrote {path}")
 
 

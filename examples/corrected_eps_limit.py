@@ -3,7 +3,8 @@
 The slow flows (46) and the corrected one do not contain eps (it only scales time): they are the
 eps -> 0 limit of the 2pi-orbits of (9). This script traces the orbits of (9) at three values of
 eps (the family of a slow-flow start with its branch switching, and the families the models' stable
-states lead to, as ``slosh-bif trust`` finds them), extrapolates their first harmonic A1 to eps = 0 (Richardson, from
+states lead to, as ``slosh-bif trust`` finds them), extrapolates their first harmonic A1 to eps = 0
+(Richardson, from
 the two smallest eps: A1(0) = 2 A1(eps1) - A1(2 eps1), the O(eps) term of the expansion removed),
 and measures both slow flows against that limit and against the orbits at the largest eps. A model
 that is right up to O(eps) matches the limit; the O(eps) term that neither contains is then the
@@ -44,14 +45,24 @@ def main(argv=None):
     base = get_preset(args.preset).params.replace(n=args.n, beta=args.beta)
     sigmas = np.linspace(SIGMA_MIN, SIGMA_MAX, GRID)
     warnings.simplefilter("ignore", AsymptoticsWarning)
-    models = {name: frequency_response(base.replace(eps=EPS[0]), sigma_min=SIGMA_MIN, sigma_max=SIGMA_MAX, model=name) for name in ("slowflow", "corrected")}
+    models = {
+        name: frequency_response(
+            base.replace(eps=EPS[0]), sigma_min=SIGMA_MIN, sigma_max=SIGMA_MAX, model=name
+        )
+        for name in ("slowflow", "corrected")
+    }
     families = {}
     for eps in EPS:
         params = base.replace(eps=eps)
         print(f"orbits of (9) at eps = {eps} (n = {args.n}, beta = {args.beta})", flush=True)
         start = slow_flow_start(params, SIGMA_MIN, SIGMA_MAX, segments=4)
         family = trace_orbits(start.params, start.y0, p_min=SIGMA_MIN, p_max=SIGMA_MAX)
-        for name, fr in models.items():  # the families near the models' states that the first start missed (as `trust` does)
+        for (
+            name,
+            fr,
+        ) in (
+            models.items()
+        ):  # the families near the models' states that the first start missed (as `trust` does)
             family.branches.extend(missed_families(params, fr, family, sigmas, model=name))
         families[eps] = family.branches
     rows = []
@@ -63,12 +74,27 @@ def main(argv=None):
                     orbits = orbits_at(branches, sigma)
                     near[eps] = min((o[0] for o in orbits), key=lambda a: abs(a - A)) if orbits else np.nan
                 # nearest orbits more than 10 % apart lie on different branches: no limit from them
-                limit = 2 * near[EPS[0]] - near[EPS[1]] if abs(near[EPS[0]] - near[EPS[1]]) < 0.1 * near[EPS[0]] else np.nan
+                limit = (
+                    2 * near[EPS[0]] - near[EPS[1]]
+                    if abs(near[EPS[0]] - near[EPS[1]]) < 0.1 * near[EPS[0]]
+                    else np.nan
+                )
                 # the straight line through the first two, at the third eps: how linear in eps A1 is
                 line = near[EPS[0]] + (near[EPS[1]] - near[EPS[0]]) * (EPS[2] - EPS[0]) / (EPS[1] - EPS[0])
-                rows.append(dict(sigma=sigma, model=name, A=A, **{f"A1_eps{e:g}": near[e] for e in EPS}, A1_limit=limit,
-                                 linearity_defect=abs(line - near[EPS[2]]) / abs(near[EPS[2]] - limit) if np.isfinite(limit) else np.nan,
-                                 difference_limit=abs(A - limit) / limit, difference_largest_eps=abs(A - near[EPS[-1]]) / near[EPS[-1]]))
+                rows.append(
+                    dict(
+                        sigma=sigma,
+                        model=name,
+                        A=A,
+                        **{f"A1_eps{e:g}": near[e] for e in EPS},
+                        A1_limit=limit,
+                        linearity_defect=abs(line - near[EPS[2]]) / abs(near[EPS[2]] - limit)
+                        if np.isfinite(limit)
+                        else np.nan,
+                        difference_limit=abs(A - limit) / limit,
+                        difference_largest_eps=abs(A - near[EPS[-1]]) / near[EPS[-1]],
+                    )
+                )
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     with open(out / "corrected_eps_limit.csv", "w", newline="") as handle:
@@ -79,23 +105,64 @@ def main(argv=None):
     fig, axes = plt.subplots(2, 1, figsize=(8, 8), sharex=True)
     for k, eps in enumerate(EPS):
         for j, b in enumerate(families[eps]):
-            axes[0].plot(b.branch.p, b.measures["A1"], color=f"C{k + 2}", lw=1, label=f"(9), eps = {eps:g}" if j == 0 else None)
+            axes[0].plot(
+                b.branch.p,
+                b.measures["A1"],
+                color=f"C{k + 2}",
+                lw=1,
+                label=f"(9), eps = {eps:g}" if j == 0 else None,
+            )
     labels = {"slowflow": "(46)", "corrected": "corrected"}
     for k, name in enumerate(models):
         sub = [r for r in rows if r["model"] == name]
-        axes[0].plot([r["sigma"] for r in sub], [r["A"] for r in sub], "o" if k == 0 else "s", ms=3, color=f"C{k}", label=labels[name])
-        axes[1].plot([r["sigma"] for r in sub], [100 * r["difference_limit"] for r in sub], "o-" if k == 0 else "s-", ms=3, color=f"C{k}", label=f"{labels[name]} against the eps -> 0 limit of (9)")
-        axes[1].plot([r["sigma"] for r in sub], [100 * r["difference_largest_eps"] for r in sub], ":", color=f"C{k}", label=f"{labels[name]} against (9) at eps = {EPS[-1]:g}")
-        print(f"{labels[name]:>9}: median difference against the eps -> 0 limit {100 * np.nanmedian([r['difference_limit'] for r in sub]):.1f} %, "
-              f"against eps = {EPS[-1]:g} {100 * np.nanmedian([r['difference_largest_eps'] for r in sub]):.1f} % ({len(sub)} stable states; "
-              f"{sum(np.isfinite(r['difference_limit']) for r in sub)} with a limit; the straight line in eps misses (9) at eps = {EPS[-1]:g} by "
-              f"{100 * np.nanmedian([r['linearity_defect'] for r in sub]):.0f} % of its O(eps) shift, median)")
+        axes[0].plot(
+            [r["sigma"] for r in sub],
+            [r["A"] for r in sub],
+            "o" if k == 0 else "s",
+            ms=3,
+            color=f"C{k}",
+            label=labels[name],
+        )
+        axes[1].plot(
+            [r["sigma"] for r in sub],
+            [100 * r["difference_limit"] for r in sub],
+            "o-" if k == 0 else "s-",
+            ms=3,
+            color=f"C{k}",
+            label=f"{labels[name]} against the eps -> 0 limit of (9)",
+        )
+        axes[1].plot(
+            [r["sigma"] for r in sub],
+            [100 * r["difference_largest_eps"] for r in sub],
+            ":",
+            color=f"C{k}",
+            label=f"{labels[name]} against (9) at eps = {EPS[-1]:g}",
+        )
+        print(
+            f"{labels[name]:>9}: median difference against the eps -> 0 limit "
+            f"{100 * np.nanmedian([r['difference_limit'] for r in sub]):.1f} %, "
+            f"against eps = {EPS[-1]:g} "
+            f"{100 * np.nanmedian([r['difference_largest_eps'] for r in sub]):.1f} % ({len(sub)} "
+            "stable states; "
+            f"{sum(np.isfinite(r['difference_limit']) for r in sub)} with a limit; the straight "
+            f"line in eps misses (9) at eps = {EPS[-1]:g} by "
+            f"{100 * np.nanmedian([r['linearity_defect'] for r in sub]):.0f} % of its O(eps) shift, median)"
+        )
     limit_rows = [r for r in rows if r["model"] == "corrected"]
-    axes[0].plot([r["sigma"] for r in limit_rows], [r["A1_limit"] for r in limit_rows], "k--", lw=1, label="(9), eps -> 0 (Richardson)")
+    axes[0].plot(
+        [r["sigma"] for r in limit_rows],
+        [r["A1_limit"] for r in limit_rows],
+        "k--",
+        lw=1,
+        label="(9), eps -> 0 (Richardson)",
+    )
     axes[0].set_yscale("log")
     axes[0].set_ylabel("A1 (first harmonic of X)")
     axes[0].legend(fontsize=7)
-    axes[0].set_title(f"{args.preset} set, n = {args.n}, beta = {args.beta:g}: the slow flows against (9) and its eps -> 0 limit")
+    axes[0].set_title(
+        f"{args.preset} set, n = {args.n}, beta = {args.beta:g}: the slow flows against (9) and "
+        "its eps -> 0 limit"
+    )
     axes[1].set_ylabel("relative difference (%)")
     axes[1].set_xlabel("sigma")
     axes[1].set_ylim(0, 30)

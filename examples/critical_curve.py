@@ -24,7 +24,10 @@ def main(out=Path("results")):
     write_critical_csv(curve, out / f"{PRESET}_critical.csv")
     plot_critical(curve, out / f"{PRESET}_critical.png")
     point = critical_forcing(params, params.sigma)
-    print(f"{len(curve.sigma)} points; at sigma = {params.sigma}: Abar_b = {point.Abar_b:.10f} ({point.kind}, A = {point.A:.6f})")
+    print(
+        f"{len(curve.sigma)} points; at sigma = {params.sigma}: Abar_b = {point.Abar_b:.10f} "
+        f"({point.kind}, A = {point.A:.6f})"
+    )
     print(f"wrote {out / f'{PRESET}_critical.csv'} and {out / f'{PRESET}_critical.png'}")
 
 

@@ -34,8 +34,18 @@ def main(out=Path("results")):
             print(f"Abar = {abar}: {err}")
             continue
         for j, branch in enumerate(fr.branches):
-            plot_branch(ax, branch, branch.x[:, 0], color=f"C{k}", label=f"Abar = {abar:g}" if j == 0 else None, label_ends=False)
-        print(f"Abar = {abar}: {sum(len(b) for b in fr.branches)} points, folds at sigma = {[round(s.p, 6) for b in fr.branches for s in b.special_of('LP')]}")
+            plot_branch(
+                ax,
+                branch,
+                branch.x[:, 0],
+                color=f"C{k}",
+                label=f"Abar = {abar:g}" if j == 0 else None,
+                label_ends=False,
+            )
+        print(
+            f"Abar = {abar}: {sum(len(b) for b in fr.branches)} points, folds at sigma = "
+            f"{[round(s.p, 6) for b in fr.branches for s in b.special_of('LP')]}"
+        )
     ax.set_xlabel(r"detuning $\sigma$")
     ax.set_ylabel("amplitude A of X")
     ax.set_title(f"Frequency response on S+ for several forcing amplitudes ({PRESET}; dashed: unstable)")

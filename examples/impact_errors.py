@@ -7,7 +7,8 @@ of the multiple-scales expansion alone (both have the same rigid wall and restit
 (8) against (9) is the error of the rigid-wall idealisation at this n, and (46) against (9) both.
 A sigma where one model has no stable state, or several, is left out of that model's columns.
 
-Usage: python examples/impact_errors.py [OUT_DIR] [--preset fig13] [--sigma-min -3] [--sigma-max 5] [--points 17]   (about 15 s)
+Usage: python examples/impact_errors.py [OUT_DIR] [--preset fig13] [--sigma-min -3] [--sigma-max 5] [--points
+17]   (about 15 s)
 Writes OUT_DIR/impact_errors.csv (default OUT_DIR: results/impact_errors) and prints the table.
 """
 
@@ -48,7 +49,9 @@ def main(argv=None):
 
     slow = frequency_response(params, sigma_min=lo, sigma_max=hi)
     fine = ContinuationOptions(step=0.02, step_max=0.05, tol=1e-10)  # A1 read between points to about 1e-4
-    impact = trace_impact_orbits(params, settled_orbit(params, preset.state0, periods=150), p_min=lo, p_max=hi, options=fine)
+    impact = trace_impact_orbits(
+        params, settled_orbit(params, preset.state0, periods=150), p_min=lo, p_max=hi, options=fine
+    )
     rows8 = list(impact_rows(impact, params))
     start = start_orbit(params, preset.state0, (lo, hi))
     smooth = trace_orbits(start.params, start.y0, param="sigma", p_min=lo, p_max=hi, branching=NO_SWITCHING)
@@ -58,14 +61,34 @@ def main(argv=None):
         A = _stable_one(states_at(slow, sigma))
         A8 = _stable_one(impact_orbits_at(rows8, sigma))
         A9 = _stable_one(orbits_at(smooth.branches, sigma))
-        table.append(dict(sigma=sigma, A_46=A, A1_8=A8, A1_9=A9, asymptotic=abs(A - A8) / A8, wall=abs(A8 - A9) / A9, total=abs(A - A9) / A9))
+        table.append(
+            dict(
+                sigma=sigma,
+                A_46=A,
+                A1_8=A8,
+                A1_9=A9,
+                asymptotic=abs(A - A8) / A8,
+                wall=abs(A8 - A9) / A9,
+                total=abs(A - A9) / A9,
+            )
+        )
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     write_rows(table, list(table[0]), out / "impact_errors.csv")
-    print(f"{'sigma':>6} {'A (46)':>9} {'A1 (8)':>9} {'A1 (9)':>9} {'(46)-(8)':>9} {'(8)-(9)':>9} {'(46)-(9)':>9}")
+    print(
+        f"{'sigma':>6} {'A (46)':>9} {'A1 (8)':>9} {'A1 (9)':>9} {'(46)-(8)':>9} {'(8)-(9)':>9} "
+        f"{'(46)-(9)':>9}"
+    )
     for r in table:
-        print(f"{r['sigma']:6.2f} {r['A_46']:9.4f} {r['A1_8']:9.4f} {r['A1_9']:9.4f} {r['asymptotic']:9.2%} {r['wall']:9.2%} {r['total']:9.2%}")
-    for key, name in (("asymptotic", "(46) against (8), the expansion"), ("wall", "(8) against (9), the wall"), ("total", "(46) against (9), both")):
+        print(
+            f"{r['sigma']:6.2f} {r['A_46']:9.4f} {r['A1_8']:9.4f} {r['A1_9']:9.4f} "
+            f"{r['asymptotic']:9.2%} {r['wall']:9.2%} {r['total']:9.2%}"
+        )
+    for key, name in (
+        ("asymptotic", "(46) against (8), the expansion"),
+        ("wall", "(8) against (9), the wall"),
+        ("total", "(46) against (9), both"),
+    ):
         values = np.array([r[key] for r in table])
         values = values[np.isfinite(values)]
         if values.size:

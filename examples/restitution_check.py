@@ -34,18 +34,39 @@ def main(out=Path("results")):
                 continue  # kappa not real for this lam: no rebound law to compare
             ksim = restitution.simulate_rebound(V0, lam, CHI, n, pbar)
             delta = 1 - k21**2
-            rows.append(dict(n=n, pbar=pbar, lam=lam, kappa_21=k21, kappa_sim=ksim, error=ksim - k21, error_over_delta2=(ksim - k21) / delta**2))
+            rows.append(
+                dict(
+                    n=n,
+                    pbar=pbar,
+                    lam=lam,
+                    kappa_21=k21,
+                    kappa_sim=ksim,
+                    error=ksim - k21,
+                    error_over_delta2=(ksim - k21) / delta**2,
+                )
+            )
     with open(out / "restitution_check.csv", "w", newline="") as fh:
         writer = csv.DictWriter(fh, fieldnames=list(rows[0]))
         writer.writeheader()
         writer.writerows(rows)
-    print(f"{'n':>3} {'pbar':>4} {'lam':>5} {'kappa_21':>10} {'kappa_sim':>10} {'error':>10} {'err/delta^2':>11}")
+    print(
+        f"{'n':>3} {'pbar':>4} {'lam':>5} {'kappa_21':>10} {'kappa_sim':>10} {'error':>10} "
+        f"{'err/delta^2':>11}"
+    )
     for r in rows:
-        print(f"{r['n']:>3} {r['pbar']:>4} {r['lam']:>5} {r['kappa_21']:>10.6f} {r['kappa_sim']:>10.6f} {r['error']:>10.3e} {r['error_over_delta2']:>11.4f}")
+        print(
+            f"{r['n']:>3} {r['pbar']:>4} {r['lam']:>5} {r['kappa_21']:>10.6f} "
+            f"{r['kappa_sim']:>10.6f} {r['error']:>10.3e} {r['error_over_delta2']:>11.4f}"
+        )
     fig, ax = plt.subplots(figsize=(6.5, 4.5))
     for n, pbar in CASES:
         sel = [r for r in rows if r["n"] == n and r["pbar"] == pbar]
-        ax.loglog([1 - r["kappa_21"] ** 2 for r in sel], [r["error"] for r in sel], "o-", label=f"n={n}, pbar={pbar}")
+        ax.loglog(
+            [1 - r["kappa_21"] ** 2 for r in sel],
+            [r["error"] for r in sel],
+            "o-",
+            label=f"n={n}, pbar={pbar}",
+        )
     d = [1e-3, 1.0]
     ax.loglog(d, [x**2 / 4 for x in d], "k--", label=r"$\delta^2/4$")
     ax.set_xlabel(r"dissipation $\delta = 1-\kappa_{21}^2$ at $v_0 = 1$")

@@ -44,14 +44,21 @@ def main(out=Path("results")):
         print(f"{quantity:40s} {float(value):12.5g} {unit:3s}  {source}")
     P = model.params
     point = critical_forcing(P, P.sigma)
-    print(f"\nthe slow flow's critical forcing at sigma = {P.sigma:.4g}: Abar_b = {point.Abar_b:.4g} ({point.kind})")
+    print(
+        f"\nthe slow flow's critical forcing at sigma = {P.sigma:.4g}: Abar_b = {point.Abar_b:.4g} "
+        f"({point.kind})"
+    )
     for a_g in ACCELERATIONS:  # Abar is proportional to the ground acceleration
         Q = P.replace(Abar=P.Abar * a_g / SITE.ground_acceleration)
-        at_rest = state_from_uv(0.0, 0.0, 0.0, 0.0, eps=Q.eps)  # the tank and the liquid at rest when the motion starts
+        at_rest = state_from_uv(
+            0.0, 0.0, 0.0, 0.0, eps=Q.eps
+        )  # the tank and the liquid at rest when the motion starts
         result = answer("regime", Q, tol=0.05, state0=at_rest)
         side = "above" if Q.Abar > point.Abar_b else "below"
-        print(f"a_g = {a_g:.2g} m/s^2: Abar = {Q.Abar:.4g} ({side} Abar_b); from rest: {result.result.regime} "
-              f"({result.result.reason}), by the {result.model} in {result.seconds:.1f} s")
+        print(
+            f"a_g = {a_g:.2g} m/s^2: Abar = {Q.Abar:.4g} ({side} Abar_b); from rest: {result.result.regime} "
+            f"({result.result.reason}), by the {result.model} in {result.seconds:.1f} s"
+        )
     path = out / "storage_tank.toml"
     tank_table = {**vars(TANK), **vars(SITE)}
     path.write_text(render_parameter_file(tank=tank_table, comment="examples/storage_tank.py"))

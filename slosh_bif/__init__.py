@@ -17,7 +17,16 @@ __version__ = "0.1.0"
 
 # public name -> the subpackage that defines it
 _EXPORTS = {
-    "slosh_bif.model": ("Params", "FIELDS", "Preset", "PRESETS", "get_preset", "SmoothModel", "ImpactModel", "ManifoldLaw"),
+    "slosh_bif.model": (
+        "Params",
+        "FIELDS",
+        "Preset",
+        "PRESETS",
+        "get_preset",
+        "SmoothModel",
+        "ImpactModel",
+        "ManifoldLaw",
+    ),
     "slosh_bif.continuation": ("Branch", "SpecialPoint", "ContinuationOptions", "ConvergenceError"),
     "slosh_bif.slowflow": (
         "SlowFlow",
@@ -45,7 +54,15 @@ _EXPORTS = {
         "StartSettings",
         "NO_SWITCHING",
     ),
-    "slosh_bif.simulation": ("simulate", "Simulation", "simulate_impact", "ImpactTrajectory", "classify", "regime_map", "RegimeMap"),
+    "slosh_bif.simulation": (
+        "simulate",
+        "Simulation",
+        "simulate_impact",
+        "ImpactTrajectory",
+        "classify",
+        "regime_map",
+        "RegimeMap",
+    ),
     "slosh_bif.studies": ("answer", "trust_map"),
 }
 _WHERE = {name: module for module, names in _EXPORTS.items() for name in names}

@@ -1,7 +1,8 @@
 """Every `slosh-bif` command printed in the README works as printed (exit status 0, or the one its
 comment announces), read from the
 README itself so that the two cannot drift apart: the quick ones (at most 5 s as printed) in the
-default run, the rest (marked ``slow`` or longer) by ``pytest -m slow``. Each runs in a fresh folder, in the order printed (a
+default run, the rest (marked ``slow`` or longer) by ``pytest -m slow``. Each runs in a fresh folder, in the
+order printed (a
 command may use a file an earlier one wrote: ``--params tank.toml``)."""
 
 import re
@@ -36,7 +37,11 @@ def _is_slow(comment: str) -> bool:
 
 def test_the_readme_prints_commands_and_marks_the_slow_ones():
     commands = readme_commands()
-    assert len(commands) >= 10 and any(_is_slow(c) for _, c in commands) and any(not _is_slow(c) for _, c in commands)
+    assert (
+        len(commands) >= 10
+        and any(_is_slow(c) for _, c in commands)
+        and any(not _is_slow(c) for _, c in commands)
+    )
     assert README.stat().st_size < 12_000
 
 
@@ -50,7 +55,9 @@ def _run(commands, tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
     for command, comment in commands:
         argv = shlex.split(command)[1:]
-        assert main(argv) == _expected_status(comment), f"README command did not do what the README says: {command}"
+        assert main(argv) == _expected_status(comment), (
+            f"README command did not do what the README says: {command}"
+        )
 
 
 def test_the_readmes_quick_commands_work_as_printed(tmp_path, monkeypatch):

@@ -2,7 +2,8 @@
 
 Usage: python examples/figures/fig09.py [OUT_DIR]   (default results/figures)
 """
-# Against the paper: Differs from the text: the paper's capture ends near tau = 100 (a) and 350 (b); the printed
+# Against the paper: Differs from the text: the paper's capture ends near tau = 100 (a) and 350 (b); the
+# printed
 # parameters keep it to tau ~ 330-470 in both models (derivations/REPORT.md).
 
 import sys

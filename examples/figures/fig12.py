@@ -2,7 +2,8 @@
 
 Usage: python examples/figures/fig12.py [OUT_DIR]   (default results/figures)
 """
-# Against the paper: As printed (classified strongly-modulated). With n = 6 eq. (21)'s kappa (0.27) is far from
+# Against the paper: As printed (classified strongly-modulated). With n = 6 eq. (21)'s kappa (0.27) is far
+# from
 # the wall's (0.63), so the impact model (8) modulates differently from (9).
 
 import sys

@@ -2,7 +2,8 @@
 
 Usage: python examples/figures/fig13.py [OUT_DIR]   (default results/figures)
 """
-# Against the paper: As printed; the settled peak |X| (0.28) is 10 % below the slow flow's steady state (0.31).
+# Against the paper: As printed; the settled peak |X| (0.28) is 10 % below the slow flow's steady state
+# (0.31).
 
 import sys
 from pathlib import Path

@@ -3,7 +3,8 @@
 Subcommands:
 
 * ``info``     - a preset's parameters and the derived restitution quantities (eqs. 21, 31, 36, 40);
-* ``tank``     - a real tank, its structure and the ground motion as the model's parameters (a file for --params);
+* ``tank``     - a real tank, its structure and the ground motion as the model's parameters (a file for
+  --params);
 * ``frc``      - the frequency-response curve of the slow flow (45)/(46) by continuation in sigma;
 * ``critical`` - the critical forcing Abar_b(sigma) by continuation of the fold and end conditions;
 * ``shoot``    - periodic orbits of the smooth model (9) by shooting, continued in sigma, with
@@ -33,7 +34,7 @@ import sys
 for _name in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS", "BLIS_NUM_THREADS"):
     os.environ[_name] = "1"
 
-from slosh_bif.cli import (
+from slosh_bif.cli import (  # noqa: E402 - after the environment is set
     chart,
     identify,
     info,
@@ -58,8 +59,15 @@ def build_parser() -> argparse.ArgumentParser:
         family.add_commands(sub)
     for each in sub.choices.values():
         talk = each.add_mutually_exclusive_group()
-        talk.add_argument("-q", "--quiet", action="store_true", help="no progress messages (results and errors still print)")
-        talk.add_argument("-v", "--verbose", action="store_true", help="every progress message, and every special point on stdout")
+        talk.add_argument(
+            "-q", "--quiet", action="store_true", help="no progress messages (results and errors still print)"
+        )
+        talk.add_argument(
+            "-v",
+            "--verbose",
+            action="store_true",
+            help="every progress message, and every special point on stdout",
+        )
     return parser
 
 
@@ -83,7 +91,12 @@ def _check_out(out, *, is_file: bool = False) -> None:
         raise ValueError(f"--out {out} is a folder; give a file name")
     if not is_file and out.exists() and not out.is_dir():
         raise ValueError(f"--out {out} is a file; give a folder (created if missing)")
-    existing = next(p for p in ((out.parent,) if is_file else (out,)) + tuple(out.parent.parents if is_file else out.parents) if p.exists())
+    existing = next(
+        p
+        for p in ((out.parent,) if is_file else (out,))
+        + tuple(out.parent.parents if is_file else out.parents)
+        if p.exists()
+    )
     if not existing.is_dir():
         raise ValueError(f"--out {out}: {existing} is a file, not a folder")
     if not os.access(existing, os.W_OK | os.X_OK):
@@ -110,7 +123,11 @@ def _quiet_stdout() -> None:
 
 def _interrupted(command: str, stop: KeyboardInterrupt) -> int:
     name = getattr(stop, "signal_name", "SIGINT")
-    print(f"slosh-bif {command}: {stop if str(stop) else 'interrupted (' + name + ')'}; the files written are complete, the rest was not written", file=sys.stderr)
+    print(
+        f"slosh-bif {command}: {stop if str(stop) else 'interrupted (' + name + ')'}; the files "
+        "written are complete, the rest was not written",
+        file=sys.stderr,
+    )
     return 143 if name == "SIGTERM" else 130
 
 
@@ -129,11 +146,16 @@ def main(argv=None) -> int:
 
     shown = set()
 
-    def show(message, category, filename="", lineno=0, *_args, **_kwargs):  # one line, no source excerpt, each message once
+    def show(
+        message, category, filename="", lineno=0, *_args, **_kwargs
+    ):  # one line, no source excerpt, each message once
         if str(message) not in shown:
             shown.add(str(message))
             REPORTER.close()  # a warning on its own line, not inside the status line
-            print(f"slosh-bif {args.command}: warning: {message}{warning_origin(category, filename, lineno)}", file=sys.stderr)
+            print(
+                f"slosh-bif {args.command}: warning: {message}{warning_origin(category, filename, lineno)}",
+                file=sys.stderr,
+            )
 
     def on_sigterm(_signum, _frame):
         raise Terminated("stopped")
@@ -147,7 +169,9 @@ def main(argv=None) -> int:
         warnings.simplefilter("always")  # every warning reaches show(), which prints each message once
         try:
             _check_out(getattr(args, "out", None), is_file=getattr(args, "out_is_file", False))
-            with threadpool_limits(limits=1, user_api="blas"):  # the BLAS already loaded when main() is called in-process
+            with threadpool_limits(
+                limits=1, user_api="blas"
+            ):  # the BLAS already loaded when main() is called in-process
                 status = args.run(args)
             sys.stdout.flush()  # a closed pipe shows here, inside the handlers, not at the interpreter's exit
             return status
@@ -175,4 +199,3 @@ def main(argv=None) -> int:
             REPORTER.close()
             if previous is not None:
                 signal.signal(signal.SIGTERM, previous)
-

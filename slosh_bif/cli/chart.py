@@ -44,11 +44,17 @@ def _chart(args) -> int:
     lo, hi = sigma_range(args)
     if args.second == "Abar":
         if args.second_min is not None or args.second_max is not None:
-            raise ValueError("--second-min/--second-max go with --second NAME other than Abar; Abar's range is --abar-min/--abar-max")
+            raise ValueError(
+                "--second-min/--second-max go with --second NAME other than Abar; Abar's range is "
+                "--abar-min/--abar-max"
+            )
         a_lo, a_hi = abar_range(args, default=(0.2, 2 * params.Abar))
     else:
         if args.abar_min is not None or args.abar_max is not None or args.regimes is not None:
-            raise ValueError(f"--abar-min, --abar-max and --regimes belong to the (sigma, Abar) chart; with --second {args.second} give --second-min and --second-max")
+            raise ValueError(
+                "--abar-min, --abar-max and --regimes belong to the (sigma, Abar) chart; with "
+                f"--second {args.second} give --second-min and --second-max"
+            )
         if args.second_min is None or args.second_max is None:
             raise ValueError(f"--second {args.second} needs its range: --second-min and --second-max")
         a_lo, a_hi = args.second_min, args.second_max
@@ -57,13 +63,17 @@ def _chart(args) -> int:
         from slosh_bif.simulation.regimes import check_run_length
 
         if min(args.regimes) < 1:
-            raise ValueError(f"--regimes takes two positive integers N M (sigma values, Abar values); got {args.regimes}")
+            raise ValueError(
+                f"--regimes takes two positive integers N M (sigma values, Abar values); got {args.regimes}"
+            )
         check_run_length(args.tmax)  # before the curves, not minutes later when the map starts
     if args.seeds < 0:
         raise ValueError(f"--seeds must be an integer >= 0; got {args.seeds}")
     check_workers(args)
     if args.model == "impact" and (args.second != "Abar" or args.resume):
-        raise ValueError("--model impact draws the (sigma, Abar) chart of (8) in one run: without --second and --resume")
+        raise ValueError(
+            "--model impact draws the (sigma, Abar) chart of (8) in one run: without --second and --resume"
+        )
     state0 = state0_of(args, params)
     options = dict(switch=not args.no_switch, seeds=args.seeds, backend=args.backend)
     if args.second != "Abar":  # (a stored Abar chart's settings stay as they were: --resume keeps working)
@@ -77,14 +87,26 @@ def _chart(args) -> int:
         from slosh_bif.studies.impact_chart import impact_chart
 
         chart = impact_chart(
-            params, state0, sigma_range=(lo, hi), abar_range=(a_lo, a_hi), branching=BranchingSettings(switch=not args.no_switch),
-            settings=ChartSettings(workers=args.workers), progress=say,
+            params,
+            state0,
+            sigma_range=(lo, hi),
+            abar_range=(a_lo, a_hi),
+            branching=BranchingSettings(switch=not args.no_switch),
+            settings=ChartSettings(workers=args.workers),
+            progress=say,
         )
     else:
         chart = bifurcation_chart(
-            params, state0, sigma_range=(lo, hi), abar_range=(a_lo, a_hi), second=args.second, shooting=ShootingSettings(backend=args.backend),
-            branching=BranchingSettings(switch=not args.no_switch), settings=ChartSettings(seeds=args.seeds, workers=args.workers, model=args.model),
-            progress=say, resume=Resume(done, keep),
+            params,
+            state0,
+            sigma_range=(lo, hi),
+            abar_range=(a_lo, a_hi),
+            second=args.second,
+            shooting=ShootingSettings(backend=args.backend),
+            branching=BranchingSettings(switch=not args.no_switch),
+            settings=ChartSettings(seeds=args.seeds, workers=args.workers, model=args.model),
+            progress=say,
+            resume=Resume(done, keep),
         )
     regimes = None
     if args.regimes is not None and chart.status == "complete":
@@ -93,9 +115,18 @@ def _chart(args) -> int:
 
         n, m = args.regimes
         regimes = regime_map(
-            params, state0, np.linspace(lo, hi, n), np.linspace(a_lo, a_hi, m), tmax=args.tmax, workers=Workers(max_workers=args.workers),
-            settings=SimulationSettings(model="impact" if args.model == "impact" else "smooth", backend=args.backend),
-            progress=lambda done, total, report=throttled(progress, passes=lambda message: False): report(f"regimes: {done} of {total}"),
+            params,
+            state0,
+            np.linspace(lo, hi, n),
+            np.linspace(a_lo, a_hi, m),
+            tmax=args.tmax,
+            workers=Workers(max_workers=args.workers),
+            settings=SimulationSettings(
+                model="impact" if args.model == "impact" else "smooth", backend=args.backend
+            ),
+            progress=lambda done, total, report=throttled(progress, passes=lambda message: False): report(
+                f"regimes: {done} of {total}"
+            ),
         )
     paths = [write_curves_csv(chart, args.out / "curves.csv")]
     if args.second == "Abar":  # the critical forcing is a curve in (sigma, Abar)
@@ -104,7 +135,10 @@ def _chart(args) -> int:
     paths.append(plot_chart(chart, args.out / "chart.png", regimes=regimes))
     for k, c in enumerate(chart.curves):
         codim2 = ", ".join(f"{label} ({sigma:.5g}, {abar:.5g})" for label, sigma, abar in c.codim2_points())
-        print(f"curve {k}: {c.kind} from {c.origin}: {len(c)} points, {c.status}" + (f"; {codim2}" if codim2 else ""))
+        print(
+            f"curve {k}: {c.kind} from {c.origin}: {len(c)} points, {c.status}"
+            + (f"; {codim2}" if codim2 else "")
+        )
     print(f"{len(chart.curves)} curves in {chart.seconds:.1f} s; wrote " + ", ".join(str(p) for p in paths))
     for status in (chart.status, regimes.status if regimes is not None else "complete"):
         if status != "complete":  # the files hold what was finished
@@ -112,7 +146,11 @@ def _chart(args) -> int:
     if chart.incomplete:
         for line in chart.incomplete:
             print(f"slosh-bif chart: {line}", file=sys.stderr)
-        print(f"slosh-bif chart: {len(chart.incomplete)} curve(s) cut short or not started (their status in curves.csv)", file=sys.stderr)
+        print(
+            f"slosh-bif chart: {len(chart.incomplete)} curve(s) cut short or not started (their "
+            "status in curves.csv)",
+            file=sys.stderr,
+        )
         return 3
     return 0
 
@@ -121,29 +159,76 @@ def add_commands(sub) -> None:
     """Register ``chart`` on the ``slosh-bif`` subparsers ``sub``."""
     chart = sub.add_parser(
         "chart",
-        help="curves in (sigma, Abar) where the orbits of (9) fold or period-double, and the full model's critical forcing",
-        epilog="exit status: 0 when every curve left the box, closed or reached a strong resonance, 3 when a curve was cut short, 2 for bad input, 130/143 when interrupted (the finished curves are written)",
+        help="curves in (sigma, Abar) where the orbits of (9) fold or period-double, and the full "
+        "model's critical forcing",
+        epilog="exit status: 0 when every curve left the box, closed or reached a strong resonance, 3 "
+        "when a curve was cut short, 2 for bad input, 130/143 when interrupted (the finished "
+        "curves are written)",
     )
     add_params_options(chart)
-    chart.add_argument("--sigma-min", type=float, default=None, help="lower end of the sigma range (default -6)")
-    chart.add_argument("--sigma-max", type=float, default=None, help="upper end of the sigma range (default 8)")
+    chart.add_argument(
+        "--sigma-min", type=float, default=None, help="lower end of the sigma range (default -6)"
+    )
+    chart.add_argument(
+        "--sigma-max", type=float, default=None, help="upper end of the sigma range (default 8)"
+    )
     add_abar_range_options(chart)
     chart.add_argument(
-        "--second", default="Abar", choices=tuple(name for name in REAL_FIELDS if name != "sigma"),
-        help="the chart's second parameter (default Abar); another one takes its range from --second-min/--second-max, and the chart then has no critical forcing",
+        "--second",
+        default="Abar",
+        choices=tuple(name for name in REAL_FIELDS if name != "sigma"),
+        help="the chart's second parameter (default Abar); another one takes its range from "
+        "--second-min/--second-max, and the chart then has no critical forcing",
     )
-    chart.add_argument("--second-min", type=float, default=None, help="lower end of the second parameter's range (with --second other than Abar)")
-    chart.add_argument("--second-max", type=float, default=None, help="upper end of the second parameter's range (with --second other than Abar)")
-    chart.add_argument("--regimes", type=int, nargs=2, default=None, metavar=("N", "M"), help="also simulate an N x M regime map as background")
+    chart.add_argument(
+        "--second-min",
+        type=float,
+        default=None,
+        help="lower end of the second parameter's range (with --second other than Abar)",
+    )
+    chart.add_argument(
+        "--second-max",
+        type=float,
+        default=None,
+        help="upper end of the second parameter's range (with --second other than Abar)",
+    )
+    chart.add_argument(
+        "--regimes",
+        type=int,
+        nargs=2,
+        default=None,
+        metavar=("N", "M"),
+        help="also simulate an N x M regime map as background",
+    )
     add_tmax_option(chart)
     chart.add_argument("--no-switch", action="store_true", help="the curves of the primary orbit branch only")
-    chart.add_argument("--seeds", type=int, default=7, help="sigma values at which the primary branch's orbit is also continued in Abar (or --second) to find folds and period doublings off the preset's value (default 7)")
+    chart.add_argument(
+        "--seeds",
+        type=int,
+        default=7,
+        help="sigma values at which the primary branch's orbit is also continued in Abar (or --second) "
+        "to find folds and period doublings off the preset's value (default 7)",
+    )
     add_backend_option(chart)
-    chart.add_argument("--resume", action="store_true", help="reuse the curves stored in OUT/curves/ by an earlier run with the same settings (an interrupted one) and trace only the rest")
-    chart.add_argument("--workers", type=int, default=None, help="processes tracing curves (and the regime map) side by side (default: one per core)")
+    chart.add_argument(
+        "--resume",
+        action="store_true",
+        help="reuse the curves stored in OUT/curves/ by an earlier run with the same settings (an "
+        "interrupted one) and trace only the rest",
+    )
+    chart.add_argument(
+        "--workers",
+        type=int,
+        default=None,
+        help="processes tracing curves (and the regime map) side by side (default: one per core)",
+    )
     chart.add_argument("--out", type=out_path, required=True, help="output folder (created if missing)")
     chart.add_argument(
-        "--model", choices=("slowflow", "corrected", "impact"), default="slowflow",
-        help="curves of (9) with the slow flow (46) beside them (default) or the corrected slow flow ('corrected'); 'impact': the curves of the impact model (8) (from its branches in sigma), with (46) beside them",
+        "--model",
+        choices=("slowflow", "corrected", "impact"),
+        default="slowflow",
+        help="curves of (9) with the slow flow (46) beside them (default) or the corrected slow flow "
+        "('corrected'); 'impact': the curves of the impact model (8) (from its branches in sigma), "
+        "with (46) beside them",
     )
     chart.set_defaults(run=_chart)

@@ -53,7 +53,9 @@ class Terminated(KeyboardInterrupt):
     signal_name = "SIGTERM"
 
 
-MAX_GRID = 2000  # values along one axis of a map (regimes, basins): 2000 x 2000 cells is days of work on 2 cores
+MAX_GRID = (
+    2000  # values along one axis of a map (regimes, basins): 2000 x 2000 cells is days of work on 2 cores
+)
 MAX_WORKERS = 256  # local worker processes: beyond that, a cluster (--scheduler) is the way
 MAX_SIGMA_POINTS = 100_000  # sigma values a comparison samples: far past any branch's resolution
 
@@ -74,7 +76,9 @@ def check_workers(args) -> None:
 def check_sigma_points(args) -> None:
     """--sigma-points of a comparison: an integer in [2, MAX_SIGMA_POINTS]."""
     if not 2 <= args.sigma_points <= MAX_SIGMA_POINTS:
-        raise ValueError(f"--sigma-points must be an integer >= 2 and <= {MAX_SIGMA_POINTS}; got {args.sigma_points}")
+        raise ValueError(
+            f"--sigma-points must be an integer >= 2 and <= {MAX_SIGMA_POINTS}; got {args.sigma_points}"
+        )
 
 
 def stopped(status: str) -> KeyboardInterrupt:
@@ -86,8 +90,11 @@ def add_params_options(parser):
     source = parser.add_mutually_exclusive_group(required=True)
     source.add_argument("--preset", choices=sorted(PRESETS), help="parameter set of a figure of the paper")
     source.add_argument(
-        "--params", type=Path, metavar="FILE",
-        help="parameter file (TOML or JSON: a [params] table, or a [tank] table converted from a real tank; see `slosh-bif tank`)",
+        "--params",
+        type=Path,
+        metavar="FILE",
+        help="parameter file (TOML or JSON: a [params] table, or a [tank] table converted from a real "
+        "tank; see `slosh-bif tank`)",
     )
     parser.add_argument(
         "--set",
@@ -100,8 +107,12 @@ def add_params_options(parser):
 
 
 def add_range_options(parser):
-    parser.add_argument("--sigma-min", type=float, default=None, help="lower end of the sigma range (default -6)")
-    parser.add_argument("--sigma-max", type=float, default=None, help="upper end of the sigma range (default 8)")
+    parser.add_argument(
+        "--sigma-min", type=float, default=None, help="lower end of the sigma range (default -6)"
+    )
+    parser.add_argument(
+        "--sigma-max", type=float, default=None, help="upper end of the sigma range (default 8)"
+    )
     parser.add_argument("--out", type=out_path, required=True, help="output folder (created if missing)")
 
 
@@ -109,28 +120,53 @@ def add_model_option(parser):
     """``--model slowflow|corrected``: which slow flow (eq. 46 as derived, or with the wall's own
     restitution and clearance, :mod:`slosh_bif.model.restitution.corrected`)."""
     parser.add_argument(
-        "--model", choices=("slowflow", "corrected"), default="slowflow",
-        help="slow flow: eq. (46) as derived (default, the paper's) or 'corrected' (kappa and clearance of the wall of (9), measured per impact speed)",
+        "--model",
+        choices=("slowflow", "corrected"),
+        default="slowflow",
+        help="slow flow: eq. (46) as derived (default, the paper's) or 'corrected' (kappa and clearance "
+        "of the wall of (9), measured per impact speed)",
     )
 
 
 def add_abar_range_options(parser, *, default=(None, None)):
     lo, hi = default
-    parser.add_argument("--abar-min", type=float, default=lo, help="lowest forcing amplitude Abar" + (f" (default {lo:g})" if lo is not None else ""))
-    parser.add_argument("--abar-max", type=float, default=hi, help="highest forcing amplitude Abar" + (f" (default {hi:g})" if hi is not None else ""))
+    parser.add_argument(
+        "--abar-min",
+        type=float,
+        default=lo,
+        help="lowest forcing amplitude Abar" + (f" (default {lo:g})" if lo is not None else ""),
+    )
+    parser.add_argument(
+        "--abar-max",
+        type=float,
+        default=hi,
+        help="highest forcing amplitude Abar" + (f" (default {hi:g})" if hi is not None else ""),
+    )
 
 
 def add_sigma_points_option(parser, *, default: int, old: str = "--grid"):
-    parser.add_argument("--sigma-points", type=int, default=default, help=f"sigma values compared (default {default})")
+    parser.add_argument(
+        "--sigma-points", type=int, default=default, help=f"sigma values compared (default {default})"
+    )
     if old:
-        parser.add_argument(old, dest="sigma_points", type=int, action=Deprecated, new="--sigma-points", help=argparse.SUPPRESS)
+        parser.add_argument(
+            old,
+            dest="sigma_points",
+            type=int,
+            action=Deprecated,
+            new="--sigma-points",
+            help=argparse.SUPPRESS,
+        )
 
 
 def add_backend_option(parser):
     """--backend on the commands that integrate (9) or (8): compiled or the scipy reference."""
     parser.add_argument(
-        "--backend", choices=("auto", "numba", "scipy"), default="auto",
-        help="compiled (auto, numba) or the scipy reference: for (9) the same DOP853 in scipy's solve_ivp; for (8) "
+        "--backend",
+        choices=("auto", "numba", "scipy"),
+        default="auto",
+        help="compiled (auto, numba) or the scipy reference: for (9) the same DOP853 in scipy's "
+        "solve_ivp; for (8) "
         "the exact flow's expm event loop (default auto)",
     )
 
@@ -138,8 +174,11 @@ def add_backend_option(parser):
 def add_tmax_option(parser):
     """--tmax on every command that classifies a regime: one meaning and one default."""
     parser.add_argument(
-        "--tmax", type=float, default=CLASSIFY_TMAX,
-        help=f"end time tau of each simulation (default {CLASSIFY_TMAX:g}); where a regime is classified, from its second half",
+        "--tmax",
+        type=float,
+        default=CLASSIFY_TMAX,
+        help=f"end time tau of each simulation (default {CLASSIFY_TMAX:g}); where a regime is "
+        "classified, from its second half",
     )
 
 
@@ -147,10 +186,23 @@ def add_continuation_options(parser, *, rtol: str):
     """--ds, --ds-max, --max-steps and --rtol: the continuation controls, the same on every
     continuation command (defaults: the method's own; ``rtol`` says what it is there)."""
     parser.add_argument("--ds", type=float, default=None, help="first arclength step (default: the method's)")
-    parser.add_argument("--ds-max", type=float, default=None, help="largest arclength step (default: the method's)")
-    parser.add_argument("--max-steps", type=int, default=None, help="accepted steps per direction at most (default: the method's)")
+    parser.add_argument(
+        "--ds-max", type=float, default=None, help="largest arclength step (default: the method's)"
+    )
+    parser.add_argument(
+        "--max-steps",
+        type=int,
+        default=None,
+        help="accepted steps per direction at most (default: the method's)",
+    )
     parser.add_argument("--rtol", type=float, default=None, help=rtol)
-    parser.add_argument("--max-seconds", type=float, default=None, help="a wall-clock safety net per branch direction (default: none); a branch it cuts ends with status 'time limit', and where depends on the machine's load")
+    parser.add_argument(
+        "--max-seconds",
+        type=float,
+        default=None,
+        help="a wall-clock safety net per branch direction (default: none); a branch it cuts ends with "
+        "status 'time limit', and where depends on the machine's load",
+    )
 
 
 def continuation_options(args, base):
@@ -165,7 +217,11 @@ def continuation_options(args, base):
     step_max = args.ds_max if args.ds_max is not None else max(base.step_max, args.ds or 0.0)
     step = min(args.ds if args.ds is not None else base.step, step_max)
     return dataclasses.replace(
-        base, step=step, step_max=step_max, step_min=min(base.step_min, step), max_steps=args.max_steps or base.max_steps,
+        base,
+        step=step,
+        step_max=step_max,
+        step_min=min(base.step_min, step),
+        max_steps=args.max_steps or base.max_steps,
         max_seconds=args.max_seconds or base.max_seconds,
     )
 
@@ -232,7 +288,9 @@ def throttled(report, every=1.0, *, passes=lambda message: "point" not in messag
         now = time.monotonic()
         if passes(message):
             report(message)
-        elif REPORTER.verbose or now - last[0] >= every:  # what is shown, not what is computed, depends on the clock
+        elif (
+            REPORTER.verbose or now - last[0] >= every
+        ):  # what is shown, not what is computed, depends on the clock
             last[0] = now
             (passing if report is progress else report)(message)
 
@@ -259,8 +317,11 @@ def cell_progress(report, what: str):
 
 def add_scheduler_option(parser) -> None:
     parser.add_argument(
-        "--scheduler", default=None, metavar="ADDRESS",
-        help="run the cells on an existing dask.distributed cluster at ADDRESS (e.g. tcp://host:8786; needs the [dask] extra) instead of local processes",
+        "--scheduler",
+        default=None,
+        metavar="ADDRESS",
+        help="run the cells on an existing dask.distributed cluster at ADDRESS (e.g. tcp://host:8786; "
+        "needs the [dask] extra) instead of local processes",
     )
 
 
@@ -316,7 +377,10 @@ def _probe_scheduler(address: str) -> None:
     except (OSError, TimeoutError) as err:
         raise ValueError(f"--scheduler {address}: no dask scheduler answers there ({err})") from None
     if len(greeting) < 8 or not 0 < struct.unpack("<Q", greeting)[0] < 1 << 20:
-        raise ValueError(f"--scheduler {address}: the service there is not a dask scheduler (it did not greet with a dask handshake)")
+        raise ValueError(
+            f"--scheduler {address}: the service there is not a dask scheduler (it did not greet "
+            "with a dask handshake)"
+        )
 
 
 def floats(text):

@@ -22,7 +22,12 @@ def _info(args) -> int:
         from slosh_bif.model.parameter_file import render_parameter_file
         from slosh_bif.report.files import write_text_atomically
 
-        text = render_parameter_file(params=P, uv0=preset.uv0, window=preset.t_window, comment=f"slosh_bif parameter set '{preset.name}': {preset.note}")
+        text = render_parameter_file(
+            params=P,
+            uv0=preset.uv0,
+            window=preset.t_window,
+            comment=f"slosh_bif parameter set '{preset.name}': {preset.note}",
+        )
         args.out.parent.mkdir(parents=True, exist_ok=True)
         write_text_atomically(args.out, text)
         print(f"wrote {args.out}", file=sys.stderr)
@@ -66,7 +71,8 @@ def _derive(args) -> int:
     script = _derivations_dir() / "generate.py"
     if not script.is_file():
         print(
-            f"slosh-bif derive needs the source checkout (derivations/ beside the package); {script} not found. "
+            "slosh-bif derive needs the source checkout (derivations/ beside the package); "
+            f"{script} not found. "
             "Install with `pip install -e .` from a clone.",
             file=sys.stderr,
         )
@@ -79,12 +85,22 @@ def _derive(args) -> int:
 
 def add_commands(sub) -> None:
     """Register this family's commands on the ``slosh-bif`` subparsers ``sub``."""
-    info = sub.add_parser("info", help="print a preset's parameters and its restitution coefficient, rho and A_min")
+    info = sub.add_parser(
+        "info", help="print a preset's parameters and its restitution coefficient, rho and A_min"
+    )
     add_params_options(info)
     info.add_argument("--json", action="store_true", help="print JSON instead of text")
-    info.add_argument("--out", type=out_path, default=None, metavar="FILE", help="also write the parameter set (overrides applied) as a TOML parameter file for --params")
+    info.add_argument(
+        "--out",
+        type=out_path,
+        default=None,
+        metavar="FILE",
+        help="also write the parameter set (overrides applied) as a TOML parameter file for --params",
+    )
     info.set_defaults(run=_info, out_is_file=True)
 
     derive = sub.add_parser("derive", help="regenerate slosh_bif/model/_generated from the sympy derivations")
-    derive.add_argument("--check", action="store_true", help="exit 1 if the committed generated code is stale")
+    derive.add_argument(
+        "--check", action="store_true", help="exit 1 if the committed generated code is stale"
+    )
     derive.set_defaults(run=_derive)

@@ -1,4 +1,5 @@
-"""``slosh-bif shoot``: periodic orbits of (9) by shooting, or of (8) on its exact flow, continued, with their bifurcations."""
+"""``slosh-bif shoot``: periodic orbits of (9) by shooting, or of (8) on its exact flow, continued, with their
+bifurcations."""
 
 from __future__ import annotations
 
@@ -31,8 +32,11 @@ def check_family_options(args) -> float:
     if not 1e-14 <= rtol <= 1e-4:
         raise ValueError(f"--rtol must be in [1e-14, 1e-4]; got {rtol}")
     for flag, value, low, high in (
-        ("--segments", args.segments, 1, 64), ("--settle", args.settle, 0, 100_000), ("--max-branches", args.max_branches, 1, 1000),
-        ("--scan-points", args.scan_points, 1, 1000), ("--scan-random", args.scan_random, 0, 1000),
+        ("--segments", args.segments, 1, 64),
+        ("--settle", args.settle, 0, 100_000),
+        ("--max-branches", args.max_branches, 1, 1000),
+        ("--scan-points", args.scan_points, 1, 1000),
+        ("--scan-random", args.scan_random, 0, 1000),
     ):
         if not low <= value <= high:
             raise ValueError(f"{flag} must be an integer in [{low}, {high}]; got {value}")
@@ -40,7 +44,8 @@ def check_family_options(args) -> float:
 
 
 def family_from_args(args, params, lo, hi, param="sigma"):
-    """The family of orbits ``shoot`` and ``compare`` trace: from --start's orbit, over [lo, hi] of ``param``."""
+    """The family of orbits ``shoot`` and ``compare`` trace: from --start's orbit, over [lo, hi] of
+    ``param``."""
     from slosh_bif.orbits.families import SHOOTING_OPTIONS, trace_new_family
     from slosh_bif.orbits.scan import scan_families
     from slosh_bif.orbits.settings import (
@@ -55,35 +60,90 @@ def family_from_args(args, params, lo, hi, param="sigma"):
     rtol = check_family_options(args)
     options = continuation_options(args, SHOOTING_OPTIONS)
     if getattr(args, "resume", False) and args.start != "scan":
-        raise ValueError("--resume continues an interrupted --start scan; the other starts trace one family, which is not stored part by part")
+        raise ValueError(
+            "--resume continues an interrupted --start scan; the other starts trace one family, "
+            "which is not stored part by part"
+        )
     shooting = ShootingSettings(segments=args.segments, rtol=rtol, atol=rtol * 1e-2, backend=args.backend)
     branching = BranchingSettings(switch=not args.no_switch, max_branches=args.max_branches)
     if args.start == "scan":
         settings = dict(
-            params=params.as_dict(), param=param, range=[lo, hi], points=args.scan_points, random=args.scan_random, seed=args.seed, settle=args.settle,
-            segments=args.segments, switch=not args.no_switch, max_branches=args.max_branches, rtol=rtol, backend=args.backend, options=dataclasses.asdict(options),
+            params=params.as_dict(),
+            param=param,
+            range=[lo, hi],
+            points=args.scan_points,
+            random=args.scan_random,
+            seed=args.seed,
+            settle=args.settle,
+            segments=args.segments,
+            switch=not args.no_switch,
+            max_branches=args.max_branches,
+            rtol=rtol,
+            backend=args.backend,
+            options=dataclasses.asdict(options),
         )
         done, keep = pickle_store(args.out / "scan.pickle", settings, resume=getattr(args, "resume", False))
         if done is not None:
-            progress(f"resuming: {done[0]} converged starts already dealt with, {len(done[1])} branch(es) traced, in {args.out / 'scan.pickle'}")
-        starts = StartSettings(points=args.scan_points, settle=args.settle, random_starts=args.scan_random, seed=args.seed)
+            progress(
+                f"resuming: {done[0]} converged starts already dealt with, {len(done[1])} "
+                f"branch(es) traced, in {args.out / 'scan.pickle'}"
+            )
+        starts = StartSettings(
+            points=args.scan_points, settle=args.settle, random_starts=args.scan_random, seed=args.seed
+        )
         return scan_families(
-            params, state0_of(args, params), param=param, p_min=lo, p_max=hi, starts=starts, shooting=shooting, branching=branching, options=options,
-            progress=throttled(progress), resume=Resume(done, keep),
+            params,
+            state0_of(args, params),
+            param=param,
+            p_min=lo,
+            p_max=hi,
+            starts=starts,
+            shooting=shooting,
+            branching=branching,
+            options=options,
+            progress=throttled(progress),
+            resume=Resume(done, keep),
         )
     if args.start == "slow-flow":
         start = slow_flow_start(params, lo, hi, segments=args.segments, backend=args.backend)
     else:
         try:
-            start = start_orbit(params, state0_of(args, params), (lo, hi) if param == "sigma" else None, settle=args.settle, guess=args.guess, segments=args.segments, backend=args.backend)
+            start = start_orbit(
+                params,
+                state0_of(args, params),
+                (lo, hi) if param == "sigma" else None,
+                settle=args.settle,
+                guess=args.guess,
+                segments=args.segments,
+                backend=args.backend,
+            )
         except RuntimeError:
-            where = "--guess" if args.guess is not None else f"the last strobe states of a {args.settle}-period simulation"
-            raise ValueError(f"no periodic orbit found near {where} at sigma = {params.sigma:g}; pass --guess X,Xd,w,wd or change --settle") from None
+            where = (
+                "--guess"
+                if args.guess is not None
+                else f"the last strobe states of a {args.settle}-period simulation"
+            )
+            raise ValueError(
+                f"no periodic orbit found near {where} at sigma = {params.sigma:g}; pass --guess "
+                "X,Xd,w,wd or change --settle"
+            ) from None
     mu = ", ".join(f"{abs(m):.4g}" for m in start.orbit.multipliers)
     which = "from the slow flow " if args.start == "slow-flow" else ""
-    progress(f"start orbit {which}at sigma = {start.sigma:.5g}: |X(0)| = {abs(start.y0[0]):.4g}, multipliers |mu| = {mu} ({start.found_from})")
+    progress(
+        f"start orbit {which}at sigma = {start.sigma:.5g}: |X(0)| = {abs(start.y0[0]):.4g}, "
+        f"multipliers |mu| = {mu} ({start.found_from})"
+    )
     return trace_new_family(
-        start.params, start.y0, (), param=param, p_min=lo, p_max=hi, shooting=shooting, branching=branching, options=options, progress=throttled(progress),
+        start.params,
+        start.y0,
+        (),
+        param=param,
+        p_min=lo,
+        p_max=hi,
+        shooting=shooting,
+        branching=branching,
+        options=options,
+        progress=throttled(progress),
         found_from=start.found_from,
     )
 
@@ -106,12 +166,22 @@ def _shoot(args) -> int:
         return _shoot_impact(args, params, lo, hi)
     args.out.mkdir(parents=True, exist_ok=True)
     family = family_from_args(args, params, lo, hi, param=args.parameter)
-    csv_path, png_path = write_branch_csv(family, args.out / "branch.csv"), plot_family(family, args.out / "branch.png")
+    csv_path, png_path = (
+        write_branch_csv(family, args.out / "branch.csv"),
+        plot_family(family, args.out / "branch.png"),
+    )
     families_path = write_families_csv(family, args.out / "families.csv")
     for k, ob in enumerate(family.branches):
         ob.branch.save(args.out / f"branch{k}_{ob.name}.npz")
     print(family.summary(detail=REPORTER.verbose))
-    print(f"wrote {csv_path}, {families_path}, {png_path}" + ("" if REPORTER.verbose else " (each special point in branch.csv's 'special' column; -v lists them here)"))
+    print(
+        f"wrote {csv_path}, {families_path}, {png_path}"
+        + (
+            ""
+            if REPORTER.verbose
+            else " (each special point in branch.csv's 'special' column; -v lists them here)"
+        )
+    )
     return _family_status(family)
 
 
@@ -130,36 +200,63 @@ def _shoot_impact(args, params, lo, hi) -> int:
     from slosh_bif.studies.impact_chart import impact_family
 
     if args.start != "simulation":
-        raise ValueError(f"--start {args.start} is for the smooth model (9); --model impact starts from a simulation of (8) or from --guess")
+        raise ValueError(
+            f"--start {args.start} is for the smooth model (9); --model impact starts from a "
+            "simulation of (8) or from --guess"
+        )
     check_family_options(args)
     p0 = getattr(params, args.parameter)
     if not lo <= p0 <= hi:
-        raise ValueError(f"the start's {args.parameter} = {p0:g} (the preset's, or --set) must lie in the range [{lo:g}, {hi:g}]")
+        raise ValueError(
+            f"the start's {args.parameter} = {p0:g} (the preset's, or --set) must lie in the range "
+            f"[{lo:g}, {hi:g}]"
+        )
     params.require_positive_stiffness()
     options = continuation_options(args, ContinuationOptions(step=0.05, step_max=0.3, tol=1e-10))
     args.out.mkdir(parents=True, exist_ok=True)
-    x0 = args.guess if args.guess is not None else settled_orbit(params, state0_of(args, params), periods=args.settle)
+    x0 = (
+        args.guess
+        if args.guess is not None
+        else settled_orbit(params, state0_of(args, params), periods=args.settle)
+    )
     branching = BranchingSettings(switch=not args.no_switch, max_branches=args.max_branches)
-    family = impact_family(params, x0, param=args.parameter, p_range=(lo, hi), branching=branching, options=options, say=progress)
+    family = impact_family(
+        params, x0, param=args.parameter, p_range=(lo, hi), branching=branching, options=options, say=progress
+    )
     branches = [(nb.name, nb.branch, nb.symmetric) for nb in family]
-    rows = [r for name, branch, half in branches for r in impact_rows(branch, params, symmetric=half, name=name)]
-    csv_path, png_path = write_impact_csv(rows, args.out / "branch.csv"), plot_impact_branch(rows, params, args.out / "branch.png")
+    rows = [
+        r for name, branch, half in branches for r in impact_rows(branch, params, symmetric=half, name=name)
+    ]
+    csv_path, png_path = (
+        write_impact_csv(rows, args.out / "branch.csv"),
+        plot_impact_branch(rows, params, args.out / "branch.png"),
+    )
     for name, branch, _ in branches:
         for k, piece in enumerate(branch.pieces):
             piece.branch.save(args.out / f"{name}-piece{k}.npz", phase=piece.phase, impacts=piece.impacts)
     for name, branch, _ in branches:
         part = [r for r in rows if r["branch"] == name]
         kinds = [kind for r in part for kind in r["special"].split() if kind != "END"]
-        counts = ", ".join(f"{kinds.count(k)} {k}" for k in ("LP", "BP", "PD", "NS", "GR") if k in kinds) or "no special points"
-        print(f"orbits of (8), {name}: {len(part)} points in {len(branch.pieces)} pieces over {args.parameter} in [{min(r[args.parameter] for r in part):.6g}, "
-              f"{max(r[args.parameter] for r in part):.6g}], impacts per period {sorted({r['impacts'] for r in part})}; {counts}")
+        counts = (
+            ", ".join(f"{kinds.count(k)} {k}" for k in ("LP", "BP", "PD", "NS", "GR") if k in kinds)
+            or "no special points"
+        )
+        print(
+            f"orbits of (8), {name}: {len(part)} points in {len(branch.pieces)} pieces over "
+            f"{args.parameter} in [{min(r[args.parameter] for r in part):.6g}, "
+            f"{max(r[args.parameter] for r in part):.6g}], impacts per period "
+            f"{sorted({r['impacts'] for r in part})}; {counts}"
+        )
         for p_gr, _, _ in branch.grazing:
             print(f"  GR at {args.parameter} = {p_gr:.10g}")
         for end in branch.ends:
             progress(f"{name}: {end}")
     print(f"wrote {csv_path}, {png_path}")
     if not all(branch.complete for _, branch, _ in branches):
-        print("slosh-bif: a branch does not cover the requested range (its ends above; exit status 3)", file=sys.stderr)
+        print(
+            "slosh-bif: a branch does not cover the requested range (its ends above; exit status 3)",
+            file=sys.stderr,
+        )
         return 3
     return 0
 
@@ -172,47 +269,104 @@ def _family_status(family) -> int:
         progress(f"{ob.name}: {b.status} ({b.message})")
     if not family.complete:
         cut = [ob.name for ob in family.branches if ob.branch.status != "ok"]
-        print(f"slosh-bif: {len(cut)} branch(es) cut short ({', '.join(cut)}): the requested range is not covered (exit status 3)", file=sys.stderr)
+        print(
+            f"slosh-bif: {len(cut)} branch(es) cut short ({', '.join(cut)}): the requested range "
+            "is not covered (exit status 3)",
+            file=sys.stderr,
+        )
         return 3
     return 0
 
 
 def add_shooting_options(parser):
-    parser.add_argument("--segments", type=int, default=4, help="arcs of multiple shooting per period (default 4)")
-    parser.add_argument("--guess", type=floats, default=None, metavar="X,Xd,w,wd", help="state at tau = 0 near the start orbit (default: from a simulation)")
     parser.add_argument(
-        "--start", choices=("simulation", "slow-flow", "scan"), default="simulation",
-        help="start orbit: Newton from a simulation at the preset's sigma (default); from the leading-order motion of a stable steady state of (46) "
-        "in the range (no simulation); or scan: every family that simulations from several states at several sigma, every steady state of (46) "
+        "--segments", type=int, default=4, help="arcs of multiple shooting per period (default 4)"
+    )
+    parser.add_argument(
+        "--guess",
+        type=floats,
+        default=None,
+        metavar="X,Xd,w,wd",
+        help="state at tau = 0 near the start orbit (default: from a simulation)",
+    )
+    parser.add_argument(
+        "--start",
+        choices=("simulation", "slow-flow", "scan"),
+        default="simulation",
+        help="start orbit: Newton from a simulation at the preset's sigma (default); from the "
+        "leading-order motion of a stable steady state of (46) "
+        "in the range (no simulation); or scan: every family that simulations from several states "
+        "at several sigma, every steady state of (46) "
         "and the impact-free linear response reach, each traced once (families.csv lists them)",
     )
-    parser.add_argument("--scan-points", type=int, default=5, help="with --start scan: values of the continued parameter, evenly spread inside the range, to start from (default 5)")
-    parser.add_argument("--scan-random", type=int, default=4, help="with --start scan: random initial states simulated at each of those values (default 4; drawn with --seed)")
-    parser.add_argument("--seed", type=int, default=0, help="seed of the random starts of --start scan (default 0)")
-    parser.add_argument("--settle", type=int, default=150, help="periods simulated for a start guess (default 150)")
-    parser.add_argument("--max-branches", type=int, default=6, help="branches traced at most, the primary one included (default 6)")
+    parser.add_argument(
+        "--scan-points",
+        type=int,
+        default=5,
+        help="with --start scan: values of the continued parameter, evenly spread inside the range, to "
+        "start from (default 5)",
+    )
+    parser.add_argument(
+        "--scan-random",
+        type=int,
+        default=4,
+        help="with --start scan: random initial states simulated at each of those values (default 4; "
+        "drawn with --seed)",
+    )
+    parser.add_argument(
+        "--seed", type=int, default=0, help="seed of the random starts of --start scan (default 0)"
+    )
+    parser.add_argument(
+        "--settle", type=int, default=150, help="periods simulated for a start guess (default 150)"
+    )
+    parser.add_argument(
+        "--max-branches",
+        type=int,
+        default=6,
+        help="branches traced at most, the primary one included (default 6)",
+    )
     parser.add_argument("--no-switch", action="store_true", help="trace the primary branch only")
     add_backend_option(parser)
-    add_continuation_options(parser, rtol="relative tolerance of the integration of the shooting arcs (default 1e-10; the corrector follows it)")
+    add_continuation_options(
+        parser,
+        rtol="relative tolerance of the integration of the shooting arcs (default 1e-10; the corrector "
+        "follows it)",
+    )
 
 
 def add_commands(sub) -> None:
     """Register this family's commands on the ``slosh-bif`` subparsers ``sub``."""
     shoot = sub.add_parser(
         "shoot",
-        help="periodic orbits of the smooth model (9) by shooting (or of the impact model (8), --model impact), continued in sigma, with their bifurcations",
+        help="periodic orbits of the smooth model (9) by shooting (or of the impact model (8), --model "
+        "impact), continued in sigma, with their bifurcations",
         epilog="exit status: 0 when every branch covers the requested range (or ends at a fold or closes), "
-        "3 when a branch was cut short (its status in branch.csv and on stderr), 2 for bad input, 1 when a method fails",
+        "3 when a branch was cut short (its status in branch.csv and on stderr), 2 for bad input, "
+        "1 when a method fails",
     )
     add_params_options(shoot)
     add_range_options(shoot)
-    shoot.add_argument("--parameter", choices=("sigma", "Abar"), default="sigma", help="continue in sigma (default) or in Abar at the preset's sigma")
     shoot.add_argument(
-        "--model", choices=("smooth", "impact"), default="smooth",
-        help="smooth: orbits of (9) by multiple shooting (default); impact: orbits of the vibro-impact model (8) on its exact flow, "
-        "with saltation multipliers and grazing (GR); from --start simulation or --guess, no branch switching",
+        "--parameter",
+        choices=("sigma", "Abar"),
+        default="sigma",
+        help="continue in sigma (default) or in Abar at the preset's sigma",
+    )
+    shoot.add_argument(
+        "--model",
+        choices=("smooth", "impact"),
+        default="smooth",
+        help="smooth: orbits of (9) by multiple shooting (default); impact: orbits of the vibro-impact "
+        "model (8) on its exact flow, "
+        "with saltation multipliers and grazing (GR); from --start simulation or --guess, no "
+        "branch switching",
     )
     add_abar_range_options(shoot)
     add_shooting_options(shoot)
-    shoot.add_argument("--resume", action="store_true", help="with --start scan: reuse the families an interrupted scan stored in OUT/scan.pickle (same settings) and trace only the rest")
+    shoot.add_argument(
+        "--resume",
+        action="store_true",
+        help="with --start scan: reuse the families an interrupted scan stored in OUT/scan.pickle (same "
+        "settings) and trace only the rest",
+    )
     shoot.set_defaults(run=_shoot)

@@ -56,12 +56,18 @@ def _compare(args) -> int:
     if args.impact:
         params.require_positive_stiffness()
         if not lo <= params.sigma <= hi:
-            raise ValueError(f"--impact starts (8)'s branch at the set's sigma = {params.sigma:g}, which must lie in [{lo:g}, {hi:g}]")
+            raise ValueError(
+                f"--impact starts (8)'s branch at the set's sigma = {params.sigma:g}, which must "
+                f"lie in [{lo:g}, {hi:g}]"
+            )
     fr = frequency_response(params, sigma_min=lo, sigma_max=hi, model=args.model)
     family = family_from_args(args, params, lo, hi)
     impact = _impact_branch_rows(args, params, lo, hi) if args.impact else None
     rows = list(compare_rows(family, fr, np.linspace(lo, hi, args.sigma_points), impact))
-    csv_path, png_path = write_compare_csv(rows, args.out / "compare.csv"), plot_compare(family, fr, rows, args.out / "compare.png", impact)
+    csv_path, png_path = (
+        write_compare_csv(rows, args.out / "compare.csv"),
+        plot_compare(family, fr, rows, args.out / "compare.png", impact),
+    )
     table = compare_table(rows)
     write_text_atomically(args.out / "compare.txt", table + "\n")
     print(table)
@@ -79,9 +85,14 @@ def _impact_branch_rows(args, params, lo, hi) -> list:
 
     progress(f"orbits of (8) from a {args.settle}-period simulation at sigma = {params.sigma:g}")
     x0 = settled_orbit(params, state0_of(args, params), periods=args.settle)
-    result = trace_impact_orbits(params, x0, p_min=lo, p_max=hi, options=ContinuationOptions(step=0.02, step_max=0.05, tol=1e-10))
+    result = trace_impact_orbits(
+        params, x0, p_min=lo, p_max=hi, options=ContinuationOptions(step=0.02, step_max=0.05, tol=1e-10)
+    )
     rows = list(impact_rows(result, params))
-    progress(f"orbits of (8): {len(rows)} points over sigma in [{min(r['sigma'] for r in rows):.6g}, {max(r['sigma'] for r in rows):.6g}]")
+    progress(
+        f"orbits of (8): {len(rows)} points over sigma in [{min(r['sigma'] for r in rows):.6g}, "
+        f"{max(r['sigma'] for r in rows):.6g}]"
+    )
     return rows
 
 
@@ -104,28 +115,55 @@ def _trust(args) -> int:
     check_sigma_points(args)
     check_workers(args)
     settings = dict(
-        params=base.as_dict(), eps=args.eps, beta=args.beta, n=args.n, sigma_range=[lo, hi], grid=args.sigma_points, switch=not args.no_switch,
-        max_branches=args.max_branches, backend=args.backend, model=args.model,
+        params=base.as_dict(),
+        eps=args.eps,
+        beta=args.beta,
+        n=args.n,
+        sigma_range=[lo, hi],
+        grid=args.sigma_points,
+        switch=not args.no_switch,
+        max_branches=args.max_branches,
+        backend=args.backend,
+        model=args.model,
     )
     done, keep = trust_store(args.out / "trust_map.json", settings, resume=args.resume)
     if done:
         progress(f"resuming: {len(done)} parameter sets already compared in {args.out / 'trust_map.json'}")
     args.out.mkdir(parents=True, exist_ok=True)
     total = len(args.eps) * len(args.beta) * len(args.n)
-    progress(f"{total} parameter sets, each a frequency-response curve of (46) and a family of orbits of (9) (seconds to a minute each)")
+    progress(
+        f"{total} parameter sets, each a frequency-response curve of (46) and a family of orbits "
+        "of (9) (seconds to a minute each)"
+    )
 
     def report(point, done, total):
-        progress(f"{done}/{total}: eps = {point.eps:g}, beta = {point.beta:g}, n = {point.n}: {point.status}, {point.seconds:.1f} s")
+        progress(
+            f"{done}/{total}: eps = {point.eps:g}, beta = {point.beta:g}, n = {point.n}: "
+            f"{point.status}, {point.seconds:.1f} s"
+        )
 
     with sweep_executor(args) as executor:
         points = trust_map(
-            base, eps=args.eps, beta=args.beta, n=args.n, sigma_min=lo, sigma_max=hi, grid=args.sigma_points, shooting=ShootingSettings(backend=args.backend),
-            branching=BranchingSettings(switch=not args.no_switch, max_branches=args.max_branches), model=args.model, progress=report,
-            resume=Resume(done, keep), workers=Workers(executor, args.workers),
+            base,
+            eps=args.eps,
+            beta=args.beta,
+            n=args.n,
+            sigma_min=lo,
+            sigma_max=hi,
+            grid=args.sigma_points,
+            shooting=ShootingSettings(backend=args.backend),
+            branching=BranchingSettings(switch=not args.no_switch, max_branches=args.max_branches),
+            model=args.model,
+            progress=report,
+            resume=Resume(done, keep),
+            workers=Workers(executor, args.workers),
         )
     table = trust_table(points, model=args.model)
     write_text_atomically(args.out / "trust_map.txt", table + "\n")
-    csv_path, png_path = write_trust_csv(points, args.out / "trust_map.csv"), plot_trust_map(points, args.out / "trust_map.png", model=args.model)
+    csv_path, png_path = (
+        write_trust_csv(points, args.out / "trust_map.csv"),
+        plot_trust_map(points, args.out / "trust_map.png", model=args.model),
+    )
     print(table)
     print(f"wrote {csv_path}, {png_path}, {args.out / 'trust_map.txt'}")
     missing = [p.status for p in points if p.status.startswith("not computed")]
@@ -162,17 +200,32 @@ def _basins(args) -> int:
         raise ValueError(f"--tmax must be in (0, {1e3 * BASIN_TMAX:g}]; got {tmax}")
     params.require_positive_stiffness()
     first, second = np.linspace(*args.range1, n1), np.linspace(*args.range2, n2)
-    store = basin_store(args.out / "basins.json", basin_settings(params, args.axes, first, second, tmax), resume=args.resume)
+    store = basin_store(
+        args.out / "basins.json", basin_settings(params, args.axes, first, second, tmax), resume=args.resume
+    )
     if args.resume:
         progress(f"resuming: {len(store.done)} of {n1 * n2} initial states already simulated in {args.out}")
     args.out.mkdir(parents=True, exist_ok=True)
     with sweep_executor(args) as executor:
         bmap = basin_map(
-            params, first, second, axes=tuple(args.axes), tmax=tmax, backend=args.backend, workers=Workers(executor, args.workers),
-            resume=Resume(store.done, store.keep), progress=cell_progress(throttled(progress, passes=lambda message: False), "initial states simulated"),
+            params,
+            first,
+            second,
+            axes=tuple(args.axes),
+            tmax=tmax,
+            backend=args.backend,
+            workers=Workers(executor, args.workers),
+            resume=Resume(store.done, store.keep),
+            progress=cell_progress(
+                throttled(progress, passes=lambda message: False), "initial states simulated"
+            ),
         )
     store.finish(bmap.status)
-    paths = [write_basins_csv(bmap, args.out / "basins.csv"), write_attractors(bmap, args.out / "attractors.txt"), plot_basins(bmap, args.out / "basins.png")]
+    paths = [
+        write_basins_csv(bmap, args.out / "basins.csv"),
+        write_attractors(bmap, args.out / "attractors.txt"),
+        plot_basins(bmap, args.out / "basins.png"),
+    ]
     print(attractor_table(bmap))
     print("wrote " + ", ".join(str(p) for p in paths))
     if bmap.status != "complete":
@@ -206,26 +259,54 @@ def _answer(args) -> int:
     from slosh_bif.studies.ladder import answer
 
     params = params_of(args)
-    result = answer(args.question, params, tol=args.tol, state0=state0_of(args, params), sigma_min=args.sigma_min,
-                    sigma_max=args.sigma_max, tmax=args.tmax, progress=progress)
+    result = answer(
+        args.question,
+        params,
+        tol=args.tol,
+        state0=state0_of(args, params),
+        sigma_min=args.sigma_min,
+        sigma_max=args.sigma_max,
+        tmax=args.tmax,
+        progress=progress,
+    )
     print(result.summary())
     print(f"ran in {result.seconds:.2f} s")
     r = result.result
     if args.question == "frequency-response":
-        branches = [ob.branch for ob in r.branches] if hasattr(r.branches[0], "measures") else list(r.branches)
-        print(f"{len(branches)} branch(es), {sum(len(b) for b in branches)} points; special points: "
-              + ", ".join(f"{s.kind} {s.p:.5g}" for b in branches for s in b.special))
+        branches = (
+            [ob.branch for ob in r.branches] if hasattr(r.branches[0], "measures") else list(r.branches)
+        )
+        print(
+            f"{len(branches)} branch(es), {sum(len(b) for b in branches)} points; special points: "
+            + ", ".join(f"{s.kind} {s.p:.5g}" for b in branches for s in b.special)
+        )
     elif args.question == "critical-forcing":
         value, kind = (r.Abar_b, r.kind) if hasattr(r, "Abar_b") else (r.Abar_c, r.bounded_by)
-        print(f"critical forcing at sigma = {params.sigma:g}: Abar = {value:.6g} ({kind})" if np.isfinite(value) else f"no traced curve bounds stable orbits with wall contact for Abar in [{r.chart.abar_range[0]:g}, {r.chart.abar_range[1]:g}]")
+        print(
+            f"critical forcing at sigma = {params.sigma:g}: Abar = {value:.6g} ({kind})"
+            if np.isfinite(value)
+            else "no traced curve bounds stable orbits with wall contact for Abar in "
+            f"[{r.chart.abar_range[0]:g}, {r.chart.abar_range[1]:g}]"
+        )
     elif args.question == "time-response":
         A = r.A if hasattr(r, "A") else None
-        print(f"slow envelope A from {A[0]:.4g} to {A[-1]:.4g}" if A is not None else f"{r.status}: {r.message}; max |X| = {np.max(np.abs(r.y[0])):.4g}")
+        print(
+            f"slow envelope A from {A[0]:.4g} to {A[-1]:.4g}"
+            if A is not None
+            else f"{r.status}: {r.message}; max |X| = {np.max(np.abs(r.y[0])):.4g}"
+        )
     else:
         print(f"regime: {r}" if isinstance(r, str) else f"regime: {r.regime} ({r.reason})")
     if args.out is not None:
         args.out.mkdir(parents=True, exist_ok=True)
-        record = dict(question=result.question, model=result.model, reason=result.reason, error_estimate=result.error_estimate, seconds=result.seconds, params=params.as_dict())
+        record = dict(
+            question=result.question,
+            model=result.model,
+            reason=result.reason,
+            error_estimate=result.error_estimate,
+            seconds=result.seconds,
+            params=params.as_dict(),
+        )
         path = args.out / "answer.json"
         write_text_atomically(path, json.dumps(record, indent=2) + "\n")
         print(f"wrote {path}")
@@ -234,68 +315,188 @@ def _answer(args) -> int:
 
 def add_commands(sub) -> None:
     """Register this family's commands on the ``slosh-bif`` subparsers ``sub``."""
-    compare = sub.add_parser("compare", help="slow-flow curve (46) against the shooting branches of (9) over the same sigma range")
+    compare = sub.add_parser(
+        "compare", help="slow-flow curve (46) against the shooting branches of (9) over the same sigma range"
+    )
     add_params_options(compare)
     add_range_options(compare)
     add_shooting_options(compare)
     add_sigma_points_option(compare, default=141)
     add_model_option(compare)
     compare.add_argument(
-        "--impact", action="store_true",
-        help="also the orbits of the vibro-impact model (8), from a simulation of (8) at the set's sigma: the slow flow's error against (8) "
+        "--impact",
+        action="store_true",
+        help="also the orbits of the vibro-impact model (8), from a simulation of (8) at the set's "
+        "sigma: the slow flow's error against (8) "
         "(the expansion's) and (8)'s against (9) (the rigid wall's) as columns of their own",
     )
     compare.set_defaults(run=_compare)
 
-    trust = sub.add_parser("trust", help="compare over a grid of eps, beta and n: where the slow flow (46) can be trusted")
+    trust = sub.add_parser(
+        "trust", help="compare over a grid of eps, beta and n: where the slow flow (46) can be trusted"
+    )
     add_params_options(trust)
     add_range_options(trust)
-    trust.add_argument("--eps", type=floats, default=[0.02, 0.05, 0.1, 0.2], metavar="E1,E2,...", help="mass ratios (default 0.02,0.05,0.1,0.2)")
-    trust.add_argument("--beta", type=floats, default=[0.0, 0.3, 0.5], metavar="B1,B2,...", help="values of beta (default 0,0.3,0.5)")
-    trust.add_argument("--n", type=lambda s: [int(v) for v in s.split(",")], default=[6, 10, 20, 50], metavar="N1,N2,...", help="wall exponents n (default 6,10,20,50)")
+    trust.add_argument(
+        "--eps",
+        type=floats,
+        default=[0.02, 0.05, 0.1, 0.2],
+        metavar="E1,E2,...",
+        help="mass ratios (default 0.02,0.05,0.1,0.2)",
+    )
+    trust.add_argument(
+        "--beta",
+        type=floats,
+        default=[0.0, 0.3, 0.5],
+        metavar="B1,B2,...",
+        help="values of beta (default 0,0.3,0.5)",
+    )
+    trust.add_argument(
+        "--n",
+        type=lambda s: [int(v) for v in s.split(",")],
+        default=[6, 10, 20, 50],
+        metavar="N1,N2,...",
+        help="wall exponents n (default 6,10,20,50)",
+    )
     add_sigma_points_option(trust, default=141)
-    trust.add_argument("--max-branches", type=int, default=6, help="orbit branches traced per set at most (default 6)")
-    trust.add_argument("--no-switch", action="store_true", help="trace the primary orbit branch only (faster; misses stable asymmetric and period-2 orbits)")
+    trust.add_argument(
+        "--max-branches", type=int, default=6, help="orbit branches traced per set at most (default 6)"
+    )
+    trust.add_argument(
+        "--no-switch",
+        action="store_true",
+        help="trace the primary orbit branch only (faster; misses stable asymmetric and period-2 orbits)",
+    )
     trust.add_argument("--workers", type=int, default=None, help="worker processes (default: one per core)")
     add_scheduler_option(trust)
     add_backend_option(trust)
     add_model_option(trust)
-    trust.add_argument("--resume", action="store_true", help="reuse the parameter sets stored in OUT/trust_map.json by an earlier run with the same settings and compute only the rest")
+    trust.add_argument(
+        "--resume",
+        action="store_true",
+        help="reuse the parameter sets stored in OUT/trust_map.json by an earlier run with the same "
+        "settings and compute only the rest",
+    )
     trust.set_defaults(run=_trust)
 
-    basins = sub.add_parser("basins", help="basins of attraction of (9): which response each initial state reaches, at the preset's (sigma, Abar)")
+    basins = sub.add_parser(
+        "basins",
+        help="basins of attraction of (9): which response each initial state reaches, at the preset's "
+        "(sigma, Abar)",
+    )
     add_params_options(basins)
-    basins.add_argument("--grid", type=int, nargs=2, default=(21, 21), metavar=("N", "M"), help="initial states along the first and second axis (default 21 21)")
-    basins.add_argument("--axes", nargs=2, default=("X", "w"), choices=("X", "Xd", "w", "wd"), metavar=("A", "B"), help="the state components varied (the other two start at zero; default X w)")
-    basins.add_argument("--range1", type=float, nargs=2, default=(-3.0, 3.0), metavar=("LO", "HI"), help="range of the first axis (default -3 3)")
-    basins.add_argument("--range2", type=float, nargs=2, default=(-1.0, 1.0), metavar=("LO", "HI"), help="range of the second axis (default -1 1, the clearance)")
-    basins.add_argument("--tmax", type=float, default=None, help="the longest each start is followed, in tau (default 2,000 forcing periods; a start stops as soon as its strobe settles)")
+    basins.add_argument(
+        "--grid",
+        type=int,
+        nargs=2,
+        default=(21, 21),
+        metavar=("N", "M"),
+        help="initial states along the first and second axis (default 21 21)",
+    )
+    basins.add_argument(
+        "--axes",
+        nargs=2,
+        default=("X", "w"),
+        choices=("X", "Xd", "w", "wd"),
+        metavar=("A", "B"),
+        help="the state components varied (the other two start at zero; default X w)",
+    )
+    basins.add_argument(
+        "--range1",
+        type=float,
+        nargs=2,
+        default=(-3.0, 3.0),
+        metavar=("LO", "HI"),
+        help="range of the first axis (default -3 3)",
+    )
+    basins.add_argument(
+        "--range2",
+        type=float,
+        nargs=2,
+        default=(-1.0, 1.0),
+        metavar=("LO", "HI"),
+        help="range of the second axis (default -1 1, the clearance)",
+    )
+    basins.add_argument(
+        "--tmax",
+        type=float,
+        default=None,
+        help="the longest each start is followed, in tau (default 2,000 forcing periods; a start stops "
+        "as soon as its strobe settles)",
+    )
     basins.add_argument("--workers", type=int, default=None, help="worker processes (default: one per core)")
     add_scheduler_option(basins)
     add_backend_option(basins)
-    basins.add_argument("--resume", action="store_true", help="reuse the initial states simulated in OUT/basins.json by an earlier run with the same settings (an interrupted one) and simulate only the rest")
+    basins.add_argument(
+        "--resume",
+        action="store_true",
+        help="reuse the initial states simulated in OUT/basins.json by an earlier run with the same "
+        "settings (an interrupted one) and simulate only the rest",
+    )
     basins.add_argument("--out", type=out_path, required=True, help="output folder (created if missing)")
     basins.set_defaults(run=_basins)
 
     figures = sub.add_parser("figures", help="regenerate the paper's Figs. 3-15 as PNG files (about 15 s)")
     figures.add_argument("--out", type=out_path, required=True, help="output folder (created if missing)")
-    figures.add_argument("--only", nargs="+", default=None, metavar="FIG", help="only these figures, e.g. fig10 fig11")
-    figures.add_argument("--quick", action="store_true", help="short simulations and coarse grids (a smoke test)")
+    figures.add_argument(
+        "--only", nargs="+", default=None, metavar="FIG", help="only these figures, e.g. fig10 fig11"
+    )
+    figures.add_argument(
+        "--quick", action="store_true", help="short simulations and coarse grids (a smoke test)"
+    )
     figures.set_defaults(run=_figures)
 
-    ans = sub.add_parser("answer", help="answer a question with the lightest model whose measured error is within --tol")
-    ans.add_argument("question", choices=("frequency-response", "critical-forcing", "time-response", "regime"))
+    ans = sub.add_parser(
+        "answer", help="answer a question with the lightest model whose measured error is within --tol"
+    )
+    ans.add_argument(
+        "question", choices=("frequency-response", "critical-forcing", "time-response", "regime")
+    )
     add_params_options(ans)
-    ans.add_argument("--tol", type=float, default=0.05, help="relative error allowed (for the regime: the misclassification rate; default 0.05)")
-    ans.add_argument("--sigma-min", type=float, default=None, help="frequency response: lower end of sigma (default sigma - 3)")
-    ans.add_argument("--sigma-max", type=float, default=None, help="frequency response: upper end of sigma (default sigma + 3)")
+    ans.add_argument(
+        "--tol",
+        type=float,
+        default=0.05,
+        help="relative error allowed (for the regime: the misclassification rate; default 0.05)",
+    )
+    ans.add_argument(
+        "--sigma-min",
+        type=float,
+        default=None,
+        help="frequency response: lower end of sigma (default sigma - 3)",
+    )
+    ans.add_argument(
+        "--sigma-max",
+        type=float,
+        default=None,
+        help="frequency response: upper end of sigma (default sigma + 3)",
+    )
     add_tmax_option(ans)
-    ans.add_argument("--out", type=out_path, default=None, help="output folder for answer.json (the choice, its reason and error estimate)")
+    ans.add_argument(
+        "--out",
+        type=out_path,
+        default=None,
+        help="output folder for answer.json (the choice, its reason and error estimate)",
+    )
     ans.set_defaults(run=_answer)
 
-    bench = sub.add_parser("bench", help="work-precision charts: frequency-response question, integrators, cost of growth (a few minutes)")
+    bench = sub.add_parser(
+        "bench",
+        help="work-precision charts: frequency-response question, integrators, cost of growth (a few "
+        "minutes)",
+    )
     bench.add_argument("--out", type=out_path, required=True, help="output folder (created if missing)")
-    bench.add_argument("--only", nargs="+", default=None, choices=("frequency-response", "integration", "growth", "speed"), help="only these benchmarks")
-    bench.add_argument("--repeats", type=int, default=3, help="timing rounds per point; the median is reported (default 3)")
-    bench.add_argument("--quick", action="store_true", help="fewer points and one round (a smoke test, not a measurement)")
+    bench.add_argument(
+        "--only",
+        nargs="+",
+        default=None,
+        choices=("frequency-response", "integration", "growth", "speed"),
+        help="only these benchmarks",
+    )
+    bench.add_argument(
+        "--repeats", type=int, default=3, help="timing rounds per point; the median is reported (default 3)"
+    )
+    bench.add_argument(
+        "--quick", action="store_true", help="fewer points and one round (a smoke test, not a measurement)"
+    )
     bench.set_defaults(run=_bench)

@@ -28,7 +28,8 @@ class Reporter:
         return self.level == "normal" and sys.stderr.isatty()
 
     def update(self, message: str) -> None:
-        """A passing state ("point 219, sigma = -0.74"): the status line on a terminal, a plain line elsewhere."""
+        """A passing state ("point 219, sigma = -0.74"): the status line on a terminal, a plain line
+        elsewhere."""
         if self.level == "quiet":
             return
         if not self._live():

@@ -22,7 +22,18 @@ import numpy as np
 
 from slosh_bif.atomic import replaced_atomically
 
-__all__ = ["Branch", "SpecialPoint", "Kind", "Status", "polyline_distance", "FOLD", "BRANCH_POINT", "PERIOD_DOUBLING", "NEIMARK_SACKER", "END"]
+__all__ = [
+    "Branch",
+    "SpecialPoint",
+    "Kind",
+    "Status",
+    "polyline_distance",
+    "FOLD",
+    "BRANCH_POINT",
+    "PERIOD_DOUBLING",
+    "NEIMARK_SACKER",
+    "END",
+]
 
 
 class Kind(str, enum.Enum):
@@ -59,14 +70,19 @@ class Status(str, enum.Enum):
     STEPS = "step limit"
     STALL = "step below minimum"
     TIME = "time limit"
-    TERMINAL = "terminal point"  # a located special point where the curve ends by nature (an NS curve at R1 or R2)
+    TERMINAL = (
+        "terminal point"  # a located special point where the curve ends by nature (an NS curve at R1 or R2)
+    )
 
     def __str__(self):
         return self.value
 
 
 FOLD, BRANCH_POINT, END = Kind.FOLD.value, Kind.BRANCH_POINT.value, Kind.END.value
-PERIOD_DOUBLING, NEIMARK_SACKER = Kind.PERIOD_DOUBLING.value, Kind.NEIMARK_SACKER.value  # from a problem's own test functions
+PERIOD_DOUBLING, NEIMARK_SACKER = (
+    Kind.PERIOD_DOUBLING.value,
+    Kind.NEIMARK_SACKER.value,
+)  # from a problem's own test functions
 
 
 @dataclasses.dataclass(frozen=True)
@@ -198,13 +214,26 @@ class Branch:
             "ends": [list(e) for e in self.ends],
             "diagnostics": sorted(self.diagnostics),
             "special": [
-                {"kind": str(s.kind), "index": s.index, "p": s.p, "bracket": list(s.bracket), "message": s.message, "located": s.located, "reason": str(s.reason), "edge": s.edge}
+                {
+                    "kind": str(s.kind),
+                    "index": s.index,
+                    "p": s.p,
+                    "bracket": list(s.bracket),
+                    "message": s.message,
+                    "located": s.located,
+                    "reason": str(s.reason),
+                    "edge": s.edge,
+                }
                 for s in self.special
             ],
         }
         special_x = np.array([s.x for s in self.special]) if self.special else np.zeros((0, self.x.shape[1]))
         width = self.x.shape[1] + 1
-        special_t = np.array([s.tangent if s.tangent is not None else np.full(width, np.nan) for s in self.special]) if self.special else np.zeros((0, width))
+        special_t = (
+            np.array([s.tangent if s.tangent is not None else np.full(width, np.nan) for s in self.special])
+            if self.special
+            else np.zeros((0, width))
+        )
         path = Path(path) if str(path).endswith(".npz") else Path(f"{path}.npz")  # numpy's naming
         with replaced_atomically(path) as tmp:  # whole or not at all
             self._savez(tmp, meta, special_x, special_t, extra)
@@ -238,8 +267,16 @@ class Branch:
 
             special = tuple(
                 SpecialPoint(
-                    s["kind"], int(s["index"]), float(s["p"]), data["special_x"][i].copy(), tuple(s["bracket"]), s["message"],
-                    tangent(i), bool(s.get("located", True)), s.get("reason", ""), s.get("edge", ""),
+                    s["kind"],
+                    int(s["index"]),
+                    float(s["p"]),
+                    data["special_x"][i].copy(),
+                    tuple(s["bracket"]),
+                    s["message"],
+                    tangent(i),
+                    bool(s.get("located", True)),
+                    s.get("reason", ""),
+                    s.get("edge", ""),
                 )
                 for i, s in enumerate(meta["special"])
             )
@@ -281,5 +318,9 @@ def polyline_distance(points, u) -> float:
     if len(points) == 1:
         return float(np.linalg.norm(points[0] - u))
     seg = np.diff(points, axis=0)
-    w = np.clip(np.einsum("ij,ij->i", u - points[:-1], seg) / np.maximum(np.einsum("ij,ij->i", seg, seg), 1e-300), 0, 1)
+    w = np.clip(
+        np.einsum("ij,ij->i", u - points[:-1], seg) / np.maximum(np.einsum("ij,ij->i", seg, seg), 1e-300),
+        0,
+        1,
+    )
     return float(np.min(np.linalg.norm(points[:-1] + w[:, None] * seg - u, axis=1)))

@@ -15,7 +15,19 @@ import numpy as np
 from slosh_bif.continuation.options import ConvergenceError
 from slosh_bif.continuation.problem import capabilities
 
-__all__ = ["Point", "NewtonResult", "in_domain", "top_rows", "bordered", "solve", "make_point", "initial_tangent", "correct", "newton", "newton_solve"]
+__all__ = [
+    "Point",
+    "NewtonResult",
+    "in_domain",
+    "top_rows",
+    "bordered",
+    "solve",
+    "make_point",
+    "initial_tangent",
+    "correct",
+    "newton",
+    "newton_solve",
+]
 
 
 @dataclasses.dataclass
@@ -92,7 +104,9 @@ def correct(problem, u_pred, t, opts):
         if not in_domain(problem, u):
             return None, k
         F = problem.residual(u[:-1], u[-1])
-        if not np.all(np.isfinite(F)):  # an evaluation failed (an integration, say): the step is cut, no Jacobian is formed
+        if not np.all(
+            np.isfinite(F)
+        ):  # an evaluation failed (an integration, say): the step is cut, no Jacobian is formed
             return None, k
         scale = 1.0 + np.linalg.norm(u)
         residual = np.linalg.norm(F)
@@ -144,12 +158,16 @@ def newton_solve(problem, x0, p, *, tol=1e-11, max_iter=30, criterion: str = "st
             return result(False, k, f"Newton left the problem's domain at iteration {k} (x = {x}, p = {p})")
         F = problem.residual(x, p)
         if not np.all(np.isfinite(F)):
-            return result(False, k, "the residual is not finite (an integration failed): no solution near this guess")
+            return result(
+                False, k, "the residual is not finite (an integration failed): no solution near this guess"
+            )
         scale = 1 + np.linalg.norm(x)
         if criterion == "residual" and np.linalg.norm(F) <= tol * scale:
             return result(True, k, f"converged in {k} Newton steps")
         if criterion == "step" and k == 0 and np.linalg.norm(F) <= 1e3 * np.finfo(float).eps * scale:
-            return result(True, 0, "the start is a solution")  # e.g. a closed form: no step, no Jacobian needed
+            return result(
+                True, 0, "the start is a solution"
+            )  # e.g. a closed form: no step, no Jacobian needed
         if k == max_iter:
             break
         try:
@@ -161,7 +179,9 @@ def newton_solve(problem, x0, p, *, tol=1e-11, max_iter=30, criterion: str = "st
             return result(False, k + 1, "Newton diverged (non-finite iterate)")
         if criterion == "step" and np.linalg.norm(dx) <= tol * (1 + np.linalg.norm(x)):
             return result(True, k + 1, f"converged in {k + 1} Newton steps")
-    return result(False, max_iter, f"no convergence in {max_iter} Newton steps (last |F| = {np.linalg.norm(F):.3g})")
+    return result(
+        False, max_iter, f"no convergence in {max_iter} Newton steps (last |F| = {np.linalg.norm(F):.3g})"
+    )
 
 
 def newton(problem, x0, p, *, tol=1e-11, max_iter=30):

@@ -42,7 +42,9 @@ def locate(problem, a: Point, h, which, opts, bend=None):
         return seen[s]
 
     try:
-        s = optimize.brentq(lambda s: point(s).tests[which], 0.0, h, xtol=opts.locate_tol, rtol=4 * np.finfo(float).eps)
+        s = optimize.brentq(
+            lambda s: point(s).tests[which], 0.0, h, xtol=opts.locate_tol, rtol=4 * np.finfo(float).eps
+        )
         return point(s), ""
     except ConvergenceError:
         if not seen:
@@ -68,7 +70,11 @@ def special_between(problem, a: Point, b: Point, h, opts, bend=None):
     confirm = caps.confirm
     for which, kind, enabled in tests:
         floor = caps.test_floor.get(kind, 0.0)
-        if enabled and np.sign(a.tests[which]) * np.sign(b.tests[which]) < 0 and max(abs(a.tests[which]), abs(b.tests[which])) >= floor:
+        if (
+            enabled
+            and np.sign(a.tests[which]) * np.sign(b.tests[which]) < 0
+            and max(abs(a.tests[which]), abs(b.tests[which])) >= floor
+        ):
             try:
                 q, note = locate(problem, a, h, which, opts, bend)
             except (ConvergenceError, ValueError) as err:

@@ -89,7 +89,17 @@ def _end_on_bound(problem, points, b_u, opts):
     except (ConvergenceError, np.linalg.LinAlgError):
         x = (1 - w) * a.u[:-1] + w * b_u[:-1]  # a fold on the bound: keep the interpolated point
     u = np.append(x, bound)
-    points.append(make_point(problem, u, a.t, kind=END, message=_bound_message(bound, opts), bracket=(a.u[-1], b_u[-1]), reason=BOUND))
+    points.append(
+        make_point(
+            problem,
+            u,
+            a.t,
+            kind=END,
+            message=_bound_message(bound, opts),
+            bracket=(a.u[-1], b_u[-1]),
+            reason=BOUND,
+        )
+    )
 
 
 def _mark_end(point: Point, reason: str, message: str, bracket=None):
@@ -119,7 +129,12 @@ def _run(problem, start: Point, opts, loop_guard: bool, callback=None):
             _mark_end(points[-1], STEPS, f"{STEPS} ({opts.max_steps} steps)")
             return points, STEPS
         if time.monotonic() > deadline:
-            _mark_end(points[-1], TIME, f"{TIME} ({opts.max_seconds:g} s of wall clock, a safety net: where it ends depends on the machine's load)")
+            _mark_end(
+                points[-1],
+                TIME,
+                f"{TIME} ({opts.max_seconds:g} s of wall clock, a safety net: where it ends "
+                "depends on the machine's load)",
+            )
             return points, TIME
         a = points[-1]
         # A turn estimated at tiny steps may be noise: trusted only while it moves the guess by < h / 2.
@@ -132,7 +147,13 @@ def _run(problem, start: Point, opts, loop_guard: bool, callback=None):
             if h < opts.step_min:
                 finer = _finer(caps, refinements) if _stalls(caps, points[-1], edge_hits) else None
                 if finer is not None:  # resume with the finer problem from the last point
-                    problem, caps, refinements, h, bend = finer, capabilities(finer), refinements + 1, opts.step, None
+                    problem, caps, refinements, h, bend = (
+                        finer,
+                        capabilities(finer),
+                        refinements + 1,
+                        opts.step,
+                        None,
+                    )
                     accept, terminal = caps.accept, caps.terminal_kinds
                     _restart_at(finer, points)
                     continue
@@ -165,12 +186,24 @@ def _run(problem, start: Point, opts, loop_guard: bool, callback=None):
         if crept >= CREEP_STEPS and (finer := _finer(caps, refinements)) is not None:
             # Newton converges only for tiny steps: resume where the creeping began with the finer problem
             del points[len(points) - crept :]
-            problem, caps, refinements, h, bend, crept = finer, capabilities(finer), refinements + 1, opts.step, None, 0
+            problem, caps, refinements, h, bend, crept = (
+                finer,
+                capabilities(finer),
+                refinements + 1,
+                opts.step,
+                None,
+                0,
+            )
             accept, terminal = caps.accept, caps.terminal_kinds
             _restart_at(finer, points)
             continue
         if crept >= CREEP_STEPS:  # Newton converges only for tiny steps: a singular point, not progress
-            _mark_end(points[-1], STALL, f"{STALL}: {CREEP_STEPS} steps in a row below {CREEP * opts.step_min:.1g} (a singular point of the system)")
+            _mark_end(
+                points[-1],
+                STALL,
+                f"{STALL}: {CREEP_STEPS} steps in a row below {CREEP * opts.step_min:.1g} (a "
+                "singular point of the system)",
+            )
             return points, STALL
         if loop_guard and len(points) > 3 and _passes(start, a.u, u, h):
             # A closed curve has no end: the branch's message says it closed, no point is an END.
@@ -221,7 +254,19 @@ def _end_after_failures(problem, points, h, edge_hits, opts):
     bracket = (a.u[-1], (a.u + 2 * h * a.t)[-1])
     edge = _edge_point(problem, a, opts) if reason == EDGE else None
     if edge is not None:
-        points.append(Point(edge, a.t, 0, END, f"{reason}: {caps.edge_name}", bracket, a.tests, reason=reason, edge=caps.edge_name))
+        points.append(
+            Point(
+                edge,
+                a.t,
+                0,
+                END,
+                f"{reason}: {caps.edge_name}",
+                bracket,
+                a.tests,
+                reason=reason,
+                edge=caps.edge_name,
+            )
+        )
     else:
         near = caps.edge_name_near(a.u) if reason == EDGE else "boundary"
         name = near if (at_named_edge or reason == EDGE) and near != "boundary" else None
@@ -263,11 +308,14 @@ def _passes(start: Point, ua, ub, h):
 # -- the driver ------------------------------------------------------------------------------------
 
 
-def continuation(problem, x0, p0, *, param="p", options: ContinuationOptions | None = None, orient=None, callback=None) -> Branch:
+def continuation(
+    problem, x0, p0, *, param="p", options: ContinuationOptions | None = None, orient=None, callback=None
+) -> Branch:
     """Trace the solution curve of ``problem`` through ``(x0, p0)``; returns a :class:`Branch`.
 
     ``x0`` is corrected at fixed ``p0`` first, or, where that is singular (a start at a fold),
-    along the branch's tangent (a :class:`ConvergenceError` says why when neither works). Mid-branch failures do not raise: the branch ends there with the reason.
+    along the branch's tangent (a :class:`ConvergenceError` says why when neither works). Mid-branch failures
+    do not raise: the branch ends there with the reason.
     ``orient`` (a vector in (x, p)) makes "forward" the direction along it instead of along
     increasing p (needed where the branch runs across the parameter, as after a pitchfork).
     ``callback(p, x)``, if given, is called after every accepted point (for progress reports).
@@ -275,10 +323,14 @@ def continuation(problem, x0, p0, *, param="p", options: ContinuationOptions | N
     opts = options or ContinuationOptions()
     require_problem(problem)  # a TypeError naming what is missing, before any work
     if not opts.p_min <= p0 <= opts.p_max:
-        raise ValueError(f"start parameter {param} = {p0} lies outside [p_min, p_max] = [{opts.p_min}, {opts.p_max}]")
+        raise ValueError(
+            f"start parameter {param} = {p0} lies outside [p_min, p_max] = [{opts.p_min}, {opts.p_max}]"
+        )
     x0 = np.atleast_1d(np.asarray(x0, dtype=float))
     if len(x0) != len(problem.names) or not np.all(np.isfinite(x0)):
-        raise ValueError(f"x0 must be {len(problem.names)} finite numbers ({', '.join(problem.names)}); got {x0}")
+        raise ValueError(
+            f"x0 must be {len(problem.names)} finite numbers ({', '.join(problem.names)}); got {x0}"
+        )
     try:
         u0 = np.append(newton(problem, x0, p0, tol=opts.tol), p0)
     except ConvergenceError as err:
@@ -287,11 +339,22 @@ def continuation(problem, x0, p0, *, param="p", options: ContinuationOptions | N
         guess = np.append(x0, p0)
         u0, _ = correct(problem, guess, initial_tangent(problem, guess, True), opts)
         if u0 is None:
-            raise ConvergenceError(f"{err}; the pseudo-arclength corrector from the same point failed too") from None
+            raise ConvergenceError(
+                f"{err}; the pseudo-arclength corrector from the same point failed too"
+            ) from None
     return _trace(problem, u0, param, opts, orient, callback)
 
 
-def switch_branch(problem, point, *, param="p", options: ContinuationOptions | None = None, along=None, step=None, callback=None) -> Branch:
+def switch_branch(
+    problem,
+    point,
+    *,
+    param="p",
+    options: ContinuationOptions | None = None,
+    along=None,
+    step=None,
+    callback=None,
+) -> Branch:
     """The branch that crosses the old one at a located branch point, traced away from it.
 
     ``point`` is a :class:`SpecialPoint` (or an ``(x, p)`` pair) at a simple branch point of
@@ -316,9 +379,13 @@ def switch_branch(problem, point, *, param="p", options: ContinuationOptions | N
     for _ in range(6):
         u_new, _ = correct(problem, u + h * t_new, t_new, opts)
         if u_new is not None and np.linalg.norm(u_new - u) > 0.25 * h:
-            return _trace(problem, u_new, param, dataclasses.replace(opts, direction="forward"), t_new, callback)
+            return _trace(
+                problem, u_new, param, dataclasses.replace(opts, direction="forward"), t_new, callback
+            )
         h *= 0.5
-    raise ConvergenceError(f"no new branch found at the branch point {param} = {p:.8g} (corrector failed or fell back)")
+    raise ConvergenceError(
+        f"no new branch found at the branch point {param} = {p:.8g} (corrector failed or fell back)"
+    )
 
 
 def _trace(problem, u0, param, opts, orient=None, callback=None) -> Branch:
@@ -338,7 +405,13 @@ def _trace(problem, u0, param, opts, orient=None, callback=None) -> Branch:
     if back and ahead:
         if ahead[0].kind and not back[0].kind:  # the forward run ended at its first point
             back[0].kind, back[0].message, back[0].reason = ahead[0].kind, ahead[0].message, ahead[0].reason
-        elif not back[0].kind and len(back) > 1 and len(ahead) > 1 and abs(back[0].t[-1]) < 1e-6 and not (back[1].kind or ahead[1].kind):
+        elif (
+            not back[0].kind
+            and len(back) > 1
+            and len(ahead) > 1
+            and abs(back[0].t[-1]) < 1e-6
+            and not (back[1].kind or ahead[1].kind)
+        ):
             # A start exactly at a fold: the runs leave it on the same side of p, so no step of
             # either run sees the sign change of t_p. The start point is the fold.
             if (back[1].u[-1] - back[0].u[-1]) * (ahead[1].u[-1] - ahead[0].u[-1]) > 0:
@@ -363,11 +436,26 @@ def _assemble(problem, points, param, status, message, opts, ends=()) -> Branch:
     for q in points:  # the ends appended last
         _stamp(caps, q)
     eigenvalues = np.array([q.eigenvalues for q in points])
-    stable = np.array([caps.is_stable(ev) for ev in eigenvalues]) if caps.has_stability else np.ones(len(points), dtype=bool)
+    stable = (
+        np.array([caps.is_stable(ev) for ev in eigenvalues])
+        if caps.has_stability
+        else np.ones(len(points), dtype=bool)
+    )
     names = sorted(set().union(*(q.diagnostics for q in points)))
     diagnostics = {k: np.array([q.diagnostics.get(k, np.nan) for q in points]) for k in names}
     special = tuple(
-        SpecialPoint(q.kind, i, float(q.u[-1]), q.u[:-1].copy(), tuple(float(v) for v in q.bracket), q.message, q.t.copy(), q.located, q.reason, q.edge)
+        SpecialPoint(
+            q.kind,
+            i,
+            float(q.u[-1]),
+            q.u[:-1].copy(),
+            tuple(float(v) for v in q.bracket),
+            q.message,
+            q.t.copy(),
+            q.located,
+            q.reason,
+            q.edge,
+        )
         for i, q in enumerate(points)
         if q.kind
     )

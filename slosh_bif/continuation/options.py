@@ -11,7 +11,18 @@ import math
 
 from slosh_bif.continuation.branch import Status
 
-__all__ = ["ContinuationOptions", "ConvergenceError", "BOUND", "EDGE", "LOOP", "TERMINAL", "STEPS", "STALL", "TIME", "COMPLETE"]
+__all__ = [
+    "ContinuationOptions",
+    "ConvergenceError",
+    "BOUND",
+    "EDGE",
+    "LOOP",
+    "TERMINAL",
+    "STEPS",
+    "STALL",
+    "TIME",
+    "COMPLETE",
+]
 
 # End reasons of one direction; the first four make a complete branch (status "ok").
 BOUND, EDGE, LOOP, TERMINAL = Status.BOUND.value, Status.EDGE.value, Status.LOOP.value, Status.TERMINAL.value
@@ -83,14 +94,19 @@ class ContinuationOptions:
             if not ok:
                 raise ValueError(f"option {name} must be {allowed}; got {getattr(self, name)!r}")
 
-        need(0 < self.step_min <= self.step <= self.step_max < math.inf, "step", "in [step_min, step_max], all positive and finite")
+        need(
+            0 < self.step_min <= self.step <= self.step_max < math.inf,
+            "step",
+            "in [step_min, step_max], all positive and finite",
+        )
         need(isinstance(self.max_steps, int) and self.max_steps >= 1, "max_steps", "an integer >= 1")
         need(self.p_min < self.p_max, "p_min", "< p_max")
         need(0 < self.tol < 1e-2, "tol", "in (0, 1e-2)")
         need(isinstance(self.max_newton, int) and self.max_newton >= 2, "max_newton", "an integer >= 2")
         need(1 < self.growth <= 4, "growth", "in (1, 4]")
         need(0 < self.max_angle <= math.pi / 2, "max_angle", "in (0, pi/2]")
-        need(self.direction in ("both", "forward", "backward"), "direction", "'both', 'forward' or 'backward'")
+        need(
+            self.direction in ("both", "forward", "backward"), "direction", "'both', 'forward' or 'backward'"
+        )
         need(0 < self.locate_tol < 1e-3, "locate_tol", "in (0, 1e-3)")
         need(self.max_seconds > 0, "max_seconds", "> 0 (inf for no limit)")
-

@@ -39,7 +39,17 @@ from typing import Protocol, runtime_checkable
 
 import numpy as np
 
-__all__ = ["Problem", "Domain", "Edges", "Stability", "OwnTests", "Refinable", "Capabilities", "capabilities", "require_problem"]
+__all__ = [
+    "Problem",
+    "Domain",
+    "Edges",
+    "Stability",
+    "OwnTests",
+    "Refinable",
+    "Capabilities",
+    "capabilities",
+    "require_problem",
+]
 
 REQUIRED = ("names", "residual", "jacobian", "dparam")
 
@@ -125,7 +135,9 @@ class Capabilities:
 
     def in_domain(self, u) -> bool:
         """u = (x, p) is finite and inside the problem's domain."""
-        return bool(np.all(np.isfinite(u))) and (self._in_domain is None or bool(self._in_domain(u[:-1], u[-1])))
+        return bool(np.all(np.isfinite(u))) and (
+            self._in_domain is None or bool(self._in_domain(u[:-1], u[-1]))
+        )
 
     def tests(self, x, p) -> tuple:
         """The problem's own test values, in the order of ``test_kinds`` (empty without them)."""
@@ -155,7 +167,10 @@ def require_problem(problem) -> None:
     ``residual`` and ``jacobian``)."""
     missing = [name for name in REQUIRED if not hasattr(problem, name)]
     if missing:
-        raise TypeError(f"{type(problem).__name__} is not a continuation problem: it lacks {', '.join(missing)} (see slosh_bif.continuation.problem)")
+        raise TypeError(
+            f"{type(problem).__name__} is not a continuation problem: it lacks "
+            f"{', '.join(missing)} (see slosh_bif.continuation.problem)"
+        )
 
 
 def capabilities(problem) -> Capabilities:

@@ -22,5 +22,10 @@ def jit(function=None, inline=False):
     # nogil: a worker's watch on its parent (slosh_bif.simulation.sweep) runs during a long call.
     if function is None:
         return lambda f: jit(f, inline)
-    options = {"cache": True, "nogil": True, "error_model": "numpy", "inline": "always" if inline else "never"}
+    options = {
+        "cache": True,
+        "nogil": True,
+        "error_model": "numpy",
+        "inline": "always" if inline else "never",
+    }
     return numba.njit(**options)(function) if HAVE_NUMBA else function

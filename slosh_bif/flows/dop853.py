@@ -31,6 +31,7 @@ if HAVE_NUMBA:  # before any kernel compiles: the kernels' int_power becomes rep
     def _int_power_compiled(x, k):
         return _powers.int_power_by_squaring
 
+
 _STAGES = _dop.N_STAGES
 _A = np.ascontiguousarray(_dop.A[:_STAGES, :_STAGES])
 _B = np.ascontiguousarray(_dop.B)
@@ -89,7 +90,9 @@ def _grid_loop(which, taus, z0, pars, rtol, atol, max_steps, A, B, C, E3, E5):
     out[0] = z0
     h = 0.0
     for k in range(1, taus.shape[0]):
-        z, steps, rejected, nfev, h, status = _dop853_loop(which, taus[k - 1], taus[k], out[k - 1], pars, rtol, atol, h, max_steps, A, B, C, E3, E5)
+        z, steps, rejected, nfev, h, status = _dop853_loop(
+            which, taus[k - 1], taus[k], out[k - 1], pars, rtol, atol, h, max_steps, A, B, C, E3, E5
+        )
         if status != 0:
             return out, k, status
         out[k] = z
@@ -123,7 +126,11 @@ def _noisy_kernel_py(tau, y, out, pars):
     out[3] += force
 
 
-_RAW = {"plain": _kernels.smooth_rhs_kernel, "shooting": _kernels.smooth_shooting_kernel, "pair": _kernels.smooth_pair_kernel}
+_RAW = {
+    "plain": _kernels.smooth_rhs_kernel,
+    "shooting": _kernels.smooth_shooting_kernel,
+    "pair": _kernels.smooth_pair_kernel,
+}
 _WHICH = {"plain": 0, "shooting": 1, "noisy": 2, "pair": 3}
 _plain_kernel = _jit(_RAW["plain"], inline=True)
 _shooting_kernel = _jit(_RAW["shooting"], inline=True)
@@ -197,7 +204,9 @@ def _dop853_loop(which, t0, t1, z0, pars, rtol, atol, h, max_steps, A, B, C, E3,
                 t_new = t1
             hh = t_new - t
             for s in range(1, 12):
-                if n > 4:  # the shooting system: row by row of K, contiguous and vectorised, zeros skipped (40 % faster at 29 components; 20 % slower at 4)
+                # the shooting system: row by row of K, contiguous and vectorised, zeros skipped (40 %
+                # faster at 29 components; 20 % slower at 4)
+                if n > 4:
                     for i in range(n):
                         tmp[i] = 0.0
                     for j in range(s):

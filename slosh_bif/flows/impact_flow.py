@@ -150,7 +150,27 @@ def _crossing(K, terms, za, side, L, out):
 
 
 @jit
-def _piece(table, dtable, K, taylor, lengths, growth, row_norm, z, k0, out, stack_z, stack_k, stack_s, jac, phi, dp, tmp, za, zb):
+def _piece(
+    table,
+    dtable,
+    K,
+    taylor,
+    lengths,
+    growth,
+    row_norm,
+    z,
+    k0,
+    out,
+    stack_z,
+    stack_k,
+    stack_s,
+    jac,
+    phi,
+    dp,
+    tmp,
+    za,
+    zb,
+):
     """Advance ``z`` over one dyadic piece of length ``lengths[k0]``, or to the first impact in it;
     with ``jac``, carry the variations ``phi`` (d y / d y0) and ``dp`` (d y / d param) along.
 
@@ -225,7 +245,28 @@ def _saltation(K, z_minus, z_plus, slope, phi, dp):
 
 
 @jit
-def _run(table, dtable, K, taylor, lengths, growth, row_norm, kappa_c, kappa_q, dc, y0, t0, t1, h, stick_speed, max_impacts, capacity, jac, phi, dp):
+def _run(
+    table,
+    dtable,
+    K,
+    taylor,
+    lengths,
+    growth,
+    row_norm,
+    kappa_c,
+    kappa_q,
+    dc,
+    y0,
+    t0,
+    t1,
+    h,
+    stick_speed,
+    max_impacts,
+    capacity,
+    jac,
+    phi,
+    dp,
+):
     """Samples every h from t0 to t1 (t1 last) with the impacts among them; see :class:`ImpactFlow`.
     Stops with code _FULL when more than ``capacity`` impacts would be stored. With ``jac``,
     ``phi`` (identity on entry) and ``dp`` (zero) end as d y(t1) / d y0 and d y(t1) / d param."""
@@ -258,7 +299,10 @@ def _run(table, dtable, K, taylor, lengths, growth, row_norm, kappa_c, kappa_q, 
             if not jac and rest >= 1.0 - 1e-9:  # a whole step certified free, without the search's set-up
                 _apply(table[0], z, zn)
                 B = row_norm * growth[0] * _max_abs(z)
-                if not (_may_reach(z[2], z[3], zn[2], zn[3], h, B) or _may_reach(-z[2], -z[3], -zn[2], -zn[3], h, B)):
+                if not (
+                    _may_reach(z[2], z[3], zn[2], zn[3], h, B)
+                    or _may_reach(-z[2], -z[3], -zn[2], -zn[3], h, B)
+                ):
                     z[:] = zn
                     break
             for k in range(LEVELS + 1):
@@ -267,7 +311,27 @@ def _run(table, dtable, K, taylor, lengths, growth, row_norm, kappa_c, kappa_q, 
                     if rest < lengths[LEVELS] / h:
                         break
                     continue
-                side, s = _piece(table, dtable, K, taylor, lengths, growth, row_norm, z, k, zn, stack_z, stack_k, stack_s, jac, phi, dp, tmp, za, zb)
+                side, s = _piece(
+                    table,
+                    dtable,
+                    K,
+                    taylor,
+                    lengths,
+                    growth,
+                    row_norm,
+                    z,
+                    k,
+                    zn,
+                    stack_z,
+                    stack_k,
+                    stack_s,
+                    jac,
+                    phi,
+                    dp,
+                    tmp,
+                    za,
+                    zb,
+                )
                 z[:] = zn
                 if side != 0:
                     done += s
@@ -328,7 +392,9 @@ class ImpactFlow:
         if not (np.isfinite(step) and 0 < step <= 0.5):
             raise ValueError(f"sample_step must be in (0, 0.5]; got {step!r}")
         if param is not None and param not in LINEAR_PARAMETERS + WALL_PARAMETERS:
-            raise ValueError(f"param must be one of {', '.join(LINEAR_PARAMETERS + WALL_PARAMETERS)}; got {param!r}")
+            raise ValueError(
+                f"param must be one of {', '.join(LINEAR_PARAMETERS + WALL_PARAMETERS)}; got {param!r}"
+            )
         K = ImpactModel(params).augmented()
         self.K = K
         self.step = float(step)
@@ -352,7 +418,10 @@ class ImpactFlow:
         self.kappa_q = P.pbar / (P.n + 1)
         # dc / d param of kappa = sqrt(1 - c v**q) (21): c is linear in lam and goes as chi**-a
         exponent = P.pbar / (2 * (P.n + 1)) + 0.5
-        self.dc = {"lam": float(dissipation_at_unit_speed(1.0, P.chi, P.n, P.pbar)), "chi": -exponent * self.kappa_c / P.chi}.get(param, 0.0)
+        self.dc = {
+            "lam": float(dissipation_at_unit_speed(1.0, P.chi, P.n, P.pbar)),
+            "chi": -exponent * self.kappa_c / P.chi,
+        }.get(param, 0.0)
 
     def _call(self, y0, t0, t1, stick_speed, max_impacts, capacity, jac):
         """The compiled run from room for ``capacity`` impacts up, rerun with four times the room
@@ -360,8 +429,26 @@ class ImpactFlow:
         while True:
             phi, dp = np.eye(4), np.zeros(4)
             times, states, impacts, rows, hits, code = _run(
-                self.table, self.dtable, self.K, self.taylor, self.lengths, self.growth, self.row_norm, self.kappa_c, self.kappa_q, self.dc,
-                np.asarray(y0, dtype=float), float(t0), float(t1), self.step, float(stick_speed), max_impacts, capacity, jac, phi, dp,
+                self.table,
+                self.dtable,
+                self.K,
+                self.taylor,
+                self.lengths,
+                self.growth,
+                self.row_norm,
+                self.kappa_c,
+                self.kappa_q,
+                self.dc,
+                np.asarray(y0, dtype=float),
+                float(t0),
+                float(t1),
+                self.step,
+                float(stick_speed),
+                max_impacts,
+                capacity,
+                jac,
+                phi,
+                dp,
             )
             if code != _FULL:
                 return times[:rows], states[:rows].T, impacts[:hits], int(code), phi, dp
@@ -377,5 +464,7 @@ class ImpactFlow:
     def strobe(self, y0, t0: float, period: float, *, stick_speed: float = 1e-9, max_impacts: int = 10_000):
         """``(y, phi, dp, impacts, code)``: the state at ``t0 + period``, its derivatives with respect
         to y0 (4 x 4) and to ``param`` (zero without one), the impacts and the end code of :meth:`run`."""
-        _, states, impacts, code, phi, dp = self._call(y0, t0, t0 + period, stick_speed, max_impacts, min(max_impacts, 64), True)
+        _, states, impacts, code, phi, dp = self._call(
+            y0, t0, t0 + period, stick_speed, max_impacts, min(max_impacts, 64), True
+        )
         return states[:, -1].copy(), phi, dp, impacts, code

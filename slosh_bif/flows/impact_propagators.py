@@ -25,7 +25,9 @@ def propagators(K, lengths):
     with ``expm(K L) = I + E``, ``E(2L) = 2 E(L) + E(L)**2`` keeps E's relative accuracy (the
     identity is never added in), so the 50 levels cost 50 small products instead of 50 expm."""
     A = K * lengths[-1]
-    E = A @ (np.eye(len(K)) + A @ (np.eye(len(K)) / 2 + A @ (np.eye(len(K)) / 6 + A / 24)))  # |A| < 1e-15: exact
+    E = A @ (
+        np.eye(len(K)) + A @ (np.eye(len(K)) / 2 + A @ (np.eye(len(K)) / 6 + A / 24))
+    )  # |A| < 1e-15: exact
     out = np.empty((len(lengths),) + K.shape)
     out[-1] = E
     for k in range(len(lengths) - 2, -1, -1):  # lengths[k] = 2 lengths[k + 1]

@@ -36,7 +36,15 @@ from slosh_bif.flows.dop853 import (
 from slosh_bif.flows.noise import BandLimitedNoise
 from slosh_bif.model.params import REAL_FIELDS, Params, real_pair
 
-__all__ = ["HAVE_NUMBA", "Integration", "integrate", "integrate_grid", "SHOOTING_SIZE", "resolve_backend", "DEFAULT_SENSITIVITIES"]
+__all__ = [
+    "HAVE_NUMBA",
+    "Integration",
+    "integrate",
+    "integrate_grid",
+    "SHOOTING_SIZE",
+    "resolve_backend",
+    "DEFAULT_SENSITIVITIES",
+]
 
 SHOOTING_SIZE = 29  # [y, Phi, dy/dp1, dy/dp2, int tr J]
 DEFAULT_SENSITIVITIES = ("sigma", "Abar")  # the dedicated kernel's pair; any other pair takes the pair kernel
@@ -68,7 +76,10 @@ def resolve_backend(backend: str) -> str:
     if backend not in BACKENDS:
         raise ValueError(f"backend must be 'auto', 'numba' or 'scipy'; got {backend!r}")
     if backend == "numba" and not HAVE_NUMBA:
-        raise ValueError("backend 'numba' needs numba, a dependency of slosh_bif that failed to import here: pip install numba (or use backend='scipy')")
+        raise ValueError(
+            "backend 'numba' needs numba, a dependency of slosh_bif that failed to import here: "
+            "pip install numba (or use backend='scipy')"
+        )
     if backend == "auto":
         return "numba" if HAVE_NUMBA else "scipy"
     return backend
@@ -113,7 +124,10 @@ def _check_noise(noise, tau0, tau1):
     if noise is None:
         return
     if not isinstance(noise, BandLimitedNoise):
-        raise TypeError(f"noise must be a slosh_bif.flows.noise.BandLimitedNoise (see band_limited_noise); got {type(noise).__name__}")
+        raise TypeError(
+            "noise must be a slosh_bif.flows.noise.BandLimitedNoise (see band_limited_noise); got "
+            f"{type(noise).__name__}"
+        )
     if tau0 < noise.t0 - 1e-9 or tau1 > noise.t0 + noise.duration + 1e-9:
         raise ValueError(
             f"the noise signal covers tau in [{noise.t0:g}, {noise.t0 + noise.duration:g}]; "
@@ -151,7 +165,8 @@ def integrate(
     """Integrate (9) (``shooting=False``, z = y) or (9) with everything shooting needs from tau0 to tau1.
 
     With ``shooting=True`` z = [y, Phi (row-major), dy/dp1, dy/dp2, int tr J] for the two
-    parameters named by ``sensitivities`` (any two of ``REAL_FIELDS``). ``h0 > 0`` warm-starts the step size (pass the previous call's ``h_next``); 0 lets the rule
+    parameters named by ``sensitivities`` (any two of ``REAL_FIELDS``). ``h0 > 0`` warm-starts the step size
+    (pass the previous call's ``h_next``); 0 lets the rule
     choose. ``noise`` (a :class:`~slosh_bif.flows.noise.BandLimitedNoise`) adds the random forcing of
     (47) (plain model only). Never raises on integration failure: ``success`` and ``message`` say
     what happened.
@@ -166,16 +181,39 @@ def integrate(
         which, pair = "pair", real_pair(sensitivities, "sensitivities")
     pars = _pars(params, noise, pair)
     if resolve_backend(backend) == "numba":
-        z, steps, rejected, nfev, h, status = dop853_loop(WHICH[which], float(tau0), float(tau1), z0, pars, float(rtol), float(atol), float(h0), int(max_steps), *TABLEAU)
-        return Integration(z, steps, rejected, nfev, h, status == OK, MESSAGES[status])  # numba returns Python int and float
+        z, steps, rejected, nfev, h, status = dop853_loop(
+            WHICH[which],
+            float(tau0),
+            float(tau1),
+            z0,
+            pars,
+            float(rtol),
+            float(atol),
+            float(h0),
+            int(max_steps),
+            *TABLEAU,
+        )
+        return Integration(
+            z, steps, rejected, nfev, h, status == OK, MESSAGES[status]
+        )  # numba returns Python int and float
     fun = _scipy_rhs(which, pars)
     with np.errstate(over="ignore", invalid="ignore"):  # trial steps deep in the wall may overflow
         sol = solve_ivp(fun, (tau0, tau1), z0, method="DOP853", rtol=rtol, atol=atol, first_step=h0 or None)
     steps = len(sol.t) - 1
-    return Integration(sol.y[:, -1].copy(), steps, 0, int(sol.nfev), math.nan, bool(sol.success), "ok" if sol.success else sol.message)
+    return Integration(
+        sol.y[:, -1].copy(),
+        steps,
+        0,
+        int(sol.nfev),
+        math.nan,
+        bool(sol.success),
+        "ok" if sol.success else sol.message,
+    )
 
 
-def integrate_grid(params: Params, y0, taus, *, rtol: float = 1e-10, atol: float = 1e-12, backend: str = "auto", noise=None):
+def integrate_grid(
+    params: Params, y0, taus, *, rtol: float = 1e-10, atol: float = 1e-12, backend: str = "auto", noise=None
+):
     """States of (9) at the increasing times ``taus`` (the first is the start), shape (len(taus), 4).
 
     ``noise`` adds the random forcing of (47) as in :func:`integrate`. Raises RuntimeError naming
@@ -191,11 +229,24 @@ def integrate_grid(params: Params, y0, taus, *, rtol: float = 1e-10, atol: float
     pars = _pars(params, noise)
     if resolve_backend(backend) == "scipy":
         with np.errstate(over="ignore", invalid="ignore"):
-            sol = solve_ivp(_scipy_rhs(which, pars), (taus[0], taus[-1]), out[0], method="DOP853", rtol=rtol, atol=atol, t_eval=taus)
+            sol = solve_ivp(
+                _scipy_rhs(which, pars),
+                (taus[0], taus[-1]),
+                out[0],
+                method="DOP853",
+                rtol=rtol,
+                atol=atol,
+                t_eval=taus,
+            )
         if not sol.success:
             raise RuntimeError(f"integration of (9) failed near tau = {sol.t[-1]:.6g}: {sol.message}")
         return sol.y.T.copy()
-    states, reached, status = grid_loop(WHICH[which], taus, out[0], pars, float(rtol), float(atol), 2_000_000, *TABLEAU)
+    states, reached, status = grid_loop(
+        WHICH[which], taus, out[0], pars, float(rtol), float(atol), 2_000_000, *TABLEAU
+    )
     if status != OK:
-        raise RuntimeError(f"integration of (9) failed between tau = {taus[reached - 1]:.6g} and {taus[reached]:.6g}: {MESSAGES[int(status)]}")
+        raise RuntimeError(
+            f"integration of (9) failed between tau = {taus[reached - 1]:.6g} and "
+            f"{taus[reached]:.6g}: {MESSAGES[int(status)]}"
+        )
     return states

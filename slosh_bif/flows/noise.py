@@ -80,7 +80,9 @@ class BandLimitedNoise:
         return value
 
 
-def band_limited_noise(std: float, *, seed: int, duration: float, t0: float = 0.0, cutoff: float = 10.0) -> BandLimitedNoise:
+def band_limited_noise(
+    std: float, *, seed: int, duration: float, t0: float = 0.0, cutoff: float = 10.0
+) -> BandLimitedNoise:
     """Draw the noise signal of (47) for a run over ``[t0, t0 + duration]``.
 
     Parameters
@@ -100,18 +102,27 @@ def band_limited_noise(std: float, *, seed: int, duration: float, t0: float = 0.
         ("cutoff", cutoff, lambda v: v > 0, "(0, inf)"),
         ("t0", t0, lambda v: True, "(-inf, inf)"),
     ):
-        if isinstance(value, bool) or not isinstance(value, (int, float, np.floating, np.integer)) or not math.isfinite(value) or not ok(value):
+        if (
+            isinstance(value, bool)
+            or not isinstance(value, (int, float, np.floating, np.integer))
+            or not math.isfinite(value)
+            or not ok(value)
+        ):
             raise ValueError(f"noise {name} must be a finite number in {allowed}; got {value!r}")
     if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
         raise ValueError(f"noise seed must be a non-negative integer; got {seed!r}")
     length = 1.05 * duration + 2 * np.pi  # the realisation is periodic with this length: longer than the run
     d_omega = 2 * np.pi / length
     # In floats first: a huge cutoff overflows int().
-    grid = 2.0 * max(cutoff / d_omega + 1, 32.0, _POINTS_PER_SHORTEST_PERIOD * cutoff * length / (4 * np.pi) + 1)
+    grid = 2.0 * max(
+        cutoff / d_omega + 1, 32.0, _POINTS_PER_SHORTEST_PERIOD * cutoff * length / (4 * np.pi) + 1
+    )
     if not grid <= MAX_NOISE_SAMPLES:  # refuse before allocating (inf and NaN included)
         raise ValueError(
-            f"noise cutoff {cutoff:g} over a run of {duration:g} needs {grid:.3g} noise samples, more than the {MAX_NOISE_SAMPLES:.0e} allowed "
-            f"(about {8 * 8 * grid / 1e9:.0f} GB): lower the cutoff (at most {cutoff * MAX_NOISE_SAMPLES / grid:.3g} here) or shorten the run"
+            f"noise cutoff {cutoff:g} over a run of {duration:g} needs {grid:.3g} noise samples, "
+            f"more than the {MAX_NOISE_SAMPLES:.0e} allowed "
+            f"(about {8 * 8 * grid / 1e9:.0f} GB): lower the cutoff (at most "
+            f"{cutoff * MAX_NOISE_SAMPLES / grid:.3g} here) or shorten the run"
         )
     modes = max(1, int(cutoff / d_omega))
     rng = np.random.default_rng(seed)
@@ -130,7 +141,12 @@ def band_limited_noise(std: float, *, seed: int, duration: float, t0: float = 0.
     spline = PPoly.from_spline(make_interp_spline(t0 + dt * knots, samples[knots % m], k=_DEGREE))
     start = np.searchsorted(spline.x, t0 - 0.5 * dt)
     coef = spline.c[:, start : start + count - 1]
-    if not np.allclose(spline.x[start : start + count], t0 + dt * np.arange(count), rtol=0, atol=1e-9 * max(1.0, abs(t0) + duration)):
+    if not np.allclose(
+        spline.x[start : start + count],
+        t0 + dt * np.arange(count),
+        rtol=0,
+        atol=1e-9 * max(1.0, abs(t0) + duration),
+    ):
         raise RuntimeError("noise spline: breakpoints are not the sample times (internal error)")
     table = np.concatenate([[t0, dt, count - 1, _DEGREE], coef.T.ravel()])
     return BandLimitedNoise(float(std), float(cutoff), int(seed), float(t0), float(duration), modes, table)

@@ -57,7 +57,10 @@ def read_impact_records(path) -> ImpactRecords:
             columns = reader.fieldnames or []
             missing = [c for c in ("v0", "v_out") if c not in columns]
             if missing:
-                raise ValueError(f"{path}: needs the columns v0 and v_out (and optionally std); missing {', '.join(missing)} (has {', '.join(columns) or 'no header'})")
+                raise ValueError(
+                    f"{path}: needs the columns v0 and v_out (and optionally std); missing "
+                    f"{', '.join(missing)} (has {', '.join(columns) or 'no header'})"
+                )
             rows = list(reader)
     except (OSError, UnicodeDecodeError) as err:
         raise ValueError(f"{path}: cannot be read as a CSV file of impact records ({err})") from None
@@ -72,9 +75,15 @@ def read_impact_records(path) -> ImpactRecords:
                 raise ValueError(f"{path}, line {k}: {name} must be a positive finite number; got {value!r}")
             values[name].append(value)
         if values["v_out"][-1] > values["v0"][-1]:
-            raise ValueError(f"{path}, line {k}: the outgoing speed {values['v_out'][-1]:g} exceeds the incoming {values['v0'][-1]:g} (a wall gives no energy)")
+            raise ValueError(
+                f"{path}, line {k}: the outgoing speed {values['v_out'][-1]:g} exceeds the "
+                f"incoming {values['v0'][-1]:g} (a wall gives no energy)"
+            )
     if len(values["v0"]) < 3:
-        raise ValueError(f"{path}: {len(values['v0'])} impact records; the fit needs at least 3 (two numbers are estimated)")
+        raise ValueError(
+            f"{path}: {len(values['v0'])} impact records; the fit needs at least 3 (two numbers "
+            "are estimated)"
+        )
     std = np.array(values["std"]) if values["std"] else None
     return ImpactRecords(np.array(values["v0"]), np.array(values["v_out"]), std, str(path))
 
@@ -102,9 +111,17 @@ class WallFit:
 
     def as_dict(self) -> dict:
         return {
-            "values": self.values, "C": self.C, "C_std": self.C_std, "C_interval_95": list(self.C_interval), "q": self.q, "estimate": self.estimate,
-            "profile_rss_by_pbar": {str(k): v for k, v in self.profile.items()}, "rms_kappa_residual": self.rms, "not_identifiable": self.not_identifiable,
-            "records": self.records, "model": "eq. (21): 1 - kappa^2 = C v0^q",
+            "values": self.values,
+            "C": self.C,
+            "C_std": self.C_std,
+            "C_interval_95": list(self.C_interval),
+            "q": self.q,
+            "estimate": self.estimate,
+            "profile_rss_by_pbar": {str(k): v for k, v in self.profile.items()},
+            "rms_kappa_residual": self.rms,
+            "not_identifiable": self.not_identifiable,
+            "records": self.records,
+            "model": "eq. (21): 1 - kappa^2 = C v0^q",
         }
 
 
@@ -150,13 +167,17 @@ def _prefactor(lam, chi, n, pbar) -> float:
 def fit_wall(records: ImpactRecords, base: Params, free) -> WallFit:
     """Fit (21) to ``records``: ``free`` a subset of lam, chi, pbar (the rest from ``base``; n is
     the wall's power, always given). With pbar free it is profiled over 0..PBAR_MAX (of n's
-    parity, as pbar = 2p - n requires) and the best kept; then C is estimated and turned into the free one of lam and chi (the other from
+    parity, as pbar = 2p - n requires) and the best kept; then C is estimated and turned into the free one of
+    lam and chi (the other from
     ``base``). Both lam and chi free: only lam chi**(-a) is determined; the fit keeps chi at
     ``base``'s value, says so in ``not_identifiable``, and reports the combination."""
     free = tuple(free)
     unknown = [f for f in free if f not in FREE_NAMES]
     if unknown or not free:
-        raise ValueError(f"--free takes one or more of {', '.join(FREE_NAMES)} for impact records; got {', '.join(free) or 'nothing'}")
+        raise ValueError(
+            f"--free takes one or more of {', '.join(FREE_NAMES)} for impact records; got "
+            f"{', '.join(free) or 'nothing'}"
+        )
     n = base.n
     # pbar = 2p - n with p a non-negative integer: the parity of n (Params checks the same)
     candidates = range(n % 2, PBAR_MAX + 1, 2) if "pbar" in free else (base.pbar,)
@@ -179,22 +200,34 @@ def fit_wall(records: ImpactRecords, base: Params, free) -> WallFit:
     if "lam" in free or ("chi" not in free):
         lam = C * chi**a / K
         scale = chi**a / K
-        estimate["lam"] = {"value": lam, "std": C_std * scale, "interval_95": [interval[0] * scale, interval[1] * scale]}
+        estimate["lam"] = {
+            "value": lam,
+            "std": C_std * scale,
+            "interval_95": [interval[0] * scale, interval[1] * scale],
+        }
         if "chi" in free:
             note = (
-                f"lam and chi enter (21) only as lam * chi^(-{a:.4g}) = {C / K:.6g}: impact records fix that combination, not each; chi is kept at "
-                f"{chi:g} and lam fitted. A measured contact time or penetration depth (which depend on chi alone) would separate them."
+                f"lam and chi enter (21) only as lam * chi^(-{a:.4g}) = {C / K:.6g}: impact "
+                "records fix that combination, not each; chi is kept at "
+                f"{chi:g} and lam fitted. A measured contact time or penetration depth (which "
+                "depend on chi alone) would separate them."
             )
     else:  # chi alone free: chi = (lam K / C)^(1/a), its interval from C's (monotone)
         chi = (lam * K / C) ** (1.0 / a)
         bounds = sorted(((lam * K / c) ** (1.0 / a) if c > 0 else math.inf) for c in interval)
         estimate["chi"] = {"value": chi, "std": chi / a * C_std / C, "interval_95": bounds}
     if "pbar" in free:
-        estimate["pbar"] = {"value": pbar, "consistent_95": consistent, "profile": f"least misfit over {n % 2}..{PBAR_MAX} in steps of 2 (the parity of n = {n})"}
+        estimate["pbar"] = {
+            "value": pbar,
+            "consistent_95": consistent,
+            "profile": f"least misfit over {n % 2}..{PBAR_MAX} in steps of 2 (the parity of n = {n})",
+        }
         if len(consistent) > 1:
             note = (note + " " if note else "") + (
-                f"pbar is not determined: {', '.join(map(str, consistent))} fit the records equally at 95 % (likelihood ratio); the other estimates and "
-                f"intervals hold given pbar = {pbar}. Records over a wider range of impact speeds would tell them apart."
+                f"pbar is not determined: {', '.join(map(str, consistent))} fit the records "
+                "equally at 95 % (likelihood ratio); the other estimates and "
+                f"intervals hold given pbar = {pbar}. Records over a wider range of impact speeds "
+                "would tell them apart."
             )
     values = {"lam": float(lam), "chi": float(chi), "n": int(n), "pbar": int(pbar)}
     rms = math.sqrt(rss / len(records.v0))

@@ -25,9 +25,21 @@ def write_fit(fit, records, base: Params, folder) -> list:
     folder.mkdir(parents=True, exist_ok=True)
     record = fit.as_dict()
     if records.source:
-        record["data"] = {"file": records.source, "sha256": hashlib.sha256(Path(records.source).read_bytes()).hexdigest()}
+        record["data"] = {
+            "file": records.source,
+            "sha256": hashlib.sha256(Path(records.source).read_bytes()).hexdigest(),
+        }
     paths = [write_text_atomically(folder / "fit.json", json.dumps(record, indent=2) + "\n")]
-    paths.append(write_text_atomically(folder / "params.toml", render_parameter_file(params=fit.params(base), comment="the wall fitted by `slosh-bif fit` (eq. 21) to " + (records.source or "impact records"))))
+    paths.append(
+        write_text_atomically(
+            folder / "params.toml",
+            render_parameter_file(
+                params=fit.params(base),
+                comment="the wall fitted by `slosh-bif fit` (eq. 21) to "
+                + (records.source or "impact records"),
+            ),
+        )
+    )
     paths.append(_plot(fit, records, folder / "fit.png"))
     return paths
 
@@ -36,14 +48,23 @@ def _plot(fit, records, path) -> Path:
     from slosh_bif.report.plotting import pyplot, save_figure
 
     plt = pyplot()
-    fig, (top, bottom) = plt.subplots(2, 1, figsize=(7, 6), sharex=True, gridspec_kw={"height_ratios": [3, 1]})
+    fig, (top, bottom) = plt.subplots(
+        2, 1, figsize=(7, 6), sharex=True, gridspec_kw={"height_ratios": [3, 1]}
+    )
     v = np.geomspace(records.v0.min(), records.v0.max(), 200)
     values = fit.values
     law = restitution.kappa(v, values["lam"], values["chi"], values["n"], values["pbar"])
     at_data = restitution.kappa(records.v0, values["lam"], values["chi"], values["n"], values["pbar"])
     yerr = records.std / records.v0 if records.std is not None else None
     top.errorbar(records.v0, records.kappa, yerr=yerr, fmt="o", ms=4, color="k", label="records: v_out / v0")
-    top.plot(v, law, "-", color="tab:red", label=f"eq. (21): n = {values['n']}, pbar = {values['pbar']}, C = {fit.C:.4g} +- {1.96 * fit.C_std:.2g}")
+    top.plot(
+        v,
+        law,
+        "-",
+        color="tab:red",
+        label=f"eq. (21): n = {values['n']}, pbar = {values['pbar']}, C = {fit.C:.4g} +- "
+        f"{1.96 * fit.C_std:.2g}",
+    )
     top.set_ylabel("restitution kappa")
     top.legend(fontsize=8)
     bottom.axhline(0.0, color="0.6", lw=0.8)

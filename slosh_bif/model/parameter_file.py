@@ -76,7 +76,11 @@ def _table(data, name, path, allowed, required=()):
 
 
 def _numbers(value, count, key, path):
-    ok = isinstance(value, list) and len(value) == count and all(isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) for v in value)
+    ok = (
+        isinstance(value, list)
+        and len(value) == count
+        and all(isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) for v in value)
+    )
     if not ok:
         raise ValueError(f"{path}: {key} must be {count} finite numbers; got {value!r}")
     return tuple(float(v) for v in value)
@@ -88,7 +92,21 @@ def _params_of(data, path) -> tuple[Params, str]:
     try:
         if "params" in data:
             return Params(**_table(data, "params", path, FIELDS, FIELDS)), "parameters"
-        table = _table(data, "tank", path, TANK_KEYS, ("shape", "depth", "structure_mass", "structure_frequency", "excitation_frequency", "ground_acceleration", "clearance"))
+        table = _table(
+            data,
+            "tank",
+            path,
+            TANK_KEYS,
+            (
+                "shape",
+                "depth",
+                "structure_mass",
+                "structure_frequency",
+                "excitation_frequency",
+                "ground_acceleration",
+                "clearance",
+            ),
+        )
         tank = Tank(**{k: v for k, v in table.items() if k in _TANK})
         site = Site(**{k: v for k, v in table.items() if k in _SITE})
         model = tank_model(tank, site, wall={k: v for k, v in table.items() if k in WALL_DEFAULTS})
@@ -125,7 +143,9 @@ def _plain(value):
     return int(value) if isinstance(value, (int, np.integer)) else float(value)
 
 
-def render_parameter_file(*, params: Params | None = None, tank: dict | None = None, uv0=None, window=None, comment: str = "") -> str:
+def render_parameter_file(
+    *, params: Params | None = None, tank: dict | None = None, uv0=None, window=None, comment: str = ""
+) -> str:
     """The TOML text of a parameter file with ``params`` (a [params] table) or ``tank`` (a [tank]
     table of :data:`TANK_KEYS`), and [initial] when ``uv0`` or ``window`` is given; ``comment`` lines
     lead the file. :func:`read_parameter_file` reads it back to the same :class:`Params`."""
@@ -141,7 +161,11 @@ def render_parameter_file(*, params: Params | None = None, tank: dict | None = N
         if unknown:
             raise ValueError(f"unknown tank key {unknown[0]!r}; known: {', '.join(TANK_KEYS)}")
         document["tank"] = {key: _plain(value) for key, value in tank.items() if value is not None}
-    initial = {name: [float(v) for v in value] for name, value in (("uv0", uv0), ("window", window)) if value is not None}
+    initial = {
+        name: [float(v) for v in value]
+        for name, value in (("uv0", uv0), ("window", window))
+        if value is not None
+    }
     if initial:
         document["initial"] = initial
     head = "".join(f"# {line}\n" if line else "#\n" for line in comment.splitlines())

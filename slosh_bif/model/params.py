@@ -141,7 +141,8 @@ class Params:
         check belongs to what simulates (a continuation may pass such sets as a domain edge)."""
         if self.eps * self.sigma >= 1.0:
             raise ValueError(
-                f"eps * sigma = {self.eps * self.sigma:g} >= 1: the vessel's stiffness 1 - eps sigma of (8) and (9) is not positive "
+                f"eps * sigma = {self.eps * self.sigma:g} >= 1: the vessel's stiffness 1 - eps "
+                "sigma of (8) and (9) is not positive "
                 f"and every trajectory diverges; sigma must be below 1/eps = {1 / self.eps:g}"
             )
         return self

@@ -25,7 +25,8 @@ which is how sigma enters (7)):
   ``M = m_0 + m_tank``); its stiffness ``k = M_s (2 pi f_s)^2`` from the structure's own natural
   frequency f_s (the empty tank on its support), ``omega^2 = k / M``; its damping ``c = 2 zeta_s M omega``;
 * the particle is the first sloshing mode: ``m = m_1``, ``omega_1`` its frequency;
-* ``eps = m / M``, ``beta = omega_1 / omega``, ``1 - eps sigma = omega^2 (1 + eps beta^2) / ((1 + eps) Omega^2)``
+* ``eps = m / M``, ``beta = omega_1 / omega``, ``1 - eps sigma = omega^2 (1 + eps beta^2) / ((1 + eps)
+  Omega^2)``
   with Omega = 2 pi f the excitation's angular frequency (the coefficient of X in (7));
 * ``gamma = c / (eps M (1 + eps) Omega)``, the damping of (7) in tau exactly (the paper's (6) gives
   it with omega sqrt((1 + eps beta^2)/(1 + eps)) for Omega, i.e. without the factor sqrt(1 - eps sigma));
@@ -49,7 +50,18 @@ import numpy as np
 from slosh_bif.model.params import Params
 from slosh_bif.model.presets import get_preset
 
-__all__ = ["Modes", "cylinder_modes", "rectangle_modes", "Tank", "Site", "TankModel", "tank_model", "check_wall", "SERIES_TERMS", "ModelValidityWarning"]
+__all__ = [
+    "Modes",
+    "cylinder_modes",
+    "rectangle_modes",
+    "Tank",
+    "Site",
+    "TankModel",
+    "tank_model",
+    "check_wall",
+    "SERIES_TERMS",
+    "ModelValidityWarning",
+]
 
 SERIES_TERMS = 400
 GRAVITY = 9.80665  # m/s^2, standard gravity
@@ -89,7 +101,10 @@ def _shallow_limit(q_last, depth, span: str, size: float):
     tanh q = 1, which needs q >= 3 at the last term (tanh 3 = 0.995)."""
     if q_last < 3.0:
         least = depth * 3.0 / q_last
-        raise ValueError(f"depth / {span} = {depth / size:.3g} is too shallow for the sloshing-mode series: the depth must be at least {least:.3g} m for this {span}")
+        raise ValueError(
+            f"depth / {span} = {depth / size:.3g} is too shallow for the sloshing-mode series: the "
+            f"depth must be at least {least:.3g} m for this {span}"
+        )
 
 
 def _modes(omega2, ratio_all, q, depth, modes, tail):
@@ -112,7 +127,8 @@ def cylinder_modes(radius: float, depth: float, *, modes: int = 3, gravity: floa
 
 
 def rectangle_modes(length: float, depth: float, *, modes: int = 3, gravity: float = GRAVITY) -> Modes:
-    """The first ``modes`` antisymmetric sloshing modes of a rectangular tank of ``length`` along the motion."""
+    """The first ``modes`` antisymmetric sloshing modes of a rectangular tank of ``length`` along the
+    motion."""
     _positive(length=length, depth=depth, gravity=gravity)
     odd = 2 * np.arange(1, SERIES_TERMS + 1) - 1.0
     wavenumber = odd * math.pi / length
@@ -185,8 +201,11 @@ class Site:
 
     def __post_init__(self):
         _positive(
-            structure_mass=self.structure_mass, structure_frequency=self.structure_frequency, excitation_frequency=self.excitation_frequency,
-            ground_acceleration=self.ground_acceleration, clearance=self.clearance,
+            structure_mass=self.structure_mass,
+            structure_frequency=self.structure_frequency,
+            excitation_frequency=self.excitation_frequency,
+            ground_acceleration=self.ground_acceleration,
+            clearance=self.clearance,
         )
         if not (math.isfinite(self.damping_ratio) and 0 <= self.damping_ratio < 1):
             raise ValueError(f"damping_ratio must be in [0, 1); got {self.damping_ratio!r}")
@@ -207,7 +226,9 @@ def check_wall(wall: dict | None) -> dict:
     :class:`Params` (ranges, a real restitution coefficient): a one-line error before any work."""
     unknown = sorted(set(wall or {}) - set(WALL_DEFAULTS))
     if unknown:
-        raise ValueError(f"unknown wall parameter {unknown[0]!r}; the wall's law is {', '.join(WALL_DEFAULTS)}")
+        raise ValueError(
+            f"unknown wall parameter {unknown[0]!r}; the wall's law is {', '.join(WALL_DEFAULTS)}"
+        )
     law = {**WALL_DEFAULTS, **(wall or {})}
     Params(eps=0.05, beta=0.0, gamma=0.0, sigma=0.0, Abar=0.0, **law)  # only the wall's fields matter here
     return law
@@ -230,13 +251,23 @@ def tank_model(tank: Tank, site: Site, *, wall: dict | None = None, gravity: flo
     abar = k * site.ground_acceleration / (eps * M * Omega**4 * site.clearance)
     params = Params(eps=eps, beta=beta, gamma=gamma, sigma=sigma, Abar=abar, **law)
     if eps > 0.1:
-        warnings.warn(f"eps = {eps:.3g} > 0.1: the multiple-scales analysis assumes a small sloshing mass m_1 / M", ModelValidityWarning, stacklevel=2)
+        warnings.warn(
+            f"eps = {eps:.3g} > 0.1: the multiple-scales analysis assumes a small sloshing mass m_1 / M",
+            ModelValidityWarning,
+            stacklevel=2,
+        )
     if abs(eps * sigma) > 0.5:
         warnings.warn(
-            f"eps sigma = {eps * sigma:.3g}: the forcing is far from 1:1 resonance with the vessel (the model assumes |Omega - omega| = O(eps))",
-            ModelValidityWarning, stacklevel=2,
+            f"eps sigma = {eps * sigma:.3g}: the forcing is far from 1:1 resonance with the vessel "
+            "(the model assumes |Omega - omega| = O(eps))",
+            ModelValidityWarning,
+            stacklevel=2,
         )
-    source = "Abramson (1966) ch. 6; Dodge (2000) ch. 3" if tank.shape == "cylinder" else "Abramson (1966) ch. 6; Dodge (2000) ch. 4"
+    source = (
+        "Abramson (1966) ch. 6; Dodge (2000) ch. 3"
+        if tank.shape == "cylinder"
+        else "Abramson (1966) ch. 6; Dodge (2000) ch. 4"
+    )
     rows = (
         ("liquid mass m_F", m_F, "kg", "density x volume"),
         ("first sloshing mass m_1", m_1, "kg", source),

@@ -52,7 +52,17 @@ from slosh_bif.orbits.shooting import (
     orbit_measures,
 )
 
-__all__ = ["OrbitBranch", "OrbitFamily", "trace_orbits", "trace_new_family", "mirror", "images", "unique_name", "SHOOTING_OPTIONS", "LIOUVILLE_TOL"]
+__all__ = [
+    "OrbitBranch",
+    "OrbitFamily",
+    "trace_orbits",
+    "trace_new_family",
+    "mirror",
+    "images",
+    "unique_name",
+    "SHOOTING_OPTIONS",
+    "LIOUVILLE_TOL",
+]
 
 # Shooting residuals carry the integration's rounding (~1e-13 at rtol 1e-10), so the corrector's
 # tolerance sits above it; steps are capped so that orbits change little from one point to the next.
@@ -113,7 +123,10 @@ class OrbitBranch:
         try:
             return self.branch[name]
         except KeyError:
-            raise KeyError(f"{name!r} is neither a measure ({', '.join(self.measures)}) nor a column of the branch ({', '.join(self.branch.columns)})") from None
+            raise KeyError(
+                f"{name!r} is neither a measure ({', '.join(self.measures)}) nor a column of the "
+                f"branch ({', '.join(self.branch.columns)})"
+            ) from None
 
     def __len__(self):
         return len(self.branch)
@@ -142,8 +155,15 @@ class OrbitFamily:
                 counts = {}
                 for s in b.special:
                     counts[s.kind] = counts.get(s.kind, 0) + 1
-                kinds = f"{len(b.special)} ({', '.join(f'{n} {k}' for k, n in counts.items())})" if counts else "none"
-            lines.append(f"{ob.name}{' (' + ob.origin + ')' if ob.origin else ''}: {b.status}, {len(b)} points, {self.param} in [{b.p.min():.4g}, {b.p.max():.4g}], special: {kinds}")
+                kinds = (
+                    f"{len(b.special)} ({', '.join(f'{n} {k}' for k, n in counts.items())})"
+                    if counts
+                    else "none"
+                )
+            lines.append(
+                f"{ob.name}{' (' + ob.origin + ')' if ob.origin else ''}: {b.status}, {len(b)} "
+                f"points, {self.param} in [{b.p.min():.4g}, {b.p.max():.4g}], special: {kinds}"
+            )
         return "\n".join(lines)
 
 
@@ -190,8 +210,10 @@ def _measure(problem: ShootingProblem, branch: Branch, points_per_2pi: int, name
     bad = out["liouville_error"] > LIOUVILLE_TOL
     if np.any(bad):
         warnings.warn(
-            f"{int(np.sum(bad))} of {len(bad)} orbits of the {name or 'traced'} branch fail Liouville's check (largest error "
-            f"{np.nanmax(out['liouville_error']):.3g} > {LIOUVILLE_TOL:g}): their multipliers and stability are not reliable (flag 'liouville' in branch.csv)",
+            f"{int(np.sum(bad))} of {len(bad)} orbits of the {name or 'traced'} branch fail "
+            "Liouville's check (largest error "
+            f"{np.nanmax(out['liouville_error']):.3g} > {LIOUVILLE_TOL:g}): their multipliers and "
+            "stability are not reliable (flag 'liouville' in branch.csv)",
             RuntimeWarning,
             stacklevel=3,
         )
@@ -221,7 +243,9 @@ def _on_branch(u, ob: OrbitBranch, tol):
         copies = ob.problem.full_states(copies)
     if len(u) != copies.shape[2] + 1:
         return False
-    return any(polyline_distance(np.column_stack([copies[:, k], b.p]), u) < tol for k in range(copies.shape[1]))
+    return any(
+        polyline_distance(np.column_stack([copies[:, k], b.p]), u) < tol for k in range(copies.shape[1])
+    )
 
 
 def _cut_where_it_rejoins(new: Branch, problem: ShootingProblem, parent: OrbitBranch, queue: list):
@@ -231,12 +255,20 @@ def _cut_where_it_rejoins(new: Branch, problem: ShootingProblem, parent: OrbitBr
     its own shift by 2pi: nothing new. The parent's point met there leaves the queue."""
     doubled = problem.period_multiple == 2 * parent.problem.period_multiple
     kind = PERIOD_DOUBLING if doubled else BRANCH_POINT
-    meets = [(q, np.tile(q.x, 2) if doubled else parent.problem.full_states(q.x)) for q in parent.branch.special if q.kind == kind]
+    meets = [
+        (q, np.tile(q.x, 2) if doubled else parent.problem.full_states(q.x))
+        for q in parent.branch.special
+        if q.kind == kind
+    ]
     for sp in new.special:
         if sp.kind != BRANCH_POINT or sp.index <= 1:
             continue
         for q, x in meets:
-            if len(x) == len(sp.x) and abs(q.p - sp.p) <= 1e-6 * (1 + abs(q.p)) and np.linalg.norm(x - sp.x) <= 1e-4 * (1 + np.linalg.norm(x)):
+            if (
+                len(x) == len(sp.x)
+                and abs(q.p - sp.p) <= 1e-6 * (1 + abs(q.p))
+                and np.linalg.norm(x - sp.x) <= 1e-4 * (1 + np.linalg.norm(x))
+            ):
                 queue[:] = [(ob, s) for ob, s in queue if s is not q]
                 return new.head(sp.index, f"meets the {parent.name} branch again at its {q.kind}"), q
     return new, None
@@ -263,7 +295,9 @@ def _point_counter(say, name, param):
     return callback
 
 
-def _primary(params, y0, param, opts, make_problem, points_per_2pi, say, known=(), found_from="") -> OrbitBranch:
+def _primary(
+    params, y0, param, opts, make_problem, points_per_2pi, say, known=(), found_from=""
+) -> OrbitBranch:
     """The branch through the orbit near y0, named by its symmetry (a symmetric one traced on the
     half-period map)."""
     problem = make_problem(1)
@@ -278,11 +312,20 @@ def _primary(params, y0, param, opts, make_problem, points_per_2pi, say, known=(
     if symmetric and problem.segments % 2 == 0:
         problem = make_problem(1, symmetric=True)
         x0 = x0[: 4 * problem.segments]
-    branch = continuation(problem, x0, p0, param=param, options=opts, callback=_point_counter(say, name, param))
+    branch = continuation(
+        problem, x0, p0, param=param, options=opts, callback=_point_counter(say, name, param)
+    )
     if symmetric and not problem.symmetric:
         branch = refine_pitchforks(problem, branch)
     say(f"{name}: {len(branch)} points, {len(branch.special)} special points")
-    return OrbitBranch(name, problem, branch, _measure(problem, branch, points_per_2pi, name), kind=kind, found_from=found_from)
+    return OrbitBranch(
+        name,
+        problem,
+        branch,
+        _measure(problem, branch, points_per_2pi, name),
+        kind=kind,
+        found_from=found_from,
+    )
 
 
 def _switch(parent: OrbitBranch, sp, param, opts, make_problem, say):
@@ -292,7 +335,10 @@ def _switch(parent: OrbitBranch, sp, param, opts, make_problem, say):
     along = _tangent(parent.branch, sp, regular=parent.problem.symmetric)
     if parent.problem.symmetric:
         problem = make_problem(1)
-        x, along = parent.problem.full_states(sp.x), np.append(parent.problem.full_states(along[:-1]), along[-1])
+        x, along = (
+            parent.problem.full_states(sp.x),
+            np.append(parent.problem.full_states(along[:-1]), along[-1]),
+        )
         name = None
     elif sp.kind == PERIOD_DOUBLING:
         multiple = 2 * parent.problem.period_multiple
@@ -301,7 +347,14 @@ def _switch(parent: OrbitBranch, sp, param, opts, make_problem, say):
         name = f"period-{multiple}"
     else:
         problem, x, name = parent.problem, sp.x, None
-    new = switch_branch(problem, (x, sp.p), param=param, options=opts, along=along, callback=_point_counter(say, name or "new branch", param))
+    new = switch_branch(
+        problem,
+        (x, sp.p),
+        param=param,
+        options=opts,
+        along=along,
+        callback=_point_counter(say, name or "new branch", param),
+    )
     return problem, new, name
 
 
@@ -326,12 +379,33 @@ def trace_orbits(
     called as the work goes on (one call per accepted point and per branch). Period doublings are
     followed up to period 8. Raises :class:`ConvergenceError` when no orbit is found near y0.
     """
-    return trace_new_family(params, y0, (), param=param, p_min=p_min, p_max=p_max, shooting=shooting, branching=branching, options=options, progress=progress)
+    return trace_new_family(
+        params,
+        y0,
+        (),
+        param=param,
+        p_min=p_min,
+        p_max=p_max,
+        shooting=shooting,
+        branching=branching,
+        options=options,
+        progress=progress,
+    )
 
 
 def trace_new_family(
-    params: Params, y0, known, *, param: str, p_min: float, p_max: float, shooting: ShootingSettings, branching: BranchingSettings,
-    options: ContinuationOptions | None, progress=None, found_from: str = "",
+    params: Params,
+    y0,
+    known,
+    *,
+    param: str,
+    p_min: float,
+    p_max: float,
+    shooting: ShootingSettings,
+    branching: BranchingSettings,
+    options: ContinuationOptions | None,
+    progress=None,
+    found_from: str = "",
 ) -> OrbitFamily:
     """:func:`trace_orbits` beside the OrbitBranches ``known`` already traced (by other starts of
     a scan): a switched branch on one of them (or its mirror image) is not traced again, and
@@ -344,9 +418,21 @@ def trace_new_family(
     span = p_max - p_min
     box = (p_min - 0.5 * span, p_max + 0.5 * span)  # corrector iterates stay near the requested range
 
-    def make_problem(multiple, symmetric=False):  # a period of multiple * 2 pi, in as many times the arcs (half for the half period)
+    def make_problem(
+        multiple, symmetric=False
+    ):  # a period of multiple * 2 pi, in as many times the arcs (half for the half period)
         arcs = segments // 2 if symmetric else multiple * segments
-        return ShootingProblem(params, param, segments=arcs, period_multiple=multiple, rtol=shooting.rtol, atol=shooting.atol, backend=shooting.backend, box=box, symmetric=symmetric)
+        return ShootingProblem(
+            params,
+            param,
+            segments=arcs,
+            period_multiple=multiple,
+            rtol=shooting.rtol,
+            atol=shooting.atol,
+            backend=shooting.backend,
+            box=box,
+            symmetric=symmetric,
+        )
 
     family = [_primary(params, y0, param, opts, make_problem, points_per_2pi, say, known, found_from)]
     if not branching.switch:
@@ -366,7 +452,9 @@ def trace_new_family(
             continue
         new, met = _cut_where_it_rejoins(new, problem, parent, queue)
         if met is not None:
-            say(f"the new branch meets the {parent.name} branch again at its {met.kind} {param} = {met.p:.6g}")
+            say(
+                f"the new branch meets the {parent.name} branch again at its {met.kind} {param} = {met.p:.6g}"
+            )
         first = np.append(new.x[min(1, len(new) - 1)], new.p[min(1, len(new) - 1)])
         if any(_on_branch(first, ob, 1e-5 * (1 + np.linalg.norm(first))) for ob in [*known, *family]):
             say(f"the branch at {origin} is one already traced")
@@ -376,9 +464,13 @@ def trace_new_family(
             kind_name = "symmetric" if np.median(measures["symmetry_defect"]) < 1e-6 else "asymmetric"
             if kind_name == "symmetric":
                 new = refine_pitchforks(problem, new)
-        ob = OrbitBranch(unique_name(kind_name, [*known, *family]), problem, new, measures, origin, kind=kind_name)
+        ob = OrbitBranch(
+            unique_name(kind_name, [*known, *family]), problem, new, measures, origin, kind=kind_name
+        )
         family.append(ob)
         say(f"{ob.name} ({origin}): {len(new)} points")
         # Not the start (the parent's point) and not a cut end (where it met the parent again).
-        queue += [(ob, s) for s in new.special if s.kind in switched and 1 < s.index < len(new) - (met is not None)]
+        queue += [
+            (ob, s) for s in new.special if s.kind in switched and 1 < s.index < len(new) - (met is not None)
+        ]
     return OrbitFamily(params, param, family)

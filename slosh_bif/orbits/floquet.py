@@ -107,7 +107,9 @@ def periodic_schur(mats, *, max_sweeps: int = 50, tol: float = 1e-14) -> Periodi
     """The periodic Schur decomposition of the product of the square matrices ``mats`` (the last
     factor leftmost; see the module docstring) and its eigenvalues, largest modulus first."""
     mats = [np.asarray(Phi, dtype=float) for Phi in mats]
-    if not mats or any(Phi.ndim != 2 or Phi.shape != mats[0].shape or Phi.shape[0] != Phi.shape[1] for Phi in mats):
+    if not mats or any(
+        Phi.ndim != 2 or Phi.shape != mats[0].shape or Phi.shape[0] != Phi.shape[1] for Phi in mats
+    ):
         raise ValueError("mats must be a non-empty sequence of square matrices of one size")
     n = mats[0].shape[0]
     if not all(np.all(np.isfinite(Phi)) for Phi in mats):
@@ -123,7 +125,15 @@ def periodic_schur(mats, *, max_sweeps: int = 50, tol: float = 1e-14) -> Periodi
         # Converged when the coupling between blocks has stopped shrinking at rounding level;
         # the blocks themselves (complex pairs, equal moduli) never decouple.
         blocks = _blocks(U, 1e-6)
-        outside = max((abs(U[i, j]) for i in range(n) for j in range(i) if not any(a <= j and i < b for a, b in blocks)), default=0.0)
+        outside = max(
+            (
+                abs(U[i, j])
+                for i in range(n)
+                for j in range(i)
+                if not any(a <= j and i < b for a, b in blocks)
+            ),
+            default=0.0,
+        )
         if outside <= tol * n or (previous is not None and outside >= previous and outside < 1e-10):
             converged = True
             break

@@ -33,7 +33,14 @@ from slosh_bif.continuation.corrector import newton_solve
 from slosh_bif.model.params import Params
 from slosh_bif.orbits.impact_orbits import GRAZING, SECTION, ImpactOrbitProblem
 
-__all__ = ["ImpactPiece", "ImpactBranch", "BranchEnd", "trace_impact_orbits", "quiet_section", "settled_orbit"]
+__all__ = [
+    "ImpactPiece",
+    "ImpactBranch",
+    "BranchEnd",
+    "trace_impact_orbits",
+    "quiet_section",
+    "settled_orbit",
+]
 
 GRAZES, PIECES = "grazing", "pieces"  # the tracer's own end reasons, beside the engine's
 CROSSING_STEPS = (1e-6, 1e-5, 1e-4, 1e-3)  # parameter steps beyond a grazing point, tried in turn
@@ -84,7 +91,9 @@ def quiet_section(problem: ImpactOrbitProblem, x, p):
     """(phase, state) with the section moved to the middle of the orbit's longest flight."""
     flow = problem.flow_at(p)
     start = problem.phase
-    impacts = flow.run(np.asarray(x, dtype=float), start, start + problem.period, stick_speed=1e-9, max_impacts=10_000)[2]
+    impacts = flow.run(
+        np.asarray(x, dtype=float), start, start + problem.period, stick_speed=1e-9, max_impacts=10_000
+    )[2]
     if len(impacts) == 0:
         return start, np.asarray(x, dtype=float)
     times = np.concatenate([impacts[:, 0], [impacts[0, 0] + problem.period]])
@@ -92,7 +101,11 @@ def quiet_section(problem: ImpactOrbitProblem, x, p):
     middle = 0.5 * (times[k] + times[k + 1])
     if middle > start + problem.period:
         middle -= problem.period
-    state = flow.run(np.asarray(x, dtype=float), start, middle, stick_speed=1e-9, max_impacts=10_000)[1][:, -1] if middle > start else np.asarray(x, dtype=float)
+    state = (
+        flow.run(np.asarray(x, dtype=float), start, middle, stick_speed=1e-9, max_impacts=10_000)[1][:, -1]
+        if middle > start
+        else np.asarray(x, dtype=float)
+    )
     return float(middle % (2 * np.pi)), state
 
 
@@ -107,12 +120,18 @@ def settled_orbit(params: Params, state0, *, periods: int, tries: int = 4):
         count = periods * 2**k
         t, y, _, code = flow.run(x, 0.0, 2 * np.pi * count, stick_speed=1e-9, max_impacts=10**7)
         if code != 0:
-            raise ConvergenceError(f"the simulation of (8) for a start orbit stopped (code {code}) after {done + t[-1] / (2 * np.pi):.0f} periods")
+            raise ConvergenceError(
+                f"the simulation of (8) for a start orbit stopped (code {code}) after "
+                f"{done + t[-1] / (2 * np.pi):.0f} periods"
+            )
         x, done = y[:, -1], done + count
         run = newton_solve(problem, x, params.sigma, tol=1e-12)
         if run.converged and problem.in_domain(run.x, params.sigma):
             return run.x
-    raise ConvergenceError(f"no periodic orbit of (8) near the strobe of a {done}-period simulation (it has not settled); pass --guess X,Xd,w,wd")
+    raise ConvergenceError(
+        f"no periodic orbit of (8) near the strobe of a {done}-period simulation (it has not "
+        "settled); pass --guess X,Xd,w,wd"
+    )
 
 
 def _seen(starts, phase, p, x) -> bool:
@@ -132,7 +151,9 @@ def _seen(starts, phase, p, x) -> bool:
 
 def _problem(params, param, symmetric, phase, x, p):
     probe = ImpactOrbitProblem(params, param, symmetric=symmetric, phase=phase)
-    return ImpactOrbitProblem(params, param, symmetric=symmetric, phase=phase, impacts=len(probe.evaluate(x, p).impacts))
+    return ImpactOrbitProblem(
+        params, param, symmetric=symmetric, phase=phase, impacts=len(probe.evaluate(x, p).impacts)
+    )
 
 
 def _far_end(branch: Branch, p0: float, x0):
@@ -144,12 +165,21 @@ def _far_end(branch: Branch, p0: float, x0):
 
 
 def trace_impact_orbits(
-    params: Params, x0, *, param: str = "sigma", p_min: float, p_max: float, options: ContinuationOptions | None = None,
-    symmetric: bool = False, max_pieces: int = 40,
+    params: Params,
+    x0,
+    *,
+    param: str = "sigma",
+    p_min: float,
+    p_max: float,
+    options: ContinuationOptions | None = None,
+    symmetric: bool = False,
+    max_pieces: int = 40,
 ) -> ImpactBranch:
     """Continue the orbit of (8) through ``x0`` (its state at tau = 0, a fixed point of the map at
     the value of ``param`` in ``params``) in both directions between ``p_min`` and ``p_max``."""
-    opts = dataclasses.replace(options or ContinuationOptions(step=0.05, step_max=0.3, tol=1e-10), p_min=p_min, p_max=p_max)
+    opts = dataclasses.replace(
+        options or ContinuationOptions(step=0.05, step_max=0.3, tol=1e-10), p_min=p_min, p_max=p_max
+    )
     p0 = float(getattr(params, param))
     first = ImpactOrbitProblem(params, param, symmetric=symmetric)
     run = newton_solve(first, x0, p0, tol=1e-12)
@@ -164,11 +194,19 @@ def trace_impact_orbits(
             if len(pieces) >= max_pieces:
                 ends.append(BranchEnd(direction, PIECES, f"stopped after {max_pieces} pieces"))
                 break
-            branch = continuation(problem, x, p, param=param, options=dataclasses.replace(opts, direction="forward" if sign > 0 else "backward"))
+            branch = continuation(
+                problem,
+                x,
+                p,
+                param=param,
+                options=dataclasses.replace(opts, direction="forward" if sign > 0 else "backward"),
+            )
             pieces.append(ImpactPiece(branch, problem.phase, problem.impacts))
             end = _far_end(branch, p, x)
             if end is None or end.reason != Status.EDGE.value or end.edge not in (SECTION, GRAZING):
-                reason = end.reason if end is not None else (branch.ends[-1][1] if branch.ends else branch.status)
+                reason = (
+                    end.reason if end is not None else (branch.ends[-1][1] if branch.ends else branch.status)
+                )
                 ends.append(BranchEnd(direction, reason, end.message if end is not None else branch.message))
                 break
             x_end, p_end = end.x, end.p
@@ -177,7 +215,14 @@ def trace_impact_orbits(
                 phase, x = quiet_section(problem, x_end, p_end)
                 p = p_end
                 if _seen(starts, phase, p, x):
-                    ends.append(BranchEnd(direction, Status.LOOP.value, f"closed loop (back at the section of {param} = {p:.10g}, or at its mirror image)"))
+                    ends.append(
+                        BranchEnd(
+                            direction,
+                            Status.LOOP.value,
+                            f"closed loop (back at the section of {param} = {p:.10g}, or at its "
+                            "mirror image)",
+                        )
+                    )
                     break
                 starts.append((phase, p, x))
                 problem = _problem(params, param, symmetric, phase, x, p)
@@ -185,7 +230,14 @@ def trace_impact_orbits(
             grazing.append((p_end, x_end, problem.phase))
             beyond = _cross_grazing(params, param, symmetric, problem, x_end, p_end, sign, opts)
             if beyond is None:
-                ends.append(BranchEnd(direction, GRAZES, f"grazing at {param} = {p_end:.10g}; no orbit with another impact count found beyond it"))
+                ends.append(
+                    BranchEnd(
+                        direction,
+                        GRAZES,
+                        f"grazing at {param} = {p_end:.10g}; no orbit with another impact count "
+                        "found beyond it",
+                    )
+                )
                 break
             problem, x, p = beyond
     complete = all(e.reason in (Status.BOUND.value, Status.LOOP.value) for e in ends)
@@ -215,5 +267,11 @@ def _cross_grazing(params, param, symmetric, problem, x, p, sign, opts):
         if run.converged and near and probe.in_domain(run.x, q):
             count = len(probe.evaluate(run.x, q).impacts)
             if count != problem.impacts:
-                return ImpactOrbitProblem(params, param, symmetric=symmetric, phase=problem.phase, impacts=count), run.x, q
+                return (
+                    ImpactOrbitProblem(
+                        params, param, symmetric=symmetric, phase=problem.phase, impacts=count
+                    ),
+                    run.x,
+                    q,
+                )
     return None

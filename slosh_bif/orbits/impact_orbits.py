@@ -37,7 +37,11 @@ __all__ = ["ImpactOrbitProblem", "StrobeMap", "GrazingGap", "SECTION", "GRAZING"
 
 SECTION, GRAZING = "an impact on the section", "grazing (GR)"
 _KEEP = 8  # evaluations and flows kept: one corrector step and its finite-difference-free tangent
-_CODES = {1: "the particle sticks to the wall (impacts accumulate)", 2: "kappa (eq. 21) is not real at an impact speed reached", 3: "more than 10,000 impacts a period"}
+_CODES = {
+    1: "the particle sticks to the wall (impacts accumulate)",
+    2: "kappa (eq. 21) is not real at an impact speed reached",
+    3: "more than 10,000 impacts a period",
+}
 
 
 @dataclasses.dataclass(frozen=True)
@@ -68,20 +72,31 @@ class GrazingGap:
 class ImpactOrbitProblem:
     """Periodic orbits of (8) with period ``period_multiple * 2 pi`` (or symmetric ones on the
     half-period map), continued in ``param``: a parameter of the flow between impacts (eps, beta,
-    gamma, sigma, Abar) or of the wall's restitution law (lam, chi). x = [X, X', w, w'] at tau = ``phase``; ``impacts`` (when
+    gamma, sigma, Abar) or of the wall's restitution law (lam, chi). x = [X, X', w, w'] at tau = ``phase``;
+    ``impacts`` (when
     given) is the number of impacts over the map's time that the domain holds to."""
 
     branch_kind = "periodic orbits of (8)"
     names = ("X", "Xd", "w", "wd")
 
     def __init__(
-        self, params: Params, param: str = "sigma", *, symmetric: bool = False, period_multiple: int = 1, box: tuple | None = None,
-        phase: float = 0.0, impacts: int | None = None,
+        self,
+        params: Params,
+        param: str = "sigma",
+        *,
+        symmetric: bool = False,
+        period_multiple: int = 1,
+        box: tuple | None = None,
+        phase: float = 0.0,
+        impacts: int | None = None,
     ):
         if not isinstance(params, Params):
             raise TypeError(f"params must be a slosh_bif.Params; got {type(params).__name__}")
         if param not in LINEAR_PARAMETERS + WALL_PARAMETERS:
-            raise ValueError(f"param must be one of {', '.join(LINEAR_PARAMETERS + WALL_PARAMETERS)} for orbits of (8) (n and pbar are integers); got {param!r}")
+            raise ValueError(
+                f"param must be one of {', '.join(LINEAR_PARAMETERS + WALL_PARAMETERS)} for orbits "
+                f"of (8) (n and pbar are integers); got {param!r}"
+            )
         if not (isinstance(period_multiple, int) and 1 <= period_multiple <= 8):
             raise ValueError(f"period_multiple must be an integer in [1, 8]; got {period_multiple!r}")
         if symmetric and period_multiple != 1:
@@ -120,7 +135,9 @@ class ImpactOrbitProblem:
         if key not in self._maps:
             y, phi, dp, impacts, code = self.flow_at(p).strobe(x, self.phase, self.period)
             self.evaluations += 1
-            self._maps[key] = StrobeMap(self.closing * y, self.closing * phi, self.closing * dp, impacts, code)
+            self._maps[key] = StrobeMap(
+                self.closing * y, self.closing * phi, self.closing * dp, impacts, code
+            )
             if len(self._maps) > _KEEP:
                 self._maps.popitem(last=False)
         return self._maps[key]
@@ -224,7 +241,13 @@ class ImpactOrbitProblem:
     def orbit(self, x, p, *, step: float = 0.01):
         """(t, y, impacts) of the orbit through x over the map's time, sampled every ``step`` and
         at the impacts (post-impact states), impacts rows t, side, w'-, w'+."""
-        t, y, impacts, _ = ImpactFlow(self.params_at(p), step).run(np.asarray(x, dtype=float), self.phase, self.phase + self.period, stick_speed=1e-9, max_impacts=10_000)
+        t, y, impacts, _ = ImpactFlow(self.params_at(p), step).run(
+            np.asarray(x, dtype=float),
+            self.phase,
+            self.phase + self.period,
+            stick_speed=1e-9,
+            max_impacts=10_000,
+        )
         return t, y, impacts
 
     def grazing(self, x, p) -> GrazingGap:
@@ -232,7 +255,13 @@ class ImpactOrbitProblem:
         of the wall, or the depth ``v**2 / (2 a)`` that an impact of speed v against an acceleration
         a away from the wall would have reached beyond it."""
         flow = self.flow_at(p)
-        t, y, impacts, _ = flow.run(np.asarray(x, dtype=float), self.phase, self.phase + self.period, stick_speed=1e-9, max_impacts=10_000)
+        t, y, impacts, _ = flow.run(
+            np.asarray(x, dtype=float),
+            self.phase,
+            self.phase + self.period,
+            stick_speed=1e-9,
+            max_impacts=10_000,
+        )
         best = GrazingGap(np.inf, 0.0, "flight", len(impacts))
         K = flow.K
         for tk, side, v_minus, _ in impacts:

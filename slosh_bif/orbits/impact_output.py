@@ -4,7 +4,8 @@
 columns ``sigma, Abar, A1, max_abs_X, impacts, min_impact_speed, stable, max_abs_multiplier,
 special, branch, piece, phase``: A1 is the first-harmonic amplitude of X at the forcing frequency,
 as for (9); ``impacts`` the impacts per forcing period on the piece (twice those of the half
-period on a symmetric branch, traced on the half-period map), ``phase`` its section; ``special`` the special point at
+period on a symmetric branch, traced on the half-period map), ``phase`` its section; ``special`` the special
+point at
 that row (PD, NS, LP, BP, GR at a grazing end, END); ``branch`` its name (``symmetric``,
 ``asymmetric``, ``asymmetric-2``, ..., or ``primary`` when the start orbit is not symmetric).
 """
@@ -21,7 +22,20 @@ from slosh_bif.report.tables import write_rows
 
 __all__ = ["IMPACT_COLUMNS", "orbit_measures", "impact_rows", "write_impact_csv", "plot_impact_branch"]
 
-IMPACT_COLUMNS = ("sigma", "Abar", "A1", "max_abs_X", "impacts", "min_impact_speed", "stable", "max_abs_multiplier", "special", "branch", "piece", "phase")
+IMPACT_COLUMNS = (
+    "sigma",
+    "Abar",
+    "A1",
+    "max_abs_X",
+    "impacts",
+    "min_impact_speed",
+    "stable",
+    "max_abs_multiplier",
+    "special",
+    "branch",
+    "piece",
+    "phase",
+)
 MEASURE_STEP = 0.01  # sample step of an orbit for its measures: A1 to about 1e-5
 
 
@@ -60,8 +74,16 @@ def impact_rows(result: ImpactBranch, params, symmetric: bool = False, name: str
             at = params.replace(**{b.param: float(b.p[i])})
             m = orbit_measures(problem, b.x[i], b.p[i])
             yield {
-                "sigma": at.sigma, "Abar": at.Abar, **m, "impacts": piece.impacts * (2 if symmetric else 1), "stable": int(b.stable[i]),
-                "max_abs_multiplier": float(np.abs(b.eigenvalues[i]).max()), "special": labels[i], "branch": name, "piece": k, "phase": piece.phase,
+                "sigma": at.sigma,
+                "Abar": at.Abar,
+                **m,
+                "impacts": piece.impacts * (2 if symmetric else 1),
+                "stable": int(b.stable[i]),
+                "max_abs_multiplier": float(np.abs(b.eigenvalues[i]).max()),
+                "special": labels[i],
+                "branch": name,
+                "piece": k,
+                "phase": piece.phase,
             }
 
 
@@ -82,23 +104,31 @@ def plot_impact_branch(rows, params, path, *, title=None) -> Path:
 
     rows = list(rows)
     param = "sigma" if len({r["sigma"] for r in rows}) > 1 else "Abar"
-    fig, (ax, axi) = pyplot().subplots(2, 1, figsize=(9, 7.5), sharex=True, gridspec_kw={"height_ratios": [3, 1]})
+    fig, (ax, axi) = pyplot().subplots(
+        2, 1, figsize=(9, 7.5), sharex=True, gridspec_kw={"height_ratios": [3, 1]}
+    )
     labels = []
     names = list(dict.fromkeys(r["branch"] for r in rows))
-    for name, k in sorted({(r["branch"], r["piece"]) for r in rows}, key=lambda nk: (names.index(nk[0]), nk[1])):
+    for name, k in sorted(
+        {(r["branch"], r["piece"]) for r in rows}, key=lambda nk: (names.index(nk[0]), nk[1])
+    ):
         part = [r for r in rows if (r["branch"], r["piece"]) == (name, k)]
         color = f"C{names.index(name)}"
         p = np.array([r[param] for r in part])
         a1 = np.array([r["A1"] for r in part])
         stable = np.array([r["stable"] for r in part], dtype=bool)
         for i in range(len(part) - 1):
-            ax.plot(p[i : i + 2], a1[i : i + 2], "-" if stable[i] and stable[i + 1] else "--", color=color, lw=1.4)
+            ax.plot(
+                p[i : i + 2], a1[i : i + 2], "-" if stable[i] and stable[i + 1] else "--", color=color, lw=1.4
+            )
         axi.plot(p, [r["impacts"] for r in part], color=color, lw=1.2)
         for r in part:
             for kind in r["special"].split():
                 if kind in SPECIAL_MARKERS and kind != "END":
                     marker, color = SPECIAL_MARKERS[kind]
-                    ax.plot(r[param], r["A1"], marker, color=color, ms=7, mfc="none" if kind == "LP" else color)
+                    ax.plot(
+                        r[param], r["A1"], marker, color=color, ms=7, mfc="none" if kind == "LP" else color
+                    )
                     labels.append((r[param], r["A1"], kind, color))
     place_labels(ax, labels)
     for j, name in enumerate(names if len(names) > 1 else ()):
@@ -109,7 +139,11 @@ def plot_impact_branch(rows, params, path, *, title=None) -> Path:
     ax.set_ylabel("A1: first-harmonic amplitude of X")
     axi.set_ylabel("impacts / period")
     axi.set_xlabel(r"$\sigma$" if param == "sigma" else r"$\bar A$")
-    ax.set_title(title or f"Periodic orbits of the impact model (8): eps = {params.eps:g}, beta = {params.beta:g}, gamma = {params.gamma:g}, Abar = {params.Abar:g}, n = {params.n}")
+    ax.set_title(
+        title
+        or f"Periodic orbits of the impact model (8): eps = {params.eps:g}, beta = {params.beta:g}, "
+        f"gamma = {params.gamma:g}, Abar = {params.Abar:g}, n = {params.n}"
+    )
     ax.legend(fontsize=7, loc="best")
     ax.grid(alpha=0.3)
     axi.grid(alpha=0.3)

@@ -28,16 +28,29 @@ __all__ = ["is_symmetric", "asymmetric_branches"]
 
 # Steps onto the new branch: a few short ones, so that the start of the traced branch lies on it
 # and clear of the pitchfork (where the full map's Jacobian is singular).
-SWITCH_OPTIONS = ContinuationOptions(step=0.005, step_max=0.02, tol=1e-10, max_steps=4, detect_branch_points=False)
+SWITCH_OPTIONS = ContinuationOptions(
+    step=0.005, step_max=0.02, tol=1e-10, max_steps=4, detect_branch_points=False
+)
 
 
 def is_symmetric(params: Params, x, tol: float = 1e-8) -> bool:
     """Whether the orbit through x (its state at tau = 0) is symmetric: G(x) = x on the half-period map."""
     half = ImpactOrbitProblem(params, "sigma", symmetric=True)
-    return bool(np.linalg.norm(half.residual(np.asarray(x, dtype=float), params.sigma)) <= tol * (1 + np.linalg.norm(x)))
+    return bool(
+        np.linalg.norm(half.residual(np.asarray(x, dtype=float), params.sigma))
+        <= tol * (1 + np.linalg.norm(x))
+    )
 
 
-def asymmetric_branches(params: Params, symmetric: ImpactBranch, *, p_min: float, p_max: float, options: ContinuationOptions | None = None, max_branches: int = 4) -> list:
+def asymmetric_branches(
+    params: Params,
+    symmetric: ImpactBranch,
+    *,
+    p_min: float,
+    p_max: float,
+    options: ContinuationOptions | None = None,
+    max_branches: int = 4,
+) -> list:
     """(origin, ImpactBranch) of the asymmetric branch born at each located pitchfork of the
     ``symmetric`` branch (traced on the half-period map), each family once: a pitchfork that an
     earlier asymmetric branch passes through is not switched at again."""
@@ -53,7 +66,9 @@ def asymmetric_branches(params: Params, symmetric: ImpactBranch, *, p_min: float
             if start is None:
                 continue
             x0, p = start
-            branch = trace_impact_orbits(params.replace(**{param: p}), x0, param=param, p_min=p_min, p_max=p_max, options=options)
+            branch = trace_impact_orbits(
+                params.replace(**{param: p}), x0, param=param, p_min=p_min, p_max=p_max, options=options
+            )
             found.append((f"BP at {param} = {sp.p:.6g} on the symmetric branch", branch))
     return found
 
@@ -64,7 +79,13 @@ def _switched_start(params, param, phase, sp, p_min, p_max):
     probe = ImpactOrbitProblem(params, param, phase=phase)
     full = ImpactOrbitProblem(params, param, phase=phase, impacts=len(probe.evaluate(sp.x, sp.p).impacts))
     try:
-        new = switch_branch(full, sp, param=param, options=dataclasses.replace(SWITCH_OPTIONS, p_min=p_min, p_max=p_max), along=sp.tangent)
+        new = switch_branch(
+            full,
+            sp,
+            param=param,
+            options=dataclasses.replace(SWITCH_OPTIONS, p_min=p_min, p_max=p_max),
+            along=sp.tangent,
+        )
     except ConvergenceError:
         return None
     x, p = new.x[-1], float(new.p[-1])
@@ -75,4 +96,8 @@ def _switched_start(params, param, phase, sp, p_min, p_max):
 
 def _passes_through(branch: ImpactBranch, p: float) -> bool:
     """Whether an asymmetric branch has a branch point at ``p`` (it reaches this pitchfork too)."""
-    return any(s.kind == BRANCH_POINT and abs(s.p - p) < 1e-4 * (1 + abs(p)) for piece in branch.pieces for s in piece.branch.special)
+    return any(
+        s.kind == BRANCH_POINT and abs(s.p - p) < 1e-4 * (1 + abs(p))
+        for piece in branch.pieces
+        for s in piece.branch.special
+    )

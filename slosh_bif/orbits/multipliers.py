@@ -43,11 +43,19 @@ def describe_crossing(kind, mu, symmetric: bool):
             # freely (G has -1 twice all along), and the test's sign flips on rounding.
             return None
         if kind == "BP":
-            return f"symmetry-breaking pitchfork: the half-period map's multiplier {mu[k].real:.6f} through -1 (the period map's through +1)"
+            return (
+                f"symmetry-breaking pitchfork: the half-period map's multiplier {mu[k].real:.6f} "
+                "through -1 (the period map's through +1)"
+            )
         return f"period doubling: multiplier {mu[k].real:.6f} through -1"
     complex_pair = [m for m in mu if m.imag > 1e-7 * max(1.0, abs(m))]
     for m in complex_pair:
-        if abs(abs(m) - 1) < 1e-3 and min(abs(m - 1), abs(m + 1)) >= DOUBLE:  # a pair split off a double +-1 by rounding is none
+        if (
+            abs(abs(m) - 1) < 1e-3 and min(abs(m - 1), abs(m + 1)) >= DOUBLE
+        ):  # a pair split off a double +-1 by rounding is none
             angle = abs(np.angle(m * m if symmetric else m))  # the period map's pair
-            return f"Neimark-Sacker: multipliers exp(+-i {angle:.6f}) on the unit circle (rotation {angle / (2 * np.pi):.6f})"
+            return (
+                f"Neimark-Sacker: multipliers exp(+-i {angle:.6f}) on the unit circle (rotation "
+                f"{angle / (2 * np.pi):.6f})"
+            )
     return None

@@ -22,9 +22,30 @@ from pathlib import Path
 from slosh_bif.orbits.families import LIOUVILLE_TOL, OrbitFamily
 from slosh_bif.report.tables import write_rows
 
-__all__ = ["BRANCH_COLUMNS", "FAMILY_COLUMNS", "family_rows", "write_branch_csv", "write_families_csv", "plot_family"]
+__all__ = [
+    "BRANCH_COLUMNS",
+    "FAMILY_COLUMNS",
+    "family_rows",
+    "write_branch_csv",
+    "write_families_csv",
+    "plot_family",
+]
 
-BRANCH_COLUMNS = ("sigma", "Abar", "A1", "max_abs_X", "max_abs_w", "stable", "max_abs_multiplier", "liouville_error", "symmetry_defect", "special", "branch", "status", "flag")
+BRANCH_COLUMNS = (
+    "sigma",
+    "Abar",
+    "A1",
+    "max_abs_X",
+    "max_abs_w",
+    "stable",
+    "max_abs_multiplier",
+    "liouville_error",
+    "symmetry_defect",
+    "special",
+    "branch",
+    "status",
+    "flag",
+)
 
 FAMILY_COLUMNS = ("family", "kind", "sigma_min", "sigma_max", "closed", "found_from", "points", "status")
 
@@ -34,11 +55,23 @@ def family_rows(family: OrbitFamily):
         b, m = ob.branch, ob.measures
         labels = b.special_labels()
         for i in range(len(b)):
-            sigma, Abar = (b.p[i], family.params.Abar) if b.param == "sigma" else (family.params.sigma, b.p[i])
+            sigma, Abar = (
+                (b.p[i], family.params.Abar) if b.param == "sigma" else (family.params.sigma, b.p[i])
+            )
             yield {
                 "sigma": float(sigma),
                 "Abar": float(Abar),
-                **{k: float(m[k][i]) for k in ("A1", "max_abs_X", "max_abs_w", "max_abs_multiplier", "liouville_error", "symmetry_defect")},
+                **{
+                    k: float(m[k][i])
+                    for k in (
+                        "A1",
+                        "max_abs_X",
+                        "max_abs_w",
+                        "max_abs_multiplier",
+                        "liouville_error",
+                        "symmetry_defect",
+                    )
+                },
                 "stable": int(b.stable[i]),
                 "special": labels[i],
                 "branch": ob.name,
@@ -56,8 +89,14 @@ def write_families_csv(family: OrbitFamily, path) -> Path:
         for ob in family.branches:
             sigma = ob.branch.p if ob.branch.param == "sigma" else [family.params.sigma]
             yield {
-                "family": ob.name, "kind": ob.kind, "sigma_min": float(min(sigma)), "sigma_max": float(max(sigma)),
-                "closed": int(ob.closed), "found_from": ob.found_from, "points": len(ob), "status": ob.branch.status,
+                "family": ob.name,
+                "kind": ob.kind,
+                "sigma_min": float(min(sigma)),
+                "sigma_max": float(max(sigma)),
+                "closed": int(ob.closed),
+                "found_from": ob.found_from,
+                "points": len(ob),
+                "status": ob.branch.status,
             }
 
     return write_rows(rows(), FAMILY_COLUMNS, path)
@@ -74,13 +113,30 @@ def plot_family(family: OrbitFamily, path, *, slow_flow=None, title=None) -> Pat
         special_legend,
     )
 
-    fig, (ax, axm) = pyplot().subplots(2, 1, figsize=(9, 8), sharex=True, gridspec_kw={"height_ratios": [3, 1.2]})
+    fig, (ax, axm) = pyplot().subplots(
+        2, 1, figsize=(9, 8), sharex=True, gridspec_kw={"height_ratios": [3, 1.2]}
+    )
     if slow_flow is not None:
         for k, branch in enumerate(slow_flow.branches):
-            ax.plot(branch.p, branch.x[:, 0], color="0.6", lw=3, alpha=0.6, label="slow flow (46)" if k == 0 else None)
+            ax.plot(
+                branch.p,
+                branch.x[:, 0],
+                color="0.6",
+                lw=3,
+                alpha=0.6,
+                label="slow flow (46)" if k == 0 else None,
+            )
     for k, ob in enumerate(family.branches):
         b = ob.branch
-        plot_branch(ax, b, ob.measures["A1"], color=f"C{k}", label=f"{ob.name}" + (f" ({ob.origin})" if ob.origin else ""), label_ends=False, annotate=len(b.special) <= 12)
+        plot_branch(
+            ax,
+            b,
+            ob.measures["A1"],
+            color=f"C{k}",
+            label=f"{ob.name}" + (f" ({ob.origin})" if ob.origin else ""),
+            label_ends=False,
+            annotate=len(b.special) <= 12,
+        )
         axm.semilogy(b.p, ob.measures["max_abs_multiplier"], color=f"C{k}", lw=1)
     ax.plot([], [], "k-", label="stable")
     ax.plot([], [], "k--", label="unstable")
@@ -90,7 +146,11 @@ def plot_family(family: OrbitFamily, path, *, slow_flow=None, title=None) -> Pat
     axm.set_xlabel(rf"$\{family.param}$" if family.param == "sigma" else r"$\bar A$")
     ax.set_ylabel("A1: first-harmonic amplitude of X")
     P = family.params
-    ax.set_title(title or f"Periodic orbits of (9) by shooting: eps = {P.eps:g}, beta = {P.beta:g}, gamma = {P.gamma:g}, Abar = {P.Abar:g}, n = {P.n}")
+    ax.set_title(
+        title
+        or f"Periodic orbits of (9) by shooting: eps = {P.eps:g}, beta = {P.beta:g}, gamma = "
+        f"{P.gamma:g}, Abar = {P.Abar:g}, n = {P.n}"
+    )
     ax.legend(fontsize=7, loc="best")
     ax.grid(alpha=0.3)
     axm.grid(alpha=0.3)

@@ -86,7 +86,9 @@ class _PeriodMapProblem:
         return self.map(y)[1] - np.eye(len(y))
 
 
-def shoot(rhs, jac, y0, period, *, tol=1e-10, max_iter=20, rtol=1e-10, atol=1e-12, method="DOP853") -> PeriodicOrbit:
+def shoot(
+    rhs, jac, y0, period, *, tol=1e-10, max_iter=20, rtol=1e-10, atol=1e-12, method="DOP853"
+) -> PeriodicOrbit:
     """Newton on phi_T(y0) - y0 = 0. Never raises on non-convergence: the result says why."""
     y = np.asarray(y0, dtype=float).copy()
     if not np.all(np.isfinite(y)):

@@ -32,7 +32,9 @@ def refine_pitchforks(problem: ShootingProblem, branch: Branch, *, tol: float = 
         return branch
     # The held parameter only has to differ from the branch's; (sigma, Abar) takes the dedicated kernel.
     other = "Abar" if problem.param == "sigma" else "sigma"
-    special = tuple(_refined(problem, sp, other, tol) if sp.kind == BRANCH_POINT else sp for sp in branch.special)
+    special = tuple(
+        _refined(problem, sp, other, tol) if sp.kind == BRANCH_POINT else sp for sp in branch.special
+    )
     return dataclasses.replace(branch, special=special)
 
 
@@ -40,7 +42,13 @@ def _refined(problem: ShootingProblem, sp, other: str, tol: float):
     half = problem.segments // 2
     at = problem.params_at(sp.p)
     condition = PitchforkCurveProblem(
-        at, p1=other, p2=problem.param, segments=half, rtol=problem.rtol, atol=problem.atol, backend=problem.backend,
+        at,
+        p1=other,
+        p2=problem.param,
+        segments=half,
+        rtol=problem.rtol,
+        atol=problem.atol,
+        backend=problem.backend,
     )  # no box: the branch's box bounds its parameter, which is p2 here
     u0 = np.append(sp.x[: 4 * half], sp.p)
     held = float(getattr(at, other))
@@ -55,5 +63,10 @@ def _refined(problem: ShootingProblem, sp, other: str, tol: float):
         return sp
     states = result.x[:-1]
     x = np.concatenate([states, -states])  # the symmetric orbit: y(tau + pi) = -y(tau)
-    note = f" (refined on the half-period map, phi_pi's multiplier +1: moved {abs(p - sp.p):.1e} in {problem.param})"
-    return dataclasses.replace(sp, p=p, x=x, message=sp.message.split(" (located to within")[0] + note, located=True)
+    note = (
+        f" (refined on the half-period map, phi_pi's multiplier +1: moved {abs(p - sp.p):.1e} in "
+        f"{problem.param})"
+    )
+    return dataclasses.replace(
+        sp, p=p, x=x, message=sp.message.split(" (located to within")[0] + note, located=True
+    )

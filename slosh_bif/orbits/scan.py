@@ -47,7 +47,9 @@ _DEGENERATE = 1e-6  # distance of a multiplier from +1 below which the start orb
 _NEAR_MAX = 1e-4  # relative distance beyond which two orbits at one parameter value are different orbits
 
 
-def on_traced_branch(params: Params, y0, branches, *, param: str = "sigma", period_multiple: int = 1, tol: float = 1e-6) -> OrbitBranch | None:
+def on_traced_branch(
+    params: Params, y0, branches, *, param: str = "sigma", period_multiple: int = 1, tol: float = 1e-6
+) -> OrbitBranch | None:
     """The traced branch among ``branches`` (continued in ``param``, orbits of period
     ``period_multiple`` 2pi) that the orbit of (9) through the state ``y0`` at tau = 0 at
     ``params`` lies on, in any of its :func:`~slosh_bif.orbits.families.images` (a mirror image,
@@ -55,7 +57,11 @@ def on_traced_branch(params: Params, y0, branches, *, param: str = "sigma", peri
     p = getattr(params, param)
     for ob in branches:
         problem, b = ob.problem, ob.branch
-        if problem.period_multiple != period_multiple or b.param != param or not _same_except(param, problem.params, params):
+        if (
+            problem.period_multiple != period_multiple
+            or b.param != param
+            or not _same_except(param, problem.params, params)
+        ):
             continue
         crossings = np.flatnonzero((b.p[:-1] - p) * (b.p[1:] - p) <= 0)
         if not crossings.size:
@@ -67,12 +73,23 @@ def on_traced_branch(params: Params, y0, branches, *, param: str = "sigma", peri
         # a multiplier near +1 (the particle barely held between the walls) makes s_min 3e-9
         # and the gap 4e-7. Capped: at a fold s_min vanishes, and distinct branches near a
         # branch point must stay apart.
-        s_min = np.linalg.svd(problem.period_jacobian(x, p), compute_uv=False)[-1]  # the 2pi problem's: a symmetric orbit's G may be regular where M is not
+        s_min = np.linalg.svd(problem.period_jacobian(x, p), compute_uv=False)[
+            -1
+        ]  # the 2pi problem's: a symmetric orbit's G may be regular where M is not
         near = min(_NEAR_MAX, max(tol, 100 * START_TOL / max(s_min, 1e-300)))
         for i in crossings:
             w = 0.0 if b.p[i + 1] == b.p[i] else (p - b.p[i]) / (b.p[i + 1] - b.p[i])
-            run = newton_solve(problem, (1 - w) * b.x[i] + w * b.x[i + 1], p, tol=START_TOL, max_iter=12, criterion="residual")
-            if run.converged and any(np.linalg.norm(run.x - y) <= near * (1 + np.linalg.norm(y)) for y in copies):
+            run = newton_solve(
+                problem,
+                (1 - w) * b.x[i] + w * b.x[i + 1],
+                p,
+                tol=START_TOL,
+                max_iter=12,
+                criterion="residual",
+            )
+            if run.converged and any(
+                np.linalg.norm(run.x - y) <= near * (1 + np.linalg.norm(y)) for y in copies
+            ):
                 return ob
     return None
 
@@ -84,7 +101,13 @@ def _covered(ob: OrbitBranch, others, param: str) -> OrbitBranch | None:
     owner = None
     for i in sorted({len(b) // 4, len(b) // 2, (3 * len(b)) // 4}):
         at = ob.problem.params_at(b.p[i])
-        found = on_traced_branch(at, b.x[i, :4], [o for o in others if owner is None or o is owner], param=param, period_multiple=ob.problem.period_multiple)
+        found = on_traced_branch(
+            at,
+            b.x[i, :4],
+            [o for o in others if owner is None or o is owner],
+            param=param,
+            period_multiple=ob.problem.period_multiple,
+        )
         if found is None:
             return None
         owner = found
@@ -129,15 +152,32 @@ def scan_families(
     resume = resume or Resume()
     skip, branches = resume.done if resume.done is not None else (0, [])
     branches, tried = list(branches), 0
-    for start in scan_starts(params, state0, p_min, p_max, param=param, starts=starts, shooting=shooting, say=say):
+    for start in scan_starts(
+        params, state0, p_min, p_max, param=param, starts=starts, shooting=shooting, say=say
+    ):
         tried += 1
         if tried <= skip:
             continue
-        _take(start, branches, say, param=param, p_min=p_min, p_max=p_max, shooting=shooting, branching=branching, options=options or SHOOTING_OPTIONS, progress=progress)
+        _take(
+            start,
+            branches,
+            say,
+            param=param,
+            p_min=p_min,
+            p_max=p_max,
+            shooting=shooting,
+            branching=branching,
+            options=options or SHOOTING_OPTIONS,
+            progress=progress,
+        )
         if resume.keep is not None:
             resume.keep(tried, branches)
     if not branches:
-        raise ConvergenceError(f"no periodic orbit of (9) found from {tried} converged starts in {param} in [{p_min}, {p_max}]" if tried else f"no start converged to a periodic orbit of (9) in {param} in [{p_min}, {p_max}]")
+        raise ConvergenceError(
+            f"no periodic orbit of (9) found from {tried} converged starts in {param} in [{p_min}, {p_max}]"
+            if tried
+            else f"no start converged to a periodic orbit of (9) in {param} in [{p_min}, {p_max}]"
+        )
     return OrbitFamily(params, param, _renamed(branches))
 
 
@@ -154,7 +194,9 @@ def _take(start, branches: list, say, *, param, **tracing) -> None:
         return
     say(f"scan: a new family from {start.found_from}")
     try:
-        family = trace_new_family(start.params, start.y0, branches, param=param, found_from=start.found_from, **tracing)
+        family = trace_new_family(
+            start.params, start.y0, branches, param=param, found_from=start.found_from, **tracing
+        )
     except ConvergenceError as err:
         say(f"scan: no family traced from {start.found_from}: {err}")
         return
@@ -176,7 +218,9 @@ def _renamed(branches) -> list:
     given while tracing), with the names inside their origins rewritten to match."""
     names = {}
     for ob in branches:
-        names[ob.name] = unique_name(ob.kind, [dataclasses.replace(o, name=n) for o, n in zip(branches, names.values())])
+        names[ob.name] = unique_name(
+            ob.kind, [dataclasses.replace(o, name=n) for o, n in zip(branches, names.values())]
+        )
     slot = {old: f"\0{k}\0" for k, old in enumerate(names)}  # two passes: a new name may be another's old one
 
     def rewrite(text):
@@ -186,4 +230,9 @@ def _renamed(branches) -> list:
             text = text.replace(slot[old], new)
         return text
 
-    return [dataclasses.replace(ob, name=names[ob.name], origin=rewrite(ob.origin), found_from=rewrite(ob.found_from)) for ob in branches]
+    return [
+        dataclasses.replace(
+            ob, name=names[ob.name], origin=rewrite(ob.origin), found_from=rewrite(ob.found_from)
+        )
+        for ob in branches
+    ]

@@ -19,12 +19,23 @@ import dataclasses
 from slosh_bif.orbits.shooting import BACKENDS
 from slosh_bif.report.files import Resume  # noqa: F401 - one object for every resumable run
 
-__all__ = ["ShootingSettings", "BranchingSettings", "StartSettings", "Resume", "SHOOTING", "BRANCHING", "NO_SWITCHING", "STARTS"]
+__all__ = [
+    "ShootingSettings",
+    "BranchingSettings",
+    "StartSettings",
+    "Resume",
+    "SHOOTING",
+    "BRANCHING",
+    "NO_SWITCHING",
+    "STARTS",
+]
 
 
 def _need(settings, ok: bool, name: str, allowed: str) -> None:
     if not ok:
-        raise ValueError(f"{type(settings).__name__}.{name} must be {allowed}; got {getattr(settings, name)!r}")
+        raise ValueError(
+            f"{type(settings).__name__}.{name} must be {allowed}; got {getattr(settings, name)!r}"
+        )
 
 
 def _integer(value, low: int, high: float = float("inf")) -> bool:
@@ -43,7 +54,8 @@ class ShootingSettings:
     rtol, atol : float
         The arcs' integration tolerances.
     backend : str
-        The arcs' integrator: "auto" (numba's compiled integrator when numba imports, else scipy's), "numba" or "scipy".
+        The arcs' integrator: "auto" (numba's compiled integrator when numba imports, else scipy's), "numba"
+        or "scipy".
     points_per_2pi : int
         Samples per forcing period of each orbit's measures.
     """
@@ -56,7 +68,12 @@ class ShootingSettings:
 
     def __post_init__(self):
         _need(self, _integer(self.segments, 1, 64), "segments", "an integer in [1, 64]")
-        _need(self, isinstance(self.rtol, float | int) and 1e-14 <= self.rtol <= 1e-4, "rtol", "in [1e-14, 1e-4]")
+        _need(
+            self,
+            isinstance(self.rtol, float | int) and 1e-14 <= self.rtol <= 1e-4,
+            "rtol",
+            "in [1e-14, 1e-4]",
+        )
         _need(self, isinstance(self.atol, float | int) and 0 < self.atol <= 1e-4, "atol", "in (0, 1e-4]")
         _need(self, self.backend in BACKENDS, "backend", f"one of {', '.join(BACKENDS)}")
         _need(self, _integer(self.points_per_2pi, 8, 1 << 16), "points_per_2pi", "an integer in [8, 65536]")

@@ -44,7 +44,17 @@ from slosh_bif.orbits.multipliers import (
 )
 from slosh_bif.orbits.period_map import PeriodicOrbit, period_map, shoot
 
-__all__ = ["PeriodicOrbit", "ShootingProblem", "Arcs", "PARAMETERS", "period_map", "shoot", "periodic_orbit", "orbit_at", "orbit_measures"]
+__all__ = [
+    "PeriodicOrbit",
+    "ShootingProblem",
+    "Arcs",
+    "PARAMETERS",
+    "period_map",
+    "shoot",
+    "periodic_orbit",
+    "orbit_at",
+    "orbit_measures",
+]
 
 
 PARAMETERS = REAL_FIELDS  # the parameters a problem can be continued in (n and pbar are integers)
@@ -55,7 +65,8 @@ class Arcs:
     """One integration of every arc of multiple shooting from one (x, params).
 
     ends : (m, 4) arc end states;  mats : (m, 4, 4) arc matrices Phi_k;  sens : (m, 4, 2)
-    d(end)/d(the problem's ``sensitivities``, in order);  trace : the integral of tr J over the period (Liouville);
+    d(end)/d(the problem's ``sensitivities``, in order);  trace : the integral of tr J over the period
+    (Liouville);
     monodromy : Phi_{m-1} ... Phi_0.
     """
 
@@ -64,11 +75,15 @@ class Arcs:
     sens: np.ndarray
     trace: float
     monodromy: np.ndarray
+
+
 _STATE = ("X", "Xd", "w", "wd")
 
 
 BACKENDS = integrator.BACKENDS  # the arcs' integrators ("auto": numba's when it imports)
-MAX_PERIOD_MULTIPLE = 8  # longest period traced, in units of 2pi: a period-doubling cascade is followed to period 8
+MAX_PERIOD_MULTIPLE = (
+    8  # longest period traced, in units of 2pi: a period-doubling cascade is followed to period 8
+)
 
 ARC_MAX_STEPS = 100_000
 """Steps one shooting arc may take. An orbit of the presets takes a few hundred a period; a Newton
@@ -92,22 +107,42 @@ class ShootingProblem:
     branch_kind = "periodic orbits of (9)"
 
     def __init__(
-        self, params: Params, param: str = "sigma", *, segments: int = 1, period_multiple: int = 1, rtol: float = 1e-10, atol: float = 1e-12,
-        backend: str = "auto", box: tuple | None = None, symmetric: bool = False, sensitivities: tuple | None = None,
+        self,
+        params: Params,
+        param: str = "sigma",
+        *,
+        segments: int = 1,
+        period_multiple: int = 1,
+        rtol: float = 1e-10,
+        atol: float = 1e-12,
+        backend: str = "auto",
+        box: tuple | None = None,
+        symmetric: bool = False,
+        sensitivities: tuple | None = None,
     ):
         if not isinstance(params, Params):
             raise TypeError(f"params must be a slosh_bif.Params; got {type(params).__name__}")
         if param not in PARAMETERS:
-            raise ValueError(f"param must be one of {', '.join(PARAMETERS)} (n and pbar are integers); got {param!r}")
+            raise ValueError(
+                f"param must be one of {', '.join(PARAMETERS)} (n and pbar are integers); got {param!r}"
+            )
         if sensitivities is None:
-            sensitivities = integrator.DEFAULT_SENSITIVITIES if param in integrator.DEFAULT_SENSITIVITIES else (param, "sigma")
+            sensitivities = (
+                integrator.DEFAULT_SENSITIVITIES
+                if param in integrator.DEFAULT_SENSITIVITIES
+                else (param, "sigma")
+            )
         self.sensitivities = real_pair(sensitivities, "sensitivities")
         if param not in self.sensitivities:
-            raise ValueError(f"sensitivities must include the continued parameter {param!r}; got {sensitivities!r}")
+            raise ValueError(
+                f"sensitivities must include the continued parameter {param!r}; got {sensitivities!r}"
+            )
         if not (isinstance(segments, int) and 1 <= segments <= 64):
             raise ValueError(f"segments must be an integer in [1, 64]; got {segments!r}")
         if not (isinstance(period_multiple, int) and 1 <= period_multiple <= MAX_PERIOD_MULTIPLE):
-            raise ValueError(f"period_multiple must be an integer in [1, {MAX_PERIOD_MULTIPLE}]; got {period_multiple!r}")
+            raise ValueError(
+                f"period_multiple must be an integer in [1, {MAX_PERIOD_MULTIPLE}]; got {period_multiple!r}"
+            )
         self.params, self.param = params, param
         if symmetric and period_multiple != 1:
             raise ValueError("a symmetric problem (the half-period map) needs period_multiple = 1")
@@ -178,7 +213,9 @@ class ShootingProblem:
         taus = self.arc_times()
         if self.segments == 1:
             return y0.copy()
-        return integrator.integrate_grid(params, y0, taus[:-1], rtol=self.rtol, atol=self.atol, backend=self.backend).ravel()
+        return integrator.integrate_grid(
+            params, y0, taus[:-1], rtol=self.rtol, atol=self.atol, backend=self.backend
+        ).ravel()
 
     def arcs(self, x, params: Params) -> "Arcs":
         """Integrate every arc from x at ``params`` (any parameter set, not only ``params_at(p)``):
@@ -196,7 +233,15 @@ class ShootingProblem:
         for k in range(m if ok else 0):
             z0 = np.concatenate([x[4 * k : 4 * k + 4], np.eye(4).ravel(), np.zeros(9)])
             run = integrator.integrate(
-                params, z0, taus[k], taus[k + 1], shooting=True, rtol=self.rtol, atol=self.atol, backend=self.backend, sensitivities=self.sensitivities,
+                params,
+                z0,
+                taus[k],
+                taus[k + 1],
+                shooting=True,
+                rtol=self.rtol,
+                atol=self.atol,
+                backend=self.backend,
+                sensitivities=self.sensitivities,
                 max_steps=ARC_MAX_STEPS,
             )
             self.evaluations += 1
@@ -283,7 +328,8 @@ class ShootingProblem:
         return mu * mu if self.symmetric else mu
 
     def map_multipliers(self, x, p):
-        """The multipliers of the map the problem solves for: M's, or G's = -phi_pi's for a symmetric problem."""
+        """The multipliers of the map the problem solves for: M's, or G's = -phi_pi's for a symmetric
+        problem."""
         key = (x.tobytes(), float(p))
         if self._mu is None or self._mu[0] != key:
             self._mu = (key, self.closing * floquet_multipliers(self.arc_matrices(x, p)))
@@ -325,9 +371,18 @@ class ShootingProblem:
         npts = points_per_2pi * self.period_multiple
         taus = np.linspace(0.0, self.orbit_period, npts + 1)
         if self.symmetric and npts % 2 == 0:
-            half = integrator.integrate_grid(self.params_at(p), x[:4], taus[: npts // 2 + 1], rtol=self.rtol, atol=self.atol, backend=self.backend)
+            half = integrator.integrate_grid(
+                self.params_at(p),
+                x[:4],
+                taus[: npts // 2 + 1],
+                rtol=self.rtol,
+                atol=self.atol,
+                backend=self.backend,
+            )
             return taus, np.concatenate([half, -half[1:]])
-        return taus, integrator.integrate_grid(self.params_at(p), x[:4], taus, rtol=self.rtol, atol=self.atol, backend=self.backend)
+        return taus, integrator.integrate_grid(
+            self.params_at(p), x[:4], taus, rtol=self.rtol, atol=self.atol, backend=self.backend
+        )
 
 
 def orbit_measures(problem: ShootingProblem, x, p, *, points_per_2pi: int = 512) -> dict:
@@ -338,11 +393,28 @@ def orbit_measures(problem: ShootingProblem, x, p, *, points_per_2pi: int = 512)
     coef = np.fft.rfft(X)[problem.period_multiple] * 2 / len(X)  # the forcing frequency's bin
     half = points_per_2pi // 2  # tau = pi
     # A mirrored symmetric orbit (see ShootingProblem.orbit) has the defect |y(pi) + y(0)|, G's residual.
-    defect = float(np.max(np.abs(Y[half : half + points_per_2pi + 1 - half] + Y[: points_per_2pi + 1 - half])))
-    return {"A1": float(abs(coef)), "max_abs_X": float(np.max(np.abs(Y[:, 0]))), "max_abs_w": float(np.max(np.abs(Y[:, 2]))), "symmetry_defect": float(defect)}
+    defect = float(
+        np.max(np.abs(Y[half : half + points_per_2pi + 1 - half] + Y[: points_per_2pi + 1 - half]))
+    )
+    return {
+        "A1": float(abs(coef)),
+        "max_abs_X": float(np.max(np.abs(Y[:, 0]))),
+        "max_abs_w": float(np.max(np.abs(Y[:, 2]))),
+        "symmetry_defect": float(defect),
+    }
 
 
-def periodic_orbit(params: Params, y0, *, segments: int = 1, tol=1e-10, max_iter=20, rtol=1e-10, atol=1e-12, backend: str = "auto") -> PeriodicOrbit:
+def periodic_orbit(
+    params: Params,
+    y0,
+    *,
+    segments: int = 1,
+    tol=1e-10,
+    max_iter=20,
+    rtol=1e-10,
+    atol=1e-12,
+    backend: str = "auto",
+) -> PeriodicOrbit:
     """The 2pi-periodic orbit of the smooth model (9) nearest the guess ``y0 = [X, X', w, w']``.
 
     Newton on the (multiple-)shooting residual of :class:`ShootingProblem`; never raises on

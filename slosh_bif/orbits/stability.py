@@ -38,7 +38,15 @@ class StabilityLoss:
     branch: Branch
 
 
-def loss_of_stability(params: Params, y0, *, param: str = "Abar", p_stop: float = 0.0, segments: int = 4, options: ContinuationOptions | None = None) -> StabilityLoss:
+def loss_of_stability(
+    params: Params,
+    y0,
+    *,
+    param: str = "Abar",
+    p_stop: float = 0.0,
+    segments: int = 4,
+    options: ContinuationOptions | None = None,
+) -> StabilityLoss:
     """Continue the stable 2pi-orbit through ``y0`` (at the value of ``param`` in ``params``)
     toward ``p_stop`` and report the first loss of stability (a fold, a branch point, a period
     doubling or a torus): for ``param="Abar"`` the full model's counterpart of the critical
@@ -49,12 +57,16 @@ def loss_of_stability(params: Params, y0, *, param: str = "Abar", p_stop: float 
     if not (start.converged and start.stable):
         raise ConvergenceError(f"no stable orbit near the start at {param} = {p0}: {start.message}")
     lo, hi = sorted((p0, float(p_stop)))
-    opts = dataclasses.replace(options or SHOOTING_OPTIONS, p_min=lo, p_max=hi, direction="backward" if p_stop < p0 else "forward")
+    opts = dataclasses.replace(
+        options or SHOOTING_OPTIONS, p_min=lo, p_max=hi, direction="backward" if p_stop < p0 else "forward"
+    )
     branch = continuation(problem, problem.initial_states(start.y0), p0, param=param, options=opts)
     # One direction was run, so the start is one end of the branch (which end depends on the
     # orientation of the stored branch): walk from it.
     x_start = problem.initial_states(start.y0)
-    from_start = np.linalg.norm(branch.x[0] - x_start) + abs(branch.p[0] - p0) <= np.linalg.norm(branch.x[-1] - x_start) + abs(branch.p[-1] - p0)
+    from_start = np.linalg.norm(branch.x[0] - x_start) + abs(branch.p[0] - p0) <= np.linalg.norm(
+        branch.x[-1] - x_start
+    ) + abs(branch.p[-1] - p0)
     order = np.arange(len(branch)) if from_start else np.arange(len(branch))[::-1]
     rank = np.empty(len(branch), dtype=int)
     rank[order] = np.arange(len(branch))
@@ -67,7 +79,9 @@ def loss_of_stability(params: Params, y0, *, param: str = "Abar", p_stop: float 
     if unstable.size == 0:
         return StabilityLoss(param, None, "", branch)
     i, j = int(order[unstable[0] - 1]), int(order[unstable[0]])  # last stable, first unstable point
-    near = [s for s in branch.special if s.kind in ("LP", "BP", "PD", "NS") and min(i, j) <= s.index < max(i, j)]
+    near = [
+        s for s in branch.special if s.kind in ("LP", "BP", "PD", "NS") and min(i, j) <= s.index < max(i, j)
+    ]
     if near:
         return StabilityLoss(param, float(near[0].p), near[0].kind, branch)
     return StabilityLoss(param, float(0.5 * (branch.p[i] + branch.p[j])), "", branch)

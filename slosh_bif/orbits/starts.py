@@ -28,9 +28,22 @@ from slosh_bif.simulation.direct import SimulationSettings, simulate
 from slosh_bif.slowflow.flow import SlowFlow
 from slosh_bif.slowflow.steady_states import forcing_response, frequency_response
 
-START_TOL = 1e-9  # residual tolerance of Newton from a start guess (scan.on_traced_branch resolves orbits to it)
+START_TOL = (
+    1e-9  # residual tolerance of Newton from a start guess (scan.on_traced_branch resolves orbits to it)
+)
 
-__all__ = ["UnsettledStartWarning", "UnsettledStartError", "StartOrbit", "start_orbit", "orbit_from_simulation", "orbit_from_slow_flow", "slow_flow_start", "settle_and_shoot", "scan_starts", "linear_response_state"]
+__all__ = [
+    "UnsettledStartWarning",
+    "UnsettledStartError",
+    "StartOrbit",
+    "start_orbit",
+    "orbit_from_simulation",
+    "orbit_from_slow_flow",
+    "slow_flow_start",
+    "settle_and_shoot",
+    "scan_starts",
+    "linear_response_state",
+]
 
 
 # A strobe that still moves by this much (relative) in the last period is not near a fixed point:
@@ -71,7 +84,15 @@ class StartOrbit:
 
 
 def orbit_from_simulation(
-    params: Params, state0, *, settle: int = 150, guess=None, segments: int = 4, tries: int = 50, backend: str = "auto", unsettled: str = "warn",
+    params: Params,
+    state0,
+    *,
+    settle: int = 150,
+    guess=None,
+    segments: int = 4,
+    tries: int = 50,
+    backend: str = "auto",
+    unsettled: str = "warn",
 ) -> StartOrbit:
     """A converged 2pi-orbit near ``guess``, or near the strobe states (tau = 2 pi k) of a
     simulation of (9) from ``state0`` over ``settle`` periods: the last strobe first, then up to
@@ -95,24 +116,44 @@ def orbit_from_simulation(
             # A run that has not settled amplifies rounding: which orbit Newton finds from its
             # strobes depends on the integrator (the Fig. 10 set: the compiled path lands on the
             # symmetric orbit, scipy's on an asymmetric one).
-            why = f"the {settle}-period simulation from the initial state has not settled (its strobe moved by {moved:.2g} in the last period)"
+            why = (
+                f"the {settle}-period simulation from the initial state has not settled (its strobe "
+                f"moved by {moved:.2g} in the last period)"
+            )
             if unsettled == "raise":
                 raise UnsettledStartError(why)
             warnings.warn(
-                f"{why}: the start orbit found from it depends on the integrator's rounding; --start scan (scan_families) finds every family",
-                UnsettledStartWarning, stacklevel=2,
+                f"{why}: the start orbit found from it depends on the integrator's rounding; "
+                "--start scan (scan_families) finds every family",
+                UnsettledStartWarning,
+                stacklevel=2,
             )
     for k, y0 in enumerate(guesses):
         orbit = orbit_at(problem, problem.initial_states(y0), params.sigma, tol=START_TOL)
         if orbit.converged:
-            where = "the guess" if guess is not None else f"the strobe state of period {settle - k} of a simulation"
+            where = (
+                "the guess"
+                if guess is not None
+                else f"the strobe state of period {settle - k} of a simulation"
+            )
             return StartOrbit(params, orbit, f"Newton from {where}")
-    where = "the guess" if guess is not None else f"the last {len(guesses)} strobe states of a {settle}-period simulation"
+    where = (
+        "the guess"
+        if guess is not None
+        else f"the last {len(guesses)} strobe states of a {settle}-period simulation"
+    )
     raise ConvergenceError(f"no periodic orbit found near {where} at sigma = {params.sigma:g}")
 
 
 def start_orbit(
-    params: Params, state0, sigma_range: tuple | None = None, *, settle: int = 150, guess=None, segments: int = 4, backend: str = "auto",
+    params: Params,
+    state0,
+    sigma_range: tuple | None = None,
+    *,
+    settle: int = 150,
+    guess=None,
+    segments: int = 4,
+    backend: str = "auto",
 ) -> StartOrbit:
     """The default start of a family: the stable orbit a ``settle``-period simulation has reached.
 
@@ -126,7 +167,9 @@ def start_orbit(
     flow's start fails too, :func:`orbit_from_simulation` as it is (with its warning when the
     run has not settled)."""
     if sigma_range is None or guess is not None:
-        return orbit_from_simulation(params, state0, settle=settle, guess=guess, segments=segments, backend=backend)
+        return orbit_from_simulation(
+            params, state0, settle=settle, guess=guess, segments=segments, backend=backend
+        )
     if not (isinstance(settle, int) and settle >= 1):
         raise ValueError(f"settle must be an integer >= 1 (forcing periods); got {settle!r}")
     strobe = integrate_grid(params, state0, [0.0, 2 * np.pi * settle], backend=backend)[-1]
@@ -134,18 +177,40 @@ def start_orbit(
     orbit = orbit_at(problem, problem.initial_states(strobe), params.sigma, tol=START_TOL)
     distance = float(np.linalg.norm(strobe - orbit.y0)) if orbit.converged else np.inf
     if orbit.converged and orbit.stable and distance <= REACHED * (1 + np.linalg.norm(orbit.y0)):
-        return StartOrbit(params, orbit, f"Newton from the strobe state of period {settle} of a simulation, {distance:.2g} from this stable orbit")
-    why = ("Newton from its last strobe found no orbit" if not orbit.converged else
-           f"its last strobe is {distance:.2g} from the {'stable' if orbit.stable else 'unstable'} orbit Newton finds from it")
+        return StartOrbit(
+            params,
+            orbit,
+            f"Newton from the strobe state of period {settle} of a simulation, {distance:.2g} from "
+            "this stable orbit",
+        )
+    why = (
+        "Newton from its last strobe found no orbit"
+        if not orbit.converged
+        else f"its last strobe is {distance:.2g} from the {'stable' if orbit.stable else 'unstable'} "
+        "orbit Newton finds from it"
+    )
     try:
         start = slow_flow_start(params, *sigma_range, segments=segments, backend=backend)
     except ConvergenceError:
         return orbit_from_simulation(params, state0, settle=settle, segments=segments, backend=backend)
-    return dataclasses.replace(start, found_from=f"{start.found_from} (the {settle}-period simulation has not reached a stable orbit: {why})")
+    return dataclasses.replace(
+        start,
+        found_from=f"{start.found_from} (the {settle}-period simulation has not reached a stable orbit: "
+        f"{why})",
+    )
 
 
 def orbit_from_slow_flow(
-    params: Params, A: float, *, psi: float | None = None, segments: int = 4, rtol: float = 1e-10, atol: float = 1e-12, tol: float = 1e-10, backend: str = "auto", model: str = "slowflow",
+    params: Params,
+    A: float,
+    *,
+    psi: float | None = None,
+    segments: int = 4,
+    rtol: float = 1e-10,
+    atol: float = 1e-12,
+    tol: float = 1e-10,
+    backend: str = "auto",
+    model: str = "slowflow",
 ):
     """Newton on (9) from the slow flow's motion at amplitude A (a steady state of (46) at
     ``params``, or of the corrected slow flow with ``model="corrected"``; its phase ``psi`` when
@@ -159,7 +224,17 @@ def orbit_from_slow_flow(
     return orbit_at(problem, x, params.sigma, tol=tol)
 
 
-def slow_flow_start(params: Params, sigma_min: float, sigma_max: float, *, segments: int = 4, tries: int = 12, response=None, backend: str = "auto", skip: int = 0) -> StartOrbit:
+def slow_flow_start(
+    params: Params,
+    sigma_min: float,
+    sigma_max: float,
+    *,
+    segments: int = 4,
+    tries: int = 12,
+    response=None,
+    backend: str = "auto",
+    skip: int = 0,
+) -> StartOrbit:
     """A :class:`StartOrbit`: a 2pi-orbit of (9) found from a stable steady state of (46) in
     [sigma_min, sigma_max], for starting :func:`trace_orbits` without a simulation; its
     ``params`` carry the sigma of that steady state.
@@ -171,10 +246,19 @@ def slow_flow_start(params: Params, sigma_min: float, sigma_max: float, *, segme
     (46) over the range, if already traced. ``skip``: pass over the first ``skip`` orbits found
     (a caller whose continuation failed from the first asks for the next).
     """
-    fr = response if response is not None else frequency_response(params, sigma_min=sigma_min, sigma_max=sigma_max)
+    fr = (
+        response
+        if response is not None
+        else frequency_response(params, sigma_min=sigma_min, sigma_max=sigma_max)
+    )
     # (sigma, A, psi): the branch's own phase (at a branch's end on A_min, (46)'s phase balance is
     # a square root of rounding, NaN: seen at n = 6, eps = 0.02)
-    candidates = [(float(b.p[i]), float(b.x[i, 0]), float(b.x[i, 1])) for b in fr.branches for i in range(len(b)) if b.stable[i] and sigma_min <= b.p[i] <= sigma_max]
+    candidates = [
+        (float(b.p[i]), float(b.x[i, 0]), float(b.x[i, 1]))
+        for b in fr.branches
+        for i in range(len(b))
+        if b.stable[i] and sigma_min <= b.p[i] <= sigma_max
+    ]
     candidates.sort(key=lambda c: min(c[0] - sigma_min, sigma_max - c[0]))
     # Neighbours on a branch are nearly the same guess: spread the tries over the candidates.
     picks = candidates[:: max(1, len(candidates) // tries)][:tries]
@@ -183,12 +267,29 @@ def slow_flow_start(params: Params, sigma_min: float, sigma_max: float, *, segme
         orbit = orbit_from_slow_flow(at, A, psi=psi, segments=segments, backend=backend)
         if orbit.converged:
             if skip == 0:
-                return StartOrbit(at, orbit, f"Newton from the slow flow's motion on the stable steady state A = {A:.6g} of (46)")
+                return StartOrbit(
+                    at,
+                    orbit,
+                    f"Newton from the slow flow's motion on the stable steady state A = {A:.6g} of (46)",
+                )
             skip -= 1
-    raise ConvergenceError(f"no orbit of (9) found from {len(picks)} stable steady states of (46) in sigma in [{sigma_min}, {sigma_max}]")
+    raise ConvergenceError(
+        f"no orbit of (9) found from {len(picks)} stable steady states of (46) in sigma in "
+        f"[{sigma_min}, {sigma_max}]"
+    )
 
 
-def settle_and_shoot(params: Params, state0, rtol: float = 1e-10, *, segments: int = 4, sim_rtol: float = 1e-8, first: int = 200, every: int = 100, most: int = 1000):
+def settle_and_shoot(
+    params: Params,
+    state0,
+    rtol: float = 1e-10,
+    *,
+    segments: int = 4,
+    sim_rtol: float = 1e-8,
+    first: int = 200,
+    every: int = 100,
+    most: int = 1000,
+):
     """(orbit, A1): a stable 2pi-orbit of (9) reached from ``state0``, and its first-harmonic amplitude.
 
     Simulates (9) and, after ``first`` forcing periods and then every ``every`` periods up to
@@ -202,11 +303,20 @@ def settle_and_shoot(params: Params, state0, rtol: float = 1e-10, *, segments: i
     if y.shape != (4,) or not np.all(np.isfinite(y)):
         raise ValueError(f"state0 must be 4 finite numbers [X, X', w, w']; got {state0!r}")
     if not (isinstance(every, int) and every >= 1 and isinstance(first, int) and 0 <= first <= most):
-        raise ValueError(f"need integers every >= 1 and 0 <= first <= most; got every={every!r}, first={first!r}, most={most!r}")
+        raise ValueError(
+            f"need integers every >= 1 and 0 <= first <= most; got every={every!r}, "
+            f"first={first!r}, most={most!r}"
+        )
     tau, orbit = 0.0, None
     for periods in range(first, most + 1, every):
         if periods > 0:
-            sim = simulate(params, y, periods * 2 * np.pi, t0=tau, settings=SimulationSettings(rtol=sim_rtol, atol=sim_rtol * 1e-2, sample_step=0.1))
+            sim = simulate(
+                params,
+                y,
+                periods * 2 * np.pi,
+                t0=tau,
+                settings=SimulationSettings(rtol=sim_rtol, atol=sim_rtol * 1e-2, sample_step=0.1),
+            )
             if not sim.success:
                 raise RuntimeError(f"settling simulation failed: {sim.message}")
             y, tau = sim.y[:, -1], periods * 2 * np.pi
@@ -245,11 +355,21 @@ def _steady_states_near(params: Params, param: str, values, p_min, p_max):
     return found
 
 
-_RANDOM_BOX = np.array([3.0, 3.0, 1.0, 3.0])  # |X|, |X'|, |w|, |w'| of the random starts: the walls and beyond Fig. 10's speeds
+_RANDOM_BOX = np.array(
+    [3.0, 3.0, 1.0, 3.0]
+)  # |X|, |X'|, |w|, |w'| of the random starts: the walls and beyond Fig. 10's speeds
 
 
 def scan_starts(
-    params: Params, state0, p_min: float, p_max: float, *, param: str = "sigma", starts: StartSettings = STARTS, shooting: ShootingSettings = SHOOTING, say=None,
+    params: Params,
+    state0,
+    p_min: float,
+    p_max: float,
+    *,
+    param: str = "sigma",
+    starts: StartSettings = STARTS,
+    shooting: ShootingSettings = SHOOTING,
+    say=None,
 ):
     """Converged 2pi-orbits of (9) from many starts over [p_min, p_max] of ``param`` (sigma or
     Abar), one :class:`StartOrbit` per start that converges (duplicates included: the caller
@@ -259,7 +379,8 @@ def scan_starts(
     parameter: Newton from the impact-free linear response, and from the last strobe state of a
     ``starts.settle``-period simulation from ``state0``, from rest, from the slow flow's motion on
     each steady state of (46) there and from ``starts.random_starts`` states drawn uniformly from
-    |X|, |X'|, |w'| <= 3, |w| <= 1 (numpy's generator seeded with ``starts.seed``); then Newton from the slow flow's motion itself on every
+    |X|, |X'|, |w'| <= 3, |w| <= 1 (numpy's generator seeded with ``starts.seed``); then Newton from the slow
+    flow's motion itself on every
     steady state of (46) (stable and unstable, each at its own parameter value).
     """
     if param not in ("sigma", "Abar"):
@@ -272,16 +393,30 @@ def scan_starts(
     states = _steady_states_near(params, param, grid, p_min, p_max)
     for v in grid:
         at = params.replace(**{param: float(v)})
-        problem = ShootingProblem(at, segments=segments, rtol=shooting.rtol, atol=shooting.atol, backend=backend)
+        problem = ShootingProblem(
+            at, segments=segments, rtol=shooting.rtol, atol=shooting.atol, backend=backend
+        )
         guesses = [(linear_response_state(at), "the impact-free linear response")]
         initial = [(np.asarray(state0, dtype=float), "the preset's initial state"), (np.zeros(4), "rest")]
         if at.Abar > 0:
             flow = SlowFlow(at)
-            initial += [(flow.fast_state(A, float(flow.steady_phase(A)), 0.0), f"the slow flow's state A = {A:.4g}") for at_v, _, A, _ in states if at_v == v and A > flow.A_min]
-        initial += [(rng.uniform(-_RANDOM_BOX, _RANDOM_BOX), f"random state {k + 1} (seed {seed})") for k in range(random_starts)]
+            initial += [
+                (flow.fast_state(A, float(flow.steady_phase(A)), 0.0), f"the slow flow's state A = {A:.4g}")
+                for at_v, _, A, _ in states
+                if at_v == v and A > flow.A_min
+            ]
+        initial += [
+            (rng.uniform(-_RANDOM_BOX, _RANDOM_BOX), f"random state {k + 1} (seed {seed})")
+            for k in range(random_starts)
+        ]
         for y, what in initial:
             try:
-                guesses.append((integrate_grid(at, y, [0.0, 2 * np.pi * settle], backend=backend)[-1], f"a {settle}-period simulation from {what}"))
+                guesses.append(
+                    (
+                        integrate_grid(at, y, [0.0, 2 * np.pi * settle], backend=backend)[-1],
+                        f"a {settle}-period simulation from {what}",
+                    )
+                )
             except RuntimeError as err:
                 say(f"scan: simulation from {what} at {param} = {v:.4g} failed ({err})")
         for y, what in guesses:
@@ -294,7 +429,13 @@ def scan_starts(
         if not A > SlowFlow(at).A_min:  # a state on the end of S+: (46)'s phase there is a root of rounding
             continue
         say(f"scan: Newton at {param} = {value:.4g} from the slow flow's motion on A = {A:.4g}")
-        orbit = orbit_from_slow_flow(at, A, segments=segments, rtol=shooting.rtol, atol=shooting.atol, backend=backend)
+        orbit = orbit_from_slow_flow(
+            at, A, segments=segments, rtol=shooting.rtol, atol=shooting.atol, backend=backend
+        )
         if orbit.converged:
-            yield StartOrbit(at, orbit, f"Newton from the slow flow's motion on the {'stable' if stable else 'unstable'} steady state A = {A:.6g} of (46) at {param} = {value:.6g}")
-
+            yield StartOrbit(
+                at,
+                orbit,
+                f"Newton from the slow flow's motion on the {'stable' if stable else 'unstable'} "
+                f"steady state A = {A:.6g} of (46) at {param} = {value:.6g}",
+            )

@@ -10,11 +10,19 @@ from pathlib import Path
 
 from slosh_bif.atomic import replaced_atomically, write_text_atomically
 
-__all__ = ["Resume", "replaced_atomically", "write_text_atomically", "read_store", "check_settings", "pickle_store", "CellStore", "damaged"]
+__all__ = [
+    "Resume",
+    "replaced_atomically",
+    "write_text_atomically",
+    "read_store",
+    "check_settings",
+    "pickle_store",
+    "CellStore",
+    "damaged",
+]
 
 # What reading a damaged store can raise: bad JSON or pickle, missing keys, wrong types, a cut zip.
 DAMAGE = (ValueError, KeyError, TypeError, IndexError, AttributeError, EOFError, OSError)
-
 
 
 @dataclasses.dataclass(frozen=True)
@@ -26,7 +34,8 @@ class Resume:
     ----------
     done :
         What an earlier run with the same settings finished (its form is the run's: a scan's
-        ``(k, branches)``, a chart's ``{start index: curve}``, a sweep's ``{cell: result}``); None for a fresh run.
+        ``(k, branches)``, a chart's ``{start index: curve}``, a sweep's ``{cell: result}``); None for a fresh
+        run.
     keep :
         ``keep(k, piece)``, called as each piece finishes (to store it), or None.
     """
@@ -35,10 +44,12 @@ class Resume:
     keep: object = None
 
 
-
 def damaged(path, err) -> ValueError:
     """The one-line error for a store that --resume cannot use."""
-    return ValueError(f"--resume: {path} is damaged or not this program's store ({type(err).__name__}: {err}); run without --resume or into another --out")
+    return ValueError(
+        f"--resume: {path} is damaged or not this program's store ({type(err).__name__}: {err}); "
+        "run without --resume or into another --out"
+    )
 
 
 def read_store(path, settings: dict, *, key: str | None = "settings") -> dict:
@@ -59,7 +70,10 @@ def check_settings(path, found: dict, settings: dict) -> None:
     """A one-line ValueError naming the settings that differ between a store and this run."""
     if found != settings:
         differ = sorted(k for k in settings if found.get(k) != settings[k])
-        raise ValueError(f"--resume: {path} was written for other settings ({', '.join(differ)} differ); run without --resume or into another --out")
+        raise ValueError(
+            f"--resume: {path} was written for other settings ({', '.join(differ)} differ); run "
+            "without --resume or into another --out"
+        )
 
 
 def pickle_store(path, settings: dict, *, resume: bool):
@@ -103,7 +117,16 @@ class CellStore:
     ValueError when that is missing or was written for other settings.
     """
 
-    def __init__(self, path, settings: dict, *, resume: bool, encode=lambda value: value, decode=lambda record: record, every: float = 5.0):
+    def __init__(
+        self,
+        path,
+        settings: dict,
+        *,
+        resume: bool,
+        encode=lambda value: value,
+        decode=lambda record: record,
+        every: float = 5.0,
+    ):
         self.path, self.settings, self.encode, self.every = Path(path), settings, encode, every
         self.partial = self.path.with_name(f"{self.path.stem}.partial{self.path.suffix}")
         self.cells = {}
@@ -132,4 +155,6 @@ class CellStore:
         return written
 
     def _write(self, path, status):
-        return write_text_atomically(path, json.dumps({"settings": self.settings, "status": status, "cells": self.cells}) + "\n")
+        return write_text_atomically(
+            path, json.dumps({"settings": self.settings, "status": status, "cells": self.cells}) + "\n"
+        )

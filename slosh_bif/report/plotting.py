@@ -12,7 +12,16 @@ import numpy as np
 from slosh_bif.model import manifold
 from slosh_bif.report.files import replaced_atomically
 
-__all__ = ["plot_manifold", "plot_slow_manifold", "plot_projection", "plot_time_history", "plot_branch", "pyplot", "save_figure", "cell_edges"]
+__all__ = [
+    "plot_manifold",
+    "plot_slow_manifold",
+    "plot_projection",
+    "plot_time_history",
+    "plot_branch",
+    "pyplot",
+    "save_figure",
+    "cell_edges",
+]
 
 
 def pyplot():
@@ -41,11 +50,19 @@ def plot_manifold(ax, rho, A_max=None, *, color="tab:blue", label="SIM"):
     A_max = A_max if A_max is not None else max(3.0, 3 * A_end)
     # Cluster points at the fold, where alpha has a square-root singularity.
     A = A_end + (A_max - A_end) * np.linspace(0, 1, 400) ** 2
-    return _draw_manifold(ax, A, manifold.alpha(A, rho, manifold.STABLE), manifold.alpha(A, rho, manifold.UNSTABLE), color, label)
+    return _draw_manifold(
+        ax,
+        A,
+        manifold.alpha(A, rho, manifold.STABLE),
+        manifold.alpha(A, rho, manifold.UNSTABLE),
+        color,
+        label,
+    )
 
 
 def plot_slow_manifold(ax, law, A_max, *, color="tab:blue", label="SIM"):
-    """Both branches of (36) for a parameter set (``law`` a :class:`~slosh_bif.model.ManifoldLaw`), rho(A) from (39) when pbar != 0."""
+    """Both branches of (36) for a parameter set (``law`` a :class:`~slosh_bif.model.ManifoldLaw`), rho(A)
+    from (39) when pbar != 0."""
     A, stable, unstable = law.branches(A_max)
     return _draw_manifold(ax, A, stable, unstable, color, label)
 
@@ -84,15 +101,37 @@ def _runs(mask):
     return [(a, min(b, len(mask) - 1)) for a, b in zip(bounds[:-1], bounds[1:])]
 
 
-SPECIAL_MARKERS = {"LP": ("o", "tab:red"), "BP": ("s", "tab:green"), "PD": ("D", "tab:purple"), "NS": ("^", "tab:orange"), "GR": ("*", "tab:brown"), "END": ("x", "k")}
-SPECIAL_NAMES = {"LP": "fold (LP)", "BP": "branch point (BP)", "PD": "period doubling (PD)", "NS": "Neimark-Sacker (NS)", "GR": "grazing (GR)", "END": "end"}
+SPECIAL_MARKERS = {
+    "LP": ("o", "tab:red"),
+    "BP": ("s", "tab:green"),
+    "PD": ("D", "tab:purple"),
+    "NS": ("^", "tab:orange"),
+    "GR": ("*", "tab:brown"),
+    "END": ("x", "k"),
+}
+SPECIAL_NAMES = {
+    "LP": "fold (LP)",
+    "BP": "branch point (BP)",
+    "PD": "period doubling (PD)",
+    "NS": "Neimark-Sacker (NS)",
+    "GR": "grazing (GR)",
+    "END": "end",
+}
 
 
 def special_legend(ax, kinds=("LP", "BP", "PD", "NS")):
     """Legend entries for the special-point markers (when points are not annotated)."""
     for kind in kinds:
         marker, color = SPECIAL_MARKERS[kind]
-        ax.plot([], [], marker, color=color, mfc="none" if kind == "LP" else color, ls="none", label=SPECIAL_NAMES[kind])
+        ax.plot(
+            [],
+            [],
+            marker,
+            color=color,
+            mfc="none" if kind == "LP" else color,
+            ls="none",
+            label=SPECIAL_NAMES[kind],
+        )
 
 
 def plot_branch(ax, branch, y, *, x=None, color="tab:blue", label=None, label_ends=True, annotate=True):
@@ -122,7 +161,9 @@ def place_labels(ax, items, *, apart=(18, 10)):
     if not items:
         return
     ax.figure.canvas.draw()  # the final limits, so that display positions are right
-    placed = [tuple(ax.transData.transform(t.xy)) for t in ax.texts if hasattr(t, "xy")]  # labels of earlier calls
+    placed = [
+        tuple(ax.transData.transform(t.xy)) for t in ax.texts if hasattr(t, "xy")
+    ]  # labels of earlier calls
     for x, y, text, color in items:
         u, v = ax.transData.transform((x, y))
         if ax.bbox.contains(u, v) and all(abs(u - p) > apart[0] or abs(v - q) > apart[1] for p, q in placed):

@@ -18,5 +18,7 @@ def write_rows(rows, columns, path, *, digits: int = 12) -> Path:
         writer = csv.DictWriter(fh, fieldnames=columns)
         writer.writeheader()
         for row in rows:
-            writer.writerow({k: (f"{row[k]:.{digits}g}" if isinstance(row[k], float) else row[k]) for k in columns})
+            writer.writerow(
+                {k: (f"{row[k]:.{digits}g}" if isinstance(row[k], float) else row[k]) for k in columns}
+            )
     return path

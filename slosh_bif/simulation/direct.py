@@ -23,7 +23,18 @@ from slosh_bif.model.params import Params
 from slosh_bif.simulation.settings import SIMULATION, Noise, SimulationSettings
 from slosh_bif.simulation.vibro_impact import simulate_impact
 
-__all__ = ["MODELS", "MAX_SAMPLES", "Noise", "Simulation", "SimulationSettings", "Trajectory", "integrate_smooth", "simulate", "wall_contacts", "wall_passages"]
+__all__ = [
+    "MODELS",
+    "MAX_SAMPLES",
+    "Noise",
+    "Simulation",
+    "SimulationSettings",
+    "Trajectory",
+    "integrate_smooth",
+    "simulate",
+    "wall_contacts",
+    "wall_passages",
+]
 
 _METHODS = ("DOP853", "RK45", "RK23", "Radau", "BDF", "LSODA")
 _IMPLICIT = ("Radau", "BDF", "LSODA")
@@ -68,7 +79,15 @@ def integrate_smooth(
     extra = {"jac": model.jac} if method in _IMPLICIT else {}
     with np.errstate(over="ignore", invalid="ignore"):  # trial steps far inside the wall may overflow
         sol = solve_ivp(
-            model.rhs, t_span, y0, method=method, rtol=rtol, atol=atol, t_eval=t_eval, max_step=max_step, **extra
+            model.rhs,
+            t_span,
+            y0,
+            method=method,
+            rtol=rtol,
+            atol=atol,
+            t_eval=t_eval,
+            max_step=max_step,
+            **extra,
         )
     return Trajectory(t=sol.t, y=sol.y, success=bool(sol.success), message=sol.message, nfev=int(sol.nfev))
 
@@ -157,13 +176,17 @@ def wall_contacts(params: Params, t, y, *, rtol=1e-9, atol=1e-11, backend="auto"
     dt = np.diff(t)
     reach = np.maximum(np.abs(w[:-1]), np.abs(w[1:])) + 2.0 * np.maximum(np.abs(wd[:-1]), np.abs(wd[1:])) * dt
     turned = (w[:-1] * wd[:-1] > 0) & (w[1:] * wd[1:] < 0) & (w[:-1] * w[1:] > 0)
-    crossed = (np.abs(w[:-1]) > 1.0) != (np.abs(w[1:]) > 1.0)  # seen: refined for the crossing's time and speed
+    crossed = (np.abs(w[:-1]) > 1.0) != (
+        np.abs(w[1:]) > 1.0
+    )  # seen: refined for the crossing's time and speed
     times, states = [t], [y]
     for i in np.flatnonzero(crossed | (turned & (reach > 1.0))):
         speed = max(abs(wd[i]), abs(wd[i + 1]), 1e-3)
         count = int(min(_MAX_REFINED, max(32, np.ceil(4.0 * params.n * speed * dt[i]))))
         grid = np.linspace(t[i], t[i + 1], count + 1)
-        fine = integrator.integrate_grid(params, y[:, i], grid, rtol=rtol, atol=atol, backend=backend, noise=noise)
+        fine = integrator.integrate_grid(
+            params, y[:, i], grid, rtol=rtol, atol=atol, backend=backend, noise=noise
+        )
         if np.abs(fine[:, 2]).max() > 1.0:
             times.append(grid[1:-1])
             states.append(fine[1:-1].T)
@@ -198,8 +221,18 @@ def _simulate_impact_in_chunks(params, y0, t0, tmax, sample_step, progress, star
     states = np.concatenate([parts[0].y] + [run.y[:, 1:] for run in parts[1:]], axis=1)
     message = last.message if not last.success else f"reached tau = {tmax:g}"
     return Simulation(
-        "impact", params, t, states, joined("impact_t"), joined("impact_side"), joined("impact_v_minus"),
-        joined("impact_v_plus"), last.status, message, None, time.perf_counter() - start,
+        "impact",
+        params,
+        t,
+        states,
+        joined("impact_t"),
+        joined("impact_side"),
+        joined("impact_v_minus"),
+        joined("impact_v_plus"),
+        last.status,
+        message,
+        None,
+        time.perf_counter() - start,
     )
 
 
@@ -231,8 +264,16 @@ def simulate(
     """
     if not isinstance(settings, SimulationSettings):
         raise TypeError(f"settings must be a SimulationSettings; got {type(settings).__name__}")
-    model, sample_step, rtol, atol, backend = settings.model, settings.sample_step, settings.rtol, settings.atol, settings.backend
-    noise_std, seed, noise_cutoff = (0.0, None, 10.0) if noise is None else (noise.std, noise.seed, noise.cutoff)
+    model, sample_step, rtol, atol, backend = (
+        settings.model,
+        settings.sample_step,
+        settings.rtol,
+        settings.atol,
+        settings.backend,
+    )
+    noise_std, seed, noise_cutoff = (
+        (0.0, None, 10.0) if noise is None else (noise.std, noise.seed, noise.cutoff)
+    )
     if model not in MODELS:
         raise ValueError(f"model must be one of {', '.join(MODELS)}; got {model!r}")
     if not isinstance(params, Params):
@@ -243,12 +284,16 @@ def simulate(
     if not (np.isfinite(sample_step) and 0 < sample_step <= 0.5):
         raise ValueError(f"sample_step must be in (0, 0.5]; got {sample_step!r}")
     if not (np.isfinite(noise_std) and 0 <= noise_std <= MAX_NOISE_STD):
-        raise ValueError(f"noise std (sigma_bar of eq. 47) must be in [0, {MAX_NOISE_STD:g}]; got {noise_std!r}")
+        raise ValueError(
+            f"noise std (sigma_bar of eq. 47) must be in [0, {MAX_NOISE_STD:g}]; got {noise_std!r}"
+        )
     samples = (tmax - t0) / (min(sample_step, 0.05) if model == "impact" else sample_step)
     if samples > MAX_SAMPLES:  # the samples are kept in memory (5 doubles each): refuse before integrating
         raise ValueError(
-            f"tmax - t0 = {tmax - t0:g} at sample_step {sample_step:g} would keep {samples:.3g} samples ({40 * samples / 1e9:.3g} GB), more than "
-            f"the {MAX_SAMPLES:.0e} allowed: shorten the run (tau up to t0 + {MAX_SAMPLES * sample_step:g}) or sample more sparsely"
+            f"tmax - t0 = {tmax - t0:g} at sample_step {sample_step:g} would keep {samples:.3g} "
+            f"samples ({40 * samples / 1e9:.3g} GB), more than "
+            f"the {MAX_SAMPLES:.0e} allowed: shorten the run (tau up to t0 + "
+            f"{MAX_SAMPLES * sample_step:g}) or sample more sparsely"
         )
     y0 = np.asarray(state0, dtype=float)
     if y0.shape != (4,) or not np.all(np.isfinite(y0)):
@@ -263,7 +308,9 @@ def simulate(
 
     start = time.perf_counter()
     if model == "impact":
-        return _simulate_impact_in_chunks(params, y0, t0, tmax, min(sample_step, 0.05), progress, start, backend)
+        return _simulate_impact_in_chunks(
+            params, y0, t0, tmax, min(sample_step, 0.05), progress, start, backend
+        )
 
     count = int(np.ceil((tmax - t0) / sample_step))
     taus = np.linspace(t0, tmax, count + 1)
@@ -275,7 +322,9 @@ def simulate(
         if grid.size < 2:
             continue
         try:
-            part = integrator.integrate_grid(params, states[-1][-1], grid, rtol=rtol, atol=atol, backend=backend, noise=forcing)
+            part = integrator.integrate_grid(
+                params, states[-1][-1], grid, rtol=rtol, atol=atol, backend=backend, noise=forcing
+            )
         except RuntimeError as err:
             status, message = "failed", str(err)
             break
@@ -283,9 +332,27 @@ def simulate(
         if progress is not None:
             progress((k + 1) / len(chunks))
         if np.max(np.abs(part[:, :2])) > diverged_beyond(params):
-            status, message = "diverged", f"|X| or |X'| passed {diverged_beyond(params):g} by tau = {grid[-1]:.6g}"
+            status, message = (
+                "diverged",
+                f"|X| or |X'| passed {diverged_beyond(params):g} by tau = {grid[-1]:.6g}",
+            )
             break
     y = np.concatenate(states).T
     t = taus[: y.shape[1]]
-    hit_t, side, v_in, v_out = wall_contacts(params, t, y, rtol=rtol, atol=atol, backend=backend, noise=forcing)
-    return Simulation("smooth", params, t, y, hit_t, side, v_in, v_out, status, message, forcing, time.perf_counter() - start)
+    hit_t, side, v_in, v_out = wall_contacts(
+        params, t, y, rtol=rtol, atol=atol, backend=backend, noise=forcing
+    )
+    return Simulation(
+        "smooth",
+        params,
+        t,
+        y,
+        hit_t,
+        side,
+        v_in,
+        v_out,
+        status,
+        message,
+        forcing,
+        time.perf_counter() - start,
+    )

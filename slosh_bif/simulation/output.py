@@ -29,8 +29,16 @@ from slosh_bif.report.tables import write_rows
 from slosh_bif.simulation.regimes import RegimeSummary
 
 __all__ = [
-    "write_trajectory", "write_summary", "plot_simulation", "plot_motion_on_manifold", "summary_record",
-    "write_regime_csv", "plot_regime_map", "draw_regimes", "regime_settings", "regime_store",
+    "write_trajectory",
+    "write_summary",
+    "plot_simulation",
+    "plot_motion_on_manifold",
+    "summary_record",
+    "write_regime_csv",
+    "plot_regime_map",
+    "draw_regimes",
+    "regime_settings",
+    "regime_store",
 ]
 
 
@@ -39,10 +47,17 @@ def write_trajectory(sim, path) -> Path:
     with replaced_atomically(path) as tmp:
         np.savez_compressed(
             tmp,
-            tau=sim.t, X=sim.y[0], Xd=sim.y[1], w=sim.y[2], wd=sim.y[3],
-            impact_t=sim.impact_t, impact_side=sim.impact_side,
-            impact_v_minus=sim.impact_v_minus, impact_v_plus=sim.impact_v_plus,
-            model=np.array(sim.model), status=np.array(sim.status),
+            tau=sim.t,
+            X=sim.y[0],
+            Xd=sim.y[1],
+            w=sim.y[2],
+            wd=sim.y[3],
+            impact_t=sim.impact_t,
+            impact_side=sim.impact_side,
+            impact_v_minus=sim.impact_v_minus,
+            impact_v_plus=sim.impact_v_plus,
+            model=np.array(sim.model),
+            status=np.array(sim.status),
         )
     return Path(path)
 
@@ -59,7 +74,14 @@ def summary_record(sim, summary) -> dict:
         tau_end=float(sim.t[-1]),
         impacts_total=int(sim.impact_t.size),
         seconds=round(sim.seconds, 3),
-        noise=None if sim.noise is None else {"std": sim.noise.std, "cutoff": sim.noise.cutoff, "seed": sim.noise.seed, "modes": sim.noise.modes},
+        noise=None
+        if sim.noise is None
+        else {
+            "std": sim.noise.std,
+            "cutoff": sim.noise.cutoff,
+            "seed": sim.noise.seed,
+            "modes": sim.noise.modes,
+        },
     )
     return record
 
@@ -110,14 +132,37 @@ def plot_motion_on_manifold(ax, sim, summary, proj):
     plot_slow_manifold(ax, ManifoldLaw(sim.params), A_top)
     plot_projection(ax, proj, label="trajectory, one point per period")
     ax.legend(loc="lower right", fontsize=8)
-    ax.set_title(f"{summary.impacts_per_period:.2f} impacts, {summary.crossings_per_period:.2f} crossings per period", fontsize=9)
+    ax.set_title(
+        f"{summary.impacts_per_period:.2f} impacts, {summary.crossings_per_period:.2f} crossings per period",
+        fontsize=9,
+    )
     return ax
 
 
 # --- regime maps (slosh-bif regimes) ----------------------------------------------------------
 
-REGIME_COLORS = {"periodic-resonant": "tab:green", "non-resonant": "tab:blue", "strongly-modulated": "tab:red", "free-decay": "tab:olive", "other": "tab:gray", "diverged": "tab:brown", "failed": "black", "not computed": "white"}
-REGIME_COLUMNS = ("sigma", "Abar", "regime", "impacts_per_period", "crossings_per_period", "envelope_min", "envelope_max", "modulation", "collapses", "reason")
+REGIME_COLORS = {
+    "periodic-resonant": "tab:green",
+    "non-resonant": "tab:blue",
+    "strongly-modulated": "tab:red",
+    "free-decay": "tab:olive",
+    "other": "tab:gray",
+    "diverged": "tab:brown",
+    "failed": "black",
+    "not computed": "white",
+}
+REGIME_COLUMNS = (
+    "sigma",
+    "Abar",
+    "regime",
+    "impacts_per_period",
+    "crossings_per_period",
+    "envelope_min",
+    "envelope_max",
+    "modulation",
+    "collapses",
+    "reason",
+)
 
 
 def write_regime_csv(rmap, path) -> Path:
@@ -133,14 +178,27 @@ def write_regime_csv(rmap, path) -> Path:
 def regime_settings(params, state0, sigmas, abars, *, tmax, model) -> dict:
     """What decides every cell of a regime map: a resumed run reuses stored cells only when these
     are equal (exactly: the grids as written by ``repr`` of their floats)."""
-    return {"params": params.as_dict(), "state0": [float(v) for v in state0], "sigma": [float(v) for v in sigmas], "Abar": [float(v) for v in abars], "tmax": float(tmax), "model": model}
+    return {
+        "params": params.as_dict(),
+        "state0": [float(v) for v in state0],
+        "sigma": [float(v) for v in sigmas],
+        "Abar": [float(v) for v in abars],
+        "tmax": float(tmax),
+        "model": model,
+    }
 
 
 def regime_store(path, settings: dict, *, resume: bool) -> CellStore:
     """``regimes.json``: the settings and every classified cell at full precision (what
     ``regimes --resume`` reads; regimes.csv rounds), stored as cells finish (see
     :class:`~slosh_bif.report.files.CellStore`)."""
-    return CellStore(path, settings, resume=resume, encode=lambda summary: summary.as_dict(), decode=RegimeSummary.from_dict)
+    return CellStore(
+        path,
+        settings,
+        resume=resume,
+        encode=lambda summary: summary.as_dict(),
+        decode=RegimeSummary.from_dict,
+    )
 
 
 def draw_regimes(ax, rmap, *, alpha=0.75):
@@ -151,7 +209,15 @@ def draw_regimes(ax, rmap, *, alpha=0.75):
     from matplotlib.colors import ListedColormap
 
     sigma_edges, abar_edges = cell_edges(rmap.sigma), cell_edges(rmap.Abar)
-    ax.pcolormesh(sigma_edges, abar_edges, grid, cmap=ListedColormap(list(REGIME_COLORS.values())), vmin=-0.5, vmax=len(codes) - 0.5, alpha=alpha)
+    ax.pcolormesh(
+        sigma_edges,
+        abar_edges,
+        grid,
+        cmap=ListedColormap(list(REGIME_COLORS.values())),
+        vmin=-0.5,
+        vmax=len(codes) - 0.5,
+        alpha=alpha,
+    )
     present = set(rmap.regime.ravel())
     for name, color in REGIME_COLORS.items():
         if name in present:  # the legend lists what the map shows
@@ -169,11 +235,20 @@ def plot_regime_map(rmap, path, *, critical=None) -> Path:
     fig, ax = plt.subplots(figsize=(8, 5.5))
     sigma_edges, abar_edges = draw_regimes(ax, rmap, alpha=0.75)
     if critical is not None:
-        ax.plot(critical.sigma, critical.Abar_b, "k-", lw=2, label=r"slow flow: $\bar A_b(\sigma)$ (steady state on $S^+$ above)")
+        ax.plot(
+            critical.sigma,
+            critical.Abar_b,
+            "k-",
+            lw=2,
+            label=r"slow flow: $\bar A_b(\sigma)$ (steady state on $S^+$ above)",
+        )
     ax.set_xlim(sigma_edges[[0, -1]])
     ax.set_ylim(abar_edges[[0, -1]])
     ax.set_xlabel(r"detuning $\sigma$")
     ax.set_ylabel(r"forcing amplitude $\bar A$")
-    ax.set_title(f"response regimes, {rmap.model} model, tau in [0, {rmap.tmax:g}] (classified on the second half)", fontsize=9)
+    ax.set_title(
+        f"response regimes, {rmap.model} model, tau in [0, {rmap.tmax:g}] (classified on the second half)",
+        fontsize=9,
+    )
     ax.legend(loc="upper left", fontsize=8, framealpha=0.9)
     return save_figure(fig, path)

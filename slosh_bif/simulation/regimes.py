@@ -48,9 +48,25 @@ from slosh_bif.simulation.direct import MAX_SAMPLES, simulate
 from slosh_bif.simulation.settings import LOCAL, SIMULATION, SimulationSettings, Workers
 from slosh_bif.simulation.sweep import run_cells
 
-__all__ = ["REGIMES", "THRESHOLDS", "RegimeSummary", "classify", "RegimeMap", "regime_map", "check_run_length"]
+__all__ = [
+    "REGIMES",
+    "THRESHOLDS",
+    "RegimeSummary",
+    "classify",
+    "RegimeMap",
+    "regime_map",
+    "check_run_length",
+]
 
-REGIMES = ("periodic-resonant", "non-resonant", "strongly-modulated", "free-decay", "other", "diverged", "failed")
+REGIMES = (
+    "periodic-resonant",
+    "non-resonant",
+    "strongly-modulated",
+    "free-decay",
+    "other",
+    "diverged",
+    "failed",
+)
 
 THRESHOLDS = {
     "impacts_for_engagement": 0.1,  # impacts per period below this: the particle is not engaged
@@ -96,12 +112,20 @@ class RegimeSummary:
         return dataclasses.replace(cls.failed(reason, transient), regime="not computed")
 
     def as_dict(self) -> dict:
-        return {k: (v if not isinstance(v, float) or math.isfinite(v) else None) for k, v in dataclasses.asdict(self).items()}
+        return {
+            k: (v if not isinstance(v, float) or math.isfinite(v) else None)
+            for k, v in dataclasses.asdict(self).items()
+        }
 
     @classmethod
     def from_dict(cls, record: dict) -> "RegimeSummary":
         """The inverse of :meth:`as_dict` (None back to NaN): a stored cell, bit for bit."""
-        return cls(**{k: (math.nan if record[k] is None else record[k]) for k in (f.name for f in dataclasses.fields(cls))})
+        return cls(
+            **{
+                k: (math.nan if record[k] is None else record[k])
+                for k in (f.name for f in dataclasses.fields(cls))
+            }
+        )
 
 
 def _collapses(A, low, high):
@@ -117,16 +141,20 @@ def _collapses(A, low, high):
 
 
 def classify(simulation, *, transient: float | None = None) -> RegimeSummary:
-    """Classify a :class:`~slosh_bif.simulation.direct.Simulation` after ``transient`` (default: its first half)."""
+    """Classify a :class:`~slosh_bif.simulation.direct.Simulation` after ``transient`` (default: its first
+    half)."""
     sim = simulation
     t0, t1 = float(sim.t[0]), float(sim.t[-1])
     if sim.status == "diverged":
-        return dataclasses.replace(RegimeSummary.failed(sim.message, math.nan if transient is None else transient), regime="diverged")
+        return dataclasses.replace(
+            RegimeSummary.failed(sim.message, math.nan if transient is None else transient), regime="diverged"
+        )
     if transient is None:
         transient = t0 + 0.5 * (t1 - t0)
     if not (np.isfinite(transient) and t0 <= transient < t1 - 4 * np.pi):
         raise ValueError(
-            f"transient must leave at least two forcing periods of the run [{t0:g}, {t1:g}]; got {transient!r}"
+            f"transient must leave at least two forcing periods of the run [{t0:g}, {t1:g}]; got "
+            f"{transient!r}"
         )
     params: Params = sim.params
     keep = sim.t >= transient
@@ -152,29 +180,60 @@ def classify(simulation, *, transient: float | None = None) -> RegimeSummary:
     lo, hi = T["crossings_for_resonance"]
     if params.Abar == 0 and sim.noise is None:
         # Without forcing every response decays: its envelope's collapses are the decay, not modulation.
-        regime, reason = "free-decay", f"no forcing (Abar = 0): the envelope decays from {float(A.max()):.3g} to {float(A[-1]) if A.size else float('nan'):.3g}"
+        regime, reason = (
+            "free-decay",
+            f"no forcing (Abar = 0): the envelope decays from {float(A.max()):.3g} to "
+            f"{float(A[-1]) if A.size else float('nan'):.3g}",
+        )
     elif sim.status == "sticking":
         regime, reason = "non-resonant", f"the particle sticks to a wall ({sim.message})"
     elif impacts < T["impacts_for_engagement"]:
         regime, reason = "non-resonant", f"{impacts:.3g} impacts per period after the transient"
-    elif lo <= crossings <= hi and modulation < T["steady_modulation"] and p10 >= A_min and distance < T["manifold_distance"]:
-        regime, reason = "periodic-resonant", (
-            f"{crossings:.3g} wall-to-wall crossings per period, envelope varies {100 * modulation:.1f} %, "
-            f"{100 * distance:.1f} % from the stable manifold branch"
+    elif (
+        lo <= crossings <= hi
+        and modulation < T["steady_modulation"]
+        and p10 >= A_min
+        and distance < T["manifold_distance"]
+    ):
+        regime, reason = (
+            "periodic-resonant",
+            (
+                f"{crossings:.3g} wall-to-wall crossings per period, envelope varies "
+                f"{100 * modulation:.1f} %, "
+                f"{100 * distance:.1f} % from the stable manifold branch"
+            ),
         )
     elif modulation >= T["steady_modulation"] and collapses >= T["collapses"]:
-        regime, reason = "strongly-modulated", (
-            f"envelope varies {100 * modulation:.0f} % and collapses {collapses} times below "
-            f"{T['collapse_factor']:g} A_min = {T['collapse_factor'] * A_min:.3g}"
+        regime, reason = (
+            "strongly-modulated",
+            (
+                f"envelope varies {100 * modulation:.0f} % and collapses {collapses} times below "
+                f"{T['collapse_factor']:g} A_min = {T['collapse_factor'] * A_min:.3g}"
+            ),
         )
     else:
-        regime, reason = "other", (
-            f"{crossings:.3g} crossings per period, envelope varies {100 * modulation:.1f} %, "
-            f"{collapses} collapses, {100 * distance:.1f} % from the stable manifold branch"
+        regime, reason = (
+            "other",
+            (
+                f"{crossings:.3g} crossings per period, envelope varies {100 * modulation:.1f} %, "
+                f"{collapses} collapses, {100 * distance:.1f} % from the stable manifold branch"
+            ),
         )
     return RegimeSummary(
-        regime, reason, impacts, crossings, float(A.min()), float(A.max()), p10, p90, modulation,
-        collapses, float(A_min), distance, float(transient), periods,
+        regime,
+        reason,
+        impacts,
+        crossings,
+        float(A.min()),
+        float(A.max()),
+        p10,
+        p90,
+        modulation,
+        collapses,
+        float(A_min),
+        distance,
+        float(transient),
+        periods,
     )
 
 
@@ -192,7 +251,8 @@ class RegimeMap:
     summaries: list
     tmax: float
     model: str
-    status: str = "complete"  # or why the map stopped early ("interrupted (SIGINT)", ...): its missing cells are "not computed"
+    # or why the map stopped early ("interrupted (SIGINT)", ...): its missing cells are "not computed"
+    status: str = "complete"
 
     @property
     def complete(self) -> bool:
@@ -215,7 +275,10 @@ def check_run_length(tmax: float, transient: float | None = None, sample_step: f
     if not (np.isfinite(tmax) and tmax > 0):
         raise ValueError(f"tmax (the end of each simulation) must be finite and > 0; got {tmax!r}")
     if tmax / sample_step > MAX_SAMPLES:
-        raise ValueError(f"tmax = {tmax:g} at sample_step {sample_step:g} would keep more than the {MAX_SAMPLES:.0e} samples allowed per simulation")
+        raise ValueError(
+            f"tmax = {tmax:g} at sample_step {sample_step:g} would keep more than the "
+            f"{MAX_SAMPLES:.0e} samples allowed per simulation"
+        )
     if transient is None:
         transient = 0.5 * tmax
     if not (np.isfinite(transient) and 0 <= transient < tmax):
@@ -249,7 +312,9 @@ def regime_map(
     """
     from slosh_bif.flows.integrator import resolve_backend
 
-    settings = settings.replace(backend=resolve_backend(settings.backend))  # a bad name is an error here, not in every worker
+    settings = settings.replace(
+        backend=resolve_backend(settings.backend)
+    )  # a bad name is an error here, not in every worker
 
     sigmas = np.asarray(sigmas, dtype=float)
     abars = np.asarray(abars, dtype=float)
@@ -259,13 +324,23 @@ def regime_map(
     if np.any(abars < 0):
         raise ValueError(f"Abar must be >= 0 on the whole grid; got min {abars.min()}")
     transient = check_run_length(tmax, transient, settings.sample_step)
-    jobs = {(i, j): params.replace(sigma=float(s), Abar=float(a)) for i, a in enumerate(abars) for j, s in enumerate(sigmas)}
+    jobs = {
+        (i, j): params.replace(sigma=float(s), Abar=float(a))
+        for i, a in enumerate(abars)
+        for j, s in enumerate(sigmas)
+    }
     params.replace(sigma=float(sigmas.max())).require_positive_stiffness()  # every cell, before any work
     resume = resume or Resume()
     done = {key: s for key, s in (resume.done or {}).items() if key in jobs and s.regime != "not computed"}
     state0 = np.asarray(state0, dtype=float)
     arguments = {key: (p, state0, tmax, transient, settings) for key, p in jobs.items()}
-    results, status = run_cells(_classify_point, arguments, workers=workers, resume=dataclasses.replace(resume, done=done), progress=progress)
+    results, status = run_cells(
+        _classify_point,
+        arguments,
+        workers=workers,
+        resume=dataclasses.replace(resume, done=done),
+        progress=progress,
+    )
     regime = np.empty((abars.size, sigmas.size), dtype=object)
     summaries = [[None] * sigmas.size for _ in abars]
     for i, j in jobs:

@@ -62,7 +62,9 @@ class WorkerPool:
         import multiprocessing
 
         self._pids = multiprocessing.get_context().SimpleQueue()
-        self.executor = ProcessPoolExecutor(max_workers=max_workers, initializer=worker_setup, initargs=(self._pids,))
+        self.executor = ProcessPoolExecutor(
+            max_workers=max_workers, initializer=worker_setup, initargs=(self._pids,)
+        )
 
     def submit(self, function, *arguments):
         return self.executor.submit(function, *arguments)
@@ -84,7 +86,15 @@ class WorkerPool:
                 pass
 
 
-def run_cells(function, jobs: dict, *, workers: Workers = LOCAL, resume: Resume | None = None, progress=None, total: int | None = None):
+def run_cells(
+    function,
+    jobs: dict,
+    *,
+    workers: Workers = LOCAL,
+    resume: Resume | None = None,
+    progress=None,
+    total: int | None = None,
+):
     """``function(*arguments)`` for every ``key: arguments`` of ``jobs`` not already in
     ``resume.done``, on ``workers``.
 
@@ -111,7 +121,9 @@ def run_cells(function, jobs: dict, *, workers: Workers = LOCAL, resume: Resume 
             if progress is not None:
                 progress(count, total)
     except KeyboardInterrupt as stop:
-        status = f"interrupted ({getattr(stop, 'signal_name', 'SIGINT')}) after {len(results)} of {total} points"
+        status = (
+            f"interrupted ({getattr(stop, 'signal_name', 'SIGINT')}) after {len(results)} of {total} points"
+        )
         if own:
             local.stop()
         else:

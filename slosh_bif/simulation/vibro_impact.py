@@ -83,6 +83,7 @@ def _augment(tau, y):
 
 def _find_impact(flow, z, h, side):
     """Earliest s in (0, h] where w reaches the wall ``side`` (+1/-1), or None."""
+
     def beyond(s):
         return side * flow.component(z, s, 2) - 1.0
 
@@ -144,7 +145,9 @@ def simulate_impact(
     if not (isinstance(max_impacts, (int, np.integer)) and max_impacts >= 1):
         raise ValueError(f"max_impacts must be a positive integer; got {max_impacts!r}")
     if resolve_backend(backend) == "numba":
-        t, y, hits, code = _compiled_flow(params, float(sample_step)).run(y0, t0, t1, stick_speed=stick_speed, max_impacts=int(max_impacts))
+        t, y, hits, code = _compiled_flow(params, float(sample_step)).run(
+            y0, t0, t1, stick_speed=stick_speed, max_impacts=int(max_impacts)
+        )
         return _trajectory(t, y, hits, code, t1, stick_speed, max_impacts)
 
     flow = _ExactFlow(model)
@@ -178,10 +181,16 @@ def simulate_impact(
         states.append(y.copy())
         if abs(y[3]) < stick_speed:
             status = STICKING
-            message = f"post-impact speed {abs(y[3]):.3g} < stick_speed at tau = {tau:.10g}: the particle sticks to the wall"
+            message = (
+                f"post-impact speed {abs(y[3]):.3g} < stick_speed at tau = {tau:.10g}: the particle "
+                "sticks to the wall"
+            )
             break
         if len(impacts) >= max_impacts:
-            status, message = MAX_IMPACTS, f"stopped after max_impacts = {max_impacts} impacts at tau = {tau:.10g}"
+            status, message = (
+                MAX_IMPACTS,
+                f"stopped after max_impacts = {max_impacts} impacts at tau = {tau:.10g}",
+            )
             break
     arr = np.array(impacts, dtype=float).reshape(-1, 4)
     return ImpactTrajectory(
@@ -208,14 +217,28 @@ def _trajectory(t, y, hits, code, t1, stick_speed, max_impacts) -> ImpactTraject
         status, message = FINISHED, f"reached tau = {t1}"
     elif code == 1:
         status = STICKING
-        message = f"post-impact speed {abs(y[3, -1]):.3g} < stick_speed at tau = {t[-1]:.10g}: the particle sticks to the wall"
+        message = (
+            f"post-impact speed {abs(y[3, -1]):.3g} < stick_speed at tau = {t[-1]:.10g}: the particle "
+            "sticks to the wall"
+        )
     elif code == 2:
         status = KAPPA_NOT_REAL
-        message = f"at tau = {hits[-1, 0]:.10g}: kappa (eq. 21) is not real at impact speed {abs(hits[-1, 2]):.6g}"
+        message = (
+            f"at tau = {hits[-1, 0]:.10g}: kappa (eq. 21) is not real at impact speed {abs(hits[-1, 2]):.6g}"
+        )
         hits = hits[:-1]
     else:
-        status, message = MAX_IMPACTS, f"stopped after max_impacts = {max_impacts} impacts at tau = {t[-1]:.10g}"
+        status, message = (
+            MAX_IMPACTS,
+            f"stopped after max_impacts = {max_impacts} impacts at tau = {t[-1]:.10g}",
+        )
     return ImpactTrajectory(
-        t=t, y=y, impact_t=hits[:, 0], impact_side=hits[:, 1].astype(int), impact_v_minus=hits[:, 2],
-        impact_v_plus=hits[:, 3], status=status, message=message,
+        t=t,
+        y=y,
+        impact_t=hits[:, 0],
+        impact_side=hits[:, 1].astype(int),
+        impact_v_minus=hits[:, 2],
+        impact_v_plus=hits[:, 3],
+        status=status,
+        message=message,
     )

@@ -28,7 +28,9 @@ def morlet_transform(signal, dt: float, omegas, *, omega0: float = 6.0) -> np.nd
     if not (np.isfinite(dt) and dt > 0):
         raise ValueError(f"dt must be positive; got {dt!r}")
     if omegas.ndim != 1 or np.any(omegas <= 0) or np.any(omegas >= np.pi / dt):
-        raise ValueError(f"omegas must lie in (0, pi/dt = {np.pi / dt:.4g}); got [{omegas.min():.4g}, {omegas.max():.4g}]")
+        raise ValueError(
+            f"omegas must lie in (0, pi/dt = {np.pi / dt:.4g}); got [{omegas.min():.4g}, {omegas.max():.4g}]"
+        )
     if not (np.isfinite(omega0) and omega0 >= 5):
         raise ValueError(f"omega0 must be >= 5 (below, the Morlet wavelet is not admissible); got {omega0!r}")
     n = x.size

@@ -33,7 +33,17 @@ from slosh_bif.slowflow.steady_states import (
     abar_on_curve,
 )
 
-__all__ = ["CriticalPoint", "CriticalCurve", "abar_branch", "critical_forcing", "critical_curve", "FoldProblem", "EndProblem", "interp_min", "abar_at_upper_end"]
+__all__ = [
+    "CriticalPoint",
+    "CriticalCurve",
+    "abar_branch",
+    "critical_forcing",
+    "critical_curve",
+    "FoldProblem",
+    "EndProblem",
+    "interp_min",
+    "abar_at_upper_end",
+]
 
 
 class _Residual46:
@@ -132,15 +142,21 @@ class EndProblem:
         self.r = _Residual46(params, model)
         law = self.r.flow.law
         if end not in ("lower", "upper") or (end == "upper" and law.upper is None):
-            raise ValueError(f"end must be 'lower' or, where S+ has one, 'upper'; got {end!r} (S+: {law.describe()})")
+            raise ValueError(
+                f"end must be 'lower' or, where S+ has one, 'upper'; got {end!r} (S+: {law.describe()})"
+            )
         self.A = law.A_min if end == "lower" else law.upper.A
         self.scale = np.pi**4 * self.A**2
         P = params
-        if end == "lower" and law.lower.kind == END_KINDS[0]:  # alpha = alpha_min: the functions written for the end
+        if (
+            end == "lower" and law.lower.kind == END_KINDS[0]
+        ):  # alpha = alpha_min: the functions written for the end
             at_end, residual_end = law.end_values(law.lower), self.r.flow.generated("steady_residual_end")
             self._parts = lambda p, Abar: residual_end(*at_end, P.beta, P.gamma, p, Abar)
         else:  # a fold of (39) or kappa = 0 ends S+: alpha is regular there
-            self._parts = lambda p, Abar: np.array([self.r.R(self.A, p, Abar), *self.r.grad(self.A, p, Abar)[1:]])
+            self._parts = lambda p, Abar: np.array(
+                [self.r.R(self.A, p, Abar), *self.r.grad(self.A, p, Abar)[1:]]
+            )
 
     def abar_at(self, sigma):
         """The Abar of the steady state on the end at ``sigma``: R = a Abar^2 + b (even in Abar)."""
@@ -174,7 +190,9 @@ class CriticalPoint:
 DEFAULT_OPTIONS = cont.ContinuationOptions(step=0.02, step_max=0.2)
 
 
-def abar_branch(params: Params, sigma: float, *, options: cont.ContinuationOptions | None = None, model: str = "slowflow"):
+def abar_branch(
+    params: Params, sigma: float, *, options: cont.ContinuationOptions | None = None, model: str = "slowflow"
+):
     """Steady states on S+ at fixed ``sigma``, continued in Abar: one branch from A_min to large A
     (or to the upper end of S+)."""
     P = params.replace(sigma=float(sigma))
@@ -209,19 +227,38 @@ def critical_forcing(params: Params, sigma: float, *, model: str = "slowflow") -
     # The ends by their own closed forms: at the lower end alpha has a square root in A (NaN at
     # A_min itself by rounding); at an upper end (a fold of (39), kappa = 0) alpha is regular, but
     # kappa(A) is found only inside, so the end's kappa gives rho there.
-    abar = np.concatenate([[EndProblem(P, model).abar_at(P.sigma)], abar_on_curve(flow, A[1:-1]), [abar_at_upper_end(flow, top)]])
+    abar = np.concatenate(
+        [
+            [EndProblem(P, model).abar_at(P.sigma)],
+            abar_on_curve(flow, A[1:-1]),
+            [abar_at_upper_end(flow, top)],
+        ]
+    )
     finite = np.isfinite(abar)
     if not np.any(finite):
-        raise RuntimeError(f"(46) has no steady state on S+ at sigma = {sigma} for A in [{lo:.10g}, {top:.10g}]")
+        raise RuntimeError(
+            f"(46) has no steady state on S+ at sigma = {sigma} for A in [{lo:.10g}, {top:.10g}]"
+        )
     i = int(np.nanargmin(np.where(finite, abar, np.nan)))
     if i == 0:
         return CriticalPoint(sigma=float(sigma), Abar_b=float(abar[0]), A=float(lo), kind=cont.Kind.END.value)
     if i == len(A) - 1:
         if top == hi:
-            return CriticalPoint(sigma=float(sigma), Abar_b=float(abar[-1]), A=float(hi), kind=cont.Kind.END.value)
-        raise RuntimeError(f"Abar of (46) at sigma = {sigma} still falls at A = {top:.6g}, the largest amplitude searched")
-    found = optimize.minimize_scalar(lambda a: float(abar_on_curve(flow, a)), bounds=(A[i - 1], A[i + 1]), method="bounded", options={"xatol": 1e-13 * A[i]})
-    return CriticalPoint(sigma=float(sigma), Abar_b=float(found.fun), A=float(found.x), kind=cont.Kind.FOLD.value)
+            return CriticalPoint(
+                sigma=float(sigma), Abar_b=float(abar[-1]), A=float(hi), kind=cont.Kind.END.value
+            )
+        raise RuntimeError(
+            f"Abar of (46) at sigma = {sigma} still falls at A = {top:.6g}, the largest amplitude searched"
+        )
+    found = optimize.minimize_scalar(
+        lambda a: float(abar_on_curve(flow, a)),
+        bounds=(A[i - 1], A[i + 1]),
+        method="bounded",
+        options={"xatol": 1e-13 * A[i]},
+    )
+    return CriticalPoint(
+        sigma=float(sigma), Abar_b=float(found.fun), A=float(found.x), kind=cont.Kind.FOLD.value
+    )
 
 
 def abar_at_upper_end(flow: SlowFlow, A):
@@ -229,7 +266,9 @@ def abar_at_upper_end(flow: SlowFlow, A):
     (its kappa from the end, not from (39)) when A is that end."""
     if A < flow.A_max:
         return float(abar_on_curve(flow, A))
-    E, Phi = flow.generated("steady_balances")(A, *flow.law.end_values(flow.law.upper), *flow._slow_with(None, 1.0))
+    E, Phi = flow.generated("steady_balances")(
+        A, *flow.law.end_values(flow.law.upper), *flow._slow_with(None, 1.0)
+    )
     return float(np.hypot(E, Phi) / (np.pi**2 * A))
 
 
@@ -254,7 +293,14 @@ def _trace(problem, x0, sigma0, lo, hi, options):
 
 
 def critical_curve(
-    params: Params, sigma_min: float, sigma_max: float, *, seeds: int = 7, options: cont.ContinuationOptions | None = None, progress=None, model: str = "slowflow"
+    params: Params,
+    sigma_min: float,
+    sigma_max: float,
+    *,
+    seeds: int = 7,
+    options: cont.ContinuationOptions | None = None,
+    progress=None,
+    model: str = "slowflow",
 ) -> CriticalCurve:
     """Abar_b(sigma) over [sigma_min, sigma_max] by continuation of the fold and end-point conditions.
 
@@ -269,7 +315,11 @@ def critical_curve(
     ends = []
     for which in ("lower", "upper") if SlowFlow(params, model).law.upper is not None else ("lower",):
         end_problem = EndProblem(params, model, which)
-        ends.append(_trace(end_problem, [end_problem.abar_at(sigma_min)], float(sigma_min), sigma_min, sigma_max, opts))
+        ends.append(
+            _trace(
+                end_problem, [end_problem.abar_at(sigma_min)], float(sigma_min), sigma_min, sigma_max, opts
+            )
+        )
         report(f"{which} end-point curve: {len(ends[-1])} points")
     fold_problem = FoldProblem(params, model)
     folds = []
@@ -287,13 +337,17 @@ def _on_branch(branch, x, sigma, tol=1e-6):
     near = np.abs(branch.p - sigma) < 0.5 * branch.options["step_max"] + 1e-12
     if not np.any(near):
         return False
-    return bool(np.min(np.linalg.norm(branch.x[near] - x, axis=1)) < max(tol, 0.5 * branch.options["step_max"]))
+    return bool(
+        np.min(np.linalg.norm(branch.x[near] - x, axis=1)) < max(tol, 0.5 * branch.options["step_max"])
+    )
 
 
 def _envelope(params, ends, folds, fold_problem) -> CriticalCurve:
     """Least of the end curves and the minimum-type fold curves, point by point in sigma."""
     flow = fold_problem.r.flow
-    candidates = [(end.p, end.x[:, 0], np.full(len(end), A), "END") for end, A in zip(ends, (flow.A_min, flow.A_max))]
+    candidates = [
+        (end.p, end.x[:, 0], np.full(len(end), A), "END") for end, A in zip(ends, (flow.A_min, flow.A_max))
+    ]
     for b in folds:
         minimum = np.array([fold_problem.is_minimum(x, p) for x, p in zip(b.x, b.p)])
         candidates.append((b.p[minimum], b.x[minimum, 1], b.x[minimum, 0], "LP"))
@@ -305,9 +359,22 @@ def _envelope(params, ends, folds, fold_problem) -> CriticalCurve:
                 rows.append((s[i], abar[i], A[i], kind))
     rows.sort()
     # The same point can come from two curves (where they meet) or twice from one (a bound): keep one.
-    rows = [r for i, r in enumerate(rows) if i == 0 or abs(r[0] - rows[i - 1][0]) > 1e-12 or abs(r[1] - rows[i - 1][1]) > 1e-12]
+    rows = [
+        r
+        for i, r in enumerate(rows)
+        if i == 0 or abs(r[0] - rows[i - 1][0]) > 1e-12 or abs(r[1] - rows[i - 1][1]) > 1e-12
+    ]
     sigma, Abar_b, A, kind = (np.array(c) for c in zip(*rows)) if rows else (np.array([]),) * 4
-    return CriticalCurve(params, sigma.astype(float), Abar_b.astype(float), A.astype(float), kind, ends[0], folds, upper_end_branch=ends[1] if len(ends) > 1 else None)
+    return CriticalCurve(
+        params,
+        sigma.astype(float),
+        Abar_b.astype(float),
+        A.astype(float),
+        kind,
+        ends[0],
+        folds,
+        upper_end_branch=ends[1] if len(ends) > 1 else None,
+    )
 
 
 def interp_min(s, v, at):
@@ -316,6 +383,9 @@ def interp_min(s, v, at):
     values = [
         v[i] + (v[i + 1] - v[i]) * (at - s[i]) / (s[i + 1] - s[i])
         for i in range(len(s) - 1)
-        if min(s[i], s[i + 1]) <= at <= max(s[i], s[i + 1]) and s[i] != s[i + 1] and np.isfinite(v[i]) and np.isfinite(v[i + 1])
+        if min(s[i], s[i + 1]) <= at <= max(s[i], s[i + 1])
+        and s[i] != s[i + 1]
+        and np.isfinite(v[i])
+        and np.isfinite(v[i + 1])
     ]
     return min(values) if values else None

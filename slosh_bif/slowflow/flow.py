@@ -46,7 +46,8 @@ class AsymptoticsWarning(UserWarning):
     """The slow flow is used where the asymptotics behind it are known, or expected, to be poor."""
 
 
-# Where the multiple-scales model was compared with the full model (docs/findings/regimes.md, "What the full model
+# Where the multiple-scales model was compared with the full model (docs/findings/regimes.md, "What the full
+# model
 # says"): eps = 0.05-0.1, beta = 0-0.3, and eq. (21) is accurate only for small dissipation.
 ASYMPTOTICS_LIMITS = {"eps": 0.1, "beta": 0.5, "wall_dissipation": 0.5, "corrected_n": 10}
 
@@ -60,19 +61,25 @@ def asymptotics_concerns(params: Params, model: str = "slowflow") -> list:
         concerns.append(f"eps = {P.eps:g} > {ASYMPTOTICS_LIMITS['eps']:g}: the expansion is in powers of eps")
     if P.beta > ASYMPTOTICS_LIMITS["beta"]:
         concerns.append(
-            f"beta = {P.beta:g} > {ASYMPTOTICS_LIMITS['beta']:g}: the triangle wave solves (24b) only at beta = 0, "
+            f"beta = {P.beta:g} > {ASYMPTOTICS_LIMITS['beta']:g}: the triangle wave solves (24b) "
+            "only at beta = 0, "
             "and near beta = 1 the particle's own frequency meets the 1:1 resonance"
         )
     if check_model(model) == "corrected" and P.n < ASYMPTOTICS_LIMITS["corrected_n"]:
         concerns.append(
-            f"n = {P.n} < {ASYMPTOTICS_LIMITS['corrected_n']}: the contact lasts a large part of the period and the vessel moves the particle during it, "
-            "which the corrected model (an instantaneous impact at the wall's kappa and clearance) leaves out (n = 6: 1-8 % from (9) at the Fig. 10 set's forcing, 20 % and more at the Fig. 13 set's)"
+            f"n = {P.n} < {ASYMPTOTICS_LIMITS['corrected_n']}: the contact lasts a large part of "
+            "the period and the vessel moves the particle during it, "
+            "which the corrected model (an instantaneous impact at the wall's kappa and clearance) "
+            "leaves out (n = 6: 1-8 % from (9) at the Fig. 10 set's forcing, 20 % and more at the "
+            "Fig. 13 set's)"
         )
     delta = float(restitution.dissipation_at_unit_speed(P.lam, P.chi, P.n, P.pbar))
     if delta > ASYMPTOTICS_LIMITS["wall_dissipation"] and check_model(model) == "slowflow":
         concerns.append(
-            f"the wall loses {100 * delta:.0f} % of the energy per impact (kappa = {np.sqrt(1 - delta):.2f} at unit speed): "
-            "eq. (21) is first order in the dissipation and under-estimates kappa there (n = 6, Figs. 11-12: 0.27 vs 0.63)"
+            f"the wall loses {100 * delta:.0f} % of the energy per impact (kappa = "
+            f"{np.sqrt(1 - delta):.2f} at unit speed): "
+            "eq. (21) is first order in the dissipation and under-estimates kappa there (n = 6, "
+            "Figs. 11-12: 0.27 vs 0.63)"
         )
     return concerns
 
@@ -100,7 +107,11 @@ class SlowFlow:
         self.model = check_model(model)
         concerns = asymptotics_concerns(params, model)
         if concerns:
-            warnings.warn("slow flow outside its checked range: " + "; ".join(concerns), AsymptoticsWarning, stacklevel=2)
+            warnings.warn(
+                "slow flow outside its checked range: " + "; ".join(concerns),
+                AsymptoticsWarning,
+                stacklevel=2,
+            )
         P = params
         self._slow = (P.beta, P.gamma, P.sigma, P.Abar)
         self.law = manifold_law(params, model)
@@ -119,7 +130,9 @@ class SlowFlow:
 
     def clearance(self, A):
         """The wall's position D on S+ at amplitude(s) A (1 for the paper's model)."""
-        return self.law.values(A)[1] if self.model == "corrected" else np.ones_like(np.asarray(A, dtype=float))
+        return (
+            self.law.values(A)[1] if self.model == "corrected" else np.ones_like(np.asarray(A, dtype=float))
+        )
 
     def generated(self, name: str):
         """The generated function ``name`` of this flow's model (its arguments after A and psi:
@@ -131,7 +144,10 @@ class SlowFlow:
     def _check_on_manifold(self, A):
         A = np.asarray(A, dtype=float)
         if np.any(~np.isfinite(A)) or np.any(A < self.A_min) or np.any(A > self.A_max):
-            raise ValueError(f"amplitude A must be finite and in [A_min, A_max] = [{self.A_min:.10g}, {self.A_max:.10g}] (S+: {self.law.describe()}); got {A}")
+            raise ValueError(
+                f"amplitude A must be finite and in [A_min, A_max] = [{self.A_min:.10g}, "
+                f"{self.A_max:.10g}] (S+: {self.law.describe()}); got {A}"
+            )
         return A
 
     def rhs(self, A, psi, sigma=None, Abar=None):
@@ -220,14 +236,29 @@ class SlowFlow:
 
         reaches_end.terminal = True
         reaches_end.direction = -1
-        sol = solve_ivp(rhs, T1_span, [A0, psi0], method="DOP853", rtol=rtol, atol=atol, t_eval=t_eval, events=reaches_end)
+        sol = solve_ivp(
+            rhs, T1_span, [A0, psi0], method="DOP853", rtol=rtol, atol=atol, t_eval=t_eval, events=reaches_end
+        )
         if not sol.success:
             raise RuntimeError(f"slow-flow integration failed: {sol.message}")
         escaped = sol.status == 1
         T1_end = float(sol.t_events[0][0]) if escaped else float(T1_span[1])
-        message = f"reached the manifold's end A_min = {self.A_min:.6g} at T1 = {T1_end:.6g}: escape from 1:1 resonance" if escaped else "finished"
+        message = (
+            f"reached the manifold's end A_min = {self.A_min:.6g} at T1 = {T1_end:.6g}: escape "
+            "from 1:1 resonance"
+            if escaped
+            else "finished"
+        )
         A = sol.y[0]
-        return SlowTrajectory(T1=sol.t, A=A, psi=sol.y[1], alpha=self.alpha(np.maximum(A, self.A_min)), escaped=escaped, T1_end=T1_end, message=message)
+        return SlowTrajectory(
+            T1=sol.t,
+            A=A,
+            psi=sol.y[1],
+            alpha=self.alpha(np.maximum(A, self.A_min)),
+            escaped=escaped,
+            T1_end=T1_end,
+            message=message,
+        )
 
 
 @dataclasses.dataclass(frozen=True)

@@ -27,7 +27,14 @@ from slosh_bif.model.params import Params
 from slosh_bif.model.restitution import END_KINDS
 from slosh_bif.slowflow.flow import SlowFlow
 
-__all__ = ["SteadyStateProblem", "FrequencyResponse", "frequency_response", "forcing_response", "sigma_on_curve", "abar_on_curve"]
+__all__ = [
+    "SteadyStateProblem",
+    "FrequencyResponse",
+    "frequency_response",
+    "forcing_response",
+    "sigma_on_curve",
+    "abar_on_curve",
+]
 
 PARAMS = ("sigma", "Abar")
 # Points closer to the manifold's end than this (relative) are ill-conditioned: alpha has a
@@ -49,7 +56,9 @@ class SteadyStateProblem:
         self.params = params
         self.param = param
         self.flow = SlowFlow(params, model)
-        self._rhs, self._jac, self._dparams = (self.flow.generated(name) for name in ("slow_rhs", "slow_jac", "slow_dparams"))
+        self._rhs, self._jac, self._dparams = (
+            self.flow.generated(name) for name in ("slow_rhs", "slow_jac", "slow_dparams")
+        )
         self.A_edge = self.flow.A_min * (1 + EDGE_MARGIN)
         self.A_edge_high = self.flow.A_max * (1 - EDGE_MARGIN)
         self._column = PARAMS.index(param)
@@ -86,7 +95,9 @@ class SteadyStateProblem:
 
     def edge_distance(self, x, p):
         """Relative distance of A from the nearer end of S+."""
-        upper = (self.flow.A_max - x[0]) / self.flow.A_max if np.isfinite(self.flow.A_max) else np.inf  # S+ may be unbounded above
+        upper = (
+            (self.flow.A_max - x[0]) / self.flow.A_max if np.isfinite(self.flow.A_max) else np.inf
+        )  # S+ may be unbounded above
         return min((x[0] - self.flow.A_min) / self.flow.A_min, upper)
 
     def edge_point(self, x, p):
@@ -110,7 +121,12 @@ class SteadyStateProblem:
                 M = np.column_stack([D[:, 0], D[:, 1 + self._column]])
             else:
                 F = self._rhs(A, z[0], *at_end, *slow)
-                M = np.column_stack([self._jac(A, z[0], *with_slopes, *slow)[:, 1], self._dparams(A, z[0], *at_end, *slow)[:, self._column]])
+                M = np.column_stack(
+                    [
+                        self._jac(A, z[0], *with_slopes, *slow)[:, 1],
+                        self._dparams(A, z[0], *at_end, *slow)[:, self._column],
+                    ]
+                )
             if not (np.all(np.isfinite(F)) and np.all(np.isfinite(M))):
                 return None
             dz = np.linalg.solve(M, -F)
@@ -167,7 +183,14 @@ class FrequencyResponse:
         return SlowFlow(self.params, self.model).alpha(branch.x[:, 0])
 
 
-def frequency_response(params: Params, *, sigma_min=None, sigma_max=None, options: cont.ContinuationOptions | None = None, model: str = "slowflow") -> FrequencyResponse:
+def frequency_response(
+    params: Params,
+    *,
+    sigma_min=None,
+    sigma_max=None,
+    options: cont.ContinuationOptions | None = None,
+    model: str = "slowflow",
+) -> FrequencyResponse:
     """Trace every component of the frequency-response curve A(sigma) of (45)/(46) on S+.
 
     ``sigma_min``/``sigma_max`` default to the range where steady states exist, plus a margin.
@@ -175,12 +198,17 @@ def frequency_response(params: Params, *, sigma_min=None, sigma_max=None, option
     or the corrected one (:class:`~slosh_bif.slowflow.flow.SlowFlow`).
     """
     if not params.Abar > 0:
-        raise ValueError(f"a frequency-response curve needs forcing: parameter Abar must be > 0; got {params.Abar}")
+        raise ValueError(
+            f"a frequency-response curve needs forcing: parameter Abar must be > 0; got {params.Abar}"
+        )
     problem = SteadyStateProblem(params, "sigma", model)
     flow = problem.flow
     intervals = _feasible_intervals(flow, _amplitude_bound(params))
     if not intervals:
-        raise ValueError(f"no steady state on the stable manifold branch for any sigma at Abar = {params.Abar} (below the critical forcing)")
+        raise ValueError(
+            f"no steady state on the stable manifold branch for any sigma at Abar = {params.Abar} "
+            "(below the critical forcing)"
+        )
     if sigma_min is None or sigma_max is None:
         A_all = np.concatenate([np.geomspace(lo, hi, 200) for lo, hi in intervals])
         s_all = np.concatenate(sigma_on_curve(flow, A_all))
@@ -190,7 +218,9 @@ def frequency_response(params: Params, *, sigma_min=None, sigma_max=None, option
         sigma_max = s_all.max() + margin if sigma_max is None else sigma_max
     if not (np.isfinite(sigma_min) and np.isfinite(sigma_max) and sigma_min < sigma_max):
         raise ValueError(f"need finite sigma_min < sigma_max; got {sigma_min} and {sigma_max}")
-    opts = dataclasses.replace(options or cont.ContinuationOptions(), p_min=float(sigma_min), p_max=float(sigma_max))
+    opts = dataclasses.replace(
+        options or cont.ContinuationOptions(), p_min=float(sigma_min), p_max=float(sigma_max)
+    )
     branches = []
     for lo, hi in intervals:
         # Start points: samples of the component (both roots of (46)) inside the range, the middle
@@ -198,18 +228,31 @@ def frequency_response(params: Params, *, sigma_min=None, sigma_max=None, option
         A_s = np.geomspace(lo, hi, 203)[1:-1]
         candidates = []
         for root in sigma_on_curve(flow, A_s):
-            candidates += [(A, sg) for A, sg in zip(A_s, root) if np.isfinite(sg) and sigma_min < sg < sigma_max]
+            candidates += [
+                (A, sg) for A, sg in zip(A_s, root) if np.isfinite(sg) and sigma_min < sg < sigma_max
+            ]
         candidates.sort(key=lambda c: abs(c[0] - np.sqrt(lo * hi)))
         while candidates:
             A0, sigma0 = candidates.pop(0)
             psi0 = float(flow.steady_phase(A0, sigma=sigma0))
             branch = cont.continuation(problem, [A0, psi0], float(sigma0), param="sigma", options=opts)
             branches.append(branch)
-            candidates = [(A, sg) for A, sg in candidates if np.min(np.hypot(branch.x[:, 0] - A, branch.p - sg)) >= 2 * opts.step_max]
+            candidates = [
+                (A, sg)
+                for A, sg in candidates
+                if np.min(np.hypot(branch.x[:, 0] - A, branch.p - sg)) >= 2 * opts.step_max
+            ]
     return FrequencyResponse(params=params, branches=tuple(branches), A_min=flow.A_min, model=model)
 
 
-def forcing_response(params: Params, *, abar_min: float = 0.0, abar_max: float | None = None, options: cont.ContinuationOptions | None = None, model: str = "slowflow") -> FrequencyResponse:
+def forcing_response(
+    params: Params,
+    *,
+    abar_min: float = 0.0,
+    abar_max: float | None = None,
+    options: cont.ContinuationOptions | None = None,
+    model: str = "slowflow",
+) -> FrequencyResponse:
     """Steady states of (45)/(46) on S+ at the parameter set's sigma, continued in Abar over
     [abar_min, abar_max] (default: up to ten times the forcing of the largest-amplitude start).
 
@@ -218,17 +261,28 @@ def forcing_response(params: Params, *, abar_min: float = 0.0, abar_max: float |
     """
     problem = SteadyStateProblem(params, "Abar", model)
     flow = problem.flow
-    A_top = min(_amplitude_bound(params.replace(Abar=max(params.Abar, abar_max or 0.0, 1.0))), flow.A_max * (1 - 2 * EDGE_MARGIN))
+    A_top = min(
+        _amplitude_bound(params.replace(Abar=max(params.Abar, abar_max or 0.0, 1.0))),
+        flow.A_max * (1 - 2 * EDGE_MARGIN),
+    )
     A = np.geomspace(flow.A_min * (1 + 2 * EDGE_MARGIN), A_top, 4000)
     abar = abar_on_curve(flow, A)
     if abar_max is None:
         abar_max = float(max(10.0, 10 * abar[np.argmin(np.abs(A - max(1.0, 3 * flow.A_min)))]))
     if not (np.isfinite(abar_min) and np.isfinite(abar_max) and 0 <= abar_min < abar_max):
         raise ValueError(f"need finite 0 <= abar_min < abar_max; got {abar_min} and {abar_max}")
-    opts = dataclasses.replace(options or cont.ContinuationOptions(step=0.02, step_max=0.2), p_min=float(abar_min), p_max=float(abar_max))
+    opts = dataclasses.replace(
+        options or cont.ContinuationOptions(step=0.02, step_max=0.2),
+        p_min=float(abar_min),
+        p_max=float(abar_max),
+    )
     inside = (abar > abar_min) & (abar < abar_max)
     if not np.any(inside):
-        raise ValueError(f"no steady state on S+ with Abar in [{abar_min}, {abar_max}] at sigma = {params.sigma} (Abar ranges over [{abar.min():.6g}, {abar.max():.6g}] for A up to {A[-1]:.3g})")
+        raise ValueError(
+            f"no steady state on S+ with Abar in [{abar_min}, {abar_max}] at sigma = "
+            f"{params.sigma} (Abar ranges over [{abar.min():.6g}, {abar.max():.6g}] for A up to "
+            f"{A[-1]:.3g})"
+        )
     branches = []
     starts = np.flatnonzero(inside & ~np.roll(inside, 1))
     for i0 in starts:

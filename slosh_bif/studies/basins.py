@@ -37,13 +37,24 @@ from slosh_bif.simulation.regimes import classify
 from slosh_bif.simulation.settings import LOCAL, Workers
 from slosh_bif.simulation.sweep import run_cells
 
-__all__ = ["STATE_NAMES", "BasinMap", "basin_map", "SETTLE_TOL", "SETTLE_PERIODS", "PERTURBATIONS", "BASIN_TMAX"]
+__all__ = [
+    "STATE_NAMES",
+    "BasinMap",
+    "basin_map",
+    "SETTLE_TOL",
+    "SETTLE_PERIODS",
+    "PERTURBATIONS",
+    "BASIN_TMAX",
+]
 
 STATE_NAMES = ("X", "Xd", "w", "wd")
 SETTLE_TOL = 1e-7  # the strobe's relative move per period (or per two) that counts as settled
 SETTLE_PERIODS = 3  # ... so many periods in a row
 TAIL_PERIODS = 60  # an unsettled start is simulated this much longer and its regime classified
-PERTURBATIONS = (1e-3, 1e-6)  # the perturbed copies of each start, as fractions of the plane's span along the first axis
+PERTURBATIONS = (
+    1e-3,
+    1e-6,
+)  # the perturbed copies of each start, as fractions of the plane's span along the first axis
 BASIN_TMAX = 2 * math.pi * 2000  # the longest any start is followed: 2,000 forcing periods
 PERIOD = 2 * math.pi
 
@@ -82,12 +93,19 @@ class BasinMap:
         uncertain ones)}: the basin's share lies between them at this resolution."""
         computed = self.label.size
         certain = ~self.uncertain if self.uncertain is not None else np.ones(self.label.shape, dtype=bool)
-        return {name: (float(np.sum((self.label == name) & certain)) / computed, share) for name, share in self.fractions().items()}
+        return {
+            name: (float(np.sum((self.label == name) & certain)) / computed, share)
+            for name, share in self.fractions().items()
+        }
 
     @property
     def uncertainty_exponent(self) -> float:
         """alpha of f(eps) ~ eps^alpha from the two perturbation sizes (NaN when a fraction is 0)."""
-        (e1, f1), (e2, f2) = sorted(self.uncertain_fraction.items())[:2] if len(self.uncertain_fraction) >= 2 else ((1, 0), (1, 0))
+        (e1, f1), (e2, f2) = (
+            sorted(self.uncertain_fraction.items())[:2]
+            if len(self.uncertain_fraction) >= 2
+            else ((1, 0), (1, 0))
+        )
         return float(math.log(f2 / f1) / math.log(e2 / e1)) if f1 > 0 and f2 > 0 and e1 != e2 else math.nan
 
 
@@ -99,7 +117,9 @@ def _settle(params, state0, max_periods: int, backend):
     y, before, calm1, calm2 = np.asarray(state0, dtype=float), None, 0, 0
     bound = diverged_beyond(params)
     for k in range(1, max_periods + 1):
-        run = integrator.integrate(params, y, 0.0, PERIOD, rtol=1e-9, atol=1e-11, backend=backend)  # (9) is 2pi-periodic: every period alike
+        run = integrator.integrate(
+            params, y, 0.0, PERIOD, rtol=1e-9, atol=1e-11, backend=backend
+        )  # (9) is 2pi-periodic: every period alike
         z = run.z
         if not (run.success and np.all(np.isfinite(z))):
             return "failed", None, k
@@ -115,7 +135,13 @@ def _settle(params, state0, max_periods: int, backend):
             return ("orbit", orbit.y0, k) if orbit.converged else ("periodic (no 2pi orbit found)", None, k)
         if calm2 >= SETTLE_PERIODS:
             return "period-2", None, k
-    sim = simulate(params, y, max_periods * PERIOD + TAIL_PERIODS * PERIOD, t0=max_periods * PERIOD, settings=SimulationSettings(backend=backend))
+    sim = simulate(
+        params,
+        y,
+        max_periods * PERIOD + TAIL_PERIODS * PERIOD,
+        t0=max_periods * PERIOD,
+        settings=SimulationSettings(backend=backend),
+    )
     if sim.status == "diverged":
         return "diverged", None, max_periods
     if not sim.success and sim.status != "sticking":
@@ -126,12 +152,23 @@ def _settle(params, state0, max_periods: int, backend):
 def _basin_point(params, state0, max_periods, backend, shifts):
     """The outcome of ``state0`` and of its perturbed copies ``state0 + shift`` (in a worker):
     a list of (outcome, orbit state or None, periods)."""
-    return [_settle(params, np.asarray(state0) + np.asarray(shift), max_periods, backend) for shift in ((0.0,) * 4, *shifts)]
+    return [
+        _settle(params, np.asarray(state0) + np.asarray(shift), max_periods, backend)
+        for shift in ((0.0,) * 4, *shifts)
+    ]
 
 
 def basin_map(
-    params: Params, first, second, *, axes=("X", "w"), tmax: float = BASIN_TMAX, backend: str = "auto", workers: Workers = LOCAL,
-    resume: Resume | None = None, progress=None,
+    params: Params,
+    first,
+    second,
+    *,
+    axes=("X", "w"),
+    tmax: float = BASIN_TMAX,
+    backend: str = "auto",
+    workers: Workers = LOCAL,
+    resume: Resume | None = None,
+    progress=None,
 ) -> BasinMap:
     """Follow (9) from every state of the grid ``first`` x ``second`` in the state components
     ``axes`` (the others zero), and from two perturbed copies of each, until the strobe settles
@@ -151,7 +188,10 @@ def basin_map(
     if not (np.isfinite(tmax) and tmax > 0):
         raise ValueError(f"tmax must be finite and > 0; got {tmax!r}")
     if tmax > 1e3 * BASIN_TMAX:
-        raise ValueError(f"tmax = {tmax:g} is more than a thousand times the default {BASIN_TMAX:g}: a start that has not settled by then will not")
+        raise ValueError(
+            f"tmax = {tmax:g} is more than a thousand times the default {BASIN_TMAX:g}: a start "
+            "that has not settled by then will not"
+        )
     backend = integrator.resolve_backend(backend)
     max_periods = max(1, math.ceil(tmax / PERIOD))
     span = float(np.ptp(first)) or 1.0
@@ -169,7 +209,13 @@ def basin_map(
     resume = resume or Resume()
     done = {key: result for key, result in (resume.done or {}).items() if key in jobs}
     arguments = {key: (params, state, max_periods, backend, tuple(shifts)) for key, state in jobs.items()}
-    results, status = run_cells(_basin_point, arguments, workers=workers, resume=dataclasses.replace(resume, done=done), progress=progress)
+    results, status = run_cells(
+        _basin_point,
+        arguments,
+        workers=workers,
+        resume=dataclasses.replace(resume, done=done),
+        progress=progress,
+    )
     names = _Names(params, backend)
     label = np.full((second.size, first.size), "not computed", dtype=object)
     uncertain = np.zeros(label.shape, dtype=bool)
@@ -184,7 +230,20 @@ def basin_map(
             changed[eps] += other != labels[0]
             uncertain[i, j] |= other != labels[0]
     fraction = {eps: count / max(len(results), 1) for eps, count in changed.items()}
-    return BasinMap(params, tuple(axes), first, second, label, names.attractors, names.orbits, float(max_periods * PERIOD), status, uncertain, periods, fraction)
+    return BasinMap(
+        params,
+        tuple(axes),
+        first,
+        second,
+        label,
+        names.attractors,
+        names.orbits,
+        float(max_periods * PERIOD),
+        status,
+        uncertain,
+        periods,
+        fraction,
+    )
 
 
 class _Names:
@@ -203,11 +262,22 @@ class _Names:
         for name, z in self.orbits.items():
             if np.linalg.norm(z - y0) <= 1e-5 * (1 + np.linalg.norm(y0)):
                 return name
-        m = orbit_measures(self.problem, self.problem.initial_states(y0), self.params.sigma, points_per_2pi=128)
-        kind = "non-impacting" if m["max_abs_w"] < 1.0 else "symmetric" if m["symmetry_defect"] < 1e-6 else "asymmetric"
+        m = orbit_measures(
+            self.problem, self.problem.initial_states(y0), self.params.sigma, points_per_2pi=128
+        )
+        kind = (
+            "non-impacting"
+            if m["max_abs_w"] < 1.0
+            else "symmetric"
+            if m["symmetry_defect"] < 1e-6
+            else "asymmetric"
+        )
         same = sum(name.startswith(f"{kind} orbit") and f"A1 = {m['A1']:.4g}" in name for name in self.orbits)
         tag = f" {'abcdefgh'[same]}" if kind == "asymmetric" else "" if same == 0 else f" ({same + 1})"
         name = f"{kind} orbit{tag}, A1 = {m['A1']:.4g}"
         self.orbits[name] = y0
-        self.attractors[name] = f"{kind} 2pi-orbit, A1 = {m['A1']:.4g}, max |w| = {m['max_abs_w']:.3g}, state at tau = 0: {np.round(y0, 4).tolist()}"
+        self.attractors[name] = (
+            f"{kind} 2pi-orbit, A1 = {m['A1']:.4g}, max |w| = {m['max_abs_w']:.3g}, state at tau = "
+            f"0: {np.round(y0, 4).tolist()}"
+        )
         return name

@@ -13,7 +13,14 @@ import numpy as np
 from slosh_bif.report.files import CellStore, write_text_atomically
 from slosh_bif.report.tables import write_rows
 
-__all__ = ["write_basins_csv", "write_attractors", "attractor_table", "plot_basins", "basin_settings", "basin_store"]
+__all__ = [
+    "write_basins_csv",
+    "write_attractors",
+    "attractor_table",
+    "plot_basins",
+    "basin_settings",
+    "basin_store",
+]
 
 
 def write_basins_csv(bmap, path) -> Path:
@@ -21,8 +28,15 @@ def write_basins_csv(bmap, path) -> Path:
     (``uncertain``), and the forcing periods its strobe took to settle (empty: not settled)."""
     a, b = bmap.axes
     rows = (
-        {a: float(x), b: float(y), "attractor": bmap.label[i, j], "uncertain": int(bmap.uncertain[i, j]), "periods_to_settle": bmap.periods[i, j]}
-        for i, y in enumerate(bmap.second) for j, x in enumerate(bmap.first)
+        {
+            a: float(x),
+            b: float(y),
+            "attractor": bmap.label[i, j],
+            "uncertain": int(bmap.uncertain[i, j]),
+            "periods_to_settle": bmap.periods[i, j],
+        }
+        for i, y in enumerate(bmap.second)
+        for j, x in enumerate(bmap.first)
     )
     return write_rows(rows, (a, b, "attractor", "uncertain", "periods_to_settle"), path)
 
@@ -31,24 +45,45 @@ def attractor_table(bmap) -> str:
     """Each attractor's share of the plane with its bounds at this resolution, what it is, and how
     far the cell-by-cell picture can be believed."""
     P = bmap.params
-    lines = [f"basins at sigma = {P.sigma:g}, Abar = {P.Abar:g} over ({bmap.axes[0]}, {bmap.axes[1]}), each start followed until its strobe settles (tau up to {bmap.tmax:.6g}): {bmap.status}"]
+    lines = [
+        f"basins at sigma = {P.sigma:g}, Abar = {P.Abar:g} over ({bmap.axes[0]}, {bmap.axes[1]}), "
+        f"each start followed until its strobe settles (tau up to {bmap.tmax:.6g}): {bmap.status}"
+    ]
     for name, (low, high) in bmap.fraction_bounds().items():
-        lines.append(f"{100 * low:5.1f} - {100 * high:5.1f} %  {name}" + (f": {bmap.attractors[name]}" if name in bmap.attractors else ""))
+        lines.append(
+            f"{100 * low:5.1f} - {100 * high:5.1f} %  {name}"
+            + (f": {bmap.attractors[name]}" if name in bmap.attractors else "")
+        )
     f = bmap.uncertain_fraction
     if f:
-        sizes = ", ".join(f"{100 * share:.1f} % at eps = {eps:g}" for eps, share in sorted(f.items(), reverse=True))
-        lines.append(f"uncertain cells (a start moved by eps times the plane's width reaches another attractor): {sizes}")
+        sizes = ", ".join(
+            f"{100 * share:.1f} % at eps = {eps:g}" for eps, share in sorted(f.items(), reverse=True)
+        )
+        lines.append(
+            "uncertain cells (a start moved by eps times the plane's width reaches another "
+            f"attractor): {sizes}"
+        )
         alpha = bmap.uncertainty_exponent
         if math.isfinite(alpha):
             verdict = (
-                "smooth basin boundaries" if alpha > 0.8
-                else "fractal basin boundaries: which attractor a given start reaches is decided by digits no integration keeps; only the bounds on the shares mean anything" if alpha < 0.2
+                "smooth basin boundaries"
+                if alpha > 0.8
+                else "fractal basin boundaries: which attractor a given start reaches is decided by "
+                "digits no integration keeps; only the bounds on the shares mean anything"
+                if alpha < 0.2
                 else "partly fractal basin boundaries"
             )
-            lines.append(f"uncertainty exponent alpha = {max(alpha, 0.0):.2f} (f ~ eps^alpha, from the two sizes): {verdict}")
+            lines.append(
+                f"uncertainty exponent alpha = {max(alpha, 0.0):.2f} (f ~ eps^alpha, from the two "
+                f"sizes): {verdict}"
+            )
     settled = bmap.periods[np.isfinite(bmap.periods)]
     if settled.size:
-        lines.append(f"strobes settled after {int(np.median(settled))} periods (median), {int(settled.max())} at most; {int(np.sum(~np.isfinite(bmap.periods)))} cells did not settle")
+        lines.append(
+            f"strobes settled after {int(np.median(settled))} periods (median), "
+            f"{int(settled.max())} at most; {int(np.sum(~np.isfinite(bmap.periods)))} cells did "
+            "not settle"
+        )
     return "\n".join(lines)
 
 
@@ -57,7 +92,8 @@ def write_attractors(bmap, path) -> Path:
 
 
 def plot_basins(bmap, path) -> Path:
-    """The plane coloured by attractor, uncertain cells hatched; the legend gives each basin's share bounds."""
+    """The plane coloured by attractor, uncertain cells hatched; the legend gives each basin's share
+    bounds."""
     from matplotlib.colors import ListedColormap
 
     from slosh_bif.report.plotting import cell_edges, pyplot, save_figure
@@ -70,7 +106,13 @@ def plot_basins(bmap, path) -> Path:
     xe, ye = cell_edges(bmap.first), cell_edges(bmap.second)
     ax.pcolormesh(xe, ye, codes, cmap=ListedColormap(colors), vmin=-0.5, vmax=len(names) - 0.5)
     if np.any(bmap.uncertain):
-        ax.pcolormesh(xe, ye, np.ma.masked_where(~bmap.uncertain, np.ones(bmap.uncertain.shape)), cmap=ListedColormap(["white"]), alpha=0.55)
+        ax.pcolormesh(
+            xe,
+            ye,
+            np.ma.masked_where(~bmap.uncertain, np.ones(bmap.uncertain.shape)),
+            cmap=ListedColormap(["white"]),
+            alpha=0.55,
+        )
     bounds = bmap.fraction_bounds()
     for name, color in zip(names, colors):
         low, high = bounds[name]
@@ -82,7 +124,11 @@ def plot_basins(bmap, path) -> Path:
     P = bmap.params
     alpha = bmap.uncertainty_exponent
     note = f"; uncertainty exponent {max(alpha, 0.0):.2f}" if math.isfinite(alpha) else ""
-    ax.set_title(f"basins of attraction of (9): sigma = {P.sigma:g}, Abar = {P.Abar:g}, n = {P.n}{note}" + ("" if bmap.status == "complete" else f"\nPARTIAL: {bmap.status}"), fontsize=10)
+    ax.set_title(
+        f"basins of attraction of (9): sigma = {P.sigma:g}, Abar = {P.Abar:g}, n = {P.n}{note}"
+        + ("" if bmap.status == "complete" else f"\nPARTIAL: {bmap.status}"),
+        fontsize=10,
+    )
     ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
     return save_figure(fig, path)
 
@@ -92,8 +138,13 @@ def basin_settings(params, axes, first, second, tmax) -> dict:
     from slosh_bif.studies.basins import PERTURBATIONS, SETTLE_PERIODS, SETTLE_TOL
 
     return {
-        "params": params.as_dict(), "axes": list(axes), "first": [float(v) for v in first], "second": [float(v) for v in second], "tmax": float(tmax),
-        "settle": [SETTLE_TOL, SETTLE_PERIODS], "perturbations": list(PERTURBATIONS),
+        "params": params.as_dict(),
+        "axes": list(axes),
+        "first": [float(v) for v in first],
+        "second": [float(v) for v in second],
+        "tmax": float(tmax),
+        "settle": [SETTLE_TOL, SETTLE_PERIODS],
+        "perturbations": list(PERTURBATIONS),
     }
 
 
@@ -103,9 +154,15 @@ def basin_store(path, settings: dict, *, resume: bool) -> CellStore:
     :class:`~slosh_bif.report.files.CellStore`)."""
 
     def encode(result):
-        return [[outcome, None if y0 is None else [float(v) for v in y0], int(periods)] for outcome, y0, periods in result]
+        return [
+            [outcome, None if y0 is None else [float(v) for v in y0], int(periods)]
+            for outcome, y0, periods in result
+        ]
 
     def decode(record):
-        return [(str(outcome), None if y0 is None else np.asarray(y0, dtype=float), int(periods)) for outcome, y0, periods in record]
+        return [
+            (str(outcome), None if y0 is None else np.asarray(y0, dtype=float), int(periods))
+            for outcome, y0, periods in record
+        ]
 
     return CellStore(path, settings, resume=resume, encode=encode, decode=decode)

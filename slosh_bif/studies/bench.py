@@ -100,7 +100,9 @@ def first_harmonic(t, X, periods: int = 20) -> float:
     """Amplitude of the e^{i tau} component of X over the last ``periods`` forcing periods."""
     t, X = np.asarray(t, dtype=float), np.asarray(X, dtype=float)
     if t[-1] - t[0] < periods * PERIOD * (1 - 1e-9):
-        raise ValueError(f"need at least {periods} forcing periods of samples; got {(t[-1] - t[0]) / PERIOD:.3g}")
+        raise ValueError(
+            f"need at least {periods} forcing periods of samples; got {(t[-1] - t[0]) / PERIOD:.3g}"
+        )
     keep = t >= t[-1] - periods * PERIOD - 4 * (t[1] - t[0])
     grid = np.linspace(t[-1] - periods * PERIOD, t[-1], 256 * periods, endpoint=False)
     # A cubic spline, not linear interpolation: the latter's h^2 error is 3e-5 at the default samples.
@@ -130,9 +132,20 @@ def reference_orbits(preset: str, sigmas) -> list:
         params = pre.params.replace(sigma=float(sigma))
         orbit, A1 = settle_and_shoot(params, pre.state0, 1e-12, sim_rtol=1e-9, segments=REFERENCE_SEGMENTS)
         if not (orbit.converged and orbit.stable):
-            raise RuntimeError(f"{preset}, sigma = {sigma}: no stable orbit near the settled state ({orbit.message})")
+            raise RuntimeError(
+                f"{preset}, sigma = {sigma}: no stable orbit near the settled state ({orbit.message})"
+            )
         _, A1_coarse = settle_and_shoot(params, orbit.y0, 1e-10, first=0, segments=REFERENCE_SEGMENTS)
-        refs.append(Reference(preset, float(sigma), A1, abs(A1_coarse - A1) / A1, float(np.max(np.abs(orbit.multipliers))), orbit.y0))
+        refs.append(
+            Reference(
+                preset,
+                float(sigma),
+                A1,
+                abs(A1_coarse - A1) / A1,
+                float(np.max(np.abs(orbit.multipliers))),
+                orbit.y0,
+            )
+        )
     return refs
 
 
@@ -149,9 +162,18 @@ def _critical_row(ref):
     def rel(value):
         return abs(value - full.Abar_c) / full.Abar_c if np.isfinite(full.Abar_c) else np.nan
 
-    return dict(preset=ref.preset, sigma=ref.sigma, Abar_b_slow_flow=slow.Abar_b, slow_flow_kind=slow.kind, Abar_b_smooth_model=full.Abar_c,
-                smooth_model_kind=full.bounded_by, relative_difference=rel(slow.Abar_b), Abar_b_corrected=corrected.Abar_b, corrected_kind=corrected.kind,
-                relative_difference_corrected=rel(corrected.Abar_b))
+    return dict(
+        preset=ref.preset,
+        sigma=ref.sigma,
+        Abar_b_slow_flow=slow.Abar_b,
+        slow_flow_kind=slow.kind,
+        Abar_b_smooth_model=full.Abar_c,
+        smooth_model_kind=full.bounded_by,
+        relative_difference=rel(slow.Abar_b),
+        Abar_b_corrected=corrected.Abar_b,
+        corrected_kind=corrected.kind,
+        relative_difference_corrected=rel(corrected.Abar_b),
+    )
 
 
 def _interp_stable(fr, sigma, target):
@@ -194,7 +216,12 @@ def _methods(preset, refs):
         def answer(periods):
             out = []
             for s in sigmas:
-                sim = simulate(pre.params.replace(sigma=s), pre.state0, periods * PERIOD, settings=SimulationSettings(model=model, rtol=1e-8, atol=1e-10, sample_step=0.05))
+                sim = simulate(
+                    pre.params.replace(sigma=s),
+                    pre.state0,
+                    periods * PERIOD,
+                    settings=SimulationSettings(model=model, rtol=1e-8, atol=1e-10, sample_step=0.05),
+                )
                 out.append(first_harmonic(sim.t, sim.y[0], 10) if sim.success else np.nan)
             return out
 
@@ -202,7 +229,12 @@ def _methods(preset, refs):
 
     def shooting(rtol):
         # Newton needs a start in the orbit's basin, from a loose simulation; its cost counts.
-        return [settle_and_shoot(pre.params.replace(sigma=s), pre.state0, rtol, sim_rtol=1e-7, segments=REFERENCE_SEGMENTS)[1] for s in sigmas]
+        return [
+            settle_and_shoot(
+                pre.params.replace(sigma=s), pre.state0, rtol, sim_rtol=1e-7, segments=REFERENCE_SEGMENTS
+            )[1]
+            for s in sigmas
+        ]
 
     return [
         ("eq. 46 continuation", "step_max", (2.0, 0.5, 0.1), continuation("slowflow")),
@@ -217,7 +249,8 @@ def _methods(preset, refs):
 def frequency_response_bench(*, quick: bool = False, repeats: int = 3, progress=None):
     """Rows ``(preset, method, knob, value, seconds, error, answers, reference)`` per method and
     knob value, the reference rows, and the critical-forcing rows (:func:`_critical_row`).
-    ``error`` is the largest relative error over the sigmas where the method gave an answer; ``failures`` counts the sigmas where it gave none (the slow
+    ``error`` is the largest relative error over the sigmas where the method gave an answer; ``failures``
+    counts the sigmas where it gave none (the slow
     flow escaping from S+, a simulation failing, Newton not converging)."""
     say = progress or (lambda message: None)
     sigma_sets = QUICK_FR_SIGMAS if quick else FR_SIGMAS
@@ -225,22 +258,44 @@ def frequency_response_bench(*, quick: bool = False, repeats: int = 3, progress=
     for preset, sigmas in sigma_sets.items():
         say(f"frequency response, {preset}: reference orbits (shooting at rtol 1e-12)")
         refs = reference_orbits(preset, sigmas)
-        ref_rows += [dict(preset=preset, sigma=r.sigma, A1=r.A1, self_error=r.self_error, max_multiplier=r.max_multiplier) for r in refs]
+        ref_rows += [
+            dict(
+                preset=preset,
+                sigma=r.sigma,
+                A1=r.A1,
+                self_error=r.self_error,
+                max_multiplier=r.max_multiplier,
+            )
+            for r in refs
+        ]
         exact = np.array([r.A1 for r in refs])
-        say(f"critical forcing, {preset}: Abar_b of (46) against Abar_c of (9) (every family at sigma, continued in Abar)")
+        say(
+            f"critical forcing, {preset}: Abar_b of (46) against Abar_c of (9) (every family at "
+            "sigma, continued in Abar)"
+        )
         crit_rows += [_critical_row(r) for r in (refs[:1] if quick else refs)]
         for name, knob, values, answer in _methods(preset, refs):
             for value in values[:2] if quick else values:
                 say(f"frequency response, {preset}: {name}, {knob} = {value:g}")
-                seconds, A1, runs = timed(lambda: answer(value), repeats=repeats if not quick else 1, min_seconds=0.0)
+                seconds, A1, runs = timed(
+                    lambda: answer(value), repeats=repeats if not quick else 1, min_seconds=0.0
+                )
                 A1 = np.asarray(A1, dtype=float)
                 rel = np.abs(A1 - exact) / exact
-                rows.append(dict(
-                    preset=preset, method=name, knob=knob, value=value, seconds=seconds, runs=runs,
-                    error=float(np.nanmax(rel)) if np.any(np.isfinite(rel)) else np.nan,
-                    failures=int(np.sum(~np.isfinite(rel))),
-                    answers=" ".join(f"{a:.6g}" for a in A1), reference=" ".join(f"{a:.6g}" for a in exact),
-                ))
+                rows.append(
+                    dict(
+                        preset=preset,
+                        method=name,
+                        knob=knob,
+                        value=value,
+                        seconds=seconds,
+                        runs=runs,
+                        error=float(np.nanmax(rel)) if np.any(np.isfinite(rel)) else np.nan,
+                        failures=int(np.sum(~np.isfinite(rel))),
+                        answers=" ".join(f"{a:.6g}" for a in A1),
+                        reference=" ".join(f"{a:.6g}" for a in exact),
+                    )
+                )
     return rows, ref_rows, crit_rows
 
 
@@ -262,7 +317,15 @@ def _integrators(params, y0, tau):
 
     def scipy_method(method, jac=None):
         def run(rtol):
-            sol = solve_ivp(model.rhs, (0.0, tau), y0, method=method, rtol=rtol, atol=rtol * 1e-2, **({"jac": jac} if jac else {}))
+            sol = solve_ivp(
+                model.rhs,
+                (0.0, tau),
+                y0,
+                method=method,
+                rtol=rtol,
+                atol=rtol * 1e-2,
+                **({"jac": jac} if jac else {}),
+            )
             return sol.y[:, -1], sol.nfev
 
         return run
@@ -283,7 +346,9 @@ def integration_bench(*, quick: bool = False, repeats: int = 3, progress=None):
     """Rows ``(preset, n, method, rtol, seconds, nfev, error)``: one forcing period of (9)."""
     say = progress or (lambda message: None)
     if not integrator.HAVE_NUMBA:
-        raise RuntimeError("the integration benchmark compares the compiled integrator: install the 'fast' extra (numba)")
+        raise RuntimeError(
+            "the integration benchmark compares the compiled integrator: install the 'fast' extra (numba)"
+        )
     rtols = (1e-6, 1e-9) if quick else (1e-5, 1e-7, 1e-9, 1e-11)
     rows = []
     for preset in INTEGRATION_SETS:
@@ -295,10 +360,23 @@ def integration_bench(*, quick: bool = False, repeats: int = 3, progress=None):
                 if ("Radau" in name or "BDF" in name) and rtol < IMPLICIT_LOOSEST:
                     continue
                 say(f"integration, {preset} (n = {params.n}): {name}, rtol {rtol:.0e}")
-                with np.errstate(over="ignore", invalid="ignore"):  # trial steps deep in the wall overflow; the error control rejects them
+                with np.errstate(
+                    over="ignore", invalid="ignore"
+                ):  # trial steps deep in the wall overflow; the error control rejects them
                     run(rtol)  # compile or load the kernels, warm caches: not part of the timing
                     seconds, (z, nfev), runs = timed(lambda: run(rtol), repeats=repeats)
-                rows.append(dict(preset=preset, n=params.n, method=name, rtol=rtol, seconds=seconds, runs=runs, nfev=int(nfev), error=float(np.max(np.abs(z - ref)))))
+                rows.append(
+                    dict(
+                        preset=preset,
+                        n=params.n,
+                        method=name,
+                        rtol=rtol,
+                        seconds=seconds,
+                        runs=runs,
+                        nfev=int(nfev),
+                        error=float(np.max(np.abs(z - ref))),
+                    )
+                )
     return rows
 
 
@@ -329,27 +407,93 @@ def growth_bench(*, quick: bool = False, repeats: int = 3, progress=None):
         say(f"growth: n = {n}")
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", AsymptoticsWarning)
-            seconds, fr, _ = timed(lambda: frequency_response(params, sigma_min=-6.0, sigma_max=8.0), repeats=rep, min_seconds=0.0)
-        rows.append(dict(study="n", x=n, method="eq. 46 branch, sigma in [-6, 8]", seconds=seconds, detail=f"{sum(len(b) for b in fr.branches)} points"))
+            seconds, fr, _ = timed(
+                lambda: frequency_response(params, sigma_min=-6.0, sigma_max=8.0),
+                repeats=rep,
+                min_seconds=0.0,
+            )
+        rows.append(
+            dict(
+                study="n",
+                x=n,
+                method="eq. 46 branch, sigma in [-6, 8]",
+                seconds=seconds,
+                detail=f"{sum(len(b) for b in fr.branches)} points",
+            )
+        )
         problem, x0 = _shooting_start(params, pre.state0, BRANCH_RANGE[0])
-        options = dataclasses.replace(SHOOTING_OPTIONS, p_min=BRANCH_RANGE[0], p_max=BRANCH_RANGE[1], direction="forward")
-        seconds, branch, _ = timed(lambda: continuation(problem, x0, BRANCH_RANGE[0], param="sigma", options=options), repeats=rep, min_seconds=0.0)
+        options = dataclasses.replace(
+            SHOOTING_OPTIONS, p_min=BRANCH_RANGE[0], p_max=BRANCH_RANGE[1], direction="forward"
+        )
+        seconds, branch, _ = timed(
+            lambda: continuation(problem, x0, BRANCH_RANGE[0], param="sigma", options=options),
+            repeats=rep,
+            min_seconds=0.0,
+        )
         specials = " ".join(f"{sp.kind} {sp.p:.4g}" for sp in branch.special)
-        rows.append(dict(study="n", x=n, method="shooting branch (9), sigma 4 -> 10", seconds=seconds, detail=f"{len(branch)} points; {specials}"))
-        seconds, sim, _ = timed(lambda: simulate(params, pre.state0, 100 * PERIOD), repeats=rep, min_seconds=0.0)
-        rows.append(dict(study="n", x=n, method="smooth model (9), 100 periods", seconds=seconds, detail=sim.status))
+        rows.append(
+            dict(
+                study="n",
+                x=n,
+                method="shooting branch (9), sigma 4 -> 10",
+                seconds=seconds,
+                detail=f"{len(branch)} points; {specials}",
+            )
+        )
+        seconds, sim, _ = timed(
+            lambda: simulate(params, pre.state0, 100 * PERIOD), repeats=rep, min_seconds=0.0
+        )
+        rows.append(
+            dict(study="n", x=n, method="smooth model (9), 100 periods", seconds=seconds, detail=sim.status)
+        )
     for periods in (25, 100) if quick else (25, 50, 100, 200, 400):
         say(f"growth: interval of {periods} periods")
         for model in ("smooth", "impact"):
-            seconds, sim, _ = timed(lambda: simulate(pre.params, pre.state0, periods * PERIOD, settings=SimulationSettings(model=model, sample_step=0.05)), repeats=rep, min_seconds=0.0)
-            rows.append(dict(study="interval", x=periods, method=f"{model} model simulated", seconds=seconds, detail=f"{len(sim.impact_t)} impacts"))
+            seconds, sim, _ = timed(
+                lambda: simulate(
+                    pre.params,
+                    pre.state0,
+                    periods * PERIOD,
+                    settings=SimulationSettings(model=model, sample_step=0.05),
+                ),
+                repeats=rep,
+                min_seconds=0.0,
+            )
+            rows.append(
+                dict(
+                    study="interval",
+                    x=periods,
+                    method=f"{model} model simulated",
+                    seconds=seconds,
+                    detail=f"{len(sim.impact_t)} impacts",
+                )
+            )
     sides = (2, 3) if quick else (2, 3, 4, 6)
     for workers in (1, 2):
         for side in sides:
             say(f"growth: regime map {side} x {side}, {workers} worker(s)")
             sigmas, abars = np.linspace(-2.0, 4.0, side), np.linspace(0.5, 3.0, side)
-            seconds, _, _ = timed(lambda: regime_map(pre.params, pre.state0, sigmas, abars, tmax=60 * PERIOD, workers=Workers(max_workers=workers)), repeats=1, min_seconds=0.0)
-            rows.append(dict(study="regime map", x=side * side, method=f"{workers} worker{'s' if workers > 1 else ''}", seconds=seconds, detail="60 periods per point"))
+            seconds, _, _ = timed(
+                lambda: regime_map(
+                    pre.params,
+                    pre.state0,
+                    sigmas,
+                    abars,
+                    tmax=60 * PERIOD,
+                    workers=Workers(max_workers=workers),
+                ),
+                repeats=1,
+                min_seconds=0.0,
+            )
+            rows.append(
+                dict(
+                    study="regime map",
+                    x=side * side,
+                    method=f"{workers} worker{'s' if workers > 1 else ''}",
+                    seconds=seconds,
+                    detail="60 periods per point",
+                )
+            )
     return rows
 
 
@@ -368,11 +512,17 @@ def run(out, *, only=None, quick: bool = False, repeats: int = 3, progress=None)
         raise ValueError(f"repeats must be an integer >= 1; got {repeats!r}")
     written = []
     if "integration" in only:
-        written += bench_output.write_integration(integration_bench(quick=quick, repeats=repeats, progress=progress), out)
+        written += bench_output.write_integration(
+            integration_bench(quick=quick, repeats=repeats, progress=progress), out
+        )
     if "frequency-response" in only:
-        written += bench_output.write_frequency_response(*frequency_response_bench(quick=quick, repeats=repeats, progress=progress), out)
+        written += bench_output.write_frequency_response(
+            *frequency_response_bench(quick=quick, repeats=repeats, progress=progress), out
+        )
     if "growth" in only:
-        written += bench_output.write_growth(growth_bench(quick=quick, repeats=repeats, progress=progress), out)
+        written += bench_output.write_growth(
+            growth_bench(quick=quick, repeats=repeats, progress=progress), out
+        )
     if "speed" in only:
         written += bench_output.write_speed(speed_bench(quick=quick, progress=progress), out)
     return written

@@ -10,14 +10,25 @@ from slosh_bif.report.plotting import pyplot, save_figure
 from slosh_bif.report.tables import write_rows
 from slosh_bif.studies.speed import SPEED_COLUMNS
 
-__all__ = ["equal_error_ratio", "write_integration", "write_frequency_response", "write_growth", "integration_ratios"]
+__all__ = [
+    "equal_error_ratio",
+    "write_integration",
+    "write_frequency_response",
+    "write_growth",
+    "integration_ratios",
+]
 
 
 def equal_error_ratio(rows, preset, method, baseline="scipy DOP853"):
     """Median of (baseline time) / (method time) at equal error: both work-precision curves are
     interpolated log-log at 9 errors spread over the range they share; NaN if they share none."""
+
     def curve(name):
-        pts = sorted((r["error"], r["seconds"]) for r in rows if r["preset"] == preset and r["method"] == name and r["error"] > 0)
+        pts = sorted(
+            (r["error"], r["seconds"])
+            for r in rows
+            if r["preset"] == preset and r["method"] == name and r["error"] > 0
+        )
         return np.log([p[0] for p in pts]), np.log([p[1] for p in pts])
 
     e_b, t_b = curve(baseline)
@@ -45,22 +56,44 @@ def integration_ratios(rows) -> list:
     for preset in dict.fromkeys(r["preset"] for r in rows):
         n = next(r["n"] for r in rows if r["preset"] == preset)
         for method in dict.fromkeys(r["method"] for r in rows if r["preset"] == preset):
-            out.append(dict(preset=preset, n=n, method=method, speedup_vs_scipy_DOP853=equal_error_ratio(rows, preset, method)))
+            out.append(
+                dict(
+                    preset=preset,
+                    n=n,
+                    method=method,
+                    speedup_vs_scipy_DOP853=equal_error_ratio(rows, preset, method),
+                )
+            )
     return out
 
 
 def write_integration(rows, out) -> list:
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
-    paths = [write_rows(rows, ["preset", "n", "method", "rtol", "seconds", "runs", "nfev", "error"], out / "integrators.csv")]
+    paths = [
+        write_rows(
+            rows,
+            ["preset", "n", "method", "rtol", "seconds", "runs", "nfev", "error"],
+            out / "integrators.csv",
+        )
+    ]
     ratios = integration_ratios(rows)
-    paths.append(write_rows(ratios, ["preset", "n", "method", "speedup_vs_scipy_DOP853"], out / "integrators_ratios.csv", digits=4))
+    paths.append(
+        write_rows(
+            ratios,
+            ["preset", "n", "method", "speedup_vs_scipy_DOP853"],
+            out / "integrators_ratios.csv",
+            digits=4,
+        )
+    )
     plt = pyplot()
     presets = list(dict.fromkeys(r["preset"] for r in rows))
     fig, axes = plt.subplots(2, len(presets), figsize=(6.5 * len(presets), 9), squeeze=False)
     for j, preset in enumerate(presets):
         sub = [r for r in rows if r["preset"] == preset]
-        for i, (y, label) in enumerate((("seconds", "seconds per period (median)"), ("nfev", "right-hand-side evaluations"))):
+        for i, (y, label) in enumerate(
+            (("seconds", "seconds per period (median)"), ("nfev", "right-hand-side evaluations"))
+        ):
             ax = axes[i, j]
             _lines(ax, sub, "method", "error", y)
             ax.set_xscale("log")
@@ -72,8 +105,14 @@ def write_integration(rows, out) -> list:
         axes[0, j].legend(fontsize=7)
         fast = next((r for r in ratios if r["preset"] == preset and "numba" in r["method"]), None)
         if fast is not None and np.isfinite(fast["speedup_vs_scipy_DOP853"]):
-            axes[0, j].text(0.02, 0.02, f"compiled DOP853: {fast['speedup_vs_scipy_DOP853']:.0f}x faster than scipy DOP853 at equal error",
-                            transform=axes[0, j].transAxes, fontsize=8)
+            axes[0, j].text(
+                0.02,
+                0.02,
+                f"compiled DOP853: {fast['speedup_vs_scipy_DOP853']:.0f}x faster than scipy DOP853 "
+                "at equal error",
+                transform=axes[0, j].transAxes,
+                fontsize=8,
+            )
     paths.append(save_figure(fig, out / "integrators.png"))
     return paths
 
@@ -82,12 +121,41 @@ def write_frequency_response(rows, ref_rows, crit_rows, out) -> list:
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     # The column names of the first release (scripts read them); Abar_b_smooth_model is Abar_c of (9).
-    crit_columns = ["preset", "sigma", "Abar_b_slow_flow", "slow_flow_kind", "Abar_b_smooth_model", "smooth_model_kind", "relative_difference",
-                    "Abar_b_corrected", "corrected_kind", "relative_difference_corrected"]
+    crit_columns = [
+        "preset",
+        "sigma",
+        "Abar_b_slow_flow",
+        "slow_flow_kind",
+        "Abar_b_smooth_model",
+        "smooth_model_kind",
+        "relative_difference",
+        "Abar_b_corrected",
+        "corrected_kind",
+        "relative_difference_corrected",
+    ]
     paths = [
         write_rows(crit_rows, crit_columns, out / "critical_forcing.csv"),
-        write_rows(rows, ["preset", "method", "knob", "value", "seconds", "runs", "error", "failures", "answers", "reference"], out / "frequency_response.csv"),
-        write_rows(ref_rows, ["preset", "sigma", "A1", "self_error", "max_multiplier"], out / "frequency_response_reference.csv"),
+        write_rows(
+            rows,
+            [
+                "preset",
+                "method",
+                "knob",
+                "value",
+                "seconds",
+                "runs",
+                "error",
+                "failures",
+                "answers",
+                "reference",
+            ],
+            out / "frequency_response.csv",
+        ),
+        write_rows(
+            ref_rows,
+            ["preset", "sigma", "A1", "self_error", "max_multiplier"],
+            out / "frequency_response_reference.csv",
+        ),
     ]
     plt = pyplot()
     presets = list(dict.fromkeys(r["preset"] for r in rows))
@@ -96,10 +164,22 @@ def write_frequency_response(rows, ref_rows, crit_rows, out) -> list:
         sub = [r for r in rows if r["preset"] == preset]
         _lines(ax, sub, "method", "error", "seconds")
         for r in (r for r in sub if np.isfinite(r["error"])):  # the knob value beside each point
-            ax.annotate(f"{r['value']:g}", (r["error"], r["seconds"]), fontsize=6, xytext=(3, 3), textcoords="offset points")
+            ax.annotate(
+                f"{r['value']:g}",
+                (r["error"], r["seconds"]),
+                fontsize=6,
+                xytext=(3, 3),
+                textcoords="offset points",
+            )
         failed = [r for r in sub if r["failures"] and np.isfinite(r["error"])]
         if failed:
-            ax.plot([r["error"] for r in failed], [r["seconds"] for r in failed], "kx", ms=9, label="no answer at some sigma (error over the rest)")
+            ax.plot(
+                [r["error"] for r in failed],
+                [r["seconds"] for r in failed],
+                "kx",
+                ms=9,
+                label="no answer at some sigma (error over the rest)",
+            )
         refs = [r for r in ref_rows if r["preset"] == preset]
         floor = max(r["self_error"] for r in refs)
         ax.axvline(max(floor, 1e-12), color="0.6", ls=":", label="reference's own error")
@@ -120,7 +200,11 @@ def write_growth(rows, out) -> list:
     out.mkdir(parents=True, exist_ok=True)
     paths = [write_rows(rows, ["study", "x", "method", "seconds", "detail"], out / "growth.csv")]
     plt = pyplot()
-    studies = (("n", "wall exponent n (Fig. 10 set)"), ("interval", "forcing periods simulated (Fig. 10 set)"), ("regime map", "grid points (60 periods each)"))
+    studies = (
+        ("n", "wall exponent n (Fig. 10 set)"),
+        ("interval", "forcing periods simulated (Fig. 10 set)"),
+        ("regime map", "grid points (60 periods each)"),
+    )
     fig, axes = plt.subplots(1, 3, figsize=(17, 5))
     for ax, (study, xlabel) in zip(axes, studies):
         _lines(ax, [r for r in rows if r["study"] == study], "method", "x", "seconds")

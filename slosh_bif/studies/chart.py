@@ -62,7 +62,18 @@ from slosh_bif.studies.chart_curves import (
     trace_curves,
 )
 
-__all__ = ["Chart", "ChartSettings", "CurveFailure", "bifurcation_chart", "lowest_stable_boundary", "critical_rows", "CRITICAL_COLUMNS", "FullCritical", "critical_forcing_full", "check_box"]
+__all__ = [
+    "Chart",
+    "ChartSettings",
+    "CurveFailure",
+    "bifurcation_chart",
+    "lowest_stable_boundary",
+    "critical_rows",
+    "CRITICAL_COLUMNS",
+    "FullCritical",
+    "critical_forcing_full",
+    "check_box",
+]
 
 CRITICAL_COLUMNS = ("sigma", "Abar_b_slowflow", "Abar_c_full", "rel_diff", "bounded_by")
 
@@ -83,12 +94,19 @@ class Chart:
     status: str = "complete"  # or why the curves stopped early ("interrupted (SIGINT) after ...")
     second: str = "Abar"  # the chart's second parameter
     failures: tuple = ()  # CurveFailure of each start that gave no curve
-    orbits: str = "(9)"  # the model whose orbits the curves are of: the smooth model (9) or the impact model (8)
+    orbits: str = (
+        "(9)"  # the model whose orbits the curves are of: the smooth model (9) or the impact model (8)
+    )
 
     @property
     def incomplete(self) -> list:
-        """Why the chart is not the whole answer, one line each: curves cut short, starts that gave no curve."""
-        cut = [f"curve {k} ({c.kind} from {c.origin}): {c.status}" for k, c in enumerate(self.curves) if c.status != "ok"]
+        """Why the chart is not the whole answer, one line each: curves cut short, starts that gave no
+        curve."""
+        cut = [
+            f"curve {k} ({c.kind} from {c.origin}): {c.status}"
+            for k, c in enumerate(self.curves)
+            if c.status != "ok"
+        ]
         return cut + [f"no {f.kind} curve from {f.origin}: {f.reason}" for f in self.failures]
 
 
@@ -139,7 +157,8 @@ def bifurcation_chart(
     simulation from ``state0``, switched as ``branching`` says) and the primary branch's orbits at
     ``settings.seeds`` values of sigma continued in Abar, then the LP, PD, NS and BP curve through
     each of their special points (each curve once) in the box ``sigma_range`` x ``abar_range``,
-    on ``settings.workers`` processes (:class:`ChartSettings`), every orbit computed with ``shooting``. Interrupted while
+    on ``settings.workers`` processes (:class:`ChartSettings`), every orbit computed with ``shooting``.
+    Interrupted while
     tracing curves, it returns those finished, ``status`` saying so. ``resume``: its ``done``,
     {start index: curve} of an earlier run with the same settings (which finds the same starts in
     the same order), and ``keep(i, curve)``, called as each curve finishes.
@@ -155,8 +174,12 @@ def bifurcation_chart(
     resume = resume or Resume()
     say = progress or (lambda message: None)
     started = time.perf_counter()
-    start = start_orbit(params, state0, (s0, s1), settle=settings.settle, segments=shooting.segments, backend=shooting.backend)
-    family = trace_orbits(start.params, start.y0, p_min=s0, p_max=s1, shooting=shooting, branching=branching, progress=say)
+    start = start_orbit(
+        params, state0, (s0, s1), settle=settings.settle, segments=shooting.segments, backend=shooting.backend
+    )
+    family = trace_orbits(
+        start.params, start.y0, p_min=s0, p_max=s1, shooting=shooting, branching=branching, progress=say
+    )
     say(f"orbit family: {len(family.branches)} branch(es), {sum(len(ob) for ob in family.branches)} points")
     pitchforks = pitchforks_of(family)
     starts = [s for ob in family.branches for s in curve_starts(ob, params, box, pitchforks, shooting)]
@@ -174,7 +197,16 @@ def bifurcation_chart(
         if not a0 <= getattr(at, second) <= a1:
             continue
         try:
-            down = trace_orbits(at, primary.branch.x[i, :4], param=second, p_min=a0, p_max=a1, shooting=shooting, branching=NO_SWITCHING, progress=say)
+            down = trace_orbits(
+                at,
+                primary.branch.x[i, :4],
+                param=second,
+                p_min=a0,
+                p_max=a1,
+                shooting=shooting,
+                branching=NO_SWITCHING,
+                progress=say,
+            )
         except (ConvergenceError, ValueError) as err:
             say(f"no {second} branch at sigma = {at.sigma:.4g}: {err}")
             continue
@@ -189,7 +221,18 @@ def bifurcation_chart(
             slow = critical_curve(params, s0, s1, model=settings.model)
         except (RuntimeError, ValueError) as err:
             say(f"no slow-flow critical curve: {err}")
-    return Chart(params, (s0, s1), (a0, a1), family, curves, slow, time.perf_counter() - started, status, second, failures)
+    return Chart(
+        params,
+        (s0, s1),
+        (a0, a1),
+        family,
+        curves,
+        slow,
+        time.perf_counter() - started,
+        status,
+        second,
+        failures,
+    )
 
 
 def check_box(params: Params, sigma_range, second_range, second: str = "Abar"):
@@ -197,17 +240,29 @@ def check_box(params: Params, sigma_range, second_range, second: str = "Abar"):
     not empty, both ends of the second range are admissible values (Abar >= 0, eps > 0, a real
     restitution coefficient, ...) and the parameter set lies inside the box."""
     if second == "sigma" or second not in PARAMETERS:
-        raise ValueError(f"the chart's second parameter must be one of {', '.join(p for p in PARAMETERS if p != 'sigma')} (sigma is the first); got {second!r}")
+        raise ValueError(
+            "the chart's second parameter must be one of "
+            f"{', '.join(p for p in PARAMETERS if p != 'sigma')} (sigma is the first); got "
+            f"{second!r}"
+        )
     (s0, s1), (a0, a1) = sigma_range, second_range
     if not (s0 < s1 and a0 < a1):
-        raise ValueError(f"empty box: sigma in [{s0}, {s1}], {second} in [{a0}, {a1}] (need sigma_min < sigma_max and {second}_min < {second}_max)")
+        raise ValueError(
+            f"empty box: sigma in [{s0}, {s1}], {second} in [{a0}, {a1}] (need sigma_min < "
+            f"sigma_max and {second}_min < {second}_max)"
+        )
     for end in (a0, a1):
         try:
             params.replace(**{second: end})
         except ValueError as err:
-            raise ValueError(f"the box's {second} range [{a0:g}, {a1:g}] leaves the parameter's range: {err}") from None
+            raise ValueError(
+                f"the box's {second} range [{a0:g}, {a1:g}] leaves the parameter's range: {err}"
+            ) from None
     if not (s0 <= params.sigma <= s1 and a0 <= getattr(params, second) <= a1):
-        raise ValueError(f"the start (sigma = {params.sigma:g}, {second} = {getattr(params, second):g}) lies outside the box")
+        raise ValueError(
+            f"the start (sigma = {params.sigma:g}, {second} = {getattr(params, second):g}) lies "
+            "outside the box"
+        )
 
 
 @dataclasses.dataclass(frozen=True)
@@ -222,8 +277,16 @@ class FullCritical:
 
 
 def critical_forcing_full(
-    params: Params, state0, *, abar_range: tuple | None = None, halfwidth: float = 0.25, starts: StartSettings = STARTS, shooting: ShootingSettings = SHOOTING,
-    branching: BranchingSettings = BRANCHING, progress=None, model: str = "slowflow",
+    params: Params,
+    state0,
+    *,
+    abar_range: tuple | None = None,
+    halfwidth: float = 0.25,
+    starts: StartSettings = STARTS,
+    shooting: ShootingSettings = SHOOTING,
+    branching: BranchingSettings = BRANCHING,
+    progress=None,
+    model: str = "slowflow",
 ) -> FullCritical:
     """Abar_c(sigma) of (9) at ``params.sigma``: every family of orbits there in Abar over
     ``abar_range`` (default [0.05, max(2 Abar, 3)]), found by :func:`~slosh_bif.orbits.scan.scan_families`
@@ -246,25 +309,50 @@ def critical_forcing_full(
     sigma = params.sigma
     box = (sigma - halfwidth, sigma + halfwidth)
     family = scan_families(
-        params, state0, p_min=a0, p_max=a1, param="Abar", starts=starts, shooting=shooting, branching=dataclasses.replace(branching, doublings=False), progress=progress,
+        params,
+        state0,
+        p_min=a0,
+        p_max=a1,
+        param="Abar",
+        starts=starts,
+        shooting=shooting,
+        branching=dataclasses.replace(branching, doublings=False),
+        progress=progress,
     )
     pitchforks = pitchforks_of(family)
     curve_box = {"sigma": box, "Abar": (a0, a1)}
-    seeds = [s for ob in family.branches if ob.problem.period_multiple == 1 for s in curve_starts(ob, params, curve_box, pitchforks, shooting)]
+    seeds = [
+        s
+        for ob in family.branches
+        if ob.problem.period_multiple == 1
+        for s in curve_starts(ob, params, curve_box, pitchforks, shooting)
+    ]
     curves, _, failures = trace_curves(seeds, say, keep_partial=False)
     try:
         slow = critical_curve(params, *box, model=model)
     except (RuntimeError, ValueError):
         slow = None
-    chart = Chart(params, box, (a0, a1), family, curves, slow, time.perf_counter() - started, failures=failures)
+    chart = Chart(
+        params, box, (a0, a1), family, curves, slow, time.perf_counter() - started, failures=failures
+    )
     # The special points lie at sigma exactly; a curve read at sigma is interpolated between its
     # points (2e-3 off at the Fig. 13 set's NS), so it counts only where it crosses sigma away
     # from every special point: a crossing of a family the scan did not reach.
-    exact = [(sp.p, sp.kind) for ob in family.branches if ob.problem.period_multiple == 1 for sp in ob.branch.special if _bounds_stable_contact(ob, sp)]
+    exact = [
+        (sp.p, sp.kind)
+        for ob in family.branches
+        if ob.problem.period_multiple == 1
+        for sp in ob.branch.special
+        if _bounds_stable_contact(ob, sp)
+    ]
     value, kind = min(exact, default=(np.nan, ""))
     for c in curves:
         crossed = lowest_stable_boundary([c], sigma)[0]
-        if np.isfinite(crossed) and not crossed >= value and not any(k == c.kind and abs(a - crossed) <= 0.01 * a for a, k in exact):
+        if (
+            np.isfinite(crossed)
+            and not crossed >= value
+            and not any(k == c.kind and abs(a - crossed) <= 0.01 * a for a, k in exact)
+        ):
             value, kind = crossed, c.kind
     return FullCritical(float(sigma), float(value), kind, chart)
 
@@ -288,7 +376,11 @@ def _bounds_stable_contact(ob, sp) -> bool:
         return False
     mu = ob.branch.eigenvalues[sp.index]
     target = {"LP": 1.0, "PD": -1.0}.get(sp.kind)
-    distance = np.abs(mu - target) if target is not None else np.where(np.abs(mu.imag) > 1e-9, np.abs(np.abs(mu) - 1), np.inf)
+    distance = (
+        np.abs(mu - target)
+        if target is not None
+        else np.where(np.abs(mu.imag) > 1e-9, np.abs(np.abs(mu) - 1), np.inf)
+    )
     rest = np.delete(mu, np.argsort(distance)[: _CRITICAL_COUNT[sp.kind]])
     return bool(np.all(np.abs(rest) < 1) and orbit_measures(ob.problem, sp.x, sp.p)["max_abs_w"] >= 1.0)
 
@@ -329,10 +421,17 @@ def _slow_flow_critical_at(slow, sigma: float) -> float:
         try:
             if kind == "END":
                 upper = slow.upper_end_branch is not None and abs(A[0] - flow.A_max) < abs(A[0] - flow.A_min)
-                values.append(EndProblem(slow.params, slow.model, "upper" if upper else "lower").abar_at(float(sigma)))
+                values.append(
+                    EndProblem(slow.params, slow.model, "upper" if upper else "lower").abar_at(float(sigma))
+                )
             else:
                 lo, hi = max(flow.A_min, 0.9 * A.min()), min(flow.A_max, 1.1 * A.max())
-                found = optimize.minimize_scalar(lambda a: float(abar_on_curve(flow, a, sigma=float(sigma))), bounds=(lo, hi), method="bounded", options={"xatol": 1e-13 * A.max()})
+                found = optimize.minimize_scalar(
+                    lambda a: float(abar_on_curve(flow, a, sigma=float(sigma))),
+                    bounds=(lo, hi),
+                    method="bounded",
+                    options={"xatol": 1e-13 * A.max()},
+                )
                 values.append(float(found.fun))
         except (RuntimeError, ValueError):
             continue

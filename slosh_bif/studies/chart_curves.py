@@ -47,7 +47,11 @@ class CurveFailure(CurveStart):
 
 
 def _on_curve(curve: BifurcationCurve, sigma, value, tol=2e-3):
-    return len(curve) > 0 and polyline_distance(np.column_stack([curve["sigma"], curve[curve.p2]]), np.array([sigma, value])) < tol
+    return (
+        len(curve) > 0
+        and polyline_distance(np.column_stack([curve["sigma"], curve[curve.p2]]), np.array([sigma, value]))
+        < tol
+    )
 
 
 @dataclasses.dataclass(frozen=True)
@@ -66,22 +70,38 @@ def curve_starts(ob, params, box: dict, pitchforks=(), shooting: ShootingSetting
     for sp in ob.branch.special:
         if sp.kind not in ("LP", "PD", "NS", "BP") or not sp.located:
             continue
-        segments = ob.problem.segments * (2 if ob.problem.symmetric else 1)  # the curves start from the 2pi problem's states
+        segments = ob.problem.segments * (
+            2 if ob.problem.symmetric else 1
+        )  # the curves start from the 2pi problem's states
         if sp.kind == "BP" and (ob.kind != "symmetric" or segments % 2):
             continue  # a pitchfork of symmetric orbits: the half-period map's condition
-        if sp.kind == "LP" and ob.kind == "asymmetric" and any(abs(sp.p - q) <= 1e-6 * (1 + abs(q)) for q in pitchforks):
+        if (
+            sp.kind == "LP"
+            and ob.kind == "asymmetric"
+            and any(abs(sp.p - q) <= 1e-6 * (1 + abs(q)) for q in pitchforks)
+        ):
             continue  # where the pair meets its symmetric parent again: the pitchfork, not a fold
         if sp.kind == "LP" and repeats_early(ob.problem, sp.x):
             continue  # the parent's orbit at its period doubling, where the branch is born or ends: no fold
         sigma, value = (sp.p, getattr(params, second)) if param == "sigma" else (params.sigma, sp.p)
-        origin = f"{sp.kind} at sigma = {sigma:.6g}, {second} = {value:.6g} on the {ob.name} branch in {param}"
-        arcs = shooting.replace(segments=segments // ob.problem.period_multiple)  # the branch's own arcs per forcing period
+        origin = (
+            f"{sp.kind} at sigma = {sigma:.6g}, {second} = {value:.6g} on the {ob.name} branch in {param}"
+        )
+        arcs = shooting.replace(
+            segments=segments // ob.problem.period_multiple
+        )  # the branch's own arcs per forcing period
         job = dict(params=params, seed=CurveSeed.on(ob, sp, origin), box=box, shooting=arcs)
         yield CurveStart.with_job(sp.kind, float(sigma), float(value), origin, job)
 
 
 def pitchforks_of(family) -> list:
-    return [sp.p for ob in family.branches if ob.kind == "symmetric" for sp in ob.branch.special if sp.kind == "BP"]
+    return [
+        sp.p
+        for ob in family.branches
+        if ob.kind == "symmetric"
+        for sp in ob.branch.special
+        if sp.kind == "BP"
+    ]
 
 
 def _trace_job(job):
@@ -99,14 +119,17 @@ def trace_curves(starts, say, workers: int = 1, done=None, keep=None, keep_parti
     traced from an earlier start, in start order, on ``workers`` processes; interrupted, the curves
     finished by then and a status saying so; a :class:`CurveFailure` for each start whose curve
     could not be started (in start order). ``keep_partial=False``: an interruption is raised on
-    (for a caller whose answer would be wrong from part of the curves). ``done``: {start index: curve} from an earlier run
+    (for a caller whose answer would be wrong from part of the curves). ``done``: {start index: curve} from an
+    earlier run
     (not traced again); ``keep(i, curve)`` is called as each curve finishes.
 
     Curves are independent, so they run side by side; a start is not submitted when a finished
     curve of its kind already passes through it, and a curve traced alongside one that covers it
     is dropped at the end, so the result is the sequential one, whatever the timing.
     """
-    traced = {i: c for i, c in (done or {}).items() if i < len(starts) and c.origin == starts[i].origin}  # start index -> curve
+    traced = {
+        i: c for i, c in (done or {}).items() if i < len(starts) and c.origin == starts[i].origin
+    }  # start index -> curve
     failed = {}  # start index -> why no curve
 
     def covered(i, among):
@@ -115,7 +138,9 @@ def trace_curves(starts, say, workers: int = 1, done=None, keep=None, keep_parti
     def record(i, result):
         curve, err = result
         if curve is None:
-            failed[i] = CurveFailure(starts[i].kind, starts[i].sigma, starts[i].value, starts[i].origin, " ".join(err.split()))
+            failed[i] = CurveFailure(
+                starts[i].kind, starts[i].sigma, starts[i].value, starts[i].origin, " ".join(err.split())
+            )
             say(f"no {starts[i].kind} curve from {starts[i].origin}: {failed[i].reason}")
         else:
             traced[i] = curve
@@ -134,7 +159,10 @@ def trace_curves(starts, say, workers: int = 1, done=None, keep=None, keep_parti
     except KeyboardInterrupt as stop:  # keep what is traced; the caller marks the chart partial
         if not keep_partial:
             raise
-        status = f"interrupted ({getattr(stop, 'signal_name', 'SIGINT')}) after {len(traced)} curves, {len(starts)} starts"
+        status = (
+            f"interrupted ({getattr(stop, 'signal_name', 'SIGINT')}) after {len(traced)} curves, "
+            f"{len(starts)} starts"
+        )
     kept = []
     for i in sorted(traced):
         if not covered(i, kept):
@@ -164,5 +192,3 @@ def _trace_in_pool(starts, workers, covered, record, traced):
         pool.stop()
         raise
     pool.close()
-
-

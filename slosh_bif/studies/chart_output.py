@@ -28,9 +28,31 @@ from slosh_bif.studies.chart import (
     lowest_stable_boundary,
 )
 
-__all__ = ["CURVE_COLUMNS", "curve_rows", "write_curves_csv", "write_critical_csv", "write_codim2_csv", "codim2_rows", "plot_chart", "chart_settings", "curve_store", "curve_columns"]
+__all__ = [
+    "CURVE_COLUMNS",
+    "curve_rows",
+    "write_curves_csv",
+    "write_critical_csv",
+    "write_codim2_csv",
+    "codim2_rows",
+    "plot_chart",
+    "chart_settings",
+    "curve_store",
+    "curve_columns",
+]
 
-CURVE_COLUMNS = ("curve", "kind", "sigma", "Abar", "A1", "max_abs_w", "codim2", "bounds_stable", "status", "origin")
+CURVE_COLUMNS = (
+    "curve",
+    "kind",
+    "sigma",
+    "Abar",
+    "A1",
+    "max_abs_w",
+    "codim2",
+    "bounds_stable",
+    "status",
+    "origin",
+)
 
 
 def curve_columns(second: str = "Abar") -> tuple:
@@ -43,14 +65,31 @@ def curve_rows(chart):
         labels = c.branch.special_labels()
         for i in range(len(c)):
             yield {
-                "curve": k, "kind": c.kind, "sigma": float(c["sigma"][i]), chart.second: float(c[chart.second][i]), "A1": float(c["A1"][i]),
-                "max_abs_w": float(c["max_abs_w"][i]), "codim2": labels[i] if labels[i] in CODIM2_KINDS else "",
-                "bounds_stable": int(c.branch.stable[i]), "status": c.status, "origin": c.origin,
+                "curve": k,
+                "kind": c.kind,
+                "sigma": float(c["sigma"][i]),
+                chart.second: float(c[chart.second][i]),
+                "A1": float(c["A1"][i]),
+                "max_abs_w": float(c["max_abs_w"][i]),
+                "codim2": labels[i] if labels[i] in CODIM2_KINDS else "",
+                "bounds_stable": int(c.branch.stable[i]),
+                "status": c.status,
+                "origin": c.origin,
             }
-    for k, f in enumerate(chart.failures, start=len(chart.curves)):  # a start that gave no curve: one row at the start point
+    for k, f in enumerate(
+        chart.failures, start=len(chart.curves)
+    ):  # a start that gave no curve: one row at the start point
         yield {
-            "curve": k, "kind": f.kind, "sigma": f.sigma, chart.second: f.value, "A1": np.nan, "max_abs_w": np.nan, "codim2": "", "bounds_stable": "",
-            "status": f"failed to start: {f.reason}", "origin": f.origin,
+            "curve": k,
+            "kind": f.kind,
+            "sigma": f.sigma,
+            chart.second: f.value,
+            "A1": np.nan,
+            "max_abs_w": np.nan,
+            "codim2": "",
+            "bounds_stable": "",
+            "status": f"failed to start: {f.reason}",
+            "origin": f.origin,
         }
 
 
@@ -71,11 +110,20 @@ def codim2_rows(chart):
     for k, c in enumerate(chart.curves):
         for label, sigma, value in c.codim2_points():
             number += 1
-            yield {"number": number, "label": label, "sigma": sigma, chart.second: value, "curve": k, "kind": c.kind}
+            yield {
+                "number": number,
+                "label": label,
+                "sigma": sigma,
+                chart.second: value,
+                "curve": k,
+                "kind": c.kind,
+            }
 
 
 def write_codim2_csv(chart, path) -> Path:
-    return write_rows(codim2_rows(chart), tuple(chart.second if c == "Abar" else c for c in CODIM2_COLUMNS), path)
+    return write_rows(
+        codim2_rows(chart), tuple(chart.second if c == "Abar" else c for c in CODIM2_COLUMNS), path
+    )
 
 
 _COLORS = {"LP": "tab:red", "PD": "tab:blue", "NS": "tab:purple", "BP": "tab:orange"}
@@ -134,7 +182,11 @@ def _zoom_box(chart):
         return None
     grid = np.linspace(lo, hi, 41)
     slow = chart.slow_flow_critical
-    depth = np.interp(grid, slow.sigma, slow.Abar_b) if slow is not None and len(slow.sigma) else np.array([lowest_stable_boundary(chart.curves, g)[0] for g in grid])
+    depth = (
+        np.interp(grid, slow.sigma, slow.Abar_b)
+        if slow is not None and len(slow.sigma)
+        else np.array([lowest_stable_boundary(chart.curves, g)[0] for g in grid])
+    )
     top = 2.5 * float(np.nanmax(depth)) if np.any(np.isfinite(depth)) else a1
     return (lo, hi), (a0, min(a1, max(top, a0 + 0.1 * (a1 - a0))))
 
@@ -147,7 +199,13 @@ def plot_chart(chart, path, *, regimes=None) -> Path:
     from slosh_bif.report.plotting import pyplot, save_figure
 
     box = _zoom_box(chart) if chart.second == "Abar" else None
-    fig, axes = pyplot().subplots(1, 2 if box else 1, figsize=(16, 6.5) if box else (11.5, 6.5), gridspec_kw={"width_ratios": [1.6, 1]} if box else None, squeeze=False)
+    fig, axes = pyplot().subplots(
+        1,
+        2 if box else 1,
+        figsize=(16, 6.5) if box else (11.5, 6.5),
+        gridspec_kw={"width_ratios": [1.6, 1]} if box else None,
+        squeeze=False,
+    )
     panels = [(axes[0][0], chart.sigma_range, chart.abar_range)] + ([(axes[0][1], *box)] if box else [])
     drawn = {}
     for ax, xlim, ylim in panels:
@@ -163,13 +221,31 @@ def plot_chart(chart, path, *, regimes=None) -> Path:
         ax.grid(alpha=0.3)
     if box:
         axes[0][1].set_title("the resonance region (numbers: codim2.csv)", fontsize=9)
-        axes[0][0].indicate_inset((box[0][0], box[1][0], box[0][1] - box[0][0], box[1][1] - box[1][0]), edgecolor="0.3")
+        axes[0][0].indicate_inset(
+            (box[0][0], box[1][0], box[0][1] - box[0][0], box[1][1] - box[1][0]), edgecolor="0.3"
+        )
     P = chart.params
     partial = "" if chart.status == "complete" else f"\nPARTIAL: {chart.status}"
-    held = ", ".join(f"{name} = {getattr(P, name):g}" for name in ("eps", "beta", "gamma", "Abar", "n") if name != chart.second)
-    axes[0][0].set_title(f"Orbit bifurcations of {chart.orbits} in (sigma, {chart.second}): {held}{partial}", fontsize=10)
-    regime_handles, regime_labels = axes[0][0].get_legend_handles_labels()  # the regime map's entries, if drawn
-    fig.legend(regime_handles + list(drawn.values()), regime_labels + list(drawn), fontsize=8, loc="lower center", ncol=4, frameon=False, bbox_to_anchor=(0.5, 0.0))
+    held = ", ".join(
+        f"{name} = {getattr(P, name):g}"
+        for name in ("eps", "beta", "gamma", "Abar", "n")
+        if name != chart.second
+    )
+    axes[0][0].set_title(
+        f"Orbit bifurcations of {chart.orbits} in (sigma, {chart.second}): {held}{partial}", fontsize=10
+    )
+    regime_handles, regime_labels = axes[0][
+        0
+    ].get_legend_handles_labels()  # the regime map's entries, if drawn
+    fig.legend(
+        regime_handles + list(drawn.values()),
+        regime_labels + list(drawn),
+        fontsize=8,
+        loc="lower center",
+        ncol=4,
+        frameon=False,
+        bbox_to_anchor=(0.5, 0.0),
+    )
     fig.tight_layout(rect=(0, 0.13, 1, 1))
     return save_figure(fig, path)
 
@@ -178,8 +254,11 @@ def chart_settings(params, state0, sigma_range, abar_range, **options) -> dict:
     """What decides the chart's starts and curves: a resumed run reuses stored curves only when
     these are equal."""
     return {
-        "params": params.as_dict(), "state0": [float(v) for v in state0], "sigma_range": [float(v) for v in sigma_range],
-        "abar_range": [float(v) for v in abar_range], **options,
+        "params": params.as_dict(),
+        "state0": [float(v) for v in state0],
+        "sigma_range": [float(v) for v in sigma_range],
+        "abar_range": [float(v) for v in abar_range],
+        **options,
     }
 
 

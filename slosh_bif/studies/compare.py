@@ -23,9 +23,29 @@ from slosh_bif.orbits.families import OrbitFamily
 from slosh_bif.report.tables import write_rows
 from slosh_bif.slowflow.steady_states import FrequencyResponse
 
-__all__ = ["COMPARE_COLUMNS", "IMPACT_COLUMNS", "compare_rows", "impact_orbits_at", "stable_at", "write_compare_csv", "compare_table", "plot_compare"]
+__all__ = [
+    "COMPARE_COLUMNS",
+    "IMPACT_COLUMNS",
+    "compare_rows",
+    "impact_orbits_at",
+    "stable_at",
+    "write_compare_csv",
+    "compare_table",
+    "plot_compare",
+]
 
-COMPARE_COLUMNS = ("sigma", "A_slow_flow", "slow_flow_stable", "A1_shooting", "shooting_stable", "shooting_branch", "relative_difference", "A1_stable_orbit", "stable_orbit_branch", "relative_difference_stable_orbit")
+COMPARE_COLUMNS = (
+    "sigma",
+    "A_slow_flow",
+    "slow_flow_stable",
+    "A1_shooting",
+    "shooting_stable",
+    "shooting_branch",
+    "relative_difference",
+    "A1_stable_orbit",
+    "stable_orbit_branch",
+    "relative_difference_stable_orbit",
+)
 IMPACT_COLUMNS = ("A1_impact", "relative_difference_impact", "wall_difference")
 
 
@@ -35,7 +55,15 @@ def compare_rows(family: OrbitFamily, fr: FrequencyResponse, sigmas, impact=None
     its difference (stable to stable: what a simulation of (9) would settle on, if periodic).
     ``impact``: rows of orbits of (8) (``impact_rows``), for the columns of :data:`IMPACT_COLUMNS`."""
     nan = float("nan")
-    nothing = dict(A1_shooting=nan, shooting_stable="", shooting_branch="", relative_difference=nan, A1_stable_orbit=nan, stable_orbit_branch="", relative_difference_stable_orbit=nan)
+    nothing = dict(
+        A1_shooting=nan,
+        shooting_stable="",
+        shooting_branch="",
+        relative_difference=nan,
+        A1_stable_orbit=nan,
+        stable_orbit_branch="",
+        relative_difference_stable_orbit=nan,
+    )
     if impact is not None:
         nothing.update(A1_impact=nan, relative_difference_impact=nan, wall_difference=nan)
     for sigma in sigmas:
@@ -47,13 +75,26 @@ def compare_rows(family: OrbitFamily, fr: FrequencyResponse, sigmas, impact=None
             row = dict(sigma=float(sigma), A_slow_flow=A, slow_flow_stable=int(stable), **nothing)
             if orbits:
                 A1, ostable, name = min(orbits, key=lambda o: abs(o[0] - A))
-                row.update(A1_shooting=A1, shooting_stable=int(ostable), shooting_branch=name, relative_difference=abs(A1 - A) / A)
+                row.update(
+                    A1_shooting=A1,
+                    shooting_stable=int(ostable),
+                    shooting_branch=name,
+                    relative_difference=abs(A1 - A) / A,
+                )
             if stable_orbits:
                 A1, _, name = min(stable_orbits, key=lambda o: abs(o[0] - A))
-                row.update(A1_stable_orbit=A1, stable_orbit_branch=name, relative_difference_stable_orbit=abs(A1 - A) / A)
+                row.update(
+                    A1_stable_orbit=A1,
+                    stable_orbit_branch=name,
+                    relative_difference_stable_orbit=abs(A1 - A) / A,
+                )
             if stable_impact:
                 A8 = min(stable_impact, key=lambda o: abs(o[0] - A))[0]
-                row.update(A1_impact=A8, relative_difference_impact=abs(A8 - A) / A, wall_difference=abs(A8 - row["A1_stable_orbit"]) / row["A1_stable_orbit"])
+                row.update(
+                    A1_impact=A8,
+                    relative_difference_impact=abs(A8 - A) / A,
+                    wall_difference=abs(A8 - row["A1_stable_orbit"]) / row["A1_stable_orbit"],
+                )
             yield row
 
 
@@ -64,7 +105,9 @@ def impact_orbits_at(rows, sigma) -> list:
     Pieces that overlap (the same orbits across a moved section) count once."""
     found = []
     for piece in sorted({(r.get("branch", ""), r["piece"]) for r in rows}):
-        part = sorted((r for r in rows if (r.get("branch", ""), r["piece"]) == piece), key=lambda r: r["sigma"])
+        part = sorted(
+            (r for r in rows if (r.get("branch", ""), r["piece"]) == piece), key=lambda r: r["sigma"]
+        )
         for a, b in zip(part, part[1:]):
             if a["sigma"] <= sigma <= b["sigma"] and a["sigma"] < b["sigma"]:
                 w = (sigma - a["sigma"]) / (b["sigma"] - a["sigma"])
@@ -82,7 +125,11 @@ def impact_orbits_at(rows, sigma) -> list:
 def states_at(fr: FrequencyResponse, sigma) -> list:
     """(A, stable) of every steady state of a slow flow's frequency response at ``sigma`` (A linear
     between a branch's points, the stability of the nearer point)."""
-    return [(float(np.interp(sigma, b.p[s], b.x[s, 0])), bool(b.stable[s][i])) for b in fr.branches for s, i in _crossings(b.p, sigma)]
+    return [
+        (float(np.interp(sigma, b.p[s], b.x[s, 0])), bool(b.stable[s][i]))
+        for b in fr.branches
+        for s, i in _crossings(b.p, sigma)
+    ]
 
 
 def orbits_at(branches, sigma) -> list:
@@ -90,8 +137,13 @@ def orbits_at(branches, sigma) -> list:
     (linear in A1 between a branch's points)."""
     two_pi = [ob for ob in branches if ob.problem.period_multiple == 1]
     return [
-        (float(ob.measures["A1"][s][0] + (ob.measures["A1"][s][1] - ob.measures["A1"][s][0]) * w), stable_at(ob.branch, s, sigma), ob.name)
-        for ob in two_pi for s, w in _segments(ob.branch.p, sigma)
+        (
+            float(ob.measures["A1"][s][0] + (ob.measures["A1"][s][1] - ob.measures["A1"][s][0]) * w),
+            stable_at(ob.branch, s, sigma),
+            ob.name,
+        )
+        for ob in two_pi
+        for s, w in _segments(ob.branch.p, sigma)
     ]
 
 
@@ -117,9 +169,17 @@ def stable_at(branch, s, sigma) -> bool:
     lo, hi = branch.p[i], branch.p[i + 1]
     ends = ((lo, bool(branch.stable[i])), (hi, bool(branch.stable[i + 1])))
     tol = 1e-12 * (1 + abs(lo) + abs(hi))
-    inside = [sp.p for sp in branch.special if sp.located and sp.kind in _STABILITY_CHANGES and min(lo, hi) - tol <= sp.p <= max(lo, hi) + tol]
+    inside = [
+        sp.p
+        for sp in branch.special
+        if sp.located and sp.kind in _STABILITY_CHANGES and min(lo, hi) - tol <= sp.p <= max(lo, hi) + tol
+    ]
     if len(inside) == 1:
-        side = [flag for p, flag in ends if abs(p - inside[0]) > tol and (p - inside[0]) * (sigma - inside[0]) >= 0]
+        side = [
+            flag
+            for p, flag in ends
+            if abs(p - inside[0]) > tol and (p - inside[0]) * (sigma - inside[0]) >= 0
+        ]
         if side:
             return side[0]
     return ends[0][1] and ends[1][1]
@@ -153,7 +213,10 @@ def compare_table(rows, *, agree: float = 0.05) -> str:
         stable = {r["shooting_stable"] for r in run} - {""}
         st = "yes" if stable == {1} else ("no" if stable == {0} else ("mixed" if stable else "-"))
         text = f"{verdict(run[0])} (within {agree:.0%})" if verdict(run[0]) == "agree" else verdict(run[0])
-        lines.append(f"[{run[0]['sigma']:9.4f}, {run[-1]['sigma']:9.4f}]  {text:28s} {max(d) if d else float('nan'):13.3%}  {st:>13s}")
+        lines.append(
+            f"[{run[0]['sigma']:9.4f}, {run[-1]['sigma']:9.4f}]  {text:28s} "
+            f"{max(d) if d else float('nan'):13.3%}  {st:>13s}"
+        )
 
     for r in rows[1:]:
         if verdict(r) == verdict(run[-1]):
@@ -163,29 +226,55 @@ def compare_table(rows, *, agree: float = 0.05) -> str:
             run = [r]
     flush(run)
     confirmed = sum(r["relative_difference_stable_orbit"] <= agree for r in rows)
-    lines.append(f"stable slow-flow states with a stable 2pi-orbit of (9) within {agree:.0%}: {confirmed} of {len(rows)}")
+    lines.append(
+        f"stable slow-flow states with a stable 2pi-orbit of (9) within {agree:.0%}: {confirmed} "
+        f"of {len(rows)}"
+    )
     if "A1_impact" in rows[0]:
-        for key, what in (("relative_difference_impact", "the expansion's error, slow flow against (8)"), ("wall_difference", "the wall's error, (8) against (9)")):
+        for key, what in (
+            ("relative_difference_impact", "the expansion's error, slow flow against (8)"),
+            ("wall_difference", "the wall's error, (8) against (9)"),
+        ):
             d = np.array([r[key] for r in rows], dtype=float)
             d = d[np.isfinite(d)]
-            lines.append(f"{what}: median {np.median(d):.2%}, largest {np.max(d):.2%} over {d.size} states" if d.size else f"{what}: no state with both")
+            lines.append(
+                f"{what}: median {np.median(d):.2%}, largest {np.max(d):.2%} over {d.size} states"
+                if d.size
+                else f"{what}: no state with both"
+            )
     return "\n".join(lines)
 
 
 def plot_compare(family: OrbitFamily, fr: FrequencyResponse, rows, path, impact=None) -> Path:
     from slosh_bif.report.plotting import pyplot, save_figure
 
-    fig, (ax, axd) = pyplot().subplots(2, 1, figsize=(9, 7.5), sharex=True, gridspec_kw={"height_ratios": [3, 1.3]})
+    fig, (ax, axd) = pyplot().subplots(
+        2, 1, figsize=(9, 7.5), sharex=True, gridspec_kw={"height_ratios": [3, 1.3]}
+    )
     name = "slow flow (46)" if fr.model == "slowflow" else "corrected slow flow"
     for k, b in enumerate(fr.branches):
         for st, ls in ((True, "-"), (False, "--")):
             y = np.where(b.stable == st, b.x[:, 0], np.nan)
-            ax.plot(b.p, y, ls, color="k", lw=2, label=(f"{name}, stable" if st else f"{name}, unstable") if k == 0 else None)
+            ax.plot(
+                b.p,
+                y,
+                ls,
+                color="k",
+                lw=2,
+                label=(f"{name}, stable" if st else f"{name}, unstable") if k == 0 else None,
+            )
     for k, ob in enumerate(ob for ob in family.branches if ob.problem.period_multiple == 1):
         b = ob.branch
         for st, marker in ((True, "o"), (False, ".")):
             mask = b.stable == st
-            ax.plot(b.p[mask], ob.measures["A1"][mask], marker, ms=3 if st else 2, color=f"C{k}", label=f"shooting (9), {ob.name}, {'stable' if st else 'unstable'}")
+            ax.plot(
+                b.p[mask],
+                ob.measures["A1"][mask],
+                marker,
+                ms=3 if st else 2,
+                color=f"C{k}",
+                label=f"shooting (9), {ob.name}, {'stable' if st else 'unstable'}",
+            )
     if impact:
         s8 = np.array([r["sigma"] for r in impact])
         a8 = np.array([r["A1"] for r in impact])
@@ -194,7 +283,11 @@ def plot_compare(family: OrbitFamily, fr: FrequencyResponse, rows, path, impact=
         ax.plot(s8[~st8], a8[~st8], "x", ms=2.5, color="C3", alpha=0.5, label="impact model (8), unstable")
     ax.set_ylabel("amplitude of X (A; A1 for orbits)")
     P = family.params
-    ax.set_title(f"{name[0].upper() + name[1:]} against periodic orbits of (9){' and (8)' if impact else ''}: eps = {P.eps:g}, beta = {P.beta:g}, Abar = {P.Abar:g}, n = {P.n}")
+    ax.set_title(
+        f"{name[0].upper() + name[1:]} against periodic orbits of "
+        f"(9){' and (8)' if impact else ''}: eps = {P.eps:g}, beta = {P.beta:g}, Abar = "
+        f"{P.Abar:g}, n = {P.n}"
+    )
     ax.legend(fontsize=7)
     ax.grid(alpha=0.3)
     s = np.array([r["sigma"] for r in rows], dtype=float)
@@ -203,8 +296,13 @@ def plot_compare(family: OrbitFamily, fr: FrequencyResponse, rows, path, impact=
     axd.semilogy(s[st], d[st], "k.", ms=3, label="stable slow-flow states")
     axd.semilogy(s[~st], d[~st], ".", color="0.6", ms=3, label="unstable slow-flow states")
     if impact:
-        for key, style, label in (("relative_difference_impact", "s", "slow flow against (8): the expansion"), ("wall_difference", "^", "(8) against (9): the wall")):
-            axd.semilogy(s, np.array([r[key] for r in rows], dtype=float), style, ms=3, mfc="none", label=label)
+        for key, style, label in (
+            ("relative_difference_impact", "s", "slow flow against (8): the expansion"),
+            ("wall_difference", "^", "(8) against (9): the wall"),
+        ):
+            axd.semilogy(
+                s, np.array([r[key] for r in rows], dtype=float), style, ms=3, mfc="none", label=label
+            )
     axd.set_ylabel("|A1 - A| / A")
     axd.set_xlabel(r"$\sigma$")
     axd.legend(fontsize=7)

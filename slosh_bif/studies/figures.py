@@ -2,7 +2,8 @@
 
 Each ``figN(out, quick=False)`` computes what the figure shows and writes ``out/figN.png``;
 ``quick=True`` shortens simulations and coarsens grids (for tests). :data:`NOTES` says, per
-figure, where our result differs from the printed one; the docs' gallery (docs/findings/gallery.md) repeats it.
+figure, where our result differs from the printed one; the docs' gallery (docs/findings/gallery.md) repeats
+it.
 
 Figures 1 and 2 are sketches and are not reproduced. Fig. 4 (the modal masses of a cylinder, which
 the paper takes from Abramson) is computed by :mod:`slosh_bif.model.tank`.
@@ -36,19 +37,30 @@ from slosh_bif.slowflow.flow import SlowFlow, triangle_wave
 __all__ = ["FIGURES", "NOTES", "make_figures"]
 
 NOTES = {
-    "fig3": "Reproduces eq. (19). I(n, p) is the integral (18) at fixed p; I(n, pbar) at fixed pbar = 2p - n.",
-    "fig4": "Computed from the potential-flow series (slosh_bif.model.tank), not read off Abramson's chart; m_0 is m_F minus all modes (400 terms and the rest).",
+    "fig3": "Reproduces eq. (19). I(n, p) is the integral (18) at fixed p; I(n, pbar) at fixed pbar = 2p - "
+    "n.",
+    "fig4": "Computed from the potential-flow series (slosh_bif.model.tank), not read off Abramson's "
+    "chart; m_0 is m_F minus all modes (400 terms and the rest).",
     "fig5": "Reproduces the figure: f is a triangle wave of amplitude alpha turning at T0 = eta (mod pi).",
-    "fig6": "kappa = 0.729 gives A_min = 0.0993, not the printed 0.06 (alpha_min = 0.990 agrees with the caption).",
+    "fig6": "kappa = 0.729 gives A_min = 0.0993, not the printed 0.06 (alpha_min = 0.990 agrees with the "
+    "caption).",
     "fig7": "Reproduces the trend (kappa independent of A for pbar = 0); kappa from eq. (39) on S+.",
     "fig8": "SIM (36) with rho(A) from eq. (39); the branches end at A_min(kappa(A_min)).",
-    "fig9": "The paper's capture lasts to tau ~ 100 (a) and ~350 (b); our runs of the printed parameters keep it to tau ~ 330-470 (see derivations/REPORT.md).",
-    "fig10": "In (9) the response is 1:1 resonant with near-constant amplitude but not periodic: the 2pi-orbit there is unstable (multiplier 16, sigma = 1 lies beyond the NS point 0.881 and the fold 0.924). About 3.4 impacts a period (double hits on one wall), not 2.",
-    "fig11": "No impacts after the transient; beta = 0.3 adds the particle's free oscillation. Wavelets: Morlet, amplitude-normalised.",
-    "fig12": "Strongly modulated as printed; with n = 6 the restitution of eq. (21) (0.27) is far from the wall's (0.63), so (8) and (9) modulate differently.",
-    "fig13": "Transition to the periodic response as printed; the settled amplitude (peak |X| 0.28) is 10 % below the slow flow's 0.31.",
-    "fig14": "Band-limited noise (std 4, cutoff 10, seed 0) instead of one draw per step: see slosh_bif.flows.noise for why and for the equivalent step.",
-    "fig15": "sigma_bar not printed; 4 assumed. With cutoff 10 the noise modulates the envelope by about 50 % (the paper: 'no major qualitative difference').",
+    "fig9": "The paper's capture lasts to tau ~ 100 (a) and ~350 (b); our runs of the printed parameters "
+    "keep it to tau ~ 330-470 (see derivations/REPORT.md).",
+    "fig10": "In (9) the response is 1:1 resonant with near-constant amplitude but not periodic: the "
+    "2pi-orbit there is unstable (multiplier 16, sigma = 1 lies beyond the NS point 0.881 and the "
+    "fold 0.924). About 3.4 impacts a period (double hits on one wall), not 2.",
+    "fig11": "No impacts after the transient; beta = 0.3 adds the particle's free oscillation. Wavelets: "
+    "Morlet, amplitude-normalised.",
+    "fig12": "Strongly modulated as printed; with n = 6 the restitution of eq. (21) (0.27) is far from the "
+    "wall's (0.63), so (8) and (9) modulate differently.",
+    "fig13": "Transition to the periodic response as printed; the settled amplitude (peak |X| 0.28) is 10 % "
+    "below the slow flow's 0.31.",
+    "fig14": "Band-limited noise (std 4, cutoff 10, seed 0) instead of one draw per step: see "
+    "slosh_bif.flows.noise for why and for the equivalent step.",
+    "fig15": "sigma_bar not printed; 4 assumed. With cutoff 10 the noise modulates the envelope by about 50 "
+    "% (the paper: 'no major qualitative difference').",
 }
 
 
@@ -72,7 +84,9 @@ def fig3(out, *, quick=False):
     ):
         from matplotlib.colors import LogNorm
 
-        mesh = ax.pcolormesh(N, Pp, values, shading="auto", cmap="viridis", norm=LogNorm())  # I spans 3 decades
+        mesh = ax.pcolormesh(
+            N, Pp, values, shading="auto", cmap="viridis", norm=LogNorm()
+        )  # I spans 3 decades
         fig.colorbar(mesh, ax=ax, label="I")
         ax.set_xlabel("n")
         ax.set_ylabel(label)
@@ -80,8 +94,20 @@ def fig3(out, *, quick=False):
     for ax, p_max in ((axes[1, 0], 20.0), (axes[1, 1], 5.0)):
         p_line = np.linspace(0, p_max, 200)
         for n_value, color in ((0, "tab:pink"), (1, "tab:red"), (5, "tab:blue"), (50, "k")):
-            ax.plot(p_line, restitution.I(n_value, 2 * p_line - n_value), "-", color=color, label=f"I(n, p), n = {n_value}")
-            ax.plot(p_line, restitution.I(n_value, p_line), "--", color=color, label=rf"I(n, $\bar p$), n = {n_value}")
+            ax.plot(
+                p_line,
+                restitution.I(n_value, 2 * p_line - n_value),
+                "-",
+                color=color,
+                label=f"I(n, p), n = {n_value}",
+            )
+            ax.plot(
+                p_line,
+                restitution.I(n_value, p_line),
+                "--",
+                color=color,
+                label=rf"I(n, $\bar p$), n = {n_value}",
+            )
         ax.set_xlabel(r"p or $\bar p$")
         ax.set_ylabel("I")
         ax.set_title(f"against p in [0, {p_max:g}]")
@@ -126,8 +152,14 @@ def fig6(out, *, quick=False):
     fig, ax = plt.subplots(figsize=(6.5, 5))
     plot_manifold(ax, rho, A_max=2.0)
     A_end, alpha_end = float(manifold.a_min(rho)), float(manifold.alpha_min(rho))
-    ax.annotate(f"A_min = {A_end:.4f} (printed 0.06)\nalpha_min = {alpha_end:.3f} (printed 0.99)", (A_end, alpha_end),
-                xytext=(0.5, 0.4), textcoords="data", arrowprops=dict(arrowstyle="->"), fontsize=9)
+    ax.annotate(
+        f"A_min = {A_end:.4f} (printed 0.06)\nalpha_min = {alpha_end:.3f} (printed 0.99)",
+        (A_end, alpha_end),
+        xytext=(0.5, 0.4),
+        textcoords="data",
+        arrowprops=dict(arrowstyle="->"),
+        fontsize=9,
+    )
     ax.set_title(r"SIM, $\kappa$ = 0.729")
     ax.legend(loc="upper left", fontsize=8)
     return save_figure(fig, _fig("fig6", out))
@@ -243,7 +275,9 @@ def fig11(out, *, quick=False):
         sim = simulate(preset.params, preset.state0, t_end, settings=SimulationSettings(sample_step=0.05))
         plot_time_history(axes[row, 0], sim.t, sim.y)
         axes[row, 0].legend(loc="upper right", fontsize=8)
-        axes[row, 0].set_title(f"{name}: beta = {preset.params.beta:g}, regime {classify(sim).regime}", fontsize=10)
+        axes[row, 0].set_title(
+            f"{name}: beta = {preset.params.beta:g}, regime {classify(sim).regime}", fontsize=10
+        )
         step = 4  # wavelet on tau steps of 0.2: Nyquist 15.7, far above the plotted band
         W = morlet_transform(sim.y[0, ::step], 0.05 * step, omegas)
         mesh = axes[row, 1].pcolormesh(sim.t[::step], omegas, W, shading="auto", cmap="jet")
@@ -276,7 +310,10 @@ def fig14(out, *, quick=False):
     ax_t.plot(tau, force, lw=0.5, color="tab:blue")
     ax_t.set_xlabel(r"$\tau$")
     ax_t.set_ylabel("F")
-    ax_t.set_title(rf"excitation, $\bar\sigma$ = {preset.noise_std:g}, $\varepsilon$ = {P.eps:g}, $\bar A$ = {P.Abar:g}", fontsize=10)
+    ax_t.set_title(
+        rf"excitation, $\bar\sigma$ = {preset.noise_std:g}, $\varepsilon$ = {P.eps:g}, $\bar A$ = {P.Abar:g}",
+        fontsize=10,
+    )
     dt = tau[1] - tau[0]
     amplitude = 2 * np.abs(np.fft.rfft(force)) / tau.size
     omega = 2 * np.pi * np.fft.rfftfreq(tau.size, d=dt)
@@ -295,7 +332,10 @@ def fig15(out, *, quick=False):
     return _response("fig15", out, quick=quick, title="Fig. 15")
 
 
-FIGURES = {f.__name__: f for f in (fig3, fig4, fig5, fig6, fig7, fig8, fig9, fig10, fig11, fig12, fig13, fig14, fig15)}
+FIGURES = {
+    f.__name__: f
+    for f in (fig3, fig4, fig5, fig6, fig7, fig8, fig9, fig10, fig11, fig12, fig13, fig14, fig15)
+}
 
 
 def make_figures(out, *, quick=False, only=None, progress=None):

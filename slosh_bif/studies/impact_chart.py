@@ -3,7 +3,8 @@ fold (LP), double their period (PD), lose stability to a torus (NS) or break the
 traced in two parameters (:func:`~slosh_bif.orbits.codim2.impact_curves.trace_impact_curve`) from
 every special point of its branches in sigma (the branch a simulation of (8) settles on and, for a
 symmetric one, the asymmetric branches born at its pitchforks), and the least forcing Abar_c at
-which (8) has a stable periodic orbit, read off them as for (9) (:mod:`slosh_bif.studies.chart`). The result is a
+which (8) has a stable periodic orbit, read off them as for (9) (:mod:`slosh_bif.studies.chart`). The result
+is a
 :class:`~slosh_bif.studies.chart.Chart`, written and drawn by the chart's own output functions.
 
 A curve keeps its start's number of impacts per period; it ends at the domain's edge where that
@@ -50,7 +51,13 @@ class ImpactFamily:
 
 
 def impact_chart(
-    params: Params, state0, *, sigma_range: tuple, abar_range: tuple, branching: BranchingSettings = BRANCHING, settings: ChartSettings | None = None,
+    params: Params,
+    state0,
+    *,
+    sigma_range: tuple,
+    abar_range: tuple,
+    branching: BranchingSettings = BRANCHING,
+    settings: ChartSettings | None = None,
     progress=None,
 ) -> Chart:
     """The chart of (8) over ``sigma_range`` x ``abar_range``: the branch of orbits of (8) through
@@ -65,11 +72,22 @@ def impact_chart(
     say = progress or (lambda message: None)
     started = time.perf_counter()
     params.require_positive_stiffness()
-    family = impact_family(params, settled_orbit(params, state0, periods=settings.settle), param="sigma", p_range=(s0, s1), branching=branching)
+    family = impact_family(
+        params,
+        settled_orbit(params, state0, periods=settings.settle),
+        param="sigma",
+        p_range=(s0, s1),
+        branching=branching,
+    )
     primary, symmetric = family[0].branch, family[0].symmetric
-    say(f"orbits of (8): {len(family)} branch(es), {sum(len(piece.branch) for nb in family for piece in nb.branch.pieces)} points")
+    say(
+        f"orbits of (8): {len(family)} branch(es), "
+        f"{sum(len(piece.branch) for nb in family for piece in nb.branch.pieces)} points"
+    )
     box = {"sigma": (s0, s1), "Abar": (a0, a1)}
-    pitchforks = [s.p for piece in primary.pieces for s in piece.branch.special if s.kind == "BP"] if symmetric else []
+    pitchforks = (
+        [s.p for piece in primary.pieces for s in piece.branch.special if s.kind == "BP"] if symmetric else []
+    )
     starts = [s for nb in family for s in impact_curve_starts(nb, params, box, pitchforks)]
     # Folds and period doublings met when the forcing falls: the primary branch's orbits at
     # ``settings.seeds`` values of sigma, each continued in Abar over the box.
@@ -85,20 +103,49 @@ def impact_chart(
         slow = critical_curve(params, s0, s1)
     except (RuntimeError, ValueError) as err:
         say(f"no slow-flow critical curve: {err}")
-    return Chart(params, (s0, s1), (a0, a1), ImpactFamily(family), curves, slow, time.perf_counter() - started, status, "Abar", failures, orbits="(8)")
+    return Chart(
+        params,
+        (s0, s1),
+        (a0, a1),
+        ImpactFamily(family),
+        curves,
+        slow,
+        time.perf_counter() - started,
+        status,
+        "Abar",
+        failures,
+        orbits="(8)",
+    )
 
 
-def impact_family(params: Params, x0, *, param: str, p_range: tuple, branching: BranchingSettings = BRANCHING, options=None, say=None) -> list:
+def impact_family(
+    params: Params,
+    x0,
+    *,
+    param: str,
+    p_range: tuple,
+    branching: BranchingSettings = BRANCHING,
+    options=None,
+    say=None,
+) -> list:
     """The branch of orbits of (8) through x0 (its state at tau = 0) over ``p_range`` of
     ``param`` (a symmetric one on the half-period map) and, unless ``branching.switch`` is off,
     the asymmetric branches born at its pitchforks, as :class:`NamedImpactBranch` (the first one
     first); ``say(message)`` hears of each switched branch."""
     lo, hi = p_range
-    symmetric = is_symmetric(params, x0)  # then on the half-period map, where its pitchforks are regular points
-    primary = trace_impact_orbits(params, x0, param=param, p_min=lo, p_max=hi, options=options, symmetric=symmetric)
+    symmetric = is_symmetric(
+        params, x0
+    )  # then on the half-period map, where its pitchforks are regular points
+    primary = trace_impact_orbits(
+        params, x0, param=param, p_min=lo, p_max=hi, options=options, symmetric=symmetric
+    )
     family = [NamedImpactBranch("symmetric" if symmetric else "primary", primary, symmetric)]
     if symmetric and branching.switch:
-        for k, (origin, branch) in enumerate(asymmetric_branches(params, primary, p_min=lo, p_max=hi, options=options, max_branches=branching.max_branches - 1)):
+        for k, (origin, branch) in enumerate(
+            asymmetric_branches(
+                params, primary, p_min=lo, p_max=hi, options=options, max_branches=branching.max_branches - 1
+            )
+        ):
             family.append(NamedImpactBranch("asymmetric" + (f"-{k + 1}" if k else ""), branch, False))
             if say is not None:
                 say(f"{family[-1].name}: from the {origin}, {len(branch.pieces)} pieces")
@@ -113,14 +160,40 @@ def impact_curve_starts(named: NamedImpactBranch, params: Params, box: dict, pit
     param = named.branch.param
     for piece in named.branch.pieces:
         for sp in piece.branch.special:
-            if sp.kind not in ("LP", "PD", "NS", "BP") or not sp.located or (sp.kind == "BP" and not named.symmetric):
+            if (
+                sp.kind not in ("LP", "PD", "NS", "BP")
+                or not sp.located
+                or (sp.kind == "BP" and not named.symmetric)
+            ):
                 continue
-            if sp.kind == "LP" and not named.symmetric and any(abs(sp.p - q) <= 1e-6 * (1 + abs(q)) for q in pitchforks):
+            if (
+                sp.kind == "LP"
+                and not named.symmetric
+                and any(abs(sp.p - q) <= 1e-6 * (1 + abs(q)) for q in pitchforks)
+            ):
                 continue
             at = params.replace(**{param: float(sp.p)})
-            origin = f"{sp.kind} at sigma = {at.sigma:.6g}, Abar = {at.Abar:.6g} on the {named.name} branch of (8) in {param}"
-            seed = ImpactCurveSeed(sp.kind, sp.x, float(sp.p), param, symmetric=named.symmetric, phase=piece.phase, impacts=piece.impacts, origin=origin)
-            yield CurveStart.with_job(sp.kind, at.sigma, at.Abar, origin, dict(trace=trace_impact_curve, params=params, seed=seed, box=box))
+            origin = (
+                f"{sp.kind} at sigma = {at.sigma:.6g}, Abar = {at.Abar:.6g} on the {named.name} branch "
+                f"of (8) in {param}"
+            )
+            seed = ImpactCurveSeed(
+                sp.kind,
+                sp.x,
+                float(sp.p),
+                param,
+                symmetric=named.symmetric,
+                phase=piece.phase,
+                impacts=piece.impacts,
+                origin=origin,
+            )
+            yield CurveStart.with_job(
+                sp.kind,
+                at.sigma,
+                at.Abar,
+                origin,
+                dict(trace=trace_impact_curve, params=params, seed=seed, box=box),
+            )
 
 
 @dataclasses.dataclass(frozen=True)
@@ -149,7 +222,9 @@ def _seed_in_abar(primary: NamedImpactBranch, params: Params, sigma: float, abar
     problem = ImpactOrbitProblem(at, "sigma", symmetric=primary.symmetric, phase=piece.phase)
     try:
         x0 = state_at_zero(problem, piece.branch.x[i], at.sigma)
-        branch = trace_impact_orbits(at, x0, param="Abar", p_min=abar_range[0], p_max=abar_range[1], symmetric=primary.symmetric)
+        branch = trace_impact_orbits(
+            at, x0, param="Abar", p_min=abar_range[0], p_max=abar_range[1], symmetric=primary.symmetric
+        )
     except (ConvergenceError, ValueError):
         return None
     return _SeedBranch(primary.name, branch, primary.symmetric, at)
@@ -163,7 +238,11 @@ def state_at_zero(problem: ImpactOrbitProblem, x, p):
     end = periods * problem.period
     if end == problem.phase:
         return np.asarray(x, dtype=float)
-    _, y, _, code = problem.flow_at(p).run(np.asarray(x, dtype=float), problem.phase, end, stick_speed=1e-9, max_impacts=10_000)
+    _, y, _, code = problem.flow_at(p).run(
+        np.asarray(x, dtype=float), problem.phase, end, stick_speed=1e-9, max_impacts=10_000
+    )
     if code != 0:
-        raise ValueError(f"the orbit of (8) cannot be followed from its section to tau = {end:g} (code {code})")
+        raise ValueError(
+            f"the orbit of (8) cannot be followed from its section to tau = {end:g} (code {code})"
+        )
     return y[:, -1] * (problem.closing**periods)

@@ -15,7 +15,8 @@ against the wall's), not per question, and the regime question needs (9)'s own r
 
 Error of the slow flow, measured where the asymptotics are in range (``asymptotics_concerns``
 empty): amplitude of X, largest relative error over the sigmas of ``bench.FR_SIGMAS`` against
-shooting on (9): 0.28 (Fig. 10 set; 0.283 with continuation steps of 0.5), 0.20 (Fig. 13 set); critical forcing Abar_b
+shooting on (9): 0.28 (Fig. 10 set; 0.283 with continuation steps of 0.5), 0.20 (Fig. 13 set); critical
+forcing Abar_b
 of (46) against Abar_c of (9) (the least forcing with stable period-1 orbits with wall contact,
 over every family at that sigma): 0.02-0.37 (``critical_forcing.csv``: 2-7 % at sigma = -6,
 -1.2, 0.7 (Fig. 10 set) and 0.5, 1 (Fig. 13 set), 13-16 % below the resonance on the Fig. 13
@@ -63,16 +64,27 @@ __all__ = ["QUESTIONS", "SLOW_FLOW_ERROR", "CORRECTED_ERROR", "Answer", "answer"
 QUESTIONS = ("frequency-response", "critical-forcing", "time-response", "regime")
 
 # Largest measured error of the slow flow per question, inside the checked range (see above).
-SLOW_FLOW_ERROR = {"frequency-response": 0.29, "critical-forcing": 0.38, "time-response": 0.29, "regime": 0.22}
+SLOW_FLOW_ERROR = {
+    "frequency-response": 0.29,
+    "critical-forcing": 0.38,
+    "time-response": 0.29,
+    "regime": 0.22,
+}
 # The same for the corrected slow flow (``docs/bench``: frequency_response.csv, critical_forcing.csv).
 CORRECTED_ERROR = {"frequency-response": 0.26, "critical-forcing": 0.36}
 SLOW_FLOW, CORRECTED = "slow flow", "corrected slow flow"
 # Error of the full-model answers. Measured: shooting at rtol 1e-10 is within 2e-8 of the rtol
 # 1e-12 reference (frequency_response.csv). Not measured, stated: the critical forcing is a special
-# point located on a branch continued at rtol 1e-10 (1e-6 is a bound, not a chart); a simulation at rtol 1e-9 is
+# point located on a branch continued at rtol 1e-10 (1e-6 is a bound, not a chart); a simulation at rtol 1e-9
+# is
 # a time response to about its tolerance over a few periods (chaotic runs part later); a regime
 # judged on a simulation is the classifier's verdict, 0 by definition.
-FULL_MODEL_ERROR = {"frequency-response": 2e-8, "critical-forcing": 1e-6, "time-response": 1e-6, "regime": 0.0}
+FULL_MODEL_ERROR = {
+    "frequency-response": 2e-8,
+    "critical-forcing": 1e-6,
+    "time-response": 1e-6,
+    "regime": 0.0,
+}
 FULL_MODEL = {
     "frequency-response": "shooting on (9)",
     "critical-forcing": "shooting on (9): Abar_c over every family at sigma",
@@ -114,7 +126,11 @@ def model_choice(question: str, params: Params, tol: float) -> tuple:
         error = CORRECTED_ERROR[question]
         if not corrected_concerns and error <= tol:
             return CORRECTED, f"{why}; the corrected slow flow's measured error {error:g} is within it", error
-        why += "; the corrected slow flow " + (f"is outside its range ({'; '.join(corrected_concerns)})" if corrected_concerns else f"measured {error:g}")
+        why += "; the corrected slow flow " + (
+            f"is outside its range ({'; '.join(corrected_concerns)})"
+            if corrected_concerns
+            else f"measured {error:g}"
+        )
     return FULL_MODEL[question], why, FULL_MODEL_ERROR[question]
 
 
@@ -127,7 +143,17 @@ def _check(question, params, tol):
         raise ValueError(f"tol (the relative error allowed) must be a finite number > 0; got {tol!r}")
 
 
-def answer(question: str, params: Params, *, tol: float = 0.05, state0=None, sigma_min=None, sigma_max=None, tmax: float = CLASSIFY_TMAX, progress=None) -> Answer:
+def answer(
+    question: str,
+    params: Params,
+    *,
+    tol: float = 0.05,
+    state0=None,
+    sigma_min=None,
+    sigma_max=None,
+    tmax: float = CLASSIFY_TMAX,
+    progress=None,
+) -> Answer:
     """Answer ``question`` for ``params`` with the lightest model whose measured error is within ``tol``.
 
     Parameters
@@ -157,8 +183,12 @@ def answer(question: str, params: Params, *, tol: float = 0.05, state0=None, sig
     result = None
     if model in (SLOW_FLOW, CORRECTED):
         with warnings.catch_warnings():
-            warnings.simplefilter("ignore", AsymptoticsWarning)  # the choice above already weighed the asymptotics
-            result, escape, note = _slow(question, params, y0, lo, hi, tmax, "corrected" if model == CORRECTED else "slowflow")
+            warnings.simplefilter(
+                "ignore", AsymptoticsWarning
+            )  # the choice above already weighed the asymptotics
+            result, escape, note = _slow(
+                question, params, y0, lo, hi, tmax, "corrected" if model == CORRECTED else "slowflow"
+            )
         if escape:  # the slow flow cannot answer after all: the full model must
             model, reason, error = FULL_MODEL[question], escape, FULL_MODEL_ERROR[question]
         reason += note
@@ -178,7 +208,9 @@ def _slow(question, params, y0, lo, hi, tmax, model):
     if question == "time-response":
         # off S+ the slow flow says nothing more about X(tau)
         return trajectory, f"the slow flow leaves S+ ({trajectory.message})" if trajectory.escaped else "", ""
-    regime = "not resonant (non-resonant or strongly modulated)" if trajectory.escaped else "periodic-resonant"
+    regime = (
+        "not resonant (non-resonant or strongly modulated)" if trajectory.escaped else "periodic-resonant"
+    )
     return regime, "", f"; (45) from the initial state: {trajectory.message}"
 
 
@@ -191,7 +223,8 @@ def _full(question, params, y0, lo, hi, tmax, say=None):
     orbit, _ = settle_and_shoot(params, y0)
     if not (orbit.converged and orbit.stable):
         raise RuntimeError(
-            f"no stable periodic orbit of (9) is reached from state0 at sigma = {params.sigma}, Abar = {params.Abar} "
+            f"no stable periodic orbit of (9) is reached from state0 at sigma = {params.sigma}, "
+            f"Abar = {params.Abar} "
             "within 1000 forcing periods: the response there is not periodic (try the regime question)"
         )
     return trace_orbits(params, orbit.y0, p_min=lo, p_max=hi, branching=NO_SWITCHING)

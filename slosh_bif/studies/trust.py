@@ -54,7 +54,21 @@ from slosh_bif.studies.compare import compare_rows, orbits_at
 
 __all__ = ["TrustPoint", "trust_point", "trust_map", "TRUST_COLUMNS"]
 
-TRUST_COLUMNS = ("eps", "beta", "n", "stable_states", "agree", "confirmed", "median_difference", "max_difference", "warned", "sigma_start", "branches", "seconds", "status")
+TRUST_COLUMNS = (
+    "eps",
+    "beta",
+    "n",
+    "stable_states",
+    "agree",
+    "confirmed",
+    "median_difference",
+    "max_difference",
+    "warned",
+    "sigma_start",
+    "branches",
+    "seconds",
+    "status",
+)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -94,7 +108,9 @@ class TrustPoint:
         return dataclasses.asdict(self)
 
 
-START_TRIES = 3  # starts of the family from the slow flow, tried in turn while the continuation fails from them
+START_TRIES = (
+    3  # starts of the family from the slow flow, tried in turn while the continuation fails from them
+)
 ISOLA_TRIES = 4
 """Newton starts of (9) per parameter set from stable slow-flow states no traced orbit matches: a
 family on an isola (the Fig. 13 set at n = 6: stable impacting orbits at sigma in [-2, -1] apart
@@ -102,8 +118,16 @@ from the symmetric branch) is found from one, and each costs a shooting Newton (
 
 
 def trust_point(
-    params: Params, sigma_min: float = -6.0, sigma_max: float = 8.0, *, grid: int = 141, agree_within: float = 0.05, shooting: ShootingSettings = SHOOTING,
-    branching: BranchingSettings = BRANCHING, model: str = "slowflow", isola_tries: int = ISOLA_TRIES,
+    params: Params,
+    sigma_min: float = -6.0,
+    sigma_max: float = 8.0,
+    *,
+    grid: int = 141,
+    agree_within: float = 0.05,
+    shooting: ShootingSettings = SHOOTING,
+    branching: BranchingSettings = BRANCHING,
+    model: str = "slowflow",
+    isola_tries: int = ISOLA_TRIES,
 ) -> TrustPoint:
     """Compare (46) with the 2pi-orbits of (9) over [sigma_min, sigma_max] at ``params``.
 
@@ -125,34 +149,85 @@ def trust_point(
         raise ValueError(f"agree_within must be in (0, 1); got {agree_within!r}")
     started = time.perf_counter()
     check_model(model)
-    head = dict(eps=params.eps, beta=params.beta, n=params.n, warned=bool(asymptotics_concerns(params, model)))
+    head = dict(
+        eps=params.eps, beta=params.beta, n=params.n, warned=bool(asymptotics_concerns(params, model))
+    )
     nan = float("nan")
 
     def failed(status, sigma_start=nan):
-        return TrustPoint(**head, stable_states=0, agree=nan, confirmed=nan, median_difference=nan, max_difference=nan, sigma_start=sigma_start, branches=0, seconds=time.perf_counter() - started, status=status)
+        return TrustPoint(
+            **head,
+            stable_states=0,
+            agree=nan,
+            confirmed=nan,
+            median_difference=nan,
+            max_difference=nan,
+            sigma_start=sigma_start,
+            branches=0,
+            seconds=time.perf_counter() - started,
+            status=status,
+        )
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", AsymptoticsWarning)  # recorded in ``warned`` instead
         try:
             paper = frequency_response(params, sigma_min=sigma_min, sigma_max=sigma_max)
-            fr = paper if model == "slowflow" else frequency_response(params, sigma_min=sigma_min, sigma_max=sigma_max, model=model)
-            start = slow_flow_start(params, sigma_min, sigma_max, segments=shooting.segments, response=paper, backend=shooting.backend)
+            fr = (
+                paper
+                if model == "slowflow"
+                else frequency_response(params, sigma_min=sigma_min, sigma_max=sigma_max, model=model)
+            )
+            start = slow_flow_start(
+                params,
+                sigma_min,
+                sigma_max,
+                segments=shooting.segments,
+                response=paper,
+                backend=shooting.backend,
+            )
         except (ConvergenceError, ValueError) as err:
             return failed(f"no start: {err}")
         for attempt in range(1, START_TRIES + 1):
             try:
-                family = trace_orbits(start.params, start.y0, p_min=sigma_min, p_max=sigma_max, shooting=shooting, branching=branching)
+                family = trace_orbits(
+                    start.params,
+                    start.y0,
+                    p_min=sigma_min,
+                    p_max=sigma_max,
+                    shooting=shooting,
+                    branching=branching,
+                )
                 break
             except RuntimeError as err:  # ConvergenceError included
                 failure = failed(f"orbit continuation failed: {err}", start.sigma)
             if attempt == START_TRIES:
                 return failure
-            try:  # the next start (an orbit Newton found to 1e-10 can still defeat the continuation's first step)
-                start = slow_flow_start(params, sigma_min, sigma_max, segments=shooting.segments, response=paper, backend=shooting.backend, skip=attempt)
+            # the next start (an orbit Newton found to 1e-10 can still defeat the continuation's first step)
+            try:
+                start = slow_flow_start(
+                    params,
+                    sigma_min,
+                    sigma_max,
+                    segments=shooting.segments,
+                    response=paper,
+                    backend=shooting.backend,
+                    skip=attempt,
+                )
             except (ConvergenceError, ValueError):
                 return failure
         sigmas = np.linspace(sigma_min, sigma_max, grid)
-        family.branches.extend(missed_families(params, fr, family, sigmas, model=model, agree_within=agree_within, tries=isola_tries, shooting=shooting))
+        family.branches.extend(
+            missed_families(
+                params,
+                fr,
+                family,
+                sigmas,
+                model=model,
+                agree_within=agree_within,
+                tries=isola_tries,
+                shooting=shooting,
+            )
+        )
     rows = [r for r in compare_rows(family, fr, sigmas) if r["slow_flow_stable"]]
     if not rows:
         return failed("no stable steady state of (46) in the range", start.sigma)
@@ -160,7 +235,9 @@ def trust_point(
     d_stable = np.array([r["relative_difference_stable_orbit"] for r in rows])
     finite = d[np.isfinite(d)]
     if not finite.size:  # e.g. the orbit found lies on an isola away from every stable state
-        return failed(f"no traced orbit at the sigma of any of the {len(rows)} stable states of (46)", start.sigma)
+        return failed(
+            f"no traced orbit at the sigma of any of the {len(rows)} stable states of (46)", start.sigma
+        )
     return TrustPoint(
         **head,
         stable_states=len(rows),
@@ -186,7 +263,17 @@ n = 50 crept on for minutes): what it traced by then is kept. A count, not a tim
 the trust map does not depend on the machine's load."""
 
 
-def missed_families(params: Params, fr, family, sigmas, *, model: str = "slowflow", agree_within: float = 0.05, tries: int = ISOLA_TRIES, shooting: ShootingSettings = SHOOTING) -> list:
+def missed_families(
+    params: Params,
+    fr,
+    family,
+    sigmas,
+    *,
+    model: str = "slowflow",
+    agree_within: float = 0.05,
+    tries: int = ISOLA_TRIES,
+    shooting: ShootingSettings = SHOOTING,
+) -> list:
     """OrbitBranches of (9) that ``family`` (continued from one start) does not contain, found by
     Newton from the slow flow's motion at up to ``tries`` of the stable states of ``fr`` on the
     grid ``sigmas`` that have no orbit of ``family`` within ``agree_within`` (where Newton fails,
@@ -200,25 +287,51 @@ def missed_families(params: Params, fr, family, sigmas, *, model: str = "slowflo
     if tries == 0:
         return []
     lo, hi = float(np.min(sigmas)), float(np.max(sigmas))
-    lonely = [r for r in compare_rows(family, fr, sigmas) if r["slow_flow_stable"] and not r["relative_difference"] <= agree_within]
+    lonely = [
+        r
+        for r in compare_rows(family, fr, sigmas)
+        if r["slow_flow_stable"] and not r["relative_difference"] <= agree_within
+    ]
     found = []
     for row in lonely[:: max(1, len(lonely) // tries)][:tries]:
         sigma, A = row["sigma"], row["A_slow_flow"]
         at = params.replace(sigma=sigma)
         psi = _phase_near(fr, sigma, A)
         try:
-            orbit = orbit_from_slow_flow(at, A, psi=psi, segments=shooting.segments, backend=shooting.backend, model=model)
+            orbit = orbit_from_slow_flow(
+                at, A, psi=psi, segments=shooting.segments, backend=shooting.backend, model=model
+            )
             how = "Newton from a slow-flow state no traced orbit matched"
             if not orbit.converged:  # let (9) settle from the slow flow's motion, and Newton from there
                 state = SlowFlow(at, model).fast_state(A, psi, np.zeros(1)).ravel()
-                orbit = orbit_from_simulation(at, state, settle=SETTLE_PERIODS, segments=shooting.segments, tries=5, backend=shooting.backend, unsettled="raise").orbit
-                how = f"Newton from a {SETTLE_PERIODS}-period simulation settled from a slow-flow state no traced orbit matched"
+                orbit = orbit_from_simulation(
+                    at,
+                    state,
+                    settle=SETTLE_PERIODS,
+                    segments=shooting.segments,
+                    tries=5,
+                    backend=shooting.backend,
+                    unsettled="raise",
+                ).orbit
+                how = (
+                    f"Newton from a {SETTLE_PERIODS}-period simulation settled from a slow-flow state "
+                    "no traced orbit matched"
+                )
             problem = ShootingProblem(at, segments=shooting.segments, backend=shooting.backend)
             A1 = orbit_measures(problem, problem.initial_states(orbit.y0), sigma)["A1"]
             if any(abs(a - A1) <= 1e-6 * A1 for a, _, _ in orbits_at(family.branches + found, sigma)):
                 continue
             more = trace_new_family(
-                at, orbit.y0, family.branches + found, param="sigma", p_min=lo, p_max=hi, shooting=shooting, branching=NO_SWITCHING, options=ISOLA_OPTIONS, found_from=how,
+                at,
+                orbit.y0,
+                family.branches + found,
+                param="sigma",
+                p_min=lo,
+                p_max=hi,
+                shooting=shooting,
+                branching=NO_SWITCHING,
+                options=ISOLA_OPTIONS,
+                found_from=how,
             )
         except (RuntimeError, ValueError):  # ConvergenceError included: this start found nothing
             continue
@@ -228,12 +341,27 @@ def missed_families(params: Params, fr, family, sigmas, *, model: str = "slowflo
 
 def _phase_near(fr, sigma, A) -> float:
     """psi of the point of ``fr``'s branches nearest to (sigma, A): a Newton guess's phase."""
-    return min(((float(np.hypot(b.p[i] - sigma, b.x[i, 0] - A)), float(b.x[i, 1])) for b in fr.branches for i in range(len(b))))[1]
+    return min(
+        (
+            (float(np.hypot(b.p[i] - sigma, b.x[i, 0] - A)), float(b.x[i, 1]))
+            for b in fr.branches
+            for i in range(len(b))
+        )
+    )[1]
 
 
 def trust_map(
-    base: Params, *, eps=(0.02, 0.05, 0.1, 0.2), beta=(0.0, 0.3, 0.5), n=(6, 10, 20, 50), sigma_min: float = -6.0, sigma_max: float = 8.0,
-    workers: Workers = LOCAL, resume: Resume | None = None, progress=None, **options,
+    base: Params,
+    *,
+    eps=(0.02, 0.05, 0.1, 0.2),
+    beta=(0.0, 0.3, 0.5),
+    n=(6, 10, 20, 50),
+    sigma_min: float = -6.0,
+    sigma_max: float = 8.0,
+    workers: Workers = LOCAL,
+    resume: Resume | None = None,
+    progress=None,
+    **options,
 ) -> list:
     """:func:`trust_point` at every (eps, beta, n) of the grid, the other parameters from ``base``.
 
@@ -250,7 +378,9 @@ def trust_map(
     grid = list(itertools.product(eps, beta, n))
     if not grid:
         raise ValueError("the (eps, beta, n) grid is empty")
-    jobs = [base.replace(eps=float(e), beta=float(b), n=int(k)) for e, b, k in grid]  # Params checks each value
+    jobs = [
+        base.replace(eps=float(e), beta=float(b), n=int(k)) for e, b, k in grid
+    ]  # Params checks each value
     resume = resume or Resume()
     done = {i: point for i, point in (resume.done or {}).items() if 0 <= i < len(jobs)}
     count = [len(done)]
@@ -263,12 +393,30 @@ def trust_map(
             progress(point, count[0], len(jobs))
 
     one = functools.partial(trust_point, sigma_min=sigma_min, sigma_max=sigma_max, **options)
-    results, status = run_cells(one, {i: (p,) for i, p in enumerate(jobs)}, workers=workers, resume=Resume(done, finished))
+    results, status = run_cells(
+        one, {i: (p,) for i, p in enumerate(jobs)}, workers=workers, resume=Resume(done, finished)
+    )
     why = f"not computed: {status}"  # only for the points an interruption left
-    return [results[i] if i in results else _not_computed(job, why, options.get("model", "slowflow")) for i, job in enumerate(jobs)]
+    return [
+        results[i] if i in results else _not_computed(job, why, options.get("model", "slowflow"))
+        for i, job in enumerate(jobs)
+    ]
 
 
 def _not_computed(params: Params, why: str, model: str) -> TrustPoint:
     nan = float("nan")
-    return TrustPoint(eps=params.eps, beta=params.beta, n=params.n, warned=bool(asymptotics_concerns(params, model)), stable_states=0, agree=nan, confirmed=nan,
-                      median_difference=nan, max_difference=nan, sigma_start=nan, branches=0, seconds=0.0, status=why)
+    return TrustPoint(
+        eps=params.eps,
+        beta=params.beta,
+        n=params.n,
+        warned=bool(asymptotics_concerns(params, model)),
+        stable_states=0,
+        agree=nan,
+        confirmed=nan,
+        median_difference=nan,
+        max_difference=nan,
+        sigma_start=nan,
+        branches=0,
+        seconds=0.0,
+        status=why,
+    )

@@ -1,4 +1,5 @@
-"""The trust map of :mod:`slosh_bif.studies.trust` as ``trust_map.csv``, ``trust_map.png`` and a text table."""
+"""The trust map of :mod:`slosh_bif.studies.trust` as ``trust_map.csv``, ``trust_map.png`` and a text
+table."""
 
 from __future__ import annotations
 
@@ -22,16 +23,25 @@ def _percent(value) -> str:
     return "  -" if not np.isfinite(value) else f"{100 * value:3.0f}"
 
 
-_MODEL_NAMES = {"slowflow": "slow flow (46) as derived", "corrected": "corrected slow flow (the wall's kappa and clearance)"}
+_MODEL_NAMES = {
+    "slowflow": "slow flow (46) as derived",
+    "corrected": "corrected slow flow (the wall's kappa and clearance)",
+}
 
 
 def trust_table(points, *, model: str = "slowflow") -> str:
     """One line per point: agree / confirmed (% of stable slow-flow states) and the median and
     largest difference to the nearest orbit; a first line names the slow flow compared."""
-    lines = [f"{_MODEL_NAMES[model]} against the 2pi-orbits of (9)", f"{'eps':>5s} {'beta':>4s} {'n':>3s}  {'agree %':>7s} {'confirmed %':>11s} {'median diff':>11s} {'max diff':>8s}  warned  status"]
+    lines = [
+        f"{_MODEL_NAMES[model]} against the 2pi-orbits of (9)",
+        f"{'eps':>5s} {'beta':>4s} {'n':>3s}  {'agree %':>7s} {'confirmed %':>11s} "
+        f"{'median diff':>11s} {'max diff':>8s}  warned  status",
+    ]
     for p in points:
         lines.append(
-            f"{p.eps:5.3g} {p.beta:4.2g} {p.n:3d}  {_percent(p.agree):>7s} {_percent(p.confirmed):>11s} {p.median_difference:11.3%} {p.max_difference:8.1%}  {'yes' if p.warned else 'no':>6s}  {p.status[:60]}"
+            f"{p.eps:5.3g} {p.beta:4.2g} {p.n:3d}  {_percent(p.agree):>7s} "
+            f"{_percent(p.confirmed):>11s} {p.median_difference:11.3%} {p.max_difference:8.1%}  "
+            f"{'yes' if p.warned else 'no':>6s}  {p.status[:60]}"
         )
     return "\n".join(lines)
 
@@ -48,9 +58,19 @@ def plot_trust_map(points, path, *, title: str = "", model: str = "slowflow") ->
     ns = sorted({p.n for p in points})
     eps = sorted({p.eps for p in points})
     betas = sorted({p.beta for p in points})
-    fig, axes = pyplot().subplots(2, len(ns), figsize=(3.2 * len(ns) + 1.2, 6.4), squeeze=False, sharex=True, sharey=True, layout="constrained")
+    fig, axes = pyplot().subplots(
+        2,
+        len(ns),
+        figsize=(3.2 * len(ns) + 1.2, 6.4),
+        squeeze=False,
+        sharex=True,
+        sharey=True,
+        layout="constrained",
+    )
     image = None
-    for row, (key, label) in enumerate((("agree", "within 5 % of a 2pi-orbit"), ("confirmed", "within 5 % of a stable 2pi-orbit"))):
+    for row, (key, label) in enumerate(
+        (("agree", "within 5 % of a 2pi-orbit"), ("confirmed", "within 5 % of a stable 2pi-orbit"))
+    ):
         for col, n in enumerate(ns):
             ax = axes[row, col]
             grid = np.full((len(betas), len(eps)), np.nan)
@@ -58,11 +78,35 @@ def plot_trust_map(points, path, *, title: str = "", model: str = "slowflow") ->
                 if p.n == n:
                     i, j = betas.index(p.beta), eps.index(p.eps)
                     grid[i, j] = getattr(p, key)
-                    text = "n/a" if not np.isfinite(grid[i, j]) else f"{100 * grid[i, j]:.0f}%\n{p.median_difference:.1%}"
+                    text = (
+                        "n/a"
+                        if not np.isfinite(grid[i, j])
+                        else f"{100 * grid[i, j]:.0f}%\n{p.median_difference:.1%}"
+                    )
                     if p.warned:  # hatched at the cell's edge, clear of the numbers
-                        ax.add_patch(Rectangle((j - 0.5, i - 0.5), 1, 1, fill=False, hatch="//", edgecolor="0.55", lw=0, zorder=2))
-                    ax.text(j, i, text, ha="center", va="center", fontsize=9, fontweight="bold", zorder=3,
-                            bbox=dict(boxstyle="round,pad=0.25", facecolor="white", alpha=0.85, edgecolor="none"))
+                        ax.add_patch(
+                            Rectangle(
+                                (j - 0.5, i - 0.5),
+                                1,
+                                1,
+                                fill=False,
+                                hatch="//",
+                                edgecolor="0.55",
+                                lw=0,
+                                zorder=2,
+                            )
+                        )
+                    ax.text(
+                        j,
+                        i,
+                        text,
+                        ha="center",
+                        va="center",
+                        fontsize=9,
+                        fontweight="bold",
+                        zorder=3,
+                        bbox=dict(boxstyle="round,pad=0.25", facecolor="white", alpha=0.85, edgecolor="none"),
+                    )
             image = ax.imshow(grid, origin="lower", cmap="RdYlGn", vmin=0, vmax=1, aspect="auto")
             ax.set_xticks(range(len(eps)), [f"{e:g}" for e in eps])
             ax.set_yticks(range(len(betas)), [f"{b:g}" for b in betas])
@@ -74,7 +118,12 @@ def plot_trust_map(points, path, *, title: str = "", model: str = "slowflow") ->
                 ax.set_ylabel(r"$\beta$" + f"\n{label}", fontsize=8)
     fig.colorbar(image, ax=axes, shrink=0.8, label="fraction of stable slow-flow states")
     name = _MODEL_NAMES[model][0].upper() + _MODEL_NAMES[model][1:]
-    fig.suptitle(title or f"{name} against periodic orbits of (9): % of stable states within 5 %, median difference; hatched: AsymptoticsWarning", fontsize=9)
+    fig.suptitle(
+        title
+        or f"{name} against periodic orbits of (9): % of stable states within 5 %, median difference; "
+        "hatched: AsymptoticsWarning",
+        fontsize=9,
+    )
     return save_figure(fig, path)
 
 
@@ -88,12 +137,22 @@ def trust_store(path, settings: dict, *, resume: bool):
     if resume:
         stored = read_store(path, settings)
         try:
-            done = {int(i): TrustPoint(**row) for i, row in stored["points"].items() if not row["status"].startswith("not computed")}
+            done = {
+                int(i): TrustPoint(**row)
+                for i, row in stored["points"].items()
+                if not row["status"].startswith("not computed")
+            }
         except DAMAGE as err:
             raise damaged(path, err) from None
 
     def keep(i, point):
         done[i] = point
-        write_text_atomically(path, json.dumps({"settings": settings, "points": {str(k): v.as_row() for k, v in sorted(done.items())}}) + "\n")
+        write_text_atomically(
+            path,
+            json.dumps(
+                {"settings": settings, "points": {str(k): v.as_row() for k, v in sorted(done.items())}}
+            )
+            + "\n",
+        )
 
     return dict(done), keep

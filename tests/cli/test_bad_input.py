@@ -10,8 +10,23 @@ import pytest
 from slosh_bif.cli import main
 from slosh_bif.studies.chart_output import curve_store
 
-TANK = ["tank", "--shape", "cylinder", "--depth", "8", "--structure-mass", "2e6", "--structure-frequency", "0.8", "--excitation-frequency", "0.72",
-        "--ground-acceleration", "1.5", "--clearance", "1"]
+TANK = [
+    "tank",
+    "--shape",
+    "cylinder",
+    "--depth",
+    "8",
+    "--structure-mass",
+    "2e6",
+    "--structure-frequency",
+    "0.8",
+    "--excitation-frequency",
+    "0.72",
+    "--ground-acceleration",
+    "1.5",
+    "--clearance",
+    "1",
+]
 
 
 @pytest.mark.parametrize(
@@ -23,8 +38,14 @@ TANK = ["tank", "--shape", "cylinder", "--depth", "8", "--structure-mass", "2e6"
         (["basins", "--preset", "fig10", "--set", "sigma=30", "--grid", "3", "3"], "eps * sigma = 1.5 >= 1"),
         (["answer", "regime", "--preset", "fig10", "--set", "sigma=30"], "eps * sigma = 1.5 >= 1"),
         ([*TANK, "--radius", "1e9"], "too shallow for the sloshing-mode series"),
-        (["shoot", "--preset", "fig10", "--model", "impact", "--start", "scan"], "--model impact starts from a simulation of (8)"),
-        (["shoot", "--preset", "fig10", "--model", "impact", "--sigma-min", "2", "--sigma-max", "3"], "must lie in the range [2, 3]"),
+        (
+            ["shoot", "--preset", "fig10", "--model", "impact", "--start", "scan"],
+            "--model impact starts from a simulation of (8)",
+        ),
+        (
+            ["shoot", "--preset", "fig10", "--model", "impact", "--sigma-min", "2", "--sigma-max", "3"],
+            "must lie in the range [2, 3]",
+        ),
     ],
 )
 def test_a_one_line_error_before_any_work(argv, words, tmp_path, capsys):
@@ -57,7 +78,21 @@ def test_frc_in_abar_needs_no_upper_end(tmp_path):
 
 def test_damaged_stores_are_one_line_errors_naming_the_file(tmp_path, capsys):
     out = tmp_path / "map"
-    arguments = ["regimes", "--preset", "fig13", "--sigma-points", "2", "--abar-points", "1", "--tmax", "60", "--workers", "1", "--out", str(out)]
+    arguments = [
+        "regimes",
+        "--preset",
+        "fig13",
+        "--sigma-points",
+        "2",
+        "--abar-points",
+        "1",
+        "--tmax",
+        "60",
+        "--workers",
+        "1",
+        "--out",
+        str(out),
+    ]
     assert main(arguments) == 0
     store = out / "regimes.json"
     good = json.loads(store.read_text())
@@ -76,7 +111,16 @@ def test_damaged_stores_are_one_line_errors_naming_the_file(tmp_path, capsys):
 def test_a_closed_pipe_ends_quietly():
     # The reader exits before reading anything: every write of the command meets a closed pipe.
     run = subprocess.run(
-        ["bash", "-c", f"sleep 0.5 | ('{sys.executable}' -m slosh_bif.cli info --preset fig10; echo \"status $?\" >&2) | true"],
-        capture_output=True, text=True, timeout=120,
+        [
+            "bash",
+            "-c",
+            f"sleep 0.5 | ('{sys.executable}' -m slosh_bif.cli info --preset fig10; echo \"status "
+            '$?" >&2) | true',
+        ],
+        capture_output=True,
+        text=True,
+        timeout=120,
     )
-    assert "status 0" in run.stderr and "Broken pipe" not in run.stderr and "Traceback" not in run.stderr, run.stderr
+    assert "status 0" in run.stderr and "Broken pipe" not in run.stderr and "Traceback" not in run.stderr, (
+        run.stderr
+    )

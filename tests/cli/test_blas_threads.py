@@ -30,7 +30,9 @@ def test_one_blas_thread_after_scipy_linalg_loads_in_the_command_and_its_workers
     env = {k: v for k, v in os.environ.items() if not k.endswith("_NUM_THREADS")}
     script = tmp_path / "probe.py"
     script.write_text(PROBE)
-    out = subprocess.run([sys.executable, str(script)], env=env, capture_output=True, text=True, timeout=120, check=True).stdout
+    out = subprocess.run(
+        [sys.executable, str(script)], env=env, capture_output=True, text=True, timeout=120, check=True
+    ).stdout
     threads = json.loads(out)
     assert threads["main"] and threads["worker"]
     assert set(threads["main"]) == {1} and set(threads["worker"]) == {1}

@@ -44,10 +44,18 @@ def test_frc_writes_csv_png_and_branches(tmp_path, capsys):
 
     from slosh_bif.continuation.branch import Branch
 
-    assert main(["frc", "--preset", "fig13", "--sigma-min", "-2", "--sigma-max", "3", "--out", str(tmp_path)]) == 0
+    assert (
+        main(["frc", "--preset", "fig13", "--sigma-min", "-2", "--sigma-max", "3", "--out", str(tmp_path)])
+        == 0
+    )
     rows = list(csv.DictReader(open(tmp_path / "frc.csv")))
     assert {"sigma", "A", "psi", "alpha", "stable", "special"} <= set(rows[0])
-    assert {r["stable"] for r in rows} <= {"0", "1"} and {r["special"] for r in rows} <= {"", "LP", "BP", "END"}
+    assert {r["stable"] for r in rows} <= {"0", "1"} and {r["special"] for r in rows} <= {
+        "",
+        "LP",
+        "BP",
+        "END",
+    }
     assert rows[0]["special"] == "END" and float(rows[0]["sigma"]) in (-2.0, 3.0)
     assert (tmp_path / "frc.png").stat().st_size > 10_000
     branch = Branch.load(tmp_path / "frc_branch0.npz")
@@ -58,7 +66,12 @@ def test_frc_writes_csv_png_and_branches(tmp_path, capsys):
 def test_critical_writes_csv_and_png(tmp_path, capsys):
     import csv
 
-    assert main(["critical", "--preset", "fig12", "--sigma-min", "-1", "--sigma-max", "2", "--out", str(tmp_path)]) == 0
+    assert (
+        main(
+            ["critical", "--preset", "fig12", "--sigma-min", "-1", "--sigma-max", "2", "--out", str(tmp_path)]
+        )
+        == 0
+    )
     rows = list(csv.DictReader(open(tmp_path / "critical.csv")))
     assert list(rows[0])[:3] == ["sigma", "Abar_b", "A"]
     sigmas = [float(r["sigma"]) for r in rows]
@@ -68,7 +81,10 @@ def test_critical_writes_csv_and_png(tmp_path, capsys):
 
 
 def test_range_options_are_checked(tmp_path, capsys):
-    assert main(["frc", "--preset", "fig10", "--sigma-min", "3", "--sigma-max", "1", "--out", str(tmp_path)]) == 2
+    assert (
+        main(["frc", "--preset", "fig10", "--sigma-min", "3", "--sigma-max", "1", "--out", str(tmp_path)])
+        == 2
+    )
     assert "--sigma-min must be below --sigma-max" in capsys.readouterr().err
 
 
@@ -78,10 +94,31 @@ def test_shoot_writes_branch_csv_and_png(tmp_path, capsys):
     import csv
 
     out = tmp_path / "shoot"
-    argv = ["shoot", "--preset", "fig10", "--set", "sigma=7.5", "--sigma-min", "7", "--sigma-max", "8", "--out", str(out)]
+    argv = [
+        "shoot",
+        "--preset",
+        "fig10",
+        "--set",
+        "sigma=7.5",
+        "--sigma-min",
+        "7",
+        "--sigma-max",
+        "8",
+        "--out",
+        str(out),
+    ]
     assert main(argv + ["--no-switch"]) == 0
     rows = list(csv.DictReader(open(out / "branch.csv")))
-    assert {"sigma", "A1", "max_abs_X", "max_abs_w", "stable", "max_abs_multiplier", "special", "branch"} <= set(rows[0])
+    assert {
+        "sigma",
+        "A1",
+        "max_abs_X",
+        "max_abs_w",
+        "stable",
+        "max_abs_multiplier",
+        "special",
+        "branch",
+    } <= set(rows[0])
     assert rows[0]["special"] == "END" and rows[-1]["special"] == "END"
     assert all(r["branch"] == "symmetric" and r["stable"] == "1" for r in rows)
     assert max(float(r["liouville_error"]) for r in rows) < 1e-8
@@ -93,15 +130,55 @@ def test_frc_in_abar_meets_the_frc_in_sigma_where_they_cross(tmp_path):
     # Two one-parameter runs of (46) through the same point (sigma = 1, Abar = 1.5, Fig. 13 set):
     # the Abar-branch at the preset's sigma, interpolated at Abar = 1.5, has the amplitude of the
     # sigma-branch at Abar = 1.5 interpolated at sigma = 1.
-    assert main(["frc", "--preset", "fig13", "--parameter", "Abar", "--abar-min", "0.5", "--abar-max", "3", "--ds-max", "0.005", "--out", str(tmp_path / "a")]) == 0
-    assert main(["frc", "--preset", "fig13", "--set", "Abar=1.5", "--sigma-min", "0", "--sigma-max", "2", "--ds-max", "0.005", "--out", str(tmp_path / "s")]) == 0
+    assert (
+        main(
+            [
+                "frc",
+                "--preset",
+                "fig13",
+                "--parameter",
+                "Abar",
+                "--abar-min",
+                "0.5",
+                "--abar-max",
+                "3",
+                "--ds-max",
+                "0.005",
+                "--out",
+                str(tmp_path / "a"),
+            ]
+        )
+        == 0
+    )
+    assert (
+        main(
+            [
+                "frc",
+                "--preset",
+                "fig13",
+                "--set",
+                "Abar=1.5",
+                "--sigma-min",
+                "0",
+                "--sigma-max",
+                "2",
+                "--ds-max",
+                "0.005",
+                "--out",
+                str(tmp_path / "s"),
+            ]
+        )
+        == 0
+    )
     by_abar = [r for r in csv.DictReader(open(tmp_path / "a" / "frc.csv"))]
     by_sigma = [r for r in csv.DictReader(open(tmp_path / "s" / "frc.csv"))]
     assert {float(r["sigma"]) for r in by_abar} == {1.0} and {float(r["Abar"]) for r in by_sigma} == {1.5}
     # the first row is Abar_b, on the manifold's end: (46) there in closed form (alpha = 1/(1 + rho^2))
     rho = float(restitution.rho(restitution.kappa_newtonian(0.35, 0.2, 50)))
     A, a, c = rho / np.sqrt(1 + rho**2), 1 / (1 + rho**2), 1 - 0.3**2
-    abar_end = np.hypot(0.2 * np.pi**2 * A**2 + 8 * rho * a**2 * c, np.pi**2 * (1.0 - c) * A**2 - 8 * a * (1 - a) * c) / (np.pi**2 * A)
+    abar_end = np.hypot(
+        0.2 * np.pi**2 * A**2 + 8 * rho * a**2 * c, np.pi**2 * (1.0 - c) * A**2 - 8 * a * (1 - a) * c
+    ) / (np.pi**2 * A)
     assert by_abar[0]["special"] == "END" and float(by_abar[0]["Abar"]) == pytest.approx(abar_end, rel=1e-10)
 
     def amplitude_at(rows, key, value):
@@ -121,11 +198,31 @@ def test_continuation_controls_are_checked_and_old_spellings_still_work(tmp_path
     assert main(["frc", "--preset", "fig10", "--max-steps", "0", "--out", str(tmp_path)]) == 2
     assert "--max-steps must be an integer >= 1" in capsys.readouterr().err
     assert main(["frc", "--preset", "fig10", "--out", str(tmp_path / "default")]) == 0
-    assert main(["frc", "--preset", "fig10", "--ds", "0.01", "--ds-max", "0.02", "--out", str(tmp_path / "fine")]) == 0
+    assert (
+        main(
+            ["frc", "--preset", "fig10", "--ds", "0.01", "--ds-max", "0.02", "--out", str(tmp_path / "fine")]
+        )
+        == 0
+    )
     default, fine = (list(csv.DictReader(open(tmp_path / name / "frc.csv"))) for name in ("default", "fine"))
     assert len(fine) > 2 * len(default)  # the steps are capped at 0.02 arclength
     assert [r["special"] for r in fine if r["special"]] == [r["special"] for r in default if r["special"]]
-    argv = ["compare", "--preset", "fig10", "--set", "sigma=7.5", "--sigma-min", "7", "--sigma-max", "8", "--grid", "5", "--no-switch", "--out", str(tmp_path / "c")]
+    argv = [
+        "compare",
+        "--preset",
+        "fig10",
+        "--set",
+        "sigma=7.5",
+        "--sigma-min",
+        "7",
+        "--sigma-max",
+        "8",
+        "--grid",
+        "5",
+        "--no-switch",
+        "--out",
+        str(tmp_path / "c"),
+    ]
     assert main(argv) == 0
     assert "--grid is deprecated; use --sigma-points" in capsys.readouterr().err
     assert len(list(csv.DictReader(open(tmp_path / "c" / "compare.csv")))) == 5
@@ -142,22 +239,77 @@ def test_shoot_in_abar_meets_the_shoot_in_sigma_where_they_cross(tmp_path):
     # Orbits of (9), Fig. 10 set at sigma = 7.5: the Abar-branch interpolated at Abar = 3.4 and the
     # sigma-branch at Abar = 3.4 interpolated at sigma = 7.5 are the same orbit.
     common = ["--preset", "fig10", "--set", "sigma=7.5", "--no-switch", "--ds-max", "0.01"]
-    assert main(["shoot", *common, "--parameter", "Abar", "--abar-min", "2.8", "--abar-max", "3.5", "--out", str(tmp_path / "a")]) == 0
-    assert main(["shoot", *common, "--set", "Abar=3.4", "--sigma-min", "7.4", "--sigma-max", "7.6", "--out", str(tmp_path / "s")]) == 0
+    assert (
+        main(
+            [
+                "shoot",
+                *common,
+                "--parameter",
+                "Abar",
+                "--abar-min",
+                "2.8",
+                "--abar-max",
+                "3.5",
+                "--out",
+                str(tmp_path / "a"),
+            ]
+        )
+        == 0
+    )
+    assert (
+        main(
+            [
+                "shoot",
+                *common,
+                "--set",
+                "Abar=3.4",
+                "--sigma-min",
+                "7.4",
+                "--sigma-max",
+                "7.6",
+                "--out",
+                str(tmp_path / "s"),
+            ]
+        )
+        == 0
+    )
     by_abar = list(csv.DictReader(open(tmp_path / "a" / "branch.csv")))
     by_sigma = list(csv.DictReader(open(tmp_path / "s" / "branch.csv")))
     assert {r["sigma"] for r in by_abar} == {"7.5"} and {r["Abar"] for r in by_sigma} == {"3.4"}
-    a_vals, s_vals = (sorted((float(r[k]), float(r["A1"])) for r in rows) for rows, k in ((by_abar, "Abar"), (by_sigma, "sigma")))
+    a_vals, s_vals = (
+        sorted((float(r[k]), float(r["A1"])) for r in rows)
+        for rows, k in ((by_abar, "Abar"), (by_sigma, "sigma"))
+    )
     A1_abar = np.interp(3.4, *zip(*a_vals))
     A1_sigma = np.interp(7.5, *zip(*s_vals))
     assert A1_abar == pytest.approx(A1_sigma, rel=1e-5)
-    assert main(["shoot", *common, "--parameter", "Abar", "--start", "slow-flow", "--out", str(tmp_path / "x")]) == 2
+    assert (
+        main(["shoot", *common, "--parameter", "Abar", "--start", "slow-flow", "--out", str(tmp_path / "x")])
+        == 2
+    )
 
 
 def test_shoot_says_when_a_branch_is_cut_short(tmp_path, capsys):
     # Five steps cannot cover sigma in [7, 8]: the branch says so in branch.csv, on stderr and in
     # the exit status; never "ok".
-    argv = ["shoot", "--preset", "fig10", "--set", "sigma=7.5", "--sigma-min", "7", "--sigma-max", "8", "--no-switch", "--max-steps", "3", "--ds-max", "0.02", "--out", str(tmp_path)]
+    argv = [
+        "shoot",
+        "--preset",
+        "fig10",
+        "--set",
+        "sigma=7.5",
+        "--sigma-min",
+        "7",
+        "--sigma-max",
+        "8",
+        "--no-switch",
+        "--max-steps",
+        "3",
+        "--ds-max",
+        "0.02",
+        "--out",
+        str(tmp_path),
+    ]
     assert main(argv) == 3
     err = capsys.readouterr().err
     assert "symmetric: step limit" in err and "cut short" in err and "exit status 3" in err
@@ -168,7 +320,22 @@ def test_shoot_says_when_a_branch_is_cut_short(tmp_path, capsys):
 def test_shoot_flags_orbits_that_fail_the_liouville_check(tmp_path, capsys):
     # At an integration tolerance of 1e-4 the monodromy is poor: Liouville's check says so for
     # some orbits, which are flagged row by row and announced once.
-    argv = ["shoot", "--preset", "fig10", "--set", "sigma=7.5", "--sigma-min", "7.4", "--sigma-max", "7.6", "--no-switch", "--rtol", "1e-4", "--out", str(tmp_path)]
+    argv = [
+        "shoot",
+        "--preset",
+        "fig10",
+        "--set",
+        "sigma=7.5",
+        "--sigma-min",
+        "7.4",
+        "--sigma-max",
+        "7.6",
+        "--no-switch",
+        "--rtol",
+        "1e-4",
+        "--out",
+        str(tmp_path),
+    ]
     main(argv)
     rows = list(csv.DictReader(open(tmp_path / "branch.csv")))
     flagged = [r for r in rows if r["flag"] == "liouville"]
@@ -179,7 +346,26 @@ def test_shoot_flags_orbits_that_fail_the_liouville_check(tmp_path, capsys):
 
 def test_chart_writes_curves_critical_and_png_and_checks_its_box(tmp_path, capsys):
     out = tmp_path / "chart"
-    argv = ["chart", "--preset", "fig10", "--set", "sigma=-1.2", "--sigma-min", "-1.6", "--sigma-max", "-1.2", "--abar-min", "2.6", "--abar-max", "3.4", "--no-switch", "--seeds", "0", "--out", str(out)]
+    argv = [
+        "chart",
+        "--preset",
+        "fig10",
+        "--set",
+        "sigma=-1.2",
+        "--sigma-min",
+        "-1.6",
+        "--sigma-max",
+        "-1.2",
+        "--abar-min",
+        "2.6",
+        "--abar-max",
+        "3.4",
+        "--no-switch",
+        "--seeds",
+        "0",
+        "--out",
+        str(out),
+    ]
     assert main(argv) == 0
     curves = list(csv.DictReader(open(out / "curves.csv")))
     assert set(curves[0]) >= {"curve", "kind", "sigma", "Abar", "A1", "max_abs_w", "codim2", "status"}
@@ -201,21 +387,59 @@ def test_chart_in_sigma_and_another_parameter(tmp_path, capsys):
     from slosh_bif.orbits import NO_SWITCHING, orbit_from_simulation, trace_orbits
 
     out = tmp_path / "chart"
-    box = ["--sigma-min", "-1.6", "--sigma-max", "-1.2", "--second", "beta", "--second-min", "0", "--second-max", "0.2"]
-    assert main(["chart", "--preset", "fig10", "--set", "sigma=-1.2", *box, "--no-switch", "--seeds", "0", "--out", str(out)]) == 0
+    box = [
+        "--sigma-min",
+        "-1.6",
+        "--sigma-max",
+        "-1.2",
+        "--second",
+        "beta",
+        "--second-min",
+        "0",
+        "--second-max",
+        "0.2",
+    ]
+    assert (
+        main(
+            [
+                "chart",
+                "--preset",
+                "fig10",
+                "--set",
+                "sigma=-1.2",
+                *box,
+                "--no-switch",
+                "--seeds",
+                "0",
+                "--out",
+                str(out),
+            ]
+        )
+        == 0
+    )
     rows = list(csv.DictReader(open(out / "curves.csv")))
     assert list(rows[0])[:4] == ["curve", "kind", "sigma", "beta"] and {r["kind"] for r in rows} == {"LP"}
-    assert max(float(r["beta"]) for r in rows) == pytest.approx(0.2, abs=0.02) and not (out / "critical.csv").exists()
+    assert (
+        max(float(r["beta"]) for r in rows) == pytest.approx(0.2, abs=0.02)
+        and not (out / "critical.csv").exists()
+    )
     row = rows[len(rows) // 2]
     P = get_preset("fig10").params.replace(beta=float(row["beta"]), sigma=-1.2)
     start = orbit_from_simulation(P, get_preset("fig10").state0, settle=150)
-    (lp,) = trace_orbits(start.params, start.y0, p_min=-1.6, p_max=-1.2, branching=NO_SWITCHING).branches[0].branch.special_of("LP")
+    (lp,) = (
+        trace_orbits(start.params, start.y0, p_min=-1.6, p_max=-1.2, branching=NO_SWITCHING)
+        .branches[0]
+        .branch.special_of("LP")
+    )
     assert lp.p == pytest.approx(float(row["sigma"]), abs=1e-6)
     capsys.readouterr()
     for bad, says in [
         (["--second", "beta", "--second-min", "-0.1", "--second-max", "0.2"], "leaves the parameter's range"),
         (["--second", "beta"], "needs its range"),
-        (["--second", "eps", "--second-min", "0.01", "--second-max", "0.1", "--abar-min", "1"], "belong to the (sigma, Abar) chart"),
+        (
+            ["--second", "eps", "--second-min", "0.01", "--second-max", "0.1", "--abar-min", "1"],
+            "belong to the (sigma, Abar) chart",
+        ),
         (["--second-min", "0.1"], "go with --second NAME other than Abar"),
     ]:
         assert main(["chart", "--preset", "fig10", *bad, "--out", str(out)]) == 2
@@ -233,13 +457,31 @@ def test_set_eps_recomputes_the_presets_initial_state(capsys):
 
 
 def test_no_forcing_is_free_decay(tmp_path, capsys):
-    assert main(["simulate", "--preset", "fig10", "--set", "Abar=0", "--tmax", "300", "--out", str(tmp_path)]) == 0
+    assert (
+        main(["simulate", "--preset", "fig10", "--set", "Abar=0", "--tmax", "300", "--out", str(tmp_path)])
+        == 0
+    )
     assert "regime: free-decay" in capsys.readouterr().out
 
 
 def test_compare_writes_csv_png_and_table(tmp_path, capsys):
     out = tmp_path / "cmp"
-    argv = ["compare", "--preset", "fig10", "--set", "sigma=7.5", "--sigma-min", "7", "--sigma-max", "8", "--grid", "11", "--no-switch", "--out", str(out)]
+    argv = [
+        "compare",
+        "--preset",
+        "fig10",
+        "--set",
+        "sigma=7.5",
+        "--sigma-min",
+        "7",
+        "--sigma-max",
+        "8",
+        "--grid",
+        "11",
+        "--no-switch",
+        "--out",
+        str(out),
+    ]
     assert main(argv) == 0
     text = (out / "compare.txt").read_text()
     assert "sigma range" in text and (out / "compare.png").is_file() and (out / "compare.csv").is_file()
@@ -247,7 +489,22 @@ def test_compare_writes_csv_png_and_table(tmp_path, capsys):
 
 def test_compare_from_the_slow_flow_reports_the_nearest_stable_orbit_too(tmp_path, capsys):
     out = tmp_path / "cmp"
-    argv = ["compare", "--preset", "fig13", "--start", "slow-flow", "--sigma-min", "1.5", "--sigma-max", "3", "--grid", "16", "--no-switch", "--out", str(out)]
+    argv = [
+        "compare",
+        "--preset",
+        "fig13",
+        "--start",
+        "slow-flow",
+        "--sigma-min",
+        "1.5",
+        "--sigma-max",
+        "3",
+        "--grid",
+        "16",
+        "--no-switch",
+        "--out",
+        str(out),
+    ]
     assert main(argv) == 0
     assert "start orbit from the slow flow at sigma = " in capsys.readouterr().err
     rows = list(csv.DictReader(open(out / "compare.csv")))
@@ -258,12 +515,36 @@ def test_compare_from_the_slow_flow_reports_the_nearest_stable_orbit_too(tmp_pat
         assert np.isnan(d_stable) or d_stable >= d
         if r["shooting_stable"] == "1":
             assert d_stable == d
-    assert "stable slow-flow states with a stable 2pi-orbit of (9) within 5%" in (out / "compare.txt").read_text()
+    assert (
+        "stable slow-flow states with a stable 2pi-orbit of (9) within 5%"
+        in (out / "compare.txt").read_text()
+    )
 
 
 def test_trust_writes_the_map_and_checks_its_input(tmp_path, capsys):
     out = tmp_path / "trust"
-    argv = ["trust", "--preset", "fig13", "--eps", "0.05", "--beta", "0.3", "--n", "50,20", "--sigma-min", "1", "--sigma-max", "3", "--grid", "21", "--no-switch", "--workers", "2", "--out", str(out)]
+    argv = [
+        "trust",
+        "--preset",
+        "fig13",
+        "--eps",
+        "0.05",
+        "--beta",
+        "0.3",
+        "--n",
+        "50,20",
+        "--sigma-min",
+        "1",
+        "--sigma-max",
+        "3",
+        "--grid",
+        "21",
+        "--no-switch",
+        "--workers",
+        "2",
+        "--out",
+        str(out),
+    ]
     assert main(argv) == 0
     rows = list(csv.DictReader(open(out / "trust_map.csv")))
     assert [(r["n"], r["status"]) for r in rows] == [("50", "ok"), ("20", "ok")]
@@ -271,20 +552,41 @@ def test_trust_writes_the_map_and_checks_its_input(tmp_path, capsys):
         assert 0 <= float(r["confirmed"]) <= float(r["agree"]) <= 1 and int(r["stable_states"]) > 0
     # n = 20 loses more than half the energy per impact at these parameters: the warning fires.
     assert [r["warned"] for r in rows] == ["False", "True"]
-    assert (out / "trust_map.png").stat().st_size > 10_000 and "confirmed %" in (out / "trust_map.txt").read_text()
-    assert main(["trust", "--preset", "fig13", "--eps", "0.05", "--beta", "0.3", "--n", "0", "--out", str(out)]) == 2
+    assert (out / "trust_map.png").stat().st_size > 10_000 and "confirmed %" in (
+        out / "trust_map.txt"
+    ).read_text()
+    assert (
+        main(["trust", "--preset", "fig13", "--eps", "0.05", "--beta", "0.3", "--n", "0", "--out", str(out)])
+        == 2
+    )
     assert "parameter n must be in integers >= 1; got 0" in capsys.readouterr().err
 
 
 def test_shoot_without_an_orbit_near_the_guess_says_so(tmp_path, capsys):
-    argv = ["shoot", "--preset", "fig10", "--guess", "50,0,0,0", "--settle", "1", "--sigma-min", "0", "--sigma-max", "2", "--out", str(tmp_path)]
+    argv = [
+        "shoot",
+        "--preset",
+        "fig10",
+        "--guess",
+        "50,0,0,0",
+        "--settle",
+        "1",
+        "--sigma-min",
+        "0",
+        "--sigma-max",
+        "2",
+        "--out",
+        str(tmp_path),
+    ]
     assert main(argv) == 2
     assert "no periodic orbit found near --guess" in capsys.readouterr().err
 
 
 def test_simulate_writes_trajectory_summary_and_figure(tmp_path, capsys):
     out = tmp_path / "sim"
-    assert main(["simulate", "--preset", "fig13", "--model", "impact", "--tmax", "150", "--out", str(out)]) == 0
+    assert (
+        main(["simulate", "--preset", "fig13", "--model", "impact", "--tmax", "150", "--out", str(out)]) == 0
+    )
     data = np.load(out / "trajectory.npz")
     for key in ("tau", "X", "Xd", "w", "wd", "impact_t", "impact_v_minus", "impact_v_plus"):
         assert key in data
@@ -299,7 +601,22 @@ def test_simulate_writes_trajectory_summary_and_figure(tmp_path, capsys):
 def test_simulate_with_noise_records_the_seed_and_is_reproducible(tmp_path):
     runs = []
     for name in ("a", "b"):
-        assert main(["simulate", "--preset", "fig15", "--tmax", "60", "--seed", "7", "--out", str(tmp_path / name)]) == 0
+        assert (
+            main(
+                [
+                    "simulate",
+                    "--preset",
+                    "fig15",
+                    "--tmax",
+                    "60",
+                    "--seed",
+                    "7",
+                    "--out",
+                    str(tmp_path / name),
+                ]
+            )
+            == 0
+        )
         runs.append(np.load(tmp_path / name / "trajectory.npz")["X"])
     assert np.array_equal(runs[0], runs[1])
     noise = json.loads((tmp_path / "a" / "summary.json").read_text())["noise"]
@@ -307,15 +624,33 @@ def test_simulate_with_noise_records_the_seed_and_is_reproducible(tmp_path):
 
 
 def test_simulate_reports_bad_input(tmp_path, capsys):
-    assert main(["simulate", "--preset", "fig10", "--model", "impact", "--noise", "1", "--out", str(tmp_path)]) == 2
+    assert (
+        main(["simulate", "--preset", "fig10", "--model", "impact", "--noise", "1", "--out", str(tmp_path)])
+        == 2
+    )
     assert "smooth model only" in capsys.readouterr().err
-    assert main(["simulate", "--preset", "fig10", "--tmax", "100", "--transient", "200", "--out", str(tmp_path)]) == 2
+    assert (
+        main(["simulate", "--preset", "fig10", "--tmax", "100", "--transient", "200", "--out", str(tmp_path)])
+        == 2
+    )
     assert "--transient must be in [0, tmax - 4 pi = 87.4336)" in capsys.readouterr().err
 
 
 def test_regimes_writes_map_csv_and_png(tmp_path, capsys):
     out = tmp_path / "map"
-    argv = ["regimes", "--preset", "fig12", "--sigma-min", "0", "--sigma-max", "2", "--abar-min", "0.2", "--abar-max", "1.0"]
+    argv = [
+        "regimes",
+        "--preset",
+        "fig12",
+        "--sigma-min",
+        "0",
+        "--sigma-max",
+        "2",
+        "--abar-min",
+        "0.2",
+        "--abar-max",
+        "1.0",
+    ]
     assert main(argv + ["--grid", "2", "2", "--tmax", "300", "--workers", "2", "--out", str(out)]) == 0
     rows = (out / "regimes.csv").read_text().splitlines()
     assert rows[0].startswith("sigma,Abar,regime") and len(rows) == 5
@@ -338,11 +673,17 @@ def test_figures_writes_every_figure_quickly(tmp_path, capsys):
 def test_negative_numbers_parse_as_option_values(tmp_path, capsys):
     """`--sigma-min -1e1` and `--guess -1,0,0,0` are values, not options (argparse alone refused
     both with "expected one argument")."""
-    assert main(["frc", "--preset", "fig10", "--sigma-min", "-1e1", "--sigma-max", "-5", "--out", str(tmp_path)]) == 0
+    assert (
+        main(["frc", "--preset", "fig10", "--sigma-min", "-1e1", "--sigma-max", "-5", "--out", str(tmp_path)])
+        == 0
+    )
     with open(tmp_path / "frc.csv", newline="") as fh:
         sigmas = [float(r["sigma"]) for r in csv.DictReader(fh)]
     assert min(sigmas) == pytest.approx(-10.0)
-    assert main(["shoot", "--preset", "fig10", "--guess", "-1,0,0,0", "--no-switch", "--out", str(tmp_path)]) == 2
+    assert (
+        main(["shoot", "--preset", "fig10", "--guess", "-1,0,0,0", "--no-switch", "--out", str(tmp_path)])
+        == 2
+    )
     assert "near --guess" in capsys.readouterr().err
 
 
@@ -352,13 +693,38 @@ def test_shoot_with_the_scipy_backend_agrees_with_the_compiled_one(tmp_path):
     curves = {}
     for backend in ("scipy", "auto"):
         out = tmp_path / backend
-        assert main(["shoot", "--preset", "fig10", "--set", "sigma=-6", "--sigma-min", "-6", "--sigma-max", "-5.5", "--no-switch", "--backend", backend, "--out", str(out)]) == 0
+        assert (
+            main(
+                [
+                    "shoot",
+                    "--preset",
+                    "fig10",
+                    "--set",
+                    "sigma=-6",
+                    "--sigma-min",
+                    "-6",
+                    "--sigma-max",
+                    "-5.5",
+                    "--no-switch",
+                    "--backend",
+                    backend,
+                    "--out",
+                    str(out),
+                ]
+            )
+            == 0
+        )
         with open(out / "branch.csv", newline="") as fh:
             rows = list(csv.DictReader(fh))
-        curves[backend] = (np.array([float(r["sigma"]) for r in rows]), np.array([float(r["A1"]) for r in rows]))
+        curves[backend] = (
+            np.array([float(r["sigma"]) for r in rows]),
+            np.array([float(r["A1"]) for r in rows]),
+        )
     s, a = curves["auto"]
     order = np.argsort(curves["scipy"][0])
-    np.testing.assert_allclose(np.interp(s, curves["scipy"][0][order], curves["scipy"][1][order]), a, rtol=1e-6)
+    np.testing.assert_allclose(
+        np.interp(s, curves["scipy"][0][order], curves["scipy"][1][order]), a, rtol=1e-6
+    )
 
 
 @pytest.mark.slow  # a regime map twice (10 s); the scipy fallback of the simulation has its own fast tests
@@ -370,12 +736,31 @@ def test_regimes_with_the_scipy_backend_classify_as_the_compiled_one(tmp_path):
     rows = {}
     for backend in ("scipy", "numba"):
         out = tmp_path / backend
-        argv = ["regimes", "--preset", "fig10", "--sigma-min", "0.8", "--sigma-max", "1", "--sigma-points", "1", "--abar-min", "3", "--abar-max", "4"]
-        assert main(argv + ["--abar-points", "1", "--workers", "1", "--backend", backend, "--out", str(out)]) == 0
+        argv = [
+            "regimes",
+            "--preset",
+            "fig10",
+            "--sigma-min",
+            "0.8",
+            "--sigma-max",
+            "1",
+            "--sigma-points",
+            "1",
+            "--abar-min",
+            "3",
+            "--abar-max",
+            "4",
+        ]
+        assert (
+            main(argv + ["--abar-points", "1", "--workers", "1", "--backend", backend, "--out", str(out)])
+            == 0
+        )
         with open(out / "regimes.csv", newline="") as fh:
             (rows[backend],) = list(csv.DictReader(fh))
     assert rows["scipy"]["regime"] == rows["numba"]["regime"] == "periodic-resonant"
-    assert float(rows["scipy"]["impacts_per_period"]) == pytest.approx(float(rows["numba"]["impacts_per_period"]), rel=0.02)
+    assert float(rows["scipy"]["impacts_per_period"]) == pytest.approx(
+        float(rows["numba"]["impacts_per_period"]), rel=0.02
+    )
 
 
 @pytest.mark.parametrize(
@@ -403,7 +788,24 @@ def test_an_output_folder_that_is_a_file_is_a_one_line_error(tmp_path, capsys):
 
 def test_chart_resume_reuses_the_stored_curves_and_checks_the_settings(tmp_path, capsys):
     out = tmp_path / "chart"
-    argv = ["chart", "--preset", "fig10", "--set", "sigma=-1.2", "--sigma-min", "-1.6", "--sigma-max", "-0.9", "--abar-min", "2.8", "--abar-max", "3.2", "--no-switch", "--seeds", "0"]
+    argv = [
+        "chart",
+        "--preset",
+        "fig10",
+        "--set",
+        "sigma=-1.2",
+        "--sigma-min",
+        "-1.6",
+        "--sigma-max",
+        "-0.9",
+        "--abar-min",
+        "2.8",
+        "--abar-max",
+        "3.2",
+        "--no-switch",
+        "--seeds",
+        "0",
+    ]
     assert main(argv + ["--out", str(out)]) == 0
     first = (out / "curves.csv").read_text()
     assert sorted(p.name for p in (out / "curves").iterdir())[-1] == "settings.json"
@@ -417,33 +819,113 @@ def test_chart_resume_reuses_the_stored_curves_and_checks_the_settings(tmp_path,
 
 def test_trust_resume_reuses_the_stored_sets(tmp_path, capsys):
     out = tmp_path / "trust"
-    argv = ["trust", "--preset", "fig10", "--sigma-min", "-6", "--sigma-max", "-5", "--sigma-points", "11", "--eps", "0.05", "--beta", "0", "--n", "20,50", "--no-switch", "--workers", "1"]
+    argv = [
+        "trust",
+        "--preset",
+        "fig10",
+        "--sigma-min",
+        "-6",
+        "--sigma-max",
+        "-5",
+        "--sigma-points",
+        "11",
+        "--eps",
+        "0.05",
+        "--beta",
+        "0",
+        "--n",
+        "20,50",
+        "--no-switch",
+        "--workers",
+        "1",
+    ]
     assert main(argv + ["--out", str(out)]) == 0
     first = (out / "trust_map.csv").read_text()
     capsys.readouterr()
     assert main(argv + ["--resume", "--out", str(out)]) == 0
     assert "resuming: 2 parameter sets" in capsys.readouterr().err
     assert (out / "trust_map.csv").read_text() == first
-    assert main(argv[:-5] + ["--n", "20", "--no-switch", "--workers", "1", "--resume", "--out", str(out)]) == 2
+    assert (
+        main(argv[:-5] + ["--n", "20", "--no-switch", "--workers", "1", "--resume", "--out", str(out)]) == 2
+    )
     assert "n differ" in capsys.readouterr().err
 
 
 def test_basins_writes_csv_attractors_and_png(tmp_path, capsys):
     out = tmp_path / "basins"
-    assert main(["basins", "--preset", "fig10", "--set", "sigma=3", "--grid", "2", "2", "--tmax", "100", "--workers", "1", "--out", str(out)]) == 0
+    assert (
+        main(
+            [
+                "basins",
+                "--preset",
+                "fig10",
+                "--set",
+                "sigma=3",
+                "--grid",
+                "2",
+                "2",
+                "--tmax",
+                "100",
+                "--workers",
+                "1",
+                "--out",
+                str(out),
+            ]
+        )
+        == 0
+    )
     rows = list(csv.DictReader(open(out / "basins.csv")))
     assert len(rows) == 4 and set(rows[0]) == {"X", "w", "attractor", "uncertain", "periods_to_settle"}
-    assert all(r["attractor"].endswith("(not settled)") and r["periods_to_settle"] == "nan" for r in rows)  # 16 periods: too few to settle
-    assert "basins at sigma = 3" in (out / "attractors.txt").read_text() and (out / "basins.png").stat().st_size > 10_000
+    assert all(
+        r["attractor"].endswith("(not settled)") and r["periods_to_settle"] == "nan" for r in rows
+    )  # 16 periods: too few to settle
+    assert (
+        "basins at sigma = 3" in (out / "attractors.txt").read_text()
+        and (out / "basins.png").stat().st_size > 10_000
+    )
     assert main(["basins", "--preset", "fig10", "--range1", "1", "1", "--out", str(out)]) == 2
     assert "--range1 needs finite LO < HI" in capsys.readouterr().err
 
 
 def test_quiet_and_verbose(tmp_path, capsys):
-    assert main(["shoot", "--preset", "fig10", "--no-switch", "--sigma-min", "4", "--sigma-max", "5", "-q", "--out", str(tmp_path / "q")]) == 0
+    assert (
+        main(
+            [
+                "shoot",
+                "--preset",
+                "fig10",
+                "--no-switch",
+                "--sigma-min",
+                "4",
+                "--sigma-max",
+                "5",
+                "-q",
+                "--out",
+                str(tmp_path / "q"),
+            ]
+        )
+        == 0
+    )
     quiet = capsys.readouterr()
     assert quiet.err == "" and "special: " in quiet.out
-    assert main(["shoot", "--preset", "fig10", "--no-switch", "--sigma-min", "4", "--sigma-max", "5", "-v", "--out", str(tmp_path / "v")]) == 0
+    assert (
+        main(
+            [
+                "shoot",
+                "--preset",
+                "fig10",
+                "--no-switch",
+                "--sigma-min",
+                "4",
+                "--sigma-max",
+                "5",
+                "-v",
+                "--out",
+                str(tmp_path / "v"),
+            ]
+        )
+        == 0
+    )
     loud = capsys.readouterr()
     assert "point 2," in loud.err and "BP 4.4" not in quiet.out and "END 4," in loud.out
 
@@ -451,5 +933,8 @@ def test_quiet_and_verbose(tmp_path, capsys):
 def test_a_warning_says_where_it_comes_from():
     from slosh_bif.cli import warning_origin
 
-    assert warning_origin(RuntimeWarning, "/site/slosh_bif/orbits/shooting.py", 263) == " (RuntimeWarning at slosh_bif/orbits/shooting.py:263)"
+    assert (
+        warning_origin(RuntimeWarning, "/site/slosh_bif/orbits/shooting.py", 263)
+        == " (RuntimeWarning at slosh_bif/orbits/shooting.py:263)"
+    )
     assert warning_origin(UserWarning, "/site/slosh_bif/slowflow/flow.py", 10) == ""

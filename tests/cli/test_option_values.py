@@ -49,7 +49,14 @@ def no_work(monkeypatch):
     monkeypatch.setattr(tank, "tank_model", _started)  # tank's conversion, after the inputs are checked
     for name in ("frequency_response", "forcing_response"):  # frc's continuation
         monkeypatch.setattr(steady_states, name, _started)
-    for name in ("frequency_response", "critical_forcing", "critical_forcing_full", "simulate", "settle_and_shoot", "trace_orbits"):  # answer's rungs
+    for name in (
+        "frequency_response",
+        "critical_forcing",
+        "critical_forcing_full",
+        "simulate",
+        "settle_and_shoot",
+        "trace_orbits",
+    ):  # answer's rungs
         monkeypatch.setattr(ladder, name, _started)
 
 
@@ -58,55 +65,228 @@ NUMBERS = st.one_of(
     st.sampled_from([0.0, -0.0, -1.0, 1e-300, 1e300, 1.19e305, 0.5, 3.0, 600.0, -6.0, 8.0]),
 )
 
-_TANK_REST = ["--depth", "8", "--structure-mass", "2e6", "--structure-frequency", "0.8", "--excitation-frequency", "0.72", "--clearance", "1", "--ground-acceleration", "1"]
+_TANK_REST = [
+    "--depth",
+    "8",
+    "--structure-mass",
+    "2e6",
+    "--structure-frequency",
+    "0.8",
+    "--excitation-frequency",
+    "0.72",
+    "--clearance",
+    "1",
+    "--ground-acceleration",
+    "1",
+]
 
 # (command line before the value, option, command line after it, the values that must be errors)
 CASES = {
-    "simulate --tmax": (["simulate", "--preset", "fig10"], "--tmax", [], lambda v: not (math.isfinite(v) and v > 0)),
-    "simulate --noise": (["simulate", "--preset", "fig10", "--tmax", "10"], "--noise", [], lambda v: not (math.isfinite(v) and v >= 0)),
-    "simulate --noise-cutoff": (["simulate", "--preset", "fig10", "--tmax", "10", "--noise", "0.1"], "--noise-cutoff", [], lambda v: not (math.isfinite(v) and v > 0)),
-    "simulate --set Abar": (["simulate", "--preset", "fig10", "--tmax", "10", "--set"], None, [], lambda v: not (math.isfinite(v) and v >= 0)),
-    "regimes --abar-max": (["regimes", "--preset", "fig10", "--abar-min", "0.1"], "--abar-max", [], lambda v: not (math.isfinite(v) and v > 0.1)),
-    "regimes --tmax": (["regimes", "--preset", "fig10"], "--tmax", [], lambda v: not (math.isfinite(v) and v > 0)),
-    "chart --sigma-max": (["chart", "--preset", "fig10", "--sigma-min", "-6"], "--sigma-max", [], lambda v: not (math.isfinite(v) and v > -6)),
-    "chart --abar-min": (["chart", "--preset", "fig10"], "--abar-min", [], lambda v: not (math.isfinite(v) and 0 <= v < 6)),
-    "chart --second-max": (["chart", "--preset", "fig10", "--second", "beta", "--second-min", "0"], "--second-max", [], lambda v: not (math.isfinite(v) and v > 0)),
-    "shoot --sigma-max": (["shoot", "--preset", "fig10", "--sigma-min", "-6"], "--sigma-max", [], lambda v: not (math.isfinite(v) and v > -6)),
+    "simulate --tmax": (
+        ["simulate", "--preset", "fig10"],
+        "--tmax",
+        [],
+        lambda v: not (math.isfinite(v) and v > 0),
+    ),
+    "simulate --noise": (
+        ["simulate", "--preset", "fig10", "--tmax", "10"],
+        "--noise",
+        [],
+        lambda v: not (math.isfinite(v) and v >= 0),
+    ),
+    "simulate --noise-cutoff": (
+        ["simulate", "--preset", "fig10", "--tmax", "10", "--noise", "0.1"],
+        "--noise-cutoff",
+        [],
+        lambda v: not (math.isfinite(v) and v > 0),
+    ),
+    "simulate --set Abar": (
+        ["simulate", "--preset", "fig10", "--tmax", "10", "--set"],
+        None,
+        [],
+        lambda v: not (math.isfinite(v) and v >= 0),
+    ),
+    "regimes --abar-max": (
+        ["regimes", "--preset", "fig10", "--abar-min", "0.1"],
+        "--abar-max",
+        [],
+        lambda v: not (math.isfinite(v) and v > 0.1),
+    ),
+    "regimes --tmax": (
+        ["regimes", "--preset", "fig10"],
+        "--tmax",
+        [],
+        lambda v: not (math.isfinite(v) and v > 0),
+    ),
+    "chart --sigma-max": (
+        ["chart", "--preset", "fig10", "--sigma-min", "-6"],
+        "--sigma-max",
+        [],
+        lambda v: not (math.isfinite(v) and v > -6),
+    ),
+    "chart --abar-min": (
+        ["chart", "--preset", "fig10"],
+        "--abar-min",
+        [],
+        lambda v: not (math.isfinite(v) and 0 <= v < 6),
+    ),
+    "chart --second-max": (
+        ["chart", "--preset", "fig10", "--second", "beta", "--second-min", "0"],
+        "--second-max",
+        [],
+        lambda v: not (math.isfinite(v) and v > 0),
+    ),
+    "shoot --sigma-max": (
+        ["shoot", "--preset", "fig10", "--sigma-min", "-6"],
+        "--sigma-max",
+        [],
+        lambda v: not (math.isfinite(v) and v > -6),
+    ),
     "shoot --rtol": (["shoot", "--preset", "fig10"], "--rtol", [], lambda v: not (1e-14 <= v <= 1e-4)),
-    "frc --sigma-min": (["frc", "--preset", "fig10", "--sigma-max", "8"], "--sigma-min", [], lambda v: not (math.isfinite(v) and v < 8)),
-    "trust --sigma-max": (["trust", "--preset", "fig13", "--no-switch", "--sigma-min", "-6"], "--sigma-max", [], lambda v: not (math.isfinite(v) and v > -6)),
-    "basins --tmax": (["basins", "--preset", "fig10"], "--tmax", [], lambda v: not (math.isfinite(v) and v > 0)),
-    "critical --sigma-max": (["critical", "--preset", "fig13", "--sigma-min", "-6"], "--sigma-max", [], lambda v: not (math.isfinite(v) and v > -6)),
-    "compare --sigma-min": (["compare", "--preset", "fig13", "--sigma-max", "8"], "--sigma-min", [], lambda v: not (math.isfinite(v) and v < 8)),
+    "frc --sigma-min": (
+        ["frc", "--preset", "fig10", "--sigma-max", "8"],
+        "--sigma-min",
+        [],
+        lambda v: not (math.isfinite(v) and v < 8),
+    ),
+    "trust --sigma-max": (
+        ["trust", "--preset", "fig13", "--no-switch", "--sigma-min", "-6"],
+        "--sigma-max",
+        [],
+        lambda v: not (math.isfinite(v) and v > -6),
+    ),
+    "basins --tmax": (
+        ["basins", "--preset", "fig10"],
+        "--tmax",
+        [],
+        lambda v: not (math.isfinite(v) and v > 0),
+    ),
+    "critical --sigma-max": (
+        ["critical", "--preset", "fig13", "--sigma-min", "-6"],
+        "--sigma-max",
+        [],
+        lambda v: not (math.isfinite(v) and v > -6),
+    ),
+    "compare --sigma-min": (
+        ["compare", "--preset", "fig13", "--sigma-max", "8"],
+        "--sigma-min",
+        [],
+        lambda v: not (math.isfinite(v) and v < 8),
+    ),
     "frc --ds": (["frc", "--preset", "fig10"], "--ds", [], lambda v: not (math.isfinite(v) and v > 0)),
-    "frc --ds-max": (["frc", "--preset", "fig10"], "--ds-max", [], lambda v: not (math.isfinite(v) and v > 0)),
+    "frc --ds-max": (
+        ["frc", "--preset", "fig10"],
+        "--ds-max",
+        [],
+        lambda v: not (math.isfinite(v) and v > 0),
+    ),
     "frc --max-seconds": (["frc", "--preset", "fig10"], "--max-seconds", [], lambda v: not v > 0),
-    "simulate --transient": (["simulate", "--preset", "fig10", "--tmax", "10"], "--transient", [], lambda v: not 0 <= v < 10),
-    "chart --tmax": (["chart", "--preset", "fig10", "--regimes", "3", "3"], "--tmax", [], lambda v: not (math.isfinite(v) and 0 < v <= 0.02 * 20_000_000)),
-    "tank --depth": (["tank", "--shape", "cylinder", "--radius", "5", *_TANK_REST[2:]], "--depth", [], lambda v: not (math.isfinite(v) and v > 0)),
-    "tank --density": (["tank", "--shape", "cylinder", "--radius", "5", *_TANK_REST], "--density", [], lambda v: not (math.isfinite(v) and v > 0)),
-    "tank --radius": (["tank", "--shape", "cylinder", *_TANK_REST], "--radius", [], lambda v: not (math.isfinite(v) and v > 0)),
-    "tank --ground-acceleration": (["tank", "--shape", "cylinder", "--radius", "5", *_TANK_REST[:-2]], "--ground-acceleration", [], lambda v: not (math.isfinite(v) and v > 0)),
-    "tank --damping-ratio": (["tank", "--shape", "cylinder", "--radius", "5", *_TANK_REST], "--damping-ratio", [], lambda v: not (math.isfinite(v) and 0 <= v < 1)),
-    "answer --tol": (["answer", "frequency-response", "--preset", "fig10"], "--tol", [], lambda v: not (math.isfinite(v) and v > 0)),
-    "answer --tmax": (["answer", "regime", "--preset", "fig10"], "--tmax", [], lambda v: not (math.isfinite(v) and v > 8 * math.pi)),
-    "basins --range1": (["basins", "--preset", "fig10", "--range1", "-3"], None, [], lambda v: not (math.isfinite(v) and v > -3)),
-    "basins --range2": (["basins", "--preset", "fig10", "--range2", "-1"], None, [], lambda v: not (math.isfinite(v) and v > -1)),
-    "tank --lam": (["tank", "--shape", "cylinder", "--radius", "5", *_TANK_REST], "--lam", [], lambda v: not _wall_ok(lam=v)),
-    "tank --chi": (["tank", "--shape", "cylinder", "--radius", "5", *_TANK_REST], "--chi", [], lambda v: not _wall_ok(chi=v)),
-    "answer --sigma-min": (["answer", "frequency-response", "--preset", "fig10", "--sigma-max", "8"], "--sigma-min", [], lambda v: not (math.isfinite(v) and v < 1)),
+    "simulate --transient": (
+        ["simulate", "--preset", "fig10", "--tmax", "10"],
+        "--transient",
+        [],
+        lambda v: not 0 <= v < 10,
+    ),
+    "chart --tmax": (
+        ["chart", "--preset", "fig10", "--regimes", "3", "3"],
+        "--tmax",
+        [],
+        lambda v: not (math.isfinite(v) and 0 < v <= 0.02 * 20_000_000),
+    ),
+    "tank --depth": (
+        ["tank", "--shape", "cylinder", "--radius", "5", *_TANK_REST[2:]],
+        "--depth",
+        [],
+        lambda v: not (math.isfinite(v) and v > 0),
+    ),
+    "tank --density": (
+        ["tank", "--shape", "cylinder", "--radius", "5", *_TANK_REST],
+        "--density",
+        [],
+        lambda v: not (math.isfinite(v) and v > 0),
+    ),
+    "tank --radius": (
+        ["tank", "--shape", "cylinder", *_TANK_REST],
+        "--radius",
+        [],
+        lambda v: not (math.isfinite(v) and v > 0),
+    ),
+    "tank --ground-acceleration": (
+        ["tank", "--shape", "cylinder", "--radius", "5", *_TANK_REST[:-2]],
+        "--ground-acceleration",
+        [],
+        lambda v: not (math.isfinite(v) and v > 0),
+    ),
+    "tank --damping-ratio": (
+        ["tank", "--shape", "cylinder", "--radius", "5", *_TANK_REST],
+        "--damping-ratio",
+        [],
+        lambda v: not (math.isfinite(v) and 0 <= v < 1),
+    ),
+    "answer --tol": (
+        ["answer", "frequency-response", "--preset", "fig10"],
+        "--tol",
+        [],
+        lambda v: not (math.isfinite(v) and v > 0),
+    ),
+    "answer --tmax": (
+        ["answer", "regime", "--preset", "fig10"],
+        "--tmax",
+        [],
+        lambda v: not (math.isfinite(v) and v > 8 * math.pi),
+    ),
+    "basins --range1": (
+        ["basins", "--preset", "fig10", "--range1", "-3"],
+        None,
+        [],
+        lambda v: not (math.isfinite(v) and v > -3),
+    ),
+    "basins --range2": (
+        ["basins", "--preset", "fig10", "--range2", "-1"],
+        None,
+        [],
+        lambda v: not (math.isfinite(v) and v > -1),
+    ),
+    "tank --lam": (
+        ["tank", "--shape", "cylinder", "--radius", "5", *_TANK_REST],
+        "--lam",
+        [],
+        lambda v: not _wall_ok(lam=v),
+    ),
+    "tank --chi": (
+        ["tank", "--shape", "cylinder", "--radius", "5", *_TANK_REST],
+        "--chi",
+        [],
+        lambda v: not _wall_ok(chi=v),
+    ),
+    "answer --sigma-min": (
+        ["answer", "frequency-response", "--preset", "fig10", "--sigma-max", "8"],
+        "--sigma-min",
+        [],
+        lambda v: not (math.isfinite(v) and v < 1),
+    ),
 }
 
 
 @pytest.mark.parametrize("case", sorted(CASES))
-@settings(max_examples=40, deadline=None, derandomize=True, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@settings(
+    max_examples=40,
+    deadline=None,
+    derandomize=True,
+    suppress_health_check=[HealthCheck.function_scoped_fixture],
+)
 @given(value=NUMBERS)
 def test_a_numeric_option_is_an_error_or_starts_the_work(case, value, no_work, tmp_path, capsys):
     before, option, after, invalid = CASES[case]
     text = repr(value) if math.isfinite(value) else str(value)
     # no option: the value ends the line before it (--set Abar=VALUE, or the second number of a pair)
     last = before[-1] == "--set"
-    argv = before + ([option, text] if option else [f"Abar={text}"] if last else [text]) + after + ["--out", str(tmp_path / "out")]
+    argv = (
+        before
+        + ([option, text] if option else [f"Abar={text}"] if last else [text])
+        + after
+        + ["--out", str(tmp_path / "out")]
+    )
     _an_error_or_the_work(argv, invalid(value), capsys)
 
 
@@ -128,7 +308,9 @@ def _an_error_or_the_work(argv, invalid: bool, capsys, *, usable_refused_too: bo
 @pytest.mark.parametrize("value", ["1", "0", "-3"])
 def test_compare_refuses_too_few_sigma_points_before_any_work(value, no_work, tmp_path, capsys):
     # (it used to check --sigma-points after the frequency response and the orbit family were computed)
-    assert main(["compare", "--preset", "fig13", "--sigma-points", value, "--out", str(tmp_path / "out")]) == 2
+    assert (
+        main(["compare", "--preset", "fig13", "--sigma-points", value, "--out", str(tmp_path / "out")]) == 2
+    )
     assert "--sigma-points must be an integer >= 2" in capsys.readouterr().err
 
 
@@ -156,24 +338,61 @@ INTEGER_CASES = {
     "shoot --segments": (["shoot", "--preset", "fig10"], "--segments", lambda v: not 1 <= v <= 64),
     "shoot --settle": (["shoot", "--preset", "fig10"], "--settle", lambda v: not 0 <= v <= 100_000),
     "shoot --max-branches": (["shoot", "--preset", "fig10"], "--max-branches", lambda v: not 1 <= v <= 1000),
-    "shoot --scan-points": (["shoot", "--preset", "fig10", "--start", "scan"], "--scan-points", lambda v: not 1 <= v <= 1000),
-    "shoot --scan-random": (["shoot", "--preset", "fig10", "--start", "scan"], "--scan-random", lambda v: not 0 <= v <= 1000),
+    "shoot --scan-points": (
+        ["shoot", "--preset", "fig10", "--start", "scan"],
+        "--scan-points",
+        lambda v: not 1 <= v <= 1000,
+    ),
+    "shoot --scan-random": (
+        ["shoot", "--preset", "fig10", "--start", "scan"],
+        "--scan-random",
+        lambda v: not 0 <= v <= 1000,
+    ),
     "compare --segments": (["compare", "--preset", "fig13"], "--segments", lambda v: not 1 <= v <= 64),
-    "regimes --abar-points": (["regimes", "--preset", "fig10"], "--abar-points", lambda v: not 1 <= v <= 2000),
+    "regimes --abar-points": (
+        ["regimes", "--preset", "fig10"],
+        "--abar-points",
+        lambda v: not 1 <= v <= 2000,
+    ),
     "basins --grid": (["basins", "--preset", "fig10", "--grid", "5"], "", lambda v: not 1 <= v <= 2000),
-    "trust --sigma-points": (["trust", "--preset", "fig13", "--no-switch"], "--sigma-points", lambda v: not 2 <= v <= 100_000),
-    "trust --workers": (["trust", "--preset", "fig13", "--no-switch"], "--workers", lambda v: not 1 <= v <= 256),
+    "trust --sigma-points": (
+        ["trust", "--preset", "fig13", "--no-switch"],
+        "--sigma-points",
+        lambda v: not 2 <= v <= 100_000,
+    ),
+    "trust --workers": (
+        ["trust", "--preset", "fig13", "--no-switch"],
+        "--workers",
+        lambda v: not 1 <= v <= 256,
+    ),
     "basins --workers": (["basins", "--preset", "fig10"], "--workers", lambda v: not 1 <= v <= 256),
     "bench --repeats": (["bench"], "--repeats", lambda v: not 1 <= v <= 100),
-    "tank --n": (["tank", "--shape", "cylinder", "--radius", "5", *_TANK_REST], "--n", lambda v: not _wall_ok(n=v)),
-    "tank --pbar": (["tank", "--shape", "cylinder", "--radius", "5", *_TANK_REST], "--pbar", lambda v: not _wall_ok(pbar=v)),
+    "tank --n": (
+        ["tank", "--shape", "cylinder", "--radius", "5", *_TANK_REST],
+        "--n",
+        lambda v: not _wall_ok(n=v),
+    ),
+    "tank --pbar": (
+        ["tank", "--shape", "cylinder", "--radius", "5", *_TANK_REST],
+        "--pbar",
+        lambda v: not _wall_ok(pbar=v),
+    ),
 }
 
 
 @pytest.mark.parametrize("case", sorted(INTEGER_CASES))
-@settings(max_examples=30, deadline=None, derandomize=True, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@settings(
+    max_examples=30,
+    deadline=None,
+    derandomize=True,
+    suppress_health_check=[HealthCheck.function_scoped_fixture],
+)
 @given(value=INTEGERS)
 def test_an_integer_option_is_an_error_or_starts_the_work(case, value, no_work, tmp_path, capsys):
     before, option, invalid = INTEGER_CASES[case]
-    argv = [*before, option, str(value)] if option else [*before, str(value)]  # no option: the value ends the line before it
-    _an_error_or_the_work([*argv, "--out", str(tmp_path / "out")], invalid(value), capsys, usable_refused_too=True)
+    argv = (
+        [*before, option, str(value)] if option else [*before, str(value)]
+    )  # no option: the value ends the line before it
+    _an_error_or_the_work(
+        [*argv, "--out", str(tmp_path / "out")], invalid(value), capsys, usable_refused_too=True
+    )

@@ -9,14 +9,35 @@ import time
 
 from slosh_bif.cli import main
 
-SCAN = ["shoot", "--preset", "fig13", "--set", "n=6", "--start", "scan", "--scan-points", "3", "--scan-random", "1", "--sigma-min", "-6", "--sigma-max", "8"]
+SCAN = [
+    "shoot",
+    "--preset",
+    "fig13",
+    "--set",
+    "n=6",
+    "--start",
+    "scan",
+    "--scan-points",
+    "3",
+    "--scan-random",
+    "1",
+    "--sigma-min",
+    "-6",
+    "--sigma-max",
+    "8",
+]
 
 
 def test_an_interrupted_scan_resumed_equals_an_uninterrupted_one(tmp_path, capsys):
     first = tmp_path / "a"
     child = subprocess.Popen(
-        [sys.executable, "-m", "slosh_bif.cli", *SCAN, "--out", str(first)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),  # as a terminal's Ctrl-C finds it (see test_signals.default_sigint)
+        [sys.executable, "-m", "slosh_bif.cli", *SCAN, "--out", str(first)],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        preexec_fn=lambda: signal.signal(
+            signal.SIGINT, signal.SIG_DFL
+        ),  # as a terminal's Ctrl-C finds it (see test_signals.default_sigint)
     )
     deadline = time.monotonic() + 120
     while time.monotonic() < deadline and not (first / "scan.pickle").exists() and child.poll() is None:

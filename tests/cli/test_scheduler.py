@@ -10,15 +10,23 @@ from slosh_bif.cli import main
 
 @pytest.fixture(scope="module")
 def scheduler():
-    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
+    with distributed.LocalCluster(
+        n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None
+    ) as cluster:
         yield cluster.scheduler_address
 
 
 @pytest.mark.parametrize(
     "arguments, table",
     [
-        (["regimes", "--preset", "fig13", "--sigma-points", "3", "--abar-points", "3", "--tmax", "600"], "regimes.csv"),
-        (["basins", "--preset", "fig10", "--set", "sigma=3", "--grid", "3", "3", "--tmax", "300"], "basins.csv"),
+        (
+            ["regimes", "--preset", "fig13", "--sigma-points", "3", "--abar-points", "3", "--tmax", "600"],
+            "regimes.csv",
+        ),
+        (
+            ["basins", "--preset", "fig10", "--set", "sigma=3", "--grid", "3", "3", "--tmax", "300"],
+            "basins.csv",
+        ),
     ],
     ids=["regimes", "basins"],
 )
@@ -29,7 +37,21 @@ def test_a_sweep_on_a_dask_cluster_equals_the_local_one(tmp_path, scheduler, arg
 
 
 def test_a_scheduler_that_does_not_answer_is_a_one_line_error(tmp_path, capsys):
-    code = main(["regimes", "--preset", "fig13", "--sigma-points", "2", "--abar-points", "2", "--scheduler", "tcp://127.0.0.1:9", "--out", str(tmp_path)])
+    code = main(
+        [
+            "regimes",
+            "--preset",
+            "fig13",
+            "--sigma-points",
+            "2",
+            "--abar-points",
+            "2",
+            "--scheduler",
+            "tcp://127.0.0.1:9",
+            "--out",
+            str(tmp_path),
+        ]
+    )
     err = capsys.readouterr().err
     assert code == 2 and "--scheduler tcp://127.0.0.1:9" in err and "Traceback" not in err
 
@@ -50,7 +72,21 @@ def test_a_service_that_is_not_a_scheduler_is_refused_in_seconds(tmp_path, capsy
 
     threading.Thread(target=greet, daemon=True).start()
     try:
-        code = main(["regimes", "--preset", "fig13", "--sigma-points", "2", "--abar-points", "2", "--scheduler", f"tcp://127.0.0.1:{port}", "--out", str(tmp_path)])
+        code = main(
+            [
+                "regimes",
+                "--preset",
+                "fig13",
+                "--sigma-points",
+                "2",
+                "--abar-points",
+                "2",
+                "--scheduler",
+                f"tcp://127.0.0.1:{port}",
+                "--out",
+                str(tmp_path),
+            ]
+        )
     finally:
         server.close()
     err = capsys.readouterr().err

@@ -29,7 +29,18 @@ def _alive(pid):
 
 
 REGIMES = ["regimes", "--preset", "fig13", "--sigma-points", "6", "--abar-points", "6", "--tmax", "3000"]
-TRUST = ["trust", "--preset", "fig13", "--no-switch", "--eps", "0.02,0.05,0.1", "--beta", "0,0.3", "--n", "20,50"]
+TRUST = [
+    "trust",
+    "--preset",
+    "fig13",
+    "--no-switch",
+    "--eps",
+    "0.02,0.05,0.1",
+    "--beta",
+    "0,0.3",
+    "--n",
+    "20,50",
+]
 
 
 def default_sigint():
@@ -43,7 +54,11 @@ def _stop_while_running(arguments, signum, out, wait=4.0, ready=None):
     """Start the map, wait for its pool, then ``wait`` seconds, or (``ready``) until ready() holds
     (at most 120 s: a loaded machine may take longer than any fixed wait for its first cell)."""
     child = subprocess.Popen(
-        [sys.executable, "-m", "slosh_bif.cli", *arguments, "--workers", "2", "--out", str(out)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, preexec_fn=default_sigint,
+        [sys.executable, "-m", "slosh_bif.cli", *arguments, "--workers", "2", "--out", str(out)],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        preexec_fn=default_sigint,
     )
     deadline = time.monotonic() + 120
     workers = []
@@ -65,9 +80,16 @@ def _stop_while_running(arguments, signum, out, wait=4.0, ready=None):
 @pytest.mark.skipif(not os.path.exists("/proc/self/task"), reason="reads worker processes from Linux's /proc")
 @pytest.mark.parametrize("signum, code", [(signal.SIGINT, 130), (signal.SIGTERM, 143)])
 @pytest.mark.parametrize(
-    "arguments, table, cells, column", [(REGIMES, "regimes.csv", 36, "regime"), pytest.param(TRUST, "trust_map.csv", 12, "status", marks=pytest.mark.slow)], ids=["regimes", "trust"]
+    "arguments, table, cells, column",
+    [
+        (REGIMES, "regimes.csv", 36, "regime"),
+        pytest.param(TRUST, "trust_map.csv", 12, "status", marks=pytest.mark.slow),
+    ],
+    ids=["regimes", "trust"],
 )
-def test_a_stopped_map_keeps_what_it_did_and_leaves_no_worker(tmp_path, signum, code, arguments, table, cells, column):
+def test_a_stopped_map_keeps_what_it_did_and_leaves_no_worker(
+    tmp_path, signum, code, arguments, table, cells, column
+):
     out = tmp_path / "map"
     returncode, err, elapsed, workers = _stop_while_running(arguments, signum, out)
     assert returncode == code, err
@@ -85,8 +107,19 @@ def test_a_stopped_map_keeps_what_it_did_and_leaves_no_worker(tmp_path, signum, 
 @pytest.mark.parametrize(
     "grid, store, table, cells",
     [
-        (["regimes", "--preset", "fig13", "--sigma-points", "5", "--abar-points", "5", "--tmax", "3000"], "regimes.json", "regimes.csv", 25),
-        pytest.param(["basins", "--preset", "fig10", "--set", "sigma=3", "--grid", "16", "16", "--tmax", "12000"], "basins.json", "basins.csv", 256, marks=pytest.mark.slow),
+        (
+            ["regimes", "--preset", "fig13", "--sigma-points", "5", "--abar-points", "5", "--tmax", "3000"],
+            "regimes.json",
+            "regimes.csv",
+            25,
+        ),
+        pytest.param(
+            ["basins", "--preset", "fig10", "--set", "sigma=3", "--grid", "16", "16", "--tmax", "12000"],
+            "basins.json",
+            "basins.csv",
+            256,
+            marks=pytest.mark.slow,
+        ),
     ],
     ids=["regimes", "basins"],
 )
@@ -103,7 +136,9 @@ def test_an_interrupted_map_resumed_equals_an_uninterrupted_one(tmp_path, capsys
 
     # the running map rewrites <stem>.partial.json every 5 s: signal once it holds a cell
     partial = store.replace(".json", ".partial.json")
-    returncode, err, _, _ = _stop_while_running(grid, signal.SIGINT, tmp_path / "a", ready=lambda: stored(partial) > 0)
+    returncode, err, _, _ = _stop_while_running(
+        grid, signal.SIGINT, tmp_path / "a", ready=lambda: stored(partial) > 0
+    )
     assert returncode == 130, err
     kept = stored(store)
     assert 0 < kept < cells
@@ -127,20 +162,43 @@ def test_a_killed_map_resumes_from_the_cells_stored_on_the_way(tmp_path, capsys)
 
     # ~20 s of work on 2 cores with a warm compilation cache (tmax 3000 finished in 8.6 s, before the kill)
     grid = ["regimes", "--preset", "fig13", "--sigma-points", "6", "--abar-points", "6", "--tmax", "8000"]
-    returncode, err, _, workers = _stop_while_running(grid, signal.SIGKILL, tmp_path / "a", wait=8.0)  # past the first store, 5 s in
+    returncode, err, _, workers = _stop_while_running(
+        grid, signal.SIGKILL, tmp_path / "a", wait=8.0
+    )  # past the first store, 5 s in
     assert returncode == -signal.SIGKILL
     time.sleep(1.0)
-    assert workers and not any(_alive(w) for w in workers)  # they end with their parent (a watch on it in each worker)
+    assert workers and not any(
+        _alive(w) for w in workers
+    )  # they end with their parent (a watch on it in each worker)
     assert not (tmp_path / "a" / "regimes.json").exists()  # never completed: no result file claims to be one
     kept = len(json.loads((tmp_path / "a" / "regimes.partial.json").read_text())["cells"])
     assert 0 < kept < 36
     assert main([*grid, "--workers", "2", "--resume", "--out", str(tmp_path / "a")]) == 0
     assert f"resuming: {kept} of 36" in capsys.readouterr().err
     assert not (tmp_path / "a" / "regimes.partial.json").exists()
-    assert files.read_store(tmp_path / "a" / "regimes.json", json.loads((tmp_path / "a" / "regimes.json").read_text())["settings"])["status"] == "complete"
+    assert (
+        files.read_store(
+            tmp_path / "a" / "regimes.json",
+            json.loads((tmp_path / "a" / "regimes.json").read_text())["settings"],
+        )["status"]
+        == "complete"
+    )
 
 
-CHART = ["chart", "--preset", "fig10", "--sigma-min", "-6", "--sigma-max", "8", "--abar-min", "0.2", "--abar-max", "6", "--no-switch"]
+CHART = [
+    "chart",
+    "--preset",
+    "fig10",
+    "--sigma-min",
+    "-6",
+    "--sigma-max",
+    "8",
+    "--abar-min",
+    "0.2",
+    "--abar-max",
+    "6",
+    "--no-switch",
+]
 
 
 @pytest.mark.slow  # stopping with workers: the maps' tests cover it in the default run
@@ -154,7 +212,9 @@ def test_a_stopped_chart_keeps_its_finished_curves_and_leaves_no_worker(tmp_path
     stored = sorted((out / "curves").glob("curve-*.npz"))
     with open(out / "curves.csv", newline="") as fh:
         rows = list(csv.DictReader(fh))
-    assert stored and 0 < len({r["curve"] for r in rows}) <= len(stored)  # the finished curves (one of two duplicates dropped), complete
+    assert stored and 0 < len({r["curve"] for r in rows}) <= len(
+        stored
+    )  # the finished curves (one of two duplicates dropped), complete
 
 
 @pytest.mark.parametrize("signum, code", [(signal.SIGINT, 130), (signal.SIGTERM, 143)])
@@ -163,8 +223,21 @@ def test_the_critical_forcing_of_the_full_model_stops_on_a_signal(signum, code):
     does): a signal while a curve is traced stops the command, it does not end that curve's
     stage early and go on with a partial answer."""
     child = subprocess.Popen(
-        [sys.executable, "-m", "slosh_bif.cli", "answer", "critical-forcing", "--preset", "fig13", "--tol", "0.3"],
-        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, preexec_fn=default_sigint,
+        [
+            sys.executable,
+            "-m",
+            "slosh_bif.cli",
+            "answer",
+            "critical-forcing",
+            "--preset",
+            "fig13",
+            "--tol",
+            "0.3",
+        ],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        preexec_fn=default_sigint,
     )
     for line in child.stderr:  # the curves are being traced
         if "curve from" in line or "special points" in line:

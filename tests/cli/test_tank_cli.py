@@ -11,8 +11,25 @@ from slosh_bif.model.parameter_file import read_parameter_file
 from slosh_bif.model.presets import get_preset
 from slosh_bif.model.tank import Site, Tank, tank_model
 
-TANK = ["tank", "--shape", "cylinder", "--radius", "5", "--depth", "8", "--structure-mass", "2e6", "--structure-frequency", "0.8",
-        "--excitation-frequency", "0.72", "--ground-acceleration", "0.5", "--clearance", "1"]
+TANK = [
+    "tank",
+    "--shape",
+    "cylinder",
+    "--radius",
+    "5",
+    "--depth",
+    "8",
+    "--structure-mass",
+    "2e6",
+    "--structure-frequency",
+    "0.8",
+    "--excitation-frequency",
+    "0.72",
+    "--ground-acceleration",
+    "0.5",
+    "--clearance",
+    "1",
+]
 
 
 def test_tank_writes_a_file_that_reads_back_to_its_parameters(tmp_path, capsys):
@@ -20,7 +37,9 @@ def test_tank_writes_a_file_that_reads_back_to_its_parameters(tmp_path, capsys):
     assert main([*TANK, "--n", "20", "--out", str(path)]) == 0
     out = capsys.readouterr().out
     assert "eps = m_1 / M" in out and "Abramson" in out
-    expected = tank_model(Tank("cylinder", depth=8.0, radius=5.0), Site(2e6, 0.8, 0.72, 0.5, 1.0), wall={"n": 20}).params
+    expected = tank_model(
+        Tank("cylinder", depth=8.0, radius=5.0), Site(2e6, 0.8, 0.72, 0.5, 1.0), wall={"n": 20}
+    ).params
     assert read_parameter_file(path).params == expected
     assert main(["info", "--params", str(path), "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["params"] == expected.as_dict()
@@ -44,8 +63,17 @@ def test_a_preset_written_as_a_file_gives_the_presets_results(tmp_path):
     [
         ("[params]\neps = 0.05\nomega = 1\n", "unknown key 'omega' in [params]"),
         ("[params]\neps = 0.05\n", "[params] needs beta"),
-        ('[params]\neps = -1\nbeta = 0\ngamma = 0.2\nsigma = 1\nAbar = 1\nlam = 0.35\nchi = 0.2\nn = 50\npbar = 0\n', "parameter eps must be in (0, inf)"),
-        ("[tank]\nshape = 'cylinder'\ndepth = 8\nradius = 5\nstructure_mass = 2e6\nstructure_frequency = 0.8\nexcitation_frequency = 0.72\nground_acceleration = 0.5\nclearance = 1\nheight = 6\n", "depth 8 m exceeds the tank's height 6 m"),
+        (
+            "[params]\neps = -1\nbeta = 0\ngamma = 0.2\nsigma = 1\nAbar = 1\nlam = 0.35\nchi = "
+            "0.2\nn = 50\npbar = 0\n",
+            "parameter eps must be in (0, inf)",
+        ),
+        (
+            "[tank]\nshape = 'cylinder'\ndepth = 8\nradius = 5\nstructure_mass = "
+            "2e6\nstructure_frequency = 0.8\nexcitation_frequency = 0.72\nground_acceleration = "
+            "0.5\nclearance = 1\nheight = 6\n",
+            "depth 8 m exceeds the tank's height 6 m",
+        ),
         ("[tank]\nshape = 'cylinder'\ndepth = 8\n", "[tank] needs structure_mass"),
         ("[params]\n[tank]\n", "exactly one of the tables"),
         ("[initial]\nuv0 = [0, 1]\n[params]\neps = 1\n", "needs beta"),
@@ -72,7 +100,9 @@ def test_bad_tanks_are_one_line_errors(tmp_path, capsys):
         assert says in err and err.strip().count("\n") == 0, err
     assert main(["info", "--preset", "fig10", "--out", str(tmp_path)]) == 2  # a file is written, not a folder
     assert "is a folder; give a file name" in capsys.readouterr().err
-    assert main([*TANK[:-6], "--excitation-frequency", "3", *TANK[-4:]]) == 0  # far from resonance: a warning, not an error
+    assert (
+        main([*TANK[:-6], "--excitation-frequency", "3", *TANK[-4:]]) == 0
+    )  # far from resonance: a warning, not an error
     assert "far from 1:1 resonance" in capsys.readouterr().err
 
 
@@ -87,4 +117,7 @@ def test_the_storage_tank_example_runs_and_writes_a_file_that_reads_back(tmp_pat
     example.main(tmp_path)
     out = capsys.readouterr().out
     assert out.count("from rest:") == len(example.ACCELERATIONS) and "Abar_b" in out
-    assert read_parameter_file(tmp_path / "storage_tank.toml").params == tank_model(example.TANK, example.SITE).params
+    assert (
+        read_parameter_file(tmp_path / "storage_tank.toml").params
+        == tank_model(example.TANK, example.SITE).params
+    )

@@ -99,7 +99,9 @@ def test_cubic_folds_at_plus_minus_2_over_3_sqrt3_with_stability():
     p_fold = 2 / (3 * np.sqrt(3))
     assert len(folds) == 2
     assert folds[0].p == pytest.approx(-p_fold, abs=1e-8) and folds[1].p == pytest.approx(p_fold, abs=1e-8)
-    assert folds[0].x[0] == pytest.approx(1 / np.sqrt(3), abs=1e-9) and folds[1].x[0] == pytest.approx(-1 / np.sqrt(3), abs=1e-9)
+    assert folds[0].x[0] == pytest.approx(1 / np.sqrt(3), abs=1e-9) and folds[1].x[0] == pytest.approx(
+        -1 / np.sqrt(3), abs=1e-9
+    )
     # Between the folds the middle branch (|x| < 1/sqrt 3) is unstable, the outer ones stable.
     np.testing.assert_array_equal(branch.stable, 3 * branch.x[:, 0] ** 2 - 1 > 0)
     ends = branch.special_of("END")
@@ -125,7 +127,9 @@ def test_branch_ends_at_the_domain_edge_with_the_reason():
 
 
 def test_step_limit_ends_the_branch_with_status():
-    branch = continuation(HalfLine(), [1.0], 1.0, options=ContinuationOptions(max_steps=3, step=0.01, step_max=0.01))
+    branch = continuation(
+        HalfLine(), [1.0], 1.0, options=ContinuationOptions(max_steps=3, step=0.01, step_max=0.01)
+    )
     assert branch.status == "step limit" and "step limit" in branch.message
 
 
@@ -150,7 +154,11 @@ def test_branch_round_trips_through_npz(tmp_path):
         (s.kind, s.index, s.p, s.bracket, s.message) for s in branch.special
     ]
     assert (loaded.param, loaded.names, loaded.status, loaded.message, loaded.options) == (
-        branch.param, branch.names, branch.status, branch.message, branch.options
+        branch.param,
+        branch.names,
+        branch.status,
+        branch.message,
+        branch.options,
     )
     for a, b in zip(loaded.special, branch.special):
         np.testing.assert_array_equal(a.tangent, b.tangent)
@@ -193,8 +201,12 @@ def test_switch_branch_leaves_the_trivial_branch_onto_the_parabola():
 @pytest.mark.parametrize("x0", [-1.3, -1.1])
 def test_a_start_on_a_parameter_bound_is_the_end_and_appears_once(x0):
     bounds = [x**3 - x for x in (-1.3, -1.1)]  # the branch x < -1/sqrt 3 between these two points
-    branch = continuation(Cubic(), [x0], x0**3 - x0, options=ContinuationOptions(p_min=bounds[0], p_max=bounds[1], step=0.05))
-    assert np.all(np.linalg.norm(np.diff(np.column_stack([branch.x, branch.p]), axis=0), axis=1) > 1e-6)  # no point twice
+    branch = continuation(
+        Cubic(), [x0], x0**3 - x0, options=ContinuationOptions(p_min=bounds[0], p_max=bounds[1], step=0.05)
+    )
+    assert np.all(
+        np.linalg.norm(np.diff(np.column_stack([branch.x, branch.p]), axis=0), axis=1) > 1e-6
+    )  # no point twice
     assert [e.p for e in branch.special_of("END")] == pytest.approx(bounds) and branch.status == "ok"
 
 
@@ -223,4 +235,6 @@ def test_a_stalled_direction_is_resumed_with_the_problems_finer_version():
     without.refined = lambda: None  # no finer version: the same stall is reported
     stalled = continuation(without, [1.0], 0.0, options=options)
     assert stalled.status == "step below minimum" and "resumed" not in stalled.message
-    assert not np.any((np.abs(stalled.p - 0.5) < 0.18) & (stalled.x[:, 0] > 0))  # both directions stop at the stretch
+    assert not np.any(
+        (np.abs(stalled.p - 0.5) < 0.18) & (stalled.x[:, 0] > 0)
+    )  # both directions stop at the stretch

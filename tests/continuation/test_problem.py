@@ -21,7 +21,8 @@ P10 = get_preset("fig10").params
 
 
 class Circle:
-    """x^2 + p^2 = 1 with one test function of its own, x itself (zero at the circle's top and bottom in p)."""
+    """x^2 + p^2 = 1 with one test function of its own, x itself (zero at the circle's top and bottom in
+    p)."""
 
     names = ("x",)
     test_kinds = ("XZ",)
@@ -51,7 +52,9 @@ def test_every_problem_of_the_package_satisfies_the_interface():
     for problem in problems:
         assert isinstance(problem, Problem), type(problem).__name__
     shooting, impact = problems[1], problems[2]
-    assert all(isinstance(shooting, kind) for kind in (Stability, OwnTests, Domain)) and capabilities(shooting).test_kinds == ("PD", "NS")
+    assert all(isinstance(shooting, kind) for kind in (Stability, OwnTests, Domain)) and capabilities(
+        shooting
+    ).test_kinds == ("PD", "NS")
     assert isinstance(impact, Edges) and capabilities(impact).test_kinds == ("PD", "NS")
     assert capabilities(problems[0]).from_jacobian
 
@@ -61,11 +64,15 @@ def test_a_bare_problem_gets_the_defaults_and_its_own_tests_are_located():
     caps = capabilities(problem)
     assert caps.in_domain(np.array([0.5, 0.5])) and not caps.in_domain(np.array([np.nan, 0.0]))
     assert not caps.has_stability and np.all(np.isnan(caps.eigenvalues(np.array([0.5]), 0.1)))
-    branch = continuation(problem, [1.0], 0.0, options=ContinuationOptions(step=0.1, step_max=0.2, p_min=-0.5, p_max=0.5))
+    branch = continuation(
+        problem, [1.0], 0.0, options=ContinuationOptions(step=0.1, step_max=0.2, p_min=-0.5, p_max=0.5)
+    )
     assert branch.status == "ok" and np.all(branch.stable)
     own = [s for s in branch.special if s.kind == "XZ"]
     assert not own  # x stays near 1 for |p| <= 0.5: no sign change
-    full = continuation(Circle(), [1.0], 0.0, options=ContinuationOptions(step=0.1, step_max=0.2, max_steps=200))
+    full = continuation(
+        Circle(), [1.0], 0.0, options=ContinuationOptions(step=0.1, step_max=0.2, max_steps=200)
+    )
     crossings = [s for s in full.special if s.kind == "XZ"]
     assert crossings and all(abs(abs(s.p) - 1.0) < 1e-8 for s in crossings)  # x = 0 where p = +-1 (the folds)
     assert crossings[0].message.startswith("x = 0 at p =")
@@ -144,11 +151,20 @@ def test_rounding_flips_are_no_crossings_and_a_terminal_point_ends_the_branch(tm
     from slosh_bif.continuation import Branch
 
     problem = Line()
-    branch = continuation(problem, [0.0], 0.0, options=ContinuationOptions(step=0.01, step_max=0.02, p_min=-1.0, p_max=1.0))
+    branch = continuation(
+        problem, [0.0], 0.0, options=ContinuationOptions(step=0.01, step_max=0.02, p_min=-1.0, p_max=1.0)
+    )
     assert not [s for s in branch.special if s.kind == "NOISE"]
     (stop,) = [s for s in branch.special if s.kind == "STOP"]
-    assert stop.p == pytest.approx(0.3, abs=1e-12) and stop.index == len(branch) - 1 and stop.reason == "terminal point"
-    assert branch.status == "ok" and branch.ends == (("backward", "parameter bound"), ("forward", "terminal point"))
+    assert (
+        stop.p == pytest.approx(0.3, abs=1e-12)
+        and stop.index == len(branch) - 1
+        and stop.reason == "terminal point"
+    )
+    assert branch.status == "ok" and branch.ends == (
+        ("backward", "parameter bound"),
+        ("forward", "terminal point"),
+    )
     assert branch.p.max() == pytest.approx(0.3, abs=1e-12)  # nothing beyond the terminal point is kept
     # stability asked once per point of the branch; the diagnostics recorded beside it, saved and loaded
     assert problem.asked == len(branch)

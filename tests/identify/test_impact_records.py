@@ -20,7 +20,11 @@ SPEEDS = np.linspace(0.2, 3.0, 25)
 
 def _records(noise=0.0, seed=0, std=True):
     kappa = restitution.kappa(SPEEDS, **TRUE)
-    v_out = kappa * SPEEDS + np.random.default_rng(seed).normal(0.0, noise, SPEEDS.size) if noise else kappa * SPEEDS
+    v_out = (
+        kappa * SPEEDS + np.random.default_rng(seed).normal(0.0, noise, SPEEDS.size)
+        if noise
+        else kappa * SPEEDS
+    )
     return ImpactRecords(SPEEDS.copy(), v_out, np.full(SPEEDS.size, noise) if (noise and std) else None)
 
 
@@ -39,7 +43,9 @@ def test_lam_and_chi_together_are_reported_as_their_one_combination():
     fit = fit_wall(_records(), BASE.replace(chi=0.5, pbar=2), ["lam", "chi"])
     a = 2 / 51 / 2 + 0.5
     assert "only as lam * chi^(-" in fit.not_identifiable and "contact time" in fit.not_identifiable
-    assert fit.values["lam"] * fit.values["chi"] ** (-a) == pytest.approx(TRUE["lam"] * TRUE["chi"] ** (-a), rel=1e-9)
+    assert fit.values["lam"] * fit.values["chi"] ** (-a) == pytest.approx(
+        TRUE["lam"] * TRUE["chi"] ** (-a), rel=1e-9
+    )
     assert fit.values["chi"] == 0.5  # kept, as stated
 
 
@@ -50,8 +56,16 @@ def test_the_95_percent_intervals_cover_the_truth_in_about_95_percent_of_repetit
         low, high = fit.estimate["lam"]["interval_95"]
         inside += low <= TRUE["lam"] <= high
     assert 0.85 <= inside / 60 <= 1.0
-    unweighted = [fit_wall(_records(noise=0.01, seed=s, std=False), BASE.replace(chi=TRUE["chi"], pbar=2), ["lam"]) for s in range(60)]
-    covered = np.mean([f.estimate["lam"]["interval_95"][0] <= TRUE["lam"] <= f.estimate["lam"]["interval_95"][1] for f in unweighted])
+    unweighted = [
+        fit_wall(_records(noise=0.01, seed=s, std=False), BASE.replace(chi=TRUE["chi"], pbar=2), ["lam"])
+        for s in range(60)
+    ]
+    covered = np.mean(
+        [
+            f.estimate["lam"]["interval_95"][0] <= TRUE["lam"] <= f.estimate["lam"]["interval_95"][1]
+            for f in unweighted
+        ]
+    )
     assert 0.85 <= covered <= 1.0  # the residuals' own scale (Student's t)
 
 
@@ -67,14 +81,38 @@ def test_an_exponent_the_records_cannot_fix_is_said_to_be_undetermined():
 def test_fit_command_writes_the_estimates_and_a_parameter_file(tmp_path):
     records = _records(noise=0.001, seed=1)
     data = tmp_path / "impacts.csv"
-    data.write_text("v0,v_out,std\n" + "".join(f"{a:.17g},{b:.17g},{c:.17g}\n" for a, b, c in zip(records.v0, records.v_out, records.std)))
-    assert main(["fit", "--data", str(data), "--preset", "fig13", "--set", "chi=0.2", "--free", "lam,pbar", "--out", str(tmp_path / "fit")]) == 0
+    data.write_text(
+        "v0,v_out,std\n"
+        + "".join(f"{a:.17g},{b:.17g},{c:.17g}\n" for a, b, c in zip(records.v0, records.v_out, records.std))
+    )
+    assert (
+        main(
+            [
+                "fit",
+                "--data",
+                str(data),
+                "--preset",
+                "fig13",
+                "--set",
+                "chi=0.2",
+                "--free",
+                "lam,pbar",
+                "--out",
+                str(tmp_path / "fit"),
+            ]
+        )
+        == 0
+    )
     record = json.loads((tmp_path / "fit" / "fit.json").read_text())
     assert record["values"]["pbar"] == 2 and len(record["data"]["sha256"]) == 64
     low, high = record["estimate"]["lam"]["interval_95"]
     assert low < TRUE["lam"] < high
     fitted = read_parameter_file(tmp_path / "fit" / "params.toml").params
-    assert fitted.lam == pytest.approx(record["values"]["lam"]) and fitted.pbar == 2 and fitted.sigma == BASE.sigma
+    assert (
+        fitted.lam == pytest.approx(record["values"]["lam"])
+        and fitted.pbar == 2
+        and fitted.sigma == BASE.sigma
+    )
     assert (tmp_path / "fit" / "fit.png").stat().st_size > 5_000
 
 
@@ -83,7 +121,10 @@ def test_fit_command_writes_the_estimates_and_a_parameter_file(tmp_path):
     [
         ("v0,out\n1,0.5\n", r"impacts.csv: needs the columns v0 and v_out .* missing v_out"),
         ("v0,v_out\n1,0.5\n2,abc\n3,1\n", r"impacts.csv, line 3: v_out must be a number; got 'abc'"),
-        ("v0,v_out\n1,0.5\n2,2.5\n3,1\n", r"impacts.csv, line 3: the outgoing speed 2.5 exceeds the incoming 2"),
+        (
+            "v0,v_out\n1,0.5\n2,2.5\n3,1\n",
+            r"impacts.csv, line 3: the outgoing speed 2.5 exceeds the incoming 2",
+        ),
         ("v0,v_out\n1,0.5\n2,-1\n3,1\n", r"impacts.csv, line 3: v_out must be a positive finite number"),
         ("v0,v_out\n1,0.5\n2,1\n", r"impacts.csv: 2 impact records; the fit needs at least 3"),
     ],
@@ -98,6 +139,11 @@ def test_bad_records_are_refused_in_one_line(tmp_path, text, message):
 def test_bad_free_names_are_refused_before_any_work(tmp_path, capsys):
     data = tmp_path / "impacts.csv"
     data.write_text("v0,v_out\n1,0.5\n2,0.9\n3,1.2\n")
-    assert main(["fit", "--data", str(data), "--preset", "fig13", "--free", "lam,n", "--out", str(tmp_path / "o")]) == 2
+    assert (
+        main(
+            ["fit", "--data", str(data), "--preset", "fig13", "--free", "lam,n", "--out", str(tmp_path / "o")]
+        )
+        == 2
+    )
     assert "--free takes a comma-separated subset of lam, chi, pbar" in capsys.readouterr().err
     assert not (tmp_path / "o").exists()

@@ -22,7 +22,9 @@ def test_smooth_jacobian_matches_central_differences(p):
         y = rng.uniform(-1.05, 1.05, size=4)
         tau = rng.uniform(0, 2 * np.pi)
         h = 1e-6
-        fd = np.column_stack([(model.rhs(tau, y + h * e) - model.rhs(tau, y - h * e)) / (2 * h) for e in np.eye(4)])
+        fd = np.column_stack(
+            [(model.rhs(tau, y + h * e) - model.rhs(tau, y - h * e)) / (2 * h) for e in np.eye(4)]
+        )
         # Central differences: error ~ h**2 * f''' with f''' up to ~n**3 w**(2n-2) near the wall.
         np.testing.assert_allclose(model.jac(tau, y), fd, rtol=1e-6, atol=1e-6)
 
@@ -32,7 +34,11 @@ def test_variational_equations_give_the_derivative_of_the_flow_map():
     model = SmoothModel(p)
     y0, T = np.array([0.3, 0.5, 0.6, 1.1]), 2 * np.pi
     z0 = np.concatenate([y0, np.eye(4).ravel()])
-    Phi = solve_ivp(model.variational, (0, T), z0, method="DOP853", rtol=1e-12, atol=1e-13).y[4:, -1].reshape(4, 4)
+    Phi = (
+        solve_ivp(model.variational, (0, T), z0, method="DOP853", rtol=1e-12, atol=1e-13)
+        .y[4:, -1]
+        .reshape(4, 4)
+    )
 
     def flow(y):
         return solve_ivp(model.rhs, (0, T), y, method="DOP853", rtol=1e-12, atol=1e-13).y[:, -1]
@@ -47,7 +53,9 @@ def test_smooth_jacobian_is_finite_at_w_zero_when_p_is_zero():
     p = params(n=6, pbar=-6, lam=0.05)  # p = 0: linear damping lam*w'
     assert p.p == 0
     J = SmoothModel(p).jac(0.0, np.array([0.1, 0.2, 0.0, 0.3]))
-    assert np.all(np.isfinite(J)) and J[3, 2] == pytest.approx(SmoothModel(p).jac(0.0, np.array([0.1, 0.2, 1e-12, 0.3]))[3, 2])
+    assert np.all(np.isfinite(J)) and J[3, 2] == pytest.approx(
+        SmoothModel(p).jac(0.0, np.array([0.1, 0.2, 1e-12, 0.3]))[3, 2]
+    )
 
 
 def test_generated_functions_vectorise():

@@ -11,7 +11,9 @@ ROOT = Path(__file__).resolve().parents[2]
 
 def test_derive_check_passes_on_the_committed_tree():
     # --check renders everything from the sympy derivation and compares byte for byte.
-    result = subprocess.run([sys.executable, "-m", "slosh_bif.cli", "derive", "--check"], capture_output=True, text=True, cwd=ROOT)
+    result = subprocess.run(
+        [sys.executable, "-m", "slosh_bif.cli", "derive", "--check"], capture_output=True, text=True, cwd=ROOT
+    )
     assert result.returncode == 0, result.stderr
 
 
@@ -20,5 +22,7 @@ def test_check_fails_on_stale_code(tmp_path):
     (tmp_path / "slosh_bif" / "_generated").mkdir(parents=True)
     (tmp_path / "slosh_bif" / "_generated" / "models.py").write_text("# stale\n")
     script = ROOT / "derivations" / "generate.py"
-    result = subprocess.run([sys.executable, str(script), "--check", "--out", str(tmp_path)], capture_output=True, text=True)
+    result = subprocess.run(
+        [sys.executable, str(script), "--check", "--out", str(tmp_path)], capture_output=True, text=True
+    )
     assert result.returncode == 1 and "stale generated code" in result.stderr

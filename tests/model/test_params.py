@@ -27,12 +27,26 @@ def make(**changes):
         (dict(n=0), r"parameter n must be in integers >= 1; got 0"),
         (dict(n=2.5), r"parameter n must be in integers >= 1; got 2\.5"),
         (dict(n="50"), r"parameter n must be in integers >= 1; got '50'"),
-        (dict(pbar=1), r"parameter pbar must be in integers with p = \(pbar \+ n\)/2 a non-negative integer.*got 1"),
+        (
+            dict(pbar=1),
+            r"parameter pbar must be in integers with p = \(pbar \+ n\)/2 a non-negative integer.*got 1",
+        ),
         (dict(pbar=0.5), r"parameter pbar must be in integers > -\(n\+1\) = -51; got 0\.5"),
-        (dict(n=6, pbar=-7), r"parameter pbar must be in integers > -\(n\+1\) = -7 \(eq\. 19 diverges otherwise\); got -7"),
+        (
+            dict(n=6, pbar=-7),
+            r"parameter pbar must be in integers > -\(n\+1\) = -7 \(eq\. 19 diverges otherwise\); got -7",
+        ),
         (dict(n=6, pbar=-9), r"parameter pbar must be in integers > -\(n\+1\) = -7.*got -9"),
-        (dict(lam=5.0), r"restitution coefficient kappa .* must be real in \(0, 1\]; with lam=5\.0, chi=0\.2, n=50, pbar=0"),
-        (dict(n=6, pbar=2), r"restitution coefficient kappa .* must be real in \(0, 1\]; with lam=0\.35, chi=0\.2, n=6, pbar=2"),
+        (
+            dict(lam=5.0),
+            r"restitution coefficient kappa .* must be real in \(0, 1\]; with lam=5\.0, chi=0\.2, "
+            r"n=50, pbar=0",
+        ),
+        (
+            dict(n=6, pbar=2),
+            r"restitution coefficient kappa .* must be real in \(0, 1\]; with lam=0\.35, chi=0\.2, "
+            r"n=6, pbar=2",
+        ),
         (dict(sigma=math.nan), r"parameter sigma must be in \(-inf, inf\); got nan"),
         (dict(Abar=math.inf), r"parameter Abar must be in \[0, inf\); got inf"),
         (dict(beta=-math.inf), r"parameter beta must be in \[0, inf\); got -inf"),

@@ -7,10 +7,14 @@ from scipy import integrate
 from slosh_bif.model import manifold, restitution
 
 
-@pytest.mark.parametrize("n, pbar", [(1, 1), (6, 0), (6, -2), (6, 4), (10, 0), (50, 0), (50, -2), (50, 2), (3, -3)])
+@pytest.mark.parametrize(
+    "n, pbar", [(1, 1), (6, 0), (6, -2), (6, 4), (10, 0), (50, 0), (50, -2), (50, 2), (3, -3)]
+)
 def test_closed_form_I_matches_quadrature_of_eq18(n, pbar):
     p = (pbar + n) / 2
-    value, err = integrate.quad(lambda z: z ** (2 * p) * np.sqrt(1 - z ** (2 * (n + 1))), 0, 1, epsabs=1e-14, epsrel=1e-13, limit=200)
+    value, err = integrate.quad(
+        lambda z: z ** (2 * p) * np.sqrt(1 - z ** (2 * (n + 1))), 0, 1, epsabs=1e-14, epsrel=1e-13, limit=200
+    )
     assert restitution.I(n, pbar) == pytest.approx(value, rel=1e-10)
 
 
@@ -90,7 +94,10 @@ def _delta(lam, chi, n, pbar, v0=1.0):
 def test_eq21_error_is_second_order_in_the_dissipation(n, pbar):
     """kappa_sim - kappa_21 = C delta**2 (1 + O(delta)): halving lam quarters the error."""
     chi, v0 = 0.2, 1.0
-    errors = [restitution.simulate_rebound(v0, lam, chi, n, pbar) - restitution.kappa(v0, lam, chi, n, pbar) for lam in (0.04, 0.02)]
+    errors = [
+        restitution.simulate_rebound(v0, lam, chi, n, pbar) - restitution.kappa(v0, lam, chi, n, pbar)
+        for lam in (0.04, 0.02)
+    ]
     assert errors[0] > 0 and errors[1] > 0  # eq. (21) always underestimates kappa
     assert errors[0] / errors[1] == pytest.approx(4.0, rel=0.06)
 
@@ -111,7 +118,9 @@ def test_eq21_error_constant_is_q_over_8(n, pbar, v0):
     Measured, then confirmed over n, pbar and v0; at delta ~ 0.03 the O(delta**3) rest is < 2 %.
     """
     chi = 0.2
-    lam = 0.03 / (restitution.dissipation_at_unit_speed(1.0, chi, n, pbar) * v0 ** (pbar / (n + 1)))  # delta = 0.03
+    lam = 0.03 / (
+        restitution.dissipation_at_unit_speed(1.0, chi, n, pbar) * v0 ** (pbar / (n + 1))
+    )  # delta = 0.03
     delta = _delta(lam, chi, n, pbar, v0)
     error = restitution.simulate_rebound(v0, lam, chi, n, pbar) - restitution.kappa(v0, lam, chi, n, pbar)
     assert error / delta**2 == pytest.approx((2 + pbar / (n + 1)) / 8, rel=0.02)

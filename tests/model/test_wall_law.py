@@ -20,7 +20,9 @@ def test_the_interpolant_matches_direct_tight_contacts_off_its_nodes_to_1e_8(n, 
     law = wall_law(0.1, 0.2, n, pbar)
     assert max(law.kappa_error, law.depth_error, law.clearance_error) < 1e-8  # the measured error it states
     for v0 in (0.073, 1.37, 13.1):  # between nodes
-        assert abs(float(law.kappa(v0)) - simulate_rebound(v0, 0.1, 0.2, n, pbar, rtol=1e-13, atol=1e-15)) < 1e-8
+        assert (
+            abs(float(law.kappa(v0)) - simulate_rebound(v0, 0.1, 0.2, n, pbar, rtol=1e-13, atol=1e-15)) < 1e-8
+        )
 
 
 def test_the_conservative_wall_returns_every_speed_and_turns_where_eq_17_says():

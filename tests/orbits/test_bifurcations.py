@@ -56,10 +56,16 @@ def test_pd_and_ns_test_functions_change_sign_exactly_where_multipliers_cross():
     assert values[0][0] * values[1][0] < 0 and values[0][1] * values[1][1] > 0
     assert pd_family.test_functions(X0, -1.0)[0] == pytest.approx(0.0, abs=1e-15)
     # A complex pair r exp(+-0.7i) through the unit circle: only the NS function, at r = 1.
-    ns_family = GivenMonodromy(lambda r: np.block([[rotation_block(r, 0.7), np.zeros((2, 2))], [np.zeros((2, 2)), np.diag([0.5, 0.2])]]))
+    ns_family = GivenMonodromy(
+        lambda r: np.block(
+            [[rotation_block(r, 0.7), np.zeros((2, 2))], [np.zeros((2, 2)), np.diag([0.5, 0.2])]]
+        )
+    )
     values = [ns_family.test_functions(X0, r) for r in (0.99, 1.01)]
     assert values[0][1] * values[1][1] < 0 and values[0][0] * values[1][0] > 0
-    assert "Neimark-Sacker" in ns_family.confirm("NS", X0, 1.0) and "rotation 0.111408" in ns_family.confirm("NS", X0, 1.0)
+    assert "Neimark-Sacker" in ns_family.confirm("NS", X0, 1.0) and "rotation 0.111408" in ns_family.confirm(
+        "NS", X0, 1.0
+    )
     # A real pair mu, 1/mu (a neutral saddle) zeroes the NS function too; confirm() drops it.
     saddle = GivenMonodromy(lambda p: np.diag([2.0, 0.5, 0.3, 0.1]))
     assert saddle.test_functions(X0, 0.0)[1] == pytest.approx(0.0, abs=1e-15)
@@ -77,17 +83,23 @@ def period_doubling():
     return P, family
 
 
-def test_period_doubling_is_located_where_an_independent_monodromy_has_a_multiplier_minus_one(period_doubling, scipy_multipliers):
+def test_period_doubling_is_located_where_an_independent_monodromy_has_a_multiplier_minus_one(
+    period_doubling, scipy_multipliers
+):
     P, family = period_doubling
     parent, doubled = family.branches
     (pd,) = parent.branch.special_of("PD")
     assert -3.0 < pd.p < -1.5
-    assert np.min(np.abs(scipy_multipliers(P.replace(sigma=float(pd.p)), pd.x[:4]) + 1)) < 1e-4  # scipy DOP853
+    assert (
+        np.min(np.abs(scipy_multipliers(P.replace(sigma=float(pd.p)), pd.x[:4]) + 1)) < 1e-4
+    )  # scipy DOP853
     assert doubled.name == "period-2" and doubled.problem.period_multiple == 2
     assert f"PD at sigma = {pd.p:.6g} on the asymmetric branch" in doubled.origin
 
 
-def test_period_two_orbits_are_4pi_but_not_2pi_periodic_and_grow_like_a_square_root(period_doubling, scipy_flow):
+def test_period_two_orbits_are_4pi_but_not_2pi_periodic_and_grow_like_a_square_root(
+    period_doubling, scipy_flow
+):
     P, family = period_doubling
     parent, doubled = family.branches
     sigma_pd = parent.branch.special_of("PD")[0].p
@@ -95,7 +107,9 @@ def test_period_two_orbits_are_4pi_but_not_2pi_periodic_and_grow_like_a_square_r
     gaps, distances = [], []
     for i in range(0, 12, 2):
         Pi, y = P.replace(sigma=float(b.p[i])), b.x[i, :4]
-        assert np.linalg.norm(scipy_flow(Pi, y, 4 * np.pi)[0] - y) < 1e-7  # 4pi-periodic by scipy's integrator
+        assert (
+            np.linalg.norm(scipy_flow(Pi, y, 4 * np.pi)[0] - y) < 1e-7
+        )  # 4pi-periodic by scipy's integrator
         gaps.append(np.linalg.norm(scipy_flow(Pi, y)[0] - y))  # not 2pi-periodic
         distances.append(abs(b.p[i] - sigma_pd))
     # Normal form of a period doubling: the two halves part like sqrt(|sigma - sigma_PD|).
@@ -109,7 +123,9 @@ def test_stable_period_two_orbit_attracts_a_simulation(period_doubling):
     i = 3  # sigma = -2.507: stable between the parent's PD and the period-2 branch's own PD at -2.4585
     assert b.stable[i]
     Pi, y = P.replace(sigma=float(b.p[i])), b.x[i, :4]
-    strobes = integrate_grid(Pi, y + np.array([1e-3, -1e-3, 2e-3, 0.0]), 2 * np.pi * np.arange(401))  # 800 pi of (9)
+    strobes = integrate_grid(
+        Pi, y + np.array([1e-3, -1e-3, 2e-3, 0.0]), 2 * np.pi * np.arange(401)
+    )  # 800 pi of (9)
     np.testing.assert_allclose(strobes[-1], y, atol=1e-6)  # back on the orbit every 4 pi ...
     assert np.linalg.norm(strobes[-2] - y) > 1e-3  # ... and half-way round at odd multiples of 2 pi
 
@@ -118,7 +134,10 @@ _CONDITIONS = {  # kind: (test function of the multipliers, distance of the mult
     "LP": (lambda mu: np.prod(mu - 1).real, lambda mu: np.min(np.abs(mu - 1))),
     "BP": (lambda mu: np.prod(mu - 1).real, lambda mu: np.min(np.abs(mu - 1))),
     "PD": (lambda mu: np.prod(mu + 1).real, lambda mu: np.min(np.abs(mu + 1))),
-    "NS": (lambda mu: np.prod([mu[i] * mu[j] - 1 for i in range(4) for j in range(i + 1, 4)]).real, lambda mu: min([abs(abs(m) - 1) for m in mu if abs(m.imag) > 1e-6] or [np.inf])),
+    "NS": (
+        lambda mu: np.prod([mu[i] * mu[j] - 1 for i in range(4) for j in range(i + 1, 4)]).real,
+        lambda mu: min([abs(abs(m) - 1) for m in mu if abs(m.imag) > 1e-6] or [np.inf]),
+    ),
 }
 
 
@@ -147,6 +166,10 @@ def test_every_special_point_of_the_fig10_family_satisfies_its_condition_by_scip
             test, distance = _CONDITIONS[sp.kind]
             if distance(scipy_multipliers(P.replace(sigma=float(sp.p)), sp.x[:4], T)) >= 1e-3:
                 i, j = max(sp.index - 1, 0), min(sp.index + 1, len(b) - 1)
-                assert test(scipy_multipliers(P.replace(sigma=float(b.p[i])), b.x[i, :4], T)) * test(scipy_multipliers(P.replace(sigma=float(b.p[j])), b.x[j, :4], T)) < 0, (ob.name, sp.kind, sp.p)
+                assert (
+                    test(scipy_multipliers(P.replace(sigma=float(b.p[i])), b.x[i, :4], T))
+                    * test(scipy_multipliers(P.replace(sigma=float(b.p[j])), b.x[j, :4], T))
+                    < 0
+                ), (ob.name, sp.kind, sp.p)
             checked += 1
     assert checked >= 100

@@ -59,7 +59,14 @@ def torus_curve():
     """The Neimark-Sacker curve through the NS point of the symmetric branch at sigma = 0.8806."""
     P = PRESET.params
     start = orbit_from_simulation(P.replace(sigma=6.0), PRESET.state0, settle=100)  # the symmetric orbit
-    family = trace_orbits(start.params, start.y0, p_min=-1.6, p_max=6.0, shooting=ShootingSettings(points_per_2pi=32), branching=NO_SWITCHING)  # past the fold at -1.40
+    family = trace_orbits(
+        start.params,
+        start.y0,
+        p_min=-1.6,
+        p_max=6.0,
+        shooting=ShootingSettings(points_per_2pi=32),
+        branching=NO_SWITCHING,
+    )  # past the fold at -1.40
     ns = [s for s in family.branches[0].branch.special_of("NS") if abs(s.p - 0.8806) < 1e-3][0]
     return P, trace_curve(P, CurveSeed("NS", ns.x, ns.p), box={"sigma": (0.6, 1.2), "Abar": (2.6, 3.4)})
 
@@ -83,12 +90,21 @@ def resonant_torus_curve():
     resonance at sigma = 0.132."""
     P = get_preset("fig13").params
     start = orbit_from_simulation(P.replace(sigma=4.2), get_preset("fig13").state0, settle=150)
-    family = trace_orbits(start.params, start.y0, p_min=3.8, p_max=4.2, shooting=ShootingSettings(points_per_2pi=32), branching=NO_SWITCHING)
+    family = trace_orbits(
+        start.params,
+        start.y0,
+        p_min=3.8,
+        p_max=4.2,
+        shooting=ShootingSettings(points_per_2pi=32),
+        branching=NO_SWITCHING,
+    )
     ns = [s for s in family.branches[0].branch.special_of("NS") if abs(s.p - 3.98266) < 1e-3][0]
     return P, trace_curve(P, CurveSeed("NS", ns.x, ns.p), box={"sigma": (-1.0, 4.2), "Abar": (0.6, 1.2)})
 
 
-def test_torus_curve_is_continued_to_a_strong_resonance_and_ends_there(resonant_torus_curve, scipy_multipliers):
+def test_torus_curve_is_continued_to_a_strong_resonance_and_ends_there(
+    resonant_torus_curve, scipy_multipliers
+):
     # kappa = cos(theta) is regular through the 1:1 resonance: the test kappa - 1 changes sign,
     # the point is located and the curve ends on it; scipy's monodromy there has a double +1.
     P, curve = resonant_torus_curve
@@ -99,7 +115,9 @@ def test_torus_curve_is_continued_to_a_strong_resonance_and_ends_there(resonant_
     assert r1.p == pytest.approx(0.1324, abs=2e-3) and r1.x[-2] == pytest.approx(0.797, abs=2e-3)
     mu = scipy_multipliers(P.replace(sigma=float(r1.p), Abar=float(r1.x[-2])), r1.x[:4])
     near_one = np.sort(np.abs(mu - 1))
-    assert near_one[1] < 1e-3 and near_one[2] > 0.01  # a double multiplier +1 (a Jordan block splits it by sqrt(rounding))
+    assert (
+        near_one[1] < 1e-3 and near_one[2] > 0.01
+    )  # a double multiplier +1 (a Jordan block splits it by sqrt(rounding))
 
 
 @pytest.fixture(scope="module")
@@ -107,7 +125,14 @@ def pitchfork_curve():
     """The symmetry-breaking curve through the pitchfork of the symmetric branch at sigma = 3.347."""
     P = PRESET.params
     start = orbit_from_simulation(P.replace(sigma=6.0), PRESET.state0, settle=100)
-    family = trace_orbits(start.params, start.y0, p_min=3.0, p_max=6.0, shooting=ShootingSettings(points_per_2pi=32), branching=NO_SWITCHING)
+    family = trace_orbits(
+        start.params,
+        start.y0,
+        p_min=3.0,
+        p_max=6.0,
+        shooting=ShootingSettings(points_per_2pi=32),
+        branching=NO_SWITCHING,
+    )
     (bp,) = family.branches[0].branch.special_of("BP")
     return P, trace_curve(P, CurveSeed("BP", bp.x, bp.p), box={"sigma": (2.5, 4.5), "Abar": (2.5, 3.5)})
 
@@ -142,7 +167,9 @@ def _special_in(at, kind, x, param, bracket=None):
     finds the branch, and a second starts ten points away from it."""
     value = float(getattr(at, param))
     problem = ShootingProblem(at, param, segments=4)
-    opts = dataclasses.replace(SHOOTING_OPTIONS, p_min=value - 0.05, p_max=value + 0.05, step=0.002, step_max=0.004)
+    opts = dataclasses.replace(
+        SHOOTING_OPTIONS, p_min=value - 0.05, p_max=value + 0.05, step=0.002, step_max=0.004
+    )
     if kind == "LP":
         first = continuation(problem, x, value, param=param, options=opts)
         near = int(np.argmin(np.abs(first.p - value) + np.linalg.norm(first.x - x, axis=1)))
@@ -153,7 +180,11 @@ def _special_in(at, kind, x, param, bracket=None):
         assert orbit.converged, orbit.message
         start, p0 = problem.initial_states(orbit.y0, value - 0.02), value - 0.02
     second = continuation(problem, start, p0, param=param, options=opts)
-    found = [s for s in (refine_pitchforks(problem, second) if kind == "BP" else second).special if s.kind == kind and s.located]
+    found = [
+        s
+        for s in (refine_pitchforks(problem, second) if kind == "BP" else second).special
+        if s.kind == kind and s.located
+    ]
     assert found, f"no {kind} within 0.05 of {param} = {value} at {at}"
     nearest = min(found, key=lambda s: abs(s.p - value))
     if bracket is not None:
@@ -161,8 +192,13 @@ def _special_in(at, kind, x, param, bracket=None):
     return nearest.p
 
 
-@pytest.mark.parametrize("curve_fixture, kind, mu", [pytest.param("fold_curve", "LP", 1.0, marks=pytest.mark.slow), ("flip_curve", "PD", -1.0)])
-def test_curve_points_are_special_points_of_one_parameter_branches_and_of_scipys_monodromy(curve_fixture, kind, mu, request, scipy_multipliers):
+@pytest.mark.parametrize(
+    "curve_fixture, kind, mu",
+    [pytest.param("fold_curve", "LP", 1.0, marks=pytest.mark.slow), ("flip_curve", "PD", -1.0)],
+)
+def test_curve_points_are_special_points_of_one_parameter_branches_and_of_scipys_monodromy(
+    curve_fixture, kind, mu, request, scipy_multipliers
+):
     P, curve = request.getfixturevalue(curve_fixture)
     assert curve.kind == kind and len(curve) > 10 and curve.status == "ok", curve.branch.message
     for i in np.linspace(1, len(curve) - 2, 3).astype(int):
@@ -191,11 +227,18 @@ def eps_flip_curve():
     orbit, _ = settle_and_shoot(P, PRESET.state0)
     family = trace_orbits(P, orbit.y0, p_min=-3.0, p_max=-2.3, branching=NO_SWITCHING)
     (pd,) = family.branches[0].branch.special_of("PD")
-    return P.replace(sigma=pd.p), trace_curve(P, CurveSeed("PD", pd.x, pd.p, branch_param="sigma"), box={"Abar": (2.6, 3.4), "eps": (0.04, 0.06)})
+    return P.replace(sigma=pd.p), trace_curve(
+        P, CurveSeed("PD", pd.x, pd.p, branch_param="sigma"), box={"Abar": (2.6, 3.4), "eps": (0.04, 0.06)}
+    )
 
 
-@pytest.mark.parametrize("curve_fixture, mu", [pytest.param("beta_fold_curve", 1.0, marks=pytest.mark.slow), ("eps_flip_curve", -1.0)])
-def test_curves_in_other_parameter_pairs_match_one_parameter_runs_and_scipy(curve_fixture, mu, request, scipy_multipliers):
+@pytest.mark.parametrize(
+    "curve_fixture, mu",
+    [pytest.param("beta_fold_curve", 1.0, marks=pytest.mark.slow), ("eps_flip_curve", -1.0)],
+)
+def test_curves_in_other_parameter_pairs_match_one_parameter_runs_and_scipy(
+    curve_fixture, mu, request, scipy_multipliers
+):
     # Any two real fields of Params: the curve's sensitivities come from the generated pair kernel;
     # a one-parameter run in p1 with p2 held (the dedicated or pair kernel of another problem)
     # and scipy's monodromy (no shooting code) check it.
@@ -233,7 +276,12 @@ def test_the_curve_is_the_same_under_tighter_tolerances(fold_curve):
 def test_curve_round_trips_through_npz(fold_curve, tmp_path):
     _, curve = fold_curve
     loaded = BifurcationCurve.load(curve.save(tmp_path / "lp.npz"))
-    assert (loaded.kind, loaded.p1, loaded.p2, loaded.origin) == (curve.kind, curve.p1, curve.p2, curve.origin)
+    assert (loaded.kind, loaded.p1, loaded.p2, loaded.origin) == (
+        curve.kind,
+        curve.p1,
+        curve.p2,
+        curve.origin,
+    )
     np.testing.assert_array_equal(loaded["Abar"], curve["Abar"])
     np.testing.assert_array_equal(loaded["A1"], curve["A1"])
 
@@ -282,11 +330,28 @@ def test_renewed_borders_keep_their_orientation():
 # A fold of the Fig. 13 set's asymmetric orbits (four arcs' start states, then Abar) at
 # sigma = 0.238629, just past a fold-flip point, on the chart's fold curve from the asymmetric
 # branch's fold at sigma = -0.395572, Abar = 1.
-ASYMMETRIC_FOLD = (0.2386292151495742, [
-    -0.7148530978941231, 1.5185409394108365, 0.09556320805221538, 0.6849721281700706, 1.507156846438365, 0.6925015690759277,
-    0.9656768661778115, -0.16523146758683027, 0.6744090981333701, -1.5049301688991485, -1.0668776001923508, 1.0449367740631663,
-    -1.5147752552889249, -0.709203058911448, 0.46435318899334305, -1.3351344263412561, 0.6452025739910295,
-])
+ASYMMETRIC_FOLD = (
+    0.2386292151495742,
+    [
+        -0.7148530978941231,
+        1.5185409394108365,
+        0.09556320805221538,
+        0.6849721281700706,
+        1.507156846438365,
+        0.6925015690759277,
+        0.9656768661778115,
+        -0.16523146758683027,
+        0.6744090981333701,
+        -1.5049301688991485,
+        -1.0668776001923508,
+        1.0449367740631663,
+        -1.5147752552889249,
+        -0.709203058911448,
+        0.46435318899334305,
+        -1.3351344263412561,
+        0.6452025739910295,
+    ],
+)
 
 
 def test_a_fold_curve_that_stalls_is_resumed_with_finer_arcs_and_passes(scipy_multipliers):
@@ -297,7 +362,9 @@ def test_a_fold_curve_that_stalls_is_resumed_with_finer_arcs_and_passes(scipy_mu
     p, u = ASYMMETRIC_FOLD
     P = get_preset("fig13").params.replace(Abar=u[-1])
     options = dataclasses.replace(CURVE_OPTIONS, direction="forward", max_steps=200)
-    curve = trace_curve(P, CurveSeed("LP", u[:-1], p), box={"sigma": (-0.25, 1.0), "Abar": (0.3, 1.0)}, options=options)
+    curve = trace_curve(
+        P, CurveSeed("LP", u[:-1], p), box={"sigma": (-0.25, 1.0), "Abar": (0.3, 1.0)}, options=options
+    )
     branch = curve.branch
     assert branch.status == "ok" and "resumed with the finer problem" in branch.message, branch.message
     assert set(branch.diagnostics["rtol"]) == {1e-10, 1e-12}
@@ -308,8 +375,12 @@ def test_a_fold_curve_that_stalls_is_resumed_with_finer_arcs_and_passes(scipy_mu
     assert len(flips) == 1
     mu = scipy_multipliers(P.replace(sigma=float(flips[0].p), Abar=float(flips[0].x[-1])), flips[0].x[:4])
     assert np.min(np.abs(mu - 1)) < 1e-6 and np.min(np.abs(mu + 1)) < 1e-6
-    for i in np.linspace(0, len(branch) - 1, 5).astype(int):  # fold points by scipy on both sides of the stall
-        mu = scipy_multipliers(P.replace(sigma=float(branch.p[i]), Abar=float(branch.x[i, -1])), branch.x[i, :4])
+    for i in np.linspace(0, len(branch) - 1, 5).astype(
+        int
+    ):  # fold points by scipy on both sides of the stall
+        mu = scipy_multipliers(
+            P.replace(sigma=float(branch.p[i]), Abar=float(branch.x[i, -1])), branch.x[i, :4]
+        )
         assert np.min(np.abs(mu - 1)) < 1e-6
 
 
@@ -328,4 +399,6 @@ def test_a_fold_curve_of_doubled_orbits_ends_where_the_orbit_becomes_its_parents
     assert problem.edge_name_at(doubled, P.sigma) == MEETS_PARENT
     apart = np.concatenate([parent, parent + 0.05])
     assert problem.in_domain(np.append(apart, P.Abar), P.sigma)
-    assert FoldCurveProblem(P, segments=4).in_domain(np.append(np.tile(parent[:8], 2), P.Abar), P.sigma)  # period 1: no parent
+    assert FoldCurveProblem(P, segments=4).in_domain(
+        np.append(np.tile(parent[:8], 2), P.Abar), P.sigma
+    )  # period 1: no parent

@@ -83,7 +83,9 @@ def test_complex_pairs_stay_in_two_by_two_blocks(m):
     schur = periodic_schur(mats)
     assert (1, 3) in schur.blocks
     # the pair is matched as a set (conjugates can come in either order)
-    np.testing.assert_allclose(np.sort_complex(schur.multipliers[1:3]), np.sort_complex(exact[1:3]), rtol=1e-10)
+    np.testing.assert_allclose(
+        np.sort_complex(schur.multipliers[1:3]), np.sort_complex(exact[1:3]), rtol=1e-10
+    )
     assert _rel(schur.multipliers[[0, 3]], exact[[0, 3]]) < 1e-10
 
 

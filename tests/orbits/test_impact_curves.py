@@ -21,15 +21,22 @@ TORUS = (3.511038050198928, [0.05099662, 0.08101857, 0.19784039, -0.61937469])
 @pytest.fixture(scope="module")
 def curves():
     out = {}
-    for kind, (p, x), box in (("BP", PITCHFORK, {"sigma": (-1.0, 2.0), "Abar": (0.6, 1.6)}), ("NS", TORUS, {"sigma": (2.5, 4.5), "Abar": (0.6, 1.6)})):
-        out[kind] = trace_impact_curve(P, ImpactCurveSeed(kind, np.array(x), p, symmetric=True, phase=SECTION, impacts=1), box=box)
+    for kind, (p, x), box in (
+        ("BP", PITCHFORK, {"sigma": (-1.0, 2.0), "Abar": (0.6, 1.6)}),
+        ("NS", TORUS, {"sigma": (2.5, 4.5), "Abar": (0.6, 1.6)}),
+    ):
+        out[kind] = trace_impact_curve(
+            P, ImpactCurveSeed(kind, np.array(x), p, symmetric=True, phase=SECTION, impacts=1), box=box
+        )
     return out
 
 
 def _one_parameter_special(kind, x, sigma, abar):
     """The special point of ``kind`` that the one-parameter branch of (8) in sigma at Abar locates
     near sigma (started 0.02 below it)."""
-    problem = ImpactOrbitProblem(P.replace(sigma=sigma - 0.02, Abar=abar), "sigma", symmetric=True, phase=SECTION)
+    problem = ImpactOrbitProblem(
+        P.replace(sigma=sigma - 0.02, Abar=abar), "sigma", symmetric=True, phase=SECTION
+    )
     options = ContinuationOptions(step=0.01, step_max=0.02, tol=1e-10, p_min=sigma - 0.05, p_max=sigma + 0.05)
     branch = continuation(problem, x, sigma - 0.02, param="sigma", options=options)
     (found,) = [s.p for s in branch.special if s.kind == kind]
@@ -42,7 +49,9 @@ def test_impact_curve_points_are_special_points_of_one_parameter_branches(curves
     assert curve.status == "ok" and len(curve) > 10, curve.branch.message
     for i in (len(curve) // 3, (2 * len(curve)) // 3):
         sigma, abar = float(curve["sigma"][i]), float(curve["Abar"][i])
-        assert _one_parameter_special(kind, curve.branch.x[i, :4], sigma, abar) == pytest.approx(sigma, abs=1e-8)
+        assert _one_parameter_special(kind, curve.branch.x[i, :4], sigma, abar) == pytest.approx(
+            sigma, abs=1e-8
+        )
 
 
 def test_impact_curve_multipliers_by_the_map(curves):
@@ -52,22 +61,36 @@ def test_impact_curve_multipliers_by_the_map(curves):
     for curve, check in ((bp, "BP"), (ns, "NS")):
         for i in np.linspace(0, len(curve) - 1, 4).astype(int):
             u, sigma = curve.branch.x[i], float(curve.branch.p[i])
-            mu = ImpactOrbitProblem(P.replace(sigma=sigma, Abar=float(curve["Abar"][i])), "sigma", symmetric=True, phase=SECTION).map_multipliers(u[:4], sigma)
+            mu = ImpactOrbitProblem(
+                P.replace(sigma=sigma, Abar=float(curve["Abar"][i])), "sigma", symmetric=True, phase=SECTION
+            ).map_multipliers(u[:4], sigma)
             if check == "BP":
                 assert np.min(np.abs(mu + 1)) < 1e-8
             else:  # NS on the whole-period map: G's squares
                 pair = (mu * mu)[np.argmin(np.abs(np.abs(mu * mu) - 1) + (np.abs(mu.imag) < 1e-9))]
                 assert abs(abs(pair) - 1) < 1e-8 and pair.real == pytest.approx(u[-1], abs=1e-8)
     (bplp,) = bp.branch.special_of("BPLP")
-    mu = ImpactOrbitProblem(P.replace(sigma=bplp.p, Abar=float(bplp.x[-1])), "sigma", symmetric=True, phase=SECTION).map_multipliers(bplp.x[:4], bplp.p)
+    mu = ImpactOrbitProblem(
+        P.replace(sigma=bplp.p, Abar=float(bplp.x[-1])), "sigma", symmetric=True, phase=SECTION
+    ).map_multipliers(bplp.x[:4], bplp.p)
     assert np.min(np.abs(mu + 1)) < 1e-8 and np.min(np.abs(mu - 1)) < 1e-6
 
 
 def test_bad_impact_seeds_are_refused_before_any_work():
     p, x = PITCHFORK
     with pytest.raises(ValueError, match="a BP curve starts from a branch of symmetric orbits"):
-        trace_impact_curve(P, ImpactCurveSeed("BP", np.array(x), p, phase=SECTION), box={"sigma": (-1, 2), "Abar": (0.6, 1.6)})
+        trace_impact_curve(
+            P,
+            ImpactCurveSeed("BP", np.array(x), p, phase=SECTION),
+            box={"sigma": (-1, 2), "Abar": (0.6, 1.6)},
+        )
     with pytest.raises(ValueError, match="the orbit's state on the section, 4 finite numbers"):
-        trace_impact_curve(P, ImpactCurveSeed("LP", np.zeros(8), p), box={"sigma": (-1, 2), "Abar": (0.6, 1.6)})
+        trace_impact_curve(
+            P, ImpactCurveSeed("LP", np.zeros(8), p), box={"sigma": (-1, 2), "Abar": (0.6, 1.6)}
+        )
     with pytest.raises(ValueError, match="the start is not a PD point"):
-        trace_impact_curve(P, ImpactCurveSeed("PD", np.array(x), p, symmetric=True, phase=SECTION), box={"sigma": (-1, 2), "Abar": (0.6, 1.6)})
+        trace_impact_curve(
+            P,
+            ImpactCurveSeed("PD", np.array(x), p, symmetric=True, phase=SECTION),
+            box={"sigma": (-1, 2), "Abar": (0.6, 1.6)},
+        )

@@ -58,7 +58,11 @@ def test_the_saltation_monodromy_and_parameter_derivative_match_finite_differenc
             return ImpactFlow(params.replace(**{param: value + s * h})).strobe(x, 0.0, 2 * np.pi)[0]
 
         # central differences, or one-sided second-order ones at the end of beta's range (beta = 0)
-        fd = (image(1) - image(-1)) / (2 * h) if value - h >= 0 else (-3 * image(0) + 4 * image(1) - image(2)) / (2 * h)
+        fd = (
+            (image(1) - image(-1)) / (2 * h)
+            if value - h >= 0
+            else (-3 * image(0) + 4 * image(1) - image(2)) / (2 * h)
+        )
         np.testing.assert_allclose(dp, fd, rtol=0, atol=1e-6 * max(1.0, np.abs(dp).max()))
 
 
@@ -126,7 +130,25 @@ def test_shoot_model_impact_traces_the_fig13_branch_with_its_pitchforks_and_toru
 
     from slosh_bif.cli import main
 
-    assert main(["shoot", "--preset", "fig13", "--model", "impact", "--sigma-min", "-3", "--sigma-max", "5", "--no-switch", "--out", str(tmp_path)]) == 0
+    assert (
+        main(
+            [
+                "shoot",
+                "--preset",
+                "fig13",
+                "--model",
+                "impact",
+                "--sigma-min",
+                "-3",
+                "--sigma-max",
+                "5",
+                "--no-switch",
+                "--out",
+                str(tmp_path),
+            ]
+        )
+        == 0
+    )
     rows = list(csv.DictReader(open(tmp_path / "branch.csv")))
     assert {r["branch"] for r in rows} == {"symmetric"}  # a symmetric start: traced on the half-period map
     kinds = [k for r in rows for k in r["special"].split()]
@@ -147,8 +169,13 @@ def test_shoot_model_impact_traces_the_fig13_branch_with_its_pitchforks_and_toru
     # the new piece's first state is the old piece's last one carried there by the reference flow
     pieces = [np.load(tmp_path / f"symmetric-piece{k}.npz") for k in sorted({int(r["piece"]) for r in rows})]
     pairs = [
-        (a, b, i, j) for a in pieces for b in pieces if float(a["phase"]) != float(b["phase"])
-        for i in (0, -1) for j in (0, -1) if a["p"][i] == b["p"][j]
+        (a, b, i, j)
+        for a in pieces
+        for b in pieces
+        if float(a["phase"]) != float(b["phase"])
+        for i in (0, -1)
+        for j in (0, -1)
+        if a["p"][i] == b["p"][j]
     ]
     assert pairs
     old, new, i, j = pairs[0]
@@ -185,10 +212,29 @@ def test_shoot_model_impact_switches_at_the_pitchforks_of_the_symmetric_branch(t
 
     from slosh_bif.cli import main
 
-    assert main(["shoot", "--preset", "fig13", "--model", "impact", "--sigma-min", "-3", "--sigma-max", "5", "--out", str(tmp_path)]) == 3  # they end at grazings
+    assert (
+        main(
+            [
+                "shoot",
+                "--preset",
+                "fig13",
+                "--model",
+                "impact",
+                "--sigma-min",
+                "-3",
+                "--sigma-max",
+                "5",
+                "--out",
+                str(tmp_path),
+            ]
+        )
+        == 3
+    )  # they end at grazings
     rows = list(csv.DictReader(open(tmp_path / "branch.csv")))
     assert {r["branch"] for r in rows} == {"symmetric", "asymmetric", "asymmetric-2"}
-    bps = sorted(float(r["sigma"]) for r in rows if r["branch"] == "symmetric" and "BP" in r["special"].split())
+    bps = sorted(
+        float(r["sigma"]) for r in rows if r["branch"] == "symmetric" and "BP" in r["special"].split()
+    )
     assert bps == pytest.approx([-2.00827, 0.43717], abs=1e-4)
     P = get_preset("fig13").params
     for name, bp in (("asymmetric", bps[1]), ("asymmetric-2", bps[0])):
@@ -203,4 +249,3 @@ def test_shoot_model_impact_switches_at_the_pitchforks_of_the_symmetric_branch(t
         half = simulate_impact(at, x, (phase, phase + np.pi), backend="scipy").y[:, -1]
         np.testing.assert_allclose(full, x, atol=1e-7)
         assert np.linalg.norm(half + x) > 1e-2  # y(tau + pi) != -y(tau): not symmetric
-

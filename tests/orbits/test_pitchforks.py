@@ -28,15 +28,28 @@ PRESET = get_preset("fig10")
 @pytest.fixture(scope="module")
 def symmetric_branch():
     start = orbit_from_simulation(PRESET.params.replace(sigma=-1.2), PRESET.state0, settle=150)
-    return trace_orbits(start.params, start.y0, p_min=-1.6, p_max=1.2, shooting=ShootingSettings(points_per_2pi=32), branching=NO_SWITCHING).branches[0]
+    return trace_orbits(
+        start.params,
+        start.y0,
+        p_min=-1.6,
+        p_max=1.2,
+        shooting=ShootingSettings(points_per_2pi=32),
+        branching=NO_SWITCHING,
+    ).branches[0]
 
 
-def test_every_pitchfork_of_the_half_period_map_has_a_multiplier_at_one_by_scipy(symmetric_branch, scipy_multipliers):
+def test_every_pitchfork_of_the_half_period_map_has_a_multiplier_at_one_by_scipy(
+    symmetric_branch, scipy_multipliers
+):
     assert symmetric_branch.kind == "symmetric" and symmetric_branch.problem.symmetric
     pitchforks = symmetric_branch.branch.special_of("BP")
     assert len(pitchforks) == 4
     for sp in pitchforks:
-        assert sp.located and "half-period map's multiplier" in sp.message and min(sp.bracket) <= sp.p <= max(sp.bracket)
+        assert (
+            sp.located
+            and "half-period map's multiplier" in sp.message
+            and min(sp.bracket) <= sp.p <= max(sp.bracket)
+        )
         mu = scipy_multipliers(PRESET.params.replace(sigma=float(sp.p)), sp.x[:4])
         assert np.min(np.abs(mu - 1)) < 1e-6, (sp.p, mu)
 
@@ -48,7 +61,9 @@ def test_pitchforks_refined_on_the_2pi_problem_agree_with_the_half_period_map(sy
     full = ShootingProblem(half.params, "sigma", segments=2 * half.segments, box=(-3.0, 2.6))
     x0 = half.full_states(symmetric_branch.branch.x[0])
     options = dataclasses.replace(SHOOTING_OPTIONS, p_min=-1.6, p_max=1.2)
-    on_full = refine_pitchforks(full, continuation(full, x0, float(symmetric_branch.branch.p[0]), param="sigma", options=options))
+    on_full = refine_pitchforks(
+        full, continuation(full, x0, float(symmetric_branch.branch.p[0]), param="sigma", options=options)
+    )
     refined = on_full.special_of("BP")
     assert len(refined) == 4 and all("refined on the half-period map" in sp.message for sp in refined)
     expected = sorted(sp.p for sp in symmetric_branch.branch.special_of("BP"))
@@ -61,12 +76,22 @@ def test_no_pitchfork_off_the_walls_where_the_free_particle_makes_minus_one_doub
     along; its test flips sign on rounding. No BP may be reported there, neither located nor
     detected; the genuine pitchfork where the orbit touches the wall is kept."""
     start = orbit_from_simulation(PRESET.params.replace(sigma=6.0), PRESET.state0, settle=100)
-    ob = trace_orbits(start.params, start.y0, param="Abar", p_min=0.2, p_max=6.0, shooting=ShootingSettings(points_per_2pi=64), branching=NO_SWITCHING).branches[0]
+    ob = trace_orbits(
+        start.params,
+        start.y0,
+        param="Abar",
+        p_min=0.2,
+        p_max=6.0,
+        shooting=ShootingSettings(points_per_2pi=64),
+        branching=NO_SWITCHING,
+    ).branches[0]
     assert ob.kind == "symmetric"
     off_wall = ob.measures["max_abs_w"] < 0.9
     assert np.sum(off_wall) >= 10  # the stretch the test is about is on the branch
     pitchforks = ob.branch.special_of("BP")
-    assert pitchforks and all(ob.measures["max_abs_w"][sp.index] >= 1.0 for sp in pitchforks), [(sp.p, ob.measures["max_abs_w"][sp.index]) for sp in pitchforks]
+    assert pitchforks and all(ob.measures["max_abs_w"][sp.index] >= 1.0 for sp in pitchforks), [
+        (sp.p, ob.measures["max_abs_w"][sp.index]) for sp in pitchforks
+    ]
     for sp in pitchforks:
         mu = scipy_multipliers(PRESET.params.replace(sigma=6.0, Abar=float(sp.p)), sp.x[:4])
         assert np.min(np.abs(mu - 1)) < 1e-6

@@ -47,7 +47,9 @@ def test_no_branch_is_traced_twice(scanned):
     for ob in period_one:
         i = len(ob) // 2
         others = [o for o in period_one if o is not ob]
-        assert on_traced_branch(P.replace(sigma=float(ob.branch.p[i])), ob.branch.x[i, :4], others) is None, ob.name
+        assert on_traced_branch(P.replace(sigma=float(ob.branch.p[i])), ob.branch.x[i, :4], others) is None, (
+            ob.name
+        )
 
 
 def test_the_scan_finds_an_isola_the_default_start_misses(scanned):
@@ -64,7 +66,16 @@ def test_shoot_scan_writes_families_csv_with_unique_names(tmp_path, capsys):
     assert code == 0
     with open(out / "families.csv", newline="") as fh:
         families = list(csv.DictReader(fh))
-    assert list(families[0]) == ["family", "kind", "sigma_min", "sigma_max", "closed", "found_from", "points", "status"]
+    assert list(families[0]) == [
+        "family",
+        "kind",
+        "sigma_min",
+        "sigma_max",
+        "closed",
+        "found_from",
+        "points",
+        "status",
+    ]
     names = [f["family"] for f in families]
     assert len(set(names)) == len(names) >= 3
     with open(out / "branch.csv", newline="") as fh:

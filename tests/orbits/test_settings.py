@@ -16,13 +16,25 @@ from slosh_bif.studies.chart import ChartSettings
 @pytest.mark.parametrize(
     "make, message",
     [
-        (lambda: ShootingSettings(segments=0), r"ShootingSettings\.segments must be an integer in \[1, 64\]; got 0"),
+        (
+            lambda: ShootingSettings(segments=0),
+            r"ShootingSettings\.segments must be an integer in \[1, 64\]; got 0",
+        ),
         (lambda: ShootingSettings(segments=4.0), r"ShootingSettings\.segments must be an integer"),
         (lambda: ShootingSettings(rtol=1e-2), r"ShootingSettings\.rtol must be in \[1e-14, 1e-4\]"),
         (lambda: ShootingSettings(atol=0.0), r"ShootingSettings\.atol must be in \(0, 1e-4\]"),
-        (lambda: ShootingSettings(backend="cuda"), r"ShootingSettings\.backend must be one of auto, numba, scipy; got 'cuda'"),
-        (lambda: ShootingSettings(points_per_2pi=4), r"ShootingSettings\.points_per_2pi must be an integer in \[8, 65536\]"),
-        (lambda: BranchingSettings(max_branches=0), r"BranchingSettings\.max_branches must be an integer >= 1"),
+        (
+            lambda: ShootingSettings(backend="cuda"),
+            r"ShootingSettings\.backend must be one of auto, numba, scipy; got 'cuda'",
+        ),
+        (
+            lambda: ShootingSettings(points_per_2pi=4),
+            r"ShootingSettings\.points_per_2pi must be an integer in \[8, 65536\]",
+        ),
+        (
+            lambda: BranchingSettings(max_branches=0),
+            r"BranchingSettings\.max_branches must be an integer >= 1",
+        ),
         (lambda: BranchingSettings(switch="no"), r"BranchingSettings\.switch must be True or False"),
         (lambda: StartSettings(points=0), r"StartSettings\.points must be an integer >= 1"),
         (lambda: StartSettings(seed=-1), r"StartSettings\.seed must be an integer >= 0"),

@@ -47,7 +47,16 @@ def test_monodromy_of_model_9_matches_differences_of_the_period_map():
     y0 = np.array([0.4, 0.1, 0.8, 0.9])
     yT, M, _ = period_map(model.rhs, model.jac, y0, 2 * np.pi, rtol=1e-12, atol=1e-13)
     h = 1e-6
-    fd = np.column_stack([(period_map(model.rhs, model.jac, y0 + h * e, 2 * np.pi, rtol=1e-12, atol=1e-13)[0] - period_map(model.rhs, model.jac, y0 - h * e, 2 * np.pi, rtol=1e-12, atol=1e-13)[0]) / (2 * h) for e in np.eye(4)])
+    fd = np.column_stack(
+        [
+            (
+                period_map(model.rhs, model.jac, y0 + h * e, 2 * np.pi, rtol=1e-12, atol=1e-13)[0]
+                - period_map(model.rhs, model.jac, y0 - h * e, 2 * np.pi, rtol=1e-12, atol=1e-13)[0]
+            )
+            / (2 * h)
+            for e in np.eye(4)
+        ]
+    )
     np.testing.assert_allclose(M, fd, rtol=1e-5, atol=1e-5)
 
 
@@ -62,7 +71,9 @@ def test_fig10_resonant_orbit_exists_but_is_unstable(scipy_flow):
     assert orbit.converged and orbit.liouville_error < 1e-8
     y_T, monodromy = scipy_flow(P, orbit.y0)
     np.testing.assert_allclose(y_T, orbit.y0, atol=1e-7)  # 2pi-periodic by scipy's integrator too
-    np.testing.assert_allclose(np.sort(np.abs(orbit.multipliers)), np.sort(np.abs(np.linalg.eigvals(monodromy))), rtol=1e-6)
+    np.testing.assert_allclose(
+        np.sort(np.abs(orbit.multipliers)), np.sort(np.abs(np.linalg.eigvals(monodromy))), rtol=1e-6
+    )
     assert abs(orbit.multipliers[0]) > 10 and not orbit.stable
 
 
@@ -75,6 +86,7 @@ def test_shooting_reports_non_convergence_instead_of_raising():
 
 
 # -- the compiled integrator and the shooting problem -------------------------------------------
+
 
 # The compiled backend is a capability of the package: the test extra installs numba, so these
 # tests run it (without numba they fail, naming the missing extra).
@@ -101,7 +113,10 @@ def test_compiled_integrator_converges_to_a_tight_reference():
     P = get_preset("fig12").params
     y0 = get_preset("fig12").state0
     ref = integrator.integrate(P, y0, 0.0, 2 * np.pi, rtol=1e-13, atol=1e-15).z
-    errors = [np.max(np.abs(integrator.integrate(P, y0, 0.0, 2 * np.pi, rtol=r, atol=r * 1e-2).z - ref)) for r in (1e-6, 1e-8, 1e-10)]
+    errors = [
+        np.max(np.abs(integrator.integrate(P, y0, 0.0, 2 * np.pi, rtol=r, atol=r * 1e-2).z - ref))
+        for r in (1e-6, 1e-8, 1e-10)
+    ]
     assert errors[0] > errors[1] > errors[2] and errors[2] < 1e-8
 
 
@@ -132,13 +147,20 @@ def test_shooting_jacobian_and_both_sensitivities_match_differences_of_the_resid
     x = np.array([0.4, 0.1, 0.8, 0.9, -0.3, 0.2, -0.7, 0.5])
     problem = ShootingProblem(P, "sigma", segments=2, rtol=1e-12, atol=1e-13)
     J, h = problem.jacobian(x, P.sigma), 1e-6
-    fd = np.column_stack([(problem.residual(x + h * e, P.sigma) - problem.residual(x - h * e, P.sigma)) / (2 * h) for e in np.eye(len(x))])
+    fd = np.column_stack(
+        [
+            (problem.residual(x + h * e, P.sigma) - problem.residual(x - h * e, P.sigma)) / (2 * h)
+            for e in np.eye(len(x))
+        ]
+    )
     np.testing.assert_allclose(J, fd, rtol=1e-5, atol=1e-6)
     both = problem.dparams(x, P.sigma)
     for column, name in enumerate(("sigma", "Abar")):
         v = getattr(P, name)
         plus, minus = P.replace(**{name: v + 1e-5}), P.replace(**{name: v - 1e-5})
-        fd = (problem.residual_of(x, problem.arcs(x, plus)) - problem.residual_of(x, problem.arcs(x, minus))) / 2e-5
+        fd = (
+            problem.residual_of(x, problem.arcs(x, plus)) - problem.residual_of(x, problem.arcs(x, minus))
+        ) / 2e-5
         np.testing.assert_allclose(both[:, column], fd, rtol=1e-6, atol=1e-7)
 
 
@@ -150,7 +172,9 @@ def test_sensitivities_in_every_real_parameter_match_differences_of_scipys_flow(
     y0 = np.array([0.4, 0.1, 0.8, 0.9])
     problem = ShootingProblem(P, name, rtol=1e-12, atol=1e-13)
     v, h = getattr(P, name), 1e-5 * max(1.0, abs(getattr(P, name)))
-    fd = (scipy_flow(P.replace(**{name: v + h}), y0)[0] - scipy_flow(P.replace(**{name: v - h}), y0)[0]) / (2 * h)
+    fd = (scipy_flow(P.replace(**{name: v + h}), y0)[0] - scipy_flow(P.replace(**{name: v - h}), y0)[0]) / (
+        2 * h
+    )
     np.testing.assert_allclose(problem.dparam(y0, v), fd, rtol=1e-6, atol=1e-7)
     assert np.max(np.abs(fd)) > 1e-3  # the parameter moves the orbit: the comparison says something
 
@@ -159,9 +183,15 @@ def test_the_pair_kernel_along_sigma_and_abar_is_the_dedicated_kernel():
     P = get_preset("fig12").params
     x = np.array([0.4, 0.1, 0.8, 0.9, -0.3, 0.2, -0.7, 0.5])
     dedicated = ShootingProblem(P, "sigma", segments=2)
-    pair = ShootingProblem(P, "sigma", segments=2, sensitivities=("Abar", "sigma"))  # reversed: the pair kernel
-    np.testing.assert_allclose(pair.dparams(x, P.sigma)[:, ::-1], dedicated.dparams(x, P.sigma), rtol=1e-9, atol=1e-11)
-    np.testing.assert_allclose(pair.residual(x, P.sigma), dedicated.residual(x, P.sigma), rtol=1e-9, atol=1e-11)
+    pair = ShootingProblem(
+        P, "sigma", segments=2, sensitivities=("Abar", "sigma")
+    )  # reversed: the pair kernel
+    np.testing.assert_allclose(
+        pair.dparams(x, P.sigma)[:, ::-1], dedicated.dparams(x, P.sigma), rtol=1e-9, atol=1e-11
+    )
+    np.testing.assert_allclose(
+        pair.residual(x, P.sigma), dedicated.residual(x, P.sigma), rtol=1e-9, atol=1e-11
+    )
     with pytest.raises(ValueError, match="sensitivities must include the continued parameter"):
         ShootingProblem(P, "sigma", sensitivities=("beta", "eps"))
     with pytest.raises(ValueError, match="'n' is an integer; sensitivities take two of"):
@@ -186,7 +216,9 @@ def test_single_and_multiple_shooting_find_the_same_orbit():
     multi = periodic_orbit(P, guess, segments=4)
     assert single.converged and multi.converged
     np.testing.assert_allclose(multi.y0, single.y0, atol=1e-8)
-    np.testing.assert_allclose(np.sort(np.abs(multi.multipliers)), np.sort(np.abs(single.multipliers)), rtol=1e-6)
+    np.testing.assert_allclose(
+        np.sort(np.abs(multi.multipliers)), np.sort(np.abs(single.multipliers)), rtol=1e-6
+    )
 
 
 def test_stable_orbit_attracts_a_long_simulation(scipy_multipliers):
@@ -197,7 +229,9 @@ def test_stable_orbit_attracts_a_long_simulation(scipy_multipliers):
     strobes = integrator.integrate_grid(P, get_preset("fig10").state0, 2 * np.pi * np.arange(301))
     orbit = periodic_orbit(P, strobes[-100])  # shooting starts 100 periods earlier
     assert orbit.converged and orbit.stable
-    np.testing.assert_allclose(np.sort(np.abs(orbit.multipliers)), np.sort(np.abs(scipy_multipliers(P, orbit.y0))), rtol=1e-6)
+    np.testing.assert_allclose(
+        np.sort(np.abs(orbit.multipliers)), np.sort(np.abs(scipy_multipliers(P, orbit.y0))), rtol=1e-6
+    )
     np.testing.assert_allclose(strobes[-1], orbit.y0, atol=1e-6)
     assert orbit_measures(ShootingProblem(P), orbit.y0, -6.0)["symmetry_defect"] < 1e-7  # symmetric
 
@@ -213,7 +247,9 @@ def test_located_fold_and_ns_converge_as_the_tolerance_tightens(scipy_multiplier
         problem = ShootingProblem(P, segments=4, rtol=rtol, atol=rtol * 1e-2)
         start = orbit_at(problem, problem.initial_states(strobes[-1]), 0.8, tol=1e-9)
         assert start.converged and start.stable
-        options = ContinuationOptions(step=0.02, step_max=0.05, p_min=0.75, p_max=1.0, tol=1e-8, max_steps=200, direction="forward")
+        options = ContinuationOptions(
+            step=0.02, step_max=0.05, p_min=0.75, p_max=1.0, tol=1e-8, max_steps=200, direction="forward"
+        )
         branch = continuation(problem, problem.initial_states(start.y0), 0.8, param="sigma", options=options)
         located.append({s.kind: s.p for s in branch.special if s.kind in ("LP", "NS")})
         ns = next(s for s in branch.special if s.kind == "NS")
@@ -251,7 +287,11 @@ def test_slow_flow_start_tries_steady_states_and_says_when_none_gives_an_orbit()
     start = slow_flow_start(P, -6.0, 8.0)
     assert start.sigma in (-6.0, 8.0) and start.orbit.converged  # the range's ends come first
     # The start carries its own parameter set: Newton there, from its state, stays put.
-    again = orbit_at(ShootingProblem(start.params, segments=4), ShootingProblem(start.params, segments=4).initial_states(start.y0), start.sigma)
+    again = orbit_at(
+        ShootingProblem(start.params, segments=4),
+        ShootingProblem(start.params, segments=4).initial_states(start.y0),
+        start.sigma,
+    )
     assert again.converged and again.iterations <= 1
     # Near the peak (46) and (9) differ by 30 %: no steady state there leads Newton to an orbit.
     with pytest.raises(ConvergenceError, match="no orbit of \\(9\\) found from"):
@@ -277,7 +317,9 @@ def test_default_start_does_not_depend_on_rounding_where_the_simulation_has_not_
     start = start_orbit(pre.params, pre.state0, (-6.0, 8.0), backend=backend)
     assert "slow flow" in start.found_from and "not reached a stable orbit" in start.found_from
     problem = ShootingProblem(start.params, segments=4)
-    measures = orbit_measures(problem, problem.initial_states(start.y0), start.params.sigma, points_per_2pi=64)
+    measures = orbit_measures(
+        problem, problem.initial_states(start.y0), start.params.sigma, points_per_2pi=64
+    )
     assert start.orbit.converged and measures["symmetry_defect"] < 1e-6
     reference = start_orbit(pre.params, pre.state0, (-6.0, 8.0), backend="numba")
     assert start.params.sigma == reference.params.sigma
@@ -293,14 +335,23 @@ def test_liouville_check_survives_an_ill_conditioned_monodromy():
     P = get_preset("fig10").params
     problem = ShootingProblem(P, segments=4)
     rng = np.random.default_rng(3)
-    mats = np.array([special_ortho_group.rvs(4, random_state=rng) @ np.diag([1e4, 2.0, 0.5, 1e-4]) @ special_ortho_group.rvs(4, random_state=rng) for _ in range(4)])
+    mats = np.array(
+        [
+            special_ortho_group.rvs(4, random_state=rng)
+            @ np.diag([1e4, 2.0, 0.5, 1e-4])
+            @ special_ortho_group.rvs(4, random_state=rng)
+            for _ in range(4)
+        ]
+    )
     dets = [np.linalg.det(m) for m in mats]  # each well conditioned: 1 to rounding
     M = mats[3] @ mats[2] @ mats[1] @ mats[0]
     trace = float(np.log(abs(np.prod(dets))))
     x = np.zeros(16)
     from slosh_bif.orbits.shooting import Arcs
 
-    problem._cache[(x.tobytes(), problem.params_at(P.sigma))] = Arcs(np.zeros((4, 4)), mats, np.zeros((4, 4, 2)), trace, M)
+    problem._cache[(x.tobytes(), problem.params_at(P.sigma))] = Arcs(
+        np.zeros((4, 4)), mats, np.zeros((4, 4, 2)), trace, M
+    )
     assert np.linalg.cond(M) > 1e12
     assert problem.liouville_error(x, P.sigma) < 1e-12 * 16
 

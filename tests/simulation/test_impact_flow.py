@@ -22,7 +22,15 @@ def _at_wall(side):
 
 def _next_impact(model, t, y, horizon):
     """The next impact after (t, y) by scipy's DOP853 with event location at tight tolerances."""
-    sol = solve_ivp(model.rhs, (t, t + horizon), y, method="DOP853", rtol=1e-13, atol=1e-14, events=[_at_wall(1), _at_wall(-1)])
+    sol = solve_ivp(
+        model.rhs,
+        (t, t + horizon),
+        y,
+        method="DOP853",
+        rtol=1e-13,
+        atol=1e-14,
+        events=[_at_wall(1), _at_wall(-1)],
+    )
     hits = [(te[0], k) for k, te in enumerate(sol.t_events) if len(te)]
     t_hit, k = min(hits)
     return t_hit, (1, -1)[k], sol.y_events[k][0]
@@ -30,7 +38,13 @@ def _next_impact(model, t, y, horizon):
 
 @pytest.mark.parametrize(
     "preset, changes",
-    [("fig9a", {}), ("fig10", {}), ("fig13", {}), ("fig10", {"n": 20, "pbar": 2, "lam": 0.2}), ("fig13", {"n": 8, "pbar": -2, "lam": 0.05})],
+    [
+        ("fig9a", {}),
+        ("fig10", {}),
+        ("fig13", {}),
+        ("fig10", {"n": 20, "pbar": 2, "lam": 0.2}),
+        ("fig13", {"n": 8, "pbar": -2, "lam": 0.05}),
+    ],
     ids=["fig9a", "fig10", "fig13", "pbar=2", "pbar=-2"],
 )
 def test_every_impact_matches_scipy_event_location(preset, changes):
@@ -75,7 +89,15 @@ def _turning_point(model, v):
         return y[3]
 
     turn.terminal, turn.direction = True, -1
-    sol = solve_ivp(model.rhs, (np.pi, np.pi + 6.0), [0.0, 0.0, 0.97, v], method="DOP853", rtol=1e-13, atol=1e-14, events=turn)
+    sol = solve_ivp(
+        model.rhs,
+        (np.pi, np.pi + 6.0),
+        [0.0, 0.0, 0.97, v],
+        method="DOP853",
+        rtol=1e-13,
+        atol=1e-14,
+        events=turn,
+    )
     return sol.y_events[0][0][2]
 
 

@@ -42,8 +42,14 @@ def test_noise_is_the_band_limited_sum_of_cosines_with_the_requested_std():
     phases = np.random.default_rng(3).uniform(0, 2 * np.pi, noise.modes)
     assert noise.modes == int(6.0 / dw)
     tau = np.random.default_rng(0).uniform(0, 300, 50)
-    exact = 4.0 * np.sqrt(2 / noise.modes) * np.cos(np.outer(tau, dw * np.arange(1, noise.modes + 1)) + phases).sum(axis=1)
-    np.testing.assert_allclose(noise(tau), exact, atol=1e-6 * 4.0)  # degree-7 spline, 16 points per shortest period
+    exact = (
+        4.0
+        * np.sqrt(2 / noise.modes)
+        * np.cos(np.outer(tau, dw * np.arange(1, noise.modes + 1)) + phases).sum(axis=1)
+    )
+    np.testing.assert_allclose(
+        noise(tau), exact, atol=1e-6 * 4.0
+    )  # degree-7 spline, 16 points per shortest period
     samples = noise(np.linspace(0, 300, 100_001))
     assert np.std(samples) == pytest.approx(4.0, rel=0.05)
     assert abs(np.mean(samples)) < 0.1 * 4.0
@@ -62,7 +68,9 @@ def test_noise_is_reproducible_bit_for_bit_and_seed_dependent():
     P = get_preset("fig15").params
     runs = [simulate(P, get_preset("fig15").state0, 40.0, noise=Noise(std=4.0, seed=5)) for _ in range(2)]
     assert np.array_equal(runs[0].y, runs[1].y)
-    assert not np.array_equal(runs[0].y, simulate(P, get_preset("fig15").state0, 40.0, noise=Noise(std=4.0, seed=6)).y)
+    assert not np.array_equal(
+        runs[0].y, simulate(P, get_preset("fig15").state0, 40.0, noise=Noise(std=4.0, seed=6)).y
+    )
 
 
 @pytest.mark.parametrize(
@@ -87,15 +95,31 @@ def test_noisy_response_converges_as_the_step_shrinks():
     """
     preset = get_preset("fig14")
     noise, coarse = Noise(std=4.0, seed=1), SimulationSettings(sample_step=0.05)
-    ends = [simulate(preset.params, preset.state0, 30.0, noise=noise, settings=coarse.replace(rtol=r, atol=r * 1e-2)).y[:, -1] for r in (1e-5, 1e-7, 1e-9, 1e-11)]
+    ends = [
+        simulate(
+            preset.params, preset.state0, 30.0, noise=noise, settings=coarse.replace(rtol=r, atol=r * 1e-2)
+        ).y[:, -1]
+        for r in (1e-5, 1e-7, 1e-9, 1e-11)
+    ]
     diffs = [np.max(np.abs(ends[k + 1] - ends[k])) for k in range(3)]
     assert diffs[0] > diffs[1] > diffs[2]
     assert diffs[2] < 1e-5
     # The scipy fallback integrates the same forcing to the same answer.
-    other = simulate(preset.params, preset.state0, 30.0, noise=noise, settings=coarse.replace(rtol=1e-11, atol=1e-13, backend="scipy")).y[:, -1]
+    other = simulate(
+        preset.params,
+        preset.state0,
+        30.0,
+        noise=noise,
+        settings=coarse.replace(rtol=1e-11, atol=1e-13, backend="scipy"),
+    ).y[:, -1]
     np.testing.assert_allclose(other, ends[-1], atol=1e-5)
     # And the noise matters: without it the end state is elsewhere.
-    quiet = simulate(preset.params, preset.state0, 30.0, settings=SimulationSettings(rtol=1e-11, atol=1e-13, sample_step=0.05)).y[:, -1]
+    quiet = simulate(
+        preset.params,
+        preset.state0,
+        30.0,
+        settings=SimulationSettings(rtol=1e-11, atol=1e-13, sample_step=0.05),
+    ).y[:, -1]
     assert np.max(np.abs(quiet - ends[-1])) > 1e-2
 
 
@@ -135,7 +159,15 @@ def test_impact_times_and_velocities_match_a_refined_event_search():
 
     t, y = 0.0, preset.state0.copy()
     for k in range(traj.impact_t.size):
-        sol = solve_ivp(model.rhs, (t, traj.impact_t[k] + 1.0), y, method="DOP853", rtol=1e-12, atol=1e-13, events=[at_wall(1), at_wall(-1)])
+        sol = solve_ivp(
+            model.rhs,
+            (t, traj.impact_t[k] + 1.0),
+            y,
+            method="DOP853",
+            rtol=1e-12,
+            atol=1e-13,
+            events=[at_wall(1), at_wall(-1)],
+        )
         hits = [(e[0], s) for e, s in zip(sol.t_events, (1, -1)) if e.size]
         t_hit, side = min(hits)
         assert t_hit == pytest.approx(traj.impact_t[k], abs=1e-8)
@@ -153,7 +185,12 @@ def test_smooth_wall_passages_do_not_depend_on_the_sampling():
     # with different output grids (hence different steps) part after ~8 periods.
     preset = get_preset("fig10")
     coarse = simulate(preset.params, preset.state0, 45.0, settings=SimulationSettings(sample_step=0.02))
-    fine = simulate(preset.params, preset.state0, 45.0, settings=SimulationSettings(sample_step=0.004, rtol=1e-11, atol=1e-13))
+    fine = simulate(
+        preset.params,
+        preset.state0,
+        45.0,
+        settings=SimulationSettings(sample_step=0.004, rtol=1e-11, atol=1e-13),
+    )
     assert coarse.impact_t.size == fine.impact_t.size > 15
     np.testing.assert_allclose(coarse.impact_t, fine.impact_t, atol=5e-3)
     np.testing.assert_array_equal(coarse.impact_side, fine.impact_side)
@@ -210,10 +247,16 @@ def test_periodic_resonant_matches_the_slow_flow_steady_state():
     """Fig. 13: a stable steady state of the slow flow exists on S+; the simulation sits on it."""
     preset = get_preset("fig13")
     P = preset.params
-    summary = classify(simulate(P, preset.state0, 3000.0), transient=2000.0)  # capture happens near tau = 1000
+    summary = classify(
+        simulate(P, preset.state0, 3000.0), transient=2000.0
+    )  # capture happens near tau = 1000
     assert summary.regime == "periodic-resonant", summary.reason
     fr = frequency_response(P, sigma_min=P.sigma - 0.01, sigma_max=P.sigma + 0.01)
-    stable = [b.x[np.argmin(np.abs(b.p - P.sigma)), 0] for b in fr.branches if b.stable[np.argmin(np.abs(b.p - P.sigma))]]
+    stable = [
+        b.x[np.argmin(np.abs(b.p - P.sigma)), 0]
+        for b in fr.branches
+        if b.stable[np.argmin(np.abs(b.p - P.sigma))]
+    ]
     assert len(stable) == 1
     # Peak |X| 0.28 against the slow flow's A = 0.31: the asymptotics' accuracy here (beta = 0.3).
     assert summary.envelope_max == pytest.approx(stable[0], rel=0.15)
@@ -235,7 +278,9 @@ def test_periodic_resonant_is_a_stable_periodic_orbit_of_the_smooth_model():
     peak = np.max(np.abs(integrate_grid(P, orbit.y0, taus)[:, 0]))
     assert summary.envelope_max == pytest.approx(peak, rel=1e-2)
     assert summary.envelope_min == pytest.approx(peak, rel=1e-2)
-    assert summary.impacts_per_period == pytest.approx(4.0, abs=0.05)  # two on each wall: see docs/findings/simulation.md
+    assert summary.impacts_per_period == pytest.approx(
+        4.0, abs=0.05
+    )  # two on each wall: see docs/findings/simulation.md
 
 
 def synthetic(envelope_per_period, sides_per_period, params):
@@ -246,7 +291,9 @@ def synthetic(envelope_per_period, sides_per_period, params):
     A = np.append(A, A[-1])
     X = A * np.sin(t)
     y = np.vstack([X, A * np.cos(t), X, A * np.cos(t)])
-    impact_t = np.concatenate([2 * np.pi * k + np.linspace(0.5, 5.5, len(sides_per_period)) for k in range(periods)])
+    impact_t = np.concatenate(
+        [2 * np.pi * k + np.linspace(0.5, 5.5, len(sides_per_period)) for k in range(periods)]
+    )
     sides = np.tile(sides_per_period, periods)
     zeros = np.zeros_like(impact_t)
     return Simulation("smooth", params, t, y, impact_t, sides, zeros, zeros, "finished", "synthetic")
@@ -259,7 +306,9 @@ def test_classifier_rules_on_synthetic_responses():
     assert summary.regime == "other"
     assert summary.crossings_per_period == pytest.approx(2.0, abs=0.05)
     # No impacts at all: non-resonant whatever the envelope.
-    quiet = dataclasses.replace(synthetic(np.full(60, 0.5), [1, -1], P), impact_t=np.empty(0), impact_side=np.empty(0, int))
+    quiet = dataclasses.replace(
+        synthetic(np.full(60, 0.5), [1, -1], P), impact_t=np.empty(0), impact_side=np.empty(0, int)
+    )
     assert classify(quiet, transient=0.0).regime == "non-resonant"
     with pytest.raises(ValueError, match="transient must leave at least two forcing periods"):
         classify(quiet, transient=1e6)
@@ -310,7 +359,18 @@ def test_a_failed_run_in_a_regime_map_is_recorded_as_failed_with_its_reason(monk
 
     def failing(params, state0, tmax, **_):
         t = np.linspace(0, 1, 5)
-        return Simulation("smooth", params, t, np.zeros((4, 5)), np.empty(0), np.empty(0, int), np.empty(0), np.empty(0), "failed", "step size fell below the rounding limit")
+        return Simulation(
+            "smooth",
+            params,
+            t,
+            np.zeros((4, 5)),
+            np.empty(0),
+            np.empty(0, int),
+            np.empty(0),
+            np.empty(0),
+            "failed",
+            "step size fell below the rounding limit",
+        )
 
     monkeypatch.setattr(regimes, "simulate", failing)
     with ThreadPoolExecutor(1) as pool:
@@ -323,7 +383,8 @@ def test_a_failed_run_in_a_regime_map_is_recorded_as_failed_with_its_reason(monk
 
 def test_cached_machine_code_is_dropped_when_the_generated_kernels_change(tmp_path):
     # numba keys a cache on the function's own file; the loop inlines the kernels of another file
-    # (and the integer power they call), so a changed kernels.py or powers.py must remove the loop's cached code (a stale one ran the old equations).
+    # (and the integer power they call), so a changed kernels.py or powers.py must remove the loop's cached
+    # code (a stale one ran the old equations).
     import hashlib
     import types
 
@@ -332,7 +393,9 @@ def test_cached_machine_code_is_dropped_when_the_generated_kernels_change(tmp_pa
     from slosh_bif.model._generated import kernels
 
     locator = types.SimpleNamespace(get_cache_path=lambda: str(tmp_path))
-    compiled = types.SimpleNamespace(_cache=types.SimpleNamespace(_impl=types.SimpleNamespace(locator=locator)))
+    compiled = types.SimpleNamespace(
+        _cache=types.SimpleNamespace(_impl=types.SimpleNamespace(locator=locator))
+    )
     stale = [tmp_path / "dop853._dop853_loop-1.py311.nbi", tmp_path / "dop853._dop853_loop-1.py311.1.nbc"]
     other = tmp_path / "noise.other-1.py311.nbi"
     for path in (*stale, other):

@@ -48,9 +48,13 @@ def test_a_clearance_is_the_paper_flow_in_units_of_D(D):
     A, psi, rho = 1.7, 0.4, 0.21
     slow = (0.3, 0.2, 1.1, 2.5)  # beta, gamma, sigma, Abar
     scaled = slow[:3] + (slow[3] / D,)
-    assert gen.corrected_steady_residual(A, rho, D, *slow) == pytest.approx(D**4 * gen.steady_residual(A / D, rho, *scaled), rel=1e-12)
+    assert gen.corrected_steady_residual(A, rho, D, *slow) == pytest.approx(
+        D**4 * gen.steady_residual(A / D, rho, *scaled), rel=1e-12
+    )
     corrected, paper = gen.corrected_slow_rhs(A, psi, rho, D, *slow), gen.slow_rhs(A / D, psi, rho, *scaled)
-    assert corrected[0] == pytest.approx(D * paper[0], rel=1e-12) and corrected[1] == pytest.approx(paper[1], rel=1e-12)
+    assert corrected[0] == pytest.approx(D * paper[0], rel=1e-12) and corrected[1] == pytest.approx(
+        paper[1], rel=1e-12
+    )
     assert gen.corrected_a_min(rho, D) == pytest.approx(D * gen.sim_a_min(rho), rel=1e-14)
 
 
@@ -66,11 +70,22 @@ def _independent_contact(v0, lam, chi, n, pbar):
         return y[0]
 
     back.terminal, back.direction = True, -1
-    sol = solve_ivp(rhs, (0, 200.0 / v0), [0.0, v0], method="Radau", rtol=1e-13, atol=1e-15, events=back, dense_output=True)
+    sol = solve_ivp(
+        rhs,
+        (0, 200.0 / v0),
+        [0.0, v0],
+        method="Radau",
+        rtol=1e-13,
+        atol=1e-15,
+        events=back,
+        dense_output=True,
+    )
     t_turn = sol.t[np.argmax(sol.y[0])]
     from scipy.optimize import brentq
 
-    t_turn = brentq(lambda t: sol.sol(t)[1], 0.5 * t_turn, min(1.5 * t_turn + 1e-9, sol.t_events[0][0]), xtol=1e-15)
+    t_turn = brentq(
+        lambda t: sol.sol(t)[1], 0.5 * t_turn, min(1.5 * t_turn + 1e-9, sol.t_events[0][0]), xtol=1e-15
+    )
     kappa = -sol.y_events[0][0][1] / v0
     # the flights x = v0 t in and x = -kappa v0 (t - t_exit) out meet at the equivalent wall
     return kappa, float(sol.sol(t_turn)[0]), kappa * v0 * sol.t_events[0][0] / (1 + kappa)
@@ -93,12 +108,16 @@ def test_the_law_solves_its_fixed_point_and_its_slopes_are_its_derivatives():
     kappa = law.kappa(A)
     # The impact speed (38) with the wall's kappa and D at that same speed gives them back.
     v = gen.corrected_impact_speed(A, kappa, D)[0]
-    assert np.allclose(law.wall.kappa(v), kappa, rtol=1e-13) and np.allclose(law.wall.clearance(v), D, rtol=1e-13)
+    assert np.allclose(law.wall.kappa(v), kappa, rtol=1e-13) and np.allclose(
+        law.wall.clearance(v), D, rtol=1e-13
+    )
     h = 1e-6
     up, down = law.values(A + h), law.values(A - h)
     assert np.allclose(drho, (up[0] - down[0]) / (2 * h), rtol=1e-6, atol=1e-10)
     assert np.allclose(dD, (up[1] - down[1]) / (2 * h), rtol=1e-6, atol=1e-10)
-    assert V_RANGE[0] < law.v_end < V_RANGE[1] and law.A_min == pytest.approx(float(gen.corrected_a_min(law.end_values(law.lower)[0], law.D_at_end)), rel=1e-14)
+    assert V_RANGE[0] < law.v_end < V_RANGE[1] and law.A_min == pytest.approx(
+        float(gen.corrected_a_min(law.end_values(law.lower)[0], law.D_at_end)), rel=1e-14
+    )
 
 
 def test_the_flows_jacobian_is_its_derivative():
@@ -116,18 +135,23 @@ def test_frequency_response_and_critical_forcing_hold_on_the_corrected_curve():
     fr = frequency_response(P, sigma_min=-4, sigma_max=5, model="corrected")
     flow = SlowFlow(P, "corrected")
     for b in fr.branches:
-        inside = (b.x[:, 0] > flow.A_min * 1.001)
-        residual = [flow.steady_residual(A, sigma=s) / (np.pi**4 * A**2) for A, s in zip(b.x[inside, 0], b.p[inside])]
+        inside = b.x[:, 0] > flow.A_min * 1.001
+        residual = [
+            flow.steady_residual(A, sigma=s) / (np.pi**4 * A**2) for A, s in zip(b.x[inside, 0], b.p[inside])
+        ]
         assert np.max(np.abs(residual)) < 1e-8
         assert any(sp.kind == "END" for sp in b.special)
     cp = critical_forcing(P, 1.0, model="corrected")
     A = np.geomspace(flow.A_min * (1 + 1e-12), 20, 20001)
     from slosh_bif.slowflow.steady_states import abar_on_curve
 
-    assert cp.Abar_b == pytest.approx(np.nanmin(abar_on_curve(SlowFlow(P.replace(sigma=1.0), "corrected"), A)), rel=1e-6)
+    assert cp.Abar_b == pytest.approx(
+        np.nanmin(abar_on_curve(SlowFlow(P.replace(sigma=1.0), "corrected"), A)), rel=1e-6
+    )
 
 
-# Measured (docs/findings/regimes.md, "The corrected slow flow"): at these five sigmas the corrected slow flow is
+# Measured (docs/findings/regimes.md, "The corrected slow flow"): at these five sigmas the corrected slow flow
+# is
 # 0.8-8.1 % from the stable orbits of (9), eq. (46) 18-32 %; the bound leaves room for rounding
 # of the settling simulation, not for a different orbit (the next one is > 30 % away).
 N6_BOUND = 0.1
@@ -157,7 +181,10 @@ def test_corrected_frc_at_n_6_against_shooting_at_five_sigmas(capsys):
         assert orbit.converged and orbit.stable
         A = [a for b in fr.branches for a in _amplitudes_at(b, sigma)]
         difference = min(abs(a - A1) / A1 for a in A)
-        lines.append(f"sigma = {sigma:g}: shooting A1 = {A1:.4f}, corrected A = {min(A, key=lambda a: abs(a - A1)):.4f}, difference {difference:.1%}")
+        lines.append(
+            f"sigma = {sigma:g}: shooting A1 = {A1:.4f}, corrected A = "
+            f"{min(A, key=lambda a: abs(a - A1)):.4f}, difference {difference:.1%}"
+        )
         assert difference < N6_BOUND
     with capsys.disabled():
         print("\n" + "\n".join(lines))
@@ -166,7 +193,11 @@ def test_corrected_frc_at_n_6_against_shooting_at_five_sigmas(capsys):
 def test_the_ladder_uses_the_corrected_rung_where_46_is_out_of_range():
     # n = 20 with the Fig. 10 wall: (21) is out of its range (the wall loses > 50 % per impact)
     model, reason, error = model_choice("frequency-response", FIG10.replace(n=20), tol=0.3)
-    assert model == "corrected slow flow" and error == CORRECTED_ERROR["frequency-response"] and "loses" in reason
+    assert (
+        model == "corrected slow flow"
+        and error == CORRECTED_ERROR["frequency-response"]
+        and "loses" in reason
+    )
     # ... but not below its own range (n = 6), nor below its measured error
     assert model_choice("frequency-response", FIG10.replace(n=6), tol=0.3)[0].startswith("shooting")
     assert model_choice("frequency-response", FIG10.replace(n=20), tol=0.1)[0].startswith("shooting")
@@ -175,10 +206,45 @@ def test_the_ladder_uses_the_corrected_rung_where_46_is_out_of_range():
 
 
 def test_cli_model_option(tmp_path, capsys):
-    assert main(["frc", "--preset", "fig10", "--set", "n=20", "--model", "corrected", "--out", str(tmp_path / "frc")]) == 0
+    assert (
+        main(
+            [
+                "frc",
+                "--preset",
+                "fig10",
+                "--set",
+                "n=20",
+                "--model",
+                "corrected",
+                "--out",
+                str(tmp_path / "frc"),
+            ]
+        )
+        == 0
+    )
     assert (tmp_path / "frc" / "frc.png").stat().st_size > 10_000
     with pytest.raises(SystemExit):
         main(["frc", "--preset", "fig10", "--model", "exact", "--out", str(tmp_path / "bad")])
     assert "invalid choice: 'exact'" in capsys.readouterr().err
-    assert main(["critical", "--preset", "fig13", "--model", "corrected", "--sigma-min", "0", "--sigma-max", "2", "--out", str(tmp_path / "crit")]) == 0
-    assert "corrected" in (tmp_path / "crit" / "critical.png").name or (tmp_path / "crit" / "critical.csv").exists()
+    assert (
+        main(
+            [
+                "critical",
+                "--preset",
+                "fig13",
+                "--model",
+                "corrected",
+                "--sigma-min",
+                "0",
+                "--sigma-max",
+                "2",
+                "--out",
+                str(tmp_path / "crit"),
+            ]
+        )
+        == 0
+    )
+    assert (
+        "corrected" in (tmp_path / "crit" / "critical.png").name
+        or (tmp_path / "crit" / "critical.csv").exists()
+    )

@@ -1,4 +1,5 @@
-"""The derived slow flow (36), (39), (42), (43), (45), (46) against independent evaluations and the full models."""
+"""The derived slow flow (36), (39), (42), (43), (45), (46) against independent evaluations and the full
+models."""
 
 import numpy as np
 import pytest
@@ -37,7 +38,8 @@ def test_steady_residual_gradient_matches_central_differences(flow):
         h = 1e-6
         fd = [
             (flow.steady_residual(A + h * A) - flow.steady_residual(A - h * A)) / (2 * h * A),
-            (flow.steady_residual(A, sigma=P.sigma + h) - flow.steady_residual(A, sigma=P.sigma - h)) / (2 * h),
+            (flow.steady_residual(A, sigma=P.sigma + h) - flow.steady_residual(A, sigma=P.sigma - h))
+            / (2 * h),
             (flow.steady_residual(A, Abar=P.Abar + h) - flow.steady_residual(A, Abar=P.Abar - h)) / (2 * h),
         ]
         np.testing.assert_allclose(grad, fd, rtol=1e-6)
@@ -48,8 +50,26 @@ def test_fourier_series_matches_quadrature_of_the_triangle_wave():
     alpha, eta = 0.8, 0.4
     f = lambda T0: 2 * alpha / np.pi * np.arcsin(np.cos(T0 - eta))  # noqa: E731 - the paper's (29)
     for k in range(1, 8):
-        a_k = integrate.quad(lambda T0: f(T0) * np.cos(k * (T0 - eta)), eta - np.pi, eta + np.pi, points=[eta], epsabs=1e-13)[0] / np.pi
-        b_k = integrate.quad(lambda T0: f(T0) * np.sin(k * (T0 - eta)), eta - np.pi, eta + np.pi, points=[eta], epsabs=1e-13)[0] / np.pi
+        a_k = (
+            integrate.quad(
+                lambda T0: f(T0) * np.cos(k * (T0 - eta)),
+                eta - np.pi,
+                eta + np.pi,
+                points=[eta],
+                epsabs=1e-13,
+            )[0]
+            / np.pi
+        )
+        b_k = (
+            integrate.quad(
+                lambda T0: f(T0) * np.sin(k * (T0 - eta)),
+                eta - np.pi,
+                eta + np.pi,
+                points=[eta],
+                epsabs=1e-13,
+            )[0]
+            / np.pi
+        )
         expected = 8 * alpha / (np.pi**2 * k**2) if k % 2 else 0.0
         assert a_k == pytest.approx(expected, abs=1e-12)
         assert b_k == pytest.approx(0.0, abs=1e-12)
@@ -62,10 +82,13 @@ def test_manifold_roots_satisfy_the_impact_conditions():
         for branch in (manifold.STABLE, manifold.UNSTABLE):
             a = manifold.alpha(A, rho, branch)
             np.testing.assert_allclose((rho * a) ** 2 + (1 - a) ** 2, A**2, rtol=1e-12, atol=1e-14)
-        # Independent closed forms typed from the derivation: A_min = rho/sqrt(1+rho^2), alpha_min = 1/(1+rho^2).
+        # Independent closed forms typed from the derivation: A_min = rho/sqrt(1+rho^2), alpha_min =
+        # 1/(1+rho^2).
         assert manifold.a_min(rho) == pytest.approx(rho / np.sqrt(1 + rho**2), rel=1e-15)
         assert manifold.alpha(manifold.a_min(rho), rho) == pytest.approx(1 / (1 + rho**2), rel=1e-12)
-        assert manifold.alpha(manifold.a_min(rho), rho, manifold.UNSTABLE) == pytest.approx(1 / (1 + rho**2), rel=1e-12)
+        assert manifold.alpha(manifold.a_min(rho), rho, manifold.UNSTABLE) == pytest.approx(
+            1 / (1 + rho**2), rel=1e-12
+        )
     with pytest.raises(ValueError, match="must be >= A_min"):
         manifold.alpha(0.01, 0.3)
 
@@ -74,7 +97,10 @@ def test_steady_states_of_46_are_equilibria_of_45():
     flow = SlowFlow(FIG10)
     grid = np.linspace(flow.A_min * 1.001, 10, 4000)
     r = flow.steady_residual(grid)
-    roots = [optimize.brentq(flow.steady_residual, grid[i], grid[i + 1], xtol=1e-14) for i in np.nonzero(np.diff(np.sign(r)))[0]]
+    roots = [
+        optimize.brentq(flow.steady_residual, grid[i], grid[i + 1], xtol=1e-14)
+        for i in np.nonzero(np.diff(np.sign(r)))[0]
+    ]
     assert roots
     for A in roots:
         np.testing.assert_allclose(flow.rhs(A, flow.steady_phase(A)), [0, 0], atol=1e-10)
@@ -165,9 +191,11 @@ def _printed_46_states(flow, sigma):
 
     def residual(A):
         a = manifold.alpha(A, rho)
-        return (P.gamma * np.pi**2 * A**2 - 8 * rho * a**2 * (1 - P.beta**2)) ** 2 + (
-            np.pi**2 * (sigma - (1 - P.beta**2)) * A**2 - 8 * a * (1 - a) * (1 - P.beta**2)
-        ) ** 2 - np.pi**4 * A**2 * P.Abar**2
+        return (
+            (P.gamma * np.pi**2 * A**2 - 8 * rho * a**2 * (1 - P.beta**2)) ** 2
+            + (np.pi**2 * (sigma - (1 - P.beta**2)) * A**2 - 8 * a * (1 - a) * (1 - P.beta**2)) ** 2
+            - np.pi**4 * A**2 * P.Abar**2
+        )
 
     grid = np.linspace(flow.A_min * 1.001, 10, 20001)
     r = residual(grid)
@@ -186,17 +214,31 @@ def test_eq46_sign_settled_on_the_smooth_model():
     at_zero = SlowFlow(base.replace(sigma=0.0))
     printed = _printed_46_states(at_zero, 0.0)
     assert max(printed) == pytest.approx(4.25, abs=0.01)
-    assert np.all(at_zero.steady_residual(np.linspace(at_zero.A_min * 1.001, 10, 5000)) > 0)  # derived: no state
-    run = integrate_smooth(base.replace(sigma=0.0), _state_on_manifold(at_zero, max(printed), 0.0), (0, 600), rtol=1e-8, atol=1e-10, t_eval=np.linspace(400, 600, 4001))
+    assert np.all(
+        at_zero.steady_residual(np.linspace(at_zero.A_min * 1.001, 10, 5000)) > 0
+    )  # derived: no state
+    run = integrate_smooth(
+        base.replace(sigma=0.0),
+        _state_on_manifold(at_zero, max(printed), 0.0),
+        (0, 600),
+        rtol=1e-8,
+        atol=1e-10,
+        t_eval=np.linspace(400, 600, 4001),
+    )
     assert np.abs(run.y[0]).max() < 1.0
 
     peak = SlowFlow(base.replace(sigma=-0.39))
     grid = np.linspace(peak.A_min * 1.001, 10, 20001)
     r = peak.steady_residual(grid)
-    A_derived = max(optimize.brentq(peak.steady_residual, grid[i], grid[i + 1]) for i in np.nonzero(np.diff(np.sign(r)))[0])
+    A_derived = max(
+        optimize.brentq(peak.steady_residual, grid[i], grid[i + 1])
+        for i in np.nonzero(np.diff(np.sign(r)))[0]
+    )
     assert A_derived == pytest.approx(1.39, abs=0.01)
     start = _state_on_manifold(peak, A_derived, float(peak.steady_phase(A_derived)))
-    run = integrate_smooth(peak.params, start, (0, 600), rtol=1e-8, atol=1e-10, t_eval=np.linspace(400, 600, 4001))
+    run = integrate_smooth(
+        peak.params, start, (0, 600), rtol=1e-8, atol=1e-10, t_eval=np.linspace(400, 600, 4001)
+    )
     assert np.abs(run.y[0]).max() == pytest.approx(A_derived, rel=0.10)
 
 

@@ -23,7 +23,7 @@ BASE = get_preset("fig10").params
 class Oracle:
     def __init__(self, lam, chi, n, pbar):
         a = pbar / (2 * (n + 1)) + 0.5
-        I = np.sqrt(np.pi) * special.gamma(a) / (4 * (n + 1) * special.gamma(a + 1.5))  # (19)
+        I = np.sqrt(np.pi) * special.gamma(a) / (4 * (n + 1) * special.gamma(a + 1.5))  # noqa: E741 - (19)'s name
         self.delta1 = 4 * lam * ((n + 1) / chi) ** a * I  # (21) at unit speed
         self.e = pbar / (n + 1)
 
@@ -36,7 +36,9 @@ class Oracle:
         disc = (1 + r**2) * A**2 - r**2
         alpha = (1 + np.sqrt(np.maximum(disc, 0))) / (1 + r**2)  # (36), S+
         v = alpha * (2 / np.pi + r)  # (38)
-        return np.where(disc >= -1e-15, k**2 - 1 + self.delta1 * v**self.e, np.nan)  # (39), on the manifold only
+        return np.where(
+            disc >= -1e-15, k**2 - 1 + self.delta1 * v**self.e, np.nan
+        )  # (39), on the manifold only
 
     def root(self, A, points=4001):
         """The largest root of (39) in (0, 1] at A, or NaN: a scan from kappa = 1 down to the
@@ -45,7 +47,9 @@ class Oracle:
         k_low = max((2 - np.pi * r_max) / (2 + np.pi * r_max), 1e-12) if np.isfinite(r_max) else 1e-12
         k = np.linspace(1.0, k_low, points)
         g = self.G(k, A)
-        change = np.flatnonzero(np.isfinite(g[:-1]) & np.isfinite(g[1:]) & (np.sign(g[:-1]) != np.sign(g[1:])))
+        change = np.flatnonzero(
+            np.isfinite(g[:-1]) & np.isfinite(g[1:]) & (np.sign(g[:-1]) != np.sign(g[1:]))
+        )
         if not len(change):
             return np.nan
         i = change[0]
@@ -57,7 +61,12 @@ class Oracle:
     def dip(self, A, k_near):
         """Near a fold two roots of (39) may lie within one scan cell: minimise G near k_near and
         return the minimiser when G dips below zero there (a root pair exists), else NaN."""
-        res = optimize.minimize_scalar(lambda k: float(self.G(k, A)) if np.isfinite(self.G(k, A)) else 1e9, bounds=(max(k_near - 0.05, 1e-12), min(k_near + 0.05, 1.0)), method="bounded", options={"xatol": 1e-15})
+        res = optimize.minimize_scalar(
+            lambda k: float(self.G(k, A)) if np.isfinite(self.G(k, A)) else 1e9,
+            bounds=(max(k_near - 0.05, 1e-12), min(k_near + 0.05, 1.0)),
+            method="bounded",
+            options={"xatol": 1e-15},
+        )
         return res.x if res.fun < 0 else np.nan
 
     def largest(self, A):
@@ -74,7 +83,9 @@ class Oracle:
         if not len(neg):
             return np.nan
         last = neg[-1]
-        return optimize.brentq(lambda kk: float(self.G(kk, A)), k_low + offsets[last], k_low + offsets[last + 1], xtol=1e-15)
+        return optimize.brentq(
+            lambda kk: float(self.G(kk, A)), k_low + offsets[last], k_low + offsets[last + 1], xtol=1e-15
+        )
 
     def ends(self, grid=np.geomspace(1e-4, 1e4, 401)):
         """(A_lo, A_hi) of the longest run of grid amplitudes with a continuous root, refined by
@@ -112,7 +123,9 @@ class Oracle:
 
 
 def _walls():
-    for lam, chi, n, pbar in itertools.product((0.1, 0.35, 1.0), (0.2, 1.0, 5.0), (4, 10, 50), (-2, -1, 0, 1, 2, 4)):
+    for lam, chi, n, pbar in itertools.product(
+        (0.1, 0.35, 1.0), (0.2, 1.0, 5.0), (4, 10, 50), (-2, -1, 0, 1, 2, 4)
+    ):
         if (pbar + n) % 2 == 0 and pbar > -(n + 1):
             try:
                 BASE.replace(lam=lam, chi=chi, n=n, pbar=pbar)
@@ -125,8 +138,19 @@ WALLS = list(_walls())
 # The default run checks a few walls with each kind of end; `pytest -m slow` checks them all.
 # (0.35, 1, 4, 2): upper end a fold of (39); (0.35, 1, 10, 2): a fold, while the smaller root leaves
 # (0, 1] nearby; (0.35, 0.2, 10, 2): kappa reaches 0; (1, 1, 10, -2): the lower end is a fold.
-FAST = [(0.35, 1.0, 4, 2), (0.35, 1.0, 10, 2), (0.35, 0.2, 10, 2), (1.0, 1.0, 10, -2), (0.35, 0.2, 50, 0), (0.1, 5.0, 10, -2)]
-SLOW_WALLS = {(0.35, 1.0, 10, 2), (0.35, 0.2, 10, 2), (1.0, 1.0, 10, -2)}  # 5-7 s each: the rest of the default run covers each kind of window
+FAST = [
+    (0.35, 1.0, 4, 2),
+    (0.35, 1.0, 10, 2),
+    (0.35, 0.2, 10, 2),
+    (1.0, 1.0, 10, -2),
+    (0.35, 0.2, 50, 0),
+    (0.1, 5.0, 10, -2),
+]
+SLOW_WALLS = {
+    (0.35, 1.0, 10, 2),
+    (0.35, 0.2, 10, 2),
+    (1.0, 1.0, 10, -2),
+}  # 5-7 s each: the rest of the default run covers each kind of window
 
 
 def _check_window(wall):
@@ -180,7 +204,9 @@ def _check_frc(P):
 
 
 @pytest.mark.parametrize(
-    "wall", [pytest.param(w, marks=pytest.mark.slow) if w in SLOW_WALLS else w for w in FAST], ids=[f"lam{w[0]}-chi{w[1]}-n{w[2]}-pbar{w[3]}" for w in FAST]
+    "wall",
+    [pytest.param(w, marks=pytest.mark.slow) if w in SLOW_WALLS else w for w in FAST],
+    ids=[f"lam{w[0]}-chi{w[1]}-n{w[2]}-pbar{w[3]}" for w in FAST],
 )
 def test_window_of_s_plus_and_frc_against_an_independent_eq39(wall):
     P = _check_window(wall)
@@ -192,8 +218,15 @@ def test_fast_walls_cover_every_kind_of_end():
     kinds = set()
     for wall in FAST:
         law = ManifoldLaw(BASE.replace(lam=wall[0], chi=wall[1], n=wall[2], pbar=wall[3]))
-        kinds |= {(which, e.kind) for which, e in (("lower", law.lower), ("upper", law.upper)) if e is not None}
-    assert kinds == {("lower", "manifold end (36)"), ("lower", "fold of (39)"), ("upper", "fold of (39)"), ("upper", "kappa reaches 0")}
+        kinds |= {
+            (which, e.kind) for which, e in (("lower", law.lower), ("upper", law.upper)) if e is not None
+        }
+    assert kinds == {
+        ("lower", "manifold end (36)"),
+        ("lower", "fold of (39)"),
+        ("upper", "fold of (39)"),
+        ("upper", "kappa reaches 0"),
+    }
 
 
 def _oracle_least_abar(P, sigma=1.0, points=1000):
@@ -201,13 +234,27 @@ def _oracle_least_abar(P, sigma=1.0, points=1000):
     law, oracle = ManifoldLaw(P), Oracle(P.lam, P.chi, P.n, P.pbar)
     top = min(law.A_max * (1 - 1e-9), 1e4)
     # alpha has a square root at the lower end: the end itself, and a grid that resolves it
-    A = np.concatenate([[law.A_min], law.A_min * (1 + np.geomspace(1e-9, 1e-2, 200)), np.geomspace(law.A_min * 1.01, top, points)])
+    A = np.concatenate(
+        [
+            [law.A_min],
+            law.A_min * (1 + np.geomspace(1e-9, 1e-2, 200)),
+            np.geomspace(law.A_min * 1.01, top, points),
+        ]
+    )
     c = 1 - P.beta**2
     values = []
     for a_ in A:
-        r = oracle.rho(oracle.largest(a_))  # near a fold of (39) two roots share a scan cell: largest() finds them
+        r = oracle.rho(
+            oracle.largest(a_)
+        )  # near a fold of (39) two roots share a scan cell: largest() finds them
         al = (1 + np.sqrt(max((1 + r**2) * a_**2 - r**2, 0.0))) / (1 + r**2)
-        values.append(np.hypot(P.gamma * np.pi**2 * a_**2 + 8 * r * al**2 * c, np.pi**2 * (sigma - c) * a_**2 - 8 * al * (1 - al) * c) / (np.pi**2 * a_))
+        values.append(
+            np.hypot(
+                P.gamma * np.pi**2 * a_**2 + 8 * r * al**2 * c,
+                np.pi**2 * (sigma - c) * a_**2 - 8 * al * (1 - al) * c,
+            )
+            / (np.pi**2 * a_)
+        )
     return np.nanmin(values)
 
 
@@ -226,7 +273,15 @@ def _check_critical(P):
 # (0.35, 1, 4, 2): S+ ends at A_min (36) and at a fold of (39); (1, 1, 10, 2): a short window
 # ending where kappa reaches 0 (the branch's start used to lie outside it); (0.1, 5, 4, 2): S+ up
 # to A = 2664 (the Abar continuation used to stall); (0.1, 0.2, 4, 4): the least Abar at A_min.
-@pytest.mark.parametrize("wall", [(0.35, 1.0, 4, 2), pytest.param((1.0, 1.0, 10, 2), marks=pytest.mark.slow), pytest.param((0.1, 5.0, 4, 2), marks=pytest.mark.slow), (0.1, 0.2, 4, 4)])
+@pytest.mark.parametrize(
+    "wall",
+    [
+        (0.35, 1.0, 4, 2),
+        pytest.param((1.0, 1.0, 10, 2), marks=pytest.mark.slow),
+        pytest.param((0.1, 5.0, 4, 2), marks=pytest.mark.slow),
+        (0.1, 0.2, 4, 4),
+    ],
+)
 def test_critical_forcing_is_the_least_abar_over_the_window(wall):
     lam, chi, n, pbar = wall
     _check_critical(BASE.replace(lam=lam, chi=chi, n=n, pbar=pbar, beta=0.3))
@@ -242,7 +297,11 @@ def test_every_wall_of_the_grid(wall, beta):
         _check_critical(P.replace(beta=beta))
 
 
-@pytest.mark.parametrize("wall", [*FAST, (0.1, 0.2, 4, 4)], ids=[f"lam{w[0]}-chi{w[1]}-n{w[2]}-pbar{w[3]}" for w in [*FAST, (0.1, 0.2, 4, 4)]])
+@pytest.mark.parametrize(
+    "wall",
+    [*FAST, (0.1, 0.2, 4, 4)],
+    ids=[f"lam{w[0]}-chi{w[1]}-n{w[2]}-pbar{w[3]}" for w in [*FAST, (0.1, 0.2, 4, 4)]],
+)
 def test_kappa_is_found_right_next_to_the_lower_end(wall):
     """Within 1e-8 of a lower end the root of (39) is closer to the manifold's edge than (39) can
     be evaluated; kappa is still found (it was NaN, "outside S+", on (0.1, 0.2, 4, 4)), equal to

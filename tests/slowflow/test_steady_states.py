@@ -73,7 +73,12 @@ def test_folds_are_the_extrema_of_sigma_of_A_to_1e_8():
     extrema = []
     for root in (0, 1):
         for sign in (1, -1):
-            res = optimize.minimize_scalar(lambda A: sign * sigma_roots_closed(P, A)[root], bounds=(0.9 * A_fold, 1.1 * A_fold), method="bounded", options={"xatol": 1e-12})
+            res = optimize.minimize_scalar(
+                lambda A: sign * sigma_roots_closed(P, A)[root],
+                bounds=(0.9 * A_fold, 1.1 * A_fold),
+                method="bounded",
+                options={"xatol": 1e-12},
+            )
             if 0.91 * A_fold < res.x < 1.09 * A_fold:  # interior: a true extremum
                 extrema.append(sign * res.fun)
     assert len(extrema) == 1
@@ -113,11 +118,20 @@ def _kick_grows(flow, A, psi, sigma):
 
     off_manifold.terminal = True
     T = 5 / max(abs(w.real.max()), 1e-3)  # five e-foldings of the least stable mode
-    sol = solve_ivp(lambda t, z: flow.rhs(max(z[0], flow.A_min * (1 + 1e-6)), z[1], sigma=sigma), (0, T), [A + kick[0], psi + kick[1]], events=off_manifold, rtol=1e-11, atol=1e-14)
+    sol = solve_ivp(
+        lambda t, z: flow.rhs(max(z[0], flow.A_min * (1 + 1e-6)), z[1], sigma=sigma),
+        (0, T),
+        [A + kick[0], psi + kick[1]],
+        events=off_manifold,
+        rtol=1e-11,
+        atol=1e-14,
+    )
     return sol.status == 1 or np.hypot(sol.y[0, -1] - A, sol.y[1, -1] - psi) > 10 * size
 
 
-@pytest.mark.parametrize("P", [FIG13, get_preset("fig12").params.replace(Abar=1.2)], ids=["fig13", "fig12-Abar1.2"])
+@pytest.mark.parametrize(
+    "P", [FIG13, get_preset("fig12").params.replace(Abar=1.2)], ids=["fig13", "fig12-Abar1.2"]
+)
 def test_stability_labels_agree_with_integrating_the_slow_flow(P):
     fr = frequency_response(P)
     flow = SlowFlow(P)
@@ -150,7 +164,9 @@ def test_critical_forcing_is_the_minimum_of_abar_over_A(sigma):
     if k <= 1:  # the end itself: (46) in closed form at A = A_min, alpha = alpha_min
         expected, kind = values[0], "END"
     else:
-        res = optimize.minimize_scalar(lambda A: abar_closed(P, A, sigma), bracket=(grid[k - 1], grid[k], grid[k + 1]), tol=1e-12)
+        res = optimize.minimize_scalar(
+            lambda A: abar_closed(P, A, sigma), bracket=(grid[k - 1], grid[k], grid[k + 1]), tol=1e-12
+        )
         expected, kind = res.fun, "LP"
     assert cp.kind == kind
     assert cp.Abar_b == pytest.approx(expected, rel=1e-10 if kind == "END" else 1e-8)
@@ -201,7 +217,9 @@ def test_the_upper_end_condition_and_the_fold_curves_stay_on_s_plus():
     P = get_preset("fig10").params.replace(**HELD_OUT_WALL)
     for sigma in (-1.0, 0.5, 2.0):
         flow = SlowFlow(P.replace(sigma=sigma))
-        assert EndProblem(P, end="upper").abar_at(sigma) == pytest.approx(abar_at_upper_end(flow, flow.A_max), rel=1e-9)
+        assert EndProblem(P, end="upper").abar_at(sigma) == pytest.approx(
+            abar_at_upper_end(flow, flow.A_max), rel=1e-9
+        )
     folds = FoldProblem(P)
     assert not folds.in_domain(np.array([folds.r.flow.A_max * (1 + 1e-6), 1.0]), 0.0)
     assert folds.in_domain(np.array([folds.r.flow.A_max * 0.5, 1.0]), 0.0)

@@ -44,6 +44,8 @@ def test_every_start_settles_and_the_shares_carry_their_uncertainty(basins):
     assert set(bmap.label.ravel()) == set(bmap.orbits) and np.all(np.isfinite(bmap.periods))
     for name, (low, high) in bmap.fraction_bounds().items():
         assert low <= bmap.fractions()[name] == high
-    assert sum(low for low, _ in bmap.fraction_bounds().values()) == pytest.approx(1 - np.mean(bmap.uncertain))
+    assert sum(low for low, _ in bmap.fraction_bounds().values()) == pytest.approx(
+        1 - np.mean(bmap.uncertain)
+    )
     assert all(0 < f < 1 for f in bmap.uncertain_fraction.values())
     assert sorted(name.split(",")[0] for name in bmap.orbits) == ["asymmetric orbit a", "asymmetric orbit b"]

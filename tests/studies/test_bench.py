@@ -22,8 +22,13 @@ def test_first_harmonic_of_a_closed_form_signal():
 def test_equal_error_ratio_recovers_a_known_speedup():
     # Baseline: time = 1e-3 * error**-0.25; the method is exactly 40 times faster at any error,
     # sampled at other errors than the baseline (so the ratio needs interpolation of both).
-    rows = [dict(preset="p", method="base", error=e, seconds=1e-3 * e**-0.25) for e in (1e-10, 1e-8, 1e-6, 1e-4)]
-    rows += [dict(preset="p", method="fast", error=e, seconds=1e-3 * e**-0.25 / 40) for e in (3e-11, 3e-9, 3e-7, 3e-5)]
+    rows = [
+        dict(preset="p", method="base", error=e, seconds=1e-3 * e**-0.25) for e in (1e-10, 1e-8, 1e-6, 1e-4)
+    ]
+    rows += [
+        dict(preset="p", method="fast", error=e, seconds=1e-3 * e**-0.25 / 40)
+        for e in (3e-11, 3e-9, 3e-7, 3e-5)
+    ]
     assert bench_output.equal_error_ratio(rows, "p", "fast", baseline="base") == pytest.approx(40, rel=1e-9)
     far = [dict(preset="p", method="far", error=e, seconds=1.0) for e in (1e-2, 1e-1)]
     assert np.isnan(bench_output.equal_error_ratio(rows + far, "p", "far", baseline="base"))
@@ -31,7 +36,9 @@ def test_equal_error_ratio_recovers_a_known_speedup():
 
 def test_timed_reports_the_median_and_stops_at_the_budget():
     calls = []
-    seconds, result, runs = bench.timed(lambda: calls.append(1) or len(calls), repeats=5, min_seconds=0.0, budget=0.0)
+    seconds, result, runs = bench.timed(
+        lambda: calls.append(1) or len(calls), repeats=5, min_seconds=0.0, budget=0.0
+    )
     assert runs == 1 and result == 1 and seconds >= 0
 
 
@@ -43,7 +50,12 @@ def test_reference_orbit_is_converged_and_agrees_with_a_long_simulation():
     pre = get_preset("fig10")
     from slosh_bif.simulation.direct import SimulationSettings, simulate
 
-    sim = simulate(pre.params.replace(sigma=4.0), pre.state0, 400 * 2 * np.pi, settings=SimulationSettings(rtol=1e-11, atol=1e-13))
+    sim = simulate(
+        pre.params.replace(sigma=4.0),
+        pre.state0,
+        400 * 2 * np.pi,
+        settings=SimulationSettings(rtol=1e-11, atol=1e-13),
+    )
     assert bench.first_harmonic(sim.t, sim.y[0], 20) == pytest.approx(ref.A1, rel=1e-5)
 
 
@@ -58,23 +70,40 @@ def test_bench_command_writes_every_chart_and_table(tmp_path, capsys):
     for name in ("integrators", "frequency_response", "growth"):
         assert (tmp_path / f"{name}.png").stat().st_size > 10_000
     integ = _read(tmp_path / "integrators.csv")
-    assert {r["method"] for r in integ} >= {"slosh_bif DOP853 (numba, default)", "scipy DOP853", "scipy Radau (analytic Jacobian)"}
+    assert {r["method"] for r in integ} >= {
+        "slosh_bif DOP853 (numba, default)",
+        "scipy DOP853",
+        "scipy Radau (analytic Jacobian)",
+    }
     # The compiled and the scipy-fallback DOP853 are the same method: equal evaluation counts within
     # a few steps and errors of the same size, whatever their speeds.
     for preset in ("fig10", "fig12"):
         for rtol in ("1e-06", "1e-09"):
-            a, b = (next(r for r in integ if r["preset"] == preset and r["rtol"] == rtol and r["method"] == m)
-                    for m in ("slosh_bif DOP853 (numba, default)", "slosh_bif DOP853 (scipy fallback)"))
+            a, b = (
+                next(r for r in integ if r["preset"] == preset and r["rtol"] == rtol and r["method"] == m)
+                for m in ("slosh_bif DOP853 (numba, default)", "slosh_bif DOP853 (scipy fallback)")
+            )
             assert abs(int(a["nfev"]) - int(b["nfev"])) <= 0.05 * int(b["nfev"])
     fr = _read(tmp_path / "frequency_response.csv")
     shooting = [r for r in fr if r["method"] == "shooting on (9)"]
     assert shooting and all(float(r["error"]) < 1e-3 and r["failures"] == "0" for r in shooting)
-    # The slow flows' errors in the tables slosh_bif.studies.ladder chooses by must cover what is measured here.
+    # The slow flows' errors in the tables slosh_bif.studies.ladder chooses by must cover what is measured
+    # here.
     from slosh_bif.studies.ladder import CORRECTED_ERROR, SLOW_FLOW_ERROR
 
-    for preset in ("fig10", "fig13"):  # the finest continuation step: the model's error, not the interpolation's
-        for method, table in (("eq. 46 continuation", SLOW_FLOW_ERROR), ("corrected slow flow continuation", CORRECTED_ERROR)):
-            finest = min((float(r["value"]), float(r["error"])) for r in fr if r["method"] == method and r["preset"] == preset)
+    for preset in (
+        "fig10",
+        "fig13",
+    ):  # the finest continuation step: the model's error, not the interpolation's
+        for method, table in (
+            ("eq. 46 continuation", SLOW_FLOW_ERROR),
+            ("corrected slow flow continuation", CORRECTED_ERROR),
+        ):
+            finest = min(
+                (float(r["value"]), float(r["error"]))
+                for r in fr
+                if r["method"] == method and r["preset"] == preset
+            )
             assert finest[1] <= table["frequency-response"]
     crit = _read(tmp_path / "critical_forcing.csv")
     assert crit and max(float(r["relative_difference"]) for r in crit) <= SLOW_FLOW_ERROR["critical-forcing"]

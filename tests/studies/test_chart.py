@@ -22,7 +22,14 @@ def starts():
     each listed twice (as when two branches share a special point)."""
     P = PRESET.params
     start = orbit_from_simulation(P.replace(sigma=-1.2), PRESET.state0, settle=150)
-    family = trace_orbits(start.params, start.y0, p_min=-1.6, p_max=-0.9, shooting=ShootingSettings(points_per_2pi=32), branching=NO_SWITCHING)
+    family = trace_orbits(
+        start.params,
+        start.y0,
+        p_min=-1.6,
+        p_max=-0.9,
+        shooting=ShootingSettings(points_per_2pi=32),
+        branching=NO_SWITCHING,
+    )
     found = list(curve_starts(family.branches[0], P, {"sigma": (-1.6, -0.9), "Abar": (2.8, 3.2)}))
     assert sorted(s.kind for s in found) == ["BP", "LP"]
     return found + found
@@ -54,9 +61,19 @@ def test_a_period_two_branch_turning_where_it_meets_its_parent_gives_no_fold_cur
     P = PRESET.params
     problem = ShootingProblem(P, segments=4, period_multiple=2)
     parent = np.array([0.3, -0.1, 0.9, 0.2, -0.2, 0.4, -0.7, 0.1])  # two arcs of pi: the 2pi orbit
-    for x, expected in ((np.tile(parent, 2), ["PD"]), (np.concatenate([parent, parent + 0.05]), ["LP", "PD"])):
+    for x, expected in (
+        (np.tile(parent, 2), ["PD"]),
+        (np.concatenate([parent, parent + 0.05]), ["LP", "PD"]),
+    ):
         assert repeats_early(problem, x) == (expected == ["PD"])
         special = tuple(SpecialPoint(kind, 1, -1.0, x, (-1.1, -0.9), "", None) for kind in ("LP", "PD"))
-        ob = SimpleNamespace(branch=SimpleNamespace(special=special, param="sigma"), problem=problem, kind="period-2", name="period-2")
+        ob = SimpleNamespace(
+            branch=SimpleNamespace(special=special, param="sigma"),
+            problem=problem,
+            kind="period-2",
+            name="period-2",
+        )
         assert [s.kind for s in curve_starts(ob, P, {"sigma": (-2.0, 0.0), "Abar": (2.0, 4.0)})] == expected
-    assert not repeats_early(ShootingProblem(P, segments=4), np.tile(parent, 2))  # a 2pi problem has no parent to meet
+    assert not repeats_early(
+        ShootingProblem(P, segments=4), np.tile(parent, 2)
+    )  # a 2pi problem has no parent to meet

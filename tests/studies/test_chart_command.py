@@ -15,10 +15,41 @@ from slosh_bif.slowflow.steady_states import abar_on_curve
 from slosh_bif.studies.chart import Chart, CurveFailure
 from slosh_bif.studies.chart_output import curve_rows
 
-FIG10_NO_SWITCH = ["chart", "--preset", "fig10", "--sigma-min", "-6", "--sigma-max", "8", "--abar-min", "0.2", "--abar-max", "6", "--no-switch"]
+FIG10_NO_SWITCH = [
+    "chart",
+    "--preset",
+    "fig10",
+    "--sigma-min",
+    "-6",
+    "--sigma-max",
+    "8",
+    "--abar-min",
+    "0.2",
+    "--abar-max",
+    "6",
+    "--no-switch",
+]
 BETA_CHART = [
-    "chart", "--preset", "fig10", "--set", "sigma=-1.2", "--set", "beta=0.1", "--sigma-min", "-2", "--sigma-max", "1.5", "--second", "beta", "--second-min", "0.05", "--second-max", "0.3",
-    "--no-switch", "--seeds", "3",
+    "chart",
+    "--preset",
+    "fig10",
+    "--set",
+    "sigma=-1.2",
+    "--set",
+    "beta=0.1",
+    "--sigma-min",
+    "-2",
+    "--sigma-max",
+    "1.5",
+    "--second",
+    "beta",
+    "--second-min",
+    "0.05",
+    "--second-max",
+    "0.3",
+    "--no-switch",
+    "--seeds",
+    "3",
 ]
 
 
@@ -34,7 +65,11 @@ def test_the_fig10_chart_draws_a_curve_from_every_start(tmp_path, capsys):
     assert code == 0, err
     assert {r["status"] for r in rows} == {"ok"} and "no " not in err.replace("no steady", "")
     kinds = {r["kind"] for r in rows}
-    assert {"LP", "NS", "BP"} <= kinds  # the fold curves are back (lost when a failed arc raised in the corrector)
+    assert {
+        "LP",
+        "NS",
+        "BP",
+    } <= kinds  # the fold curves are back (lost when a failed arc raised in the corrector)
     # Abar_b of (46) in critical.csv at each sigma: the least Abar over S+, so at most the least of a
     # dense sampling of S+, and within the sampling's own error of it (a chord of the traced curve
     # between its points lay 2e-3 above)
@@ -49,7 +84,13 @@ def test_the_fig10_chart_draws_a_curve_from_every_start(tmp_path, capsys):
 
 def test_a_start_without_a_curve_is_a_failure_row():
     chart = Chart(
-        params=get_preset("fig10").params, sigma_range=(-1, 1), abar_range=(0, 1), family=None, curves=[], slow_flow_critical=None, seconds=0.0,
+        params=get_preset("fig10").params,
+        sigma_range=(-1, 1),
+        abar_range=(0, 1),
+        family=None,
+        curves=[],
+        slow_flow_critical=None,
+        seconds=0.0,
         failures=(CurveFailure("LP", -0.5, 0.7, "LP at sigma = -0.5", "Newton failed"),),
     )
     (row,) = curve_rows(chart)

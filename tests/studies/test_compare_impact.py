@@ -17,11 +17,33 @@ from slosh_bif.simulation.vibro_impact import simulate_impact
 def test_compare_with_the_impact_model_reports_both_errors(tmp_path):
     out = tmp_path / "cmp"
     run = subprocess.run(
-        [sys.executable, "-m", "slosh_bif", "compare", "--preset", "fig13", "--impact", "--sigma-min", "0.5", "--sigma-max", "2.5", "--sigma-points", "5", "--no-switch", "--out", str(out)],
-        capture_output=True, text=True, timeout=300,
+        [
+            sys.executable,
+            "-m",
+            "slosh_bif",
+            "compare",
+            "--preset",
+            "fig13",
+            "--impact",
+            "--sigma-min",
+            "0.5",
+            "--sigma-max",
+            "2.5",
+            "--sigma-points",
+            "5",
+            "--no-switch",
+            "--out",
+            str(out),
+        ],
+        capture_output=True,
+        text=True,
+        timeout=300,
     )
     assert run.returncode == 0, run.stderr
-    assert "the expansion's error, slow flow against (8): median" in run.stdout and "the wall's error, (8) against (9): median" in run.stdout
+    assert (
+        "the expansion's error, slow flow against (8): median" in run.stdout
+        and "the wall's error, (8) against (9): median" in run.stdout
+    )
     rows = list(csv.DictReader(open(out / "compare.csv")))
     assert [float(r["sigma"]) for r in rows] == [0.5, 1.0, 1.5, 2.0, 2.5]
     row = rows[3]
@@ -31,10 +53,14 @@ def test_compare_with_the_impact_model_reports_both_errors(tmp_path):
     # (8)'s stable orbit at sigma = 2 (continued from the one a simulation settles on at sigma = 1),
     # simulated over one period by the reference event loop
     P = get_preset("fig13").params
-    branch = trace_impact_orbits(P, settled_orbit(P, get_preset("fig13").state0, periods=150), p_min=1.0, p_max=2.0)
+    branch = trace_impact_orbits(
+        P, settled_orbit(P, get_preset("fig13").state0, periods=150), p_min=1.0, p_max=2.0
+    )
     piece = next(q for q in branch.pieces if np.isclose(q.branch.p, 2.0, atol=1e-12).any())
     y0, start = piece.branch.x[np.isclose(piece.branch.p, 2.0, atol=1e-12)][0], piece.phase
-    traj = simulate_impact(P.replace(sigma=2.0), y0, (start, start + 2 * np.pi), sample_step=0.005, backend="scipy")
+    traj = simulate_impact(
+        P.replace(sigma=2.0), y0, (start, start + 2 * np.pi), sample_step=0.005, backend="scipy"
+    )
     t, X = traj.t, traj.y[0]
     f = X * np.exp(-1j * t)
     A1 = abs(np.sum(0.5 * (f[1:] + f[:-1]) * np.diff(t)) / np.pi)

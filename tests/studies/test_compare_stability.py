@@ -16,7 +16,11 @@ from slosh_bif.studies.compare import stable_at
 
 
 def _branch(p, stable, special):
-    return types.SimpleNamespace(p=np.array(p, float), stable=np.array(stable), special=tuple(SpecialPoint(k, i, q, np.zeros(1), (q, q)) for k, i, q in special))
+    return types.SimpleNamespace(
+        p=np.array(p, float),
+        stable=np.array(stable),
+        special=tuple(SpecialPoint(k, i, q, np.zeros(1), (q, q)) for k, i, q in special),
+    )
 
 
 @pytest.mark.parametrize("flag_at_the_point", [True, False])
@@ -39,16 +43,22 @@ def test_a_special_point_inside_a_segment_splits_it():
 
 _POINT = (
     "from slosh_bif import NO_SWITCHING, get_preset; from slosh_bif.studies.trust import trust_point; "
-    "t = trust_point(get_preset('fig13').params.replace(eps=0.02, beta=0.0, n=50), branching=NO_SWITCHING); print(repr((t.agree, t.confirmed)))"
+    "t = trust_point(get_preset('fig13').params.replace(eps=0.02, beta=0.0, n=50), "
+    "branching=NO_SWITCHING); print(repr((t.agree, t.confirmed)))"
 )
 
 
 @pytest.mark.slow  # three trust maps (18 s)
-@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="GLIBC_TUNABLES selects glibc's libm code path")
+@pytest.mark.skipif(
+    not sys.platform.startswith("linux"), reason="GLIBC_TUNABLES selects glibc's libm code path"
+)
 def test_the_trust_verdicts_are_the_same_on_glibcs_fma_and_plain_code_paths():
     # On a CPU with FMA and AVX2 the second run takes libm's other cos and pow (last bits differ);
     # where the CPU has neither, both runs take the same path and the test says nothing.
     env = dict(os.environ, GLIBC_TUNABLES="glibc.cpu.hwcaps=-AVX2_Usable,-FMA_Usable,-AVX2,-FMA")
-    runs = [subprocess.run([sys.executable, "-c", _POINT], capture_output=True, text=True, env=e, timeout=300) for e in (dict(os.environ), env)]
+    runs = [
+        subprocess.run([sys.executable, "-c", _POINT], capture_output=True, text=True, env=e, timeout=300)
+        for e in (dict(os.environ), env)
+    ]
     assert all(r.returncode == 0 for r in runs), [r.stderr[-2000:] for r in runs]
     assert runs[0].stdout == runs[1].stdout

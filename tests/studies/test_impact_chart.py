@@ -15,7 +15,23 @@ from slosh_bif.orbits.impact_branches import settled_orbit, trace_impact_orbits
 @pytest.fixture(scope="module")
 def impact_chart_folder(tmp_path_factory):
     out = tmp_path_factory.mktemp("chart8")
-    argv = ["chart", "--preset", "fig13", "--model", "impact", "--sigma-min", "-3", "--sigma-max", "5", "--abar-min", "0.1", "--abar-max", "2.5", "--out", str(out)]
+    argv = [
+        "chart",
+        "--preset",
+        "fig13",
+        "--model",
+        "impact",
+        "--sigma-min",
+        "-3",
+        "--sigma-max",
+        "5",
+        "--abar-min",
+        "0.1",
+        "--abar-max",
+        "2.5",
+        "--out",
+        str(out),
+    ]
     assert main(argv) == 0
     return out
 
@@ -40,9 +56,13 @@ def test_the_impact_charts_critical_forcing_is_the_fold_of_a_one_parameter_branc
     row = next(r for r in _rows(impact_chart_folder / "critical.csv") if float(r["sigma"]) == -2.0)
     pre = get_preset("fig13")
     P = pre.params.replace(sigma=-2.0, Abar=0.4)
-    branch = trace_impact_orbits(P, settled_orbit(P, pre.state_for(P), periods=150), param="Abar", p_min=0.1, p_max=1.0, symmetric=True)
+    branch = trace_impact_orbits(
+        P, settled_orbit(P, pre.state_for(P), periods=150), param="Abar", p_min=0.1, p_max=1.0, symmetric=True
+    )
     (fold,) = branch.special("LP")
-    assert row["bounded_by"] == "LP" and float(row["Abar_c_full"]) == pytest.approx(fold[0], rel=1e-3)  # the chart interpolates between curve points
+    assert row["bounded_by"] == "LP" and float(row["Abar_c_full"]) == pytest.approx(
+        fold[0], rel=1e-3
+    )  # the chart interpolates between curve points
     assert float(row["Abar_b_slowflow"]) == pytest.approx(0.3266, abs=1e-3)
 
 
@@ -59,7 +79,7 @@ def test_an_impact_curve_ends_near_grazing_by_its_rule():
     P = pre.params.replace(sigma=1.0)  # Abar = 1: the resonant symmetric orbit, continued down in Abar
     x0 = settled_orbit(P, pre.state_for(P), periods=150)
     branch = trace_impact_orbits(P, x0, param="Abar", p_min=0.1, p_max=1.2, symmetric=True)
-    (piece, lp), = [(pc, s) for pc in branch.pieces for s in pc.branch.special if s.kind == "LP"]
+    ((piece, lp),) = [(pc, s) for pc in branch.pieces for s in pc.branch.special if s.kind == "LP"]
     seed = ImpactCurveSeed("LP", lp.x, lp.p, "Abar", symmetric=True, phase=piece.phase, impacts=piece.impacts)
     curve = trace_impact_curve(P, seed, box={"sigma": (-3.0, 5.0), "Abar": (0.1, 2.5)})
     ends = [s for s in curve.branch.special if s.kind == "END" and s.edge == NEAR_GRAZING]

@@ -60,7 +60,12 @@ def test_critical_forcing_of_the_full_model_is_where_simulation_loses_the_resona
     assert got.model.startswith("shooting") and crit.bounded_by in ("NS", "LP", "PD")
     Abar_c = crit.Abar_c
     # the branch with the special point that sets Abar_c, and its stable orbit just above it
-    branch = next(ob.branch for ob in crit.chart.family.branches for sp in ob.branch.special if sp.kind == crit.bounded_by and abs(sp.p - Abar_c) < 1e-9)
+    branch = next(
+        ob.branch
+        for ob in crit.chart.family.branches
+        for sp in ob.branch.special
+        if sp.kind == crit.bounded_by and abs(sp.p - Abar_c) < 1e-9
+    )
     k = int(np.argmin(np.where(branch.stable & (branch.p > Abar_c + 0.03), branch.p, np.inf)))
     y_start = branch.x[k, :4]
     above = simulate(pre.params.replace(Abar=Abar_c + 0.03), y_start, 400 * 2 * np.pi)
@@ -96,7 +101,9 @@ def test_regime_error_in_the_table_matches_a_fresh_regime_map():
         for i, abar in enumerate(abars):
             for j, sigma in enumerate(sigmas):
                 flow = SlowFlow(pre.params.replace(sigma=float(sigma), Abar=float(abar)))
-                resonant = not flow.integrate(*flow.start_from_state(pre.state0), (0.0, pre.params.eps * 4000 * 2 * np.pi)).escaped
+                resonant = not flow.integrate(
+                    *flow.start_from_state(pre.state0), (0.0, pre.params.eps * 4000 * 2 * np.pi)
+                ).escaped
                 wrong += resonant != (fresh.regime[i, j] == "periodic-resonant")
     assert wrong / fresh.regime.size == pytest.approx(SLOW_FLOW_ERROR["regime"], abs=0.05)
 
@@ -106,7 +113,11 @@ def test_answer_command_reports_model_reason_and_error(capsys, tmp_path):
     out = capsys.readouterr().out
     assert "slow flow" in out and "error estimate 0.22" in out and "regime:" in out
     record = json.loads((tmp_path / "answer.json").read_text())
-    assert record["question"] == "regime" and record["error_estimate"] == pytest.approx(0.22) and record["params"]["Abar"] == 1.0
+    assert (
+        record["question"] == "regime"
+        and record["error_estimate"] == pytest.approx(0.22)
+        and record["params"]["Abar"] == 1.0
+    )
     # Fig. 12 (n = 6): the slow flow is out of range, so the full model answers; the paper's
     # strongly modulated response at Abar = 0.5 means no stable resonant orbit there: Abar_c > 0.5.
     assert main(["answer", "critical-forcing", "--preset", "fig12", "--tol", "0.9"]) == 0

@@ -26,19 +26,32 @@ def test_the_isola_a_simulation_settles_on_is_among_the_families_found():
         warnings.simplefilter("ignore", AsymptoticsWarning)
         fr = frequency_response(P, sigma_min=-6, sigma_max=8, model="corrected")
         # the stable state of the corrected slow flow at sigma, and where (9) settles from its motion
-        b, i = next((b, i) for b in fr.branches for i in range(len(b) - 1) if b.stable[i] and (b.p[i] - sigma) * (b.p[i + 1] - sigma) <= 0)
-        orbit, A1 = settle_and_shoot(P.replace(sigma=float(b.p[i])), SlowFlow(P.replace(sigma=float(b.p[i])), "corrected").fast_state(*b.x[i], 0.0), first=0)
+        b, i = next(
+            (b, i)
+            for b in fr.branches
+            for i in range(len(b) - 1)
+            if b.stable[i] and (b.p[i] - sigma) * (b.p[i + 1] - sigma) <= 0
+        )
+        orbit, A1 = settle_and_shoot(
+            P.replace(sigma=float(b.p[i])),
+            SlowFlow(P.replace(sigma=float(b.p[i])), "corrected").fast_state(*b.x[i], 0.0),
+            first=0,
+        )
     assert orbit.converged and orbit.stable
     primary = trust_point(P, branching=NO_SWITCHING, model="corrected", isola_tries=0)
     searched = trust_point(P, branching=NO_SWITCHING, model="corrected")
-    assert searched.branches > primary.branches and searched.median_difference < 0.5 * primary.median_difference
+    assert (
+        searched.branches > primary.branches and searched.median_difference < 0.5 * primary.median_difference
+    )
     # the same orbit on a family the search added (A1 to the continuation's interpolation)
     from slosh_bif.orbits.families import trace_orbits
     from slosh_bif.orbits.starts import slow_flow_start
 
     start = slow_flow_start(P, -6, 8, response=frequency_response(P, sigma_min=-6, sigma_max=8))
     family = trace_orbits(start.params, start.y0, p_min=-6, p_max=8, branching=NO_SWITCHING)
-    assert not any(abs(a - A1) < 1e-3 * A1 for a, _, _ in orbits_at(family.branches, float(b.p[i])))  # the start's family misses it
+    assert not any(
+        abs(a - A1) < 1e-3 * A1 for a, _, _ in orbits_at(family.branches, float(b.p[i]))
+    )  # the start's family misses it
     found = missed_families(P, fr, family, np.linspace(-6, 8, 141), model="corrected")
     assert any(abs(a - A1) < 1e-3 * A1 and stable for a, stable, _ in orbits_at(found, float(b.p[i])))
 
@@ -64,7 +77,11 @@ def test_a_start_the_continuation_cannot_leave_gives_way_to_the_next():
     point = trust_point(Q, branching=NO_SWITCHING, isola_tries=0)
     # (whether the first start's corrector converges is decided near its tolerance: on this
     # machine it does not; elsewhere the first start may serve)
-    assert point.status == "ok" and point.sigma_start in (first.sigma, second.sigma) and np.isfinite(point.median_difference)
+    assert (
+        point.status == "ok"
+        and point.sigma_start in (first.sigma, second.sigma)
+        and np.isfinite(point.median_difference)
+    )
 
 
 def test_where_newton_from_the_slow_flow_fails_the_settled_orbit_is_found():
@@ -75,12 +92,25 @@ def test_where_newton_from_the_slow_flow_fails_the_settled_orbit_is_found():
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", AsymptoticsWarning)
         fr = frequency_response(P3, sigma_min=-6, sigma_max=8, model="corrected")
-        b, i = next((b, i) for b in fr.branches for i in range(len(b) - 1) if b.stable[i] and (b.p[i] + 1.0) * (b.p[i + 1] + 1.0) <= 0)
+        b, i = next(
+            (b, i)
+            for b in fr.branches
+            for i in range(len(b) - 1)
+            if b.stable[i] and (b.p[i] + 1.0) * (b.p[i + 1] + 1.0) <= 0
+        )
         sigma = float(b.p[i])
-        orbit, A1 = settle_and_shoot(P3.replace(sigma=sigma), SlowFlow(P3.replace(sigma=sigma), "corrected").fast_state(*b.x[i], 0.0), first=0)
-        assert orbit.converged and orbit.stable and abs(A1 - b.x[i, 0]) > 0.15 * A1  # independent of the search
+        orbit, A1 = settle_and_shoot(
+            P3.replace(sigma=sigma),
+            SlowFlow(P3.replace(sigma=sigma), "corrected").fast_state(*b.x[i], 0.0),
+            first=0,
+        )
+        assert (
+            orbit.converged and orbit.stable and abs(A1 - b.x[i, 0]) > 0.15 * A1
+        )  # independent of the search
         from slosh_bif.orbits.families import OrbitFamily
 
         # no traced family, a grid around sigma: every stable state there is a start
-        found = missed_families(P3, fr, OrbitFamily(P3, "sigma", []), np.linspace(sigma - 0.2, sigma + 0.2, 5), model="corrected")
+        found = missed_families(
+            P3, fr, OrbitFamily(P3, "sigma", []), np.linspace(sigma - 0.2, sigma + 0.2, 5), model="corrected"
+        )
     assert any(abs(a - A1) < 1e-3 * A1 and stable for a, stable, _ in orbits_at(found, sigma))

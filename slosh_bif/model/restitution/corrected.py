@@ -58,7 +58,10 @@ def measured_wall(lam, chi, n, pbar) -> WallLaw:
     try:
         return wall_law(lam, chi, n, pbar, *V_RANGE, nodes=NODES)
     except RuntimeError as err:
-        raise ValueError(f"the corrected model needs the wall's restitution at impact speeds {V_RANGE[0]:g}-{V_RANGE[1]:g}: {err}") from None
+        raise ValueError(
+            "the corrected model needs the wall's restitution at impact speeds "
+            f"{V_RANGE[0]:g}-{V_RANGE[1]:g}: {err}"
+        ) from None
 
 
 class CorrectedLaw:
@@ -107,9 +110,14 @@ class CorrectedLaw:
         gap = self._end_gap(v)[0]
         change = np.flatnonzero(np.sign(gap[:-1]) != np.sign(gap[1:]))
         if len(change) != 1:
-            raise ValueError(f"the corrected manifold's end: the impact speed v = 4 D(v)/(pi (1 + kappa(v))(1 + rho^2)) has {len(change)} solutions in {V_RANGE} (need one); {self._where()}")
+            raise ValueError(
+                "the corrected manifold's end: the impact speed v = 4 D(v)/(pi (1 + kappa(v))(1 + "
+                f"rho^2)) has {len(change)} solutions in {V_RANGE} (need one); {self._where()}"
+            )
         i = change[0]
-        v_end = scipy_optimize().brentq(lambda x: self._end_gap(x)[0], v[i], v[i + 1], xtol=1e-15, rtol=4 * np.finfo(float).eps)
+        v_end = scipy_optimize().brentq(
+            lambda x: self._end_gap(x)[0], v[i], v[i + 1], xtol=1e-15, rtol=4 * np.finfo(float).eps
+        )
         k, d = float(self.wall.kappa(v_end)), float(self.wall.clearance(v_end))
         self.v_end, self.D_at_end = float(v_end), d
         return ManifoldEnd(float(gen.corrected_a_min(restitution.rho(k), d)), k, END_KINDS[0])
@@ -117,8 +125,12 @@ class CorrectedLaw:
     def _upper_end(self) -> ManifoldEnd:
         v = V_RANGE[1]
         k, d = float(self.wall.kappa(v)), float(self.wall.clearance(v))
-        low = float(gen.corrected_a_min(restitution.rho(k), d)) * (1 + 1e-12)  # the manifold with the top's kappa and D
-        top = scipy_optimize().brentq(lambda A: gen.corrected_impact_speed(A, k, d)[0] - v, low, 10 * v + 10, xtol=1e-13)
+        low = float(gen.corrected_a_min(restitution.rho(k), d)) * (
+            1 + 1e-12
+        )  # the manifold with the top's kappa and D
+        top = scipy_optimize().brentq(
+            lambda A: gen.corrected_impact_speed(A, k, d)[0] - v, low, 10 * v + 10, xtol=1e-13
+        )
         return ManifoldEnd(float(top), k, TOP_KIND)
 
     def _speed(self, A):
@@ -232,16 +244,26 @@ class CorrectedLaw:
             i = np.clip(np.searchsorted(nodes, u) - 1, 0, len(nodes) - 2)
             h = nodes[i + 1] - nodes[i]
             t = np.clip((u - nodes[i]) / h, 0.0, 1.0)
-        return (1 + 2 * t) * (1 - t) ** 2 * v[i] + t * (1 - t) ** 2 * h * dv[i] + t**2 * (3 - 2 * t) * v[i + 1] + t**2 * (t - 1) * h * dv[i + 1]
+        return (
+            (1 + 2 * t) * (1 - t) ** 2 * v[i]
+            + t * (1 - t) ** 2 * h * dv[i]
+            + t**2 * (3 - 2 * t) * v[i + 1]
+            + t**2 * (t - 1) * h * dv[i + 1]
+        )
 
     def _check_single_valued(self):
         """The speed must grow with A along S+ (one fixed point): refuse a wall where it folds."""
         A = self.A_min + (min(self.A_max, 50.0) - self.A_min) * np.linspace(1e-6, 1.0, 200) ** 2
         k, dk, d, dd = self.wall.slopes(self._speed(A)[0])
-        with np.errstate(invalid="ignore", divide="ignore"):  # s_A's square root at A_min; s_k and s_d are regular
+        with np.errstate(
+            invalid="ignore", divide="ignore"
+        ):  # s_A's square root at A_min; s_k and s_d are regular
             _, _, s_k, s_d = gen.corrected_impact_speed(A, k, d)
         if np.any(1.0 - s_k * dk - s_d * dd <= 0):
-            raise ValueError(f"the corrected model's impact speed folds on S+ (two fixed points at one amplitude): not supported; {self._where()}")
+            raise ValueError(
+                "the corrected model's impact speed folds on S+ (two fixed points at one "
+                f"amplitude): not supported; {self._where()}"
+            )
 
     def _where(self):
         return "wall lam={}, chi={}, n={}, pbar={}".format(*self.wall_params)
@@ -260,11 +282,20 @@ class CorrectedLaw:
 
     def _inside(self, A):
         tol = 4 * np.finfo(float).eps
-        if isinstance(A, float) and self.A_min * (1 - tol) <= A <= self.A_max * (1 + tol):  # the continuation's case, without arrays
+        if isinstance(A, float) and self.A_min * (1 - tol) <= A <= self.A_max * (
+            1 + tol
+        ):  # the continuation's case, without arrays
             return min(max(A, self.A_min), self.A_max)
         A = np.asarray(A, dtype=float)
-        if np.any(~np.isfinite(A)) or np.any(A < self.A_min * (1 - tol)) or np.any(A > self.A_max * (1 + tol)):
-            raise ValueError(f"amplitude A = {A.ravel()[:3]} lies outside S+ of the corrected model, A in [{self.A_min:.10g}, {self.A_max:.10g}]: {self.describe()}")
+        if (
+            np.any(~np.isfinite(A))
+            or np.any(A < self.A_min * (1 - tol))
+            or np.any(A > self.A_max * (1 + tol))
+        ):
+            raise ValueError(
+                f"amplitude A = {A.ravel()[:3]} lies outside S+ of the corrected model, A in "
+                f"[{self.A_min:.10g}, {self.A_max:.10g}]: {self.describe()}"
+            )
         return np.clip(A, self.A_min, self.A_max)
 
     # -- what the slow flow asks ------------------------------------------------------------------
@@ -309,7 +340,8 @@ class CorrectedLaw:
         w = self.wall
         return (
             f"{self.lower.describe()} (impact speed {self.v_end:.6g}, clearance D = {self.D_at_end:.6g}); "
-            f"{self.upper.describe()} (v0 = {V_RANGE[1]:g}); wall measured to {w.kappa_error:.1e} in kappa, {w.clearance_error:.1e} in D"
+            f"{self.upper.describe()} (v0 = {V_RANGE[1]:g}); wall measured to {w.kappa_error:.1e} "
+            f"in kappa, {w.clearance_error:.1e} in D"
         )
 
     def branches(self, A_max: float, points: int = 300):

@@ -171,7 +171,9 @@ def _solve_manifold_kappa(A, delta1, exponent, xtol):
         return grid[i + 1]
     from scipy.optimize import brentq
 
-    return brentq(lambda k: float(_manifold_residual(k, A, delta1, exponent)), grid[i + 1], grid[i], xtol=xtol)
+    return brentq(
+        lambda k: float(_manifold_residual(k, A, delta1, exponent)), grid[i + 1], grid[i], xtol=xtol
+    )
 
 
 def kappa_on_manifold(A, lam, chi, n, pbar, *, strict=True, xtol=1e-14) -> ManifoldKappa:

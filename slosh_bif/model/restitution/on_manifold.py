@@ -91,7 +91,11 @@ class _Eq39:
             return (float(v) for v in gen.manifold_kappa_residual_grad(k, A, self._delta1, self._expo))
 
     def _largest_root(self, A):
-        return float(restitution.kappa_on_manifold(np.array([A]), self.lam, self.chi, self.n, self.pbar, strict=False).kappa[0])
+        return float(
+            restitution.kappa_on_manifold(
+                np.array([A]), self.lam, self.chi, self.n, self.pbar, strict=False
+            ).kappa[0]
+        )
 
     def _root_near_manifold_end(self, A, k_end):
         """The root just above the manifold end, where it sits within rounding of the smallest
@@ -109,7 +113,11 @@ class _Eq39:
             return float(k_low + d)
         if not (np.isfinite(g) and g < 0 < self._G(hi, A)):
             return np.nan
-        return float(scipy_optimize().brentq(lambda k: self._G(k, A), k_low + d, hi, xtol=1e-16, rtol=4 * np.finfo(float).eps))
+        return float(
+            scipy_optimize().brentq(
+                lambda k: self._G(k, A), k_low + d, hi, xtol=1e-16, rtol=4 * np.finfo(float).eps
+            )
+        )
 
     def _window(self):
         """The ends of the longest run of amplitudes on which the root of (39) exists and moves
@@ -126,7 +134,10 @@ class _Eq39:
                 runs.append((start, i))
                 start = None
         if not runs:
-            raise ValueError(f"no restitution coefficient in (0, 1] solves eq. (39) for any amplitude A in [1e-4, 1e4] ({self.where})")
+            raise ValueError(
+                "no restitution coefficient in (0, 1] solves eq. (39) for any amplitude A in "
+                f"[1e-4, 1e4] ({self.where})"
+            )
         lo, hi = max(runs, key=lambda r: r[1] - r[0])
         lower = self._end(_SCAN[lo], roots[lo], _SCAN[lo - 1] if lo > 0 else 0.0)
         upper = self._end(_SCAN[hi], roots[hi], _SCAN[hi + 1]) if hi < len(_SCAN) - 1 else None
@@ -148,14 +159,22 @@ class _Eq39:
         lo, hi = sorted((A_in, A_out))
         g0 = lambda A: self._G(1e-300, A)  # noqa: E731 - G at kappa -> 0+
         if lo > 0 and np.isfinite(g0(lo)) and np.isfinite(g0(hi)) and np.sign(g0(lo)) != np.sign(g0(hi)):
-            candidates.append(ManifoldEnd(float(scipy_optimize().brentq(g0, lo, hi, xtol=1e-15, rtol=4 * np.finfo(float).eps)), 0.0, END_KINDS[2]))
+            candidates.append(
+                ManifoldEnd(
+                    float(scipy_optimize().brentq(g0, lo, hi, xtol=1e-15, rtol=4 * np.finfo(float).eps)),
+                    0.0,
+                    END_KINDS[2],
+                )
+            )
         # The scan's bracket is approximate near a fold (two close roots in one scan cell look
         # like none): widen it, then keep the candidate at which the tracked root itself ends
         # (another root may leave (0, 1] or fold away nearby, as for pbar = 2, n = 10).
         width = hi - lo
         inside = [c for c in candidates if lo - width <= c.A <= hi + width and self._ends_here(c, A_in)]
         if not inside:
-            raise ValueError(f"the end of S+ between A = {lo:.6g} and {hi:.6g} could not be located ({self.where})")
+            raise ValueError(
+                f"the end of S+ between A = {lo:.6g} and {hi:.6g} could not be located ({self.where})"
+            )
         return min(inside, key=lambda c: abs(c.A - A_in))
 
     def _ends_here(self, end: ManifoldEnd, A_in) -> bool:
@@ -176,13 +195,21 @@ class _Eq39:
         k_low = restitution.kappa_low(A)
         grid = np.linspace(1.0, max(k_low, 0.0) + 1e-9, 2001)
         values = np.array([self._G(k, A) for k in grid])
-        change = np.flatnonzero(np.isfinite(values[:-1]) & np.isfinite(values[1:]) & (np.sign(values[:-1]) * np.sign(values[1:]) < 0))
+        change = np.flatnonzero(
+            np.isfinite(values[:-1])
+            & np.isfinite(values[1:])
+            & (np.sign(values[:-1]) * np.sign(values[1:]) < 0)
+        )
         if len(change):
-            k = scipy_optimize().brentq(lambda kk: self._G(kk, A), grid[change[0] + 1], grid[change[0]], xtol=1e-14)
+            k = scipy_optimize().brentq(
+                lambda kk: self._G(kk, A), grid[change[0] + 1], grid[change[0]], xtol=1e-14
+            )
         elif end.kind == END_KINDS[2]:
             return True  # no root left above kappa = 0
         else:
-            return bool(np.isfinite(self._G(end.kappa, A)) and self._G(end.kappa, A) < 0)  # two roots too close to scan
+            return bool(
+                np.isfinite(self._G(end.kappa, A)) and self._G(end.kappa, A) < 0
+            )  # two roots too close to scan
         return bool(np.isfinite(k) and abs(k - end.kappa) < 1e-2)
 
     def _edge_dip(self, A):
@@ -197,7 +224,12 @@ class _Eq39:
         s = np.linspace(-16, -3, 131)
         values = np.array([g(v) for v in s])
         i = int(np.argmin(values))
-        res = scipy_optimize().minimize_scalar(g, bounds=(s[max(i - 1, 0)], s[min(i + 1, len(s) - 1)]), method="bounded", options={"xatol": 1e-12})
+        res = scipy_optimize().minimize_scalar(
+            g,
+            bounds=(s[max(i - 1, 0)], s[min(i + 1, len(s) - 1)]),
+            method="bounded",
+            options={"xatol": 1e-12},
+        )
         return min(res.fun, values[i]), k_low + 10.0 ** (res.x if res.fun <= values[i] else s[i])
 
     def _fold_below_manifold_end(self, A36):
@@ -255,7 +287,12 @@ class _Eq39:
             dz = np.clip(dz, -0.25 * np.maximum(np.abs(z), 1e-3), 0.25 * np.maximum(np.abs(z), 1e-3))
             for _ in range(40):  # backtrack while the step leaves the manifold (where (39) is undefined)
                 trial = z + dz
-                if 0 < trial[0] <= 1 and trial[1] > 0 and np.isfinite(self._G(*trial)) and np.isfinite(next(self._G_grad(*trial))):
+                if (
+                    0 < trial[0] <= 1
+                    and trial[1] > 0
+                    and np.isfinite(self._G(*trial))
+                    and np.isfinite(next(self._G_grad(*trial)))
+                ):
                     break
                 dz = 0.5 * dz
             else:
@@ -322,7 +359,11 @@ class ManifoldLaw:
         for i, a in np.ndenumerate(A):
             if not self.A_min <= a <= self.A_max:
                 continue
-            at_end = [e for e in (self.lower, self.upper) if e is not None and abs(a - e.A) <= 4 * np.finfo(float).eps * e.A]
+            at_end = [
+                e
+                for e in (self.lower, self.upper)
+                if e is not None and abs(a - e.A) <= 4 * np.finfo(float).eps * e.A
+            ]
             if at_end:  # exactly on an end, where the root sits on the edge of its bracket
                 out[i] = at_end[0].kappa
                 continue
@@ -332,7 +373,9 @@ class ManifoldLaw:
             near_fold = [e for e in fold if not np.isfinite(k) or abs(k - e.kappa) < 0.2]
             if near_fold and self._eq._G(near_fold[0].kappa, a) < 0:
                 # Two roots close to the fold fall in one cell of the scan: bracket the upper one.
-                k = scipy_optimize().brentq(lambda kk: self._eq._G(kk, a), near_fold[0].kappa, 1.0, xtol=1e-15)
+                k = scipy_optimize().brentq(
+                    lambda kk: self._eq._G(kk, a), near_fold[0].kappa, 1.0, xtol=1e-15
+                )
             out[i] = k
         return out
 
@@ -346,7 +389,10 @@ class ManifoldLaw:
         k = self.kappa(A)
         if np.any(~np.isfinite(k)):
             bad = A[~np.isfinite(k)]
-            raise ValueError(f"amplitude A = {bad.ravel()[:3]} lies outside S+, A in [{self.A_min:.10g}, {self.A_max:.10g}]: {self.describe()}")
+            raise ValueError(
+                f"amplitude A = {bad.ravel()[:3]} lies outside S+, A in [{self.A_min:.10g}, "
+                f"{self.A_max:.10g}]: {self.describe()}"
+            )
         with np.errstate(divide="ignore", invalid="ignore"):
             g_kappa, g_A = gen.manifold_kappa_residual_grad(k, A, self._delta1, self._expo)
             return restitution.rho(k), _drho_dkappa(k) * (-g_A / g_kappa)
@@ -369,7 +415,13 @@ class ManifoldLaw:
 
     def describe(self) -> str:
         """The window of S+ and what ends it, in one line."""
-        upper = self.upper.describe() if self.upper is not None else f"no upper end (A up to {_SCAN[-1]:g} checked)" if self._rho0 is None else "no upper end"
+        upper = (
+            self.upper.describe()
+            if self.upper is not None
+            else f"no upper end (A up to {_SCAN[-1]:g} checked)"
+            if self._rho0 is None
+            else "no upper end"
+        )
         return f"{self.lower.describe()}; {upper}"
 
     def branches(self, A_max: float, points: int = 300):

@@ -52,11 +52,15 @@ def _check_wall(lam, chi, n, pbar):
         raise ValueError(f"n must be an integer >= 1; got {n!r}")
     p = (pbar + n) // 2
     if 2 * p - n != pbar or p < 0:
-        raise ValueError(f"pbar must make p = (pbar + n)/2 a non-negative integer; got n = {n}, pbar = {pbar}")
+        raise ValueError(
+            f"pbar must make p = (pbar + n)/2 a non-negative integer; got n = {n}, pbar = {pbar}"
+        )
     return p
 
 
-def contact(v0: float, lam: float, chi: float, n: int, pbar: int, *, rtol: float = 1e-12, atol: float = 1e-14) -> Contact:
+def contact(
+    v0: float, lam: float, chi: float, n: int, pbar: int, *, rtol: float = 1e-12, atol: float = 1e-14
+) -> Contact:
     """Integrate one contact (scipy DOP853, events at the turning point and at the exit).
 
     Raises ``RuntimeError`` when the particle does not come back (an overdamped wall)."""
@@ -81,9 +85,14 @@ def contact(v0: float, lam: float, chi: float, n: int, pbar: int, *, rtol: float
     x_max = ((n + 1) * v0**2 / chi) ** (1.0 / (2 * n + 2))  # the conservative turning point (17)
     t_end = 100.0 * x_max / v0  # a round trip takes ~4 x_max / v0; only an overdamped wall needs more
     with np.errstate(over="ignore", invalid="ignore"):
-        sol = solve_ivp(rhs, (0.0, t_end), [0.0, v0], method="DOP853", events=(turning, exit_), rtol=rtol, atol=atol)
+        sol = solve_ivp(
+            rhs, (0.0, t_end), [0.0, v0], method="DOP853", events=(turning, exit_), rtol=rtol, atol=atol
+        )
     if sol.status != 1 or len(sol.t_events[1]) == 0 or len(sol.t_events[0]) == 0:
-        raise RuntimeError(f"the particle did not return to x = 0 within t = {t_end:.3g} (v0 = {v0}, lam = {lam}, chi = {chi}, n = {n}, pbar = {pbar}): the wall is overdamped")
+        raise RuntimeError(
+            f"the particle did not return to x = 0 within t = {t_end:.3g} (v0 = {v0}, lam = {lam}, "
+            f"chi = {chi}, n = {n}, pbar = {pbar}): the wall is overdamped"
+        )
     k = float(-sol.y_events[1][0][1] / v0)
     return Contact(float(v0), k, float(sol.y_events[0][0][0]), float(k * v0 * sol.t_events[1][0] / (1.0 + k)))
 
@@ -110,8 +119,14 @@ class WallLaw:
 
     def _log_v(self, v0):
         v0 = np.asarray(v0, dtype=float)
-        if np.any(~np.isfinite(v0)) or np.any(v0 < self.v_min * (1 - 1e-12)) or np.any(v0 > self.v_max * (1 + 1e-12)):
-            raise ValueError(f"impact speed outside the measured range [{self.v_min:g}, {self.v_max:g}]: {v0!r}")
+        if (
+            np.any(~np.isfinite(v0))
+            or np.any(v0 < self.v_min * (1 - 1e-12))
+            or np.any(v0 > self.v_max * (1 + 1e-12))
+        ):
+            raise ValueError(
+                f"impact speed outside the measured range [{self.v_min:g}, {self.v_max:g}]: {v0!r}"
+            )
         return np.log(v0)
 
     def kappa(self, v0):
@@ -149,7 +164,9 @@ class WallLaw:
         (off, scale), stacked, degrees = self._coefficients
         if not checked and np.ndim(v0) == 0:  # a continuation's one amplitude: floats, not arrays
             v0 = float(v0)
-            k, dk, log_d, dlog_d = np.cos(math.acos(min(max(off + scale * math.log(v0), -1.0), 1.0)) * degrees) @ stacked
+            k, dk, log_d, dlog_d = (
+                np.cos(math.acos(min(max(off + scale * math.log(v0), -1.0), 1.0)) * degrees) @ stacked
+            )
             clearance = math.exp(log_d)
             return k, dk / v0, clearance, clearance * dlog_d / v0
         s = self._log_v(v0) if checked else np.log(v0)
@@ -164,7 +181,9 @@ class WallLaw:
 
 
 @functools.lru_cache(maxsize=32)
-def wall_law(lam: float, chi: float, n: int, pbar: int, v_min: float = 0.05, v_max: float = 20.0, *, nodes: int = 24) -> WallLaw:
+def wall_law(
+    lam: float, chi: float, n: int, pbar: int, v_min: float = 0.05, v_max: float = 20.0, *, nodes: int = 24
+) -> WallLaw:
     """The :class:`WallLaw` of (lam, chi, n, pbar) over [v_min, v_max] from ``nodes`` contacts at
     Chebyshev points in log v0 (and ``nodes - 1`` more at the midpoints, for the stated error).
     Cached: a parameter set is measured once per process (about a second)."""
@@ -177,14 +196,31 @@ def wall_law(lam: float, chi: float, n: int, pbar: int, v_min: float = 0.05, v_m
     # Chebyshev points of the second kind (the ends included) and the midpoints between them.
     theta = np.pi * np.arange(nodes) / (nodes - 1)
     s = 0.5 * (domain[0] + domain[1]) - 0.5 * (domain[1] - domain[0]) * np.cos(theta)
-    mid = 0.5 * (domain[0] + domain[1]) - 0.5 * (domain[1] - domain[0]) * np.cos(0.5 * (theta[:-1] + theta[1:]))
+    mid = 0.5 * (domain[0] + domain[1]) - 0.5 * (domain[1] - domain[0]) * np.cos(
+        0.5 * (theta[:-1] + theta[1:])
+    )
     at_nodes = [contact(float(np.exp(x)), lam, chi, n, pbar) for x in s]
     kappa = np.polynomial.Chebyshev.fit(s, [c.kappa for c in at_nodes], nodes - 1, domain=domain)
     # log d and log D are nearly linear in log v0 (exactly, at pbar = 0)
     depth = np.polynomial.Chebyshev.fit(s, [np.log(c.depth) for c in at_nodes], nodes - 1, domain=domain)
-    clearance = np.polynomial.Chebyshev.fit(s, [np.log(c.clearance) for c in at_nodes], nodes - 1, domain=domain)
+    clearance = np.polynomial.Chebyshev.fit(
+        s, [np.log(c.clearance) for c in at_nodes], nodes - 1, domain=domain
+    )
     check = [contact(float(np.exp(x)), lam, chi, n, pbar) for x in mid]
     kappa_error = float(max(abs(kappa(x) - c.kappa) for x, c in zip(mid, check)))
     depth_error = float(max(abs(np.exp(depth(x)) - c.depth) for x, c in zip(mid, check)))
     clearance_error = float(max(abs(np.exp(clearance(x)) - c.clearance) for x, c in zip(mid, check)))
-    return WallLaw(float(lam), float(chi), int(n), int(pbar), float(v_min), float(v_max), kappa, depth, clearance, kappa_error, depth_error, clearance_error)
+    return WallLaw(
+        float(lam),
+        float(chi),
+        int(n),
+        int(pbar),
+        float(v_min),
+        float(v_max),
+        kappa,
+        depth,
+        clearance,
+        kappa_error,
+        depth_error,
+        clearance_error,
+    )

@@ -25,7 +25,21 @@ from slosh_bif.orbits.codim2.multiplier_curves import (
 from slosh_bif.orbits.codim2.torus import TorusCurveProblem
 
 __all__ = [
-    "BifurcationCurve", "CurveSeed", "trace_curve", "curve_problem", "CURVE_PROBLEMS", "MinAugCurveProblem", "FoldCurveProblem", "FlipCurveProblem",
-    "PitchforkCurveProblem", "TorusCurveProblem", "CURVE_OPTIONS", "CODIM2_KINDS", "ImpactCurveSeed", "trace_impact_curve", "ImpactStrobe", "repeats_early",
+    "BifurcationCurve",
+    "CurveSeed",
+    "trace_curve",
+    "curve_problem",
+    "CURVE_PROBLEMS",
+    "MinAugCurveProblem",
+    "FoldCurveProblem",
+    "FlipCurveProblem",
+    "PitchforkCurveProblem",
+    "TorusCurveProblem",
+    "CURVE_OPTIONS",
+    "CODIM2_KINDS",
+    "ImpactCurveSeed",
+    "trace_impact_curve",
+    "ImpactStrobe",
+    "repeats_early",
     "MEETS_PARENT",
 ]

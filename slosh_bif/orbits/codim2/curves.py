@@ -23,23 +23,41 @@ from slosh_bif.orbits.floquet import floquet_multipliers
 from slosh_bif.orbits.settings import SHOOTING, ShootingSettings
 from slosh_bif.orbits.shooting import PARAMETERS, ShootingProblem, orbit_measures
 
-__all__ = ["BifurcationCurve", "CurveSeed", "trace_curve", "curve_problem", "CURVE_PROBLEMS", "CURVE_OPTIONS", "CODIM2_KINDS"]
+__all__ = [
+    "BifurcationCurve",
+    "CurveSeed",
+    "trace_curve",
+    "curve_problem",
+    "CURVE_PROBLEMS",
+    "CURVE_OPTIONS",
+    "CODIM2_KINDS",
+]
 
-CURVE_PROBLEMS = {"LP": FoldCurveProblem, "PD": FlipCurveProblem, "BP": PitchforkCurveProblem, "NS": TorusCurveProblem}
+CURVE_PROBLEMS = {
+    "LP": FoldCurveProblem,
+    "PD": FlipCurveProblem,
+    "BP": PitchforkCurveProblem,
+    "NS": TorusCurveProblem,
+}
 
 
-def curve_problem(params: Params, kind: str, p1: str = "sigma", p2: str = "Abar", **options) -> MinAugCurveProblem:
+def curve_problem(
+    params: Params, kind: str, p1: str = "sigma", p2: str = "Abar", **options
+) -> MinAugCurveProblem:
     """The curve problem of ``kind`` (LP, PD, BP or NS) in (p1, p2); ``options`` as for
     :class:`~slosh_bif.orbits.codim2.minaug.MinAugCurveProblem`."""
     if kind not in CURVE_PROBLEMS:
         raise ValueError(f"kind must be one of {', '.join(CURVE_PROBLEMS)}; got {kind!r}")
     return CURVE_PROBLEMS[kind](params, p1, p2, **options)
 
+
 # Like the one-parameter orbit branches (the corrector's tolerance above the integration's
 # rounding); a turn of a curve in p1 is no bifurcation, so folds and branch points of the
 # augmented system are not detected. Steps are capped at 0.25: longer ones leave more curves
 # stalled at singular points of their systems, and the chart no faster.
-CURVE_OPTIONS = ContinuationOptions(step=0.05, step_max=0.25, tol=1e-9, max_steps=2000, detect_folds=False, detect_branch_points=False)
+CURVE_OPTIONS = ContinuationOptions(
+    step=0.05, step_max=0.25, tol=1e-9, max_steps=2000, detect_folds=False, detect_branch_points=False
+)
 
 CODIM2_KINDS = ("CP", "LPPD", "LPNS", "PDNS", "R1", "R2", "R3", "R4", "BPLP")
 
@@ -80,7 +98,10 @@ class BifurcationCurve:
             return np.cos(last) if name == "kappa" else np.arccos(np.clip(last, -1.0, 1.0))
         if name in self.measures:
             return self.measures[name]
-        raise KeyError(f"{name!r} is not a column of this curve; its columns are {self.p1}, {self.p2}, {', '.join(self.measures)}")
+        raise KeyError(
+            f"{name!r} is not a column of this curve; its columns are {self.p1}, {self.p2}, "
+            f"{', '.join(self.measures)}"
+        )
 
     @property
     def status(self) -> str:
@@ -88,15 +109,30 @@ class BifurcationCurve:
 
     def codim2_points(self) -> list:
         """(label, p1, p2) of each codimension-2 point, in curve order."""
-        return [(sp.kind, float(sp.p), float(self._p2_of(sp.x))) for sp in self.branch.special if sp.kind in CODIM2_KINDS]
+        return [
+            (sp.kind, float(sp.p), float(self._p2_of(sp.x)))
+            for sp in self.branch.special
+            if sp.kind in CODIM2_KINDS
+        ]
 
     def _p2_of(self, x):
         return x[-2 if self.kind == "NS" else -1]  # kappa follows p2 on an NS curve
 
     def save(self, path) -> Path:
         """The branch's .npz with the curve's kind, parameters, origin and measures added."""
-        meta = dict(kind=self.kind, p1=self.p1, p2=self.p2, origin=self.origin, measures=sorted(self.measures), period_multiple=self.period_multiple)
-        return self.branch.save(path, curve_meta=np.array(json.dumps(meta)), **{f"measure_{k}": v for k, v in self.measures.items()})
+        meta = dict(
+            kind=self.kind,
+            p1=self.p1,
+            p2=self.p2,
+            origin=self.origin,
+            measures=sorted(self.measures),
+            period_multiple=self.period_multiple,
+        )
+        return self.branch.save(
+            path,
+            curve_meta=np.array(json.dumps(meta)),
+            **{f"measure_{k}": v for k, v in self.measures.items()},
+        )
 
     @classmethod
     def load(cls, path) -> "BifurcationCurve":
@@ -104,7 +140,15 @@ class BifurcationCurve:
         with np.load(path, allow_pickle=False) as data:
             meta = json.loads(str(data["curve_meta"]))
             measures = {k: data[f"measure_{k}"].copy() for k in meta["measures"]}
-        return cls(meta["kind"], meta["p1"], meta["p2"], branch, measures, meta["origin"], int(meta.get("period_multiple", 1)))
+        return cls(
+            meta["kind"],
+            meta["p1"],
+            meta["p2"],
+            branch,
+            measures,
+            meta["origin"],
+            int(meta.get("period_multiple", 1)),
+        )
 
 
 @dataclasses.dataclass(frozen=True)
@@ -124,9 +168,17 @@ class CurveSeed:
 
     @classmethod
     def on(cls, orbit_branch, point, origin: str = "") -> "CurveSeed":
-        """The seed at the special point ``point`` of the :class:`~slosh_bif.orbits.families.OrbitBranch` ``orbit_branch``."""
+        """The seed at the special point ``point`` of the :class:`~slosh_bif.orbits.families.OrbitBranch`
+        ``orbit_branch``."""
         problem = orbit_branch.problem
-        return cls(point.kind, problem.full_states(point.x), float(point.p), orbit_branch.branch.param, problem.period_multiple, origin)
+        return cls(
+            point.kind,
+            problem.full_states(point.x),
+            float(point.p),
+            orbit_branch.branch.param,
+            problem.period_multiple,
+            origin,
+        )
 
 
 def trace_curve(
@@ -154,21 +206,40 @@ def trace_curve(
     (p1, (lo1, hi1)), (p2, (lo2, hi2)) = read_box(box)
     segments = shooting.segments * period_multiple  # arcs of the orbit's whole period
     x = np.asarray(seed.x, dtype=float)
-    if period_multiple == 1 and segments % 2 == 0 and x.shape == (2 * segments,):  # a symmetric branch's half-period states
+    if (
+        period_multiple == 1 and segments % 2 == 0 and x.shape == (2 * segments,)
+    ):  # a symmetric branch's half-period states
         x = np.concatenate([x, -x])
     if kind == "BP":  # the half-period map: the first half of the arcs of a symmetric orbit
         if segments % 2:
-            raise ValueError(f"a BP curve starts from a symmetric orbit in an even number of arcs; got {segments}")
+            raise ValueError(
+                f"a BP curve starts from a symmetric orbit in an even number of arcs; got {segments}"
+            )
         segments //= 2
         x = x[: 4 * segments]
     at = start_params(params, seed, box)
     span1 = hi1 - lo1
     if x.shape != (4 * segments,) or not np.all(np.isfinite(x)):
-        raise ValueError(f"the start must be {4 * segments} finite numbers (the states at the starts of {segments} arcs); got shape {x.shape}")
-    check = ShootingProblem(at, p1, segments=segments, period_multiple=period_multiple, symmetric=kind == "BP", backend=shooting.backend)
+        raise ValueError(
+            f"the start must be {4 * segments} finite numbers (the states at the starts of "
+            f"{segments} arcs); got shape {x.shape}"
+        )
+    check = ShootingProblem(
+        at,
+        p1,
+        segments=segments,
+        period_multiple=period_multiple,
+        symmetric=kind == "BP",
+        backend=shooting.backend,
+    )
     mu = start_multipliers(check, x, at, kind)
     setup = dict(
-        segments=segments, period_multiple=period_multiple, rtol=shooting.rtol, atol=shooting.rtol * 1e-2, box=(lo1 - 0.5 * span1, hi1 + 0.5 * span1), p2_box=(lo2, hi2),
+        segments=segments,
+        period_multiple=period_multiple,
+        rtol=shooting.rtol,
+        atol=shooting.rtol * 1e-2,
+        box=(lo1 - 0.5 * span1, hi1 + 0.5 * span1),
+        p2_box=(lo2, hi2),
         backend=shooting.backend,
     )
     problem = curve_problem(at, kind, p1, p2, **setup)
@@ -191,7 +262,9 @@ def read_box(box) -> tuple:
 def start_params(params: Params, seed, box) -> Params:
     """The parameter set at the seed (its branch parameter at the seed's value), checked inside the box."""
     if seed.branch_param not in PARAMETERS:
-        raise ValueError(f"the start branch's parameter must be one of {', '.join(PARAMETERS)}; got {seed.branch_param!r}")
+        raise ValueError(
+            f"the start branch's parameter must be one of {', '.join(PARAMETERS)}; got {seed.branch_param!r}"
+        )
     at = params.replace(**{seed.branch_param: float(seed.p)})
     (p1, (lo1, hi1)), (p2, (lo2, hi2)) = read_box(box)
     p1_0, p2_0 = float(getattr(at, p1)), float(getattr(at, p2))
@@ -208,11 +281,16 @@ def start_multipliers(orbits, x, at: Params, kind: str):
     mu = floquet_multipliers(arcs.mats) if np.all(np.isfinite(arcs.mats)) else np.full(4, np.nan + 0j)
     residual = np.linalg.norm(orbits.residual_of(x, arcs))
     critical = {
-        "LP": np.min(np.abs(mu - 1)), "PD": np.min(np.abs(mu + 1)), "BP": np.min(np.abs(mu - 1)),
+        "LP": np.min(np.abs(mu - 1)),
+        "PD": np.min(np.abs(mu + 1)),
+        "BP": np.min(np.abs(mu - 1)),
         "NS": np.min(np.abs(np.abs(mu[np.abs(mu.imag) > 1e-9]) - 1), initial=np.inf),
     }[kind]
     if not (residual < 1e-6 and critical < 1e-3):
-        raise ValueError(f"the start is not a {kind} point of a periodic orbit (residual {residual:.2g}, multipliers {np.round(mu, 4)})")
+        raise ValueError(
+            f"the start is not a {kind} point of a periodic orbit (residual {residual:.2g}, "
+            f"multipliers {np.round(mu, 4)})"
+        )
     return mu
 
 
@@ -235,7 +313,9 @@ def _once(branch: Branch) -> Branch:
     again (seen: a cusp 20 times at one (sigma, Abar)): one per kind within 1e-4 in the parameters."""
     kept = []
     for sp in branch.special:
-        if sp.kind in CODIM2_KINDS and any(q.kind == sp.kind and abs(q.p - sp.p) + np.max(np.abs(q.x[-2:] - sp.x[-2:])) < 1e-4 for q in kept):
+        if sp.kind in CODIM2_KINDS and any(
+            q.kind == sp.kind and abs(q.p - sp.p) + np.max(np.abs(q.x[-2:] - sp.x[-2:])) < 1e-4 for q in kept
+        ):
             continue
         kept.append(sp)
     return dataclasses.replace(branch, special=tuple(kept))
@@ -249,7 +329,9 @@ def _measures(problem: MinAugCurveProblem, branch: Branch, points_per_2pi: int) 
         single = _orbit_problem(problem, x, p)
         rows.append(orbit_measures(single, x[:n], p, points_per_2pi=points_per_2pi))
     out = {key: np.array([r[key] for r in rows]) for key in ("A1", "max_abs_X", "max_abs_w")} if rows else {}
-    out["max_abs_multiplier"] = np.max(np.abs(branch.eigenvalues[:, critical:]), axis=1) if len(branch) else np.array([])
+    out["max_abs_multiplier"] = (
+        np.max(np.abs(branch.eigenvalues[:, critical:]), axis=1) if len(branch) else np.array([])
+    )
     return out
 
 
@@ -258,4 +340,12 @@ def _orbit_problem(problem: MinAugCurveProblem, x, p):
     parameter (for a BP curve, whose problem is the half-period map, twice its arcs)."""
     s = problem.orbits
     segments = 2 * s.segments if s.symmetric else s.segments
-    return ShootingProblem(problem.params_at(x, p), problem.p1, segments=segments, period_multiple=s.period_multiple, rtol=s.rtol, atol=s.atol, backend=s.backend)
+    return ShootingProblem(
+        problem.params_at(x, p),
+        problem.p1,
+        segments=segments,
+        period_multiple=s.period_multiple,
+        rtol=s.rtol,
+        atol=s.atol,
+        backend=s.backend,
+    )

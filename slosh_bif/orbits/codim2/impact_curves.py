@@ -52,7 +52,14 @@ class ImpactCurveSeed:
     origin: str = ""
 
 
-def trace_impact_curve(params: Params, seed: ImpactCurveSeed, *, box: dict, options: ContinuationOptions | None = None, callback=None) -> BifurcationCurve:
+def trace_impact_curve(
+    params: Params,
+    seed: ImpactCurveSeed,
+    *,
+    box: dict,
+    options: ContinuationOptions | None = None,
+    callback=None,
+) -> BifurcationCurve:
     """Trace the curve of ``seed.kind`` of periodic orbits of (8) through the seed's special point
     over ``box``, ``{p1: (low, high), p2: (low, high)}`` (two parameters of (8): eps, beta,
     gamma, sigma, Abar, lam or chi), in both directions until it leaves the box, closes, reaches
@@ -68,7 +75,9 @@ def trace_impact_curve(params: Params, seed: ImpactCurveSeed, *, box: dict, opti
     (p1, (lo1, hi1)), (p2, (lo2, hi2)) = read_box(box)
     x = np.asarray(seed.x, dtype=float)
     if x.shape != (4,) or not np.all(np.isfinite(x)):
-        raise ValueError(f"the start must be the orbit's state on the section, 4 finite numbers; got shape {x.shape}")
+        raise ValueError(
+            f"the start must be the orbit's state on the section, 4 finite numbers; got shape {x.shape}"
+        )
     at = start_params(params, seed, box)
     symmetric = kind == "BP"
     impacts = seed.impacts
@@ -76,14 +85,28 @@ def trace_impact_curve(params: Params, seed: ImpactCurveSeed, *, box: dict, opti
         impacts *= 2  # the whole period holds the half period's impacts twice
     span1 = hi1 - lo1
     orbits = ImpactStrobe(
-        at, (p1, p2), symmetric=symmetric, period_multiple=seed.period_multiple, box=(lo1 - 0.5 * span1, hi1 + 0.5 * span1), phase=seed.phase, impacts=impacts,
+        at,
+        (p1, p2),
+        symmetric=symmetric,
+        period_multiple=seed.period_multiple,
+        box=(lo1 - 0.5 * span1, hi1 + 0.5 * span1),
+        phase=seed.phase,
+        impacts=impacts,
     )
     mu = start_multipliers(orbits, x, at, kind)
     if orbits.impacts is None:  # the domain holds the start's count
-        orbits.impacts = len(ImpactOrbitProblem(at, p1, symmetric=symmetric, period_multiple=seed.period_multiple, phase=seed.phase).evaluate(x, getattr(at, p1)).impacts)
+        orbits.impacts = len(
+            ImpactOrbitProblem(
+                at, p1, symmetric=symmetric, period_multiple=seed.period_multiple, phase=seed.phase
+            )
+            .evaluate(x, getattr(at, p1))
+            .impacts
+        )
     problem = curve_problem(at, kind, p1, p2, p2_box=(lo2, hi2), orbits=orbits)
     branch = continue_curve(problem, x, mu, at, box, options, callback)
-    return BifurcationCurve(kind, p1, p2, branch, _measures(problem, branch), seed.origin, seed.period_multiple)
+    return BifurcationCurve(
+        kind, p1, p2, branch, _measures(problem, branch), seed.origin, seed.period_multiple
+    )
 
 
 def _measures(problem, branch) -> dict:
@@ -93,9 +116,24 @@ def _measures(problem, branch) -> dict:
     rows = []
     for u, p in zip(branch.x, branch.p):
         at = problem.params_at(u, p)
-        single = ImpactOrbitProblem(at, problem.p1, symmetric=orbits.symmetric, period_multiple=orbits.period_multiple, phase=orbits.phase)
+        single = ImpactOrbitProblem(
+            at,
+            problem.p1,
+            symmetric=orbits.symmetric,
+            period_multiple=orbits.period_multiple,
+            phase=orbits.phase,
+        )
         rows.append(orbit_measures(single, u[:4], p))
-    out = {key: np.array([r[key] for r in rows]) for key in ("A1", "max_abs_X", "max_abs_w", "min_impact_speed")} if rows else {}
+    out = (
+        {
+            key: np.array([r[key] for r in rows])
+            for key in ("A1", "max_abs_X", "max_abs_w", "min_impact_speed")
+        }
+        if rows
+        else {}
+    )
     critical = 2 if problem.kind == "NS" else 1
-    out["max_abs_multiplier"] = np.max(np.abs(branch.eigenvalues[:, critical:]), axis=1) if len(branch) else np.array([])
+    out["max_abs_multiplier"] = (
+        np.max(np.abs(branch.eigenvalues[:, critical:]), axis=1) if len(branch) else np.array([])
+    )
     return out

@@ -43,8 +43,15 @@ class ImpactStrobe:
     segments = 1
 
     def __init__(
-        self, params: Params, sensitivities: tuple, *, symmetric: bool = False, period_multiple: int = 1, box: tuple | None = None,
-        phase: float = 0.0, impacts: int | None = None,
+        self,
+        params: Params,
+        sensitivities: tuple,
+        *,
+        symmetric: bool = False,
+        period_multiple: int = 1,
+        box: tuple | None = None,
+        phase: float = 0.0,
+        impacts: int | None = None,
     ):
         self.sensitivities = real_pair(sensitivities, "sensitivities")
         self.params, self.param = params, self.sensitivities[0]
@@ -54,13 +61,27 @@ class ImpactStrobe:
         # One problem per parameter of the pair: each gives the map's derivative in its own.
         self._problems: OrderedDict = OrderedDict()
         self._maps_of(params)  # a bad parameter set or pair fails here, before any work
-        self._probe = ImpactOrbitProblem(params, self.param, symmetric=self.symmetric, period_multiple=period_multiple, box=box, phase=self.phase)
+        self._probe = ImpactOrbitProblem(
+            params,
+            self.param,
+            symmetric=self.symmetric,
+            period_multiple=period_multiple,
+            box=box,
+            phase=self.phase,
+        )
 
     def _maps_of(self, params: Params):
         key = params
         if key not in self._problems:
             self._problems[key] = tuple(
-                ImpactOrbitProblem(params, name, symmetric=self.symmetric, period_multiple=self.period_multiple, phase=self.phase) for name in self.sensitivities
+                ImpactOrbitProblem(
+                    params,
+                    name,
+                    symmetric=self.symmetric,
+                    period_multiple=self.period_multiple,
+                    phase=self.phase,
+                )
+                for name in self.sensitivities
             )
             if len(self._problems) > _KEEP:
                 self._problems.popitem(last=False)
@@ -74,7 +95,9 @@ class ImpactStrobe:
         first, second = self._maps_of(params)
         m1 = first.evaluate(x, getattr(params, self.sensitivities[0]))
         m2 = second.evaluate(x, getattr(params, self.sensitivities[1])) if m1.code == 0 else m1
-        grazing = (self.impacts is not None and len(m1.impacts) != self.impacts) or (len(m1.impacts) and np.abs(m1.impacts[:, 2]).min() < MIN_IMPACT_SPEED)
+        grazing = (self.impacts is not None and len(m1.impacts) != self.impacts) or (
+            len(m1.impacts) and np.abs(m1.impacts[:, 2]).min() < MIN_IMPACT_SPEED
+        )
         if m1.code != 0 or m2.code != 0 or grazing:
             nan = np.full((4, 4), np.nan)
             return Arcs(np.full((1, 4), np.nan), nan[None], np.full((1, 4, 2), np.nan), np.nan, nan)
@@ -100,8 +123,12 @@ class ImpactStrobe:
         """The edge near the orbit x at ``params``: grazing when its slowest impact is within a
         factor 2 of ``MIN_IMPACT_SPEED`` (or it has no longer the domain's impacts), the section
         when the particle sits within 1e-3 of a wall there; None for neither."""
-        m = self._maps_of(params)[0].evaluate(np.asarray(x, dtype=float), getattr(params, self.sensitivities[0]))
-        if (self.impacts is not None and len(m.impacts) != self.impacts) or (len(m.impacts) and np.abs(m.impacts[:, 2]).min() < 2 * MIN_IMPACT_SPEED):
+        m = self._maps_of(params)[0].evaluate(
+            np.asarray(x, dtype=float), getattr(params, self.sensitivities[0])
+        )
+        if (self.impacts is not None and len(m.impacts) != self.impacts) or (
+            len(m.impacts) and np.abs(m.impacts[:, 2]).min() < 2 * MIN_IMPACT_SPEED
+        ):
             return NEAR_GRAZING
         if 1.0 - abs(float(x[2])) < 1e-3:
             return SECTION

@@ -17,7 +17,8 @@ same pseudo-arclength engine, traces the curve. Its derivatives need second deri
 flow only along v: with w from the transposed system, dg/dz = -w^T d(J_mu v)/dz, and
 d(J_mu v)/dz . e = d/de [F_z(z + e v)]^T w, two extra integrations of the arcs from x +- h v
 (central differences): a Newton iteration integrates the arcs three times where a one-parameter
-branch integrates them once, and the system stays of size 4m + 1 (AUTO's and MatCont's standard extended systems would double
+branch integrates them once, and the system stays of size 4m + 1 (AUTO's and MatCont's standard extended
+systems would double
 it). The bordering vectors are renewed from v and w after every accepted point, as
 BifurcationKit's MinAug problems do, so that the bordered matrix stays regular along the curve.
 
@@ -64,20 +65,42 @@ class MinAugCurveProblem:
     test_kinds: tuple = ()
 
     def __init__(
-        self, params: Params, p1: str = "sigma", p2: str = "Abar", *, segments: int = 4, period_multiple: int = 1,
-        rtol: float = 1e-10, atol: float = 1e-12, box: tuple | None = None, p2_box: tuple | None = None, backend: str = "auto",
-        refresh_borders: bool = True, orbits=None,
+        self,
+        params: Params,
+        p1: str = "sigma",
+        p2: str = "Abar",
+        *,
+        segments: int = 4,
+        period_multiple: int = 1,
+        rtol: float = 1e-10,
+        atol: float = 1e-12,
+        box: tuple | None = None,
+        p2_box: tuple | None = None,
+        backend: str = "auto",
+        refresh_borders: bool = True,
+        orbits=None,
     ):
         real_pair((p1, p2))
         self.refresh_borders = bool(refresh_borders)
         self.params, self.p1, self.p2 = params, p1, p2
         if orbits is None:  # multiple shooting of (9)
             orbits = ShootingProblem(
-                params, p1, segments=segments, period_multiple=period_multiple, rtol=rtol, atol=atol, backend=backend, box=box, symmetric=self.symmetric,
+                params,
+                p1,
+                segments=segments,
+                period_multiple=period_multiple,
+                rtol=rtol,
+                atol=atol,
+                backend=backend,
+                box=box,
+                symmetric=self.symmetric,
                 sensitivities=(p1, p2),
             )
         elif orbits.symmetric != self.symmetric or orbits.sensitivities != (p1, p2):
-            raise ValueError(f"the orbit equations must be {'symmetric' if self.symmetric else 'whole-period'} ones with derivatives in ({p1}, {p2})")
+            raise ValueError(
+                f"the orbit equations must be {'symmetric' if self.symmetric else 'whole-period'} "
+                f"ones with derivatives in ({p1}, {p2})"
+            )
         self.orbits = orbits
         self.names = self.orbits.names + (p2,)
         self.branch_kind = f"{self.kind} curve of {orbits.branch_kind} in ({p1}, {p2})"
@@ -131,7 +154,8 @@ class MinAugCurveProblem:
         self._last_second = None
 
     def accept(self, x, p):
-        """Renew the borders from the null vectors at an accepted point (keeps the bordered matrix regular)."""
+        """Renew the borders from the null vectors at an accepted point (keeps the bordered matrix
+        regular)."""
         if not self.refresh_borders:
             return
         _, V, W, _ = self._bordered(x, p)
@@ -161,7 +185,9 @@ class MinAugCurveProblem:
         try:
             VG = np.linalg.solve(B, rhs)
             WH = np.linalg.solve(B.conj().T, rhs)
-        except np.linalg.LinAlgError:  # a failed evaluation (NaN arcs) or an exactly singular border: the corrector cuts its step
+        except (
+            np.linalg.LinAlgError
+        ):  # a failed evaluation (NaN arcs) or an exactly singular border: the corrector cuts its step
             VG = WH = np.full((n + k, k), np.nan, dtype=B.dtype)
         result = (arcs, VG[:n], WH[:n], VG[n:])
         if len(self._memo) > 8:
@@ -231,7 +257,14 @@ class MinAugCurveProblem:
         arcs = self._solve(x, p)[0]
         n = len(x) - self._extra
         sens = arcs.sens.reshape(n, -1)
-        top = np.column_stack([self.orbits.jacobian_of(arcs), sens[:, self._columns[1]], np.zeros((n, self._extra - 1)), sens[:, self._columns[0]]])
+        top = np.column_stack(
+            [
+                self.orbits.jacobian_of(arcs),
+                sens[:, self._columns[1]],
+                np.zeros((n, self._extra - 1)),
+                sens[:, self._columns[0]],
+            ]
+        )
         return np.vstack([top, g_row.real, g_row.imag]) if np.iscomplexobj(g_row) else np.vstack([top, g_row])
 
     def jacobian(self, x, p):
@@ -256,14 +289,23 @@ class MinAugCurveProblem:
         factor = max(self.FINEST_RTOL / s.rtol, 1e-2)
         finer = copy.copy(self)
         finer.orbits = ShootingProblem(
-            s.params, s.param, segments=s.segments, period_multiple=s.period_multiple, rtol=s.rtol * factor, atol=s.atol * factor, backend=s.backend,
-            box=s.box, symmetric=s.symmetric, sensitivities=s.sensitivities,
+            s.params,
+            s.param,
+            segments=s.segments,
+            period_multiple=s.period_multiple,
+            rtol=s.rtol * factor,
+            atol=s.atol * factor,
+            backend=s.backend,
+            box=s.box,
+            symmetric=s.symmetric,
+            sensitivities=s.sensitivities,
         )
         finer._memo, finer._last_second, finer._multipliers = {}, None, {}
         return finer
 
     def diagnostics(self, x, p) -> dict:
-        """The arcs' relative tolerance at the point (tighter where a stall was resumed); 0 for an exact map."""
+        """The arcs' relative tolerance at the point (tighter where a stall was resumed); 0 for an exact
+        map."""
         return {"rtol": getattr(self.orbits, "rtol", 0.0)}
 
     # -- multipliers and codimension-2 tests --------------------------------------------------
@@ -288,7 +330,8 @@ class MinAugCurveProblem:
 
     @staticmethod
     def is_stable(multipliers) -> bool:
-        """The curve point bounds stable orbits: every multiplier but the critical one inside the unit circle."""
+        """The curve point bounds stable orbits: every multiplier but the critical one inside the unit
+        circle."""
         return bool(np.all(np.abs(multipliers[1:]) < 1))
 
     def other_multipliers(self, x, p):
@@ -305,4 +348,3 @@ def _orthonormal(A):
     signs = np.sign(np.diag(R).real)
     signs[signs == 0] = 1.0
     return Q * signs
-

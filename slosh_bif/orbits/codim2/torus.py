@@ -34,11 +34,19 @@ from slosh_bif.orbits.codim2.minaug import MinAugCurveProblem
 __all__ = ["TorusCurveProblem"]
 
 RESONANCES = {"R1": 1.0, "R2": -1.0, "R3": -0.5, "R4": 0.0}
-NAMES = {"R1": "1:1 resonance", "R2": "1:2 resonance", "R3": "1:3 resonance", "R4": "1:4 resonance", "LPNS": "fold-Neimark-Sacker", "PDNS": "flip-Neimark-Sacker"}
+NAMES = {
+    "R1": "1:1 resonance",
+    "R2": "1:2 resonance",
+    "R3": "1:3 resonance",
+    "R4": "1:4 resonance",
+    "LPNS": "fold-Neimark-Sacker",
+    "PDNS": "flip-Neimark-Sacker",
+}
 
 
 class TorusCurveProblem(MinAugCurveProblem):
-    """Points (x, p2, kappa) of (9) at p1 where the orbit has multipliers exp(+-i theta), kappa = cos(theta)."""
+    """Points (x, p2, kappa) of (9) at p1 where the orbit has multipliers exp(+-i theta), kappa =
+    cos(theta)."""
 
     kind = "NS"
     test_kinds = ("R1", "R2", "R3", "R4", "LPNS", "PDNS")
@@ -108,11 +116,18 @@ class TorusCurveProblem(MinAugCurveProblem):
     def test_functions(self, x, p):
         kappa = x[-1]
         others = self.eigenvalues(x, p)[2:]
-        return (*(kappa - RESONANCES[k] for k in ("R1", "R2", "R3", "R4")), np.prod(others - 1).real, np.prod(others + 1).real)
+        return (
+            *(kappa - RESONANCES[k] for k in ("R1", "R2", "R3", "R4")),
+            np.prod(others - 1).real,
+            np.prod(others + 1).real,
+        )
 
     def confirm(self, kind, x, p):
         kappa = x[-1]
         if kind in ("R1", "R2"):
             pair = self.eigenvalues(x, p)[:2]
-            return f"{NAMES[kind]}: kappa = {kappa:.6f}, the pair of multipliers at {pair[0].real:.6f}, {pair[1].real:.6f}; the NS curve ends here"
+            return (
+                f"{NAMES[kind]}: kappa = {kappa:.6f}, the pair of multipliers at {pair[0].real:.6f}, "
+                f"{pair[1].real:.6f}; the NS curve ends here"
+            )
         return f"{NAMES[kind]}: kappa = {kappa:.6f} (theta = {np.arccos(np.clip(kappa, -1, 1)):.6f})"
