@@ -2,11 +2,19 @@
 :func:`~slosh_bif.orbits.shooting.period_map`, not the compiled shooting path) integrates (9) and
 its variational equations, so a number the shooting code produced is checked by a second code."""
 
+import sys
+from pathlib import Path
+
 import numpy as np
 import pytest
 
 from slosh_bif import SmoothModel
 from slosh_bif.orbits.shooting import period_map
+
+# The benchmarks (benchmarks/, beside the package) are importable in the tests as in `slosh-bif bench`.
+ROOT = str(Path(__file__).resolve().parents[1])
+if ROOT not in sys.path:
+    sys.path.insert(0, ROOT)
 
 
 def _scipy_period_map(P, y0, period=2 * np.pi):

@@ -35,6 +35,8 @@ for _name in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS", "BLI
     os.environ[_name] = "1"
 
 from slosh_bif.cli import (  # noqa: E402 - after the environment is set
+    answer,
+    bench,
     chart,
     identify,
     info,
@@ -55,7 +57,7 @@ def build_parser() -> argparse.ArgumentParser:
         "nonlinear liquid sloshing (Farid & Gendelman).",
     )
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
-    for family in (info, tank, slowflow, orbits, chart, studies, simulation, identify):
+    for family in (info, tank, slowflow, orbits, chart, studies, answer, bench, simulation, identify):
         family.add_commands(sub)
     for each in sub.choices.values():
         talk = each.add_mutually_exclusive_group()

@@ -29,7 +29,8 @@ __all__ = ["add_commands"]
 
 
 def _chart(args) -> int:
-    from slosh_bif.orbits.settings import BranchingSettings, Resume, ShootingSettings
+    from slosh_bif.orbits.settings import BranchingSettings, ShootingSettings
+    from slosh_bif.report.files import Resume
     from slosh_bif.studies.chart import ChartSettings, bifurcation_chart, check_box
     from slosh_bif.studies.chart_output import (
         chart_settings,

@@ -50,12 +50,11 @@ def family_from_args(args, params, lo, hi, param="sigma"):
     from slosh_bif.orbits.scan import scan_families
     from slosh_bif.orbits.settings import (
         BranchingSettings,
-        Resume,
         ShootingSettings,
         StartSettings,
     )
     from slosh_bif.orbits.starts import slow_flow_start, start_orbit
-    from slosh_bif.report.files import pickle_store
+    from slosh_bif.report.files import Resume, pickle_store
 
     rtol = check_family_options(args)
     options = continuation_options(args, SHOOTING_OPTIONS)

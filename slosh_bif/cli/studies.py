@@ -1,9 +1,7 @@
-"""``slosh-bif compare``, ``trust``, ``figures``, ``bench`` and ``answer``: the questions that combine
-the slow flow, the orbits and the simulations."""
+"""``slosh-bif compare``, ``trust``, ``basins`` and ``figures``: the questions that combine the slow
+flow, the orbits and the simulations."""
 
 from __future__ import annotations
-
-import json
 
 import numpy as np
 
@@ -15,7 +13,6 @@ from slosh_bif.cli.common import (
     add_range_options,
     add_scheduler_option,
     add_sigma_points_option,
-    add_tmax_option,
     cell_progress,
     check_sigma_points,
     check_workers,
@@ -96,11 +93,9 @@ def _impact_branch_rows(args, params, lo, hi) -> list:
     return rows
 
 
-MAX_REPEATS = 100  # timing rounds per benchmark point: the median of 100 is as good as it gets
-
-
 def _trust(args) -> int:
-    from slosh_bif.orbits.settings import BranchingSettings, Resume, ShootingSettings
+    from slosh_bif.orbits.settings import BranchingSettings, ShootingSettings
+    from slosh_bif.report.files import Resume
     from slosh_bif.simulation.settings import Workers
     from slosh_bif.studies.trust import trust_map
     from slosh_bif.studies.trust_output import (
@@ -242,77 +237,6 @@ def _figures(args) -> int:
     return 0
 
 
-def _bench(args) -> int:
-    from slosh_bif.studies.bench import run
-
-    if not 1 <= args.repeats <= MAX_REPEATS:
-        raise ValueError(f"--repeats takes an integer in [1, {MAX_REPEATS}]; got {args.repeats}")
-    paths = run(args.out, only=args.only, quick=args.quick, repeats=args.repeats, progress=progress)
-    for path in paths:
-        print(path)
-        if path.name == "integrators_ratios.csv":  # the headline numbers
-            print(path.read_text().strip())
-    return 0
-
-
-def _answer(args) -> int:
-    from slosh_bif.studies.ladder import answer
-
-    params = params_of(args)
-    result = answer(
-        args.question,
-        params,
-        tol=args.tol,
-        state0=state0_of(args, params),
-        sigma_min=args.sigma_min,
-        sigma_max=args.sigma_max,
-        tmax=args.tmax,
-        progress=progress,
-    )
-    print(result.summary())
-    print(f"ran in {result.seconds:.2f} s")
-    r = result.result
-    if args.question == "frequency-response":
-        branches = (
-            [ob.branch for ob in r.branches] if hasattr(r.branches[0], "measures") else list(r.branches)
-        )
-        print(
-            f"{len(branches)} branch(es), {sum(len(b) for b in branches)} points; special points: "
-            + ", ".join(f"{s.kind} {s.p:.5g}" for b in branches for s in b.special)
-        )
-    elif args.question == "critical-forcing":
-        value, kind = (r.Abar_b, r.kind) if hasattr(r, "Abar_b") else (r.Abar_c, r.bounded_by)
-        print(
-            f"critical forcing at sigma = {params.sigma:g}: Abar = {value:.6g} ({kind})"
-            if np.isfinite(value)
-            else "no traced curve bounds stable orbits with wall contact for Abar in "
-            f"[{r.chart.abar_range[0]:g}, {r.chart.abar_range[1]:g}]"
-        )
-    elif args.question == "time-response":
-        A = r.A if hasattr(r, "A") else None
-        print(
-            f"slow envelope A from {A[0]:.4g} to {A[-1]:.4g}"
-            if A is not None
-            else f"{r.status}: {r.message}; max |X| = {np.max(np.abs(r.y[0])):.4g}"
-        )
-    else:
-        print(f"regime: {r}" if isinstance(r, str) else f"regime: {r.regime} ({r.reason})")
-    if args.out is not None:
-        args.out.mkdir(parents=True, exist_ok=True)
-        record = dict(
-            question=result.question,
-            model=result.model,
-            reason=result.reason,
-            error_estimate=result.error_estimate,
-            seconds=result.seconds,
-            params=params.as_dict(),
-        )
-        path = args.out / "answer.json"
-        write_text_atomically(path, json.dumps(record, indent=2) + "\n")
-        print(f"wrote {path}")
-    return 0
-
-
 def add_commands(sub) -> None:
     """Register this family's commands on the ``slosh-bif`` subparsers ``sub``."""
     compare = sub.add_parser(
@@ -445,58 +369,3 @@ def add_commands(sub) -> None:
         "--quick", action="store_true", help="short simulations and coarse grids (a smoke test)"
     )
     figures.set_defaults(run=_figures)
-
-    ans = sub.add_parser(
-        "answer", help="answer a question with the lightest model whose measured error is within --tol"
-    )
-    ans.add_argument(
-        "question", choices=("frequency-response", "critical-forcing", "time-response", "regime")
-    )
-    add_params_options(ans)
-    ans.add_argument(
-        "--tol",
-        type=float,
-        default=0.05,
-        help="relative error allowed (for the regime: the misclassification rate; default 0.05)",
-    )
-    ans.add_argument(
-        "--sigma-min",
-        type=float,
-        default=None,
-        help="frequency response: lower end of sigma (default sigma - 3)",
-    )
-    ans.add_argument(
-        "--sigma-max",
-        type=float,
-        default=None,
-        help="frequency response: upper end of sigma (default sigma + 3)",
-    )
-    add_tmax_option(ans)
-    ans.add_argument(
-        "--out",
-        type=out_path,
-        default=None,
-        help="output folder for answer.json (the choice, its reason and error estimate)",
-    )
-    ans.set_defaults(run=_answer)
-
-    bench = sub.add_parser(
-        "bench",
-        help="work-precision charts: frequency-response question, integrators, cost of growth (a few "
-        "minutes)",
-    )
-    bench.add_argument("--out", type=out_path, required=True, help="output folder (created if missing)")
-    bench.add_argument(
-        "--only",
-        nargs="+",
-        default=None,
-        choices=("frequency-response", "integration", "growth", "speed"),
-        help="only these benchmarks",
-    )
-    bench.add_argument(
-        "--repeats", type=int, default=3, help="timing rounds per point; the median is reported (default 3)"
-    )
-    bench.add_argument(
-        "--quick", action="store_true", help="fewer points and one round (a smoke test, not a measurement)"
-    )
-    bench.set_defaults(run=_bench)

@@ -15,7 +15,7 @@ from slosh_bif.model.presets import (
     state_from_uv,
     uv_from_state,
 )
-from slosh_bif.model.restitution import ManifoldLaw
+from slosh_bif.model.restitution.on_manifold import ManifoldLaw
 
 __all__ = [
     "Params",

@@ -18,7 +18,6 @@ from slosh_bif.orbits.scan import on_traced_branch, scan_families
 from slosh_bif.orbits.settings import (
     NO_SWITCHING,
     BranchingSettings,
-    Resume,
     ShootingSettings,
     StartSettings,
 )
@@ -46,7 +45,6 @@ __all__ = [
     "ShootingSettings",
     "BranchingSettings",
     "StartSettings",
-    "Resume",
     "NO_SWITCHING",
     "OrbitFamily",
     "OrbitBranch",

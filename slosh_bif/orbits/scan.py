@@ -35,11 +35,11 @@ from slosh_bif.orbits.settings import (
     SHOOTING,
     STARTS,
     BranchingSettings,
-    Resume,
     ShootingSettings,
     StartSettings,
 )
 from slosh_bif.orbits.starts import START_TOL, scan_starts
+from slosh_bif.report.files import Resume
 
 __all__ = ["scan_families", "on_traced_branch"]
 

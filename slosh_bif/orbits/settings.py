@@ -6,7 +6,8 @@
 * :class:`BranchingSettings`: which branches a family follows off its first one (switching at
   the symmetry-breaking pitchforks and at period doublings, up to ``max_branches``);
 * :class:`StartSettings`: where :func:`~slosh_bif.orbits.scan.scan_families` looks for starts;
-* :class:`Resume`: what an earlier, interrupted run finished, and where a run records its pieces.
+* :class:`~slosh_bif.report.files.Resume` (in the report layer, shared with the sweeps): what an
+  earlier, interrupted run finished, and where a run records its pieces.
 
 Continuation's own step control is :class:`~slosh_bif.continuation.ContinuationOptions`. Each
 object checks its fields on construction; an error names the field and what it may be.
@@ -17,13 +18,11 @@ from __future__ import annotations
 import dataclasses
 
 from slosh_bif.orbits.shooting import BACKENDS
-from slosh_bif.report.files import Resume  # noqa: F401 - one object for every resumable run
 
 __all__ = [
     "ShootingSettings",
     "BranchingSettings",
     "StartSettings",
-    "Resume",
     "SHOOTING",
     "BRANCHING",
     "NO_SWITCHING",

@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from slosh_bif.model.manifold import project_on_manifold
-from slosh_bif.model.restitution import ManifoldLaw
+from slosh_bif.model.restitution.on_manifold import ManifoldLaw
 from slosh_bif.report.files import CellStore, replaced_atomically, write_text_atomically
 from slosh_bif.report.plotting import (
     cell_edges,

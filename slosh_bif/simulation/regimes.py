@@ -42,7 +42,7 @@ import numpy as np
 from slosh_bif.model.manifold import project_on_manifold
 from slosh_bif.model.params import Params
 from slosh_bif.model.presets import CLASSIFY_TMAX
-from slosh_bif.model.restitution import ManifoldLaw
+from slosh_bif.model.restitution.on_manifold import ManifoldLaw
 from slosh_bif.report.files import Resume
 from slosh_bif.simulation.direct import MAX_SAMPLES, simulate
 from slosh_bif.simulation.settings import LOCAL, SIMULATION, SimulationSettings, Workers

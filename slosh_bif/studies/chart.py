@@ -48,12 +48,12 @@ from slosh_bif.orbits.settings import (
     SHOOTING,
     STARTS,
     BranchingSettings,
-    Resume,
     ShootingSettings,
     StartSettings,
 )
 from slosh_bif.orbits.shooting import PARAMETERS, orbit_measures
 from slosh_bif.orbits.starts import start_orbit
+from slosh_bif.report.files import Resume
 from slosh_bif.slowflow.critical import critical_curve, interp_min
 from slosh_bif.studies.chart_curves import (
     CurveFailure,

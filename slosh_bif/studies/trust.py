@@ -37,7 +37,6 @@ from slosh_bif.orbits.settings import (
     NO_SWITCHING,
     SHOOTING,
     BranchingSettings,
-    Resume,
     ShootingSettings,
 )
 from slosh_bif.orbits.shooting import ShootingProblem, orbit_measures
@@ -46,6 +45,7 @@ from slosh_bif.orbits.starts import (
     orbit_from_slow_flow,
     slow_flow_start,
 )
+from slosh_bif.report.files import Resume
 from slosh_bif.simulation.settings import LOCAL, Workers
 from slosh_bif.simulation.sweep import run_cells
 from slosh_bif.slowflow.flow import AsymptoticsWarning, SlowFlow, asymptotics_concerns

@@ -42,7 +42,7 @@ def no_work(monkeypatch):
     import slosh_bif.slowflow.critical as critical
 
     monkeypatch.setattr(critical, "critical_curve", _started)  # critical's continuation
-    import slosh_bif.studies.bench as bench
+    import benchmarks.run as bench
 
     monkeypatch.setattr(bench, "run", _started)  # bench's measurements
 

@@ -36,7 +36,7 @@ from slosh_bif.model.restitution.laws import (
     manifold_law,
     speed_law,
 )
-from slosh_bif.model.restitution.on_manifold import END_KINDS, ManifoldEnd, ManifoldLaw
+from slosh_bif.model.restitution.on_manifold import END_KINDS
 
 __all__ = [
     "I",
@@ -56,7 +56,5 @@ __all__ = [
     "check_model",
     "speed_law",
     "manifold_law",
-    "ManifoldLaw",
-    "ManifoldEnd",
     "END_KINDS",
 ]

@@ -22,7 +22,6 @@ from __future__ import annotations
 import bisect
 import functools
 import math
-from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -35,9 +34,6 @@ from slosh_bif.model.restitution.on_manifold import (
     scipy_optimize,
 )
 from slosh_bif.model.restitution.wall import WallLaw, wall_law
-
-if TYPE_CHECKING:  # the parameter set is read by attribute; params.py validates with eq21
-    from slosh_bif.model.params import Params
 
 __all__ = ["CorrectedLaw", "V_RANGE", "TOP_KIND", "measured_wall"]
 
@@ -76,7 +72,7 @@ class CorrectedLaw:
     prefix = "corrected_"
     newtonian = False  # D(A) varies even where kappa does not
 
-    def __init__(self, params: Params):
+    def __init__(self, params):
         check_params(params)
         P = params
         self.wall_params = (P.lam, P.chi, P.n, P.pbar)  # all the law depends on

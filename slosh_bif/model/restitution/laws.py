@@ -17,13 +17,9 @@ object and nothing else.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Protocol, runtime_checkable
+from typing import Protocol, runtime_checkable
 
 from slosh_bif.model.restitution.checks import check_params
-
-if TYPE_CHECKING:  # the parameter set is read by attribute; params.py validates with eq21
-    from slosh_bif.model.params import Params
-
 
 __all__ = ["MODELS", "SpeedLaw", "ManifoldRestitution", "check_model", "speed_law", "manifold_law"]
 
@@ -73,7 +69,7 @@ def check_model(model: str) -> str:
     return model
 
 
-def speed_law(params: Params, model: str = "slowflow") -> SpeedLaw:
+def speed_law(params, model: str = "slowflow") -> SpeedLaw:
     """kappa(v0) and D(v0) of ``model``'s wall: eq. (21) with D = 1, or the measured wall over the
     speeds the corrected slow flow uses."""
     from slosh_bif.model.restitution.corrected import measured_wall
@@ -85,7 +81,7 @@ def speed_law(params: Params, model: str = "slowflow") -> SpeedLaw:
     return measured_wall(params.lam, params.chi, params.n, params.pbar)
 
 
-def manifold_law(params: Params, model: str = "slowflow") -> ManifoldRestitution:
+def manifold_law(params, model: str = "slowflow") -> ManifoldRestitution:
     """The law on S+ of ``model``: a :class:`~slosh_bif.model.restitution.on_manifold.ManifoldLaw`
     or a :class:`~slosh_bif.model.restitution.corrected.CorrectedLaw` (which depends on the wall
     alone: one per wall and process)."""

@@ -30,7 +30,6 @@ from __future__ import annotations
 import dataclasses
 import functools
 import math
-from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -38,9 +37,6 @@ from slosh_bif.model import manifold
 from slosh_bif.model._generated import slow_flow as gen
 from slosh_bif.model.restitution import eq21 as restitution
 from slosh_bif.model.restitution.checks import check_params
-
-if TYPE_CHECKING:  # the parameter set is read by attribute; params.py validates with eq21
-    from slosh_bif.model.params import Params
 
 __all__ = ["ManifoldLaw", "ManifoldEnd", "END_KINDS"]
 
@@ -331,7 +327,7 @@ class ManifoldLaw:
 
     prefix = ""
 
-    def __init__(self, params: Params):
+    def __init__(self, params):
         check_params(params)
         P = self.params = params
         self.newtonian = P.pbar == 0

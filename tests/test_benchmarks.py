@@ -6,17 +6,19 @@ import csv
 import numpy as np
 import pytest
 
+from benchmarks import frequency_response, timing
+from benchmarks import output as bench_output
+from benchmarks import run as bench
 from slosh_bif import get_preset
 from slosh_bif.cli import main
-from slosh_bif.studies import bench, bench_output
 
 
 def test_first_harmonic_of_a_closed_form_signal():
     t = np.arange(0.0, 40 * np.pi, 0.02)
     X = 0.7 * np.sin(t + 0.3) + 0.2 * np.cos(3 * t) + 0.1  # the 3rd harmonic and the mean do not leak
-    assert bench.first_harmonic(t, X, periods=10) == pytest.approx(0.7, rel=1e-4)
+    assert timing.first_harmonic(t, X, periods=10) == pytest.approx(0.7, rel=1e-4)
     with pytest.raises(ValueError, match="forcing periods"):
-        bench.first_harmonic(t[:100], X[:100], periods=10)
+        timing.first_harmonic(t[:100], X[:100], periods=10)
 
 
 def test_equal_error_ratio_recovers_a_known_speedup():
@@ -36,7 +38,7 @@ def test_equal_error_ratio_recovers_a_known_speedup():
 
 def test_timed_reports_the_median_and_stops_at_the_budget():
     calls = []
-    seconds, result, runs = bench.timed(
+    seconds, result, runs = timing.timed(
         lambda: calls.append(1) or len(calls), repeats=5, min_seconds=0.0, budget=0.0
     )
     assert runs == 1 and result == 1 and seconds >= 0
@@ -45,7 +47,7 @@ def test_timed_reports_the_median_and_stops_at_the_budget():
 def test_reference_orbit_is_converged_and_agrees_with_a_long_simulation():
     """The reference of the frequency-response question, against a different evaluation of the same
     quantity: the first harmonic of a long simulation of (9) at tight tolerance."""
-    ref = bench.reference_orbits("fig10", [4.0])[0]
+    ref = frequency_response.reference_orbits("fig10", [4.0])[0]
     assert ref.self_error < 1e-8 and ref.max_multiplier < 1
     pre = get_preset("fig10")
     from slosh_bif.simulation.direct import SimulationSettings, simulate
@@ -56,7 +58,7 @@ def test_reference_orbit_is_converged_and_agrees_with_a_long_simulation():
         400 * 2 * np.pi,
         settings=SimulationSettings(rtol=1e-11, atol=1e-13),
     )
-    assert bench.first_harmonic(sim.t, sim.y[0], 20) == pytest.approx(ref.A1, rel=1e-5)
+    assert timing.first_harmonic(sim.t, sim.y[0], 20) == pytest.approx(ref.A1, rel=1e-5)
 
 
 def _read(path):
@@ -124,7 +126,7 @@ def test_bench_rejects_bad_input(tmp_path):
 def test_speed_bench_times_the_command_as_a_user_runs_it():
     """The speed question runs the CLI in a fresh interpreter; a failing command is an error that
     names it, not a time."""
-    from slosh_bif.studies.speed import run_cli
+    from benchmarks.speed import run_cli
 
     seconds, _ = run_cli(["info", "--preset", "fig10"])
     assert 0 < seconds < 120

@@ -7,7 +7,7 @@ continuation used), starting from the previous solution. The sweep cannot pass a
 branch or fails, so it reports no fold.
 Medians of REPEATS runs, measured in one process. Writes bench_continuation.csv and .png.
 
-Usage: python examples/bench_continuation.py [OUT_DIR]
+Usage: python -m benchmarks.continuation [OUT_DIR]
 """
 
 import csv

@@ -6,7 +6,7 @@ points over sigma in [-2, 3], Abar in [0.5, 6]. Both by multiple shooting (4 arc
 of 3 runs in one process.
 Prints the seconds per point of each and the ratios (issue 16's target: at most 3).
 
-Run:  python examples/bench_codim2.py
+Run:  python -m benchmarks.codim2
 """
 
 from __future__ import annotations

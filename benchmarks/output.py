@@ -1,4 +1,4 @@
-"""CSV tables and work-precision charts of :mod:`slosh_bif.studies.bench` (one CSV behind each PNG)."""
+"""CSV tables and work-precision charts of :mod:`benchmarks.run` (one CSV behind each PNG)."""
 
 from __future__ import annotations
 
@@ -6,9 +6,9 @@ from pathlib import Path
 
 import numpy as np
 
+from benchmarks.speed import SPEED_COLUMNS
 from slosh_bif.report.plotting import pyplot, save_figure
 from slosh_bif.report.tables import write_rows
-from slosh_bif.studies.speed import SPEED_COLUMNS
 
 __all__ = [
     "equal_error_ratio",

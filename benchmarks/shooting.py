@@ -5,10 +5,10 @@
    against 1,000 one-period integrations of (9) by scipy's solve_ivp DOP853 at rtol = 1e-10,
    atol = 1e-12, measured in the same run (the bar is the ratio, not seconds).
 2. Work-precision of one period of (9) at n = 50 and n = 6 for every integrator (the integration
-   question of `slosh-bif bench`, :func:`slosh_bif.studies.bench.integration_bench`). Writes
+   question of `slosh-bif bench`, :func:`benchmarks.integration.integration_bench`). Writes
    OUT/integrators.png, integrators.csv and integrators_ratios.csv (OUT: results/charts by default).
 
-Run:  python examples/bench_shooting.py [--repeats 3] [--out results/charts]
+Run:  python -m benchmarks.shooting [--repeats 3] [--out results/charts]
 """
 
 from __future__ import annotations
@@ -21,12 +21,12 @@ from pathlib import Path
 import numpy as np
 from scipy.integrate import solve_ivp
 
+from benchmarks.run import run
 from slosh_bif import SmoothModel, get_preset
 from slosh_bif.continuation import continuation
 from slosh_bif.flows import integrator
 from slosh_bif.orbits.families import SHOOTING_OPTIONS
 from slosh_bif.orbits.shooting import ShootingProblem, orbit_at
-from slosh_bif.studies import bench
 
 FIG10_ORBIT_GUESS = np.array([-2.29697839, 0.4870925, 0.62950163, -1.6026986])  # a simulated state
 
@@ -83,7 +83,7 @@ def main():
     if not integrator.HAVE_NUMBA:
         print("numba is not installed: the compiled path is unavailable (pip install -e '.[fast]')")
     speed_target(args.repeats)
-    for path in bench.run(
+    for path in run(
         args.out, only=["integration"], repeats=args.repeats
     ):  # the same chart as `slosh-bif bench`
         print(f"wrote {path}")
