@@ -32,7 +32,7 @@ import time
 
 import numpy as np
 
-from slosh_bif.continuation.branch import END, Branch, SpecialPoint
+from slosh_bif.continuation.branch import Branch, SpecialPoint
 from slosh_bif.continuation.corrector import (
     Point,
     correct,
@@ -43,10 +43,10 @@ from slosh_bif.continuation.corrector import (
     top_rows,
 )
 from slosh_bif.continuation.detection import special_between
+from slosh_bif.continuation.ends import end_after_failures, end_on_bound, mark_end, stalls
 from slosh_bif.continuation.options import (
     BOUND,
     COMPLETE,
-    EDGE,
     LOOP,
     STALL,
     STEPS,
@@ -71,43 +71,6 @@ CREEP, CREEP_STEPS = 1e3, 50
 REFINEMENTS = 2
 
 
-def _bound_message(bound, opts):
-    return f"{BOUND} {'p_max' if bound == opts.p_max else 'p_min'} = {bound}"
-
-
-def _end_on_bound(problem, points, b_u, opts):
-    """End at the bound that the corrected point b_u overshot: the point with p = bound between
-    the last point and b_u (Newton at fixed p), or the last point itself when it is on the bound."""
-    a = points[-1]
-    bound = opts.p_max if b_u[-1] > opts.p_max else opts.p_min
-    if a.u[-1] == bound:  # a start on the bound is itself the end (not a second copy of it)
-        _mark_end(a, BOUND, _bound_message(bound, opts))
-        return
-    w = (bound - a.u[-1]) / (b_u[-1] - a.u[-1])
-    try:
-        x = newton(problem, (1 - w) * a.u[:-1] + w * b_u[:-1], bound, tol=opts.tol)
-    except (ConvergenceError, np.linalg.LinAlgError):
-        x = (1 - w) * a.u[:-1] + w * b_u[:-1]  # a fold on the bound: keep the interpolated point
-    u = np.append(x, bound)
-    points.append(
-        make_point(
-            problem,
-            u,
-            a.t,
-            kind=END,
-            message=_bound_message(bound, opts),
-            bracket=(a.u[-1], b_u[-1]),
-            reason=BOUND,
-        )
-    )
-
-
-def _mark_end(point: Point, reason: str, message: str, bracket=None):
-    point.kind, point.message, point.reason = END, message, reason
-    if bracket is not None:
-        point.bracket = bracket
-
-
 def _run(problem, start: Point, opts, loop_guard: bool, callback=None):
     """One direction from ``start``: predict, correct, adapt the step, detect and locate special
     points, until an end; returns (points, end reason)."""
@@ -126,10 +89,10 @@ def _run(problem, start: Point, opts, loop_guard: bool, callback=None):
             _stamp(caps, q)
         stamped = len(points)
         if len(points) > opts.max_steps:
-            _mark_end(points[-1], STEPS, f"{STEPS} ({opts.max_steps} steps)")
+            mark_end(points[-1], STEPS, f"{STEPS} ({opts.max_steps} steps)")
             return points, STEPS
         if time.monotonic() > deadline:
-            _mark_end(
+            mark_end(
                 points[-1],
                 TIME,
                 f"{TIME} ({opts.max_seconds:g} s of wall clock, a safety net: where it ends "
@@ -145,7 +108,7 @@ def _run(problem, start: Point, opts, loop_guard: bool, callback=None):
             edge_hits += not in_domain(problem, guess) or iters < opts.max_newton
             h *= 0.5
             if h < opts.step_min:
-                finer = _finer(caps, refinements) if _stalls(caps, points[-1], edge_hits) else None
+                finer = _finer(caps, refinements) if stalls(caps, points[-1], edge_hits) else None
                 if finer is not None:  # resume with the finer problem from the last point
                     problem, caps, refinements, h, bend = (
                         finer,
@@ -157,11 +120,11 @@ def _run(problem, start: Point, opts, loop_guard: bool, callback=None):
                     accept, terminal = caps.accept, caps.terminal_kinds
                     _restart_at(finer, points)
                     continue
-                return points, _end_after_failures(problem, points, h, edge_hits, opts)
+                return points, end_after_failures(problem, points, h, edge_hits, opts)
             continue
         edge_hits = 0
         if not opts.p_min <= u[-1] <= opts.p_max:
-            _end_on_bound(problem, points, u, opts)
+            end_on_bound(problem, points, u, opts)
             return points, BOUND
         b = make_point(problem, u, a.t, iters)
         angle = math.acos(min(1.0, max(-1.0, float(b.t @ a.t))))
@@ -198,7 +161,7 @@ def _run(problem, start: Point, opts, loop_guard: bool, callback=None):
             _restart_at(finer, points)
             continue
         if crept >= CREEP_STEPS:  # Newton converges only for tiny steps: a singular point, not progress
-            _mark_end(
+            mark_end(
                 points[-1],
                 STALL,
                 f"{STALL}: {CREEP_STEPS} steps in a row below {CREEP * opts.step_min:.1g} (a "
@@ -242,60 +205,6 @@ def _next_step(h, iterations, angle, opts):
     if angle > opts.max_angle:
         h *= opts.max_angle / angle
     return max(h, opts.step_min)
-
-
-def _end_after_failures(problem, points, h, edge_hits, opts):
-    """The end after the step fell below its minimum: at the domain's edge (the problem's exact
-    edge point when it offers one) if the failures left the domain, else a stall."""
-    a = points[-1]
-    caps = capabilities(problem)
-    at_named_edge = _at_named_edge(caps, a)
-    reason = EDGE if edge_hits or at_named_edge else STALL
-    bracket = (a.u[-1], (a.u + 2 * h * a.t)[-1])
-    edge = _edge_point(problem, a, opts) if reason == EDGE else None
-    if edge is not None:
-        points.append(
-            Point(
-                edge,
-                a.t,
-                0,
-                END,
-                f"{reason}: {caps.edge_name}",
-                bracket,
-                a.tests,
-                reason=reason,
-                edge=caps.edge_name,
-            )
-        )
-    else:
-        near = caps.edge_name_near(a.u) if reason == EDGE else "boundary"
-        name = near if (at_named_edge or reason == EDGE) and near != "boundary" else None
-        _mark_end(a, reason, f"{reason}: {name + ', ' if name else ''}last step {2 * h:.3g} failed", bracket)
-        if reason == EDGE:
-            a.edge = near
-    return reason
-
-
-def _at_named_edge(caps, a: Point) -> bool:
-    """A stall right at the edge is the edge: derivatives with a square root there (kappa(A) of
-    (39) at the manifold's end) make the corrector fail before the domain check does."""
-    near = caps.edge_distance
-    return near is not None and near(a.u[:-1], a.u[-1]) < 1e-5
-
-
-def _stalls(caps, a: Point, edge_hits) -> bool:
-    """Whether failed steps from a end the direction as a stall (not at the domain's edge)."""
-    return not edge_hits and not _at_named_edge(caps, a)
-
-
-def _edge_point(problem, a: Point, opts):
-    """The problem's exact edge point near a, if it offers one within the parameter bounds."""
-    hook = capabilities(problem).edge_point
-    edge = hook(a.u[:-1], a.u[-1]) if hook else None
-    if edge is None:
-        return None
-    u = np.append(edge[0], edge[1])
-    return u if opts.p_min <= u[-1] <= opts.p_max and np.all(np.isfinite(u)) else None
 
 
 def _passes(start: Point, ua, ub, h):
