@@ -28,6 +28,7 @@ from slosh_bif.model.restitution.eq21 import (
     rho_unchecked,
     simulate_rebound,
 )
+from slosh_bif.model.restitution.eq39 import END_KINDS
 from slosh_bif.model.restitution.laws import (
     MODELS,
     ManifoldRestitution,
@@ -36,7 +37,6 @@ from slosh_bif.model.restitution.laws import (
     manifold_law,
     speed_law,
 )
-from slosh_bif.model.restitution.on_manifold import END_KINDS
 
 __all__ = [
     "I",

@@ -28,11 +28,7 @@ import numpy as np
 from slosh_bif.model._generated import slow_flow as gen
 from slosh_bif.model.restitution import eq21 as restitution
 from slosh_bif.model.restitution.checks import check_params
-from slosh_bif.model.restitution.on_manifold import (
-    END_KINDS,
-    ManifoldEnd,
-    scipy_optimize,
-)
+from slosh_bif.model.restitution.eq39 import END_KINDS, ManifoldEnd, scipy_optimize
 from slosh_bif.model.restitution.wall import WallLaw, wall_law
 
 __all__ = ["CorrectedLaw", "V_RANGE", "TOP_KIND", "measured_wall"]
@@ -42,10 +38,6 @@ V_RANGE = (0.05, 100.0)
 0.6 and v grows like A on S+, so A up to ~100 is covered."""
 NODES = 32
 TOP_KIND = "top of the measured wall law"
-
-
-def _drho_dkappa(k):
-    return -4.0 / (np.pi * (1.0 + k) ** 2)
 
 
 @functools.lru_cache(maxsize=32)
@@ -181,7 +173,7 @@ class CorrectedLaw:
         """F(v) of :meth:`_speed`, dF/dv, and whether alpha lies on S+ (alpha >= D / (1 + rho^2))."""
         k, dk, D, dD = self.wall.slopes(v, checked=False)
         rho = restitution.rho_unchecked(k)
-        drho = _drho_dkappa(k) * dk
+        drho = restitution.drho_dkappa(k) * dk
         alpha = 0.25 * np.pi * v * (1.0 + k)  # (38): v = 4 alpha / (pi (1 + kappa))
         dalpha = 0.25 * np.pi * (1.0 + k + v * dk)
         F = (rho * alpha) ** 2 + (D - alpha) ** 2 - A**2
@@ -303,7 +295,7 @@ class CorrectedLaw:
     def rho(self, A):
         """rho on S+ at amplitude(s) A, and d rho/dA."""
         _, dv, k, dk, _, _ = self._at(A)
-        return restitution.rho_unchecked(k), _drho_dkappa(k) * dk * dv
+        return restitution.rho_unchecked(k), restitution.drho_dkappa(k) * dk * dv
 
     def clearance(self, A):
         """The clearance D on S+ at amplitude(s) A (the equivalent rigid wall's position), and dD/dA."""

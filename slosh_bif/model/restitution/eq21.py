@@ -49,6 +49,7 @@ __all__ = [
     "kappa",
     "kappa_newtonian",
     "rho",
+    "drho_dkappa",
     "kappa_on_manifold",
     "kappa_low",
     "ManifoldKappa",
@@ -109,6 +110,11 @@ def rho(kappa_value):
     if np.any(~(k > 0)) or np.any(k > 1):
         raise ValueError(f"kappa must be in (0, 1]; got {k}")
     return rho_unchecked(k)
+
+
+def drho_dkappa(k):
+    """d rho / d kappa of (31)."""
+    return -4.0 / (np.pi * (1.0 + k) ** 2)
 
 
 def rho_unchecked(k):
