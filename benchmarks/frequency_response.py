@@ -17,7 +17,7 @@ from slosh_bif.simulation.direct import SimulationSettings, simulate
 from slosh_bif.slowflow.critical import critical_forcing
 from slosh_bif.slowflow.flow import SlowFlow
 from slosh_bif.slowflow.steady_states import frequency_response
-from slosh_bif.studies.chart import critical_forcing_full
+from slosh_bif.studies.chart_critical import critical_forcing_full
 
 # Detunings of the frequency-response question: where (9) has a stable 2pi-orbit that a
 # simulation from the preset's initial state settles on (checked on every run).

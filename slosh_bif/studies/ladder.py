@@ -57,7 +57,7 @@ from slosh_bif.simulation.regimes import classify
 from slosh_bif.slowflow.critical import critical_forcing
 from slosh_bif.slowflow.flow import AsymptoticsWarning, SlowFlow, asymptotics_concerns
 from slosh_bif.slowflow.steady_states import frequency_response
-from slosh_bif.studies.chart import critical_forcing_full
+from slosh_bif.studies.chart_critical import critical_forcing_full
 
 __all__ = ["QUESTIONS", "SLOW_FLOW_ERROR", "CORRECTED_ERROR", "Answer", "answer", "model_choice"]
 

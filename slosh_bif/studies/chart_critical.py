@@ -1,0 +1,217 @@
+"""The full model's critical forcing read off a chart: Abar_c(sigma), the lowest curve in Abar that
+bounds stable orbits with wall contact, beside the slow flow's Abar_b of (46) (the paper's
+Fig. 10-13 comparison), and the table of both along sigma."""
+
+from __future__ import annotations
+
+import dataclasses
+import time
+
+import numpy as np
+
+from slosh_bif.model.params import Params
+from slosh_bif.orbits.scan import scan_families
+from slosh_bif.orbits.settings import (
+    BRANCHING,
+    SHOOTING,
+    STARTS,
+    BranchingSettings,
+    ShootingSettings,
+    StartSettings,
+)
+from slosh_bif.orbits.shooting import orbit_measures
+from slosh_bif.slowflow.critical import critical_curve, interp_min
+from slosh_bif.studies.chart import Chart
+from slosh_bif.studies.chart_curves import (
+    curve_starts,
+    pitchforks_of,
+    trace_curves,
+)
+
+__all__ = [
+    "CRITICAL_COLUMNS",
+    "FullCritical",
+    "critical_forcing_full",
+    "critical_rows",
+    "lowest_stable_boundary",
+]
+
+
+CRITICAL_COLUMNS = ("sigma", "Abar_b_slowflow", "Abar_c_full", "rel_diff", "bounded_by")
+
+
+@dataclasses.dataclass(frozen=True)
+class FullCritical:
+    """Abar_c of (9) at one sigma: NaN (and ``bounded_by`` empty) when no traced curve bounds
+    stable orbits with wall contact there inside the Abar range; ``chart`` is what it was read off."""
+
+    sigma: float
+    Abar_c: float
+    bounded_by: str
+    chart: Chart
+
+
+def critical_forcing_full(
+    params: Params,
+    state0,
+    *,
+    abar_range: tuple | None = None,
+    halfwidth: float = 0.25,
+    starts: StartSettings = STARTS,
+    shooting: ShootingSettings = SHOOTING,
+    branching: BranchingSettings = BRANCHING,
+    progress=None,
+    model: str = "slowflow",
+) -> FullCritical:
+    """Abar_c(sigma) of (9) at ``params.sigma``: every family of orbits there in Abar over
+    ``abar_range`` (default [0.05, max(2 Abar, 3)]), found by :func:`~slosh_bif.orbits.scan.scan_families`
+    (starts from ``state0`` and others as ``starts`` says; switched at branch points as
+    ``branching`` says, never at period doublings: only period-1 orbits count), then the curve through each
+    of their LP, PD and NS points in the box sigma +- ``halfwidth`` x ``abar_range``; the lowest
+    curve point at sigma that bounds stable period-1 orbits with wall contact.
+
+    A single family misses stable orbits that no path in Abar at this sigma connects to it
+    (Fig. 10 set, sigma = -1.2: the resonant orbit folds at Abar = 2.515, while a separate family
+    has stable orbits with contact down to 0.34).
+    """
+    if not (np.isfinite(halfwidth) and halfwidth > 0):
+        raise ValueError(f"halfwidth (of the sigma box) must be > 0; got {halfwidth!r}")
+    a0, a1 = abar_range or (0.05, max(2.0 * params.Abar, 3.0))
+    if not (0 <= a0 < a1):
+        raise ValueError(f"abar_range must satisfy 0 <= Abar_min < Abar_max; got [{a0}, {a1}]")
+    say = progress or (lambda message: None)
+    started = time.perf_counter()
+    sigma = params.sigma
+    box = (sigma - halfwidth, sigma + halfwidth)
+    family = scan_families(
+        params,
+        state0,
+        p_min=a0,
+        p_max=a1,
+        param="Abar",
+        starts=starts,
+        shooting=shooting,
+        branching=dataclasses.replace(branching, doublings=False),
+        progress=progress,
+    )
+    pitchforks = pitchforks_of(family)
+    curve_box = {"sigma": box, "Abar": (a0, a1)}
+    seeds = [
+        s
+        for ob in family.branches
+        if ob.problem.period_multiple == 1
+        for s in curve_starts(ob, params, curve_box, pitchforks, shooting)
+    ]
+    curves, _, failures = trace_curves(seeds, say, keep_partial=False)
+    try:
+        slow = critical_curve(params, *box, model=model)
+    except (RuntimeError, ValueError):
+        slow = None
+    chart = Chart(
+        params, box, (a0, a1), family, curves, slow, time.perf_counter() - started, failures=failures
+    )
+    # The special points lie at sigma exactly; a curve read at sigma is interpolated between its
+    # points (2e-3 off at the Fig. 13 set's NS), so it counts only where it crosses sigma away
+    # from every special point: a crossing of a family the scan did not reach.
+    exact = [
+        (sp.p, sp.kind)
+        for ob in family.branches
+        if ob.problem.period_multiple == 1
+        for sp in ob.branch.special
+        if _bounds_stable_contact(ob, sp)
+    ]
+    value, kind = min(exact, default=(np.nan, ""))
+    for c in curves:
+        crossed = lowest_stable_boundary([c], sigma)[0]
+        if (
+            np.isfinite(crossed)
+            and not crossed >= value
+            and not any(k == c.kind and abs(a - crossed) <= 0.01 * a for a, k in exact)
+        ):
+            value, kind = crossed, c.kind
+    return FullCritical(float(sigma), float(value), kind, chart)
+
+
+_CRITICAL_COUNT = {"LP": 1, "BP": 1, "PD": 1, "NS": 2}
+
+
+def _bounds_stable_contact(ob, sp) -> bool:
+    """Whether the located LP, PD or NS point ``sp`` of ``ob`` bounds stable orbits with wall
+    contact: every multiplier but the critical one(s) inside the unit circle, max |w| >= 1."""
+    if sp.kind not in ("LP", "PD", "NS") or not sp.located:
+        return False
+    mu = ob.branch.eigenvalues[sp.index]
+    target = {"LP": 1.0, "PD": -1.0}.get(sp.kind)
+    distance = (
+        np.abs(mu - target)
+        if target is not None
+        else np.where(np.abs(mu.imag) > 1e-9, np.abs(np.abs(mu) - 1), np.inf)
+    )
+    rest = np.delete(mu, np.argsort(distance)[: _CRITICAL_COUNT[sp.kind]])
+    return bool(np.all(np.abs(rest) < 1) and orbit_measures(ob.problem, sp.x, sp.p)["max_abs_w"] >= 1.0)
+
+
+def lowest_stable_boundary(curves, sigma):
+    """(Abar, kind) of the lowest point at sigma of the ``curves`` that bounds stable period-1
+    orbits with wall contact, by linear interpolation along each curve; (nan, "") when none."""
+    best = (np.nan, "")
+    for c in curves:
+        if c.period_multiple != 1:
+            continue  # a period-2 branch's curves bound period-2 orbits
+        good = c.branch.stable & (c["max_abs_w"] >= 1.0)
+        value = interp_min(c["sigma"], np.where(good, c["Abar"], np.nan), sigma)
+        if value is not None and not value >= best[0]:
+            best = (value, c.kind)
+    return best
+
+
+def _slow_flow_critical_at(slow, sigma: float) -> float:
+    """Abar_b of the slow flow at sigma, computed there rather than read off the chords of the
+    traced curve ``slow`` (which lie up to 2e-3 above it): on an end of S+ by the end condition,
+    at a fold by Brent's method on Abar(A) of (46) about the traced curve's amplitude (what
+    :func:`~slosh_bif.slowflow.critical.critical_forcing` does over the whole window, at a
+    fraction of its cost on walls whose kappa(A) is solved for); NaN outside the curve."""
+    from scipy import optimize
+
+    from slosh_bif.slowflow.critical import EndProblem
+    from slosh_bif.slowflow.flow import SlowFlow
+    from slosh_bif.slowflow.steady_states import abar_on_curve
+
+    if slow is None or not len(slow.sigma) or not slow.sigma[0] <= sigma <= slow.sigma[-1]:
+        return np.nan
+    near = np.argsort(np.abs(slow.sigma - sigma))[:3]
+    flow = SlowFlow(slow.params, slow.model)
+    values = []
+    for kind in set(slow.kind[near]):
+        A = slow.A[near][slow.kind[near] == kind]
+        try:
+            if kind == "END":
+                upper = slow.upper_end_branch is not None and abs(A[0] - flow.A_max) < abs(A[0] - flow.A_min)
+                values.append(
+                    EndProblem(slow.params, slow.model, "upper" if upper else "lower").abar_at(float(sigma))
+                )
+            else:
+                lo, hi = max(flow.A_min, 0.9 * A.min()), min(flow.A_max, 1.1 * A.max())
+                found = optimize.minimize_scalar(
+                    lambda a: float(abar_on_curve(flow, a, sigma=float(sigma))),
+                    bounds=(lo, hi),
+                    method="bounded",
+                    options={"xatol": 1e-13 * A.max()},
+                )
+                values.append(float(found.fun))
+        except (RuntimeError, ValueError):
+            continue
+    return min(values, default=np.nan)
+
+
+def critical_rows(chart: Chart, points: int = 57):
+    """``critical.csv`` rows: on a sigma grid, Abar_b of (46), Abar_c of (9) and which curve kind sets it
+    (none for a chart whose second parameter is not Abar)."""
+    if chart.second != "Abar":
+        return
+    slow = chart.slow_flow_critical
+    for sigma in np.linspace(*chart.sigma_range, points):
+        b = _slow_flow_critical_at(slow, sigma)
+        c, kind = lowest_stable_boundary(chart.curves, sigma)
+        rel = abs(c - b) / b if np.isfinite(b) and np.isfinite(c) and b > 0 else np.nan
+        yield dict(sigma=float(sigma), Abar_b_slowflow=b, Abar_c_full=c, rel_diff=rel, bounded_by=kind)
