@@ -30,6 +30,7 @@ from slosh_bif.orbits.families import (
     trace_new_family,
     unique_name,
 )
+from slosh_bif.orbits.scan_starts import scan_starts
 from slosh_bif.orbits.settings import (
     BRANCHING,
     SHOOTING,
@@ -38,7 +39,7 @@ from slosh_bif.orbits.settings import (
     ShootingSettings,
     StartSettings,
 )
-from slosh_bif.orbits.starts import START_TOL, scan_starts
+from slosh_bif.orbits.starts import START_TOL
 from slosh_bif.report.files import Resume
 
 __all__ = ["scan_families", "on_traced_branch"]

@@ -15,9 +15,7 @@ import numpy as np
 
 from slosh_bif.continuation import ConvergenceError
 from slosh_bif.flows.integrator import integrate_grid
-from slosh_bif.model.equations import SmoothModel
 from slosh_bif.model.params import Params
-from slosh_bif.orbits.settings import SHOOTING, STARTS, ShootingSettings, StartSettings
 from slosh_bif.orbits.shooting import (
     PeriodicOrbit,
     ShootingProblem,
@@ -26,7 +24,7 @@ from slosh_bif.orbits.shooting import (
 )
 from slosh_bif.simulation.direct import SimulationSettings, simulate
 from slosh_bif.slowflow.flow import SlowFlow
-from slosh_bif.slowflow.steady_states import forcing_response, frequency_response
+from slosh_bif.slowflow.steady_states import frequency_response
 
 START_TOL = (
     1e-9  # residual tolerance of Newton from a start guess (scan.on_traced_branch resolves orbits to it)
@@ -41,8 +39,6 @@ __all__ = [
     "orbit_from_slow_flow",
     "slow_flow_start",
     "settle_and_shoot",
-    "scan_starts",
-    "linear_response_state",
 ]
 
 
@@ -325,117 +321,3 @@ def settle_and_shoot(
         if orbit.converged and orbit.stable:
             return orbit, orbit_measures(problem, problem.initial_states(orbit.y0), params.sigma)["A1"]
     return orbit, np.nan
-
-
-def linear_response_state(params: Params) -> np.ndarray:
-    """The state at tau = 0 of the impact-free 2pi-response of the linear part of (9), Re Y with
-    Y = (i - J)^-1 F: the non-resonant response of Fig. 11 while |w| stays well inside the walls
-    (where chi w^(2n+1) is negligible)."""
-    smooth = SmoothModel(params)
-    zero = np.zeros(4)
-    return np.linalg.solve(1j * np.eye(4) - smooth.jac(0.0, zero), smooth.rhs(0.0, zero).astype(complex)).real
-
-
-def _steady_states_near(params: Params, param: str, values, p_min, p_max):
-    """(v, p, A, stable) of every branch of (46) in ``param`` where it crosses each v of ``values``
-    (the branch's own point: Newton on (9) then sits exactly at that point's p)."""
-    try:
-        if param == "sigma":
-            fr = frequency_response(params, sigma_min=p_min, sigma_max=p_max)
-        else:
-            fr = forcing_response(params, abar_min=max(p_min, 0.0), abar_max=p_max)
-    except (ValueError, RuntimeError, ConvergenceError):
-        return []  # no slow manifold or no steady state: the other starts remain
-    found = []
-    for b in fr.branches:
-        for v in values:
-            for i in np.flatnonzero((b.p[:-1] - v) * (b.p[1:] - v) <= 0):
-                j = i if abs(b.p[i] - v) <= abs(b.p[i + 1] - v) else i + 1
-                found.append((v, float(b.p[j]), float(b.x[j, 0]), bool(b.stable[j])))
-    return found
-
-
-_RANDOM_BOX = np.array(
-    [3.0, 3.0, 1.0, 3.0]
-)  # |X|, |X'|, |w|, |w'| of the random starts: the walls and beyond Fig. 10's speeds
-
-
-def scan_starts(
-    params: Params,
-    state0,
-    p_min: float,
-    p_max: float,
-    *,
-    param: str = "sigma",
-    starts: StartSettings = STARTS,
-    shooting: ShootingSettings = SHOOTING,
-    say=None,
-):
-    """Converged 2pi-orbits of (9) from many starts over [p_min, p_max] of ``param`` (sigma or
-    Abar), one :class:`StartOrbit` per start that converges (duplicates included: the caller
-    keeps the new).
-
-    With ``starts`` (:class:`StartSettings`), at ``starts.points`` evenly spread values of the
-    parameter: Newton from the impact-free linear response, and from the last strobe state of a
-    ``starts.settle``-period simulation from ``state0``, from rest, from the slow flow's motion on
-    each steady state of (46) there and from ``starts.random_starts`` states drawn uniformly from
-    |X|, |X'|, |w'| <= 3, |w| <= 1 (numpy's generator seeded with ``starts.seed``); then Newton from the slow
-    flow's motion itself on every
-    steady state of (46) (stable and unstable, each at its own parameter value).
-    """
-    if param not in ("sigma", "Abar"):
-        raise ValueError(f"param must be 'sigma' or 'Abar'; got {param!r}")
-    say = say or (lambda message: None)
-    points, settle, random_starts, seed = starts.points, starts.settle, starts.random_starts, starts.seed
-    segments, backend = shooting.segments, shooting.backend
-    rng = np.random.default_rng(seed)
-    grid = np.linspace(p_min, p_max, points + 2)[1:-1]
-    states = _steady_states_near(params, param, grid, p_min, p_max)
-    for v in grid:
-        at = params.replace(**{param: float(v)})
-        problem = ShootingProblem(
-            at, segments=segments, rtol=shooting.rtol, atol=shooting.atol, backend=backend
-        )
-        guesses = [(linear_response_state(at), "the impact-free linear response")]
-        initial = [(np.asarray(state0, dtype=float), "the preset's initial state"), (np.zeros(4), "rest")]
-        if at.Abar > 0:
-            flow = SlowFlow(at)
-            initial += [
-                (flow.fast_state(A, float(flow.steady_phase(A)), 0.0), f"the slow flow's state A = {A:.4g}")
-                for at_v, _, A, _ in states
-                if at_v == v and A > flow.A_min
-            ]
-        initial += [
-            (rng.uniform(-_RANDOM_BOX, _RANDOM_BOX), f"random state {k + 1} (seed {seed})")
-            for k in range(random_starts)
-        ]
-        for y, what in initial:
-            try:
-                guesses.append(
-                    (
-                        integrate_grid(at, y, [0.0, 2 * np.pi * settle], backend=backend)[-1],
-                        f"a {settle}-period simulation from {what}",
-                    )
-                )
-            except RuntimeError as err:
-                say(f"scan: simulation from {what} at {param} = {v:.4g} failed ({err})")
-        for y, what in guesses:
-            say(f"scan: Newton at {param} = {v:.4g} from {what}")
-            orbit = orbit_at(problem, problem.initial_states(y), at.sigma, tol=START_TOL)
-            if orbit.converged:
-                yield StartOrbit(at, orbit, f"Newton at {param} = {v:.6g} from {what}")
-    for _, value, A, stable in states:
-        at = params.replace(**{param: value})
-        if not A > SlowFlow(at).A_min:  # a state on the end of S+: (46)'s phase there is a root of rounding
-            continue
-        say(f"scan: Newton at {param} = {value:.4g} from the slow flow's motion on A = {A:.4g}")
-        orbit = orbit_from_slow_flow(
-            at, A, segments=segments, rtol=shooting.rtol, atol=shooting.atol, backend=backend
-        )
-        if orbit.converged:
-            yield StartOrbit(
-                at,
-                orbit,
-                f"Newton from the slow flow's motion on the {'stable' if stable else 'unstable'} "
-                f"steady state A = {A:.6g} of (46) at {param} = {value:.6g}",
-            )
