@@ -29,7 +29,7 @@ from slosh_bif.report.plotting import pyplot, save_figure
 from slosh_bif.slowflow.flow import AsymptoticsWarning
 from slosh_bif.slowflow.steady_states import frequency_response
 from slosh_bif.studies.compare import orbits_at, states_at
-from slosh_bif.studies.trust import missed_families
+from slosh_bif.studies.isolas import missed_families
 
 EPS = (0.01, 0.02, 0.05)  # Richardson from the first two; the third is the paper's grid value
 SIGMA_MIN, SIGMA_MAX, GRID = -6.0, 8.0, 57

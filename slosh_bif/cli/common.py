@@ -53,9 +53,8 @@ class Terminated(KeyboardInterrupt):
     signal_name = "SIGTERM"
 
 
-MAX_GRID = (
-    2000  # values along one axis of a map (regimes, basins): 2000 x 2000 cells is days of work on 2 cores
-)
+# values along one axis of a map (regimes, basins): 2000 x 2000 cells is days of work on 2 cores
+MAX_GRID = 2000
 MAX_WORKERS = 256  # local worker processes: beyond that, a cluster (--scheduler) is the way
 MAX_SIGMA_POINTS = 100_000  # sigma values a comparison samples: far past any branch's resolution
 

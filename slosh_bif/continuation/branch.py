@@ -70,9 +70,8 @@ class Status(str, enum.Enum):
     STEPS = "step limit"
     STALL = "step below minimum"
     TIME = "time limit"
-    TERMINAL = (
-        "terminal point"  # a located special point where the curve ends by nature (an NS curve at R1 or R2)
-    )
+    # a located special point where the curve ends by nature (an NS curve at R1 or R2)
+    TERMINAL = "terminal point"
 
     def __str__(self):
         return self.value

@@ -81,9 +81,8 @@ _STATE = ("X", "Xd", "w", "wd")
 
 
 BACKENDS = integrator.BACKENDS  # the arcs' integrators ("auto": numba's when it imports)
-MAX_PERIOD_MULTIPLE = (
-    8  # longest period traced, in units of 2pi: a period-doubling cascade is followed to period 8
-)
+# longest period traced, in units of 2pi: a period-doubling cascade is followed to period 8
+MAX_PERIOD_MULTIPLE = 8
 
 ARC_MAX_STEPS = 100_000
 """Steps one shooting arc may take. An orbit of the presets takes a few hundred a period; a Newton

@@ -26,9 +26,8 @@ from slosh_bif.simulation.direct import SimulationSettings, simulate
 from slosh_bif.slowflow.flow import SlowFlow
 from slosh_bif.slowflow.steady_states import frequency_response
 
-START_TOL = (
-    1e-9  # residual tolerance of Newton from a start guess (scan.on_traced_branch resolves orbits to it)
-)
+# residual tolerance of Newton from a start guess (scan.on_traced_branch resolves orbits to it)
+START_TOL = 1e-9
 
 __all__ = [
     "UnsettledStartWarning",

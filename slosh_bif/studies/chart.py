@@ -84,9 +84,8 @@ class Chart:
     status: str = "complete"  # or why the curves stopped early ("interrupted (SIGINT) after ...")
     second: str = "Abar"  # the chart's second parameter
     failures: tuple = ()  # CurveFailure of each start that gave no curve
-    orbits: str = (
-        "(9)"  # the model whose orbits the curves are of: the smooth model (9) or the impact model (8)
-    )
+    # the model whose orbits the curves are of: the smooth model (9) or the impact model (8)
+    orbits: str = "(9)"
 
     @property
     def incomplete(self) -> list:

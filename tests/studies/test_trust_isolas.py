@@ -14,7 +14,8 @@ from slosh_bif.orbits.starts import settle_and_shoot
 from slosh_bif.slowflow.flow import AsymptoticsWarning, SlowFlow
 from slosh_bif.slowflow.steady_states import frequency_response
 from slosh_bif.studies.compare import orbits_at
-from slosh_bif.studies.trust import missed_families, trust_point
+from slosh_bif.studies.isolas import missed_families
+from slosh_bif.studies.trust import trust_point
 
 P = get_preset("fig13").params.replace(n=6, beta=0.0)
 
