@@ -68,7 +68,7 @@ def reference_orbits(preset: str, sigmas) -> list:
 
 
 def _critical_row(ref):
-    """Abar_b of (46) against Abar_c of (9) (:func:`~slosh_bif.studies.chart.critical_forcing_full`:
+    """Abar_b of (46) against Abar_c of (9) (:func:`~slosh_bif.studies.chart_critical.critical_forcing_full`:
     the least forcing at which the boundary of stable period-1 orbits with wall contact lies, over
     every family at that sigma): the same question, "down to which forcing is there a resonant
     response?", asked of both models."""

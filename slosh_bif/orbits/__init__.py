@@ -7,13 +7,8 @@ contract): :mod:`.shooting` integrates with :mod:`slosh_bif.flows.integrator`, a
 :mod:`.starts` takes start guesses from :mod:`slosh_bif.simulation` and :mod:`slosh_bif.slowflow`.
 """
 
-from slosh_bif.orbits.families import (
-    SHOOTING_OPTIONS,
-    OrbitBranch,
-    OrbitFamily,
-    mirror,
-    trace_orbits,
-)
+from slosh_bif.orbits.families import SHOOTING_OPTIONS, trace_orbits
+from slosh_bif.orbits.orbit_branch import OrbitBranch, OrbitFamily, mirror
 from slosh_bif.orbits.scan import on_traced_branch, scan_families
 from slosh_bif.orbits.settings import (
     NO_SWITCHING,

@@ -19,7 +19,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from slosh_bif.orbits.families import LIOUVILLE_TOL, OrbitFamily
+from slosh_bif.orbits.orbit_branch import LIOUVILLE_TOL, OrbitFamily
 from slosh_bif.report.tables import write_rows
 
 __all__ = [

@@ -2,7 +2,7 @@
 
 One start finds the family its orbit lies on: a simulation lands on one attractor, the slow
 flow's motion on the resonant branch of (46). :func:`scan_families` gathers starts of every kind
-(:func:`~slosh_bif.orbits.starts.scan_starts`: simulations from several states at several values,
+(:func:`~slosh_bif.orbits.scan_starts.scan_starts`: simulations from several states at several values,
 every steady state of (46), the impact-free linear response), drops each orbit that lies on a
 branch already traced or on its mirror image under the symmetry (X, w, tau) -> (-X, -w, tau + pi)
 of (9), and traces each new one with :func:`~slosh_bif.orbits.families.trace_orbits` (switching
@@ -22,14 +22,8 @@ import numpy as np
 
 from slosh_bif.continuation import ContinuationOptions, ConvergenceError, newton_solve
 from slosh_bif.model.params import Params
-from slosh_bif.orbits.families import (
-    SHOOTING_OPTIONS,
-    OrbitBranch,
-    OrbitFamily,
-    images,
-    trace_new_family,
-    unique_name,
-)
+from slosh_bif.orbits.families import SHOOTING_OPTIONS, trace_new_family
+from slosh_bif.orbits.orbit_branch import OrbitBranch, OrbitFamily, images, unique_name
 from slosh_bif.orbits.scan_starts import scan_starts
 from slosh_bif.orbits.settings import (
     BRANCHING,
@@ -53,7 +47,7 @@ def on_traced_branch(
 ) -> OrbitBranch | None:
     """The traced branch among ``branches`` (continued in ``param``, orbits of period
     ``period_multiple`` 2pi) that the orbit of (9) through the state ``y0`` at tau = 0 at
-    ``params`` lies on, in any of its :func:`~slosh_bif.orbits.families.images` (a mirror image,
+    ``params`` lies on, in any of its :func:`~slosh_bif.orbits.orbit_branch.images` (a mirror image,
     a shift by 2pi), else None."""
     p = getattr(params, param)
     for ob in branches:
@@ -134,7 +128,7 @@ def scan_families(
     resume: Resume | None = None,
 ) -> OrbitFamily:
     """Every family of 2pi-orbits of (9) (and what branches off them) over [p_min, p_max] of
-    ``param`` (sigma or Abar) that the starts of :func:`~slosh_bif.orbits.starts.scan_starts`
+    ``param`` (sigma or Abar) that the starts of :func:`~slosh_bif.orbits.scan_starts.scan_starts`
     reach, each traced once.
 
     ``starts``: where starts are sought; ``shooting``, ``branching`` and ``options`` as for

@@ -108,7 +108,7 @@ class BranchingSettings:
 @dataclasses.dataclass(frozen=True)
 class StartSettings:
     """Where a scan for every family looks for start orbits (see
-    :func:`~slosh_bif.orbits.starts.scan_starts`).
+    :func:`~slosh_bif.orbits.scan_starts.scan_starts`).
 
     Attributes
     ----------

@@ -19,7 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
-from slosh_bif.orbits.families import OrbitFamily
+from slosh_bif.orbits.orbit_branch import OrbitFamily
 from slosh_bif.report.tables import write_rows
 from slosh_bif.slowflow.steady_states import FrequencyResponse
 

@@ -108,7 +108,7 @@ def test_where_newton_from_the_slow_flow_fails_the_settled_orbit_is_found():
         assert (
             orbit.converged and orbit.stable and abs(A1 - b.x[i, 0]) > 0.15 * A1
         )  # independent of the search
-        from slosh_bif.orbits.families import OrbitFamily
+        from slosh_bif.orbits.orbit_branch import OrbitFamily
 
         # no traced family, a grid around sigma: every stable state there is a start
         found = missed_families(

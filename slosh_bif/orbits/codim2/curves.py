@@ -168,7 +168,7 @@ class CurveSeed:
 
     @classmethod
     def on(cls, orbit_branch, point, origin: str = "") -> "CurveSeed":
-        """The seed at the special point ``point`` of the :class:`~slosh_bif.orbits.families.OrbitBranch`
+        """The seed at the special point ``point`` of the :class:`~slosh_bif.orbits.orbit_branch.OrbitBranch`
         ``orbit_branch``."""
         problem = orbit_branch.problem
         return cls(
