@@ -26,7 +26,8 @@ from slosh_bif import SmoothModel, get_preset
 from slosh_bif.continuation import continuation
 from slosh_bif.flows import integrator
 from slosh_bif.orbits.families import SHOOTING_OPTIONS
-from slosh_bif.orbits.shooting import ShootingProblem, orbit_at
+from slosh_bif.orbits.orbit_tools import orbit_at
+from slosh_bif.orbits.shooting import ShootingProblem
 
 FIG10_ORBIT_GUESS = np.array([-2.29697839, 0.4870925, 0.62950163, -1.6026986])  # a simulated state
 

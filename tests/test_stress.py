@@ -18,7 +18,7 @@ from slosh_bif.continuation import ContinuationOptions, continuation
 from slosh_bif.flows import integrator
 from slosh_bif.flows.noise import band_limited_noise
 from slosh_bif.model.restitution import kappa, kappa_on_manifold
-from slosh_bif.orbits.shooting import periodic_orbit
+from slosh_bif.orbits.orbit_tools import periodic_orbit
 from slosh_bif.simulation.direct import simulate
 from slosh_bif.slowflow.flow import AsymptoticsWarning, SlowFlow
 from slosh_bif.slowflow.steady_states import frequency_response

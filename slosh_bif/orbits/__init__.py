@@ -9,6 +9,7 @@ contract): :mod:`.shooting` integrates with :mod:`slosh_bif.flows.integrator`, a
 
 from slosh_bif.orbits.families import SHOOTING_OPTIONS, trace_orbits
 from slosh_bif.orbits.orbit_branch import OrbitBranch, OrbitFamily, mirror
+from slosh_bif.orbits.orbit_tools import orbit_at, periodic_orbit
 from slosh_bif.orbits.scan import on_traced_branch, scan_families
 from slosh_bif.orbits.settings import (
     NO_SWITCHING,
@@ -16,12 +17,7 @@ from slosh_bif.orbits.settings import (
     ShootingSettings,
     StartSettings,
 )
-from slosh_bif.orbits.shooting import (
-    PeriodicOrbit,
-    ShootingProblem,
-    orbit_at,
-    periodic_orbit,
-)
+from slosh_bif.orbits.shooting import PeriodicOrbit, ShootingProblem
 from slosh_bif.orbits.stability import StabilityLoss, loss_of_stability
 from slosh_bif.orbits.starts import (
     StartOrbit,

@@ -37,6 +37,7 @@ from slosh_bif.continuation.branch import (
 )
 from slosh_bif.model.params import Params
 from slosh_bif.orbits.orbit_branch import LIOUVILLE_TOL, OrbitBranch, OrbitFamily, images, unique_name
+from slosh_bif.orbits.orbit_tools import orbit_at, orbit_measures
 from slosh_bif.orbits.pitchforks import refine_pitchforks
 from slosh_bif.orbits.settings import (
     BRANCHING,
@@ -44,13 +45,7 @@ from slosh_bif.orbits.settings import (
     BranchingSettings,
     ShootingSettings,
 )
-from slosh_bif.orbits.shooting import (
-    MAX_PERIOD_MULTIPLE,
-    PARAMETERS,
-    ShootingProblem,
-    orbit_at,
-    orbit_measures,
-)
+from slosh_bif.orbits.shooting import MAX_PERIOD_MULTIPLE, PARAMETERS, ShootingProblem
 
 __all__ = [
     "trace_orbits",

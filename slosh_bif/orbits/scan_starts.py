@@ -10,11 +10,9 @@ from slosh_bif.continuation import ConvergenceError
 from slosh_bif.flows.integrator import integrate_grid
 from slosh_bif.model.equations import SmoothModel
 from slosh_bif.model.params import Params
+from slosh_bif.orbits.orbit_tools import orbit_at
 from slosh_bif.orbits.settings import SHOOTING, STARTS, ShootingSettings, StartSettings
-from slosh_bif.orbits.shooting import (
-    ShootingProblem,
-    orbit_at,
-)
+from slosh_bif.orbits.shooting import ShootingProblem
 from slosh_bif.orbits.starts import START_TOL, StartOrbit, orbit_from_slow_flow
 from slosh_bif.slowflow.flow import SlowFlow
 from slosh_bif.slowflow.steady_states import forcing_response, frequency_response

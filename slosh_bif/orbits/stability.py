@@ -18,7 +18,8 @@ from slosh_bif.continuation import (
 )
 from slosh_bif.model.params import Params
 from slosh_bif.orbits.families import SHOOTING_OPTIONS
-from slosh_bif.orbits.shooting import ShootingProblem, orbit_at
+from slosh_bif.orbits.orbit_tools import orbit_at
+from slosh_bif.orbits.shooting import ShootingProblem
 
 __all__ = ["StabilityLoss", "loss_of_stability"]
 

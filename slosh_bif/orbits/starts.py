@@ -16,12 +16,8 @@ import numpy as np
 from slosh_bif.continuation import ConvergenceError
 from slosh_bif.flows.integrator import integrate_grid
 from slosh_bif.model.params import Params
-from slosh_bif.orbits.shooting import (
-    PeriodicOrbit,
-    ShootingProblem,
-    orbit_at,
-    orbit_measures,
-)
+from slosh_bif.orbits.orbit_tools import orbit_at, orbit_measures
+from slosh_bif.orbits.shooting import PeriodicOrbit, ShootingProblem
 from slosh_bif.simulation.direct import SimulationSettings, simulate
 from slosh_bif.slowflow.flow import SlowFlow
 from slosh_bif.slowflow.steady_states import frequency_response

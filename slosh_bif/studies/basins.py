@@ -29,7 +29,8 @@ import numpy as np
 
 from slosh_bif.flows import integrator
 from slosh_bif.model.params import Params
-from slosh_bif.orbits.shooting import ShootingProblem, orbit_at, orbit_measures
+from slosh_bif.orbits.orbit_tools import orbit_at, orbit_measures
+from slosh_bif.orbits.shooting import ShootingProblem
 from slosh_bif.orbits.starts import START_TOL
 from slosh_bif.report.files import Resume
 from slosh_bif.simulation.direct import SimulationSettings, diverged_beyond, simulate

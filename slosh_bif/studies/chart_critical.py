@@ -10,6 +10,7 @@ import time
 import numpy as np
 
 from slosh_bif.model.params import Params
+from slosh_bif.orbits.orbit_tools import orbit_measures
 from slosh_bif.orbits.scan import scan_families
 from slosh_bif.orbits.settings import (
     BRANCHING,
@@ -19,7 +20,6 @@ from slosh_bif.orbits.settings import (
     ShootingSettings,
     StartSettings,
 )
-from slosh_bif.orbits.shooting import orbit_measures
 from slosh_bif.slowflow.critical import critical_curve, interp_min
 from slosh_bif.studies.chart import Chart
 from slosh_bif.studies.chart_curves import (

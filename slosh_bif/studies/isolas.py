@@ -10,12 +10,13 @@ import numpy as np
 
 from slosh_bif.model.params import Params
 from slosh_bif.orbits.families import SHOOTING_OPTIONS, trace_new_family
+from slosh_bif.orbits.orbit_tools import orbit_measures
 from slosh_bif.orbits.settings import (
     NO_SWITCHING,
     SHOOTING,
     ShootingSettings,
 )
-from slosh_bif.orbits.shooting import ShootingProblem, orbit_measures
+from slosh_bif.orbits.shooting import ShootingProblem
 from slosh_bif.orbits.starts import (
     orbit_from_simulation,
     orbit_from_slow_flow,

@@ -7,15 +7,8 @@ from scipy import linalg
 from slosh_bif import SmoothModel, get_preset
 from slosh_bif.continuation import ContinuationOptions, continuation
 from slosh_bif.flows import integrator
-from slosh_bif.orbits.shooting import (
-    PARAMETERS,
-    ShootingProblem,
-    orbit_at,
-    orbit_measures,
-    period_map,
-    periodic_orbit,
-    shoot,
-)
+from slosh_bif.orbits.orbit_tools import orbit_at, orbit_measures, periodic_orbit
+from slosh_bif.orbits.shooting import PARAMETERS, ShootingProblem, period_map, shoot
 
 ZETA, OMEGA = 0.05, 1.3
 A_LIN = np.array([[0.0, 1.0], [-(OMEGA**2), -2 * ZETA]])

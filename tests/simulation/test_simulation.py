@@ -10,7 +10,7 @@ from scipy.integrate import solve_ivp
 from slosh_bif import ImpactModel, SmoothModel, get_preset, simulate_impact
 from slosh_bif.flows.integrator import integrate_grid
 from slosh_bif.flows.noise import band_limited_noise
-from slosh_bif.orbits.shooting import periodic_orbit
+from slosh_bif.orbits.orbit_tools import periodic_orbit
 from slosh_bif.simulation.direct import Noise, Simulation, SimulationSettings, simulate
 from slosh_bif.simulation.regimes import classify
 from slosh_bif.simulation.settings import Workers

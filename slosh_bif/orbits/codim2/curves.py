@@ -20,8 +20,9 @@ from slosh_bif.orbits.codim2.multiplier_curves import (
 )
 from slosh_bif.orbits.codim2.torus import TorusCurveProblem
 from slosh_bif.orbits.floquet import floquet_multipliers
+from slosh_bif.orbits.orbit_tools import orbit_measures
 from slosh_bif.orbits.settings import SHOOTING, ShootingSettings
-from slosh_bif.orbits.shooting import PARAMETERS, ShootingProblem, orbit_measures
+from slosh_bif.orbits.shooting import PARAMETERS, ShootingProblem
 
 __all__ = [
     "BifurcationCurve",
