@@ -37,6 +37,7 @@ import math
 import numpy as np
 
 from slosh_bif.flows.compiled import jit
+from slosh_bif.flows.impact_crossings import crossing, max_abs, may_reach, saltation
 from slosh_bif.flows.impact_propagators import (
     LINEAR_PARAMETERS,
     WALL_PARAMETERS,
@@ -64,29 +65,6 @@ def _apply(P, z, out):
 
 
 @jit(inline=True)
-def _may_reach(f0, d0, f1, d1, L, B):
-    """Whether f may reach 1 in (0, L]: f(0) = f0 <= 1 (1 only when leaving the wall, d0 < 0),
-    f(L) = f1, slopes d0, d1, |f''| <= B."""
-    if f1 >= 1.0 or (f0 >= 1.0 and d0 >= 0.0):
-        return True
-    denom = d0 - d1 + B * L  # >= 0, as |d1 - d0| <= B L
-    if denom <= 0.0:
-        return max(f0, f1) + 0.125 * B * L * L >= 1.0  # the linear interpolant's bound
-    s = -(f0 - f1 + d1 * L - 0.5 * B * L * L) / denom  # where the two parabolas meet
-    if s <= 0.0 or s >= L:
-        return False  # the envelope is one convex parabola, below 1 at s = L and at most 1 at s = 0
-    return f0 + d0 * s + 0.5 * B * s * s >= 1.0
-
-
-@jit(inline=True)
-def _max_abs(z):
-    m = 0.0
-    for i in range(6):
-        m = max(m, abs(z[i]))
-    return m
-
-
-@jit(inline=True)
 def _carry(P, Q, za, phi, dp, tmp):
     """The variations over an interval of propagator P from state za: ``phi <- A phi`` and
     ``dp <- A dp + Q za`` (A the top-left 4 x 4 block of P; Q the parameter derivative of P)."""
@@ -105,48 +83,6 @@ def _carry(P, Q, za, phi, dp, tmp):
         tmp[i, 4] = acc
     phi[:, :] = tmp[:, :4]
     dp[:] = tmp[:, 4]
-
-
-@jit(inline=True)
-def _flow_taylor(K, terms, z, s, out):
-    """``out = expm(K s) z`` by its Taylor series in Horner form (``terms`` terms: exact to
-    rounding for s up to the sample step)."""
-    acc = np.empty(6)
-    acc[:] = z
-    for j in range(terms, 0, -1):
-        for i in range(6):
-            v = 0.0
-            for m in range(6):
-                v += K[i, m] * acc[m]
-            out[i] = z[i] + v * s / j
-        acc[:] = out
-
-
-@jit
-def _crossing(K, terms, za, side, L, out):
-    """The one s in (0, L] where ``side * w = 1``, with f = side * w - 1 increasing over [0, L] and
-    f(0) < 0 <= f(L): Newton on the Taylor-series flow from za, kept inside the bracket (bisection
-    where a Newton step leaves it); ``out`` is the state there (the caller puts w on the wall)."""
-    a, b = 0.0, L
-    s = 0.5 * L
-    for _ in range(200):
-        _flow_taylor(K, terms, za, s, out)
-        f = side * out[2] - 1.0
-        if f == 0.0:
-            return s
-        if f > 0.0:
-            b = s
-        else:
-            a = s
-        slope = side * out[3]
-        nxt = s - f / slope if slope > 0.0 else 0.5 * (a + b)
-        if not (a <= nxt <= b):
-            nxt = 0.5 * (a + b)
-        if abs(nxt - s) <= 2e-16 * s or b - a <= 2e-16 * b:
-            break
-        s = nxt
-    _flow_taylor(K, terms, za, nxt, out)
-    return nxt
 
 
 @jit
@@ -190,9 +126,9 @@ def _piece(
         top -= 1
         _apply(table[k], za, zb)
         L = lengths[k]
-        B = row_norm * growth[k] * _max_abs(za)
-        up = _may_reach(za[2], za[3], zb[2], zb[3], L, B)
-        down = _may_reach(-za[2], -za[3], -zb[2], -zb[3], L, B)
+        B = row_norm * growth[k] * max_abs(za)
+        up = may_reach(za[2], za[3], zb[2], zb[3], L, B)
+        down = may_reach(-za[2], -za[3], -zb[2], -zb[3], L, B)
         if not (up or down) or (k == LEVELS and abs(zb[2]) < 1.0):
             out[:] = zb  # free, or a tangency within rounding
             reached = s + L
@@ -207,7 +143,7 @@ def _piece(
         if not jac and up != down:  # one wall only: a single crossing where f is certified monotone
             side = 1.0 if up else -1.0
             if side * zb[2] >= 1.0 and side * za[3] - B * L > 0.0:
-                offset = _crossing(K, taylor, za, side, L, out)
+                offset = crossing(K, taylor, za, side, L, out)
                 return int(side), s + offset
         top += 1  # right half, then left half on top of it
         stack_k[top] = k + 1
@@ -218,30 +154,6 @@ def _piece(
         stack_s[top] = s
         stack_z[top, :] = za
     return 0, reached
-
-
-@jit(inline=True)
-def _saltation(K, z_minus, z_plus, slope, phi, dp):
-    """``phi <- S phi``, ``dp <- S dp`` across an impact at w = +-1: the saltation matrix
-    ``S = G + (f+ - G f-) e_w^T / w'-`` of the reset ``w'+ = -kappa(|w'-|) w'-`` (G its Jacobian,
-    identity but ``G[3, 3] = slope = d w'+ / d w'-``; f-+ the vector field before and after)."""
-    col = np.empty(4)
-    for i in range(4):
-        f_minus = 0.0
-        f_plus = 0.0
-        for m in range(6):
-            f_minus += K[i, m] * z_minus[m]
-            f_plus += K[i, m] * z_plus[m]
-        col[i] = (f_plus - (slope if i == 3 else 1.0) * f_minus) / z_minus[3]
-    for j in range(phi.shape[1] + 1):
-        v = phi[:, j].copy() if j < phi.shape[1] else dp.copy()
-        v[3] *= slope
-        for i in range(4):
-            v[i] += col[i] * (phi[2, j] if j < phi.shape[1] else dp[2])
-        if j < phi.shape[1]:
-            phi[:, j] = v
-        else:
-            dp[:] = v
 
 
 @jit
@@ -298,10 +210,9 @@ def _run(
             side = 0
             if not jac and rest >= 1.0 - 1e-9:  # a whole step certified free, without the search's set-up
                 _apply(table[0], z, zn)
-                B = row_norm * growth[0] * _max_abs(z)
+                B = row_norm * growth[0] * max_abs(z)
                 if not (
-                    _may_reach(z[2], z[3], zn[2], zn[3], h, B)
-                    or _may_reach(-z[2], -z[3], -zn[2], -zn[3], h, B)
+                    may_reach(z[2], z[3], zn[2], zn[3], h, B) or may_reach(-z[2], -z[3], -zn[2], -zn[3], h, B)
                 ):
                     z[:] = zn
                     break
@@ -361,7 +272,7 @@ def _run(
             impacts[hits, 3] = z[3]
             if jac:  # d w'+ / d w'- = -kappa - v kappa'(v), with kappa = sqrt(1 - c v**q)
                 slope = -kappa + (0.5 * kappa_q * loss / kappa if speed > 0.0 else 0.0)
-                _saltation(K, zn, z, slope, phi, dp)
+                saltation(K, zn, z, slope, phi, dp)
                 if dc != 0.0:  # a wall parameter moves c: d w'+ / dp = v- speed**q dc / (2 kappa)
                     dp[3] += v_minus * speed**kappa_q * dc / (2.0 * kappa)
             hits += 1

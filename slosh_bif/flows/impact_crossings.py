@@ -1,0 +1,101 @@
+"""Impacts of (8) found with a certificate (the paragraph of :mod:`slosh_bif.flows.impact_flow`):
+an interval of a flight is free of the wall when both parabolas bounding w from its ends stay below
+it; an interval holding exactly one crossing is solved by Newton on the flow's Taylor series; the
+saltation matrix of an impact maps the flow's Jacobian across it (eqs. 2, 8, 21)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from slosh_bif.flows.compiled import jit
+
+__all__ = ["crossing", "flow_taylor", "max_abs", "may_reach", "saltation"]
+
+
+@jit(inline=True)
+def may_reach(f0, d0, f1, d1, L, B):
+    """Whether f may reach 1 in (0, L]: f(0) = f0 <= 1 (1 only when leaving the wall, d0 < 0),
+    f(L) = f1, slopes d0, d1, |f''| <= B."""
+    if f1 >= 1.0 or (f0 >= 1.0 and d0 >= 0.0):
+        return True
+    denom = d0 - d1 + B * L  # >= 0, as |d1 - d0| <= B L
+    if denom <= 0.0:
+        return max(f0, f1) + 0.125 * B * L * L >= 1.0  # the linear interpolant's bound
+    s = -(f0 - f1 + d1 * L - 0.5 * B * L * L) / denom  # where the two parabolas meet
+    if s <= 0.0 or s >= L:
+        return False  # the envelope is one convex parabola, below 1 at s = L and at most 1 at s = 0
+    return f0 + d0 * s + 0.5 * B * s * s >= 1.0
+
+
+@jit(inline=True)
+def max_abs(z):
+    m = 0.0
+    for i in range(6):
+        m = max(m, abs(z[i]))
+    return m
+
+
+@jit(inline=True)
+def flow_taylor(K, terms, z, s, out):
+    """``out = expm(K s) z`` by its Taylor series in Horner form (``terms`` terms: exact to
+    rounding for s up to the sample step)."""
+    acc = np.empty(6)
+    acc[:] = z
+    for j in range(terms, 0, -1):
+        for i in range(6):
+            v = 0.0
+            for m in range(6):
+                v += K[i, m] * acc[m]
+            out[i] = z[i] + v * s / j
+        acc[:] = out
+
+
+@jit
+def crossing(K, terms, za, side, L, out):
+    """The one s in (0, L] where ``side * w = 1``, with f = side * w - 1 increasing over [0, L] and
+    f(0) < 0 <= f(L): Newton on the Taylor-series flow from za, kept inside the bracket (bisection
+    where a Newton step leaves it); ``out`` is the state there (the caller puts w on the wall)."""
+    a, b = 0.0, L
+    s = 0.5 * L
+    for _ in range(200):
+        flow_taylor(K, terms, za, s, out)
+        f = side * out[2] - 1.0
+        if f == 0.0:
+            return s
+        if f > 0.0:
+            b = s
+        else:
+            a = s
+        slope = side * out[3]
+        nxt = s - f / slope if slope > 0.0 else 0.5 * (a + b)
+        if not (a <= nxt <= b):
+            nxt = 0.5 * (a + b)
+        if abs(nxt - s) <= 2e-16 * s or b - a <= 2e-16 * b:
+            break
+        s = nxt
+    flow_taylor(K, terms, za, nxt, out)
+    return nxt
+
+
+@jit(inline=True)
+def saltation(K, z_minus, z_plus, slope, phi, dp):
+    """``phi <- S phi``, ``dp <- S dp`` across an impact at w = +-1: the saltation matrix
+    ``S = G + (f+ - G f-) e_w^T / w'-`` of the reset ``w'+ = -kappa(|w'-|) w'-`` (G its Jacobian,
+    identity but ``G[3, 3] = slope = d w'+ / d w'-``; f-+ the vector field before and after)."""
+    col = np.empty(4)
+    for i in range(4):
+        f_minus = 0.0
+        f_plus = 0.0
+        for m in range(6):
+            f_minus += K[i, m] * z_minus[m]
+            f_plus += K[i, m] * z_plus[m]
+        col[i] = (f_plus - (slope if i == 3 else 1.0) * f_minus) / z_minus[3]
+    for j in range(phi.shape[1] + 1):
+        v = phi[:, j].copy() if j < phi.shape[1] else dp.copy()
+        v[3] *= slope
+        for i in range(4):
+            v[i] += col[i] * (phi[2, j] if j < phi.shape[1] else dp[2])
+        if j < phi.shape[1]:
+            phi[:, j] = v
+        else:
+            dp[:] = v
