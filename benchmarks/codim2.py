@@ -23,6 +23,7 @@ from slosh_bif.orbits import (
     trace_orbits,
 )
 from slosh_bif.orbits.codim2 import CurveSeed, trace_curve
+from slosh_bif.orbits.settings import ParameterRange
 
 
 def _median_per_point(run, repeats=3):
@@ -43,10 +44,9 @@ def main():
         family = trace_orbits(
             start.params,
             start.y0,
-            p_min=-1.6,
-            p_max=1.2,
             shooting=ShootingSettings(points_per_2pi=64),
             branching=NO_SWITCHING,
+            interval=ParameterRange(lo=-1.6, hi=1.2),
         )
         branch.result = family.branches[0]
         return len(family.branches[0])

@@ -24,6 +24,7 @@ import numpy as np
 
 from slosh_bif.model.presets import get_preset
 from slosh_bif.orbits.families import trace_orbits
+from slosh_bif.orbits.settings import ParameterRange
 from slosh_bif.orbits.starts import slow_flow_start
 from slosh_bif.report.plotting import pyplot, save_figure
 from slosh_bif.slowflow.flow import AsymptoticsWarning
@@ -56,7 +57,7 @@ def main(argv=None):
         params = base.replace(eps=eps)
         print(f"orbits of (9) at eps = {eps} (n = {args.n}, beta = {args.beta})", flush=True)
         start = slow_flow_start(params, SIGMA_MIN, SIGMA_MAX, segments=4)
-        family = trace_orbits(start.params, start.y0, p_min=SIGMA_MIN, p_max=SIGMA_MAX)
+        family = trace_orbits(start.params, start.y0, interval=ParameterRange(lo=SIGMA_MIN, hi=SIGMA_MAX))
         for (
             name,
             fr,

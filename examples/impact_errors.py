@@ -23,6 +23,7 @@ from slosh_bif.orbits import NO_SWITCHING
 from slosh_bif.orbits.families import trace_orbits
 from slosh_bif.orbits.impact_branches import settled_orbit, trace_impact_orbits
 from slosh_bif.orbits.impact_output import impact_rows
+from slosh_bif.orbits.settings import ParameterRange
 from slosh_bif.orbits.starts import start_orbit
 from slosh_bif.report.tables import write_rows
 from slosh_bif.slowflow.steady_states import frequency_response
@@ -54,7 +55,9 @@ def main(argv=None):
     )
     rows8 = list(impact_rows(impact, params))
     start = start_orbit(params, preset.state0, (lo, hi))
-    smooth = trace_orbits(start.params, start.y0, param="sigma", p_min=lo, p_max=hi, branching=NO_SWITCHING)
+    smooth = trace_orbits(
+        start.params, start.y0, branching=NO_SWITCHING, interval=ParameterRange(name="sigma", lo=lo, hi=hi)
+    )
 
     table = []
     for sigma in sigmas:

@@ -50,6 +50,7 @@ def family_from_args(args, params, lo, hi, param="sigma"):
     from slosh_bif.orbits.scan import scan_families
     from slosh_bif.orbits.settings import (
         BranchingSettings,
+        ParameterRange,
         ShootingSettings,
         StartSettings,
     )
@@ -93,15 +94,13 @@ def family_from_args(args, params, lo, hi, param="sigma"):
         return scan_families(
             params,
             state0_of(args, params),
-            param=param,
-            p_min=lo,
-            p_max=hi,
             starts=starts,
             shooting=shooting,
             branching=branching,
             options=options,
             progress=throttled(progress),
             resume=Resume(done, keep),
+            interval=ParameterRange(name=param, lo=lo, hi=hi),
         )
     if args.start == "slow-flow":
         start = slow_flow_start(params, lo, hi, segments=args.segments, backend=args.backend)
@@ -136,14 +135,12 @@ def family_from_args(args, params, lo, hi, param="sigma"):
         start.params,
         start.y0,
         (),
-        param=param,
-        p_min=lo,
-        p_max=hi,
         shooting=shooting,
         branching=branching,
         options=options,
         progress=throttled(progress),
         found_from=start.found_from,
+        interval=ParameterRange(name=param, lo=lo, hi=hi),
     )
 
 

@@ -43,6 +43,7 @@ from slosh_bif.orbits.settings import (
     BRANCHING,
     SHOOTING,
     BranchingSettings,
+    ParameterRange,
     ShootingSettings,
 )
 from slosh_bif.orbits.shooting import MAX_PERIOD_MULTIPLE, PARAMETERS, ShootingProblem
@@ -220,16 +221,14 @@ def trace_orbits(
     params: Params,
     y0,
     *,
-    param: str = "sigma",
-    p_min: float,
-    p_max: float,
+    interval: ParameterRange,
     shooting: ShootingSettings = SHOOTING,
     branching: BranchingSettings = BRANCHING,
     options: ContinuationOptions | None = None,
     progress=None,
 ) -> OrbitFamily:
-    """Continue the 2pi-orbit through the guess y0 (at the preset's value of ``param``) over
-    [p_min, p_max], then the branches born at its branch points and period doublings.
+    """Continue the 2pi-orbit through the guess y0 (at the preset's value of the parameter) over
+    ``interval``, then the branches born at its branch points and period doublings.
 
     ``shooting``: how each orbit is computed and measured; ``branching``: which branches are
     followed beyond the first (``NO_SWITCHING``: the first alone); ``options``: the
@@ -241,9 +240,7 @@ def trace_orbits(
         params,
         y0,
         (),
-        param=param,
-        p_min=p_min,
-        p_max=p_max,
+        interval=interval,
         shooting=shooting,
         branching=branching,
         options=options,
@@ -256,9 +253,7 @@ def trace_new_family(
     y0,
     known,
     *,
-    param: str,
-    p_min: float,
-    p_max: float,
+    interval: ParameterRange,
     shooting: ShootingSettings,
     branching: BranchingSettings,
     options: ContinuationOptions | None,
@@ -268,6 +263,7 @@ def trace_new_family(
     """:func:`trace_orbits` beside the OrbitBranches ``known`` already traced (by other starts of
     a scan): a switched branch on one of them (or its mirror image) is not traced again, and
     names stay unique among them. ``found_from`` describes the start."""
+    param, p_min, p_max = interval.name, interval.lo, interval.hi
     _check(params, param, p_min, p_max)
     opts = dataclasses.replace(options or SHOOTING_OPTIONS, p_min=p_min, p_max=p_max)
     segments, points_per_2pi = shooting.segments, shooting.points_per_2pi

@@ -30,6 +30,7 @@ from slosh_bif.orbits.settings import (
     SHOOTING,
     STARTS,
     BranchingSettings,
+    ParameterRange,
     ShootingSettings,
     StartSettings,
 )
@@ -117,9 +118,7 @@ def scan_families(
     params: Params,
     state0,
     *,
-    param: str = "sigma",
-    p_min: float,
-    p_max: float,
+    interval: ParameterRange,
     starts: StartSettings = STARTS,
     shooting: ShootingSettings = SHOOTING,
     branching: BranchingSettings = BRANCHING,
@@ -127,8 +126,8 @@ def scan_families(
     progress=None,
     resume: Resume | None = None,
 ) -> OrbitFamily:
-    """Every family of 2pi-orbits of (9) (and what branches off them) over [p_min, p_max] of
-    ``param`` (sigma or Abar) that the starts of :func:`~slosh_bif.orbits.scan_starts.scan_starts`
+    """Every family of 2pi-orbits of (9) (and what branches off them) over ``interval`` (of sigma
+    or Abar) that the starts of :func:`~slosh_bif.orbits.scan_starts.scan_starts`
     reach, each traced once.
 
     ``starts``: where starts are sought; ``shooting``, ``branching`` and ``options`` as for
@@ -141,8 +140,7 @@ def scan_families(
     branches)`` is called after the k-th converged start is dealt with (its family traced, or
     found known).
     """
-    if not (np.isfinite(p_min) and np.isfinite(p_max) and p_min < p_max):
-        raise ValueError(f"need finite p_min < p_max; got [{p_min}, {p_max}]")
+    param, p_min, p_max = interval.name, interval.lo, interval.hi
     say = progress or (lambda message: None)
     resume = resume or Resume()
     skip, branches = resume.done if resume.done is not None else (0, [])
@@ -157,9 +155,7 @@ def scan_families(
             start,
             branches,
             say,
-            param=param,
-            p_min=p_min,
-            p_max=p_max,
+            interval=interval,
             shooting=shooting,
             branching=branching,
             options=options or SHOOTING_OPTIONS,
@@ -176,13 +172,14 @@ def scan_families(
     return OrbitFamily(params, param, _renamed(branches))
 
 
-def _take(start, branches: list, say, *, param, **tracing) -> None:
+def _take(start, branches: list, say, *, interval, **tracing) -> None:
     """Deal with one converged start of the scan: trace its family unless it is known, and add
     the family's new branches to ``branches`` (each curve once)."""
     if np.min(np.abs(start.orbit.multipliers - 1)) < _DEGENERATE:
         # beta = 0 and no wall contact: the particle floats freely, every offset is an orbit
         say(f"scan: the orbit found by {start.found_from} is not isolated (a multiplier at +1): skipped")
         return
+    param = interval.name
     known = on_traced_branch(start.params, start.y0, branches, param=param)
     if known is not None:
         say(f"scan: the orbit found by {start.found_from} lies on the {known.name} branch")
@@ -190,7 +187,7 @@ def _take(start, branches: list, say, *, param, **tracing) -> None:
     say(f"scan: a new family from {start.found_from}")
     try:
         family = trace_new_family(
-            start.params, start.y0, branches, param=param, found_from=start.found_from, **tracing
+            start.params, start.y0, branches, interval=interval, found_from=start.found_from, **tracing
         )
     except ConvergenceError as err:
         say(f"scan: no family traced from {start.found_from}: {err}")

@@ -16,10 +16,14 @@ object checks its fields on construction; an error names the field and what it m
 from __future__ import annotations
 
 import dataclasses
+import math
+
+import numpy as np
 
 from slosh_bif.orbits.shooting import BACKENDS
 
 __all__ = [
+    "ParameterRange",
     "ShootingSettings",
     "BranchingSettings",
     "StartSettings",
@@ -39,6 +43,29 @@ def _need(settings, ok: bool, name: str, allowed: str) -> None:
 
 def _integer(value, low: int, high: float = float("inf")) -> bool:
     return isinstance(value, int) and not isinstance(value, bool) and low <= value <= high
+
+
+@dataclasses.dataclass(frozen=True)
+class ParameterRange:
+    """The interval [lo, hi] of the real parameter ``name`` (sigma by default) a family is traced
+    over: a one-line ValueError unless both ends are finite and lo < hi."""
+
+    lo: float
+    hi: float
+    name: str = "sigma"
+
+    def __post_init__(self):
+        from slosh_bif.model.params import REAL_FIELDS
+
+        if self.name not in REAL_FIELDS:
+            raise ValueError(f"the parameter must be one of {', '.join(REAL_FIELDS)}; got {self.name!r}")
+        for end in ("lo", "hi"):
+            value = getattr(self, end)
+            if isinstance(value, bool) or not isinstance(value, (int, float, np.floating, np.integer)):
+                raise ValueError(f"{self.name} range: {end} must be a number; got {value!r}")
+            object.__setattr__(self, end, float(value))
+        if not (math.isfinite(self.lo) and math.isfinite(self.hi) and self.lo < self.hi):
+            raise ValueError(f"{self.name} range: need finite lo < hi; got [{self.lo}, {self.hi}]")
 
 
 @dataclasses.dataclass(frozen=True)

@@ -46,6 +46,7 @@ from slosh_bif.orbits.settings import (
     NO_SWITCHING,
     SHOOTING,
     BranchingSettings,
+    ParameterRange,
     ShootingSettings,
 )
 from slosh_bif.orbits.shooting import PARAMETERS
@@ -167,7 +168,12 @@ def bifurcation_chart(
         params, state0, (s0, s1), settle=settings.settle, segments=shooting.segments, backend=shooting.backend
     )
     family = trace_orbits(
-        start.params, start.y0, p_min=s0, p_max=s1, shooting=shooting, branching=branching, progress=say
+        start.params,
+        start.y0,
+        shooting=shooting,
+        branching=branching,
+        progress=say,
+        interval=ParameterRange(lo=s0, hi=s1),
     )
     say(f"orbit family: {len(family.branches)} branch(es), {sum(len(ob) for ob in family.branches)} points")
     pitchforks = pitchforks_of(family)
@@ -189,12 +195,10 @@ def bifurcation_chart(
             down = trace_orbits(
                 at,
                 primary.branch.x[i, :4],
-                param=second,
-                p_min=a0,
-                p_max=a1,
                 shooting=shooting,
                 branching=NO_SWITCHING,
                 progress=say,
+                interval=ParameterRange(name=second, lo=a0, hi=a1),
             )
         except (ConvergenceError, ValueError) as err:
             say(f"no {second} branch at sigma = {at.sigma:.4g}: {err}")

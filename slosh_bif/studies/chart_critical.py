@@ -17,6 +17,7 @@ from slosh_bif.orbits.settings import (
     SHOOTING,
     STARTS,
     BranchingSettings,
+    ParameterRange,
     ShootingSettings,
     StartSettings,
 )
@@ -86,13 +87,11 @@ def critical_forcing_full(
     family = scan_families(
         params,
         state0,
-        p_min=a0,
-        p_max=a1,
-        param="Abar",
         starts=starts,
         shooting=shooting,
         branching=dataclasses.replace(branching, doublings=False),
         progress=progress,
+        interval=ParameterRange(lo=a0, hi=a1, name="Abar"),
     )
     pitchforks = pitchforks_of(family)
     curve_box = {"sigma": box, "Abar": (a0, a1)}

@@ -14,6 +14,7 @@ from slosh_bif.orbits.orbit_tools import orbit_measures
 from slosh_bif.orbits.settings import (
     NO_SWITCHING,
     SHOOTING,
+    ParameterRange,
     ShootingSettings,
 )
 from slosh_bif.orbits.shooting import ShootingProblem
@@ -112,13 +113,11 @@ def missed_families(
                 at,
                 orbit.y0,
                 family.branches + found,
-                param="sigma",
-                p_min=lo,
-                p_max=hi,
                 shooting=shooting,
                 branching=NO_SWITCHING,
                 options=ISOLA_OPTIONS,
                 found_from=how,
+                interval=ParameterRange(name="sigma", lo=lo, hi=hi),
             )
         except (RuntimeError, ValueError):  # ConvergenceError included: this start found nothing
             continue

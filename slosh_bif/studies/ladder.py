@@ -50,7 +50,7 @@ import numpy as np
 from slosh_bif.model.params import Params
 from slosh_bif.model.presets import CLASSIFY_TMAX, get_preset
 from slosh_bif.orbits.families import trace_orbits
-from slosh_bif.orbits.settings import NO_SWITCHING
+from slosh_bif.orbits.settings import NO_SWITCHING, ParameterRange
 from slosh_bif.orbits.starts import settle_and_shoot
 from slosh_bif.simulation.direct import simulate
 from slosh_bif.simulation.regimes import classify
@@ -227,4 +227,4 @@ def _full(question, params, y0, lo, hi, tmax, say=None):
             f"Abar = {params.Abar} "
             "within 1000 forcing periods: the response there is not periodic (try the regime question)"
         )
-    return trace_orbits(params, orbit.y0, p_min=lo, p_max=hi, branching=NO_SWITCHING)
+    return trace_orbits(params, orbit.y0, branching=NO_SWITCHING, interval=ParameterRange(lo=lo, hi=hi))

@@ -36,6 +36,7 @@ from slosh_bif.orbits.settings import (
     BRANCHING,
     SHOOTING,
     BranchingSettings,
+    ParameterRange,
     ShootingSettings,
 )
 from slosh_bif.orbits.starts import (
@@ -184,10 +185,9 @@ def trust_point(
                 family = trace_orbits(
                     start.params,
                     start.y0,
-                    p_min=sigma_min,
-                    p_max=sigma_max,
                     shooting=shooting,
                     branching=branching,
+                    interval=ParameterRange(lo=sigma_min, hi=sigma_max),
                 )
                 break
             except RuntimeError as err:  # ConvergenceError included

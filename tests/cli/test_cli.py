@@ -385,6 +385,7 @@ def test_chart_in_sigma_and_another_parameter(tmp_path, capsys):
     # tested in tests/orbits/test_codim2.py).
     from slosh_bif import get_preset
     from slosh_bif.orbits import NO_SWITCHING, orbit_from_simulation, trace_orbits
+    from slosh_bif.orbits.settings import ParameterRange
 
     out = tmp_path / "chart"
     box = [
@@ -427,7 +428,9 @@ def test_chart_in_sigma_and_another_parameter(tmp_path, capsys):
     P = get_preset("fig10").params.replace(beta=float(row["beta"]), sigma=-1.2)
     start = orbit_from_simulation(P, get_preset("fig10").state0, settle=150)
     (lp,) = (
-        trace_orbits(start.params, start.y0, p_min=-1.6, p_max=-1.2, branching=NO_SWITCHING)
+        trace_orbits(
+            start.params, start.y0, branching=NO_SWITCHING, interval=ParameterRange(lo=-1.6, hi=-1.2)
+        )
         .branches[0]
         .branch.special_of("LP")
     )

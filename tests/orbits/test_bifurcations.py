@@ -10,6 +10,7 @@ from slosh_bif import get_preset
 from slosh_bif.flows.integrator import integrate_grid
 from slosh_bif.orbits import BranchingSettings
 from slosh_bif.orbits.families import trace_orbits
+from slosh_bif.orbits.settings import ParameterRange
 from slosh_bif.orbits.shooting import ShootingProblem
 from slosh_bif.orbits.starts import settle_and_shoot
 
@@ -79,7 +80,9 @@ def period_doubling():
     preset = get_preset("fig10")
     P = preset.params.replace(sigma=-3.0)
     orbit, _ = settle_and_shoot(P, preset.state0)
-    family = trace_orbits(P, orbit.y0, p_min=-3.0, p_max=-1.5, branching=BranchingSettings(max_branches=2))
+    family = trace_orbits(
+        P, orbit.y0, branching=BranchingSettings(max_branches=2), interval=ParameterRange(lo=-3.0, hi=-1.5)
+    )
     return P, family
 
 
@@ -153,7 +156,7 @@ def test_every_special_point_of_the_fig10_family_satisfies_its_condition_by_scip
 
     P = get_preset("fig10").params
     start = slow_flow_start(P, -6.0, 8.0)
-    family = trace_orbits(start.params, start.y0, p_min=-6.0, p_max=8.0)
+    family = trace_orbits(start.params, start.y0, interval=ParameterRange(lo=-6.0, hi=8.0))
     names = [ob.name for ob in family.branches]
     assert names[0] == "symmetric" and "asymmetric" in names and "period-2" in names
     checked = 0

@@ -29,6 +29,7 @@ from slosh_bif.orbits.codim2 import (
 )
 from slosh_bif.orbits.families import SHOOTING_OPTIONS
 from slosh_bif.orbits.pitchforks import refine_pitchforks
+from slosh_bif.orbits.settings import ParameterRange
 
 PRESET = get_preset("fig10")
 
@@ -39,7 +40,9 @@ def fold_curve():
     in a small box."""
     P = PRESET.params
     start = orbit_from_simulation(P.replace(sigma=-1.2), PRESET.state0, settle=150)
-    family = trace_orbits(start.params, start.y0, p_min=-1.6, p_max=-1.2, branching=NO_SWITCHING)
+    family = trace_orbits(
+        start.params, start.y0, branching=NO_SWITCHING, interval=ParameterRange(lo=-1.6, hi=-1.2)
+    )
     (lp,) = family.branches[0].branch.special_of("LP")
     return P, trace_curve(P, CurveSeed("LP", lp.x, lp.p), box={"sigma": (-1.8, -1.0), "Abar": (2.4, 3.6)})
 
@@ -49,7 +52,7 @@ def flip_curve():
     """The period-doubling curve through the PD of the asymmetric orbit at sigma = -2.5358."""
     P = PRESET.params.replace(sigma=-3.0)
     orbit, _ = settle_and_shoot(P, PRESET.state0)
-    family = trace_orbits(P, orbit.y0, p_min=-3.0, p_max=-2.3, branching=NO_SWITCHING)
+    family = trace_orbits(P, orbit.y0, branching=NO_SWITCHING, interval=ParameterRange(lo=-3.0, hi=-2.3))
     (pd,) = family.branches[0].branch.special_of("PD")
     return P, trace_curve(P, CurveSeed("PD", pd.x, pd.p), box={"sigma": (-2.9, -2.2), "Abar": (2.7, 3.3)})
 
@@ -62,10 +65,9 @@ def torus_curve():
     family = trace_orbits(
         start.params,
         start.y0,
-        p_min=-1.6,
-        p_max=6.0,
         shooting=ShootingSettings(points_per_2pi=32),
         branching=NO_SWITCHING,
+        interval=ParameterRange(lo=-1.6, hi=6.0),
     )  # past the fold at -1.40
     ns = [s for s in family.branches[0].branch.special_of("NS") if abs(s.p - 0.8806) < 1e-3][0]
     return P, trace_curve(P, CurveSeed("NS", ns.x, ns.p), box={"sigma": (0.6, 1.2), "Abar": (2.6, 3.4)})
@@ -93,10 +95,9 @@ def resonant_torus_curve():
     family = trace_orbits(
         start.params,
         start.y0,
-        p_min=3.8,
-        p_max=4.2,
         shooting=ShootingSettings(points_per_2pi=32),
         branching=NO_SWITCHING,
+        interval=ParameterRange(lo=3.8, hi=4.2),
     )
     ns = [s for s in family.branches[0].branch.special_of("NS") if abs(s.p - 3.98266) < 1e-3][0]
     return P, trace_curve(P, CurveSeed("NS", ns.x, ns.p), box={"sigma": (-1.0, 4.2), "Abar": (0.6, 1.2)})
@@ -128,10 +129,9 @@ def pitchfork_curve():
     family = trace_orbits(
         start.params,
         start.y0,
-        p_min=3.0,
-        p_max=6.0,
         shooting=ShootingSettings(points_per_2pi=32),
         branching=NO_SWITCHING,
+        interval=ParameterRange(lo=3.0, hi=6.0),
     )
     (bp,) = family.branches[0].branch.special_of("BP")
     return P, trace_curve(P, CurveSeed("BP", bp.x, bp.p), box={"sigma": (2.5, 4.5), "Abar": (2.5, 3.5)})
@@ -214,7 +214,9 @@ def beta_fold_curve():
     """A fold curve in (sigma, beta): the fold of the symmetric branch at beta = 0.1 (Abar = 3)."""
     P = PRESET.params.replace(beta=0.1)
     start = orbit_from_simulation(P.replace(sigma=-1.2), PRESET.state0, settle=150)
-    family = trace_orbits(start.params, start.y0, p_min=-1.7, p_max=-1.2, branching=NO_SWITCHING)
+    family = trace_orbits(
+        start.params, start.y0, branching=NO_SWITCHING, interval=ParameterRange(lo=-1.7, hi=-1.2)
+    )
     (lp,) = family.branches[0].branch.special_of("LP")
     return P, trace_curve(P, CurveSeed("LP", lp.x, lp.p), box={"sigma": (-1.8, -1.0), "beta": (0.02, 0.25)})
 
@@ -225,7 +227,7 @@ def eps_flip_curve():
     sigma branch (sigma = -2.5358 held): the start branch's parameter is neither of the two."""
     P = PRESET.params.replace(sigma=-3.0)
     orbit, _ = settle_and_shoot(P, PRESET.state0)
-    family = trace_orbits(P, orbit.y0, p_min=-3.0, p_max=-2.3, branching=NO_SWITCHING)
+    family = trace_orbits(P, orbit.y0, branching=NO_SWITCHING, interval=ParameterRange(lo=-3.0, hi=-2.3))
     (pd,) = family.branches[0].branch.special_of("PD")
     return P.replace(sigma=pd.p), trace_curve(
         P, CurveSeed("PD", pd.x, pd.p, branch_param="sigma"), box={"Abar": (2.6, 3.4), "eps": (0.04, 0.06)}

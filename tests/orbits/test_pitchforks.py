@@ -20,6 +20,7 @@ from slosh_bif.orbits import (
 )
 from slosh_bif.orbits.families import SHOOTING_OPTIONS
 from slosh_bif.orbits.pitchforks import refine_pitchforks
+from slosh_bif.orbits.settings import ParameterRange
 from slosh_bif.orbits.shooting import ShootingProblem
 
 PRESET = get_preset("fig10")
@@ -31,10 +32,9 @@ def symmetric_branch():
     return trace_orbits(
         start.params,
         start.y0,
-        p_min=-1.6,
-        p_max=1.2,
         shooting=ShootingSettings(points_per_2pi=32),
         branching=NO_SWITCHING,
+        interval=ParameterRange(lo=-1.6, hi=1.2),
     ).branches[0]
 
 
@@ -79,11 +79,9 @@ def test_no_pitchfork_off_the_walls_where_the_free_particle_makes_minus_one_doub
     ob = trace_orbits(
         start.params,
         start.y0,
-        param="Abar",
-        p_min=0.2,
-        p_max=6.0,
         shooting=ShootingSettings(points_per_2pi=64),
         branching=NO_SWITCHING,
+        interval=ParameterRange(name="Abar", lo=0.2, hi=6.0),
     ).branches[0]
     assert ob.kind == "symmetric"
     off_wall = ob.measures["max_abs_w"] < 0.9

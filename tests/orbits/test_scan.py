@@ -12,6 +12,7 @@ from slosh_bif import get_preset
 from slosh_bif.cli import main
 from slosh_bif.flows.integrator import integrate_grid
 from slosh_bif.orbits import ShootingProblem, on_traced_branch, orbit_at, scan_families
+from slosh_bif.orbits.settings import ParameterRange
 
 N6 = get_preset("fig13").params.replace(n=6)  # the Fig. 13 set at n = 6: Abar = 1, several families
 
@@ -19,7 +20,7 @@ N6 = get_preset("fig13").params.replace(n=6)  # the Fig. 13 set at n = 6: Abar =
 @pytest.fixture(scope="module", params=[0.3, 0.0], ids=["beta=0.3", "beta=0"])
 def scanned(request):
     P = N6.replace(beta=request.param)
-    return P, scan_families(P, get_preset("fig13").state_for(P), p_min=-6.0, p_max=8.0)
+    return P, scan_families(P, get_preset("fig13").state_for(P), interval=ParameterRange(lo=-6.0, hi=8.0))
 
 
 def test_patient_starts_land_only_on_scanned_branches(scanned):

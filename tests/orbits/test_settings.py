@@ -10,6 +10,7 @@ from slosh_bif.orbits import (
     scan_families,
     trace_orbits,
 )
+from slosh_bif.orbits.settings import ParameterRange
 from slosh_bif.studies.chart import ChartSettings
 
 
@@ -57,6 +58,6 @@ def test_settings_are_frozen_and_replaced_whole():
 def test_the_old_keyword_arguments_are_refused_by_name():
     P = get_preset("fig10").params
     with pytest.raises(TypeError, match="switch"):
-        trace_orbits(P, [0.0, 0.0, 0.0, 0.0], p_min=-1.0, p_max=1.0, switch=False)
+        trace_orbits(P, [0.0, 0.0, 0.0, 0.0], switch=False, interval=ParameterRange(lo=-1.0, hi=1.0))
     with pytest.raises(TypeError, match="seed"):
-        scan_families(P, [0.0, 0.0, 0.0, 0.0], p_min=-1.0, p_max=1.0, seed=3)
+        scan_families(P, [0.0, 0.0, 0.0, 0.0], seed=3, interval=ParameterRange(lo=-1.0, hi=1.0))

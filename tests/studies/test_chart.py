@@ -11,6 +11,7 @@ from slosh_bif.orbits import (
     orbit_from_simulation,
     trace_orbits,
 )
+from slosh_bif.orbits.settings import ParameterRange
 from slosh_bif.studies.chart_curves import curve_starts, trace_curves
 
 PRESET = get_preset("fig10")
@@ -25,10 +26,9 @@ def starts():
     family = trace_orbits(
         start.params,
         start.y0,
-        p_min=-1.6,
-        p_max=-0.9,
         shooting=ShootingSettings(points_per_2pi=32),
         branching=NO_SWITCHING,
+        interval=ParameterRange(lo=-1.6, hi=-0.9),
     )
     found = list(curve_starts(family.branches[0], P, {"sigma": (-1.6, -0.9), "Abar": (2.8, 3.2)}))
     assert sorted(s.kind for s in found) == ["BP", "LP"]

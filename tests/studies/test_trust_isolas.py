@@ -46,10 +46,13 @@ def test_the_isola_a_simulation_settles_on_is_among_the_families_found():
     )
     # the same orbit on a family the search added (A1 to the continuation's interpolation)
     from slosh_bif.orbits.families import trace_orbits
+    from slosh_bif.orbits.settings import ParameterRange
     from slosh_bif.orbits.starts import slow_flow_start
 
     start = slow_flow_start(P, -6, 8, response=frequency_response(P, sigma_min=-6, sigma_max=8))
-    family = trace_orbits(start.params, start.y0, p_min=-6, p_max=8, branching=NO_SWITCHING)
+    family = trace_orbits(
+        start.params, start.y0, branching=NO_SWITCHING, interval=ParameterRange(lo=-6, hi=8)
+    )
     assert not any(
         abs(a - A1) < 1e-3 * A1 for a, _, _ in orbits_at(family.branches, float(b.p[i]))
     )  # the start's family misses it
