@@ -8,12 +8,12 @@ stays regular through folds. :func:`newton` is the plain corrector at fixed para
 from __future__ import annotations
 
 import dataclasses
-import math
 
 import numpy as np
 
 from slosh_bif.continuation.options import ConvergenceError
 from slosh_bif.continuation.problem import capabilities
+from slosh_bif.newton import NewtonResult, NewtonSettings, newton_loop
 
 __all__ = [
     "Point",
@@ -93,94 +93,32 @@ def initial_tangent(problem, u, forward: bool, orient=None):
 
 
 def correct(problem, u_pred, t, opts):
-    """Newton on [F(u); t . (u - u_pred)] = 0. Returns (u, iterations) or (None, iterations).
-
-    Converged when |F| is at the tolerance and the last update, or the next one predicted from
-    quadratic convergence (|du_k|^2 / |du_k-1|), is below ``tol * (1 + |u|)``.
-    """
-    u = u_pred.copy()
-    step = previous = math.inf
-    for k in range(opts.max_newton + 1):
-        if not in_domain(problem, u):
-            return None, k
-        F = problem.residual(u[:-1], u[-1])
-        if not np.all(
-            np.isfinite(F)
-        ):  # an evaluation failed (an integration, say): the step is cut, no Jacobian is formed
-            return None, k
-        scale = 1.0 + np.linalg.norm(u)
-        residual = np.linalg.norm(F)
-        if k > 0 and residual <= max(opts.tol, 1e3 * np.finfo(float).eps * scale):
-            if step <= opts.tol * scale or (k > 1 and step * step / previous <= opts.tol * scale):
-                return u, k
-            if k > 2 and residual <= 1e-2 * opts.tol:
-                # Near a branch point the bordered matrix is nearly singular and the updates are
-                # rounding noise amplified by its condition number; the residual still says done.
-                return u, k
-        if k == opts.max_newton:
-            break
-        du = solve(bordered(problem, u, t), -np.append(F, t @ (u - u_pred)))
-        previous, step = step, np.linalg.norm(du)
-        u = u + du
-    return None, opts.max_newton
-
-
-@dataclasses.dataclass(frozen=True)
-class NewtonResult:
-    """The outcome of Newton at a fixed parameter: the last iterate, whether it converged, the
-    iterations taken, the last residual norm and a message saying why it stopped."""
-
-    x: np.ndarray
-    converged: bool
-    iterations: int
-    residual: float
-    message: str
+    """Newton on [F(u); t . (u - u_pred)] = 0 (:func:`~slosh_bif.newton.newton_loop`, its
+    ``"corrector"`` rule at ``opts.tol``). Returns (u, iterations) or (None, iterations)."""
+    run = newton_loop(
+        lambda u: np.append(problem.residual(u[:-1], u[-1]), t @ (u - u_pred)),
+        lambda u: bordered(problem, u, t),
+        u_pred,
+        NewtonSettings(tol=opts.tol, max_iter=opts.max_newton, criterion="corrector"),
+        admissible=lambda u: in_domain(problem, u),
+        solve=solve,
+    )
+    return (run.x, run.iterations) if run.converged else (None, run.iterations)
 
 
 def newton_solve(problem, x0, p, *, tol=1e-11, max_iter=30, criterion: str = "step") -> NewtonResult:
-    """Newton on ``problem.residual(x, p) = 0`` at fixed p from x0; never raises on failure.
-
-    ``criterion="step"``: converged when the update is below ``tol (1 + |x|)`` (or the start is a
-    solution to rounding); ``"residual"``: when ``|F| <= tol (1 + |x|)`` (for residuals that carry
-    an integration's error, whose updates stall at that error).
-    """
+    """Newton on ``problem.residual(x, p) = 0`` at fixed p from x0 (:func:`~slosh_bif.newton.newton_loop`);
+    never raises on failure. ``criterion``: ``"step"`` or ``"residual"``
+    (:data:`~slosh_bif.newton.CRITERIA`)."""
     if criterion not in ("step", "residual"):
         raise ValueError(f"criterion must be 'step' or 'residual'; got {criterion!r}")
-    x = np.asarray(x0, dtype=float).copy()
-    F = np.full(len(x), np.nan)
-
-    def result(converged, k, message):
-        residual = float(np.linalg.norm(F)) if np.all(np.isfinite(F)) else math.inf
-        return NewtonResult(x, converged, k, residual, message)
-
-    for k in range(max_iter + 1):
-        if not in_domain(problem, np.append(x, p)):
-            return result(False, k, f"Newton left the problem's domain at iteration {k} (x = {x}, p = {p})")
-        F = problem.residual(x, p)
-        if not np.all(np.isfinite(F)):
-            return result(
-                False, k, "the residual is not finite (an integration failed): no solution near this guess"
-            )
-        scale = 1 + np.linalg.norm(x)
-        if criterion == "residual" and np.linalg.norm(F) <= tol * scale:
-            return result(True, k, f"converged in {k} Newton steps")
-        if criterion == "step" and k == 0 and np.linalg.norm(F) <= 1e3 * np.finfo(float).eps * scale:
-            return result(
-                True, 0, "the start is a solution"
-            )  # e.g. a closed form: no step, no Jacobian needed
-        if k == max_iter:
-            break
-        try:
-            dx = np.linalg.solve(problem.jacobian(x, p), -F)
-        except np.linalg.LinAlgError:
-            return result(False, k, f"the Jacobian F_x is singular at iteration {k}: a fold or branch point")
-        x = x + dx
-        if not np.all(np.isfinite(x)):
-            return result(False, k + 1, "Newton diverged (non-finite iterate)")
-        if criterion == "step" and np.linalg.norm(dx) <= tol * (1 + np.linalg.norm(x)):
-            return result(True, k + 1, f"converged in {k + 1} Newton steps")
-    return result(
-        False, max_iter, f"no convergence in {max_iter} Newton steps (last |F| = {np.linalg.norm(F):.3g})"
+    return newton_loop(
+        lambda x: problem.residual(x, p),
+        lambda x: problem.jacobian(x, p),
+        x0,
+        NewtonSettings(tol=tol, max_iter=max_iter, criterion=criterion),
+        admissible=lambda x: in_domain(problem, np.append(x, p)),
+        domain=f"the problem's domain at p = {p}",
     )
 
 

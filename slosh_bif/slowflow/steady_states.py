@@ -25,6 +25,7 @@ import slosh_bif.continuation as cont
 from slosh_bif.continuation.branch import Branch
 from slosh_bif.model.params import Params
 from slosh_bif.model.restitution import END_KINDS
+from slosh_bif.newton import NewtonSettings, newton_loop
 from slosh_bif.slowflow.flow import SlowFlow
 
 __all__ = [
@@ -113,27 +114,25 @@ class SteadyStateProblem:
         with_slopes = tuple(x for value in at_end for x in (value, 0.0))  # only d/dpsi is used: no d/dA
         at_36 = end.kind == END_KINDS[0]  # alpha = alpha_min there: the functions written for it
         rhs_end, end_jac = self.flow.generated("slow_rhs_end"), self.flow.generated("slow_end_jac")
-        z = np.array([x[1], p], dtype=float)
-        for _ in range(30):
+
+        def residual(z):
+            slow = self._slow(z[1])
+            return rhs_end(z[0], *at_end, *slow) if at_36 else self._rhs(A, z[0], *at_end, *slow)
+
+        def jacobian(z):
             slow = self._slow(z[1])
             if at_36:
-                F, D = rhs_end(z[0], *at_end, *slow), end_jac(z[0], *at_end, *slow)
-                M = np.column_stack([D[:, 0], D[:, 1 + self._column]])
-            else:
-                F = self._rhs(A, z[0], *at_end, *slow)
-                M = np.column_stack(
-                    [
-                        self._jac(A, z[0], *with_slopes, *slow)[:, 1],
-                        self._dparams(A, z[0], *at_end, *slow)[:, self._column],
-                    ]
-                )
-            if not (np.all(np.isfinite(F)) and np.all(np.isfinite(M))):
-                return None
-            dz = np.linalg.solve(M, -F)
-            z += dz
-            if np.linalg.norm(dz) < 1e-14 * (1 + np.linalg.norm(z)):
-                return np.array([A, z[0]]), z[1]
-        return None
+                D = end_jac(z[0], *at_end, *slow)
+                return np.column_stack([D[:, 0], D[:, 1 + self._column]])
+            return np.column_stack(
+                [
+                    self._jac(A, z[0], *with_slopes, *slow)[:, 1],
+                    self._dparams(A, z[0], *at_end, *slow)[:, self._column],
+                ]
+            )
+
+        run = newton_loop(residual, jacobian, np.array([x[1], p], dtype=float), NewtonSettings(tol=1e-14))
+        return (np.array([A, run.x[0]]), run.x[1]) if run.converged else None
 
 
 def sigma_on_curve(flow: SlowFlow, A):

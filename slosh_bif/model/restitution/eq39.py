@@ -11,6 +11,7 @@ import numpy as np
 
 from slosh_bif.model._generated import slow_flow as gen
 from slosh_bif.model.restitution import eq21 as restitution
+from slosh_bif.newton import NewtonSettings, newton_loop
 
 __all__ = ["END_KINDS", "SCAN", "Eq39", "ManifoldEnd", "eq39_for", "scipy_optimize"]
 
@@ -237,38 +238,38 @@ class Eq39:
 
     def _fold(self, A, k):
         """Newton on (G, dG/dkappa) = 0 from (k, A); the second derivatives by central differences
-        of the generated gradient (the residual is exact, so the root is to rounding)."""
-        z = np.array([k, A], dtype=float)
-        for _ in range(60):
+        of the generated gradient (the residual is exact, so the root is to rounding). Each step
+        is bounded to a quarter of the point's size and halved while it leaves the manifold (where
+        (39) is undefined)."""
+
+        def residual(z):
+            return np.array([self._G(*z), next(self._G_grad(*z))])
+
+        def jacobian(z):
             gk, gA = self._G_grad(*z)
-            F = np.array([self._G(*z), gk])
-            h = 1e-7 * max(1.0, abs(z[0]))
-            hA = 1e-7 * max(1.0, abs(z[1]))
+            h, hA = 1e-7 * max(1.0, abs(z[0])), 1e-7 * max(1.0, abs(z[1]))
             gkk = (next(self._G_grad(z[0] + h, z[1])) - next(self._G_grad(z[0] - h, z[1]))) / (2 * h)
             gkA = (next(self._G_grad(z[0], z[1] + hA)) - next(self._G_grad(z[0], z[1] - hA))) / (2 * hA)
-            J = np.array([[gk, gA], [gkk, gkA]])
-            if not (np.all(np.isfinite(F)) and np.all(np.isfinite(J))):
-                return None
-            try:
-                dz = np.linalg.solve(J, -F)
-            except np.linalg.LinAlgError:
-                return None
-            dz = np.clip(dz, -0.25 * np.maximum(np.abs(z), 1e-3), 0.25 * np.maximum(np.abs(z), 1e-3))
-            for _ in range(40):  # backtrack while the step leaves the manifold (where (39) is undefined)
-                trial = z + dz
-                if (
-                    0 < trial[0] <= 1
-                    and trial[1] > 0
-                    and np.isfinite(self._G(*trial))
-                    and np.isfinite(next(self._G_grad(*trial)))
-                ):
-                    break
-                dz = 0.5 * dz
-            else:
-                return None
-            z = trial
-            if np.all(np.abs(dz) <= 4 * np.finfo(float).eps * np.maximum(1.0, np.abs(z))):
-                break
+            return np.array([[gk, gA], [gkk, gkA]])
+
+        def admissible(z):
+            return 0 < z[0] <= 1 and z[1] > 0 and np.all(np.isfinite(residual(z)))
+
+        def bounded(z, dz):
+            room = 0.25 * np.maximum(np.abs(z), 1e-3)
+            return np.clip(dz, -room, room)
+
+        run = newton_loop(
+            residual,
+            jacobian,
+            np.array([k, A], dtype=float),
+            NewtonSettings(tol=4 * np.finfo(float).eps, max_iter=60, halvings=40),
+            admissible=admissible,
+            bound_step=bounded,
+        )
+        z = run.x
+        if not (run.converged or (admissible(z) and run.iterations == 60)):
+            return None
         if abs(self._G(*z)) > 1e-12 or abs(next(self._G_grad(*z))) > 1e-6:
             return None
         return ManifoldEnd(float(z[1]), float(z[0]), END_KINDS[1])
