@@ -75,6 +75,11 @@ def _chart(args) -> int:
         raise ValueError(
             "--model impact draws the (sigma, Abar) chart of (8) in one run: without --second and --resume"
         )
+    if args.model == "impact" and args.backend != "auto" and args.regimes is None:
+        raise ValueError(
+            "--backend chooses the integrator of (9), or with --model impact that of --regimes' simulations; "
+            "the orbits of (8) have one exact flow"
+        )
     state0 = state0_of(args, params)
     options = dict(switch=not args.no_switch, seeds=args.seeds, backend=args.backend)
     if args.second != "Abar":  # (a stored Abar chart's settings stay as they were: --resume keeps working)
@@ -93,7 +98,7 @@ def _chart(args) -> int:
             sigma_range=(lo, hi),
             abar_range=(a_lo, a_hi),
             branching=BranchingSettings(switch=not args.no_switch),
-            settings=ChartSettings(workers=args.workers),
+            settings=ChartSettings(seeds=args.seeds, workers=args.workers),
             progress=say,
         )
     else:

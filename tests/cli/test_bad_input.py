@@ -46,6 +46,22 @@ TANK = [
             ["shoot", "--preset", "fig10", "--model", "impact", "--sigma-min", "2", "--sigma-max", "3"],
             "must lie in the range [2, 3]",
         ),
+        (
+            [
+                "chart",
+                "--preset",
+                "fig13",
+                "--model",
+                "impact",
+                "--sigma-min",
+                "-3",
+                "--sigma-max",
+                "5",
+                "--backend",
+                "scipy",
+            ],
+            "the orbits of (8) have one exact flow",
+        ),
     ],
 )
 def test_a_one_line_error_before_any_work(argv, words, tmp_path, capsys):
