@@ -105,9 +105,7 @@ def _chart(args) -> int:
         chart = bifurcation_chart(
             params,
             state0,
-            sigma_range=(lo, hi),
-            abar_range=(a_lo, a_hi),
-            second=args.second,
+            box={"sigma": (lo, hi), args.second: (a_lo, a_hi)},
             shooting=ShootingSettings(backend=args.backend),
             branching=BranchingSettings(switch=not args.no_switch),
             settings=ChartSettings(seeds=args.seeds, workers=args.workers, model=args.model),

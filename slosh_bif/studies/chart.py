@@ -3,7 +3,7 @@ double their period (PD), lose stability to a torus (NS) or break their symmetry
 from every such point of the orbit families (side by side on several processes), and the full
 model's critical forcing read off them, beside the slow flow's Abar_b of (46).
 
-The second parameter may be any other real field of :class:`Params` (``second="beta"``: the
+The second parameter may be any other real field of :class:`Params` (``box={"sigma": (lo, hi), "beta": (lo, hi)}``: the
 (sigma, beta) chart); the critical forcing and the slow flow's Abar_b then have no meaning on the
 chart and are left out.
 
@@ -134,28 +134,29 @@ def bifurcation_chart(
     params: Params,
     state0,
     *,
-    sigma_range: tuple,
-    abar_range: tuple,
-    second: str = "Abar",
+    box: dict,
     shooting: ShootingSettings = SHOOTING,
     branching: BranchingSettings = BRANCHING,
     settings: ChartSettings | None = None,
     progress=None,
     resume: Resume | None = None,
 ) -> Chart:
-    """Trace the family of orbits at the parameter set's Abar over ``sigma_range`` (from a
+    """Trace the family of orbits at the parameter set's Abar over sigma's range (from a
     simulation from ``state0``, switched as ``branching`` says) and the primary branch's orbits at
     ``settings.seeds`` values of sigma continued in Abar, then the LP, PD, NS and BP curve through
-    each of their special points (each curve once) in the box ``sigma_range`` x ``abar_range``,
+    each of their special points (each curve once) in ``box``, ``{"sigma": (lo, hi), "Abar": (lo, hi)}``,
     on ``settings.workers`` processes (:class:`ChartSettings`), every orbit computed with ``shooting``.
     Interrupted while
     tracing curves, it returns those finished, ``status`` saying so. ``resume``: its ``done``,
     {start index: curve} of an earlier run with the same settings (which finds the same starts in
     the same order), and ``keep(i, curve)``, called as each curve finishes.
 
-    ``second``: the chart's second parameter (any real field of :class:`Params` but sigma;
-    ``abar_range`` is then its range, the seeds are continued in it, and there is no slow-flow
+    The box's second name is the chart's second parameter: Abar, or any real field of
+    :class:`Params` but sigma (the seeds are then continued in it, and there is no slow-flow
     critical curve). ``settings.model``: the slow flow whose Abar_b is drawn beside the curves."""
+    if not (isinstance(box, dict) and len(box) == 2 and next(iter(box)) == "sigma"):
+        raise ValueError(f'box must be {{"sigma": (lo, hi), NAME: (lo, hi)}}, sigma first; got {box!r}')
+    (_, sigma_range), (second, abar_range) = box.items()
     check_box(params, sigma_range, abar_range, second)
     (s0, s1), (a0, a1) = sigma_range, abar_range
     box = {"sigma": (s0, s1), second: (a0, a1)}
