@@ -3,9 +3,9 @@ double their period (PD), lose stability to a torus (NS) or break their symmetry
 from every such point of the orbit families (side by side on several processes), and the full
 model's critical forcing read off them, beside the slow flow's Abar_b of (46).
 
-The second parameter may be any other real field of :class:`Params` (``box={"sigma": (lo, hi), "beta": (lo, hi)}``: the
-(sigma, beta) chart); the critical forcing and the slow flow's Abar_b then have no meaning on the
-chart and are left out.
+The second parameter may be any other real field of :class:`Params` (a box ``{"sigma": (lo, hi),
+"beta": (lo, hi)}``: the (sigma, beta) chart); the critical forcing and the slow flow's Abar_b then
+have no meaning on the chart and are left out.
 
 What "critical" means on each model
 -----------------------------------
