@@ -318,13 +318,13 @@ def test_a_start_that_is_not_a_special_point_of_the_kind_is_refused(flip_curve):
 def test_renewed_borders_keep_their_orientation():
     # A border renewed as -v/|v| instead of v/|v| flips the sign of the fold's quadratic
     # coefficient w^T F_xx[v, v], and the cusp test then changes sign at every flip.
-    from slosh_bif.orbits.codim2.minaug import _orthonormal
+    from slosh_bif.orbits.codim2.minaug import orthonormal
 
     rng = np.random.default_rng(7)
     for a in (np.array([[3.0], [4.0]]), np.array([[-3.0], [4.0]]), rng.normal(size=(9, 1))):
-        np.testing.assert_allclose(_orthonormal(a), a / np.linalg.norm(a), atol=1e-15)
+        np.testing.assert_allclose(orthonormal(a), a / np.linalg.norm(a), atol=1e-15)
     A = rng.normal(size=(9, 2)) + 1j * rng.normal(size=(9, 2))
-    Q = _orthonormal(A)
+    Q = orthonormal(A)
     np.testing.assert_allclose(Q.conj().T @ Q, np.eye(2), atol=1e-14)
     assert np.real(np.vdot(Q[:, 0], A[:, 0])) > 0
 

@@ -37,7 +37,7 @@ from slosh_bif.model.params import Params, real_pair
 from slosh_bif.orbits.floquet import floquet_multipliers
 from slosh_bif.orbits.shooting import ShootingProblem
 
-__all__ = ["MinAugCurveProblem"]
+__all__ = ["MinAugCurveProblem", "orthonormal"]
 
 
 class MinAugCurveProblem:
@@ -159,7 +159,7 @@ class MinAugCurveProblem:
         if not self.refresh_borders:
             return
         _, V, W, _ = self._bordered(x, p)
-        self._b, self._c = _orthonormal(W), _orthonormal(V)
+        self._b, self._c = orthonormal(W), orthonormal(V)
         self._memo.clear()
         self._last_second = None
 
@@ -340,7 +340,7 @@ class MinAugCurveProblem:
         return others, np.prod([others[i] * others[j] - 1 for i in range(3) for j in range(i + 1, 3)]).real
 
 
-def _orthonormal(A):
+def orthonormal(A):
     """An orthonormal basis of A's columns that keeps their orientation (Q R with R's diagonal
     positive; one column: a / |a|): a border whose sign flipped from one point to the next would
     flip the sign of the fold's quadratic coefficient and report a cusp at every flip."""
