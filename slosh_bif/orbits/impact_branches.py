@@ -50,12 +50,13 @@ NEAR_GRAZING = 10.0  # an orbit beyond a grazing counts as its continuation with
 
 @dataclasses.dataclass(frozen=True)
 class ImpactPiece:
-    """One continuation run: its :class:`Branch`, the section ``phase`` its states sit on, and the
-    number of impacts per map period on it."""
+    """One continuation run: its :class:`Branch`, the section ``phase`` its states sit on, the
+    number of impacts per map period on it, and the map's period in forcing periods."""
 
     branch: Branch
     phase: float
     impacts: int
+    period_multiple: int = 1
 
 
 @dataclasses.dataclass(frozen=True)
@@ -149,10 +150,15 @@ def _seen(starts, phase, p, x) -> bool:
     return False
 
 
-def _problem(params, param, symmetric, phase, x, p):
-    probe = ImpactOrbitProblem(params, param, symmetric=symmetric, phase=phase)
+def _problem(params, param, symmetric, phase, x, p, multiple=1):
+    probe = ImpactOrbitProblem(params, param, symmetric=symmetric, phase=phase, period_multiple=multiple)
     return ImpactOrbitProblem(
-        params, param, symmetric=symmetric, phase=phase, impacts=len(probe.evaluate(x, p).impacts)
+        params,
+        param,
+        symmetric=symmetric,
+        phase=phase,
+        period_multiple=multiple,
+        impacts=len(probe.evaluate(x, p).impacts),
     )
 
 
@@ -173,15 +179,17 @@ def trace_impact_orbits(
     p_max: float,
     options: ContinuationOptions | None = None,
     symmetric: bool = False,
+    period_multiple: int = 1,
     max_pieces: int = 40,
 ) -> ImpactBranch:
-    """Continue the orbit of (8) through ``x0`` (its state at tau = 0, a fixed point of the map at
-    the value of ``param`` in ``params``) in both directions between ``p_min`` and ``p_max``."""
+    """Continue the orbit of (8) through ``x0`` (its state at tau = 0, a fixed point of the map
+    over ``period_multiple`` forcing periods at the value of ``param`` in ``params``) in both
+    directions between ``p_min`` and ``p_max``."""
     opts = dataclasses.replace(
         options or ContinuationOptions(step=0.05, step_max=0.3, tol=1e-10), p_min=p_min, p_max=p_max
     )
     p0 = float(getattr(params, param))
-    first = ImpactOrbitProblem(params, param, symmetric=symmetric)
+    first = ImpactOrbitProblem(params, param, symmetric=symmetric, period_multiple=period_multiple)
     run = newton_solve(first, x0, p0, tol=1e-12)
     if not run.converged:
         raise ConvergenceError(f"no periodic orbit of (8) near x0 at {param} = {p0}: {run.message}")
@@ -189,7 +197,7 @@ def trace_impact_orbits(
     for direction in ("forward", "backward"):
         phase, x = quiet_section(first, run.x, p0)
         p, sign = p0, 1.0 if direction == "forward" else -1.0
-        problem = _problem(params, param, symmetric, phase, x, p)
+        problem = _problem(params, param, symmetric, phase, x, p, period_multiple)
         while True:
             if len(pieces) >= max_pieces:
                 ends.append(BranchEnd(direction, PIECES, f"stopped after {max_pieces} pieces"))
@@ -201,7 +209,7 @@ def trace_impact_orbits(
                 param=param,
                 options=dataclasses.replace(opts, direction="forward" if sign > 0 else "backward"),
             )
-            pieces.append(ImpactPiece(branch, problem.phase, problem.impacts))
+            pieces.append(ImpactPiece(branch, problem.phase, problem.impacts, period_multiple))
             end = _far_end(branch, p, x)
             if end is None or end.reason != Status.EDGE.value or end.edge not in (SECTION, GRAZING):
                 reason = (
@@ -225,7 +233,7 @@ def trace_impact_orbits(
                     )
                     break
                 starts.append((phase, p, x))
-                problem = _problem(params, param, symmetric, phase, x, p)
+                problem = _problem(params, param, symmetric, phase, x, p, period_multiple)
                 continue
             grazing.append((p_end, x_end, problem.phase))
             beyond = _cross_grazing(params, param, symmetric, problem, x_end, p_end, sign, opts)
@@ -253,7 +261,9 @@ def _cross_grazing(params, param, symmetric, problem, x, p, sign, opts):
         q = p + sign * step
         if not opts.p_min <= q <= opts.p_max:
             return None
-        probe = ImpactOrbitProblem(params, param, symmetric=symmetric, phase=problem.phase)
+        probe = ImpactOrbitProblem(
+            params, param, symmetric=symmetric, phase=problem.phase, period_multiple=problem.period_multiple
+        )
         guess = np.asarray(x, dtype=float)
         for _ in range(CROSSING_ITERATES):
             m = probe.evaluate(guess, q)
@@ -269,7 +279,12 @@ def _cross_grazing(params, param, symmetric, problem, x, p, sign, opts):
             if count != problem.impacts:
                 return (
                     ImpactOrbitProblem(
-                        params, param, symmetric=symmetric, phase=problem.phase, impacts=count
+                        params,
+                        param,
+                        symmetric=symmetric,
+                        phase=problem.phase,
+                        period_multiple=problem.period_multiple,
+                        impacts=count,
                     ),
                     run.x,
                     q,

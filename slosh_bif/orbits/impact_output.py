@@ -1,13 +1,14 @@
 """Writing a branch of periodic orbits of the vibro-impact model (8) as CSV and PNG.
 
-``branch.csv``: one row per point, pieces one after another (:mod:`slosh_bif.orbits.impact_branches`),
-columns ``sigma, Abar, A1, max_abs_X, impacts, min_impact_speed, stable, max_abs_multiplier,
-special, branch, piece, phase``: A1 is the first-harmonic amplitude of X at the forcing frequency,
-as for (9); ``impacts`` the impacts per forcing period on the piece (twice those of the half
-period on a symmetric branch, traced on the half-period map), ``phase`` its section; ``special`` the special
-point at
-that row (PD, NS, LP, BP, GR at a grazing end, END); ``branch`` its name (``symmetric``,
-``asymmetric``, ``asymmetric-2``, ..., or ``primary`` when the start orbit is not symmetric).
+``branch.csv``: one row per point, pieces one after another
+(:mod:`slosh_bif.orbits.impact_branches`), columns ``sigma, Abar, A1, max_abs_X, impacts,
+min_impact_speed, stable, max_abs_multiplier, special, branch, piece, phase``: A1 is the
+first-harmonic amplitude of X at the forcing frequency, as for (9); ``impacts`` the impacts per
+period of the orbit on the piece (twice those of the half period on a symmetric branch, traced on
+the half-period map; over 4 pi on a period-2 branch), ``phase`` its section; ``special`` the
+special point at that row (PD, NS, LP, BP, GR at a grazing end, END); ``branch`` its name
+(``symmetric``, ``asymmetric``, ``asymmetric-2``, ..., ``period-2`` (born at a period doubling),
+or ``primary`` when the start orbit is not symmetric).
 """
 
 from __future__ import annotations
@@ -46,7 +47,8 @@ def orbit_measures(problem: ImpactOrbitProblem, x, p) -> dict:
     if problem.symmetric:  # over half its period: the other half is -y
         t, y = np.concatenate([t, t[1:] + problem.period]), np.concatenate([y, -y[:, 1:]], axis=1)
     f = y[0] * np.exp(-1j * t)
-    harmonic = np.sum(0.5 * (f[1:] + f[:-1]) * np.diff(t)) / np.pi  # the trapezoid rule
+    # the trapezoid rule over the orbit's period (2 pi times its multiple): 2/T times the integral
+    harmonic = np.sum(0.5 * (f[1:] + f[:-1]) * np.diff(t)) / (0.5 * (t[-1] - t[0]))
     return {
         "A1": float(abs(harmonic)),
         "max_abs_X": float(np.abs(y[0]).max()),
@@ -69,7 +71,9 @@ def impact_rows(result: ImpactBranch, params, symmetric: bool = False, name: str
     for k, piece in enumerate(result.pieces):
         b = piece.branch
         labels = _labels(b)
-        problem = ImpactOrbitProblem(params, b.param, symmetric=symmetric, phase=piece.phase)
+        problem = ImpactOrbitProblem(
+            params, b.param, symmetric=symmetric, phase=piece.phase, period_multiple=piece.period_multiple
+        )
         for i in range(len(b)):
             at = params.replace(**{b.param: float(b.p[i])})
             m = orbit_measures(problem, b.x[i], b.p[i])

@@ -1,5 +1,6 @@
 """Branch switching for periodic orbits of the vibro-impact model (8), eq. (8) with (21): the
-asymmetric orbits born at the symmetry-breaking pitchforks of its symmetric ones.
+asymmetric orbits born at the symmetry-breaking pitchforks of its symmetric ones, and the orbits of
+twice the period born at the period doublings of orbits of the full map.
 
 A symmetric orbit y(tau + pi) = -y(tau) is a fixed point of the half-period map G = -phi_pi, and
 its pitchfork is G's multiplier -1: a regular zero of a test function there, located to the
@@ -10,6 +11,11 @@ own bordered-determinant test the point is known only to the corrector's reach, 
 that direction: as for (9), whose pitchforks are refined on the half-period map). The asymmetric
 branch is then traced across sections and grazings like any other (its mirror image is the same
 family, found by going through the pitchfork).
+
+A period doubling (multiplier -1 of the map over m forcing periods) is a branch point of the map
+over 2m periods, whose fixed points include the parent's: switching there on the doubled map from
+the located point takes the new direction, and a point that is not a fixed point of the parent's
+map is on the doubled branch.
 """
 
 from __future__ import annotations
@@ -19,12 +25,12 @@ import dataclasses
 import numpy as np
 
 from slosh_bif.continuation import ContinuationOptions, ConvergenceError, switch_branch
-from slosh_bif.continuation.branch import BRANCH_POINT
+from slosh_bif.continuation.branch import BRANCH_POINT, PERIOD_DOUBLING
 from slosh_bif.model.params import Params
 from slosh_bif.orbits.impact_branches import ImpactBranch, trace_impact_orbits
 from slosh_bif.orbits.impact_orbits import ImpactOrbitProblem
 
-__all__ = ["is_symmetric", "asymmetric_branches"]
+__all__ = ["is_symmetric", "asymmetric_branches", "doubled_branches"]
 
 # Steps onto the new branch: a few short ones, so that the start of the traced branch lies on it
 # and clear of the pitchfork (where the full map's Jacobian is singular).
@@ -71,6 +77,78 @@ def asymmetric_branches(
             )
             found.append((f"BP at {param} = {sp.p:.6g} on the symmetric branch", branch))
     return found
+
+
+def doubled_branches(
+    params: Params,
+    parent: ImpactBranch,
+    *,
+    p_min: float,
+    p_max: float,
+    options: ContinuationOptions | None = None,
+    max_branches: int = 2,
+) -> list:
+    """(origin, ImpactBranch) of the branch of twice the period born at each located period
+    doubling of ``parent`` (orbits of the full map), each family once: a period doubling that an
+    earlier doubled branch passes through (as its branch point) is not switched at again."""
+    param = parent.param
+    found = []
+    for piece in parent.pieces:
+        for sp in piece.branch.special:
+            if sp.kind != PERIOD_DOUBLING or not sp.located or len(found) >= max_branches:
+                continue
+            if any(_passes_through(branch, sp.p) for _, branch in found):
+                continue
+            start = _doubled_start(params, param, piece, sp, p_min, p_max)
+            if start is None:
+                continue
+            x0, p = start
+            branch = trace_impact_orbits(
+                params.replace(**{param: p}),
+                x0,
+                param=param,
+                p_min=p_min,
+                p_max=p_max,
+                options=options,
+                period_multiple=2 * piece.period_multiple,
+            )
+            found.append((f"PD at {param} = {sp.p:.6g}", branch))
+    return found
+
+
+def _doubled_start(params, param, piece, sp, p_min, p_max):
+    """(state at tau = 0, p) of a point of the doubled branch a few short steps from the period
+    doubling ``sp`` of ``piece``, or None when switching finds no new branch."""
+    multiple = 2 * piece.period_multiple
+    probe = ImpactOrbitProblem(params, param, phase=piece.phase, period_multiple=multiple)
+    doubled = ImpactOrbitProblem(
+        params,
+        param,
+        phase=piece.phase,
+        period_multiple=multiple,
+        impacts=len(probe.evaluate(sp.x, sp.p).impacts),
+    )
+    try:
+        new = switch_branch(
+            doubled,
+            sp,
+            param=param,
+            options=dataclasses.replace(SWITCH_OPTIONS, p_min=p_min, p_max=p_max),
+            along=sp.tangent,
+        )
+    except ConvergenceError:
+        return None
+    x, p = new.x[-1], float(new.p[-1])
+    single = ImpactOrbitProblem(params, param, phase=piece.phase, period_multiple=piece.period_multiple)
+    if np.linalg.norm(single.residual(x, p)) <= 1e-6 * (1 + np.linalg.norm(x)):
+        return None  # back on the parent: no doubled orbit this way
+    flow = doubled.flow_at(p)  # from the section on to tau = 2pi: a state of the orbit at tau = 0
+    y = (
+        flow.run(x, piece.phase, 2 * np.pi, stick_speed=1e-9, max_impacts=10_000)[1][:, -1]
+        if piece.phase > 0
+        else x
+    )
+    return y, p
 
 
 def _switched_start(params, param, phase, sp, p_min, p_max):

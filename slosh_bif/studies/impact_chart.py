@@ -24,8 +24,9 @@ from slosh_bif.model.params import Params
 from slosh_bif.orbits.codim2 import ImpactCurveSeed, trace_impact_curve
 from slosh_bif.orbits.impact_branches import settled_orbit, trace_impact_orbits
 from slosh_bif.orbits.impact_orbits import ImpactOrbitProblem
-from slosh_bif.orbits.impact_switching import asymmetric_branches, is_symmetric
+from slosh_bif.orbits.impact_switching import asymmetric_branches, doubled_branches, is_symmetric
 from slosh_bif.orbits.settings import BRANCHING, BranchingSettings
+from slosh_bif.orbits.shooting import MAX_PERIOD_MULTIPLE
 from slosh_bif.slowflow.critical import critical_curve
 from slosh_bif.studies.chart import Chart, ChartSettings, chart_workers, check_box
 from slosh_bif.studies.chart_curves import CurveStart, trace_curves
@@ -130,8 +131,11 @@ def impact_family(
 ) -> list:
     """The branch of orbits of (8) through x0 (its state at tau = 0) over ``p_range`` of
     ``param`` (a symmetric one on the half-period map) and, unless ``branching.switch`` is off,
-    the asymmetric branches born at its pitchforks, as :class:`NamedImpactBranch` (the first one
-    first); ``say(message)`` hears of each switched branch."""
+    the asymmetric branches born at its pitchforks and (with ``branching.doublings``) the branches of
+    twice the period born at the period doublings of its non-symmetric branches (a cascade followed
+    to period 8, ``branching.max_branches`` branches in all), as
+    :class:`NamedImpactBranch` (the first one first); ``say(message)`` hears of each switched
+    branch."""
     lo, hi = p_range
     symmetric = is_symmetric(
         params, x0
@@ -149,6 +153,33 @@ def impact_family(
             family.append(NamedImpactBranch("asymmetric" + (f"-{k + 1}" if k else ""), branch, False))
             if say is not None:
                 say(f"{family[-1].name}: from the {origin}, {len(branch.pieces)} pieces")
+    if branching.switch and branching.doublings:
+        # the cascade, as for (9): each new branch of the full map a parent in turn, up to period 8
+        count = {}
+        k = 0
+        while k < len(family) and len(family) < branching.max_branches:
+            parent, k = family[k], k + 1
+            multiple = parent.branch.pieces[0].period_multiple if parent.branch.pieces else 1
+            if parent.symmetric or 2 * multiple > MAX_PERIOD_MULTIPLE:
+                continue
+            for origin, branch in doubled_branches(
+                params,
+                parent.branch,
+                p_min=lo,
+                p_max=hi,
+                options=options,
+                max_branches=branching.max_branches - len(family),
+            ):
+                count[2 * multiple] = count.get(2 * multiple, 0) + 1
+                n = count[2 * multiple]
+                family.append(
+                    NamedImpactBranch(f"period-{2 * multiple}" + (f"-{n}" if n > 1 else ""), branch, False)
+                )
+                if say is not None:
+                    say(
+                        f"{family[-1].name}: from the {origin} on the {parent.name} branch, "
+                        f"{len(branch.pieces)} pieces"
+                    )
     return family
 
 
@@ -159,6 +190,8 @@ def impact_curve_starts(named: NamedImpactBranch, params: Params, box: dict, pit
     it is born) is no fold."""
     param = named.branch.param
     for piece in named.branch.pieces:
+        if piece.period_multiple != 1:  # the curve problems of (8) are on the forcing period's map
+            continue
         for sp in piece.branch.special:
             if (
                 sp.kind not in ("LP", "PD", "NS", "BP")

@@ -114,6 +114,27 @@ def test_a_branch_locates_its_period_doubling_and_ends_at_grazing():
     assert np.min(np.abs(mu + 1)) < 1e-6
 
 
+def test_a_period_doubling_of_8_gives_a_branch_of_twice_the_period():
+    """Switching at the period doubling of the Fig. 10 set's asymmetric orbit (sigma ~ 2.2): the
+    doubled branch passes through the doubling (its branch point there), and its orbits return
+    after 4 pi but not after 2 pi under the reference flow (scipy's expm between impacts)."""
+    from slosh_bif.orbits.impact_switching import doubled_branches
+
+    params, x0 = _settled("fig10 sigma=3")
+    parent = trace_impact_orbits(params, x0, p_min=1.0, p_max=3.2)
+    pd = next(s.p for pc in parent.pieces for s in pc.branch.special if s.kind == "PD")
+    (origin, doubled), *_ = doubled_branches(params, parent, p_min=1.0, p_max=3.2, max_branches=1)
+    assert origin.startswith("PD at sigma") and all(pc.period_multiple == 2 for pc in doubled.pieces)
+    assert any(abs(p - pd) < 1e-5 for p, _ in doubled.special("BP"))
+    piece = max(doubled.pieces, key=lambda pc: len(pc.branch))
+    i = int(np.argmax(np.abs(piece.branch.p - pd)))  # the point farthest from the doubling
+    at, x = params.replace(sigma=float(piece.branch.p[i])), piece.branch.x[i]
+    back = simulate_impact(at, x, (piece.phase, piece.phase + 4 * np.pi), backend="scipy").y[:, -1]
+    half = simulate_impact(at, x, (piece.phase, piece.phase + 2 * np.pi), backend="scipy").y[:, -1]
+    assert np.linalg.norm(back - x) < 1e-7 * (1 + np.linalg.norm(x))
+    assert np.linalg.norm(half - x) > 1e-3
+
+
 def test_bad_input_is_refused_before_any_work():
     params = get_preset("fig10").params
     with pytest.raises(ValueError, match="param must be one of eps, beta, gamma, sigma, Abar, lam, chi"):
@@ -231,7 +252,9 @@ def test_shoot_model_impact_switches_at_the_pitchforks_of_the_symmetric_branch(t
         == 3
     )  # they end at grazings
     rows = list(csv.DictReader(open(tmp_path / "branch.csv")))
-    assert {r["branch"] for r in rows} == {"symmetric", "asymmetric", "asymmetric-2"}
+    # and the cascade born at the asymmetric branches' period doublings (six branches, the default)
+    names = {"symmetric", "asymmetric", "asymmetric-2", "period-2", "period-2-2", "period-4"}
+    assert {r["branch"] for r in rows} == names
     bps = sorted(
         float(r["sigma"]) for r in rows if r["branch"] == "symmetric" and "BP" in r["special"].split()
     )
