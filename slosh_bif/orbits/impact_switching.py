@@ -118,44 +118,28 @@ def doubled_branches(
 
 def _doubled_start(params, param, piece, sp, p_min, p_max):
     """(state at tau = 0, p) of a point of the doubled branch a few short steps from the period
-    doubling ``sp`` of ``piece``, or None when switching finds no new branch."""
-    multiple = 2 * piece.period_multiple
-    probe = ImpactOrbitProblem(params, param, phase=piece.phase, period_multiple=multiple)
-    doubled = ImpactOrbitProblem(
+    doubling ``sp`` of ``piece``, or None when switching finds no new branch (or only the parent's
+    orbits, which are fixed points of the doubled map too)."""
+    start = _switched_start(params, param, piece.phase, sp, p_min, p_max, multiple=2 * piece.period_multiple)
+    if start is None:
+        return None
+    single = ImpactOrbitProblem(params, param, period_multiple=piece.period_multiple)
+    y, p = start
+    return None if np.linalg.norm(single.residual(y, p)) <= 1e-6 * (1 + np.linalg.norm(y)) else start
+
+
+def _switched_start(params, param, phase, sp, p_min, p_max, multiple=1):
+    """(state at tau = 0, p) of a point of the new branch a few short steps from the branch point
+    ``sp`` of the map over ``multiple`` forcing periods (a pitchfork of the half-period map on the
+    full one; a period doubling on the doubled one), or None when switching finds no new branch."""
+    probe = ImpactOrbitProblem(params, param, phase=phase, period_multiple=multiple)
+    full = ImpactOrbitProblem(
         params,
         param,
-        phase=piece.phase,
+        phase=phase,
         period_multiple=multiple,
         impacts=len(probe.evaluate(sp.x, sp.p).impacts),
     )
-    try:
-        new = switch_branch(
-            doubled,
-            sp,
-            param=param,
-            options=dataclasses.replace(SWITCH_OPTIONS, p_min=p_min, p_max=p_max),
-            along=sp.tangent,
-        )
-    except ConvergenceError:
-        return None
-    x, p = new.x[-1], float(new.p[-1])
-    single = ImpactOrbitProblem(params, param, phase=piece.phase, period_multiple=piece.period_multiple)
-    if np.linalg.norm(single.residual(x, p)) <= 1e-6 * (1 + np.linalg.norm(x)):
-        return None  # back on the parent: no doubled orbit this way
-    flow = doubled.flow_at(p)  # from the section on to tau = 2pi: a state of the orbit at tau = 0
-    y = (
-        flow.run(x, piece.phase, 2 * np.pi, stick_speed=1e-9, max_impacts=10_000)[1][:, -1]
-        if piece.phase > 0
-        else x
-    )
-    return y, p
-
-
-def _switched_start(params, param, phase, sp, p_min, p_max):
-    """(state at tau = 0, p) of a point of the asymmetric branch a few short steps from the
-    pitchfork ``sp``, or None when switching finds no new branch."""
-    probe = ImpactOrbitProblem(params, param, phase=phase)
-    full = ImpactOrbitProblem(params, param, phase=phase, impacts=len(probe.evaluate(sp.x, sp.p).impacts))
     try:
         new = switch_branch(
             full,
