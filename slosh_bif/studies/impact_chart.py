@@ -78,7 +78,8 @@ def impact_chart(
         settled_orbit(params, state0, periods=settings.settle),
         param="sigma",
         p_range=(s0, s1),
-        branching=branching,
+        # the curves start from period-1 branches only: no cascade traced for them
+        branching=dataclasses.replace(branching, doublings=False),
     )
     primary, symmetric = family[0].branch, family[0].symmetric
     say(
