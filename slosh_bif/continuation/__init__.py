@@ -17,10 +17,11 @@ from slosh_bif.continuation.branch import (
     SpecialPoint,
     Status,
 )
-from slosh_bif.continuation.corrector import NewtonResult, newton, newton_solve
+from slosh_bif.continuation.corrector import newton, newton_solve
 from slosh_bif.continuation.engine import continuation, switch_branch
 from slosh_bif.continuation.options import ContinuationOptions, ConvergenceError
 from slosh_bif.continuation.problem import Capabilities, Problem, capabilities
+from slosh_bif.newton import NewtonResult as NewtonResult  # documented in slosh_bif.newton
 
 __all__ = [
     "Problem",
@@ -36,7 +37,6 @@ __all__ = [
     "switch_branch",
     "newton",
     "newton_solve",
-    "NewtonResult",
     "FOLD",
     "BRANCH_POINT",
     "PERIOD_DOUBLING",
