@@ -20,6 +20,7 @@ if str(HERE) not in sys.path:
     sys.path.insert(0, str(HERE))
 
 import codegen  # noqa: E402
+import impact_reset  # noqa: E402
 import models as m  # noqa: E402
 import report  # noqa: E402
 import slow_flow  # noqa: E402
@@ -189,6 +190,12 @@ def render_all() -> dict[Path, str]:
         / "__init__.py": '"""Generated code: written by derivations/generate.py, never edited by hand."""\n',
         GENERATED / "models.py": _models_module(),
         GENERATED / "kernels.py": _kernels_module(),
+        GENERATED / "impact_kernels.py": codegen.render_kernels(
+            "The impact of the vibro-impact model (8): its reset and saltation matrix, for the compiled "
+            "flow (slosh_bif.flows.impact_flow).",
+            SCRIPT,
+            impact_reset.kernel_functions(codegen.Function),
+        ),
         GENERATED / "slow_flow.py": codegen.render_module(
             "The slow invariant manifold (36), slow flow (45), steady states (46) and kappa on the "
             "manifold (39).",

@@ -1,7 +1,7 @@
 """Impacts of (8) found with a certificate (the paragraph of :mod:`slosh_bif.flows.impact_flow`):
 an interval of a flight is free of the wall when both parabolas bounding w from its ends stay below
 it; an interval holding exactly one crossing is solved by Newton on the flow's Taylor series; the
-saltation matrix of an impact maps the flow's Jacobian across it (eqs. 2, 8, 21)."""
+saltation matrix of an impact (derived by sympy) maps the flow's Jacobian across it (eqs. 2, 8, 21)."""
 
 from __future__ import annotations
 
@@ -78,24 +78,17 @@ def crossing(K, terms, za, side, L, out):
 
 
 @jit(inline=True)
-def saltation(K, z_minus, z_plus, slope, phi, dp):
-    """``phi <- S phi``, ``dp <- S dp`` across an impact at w = +-1: the saltation matrix
-    ``S = G + (f+ - G f-) e_w^T / w'-`` of the reset ``w'+ = -kappa(|w'-|) w'-`` (G its Jacobian,
-    identity but ``G[3, 3] = slope = d w'+ / d w'-``; f-+ the vector field before and after)."""
+def saltation(S, phi, dp):
+    """``phi <- S phi``, ``dp <- S dp`` across an impact: S (row-major, 16) is the saltation matrix
+    of the reset (2), (21), written by the sympy derivation (``derivations/impact_reset.py``)."""
     col = np.empty(4)
-    for i in range(4):
-        f_minus = 0.0
-        f_plus = 0.0
-        for m in range(6):
-            f_minus += K[i, m] * z_minus[m]
-            f_plus += K[i, m] * z_plus[m]
-        col[i] = (f_plus - (slope if i == 3 else 1.0) * f_minus) / z_minus[3]
     for j in range(phi.shape[1] + 1):
-        v = phi[:, j].copy() if j < phi.shape[1] else dp.copy()
-        v[3] *= slope
         for i in range(4):
-            v[i] += col[i] * (phi[2, j] if j < phi.shape[1] else dp[2])
+            acc = 0.0
+            for m in range(4):
+                acc += S[4 * i + m] * (phi[m, j] if j < phi.shape[1] else dp[m])
+            col[i] = acc
         if j < phi.shape[1]:
-            phi[:, j] = v
+            phi[:, j] = col
         else:
-            dp[:] = v
+            dp[:] = col

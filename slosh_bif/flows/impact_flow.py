@@ -44,6 +44,7 @@ from slosh_bif.flows.impact_propagators import (
     derivative_of_K,
     propagators,
 )
+from slosh_bif.model._generated.impact_kernels import impact_saltation_kernel
 from slosh_bif.model.equations import ImpactModel
 from slosh_bif.model.params import Params
 from slosh_bif.model.restitution import dissipation_at_unit_speed
@@ -53,6 +54,7 @@ __all__ = ["LEVELS", "LINEAR_PARAMETERS", "WALL_PARAMETERS", "ImpactFlow"]
 LEVELS = 48  # the finest interval is h 2**-48
 # Codes of the compiled run.
 _FINISHED, _STICKING, _KAPPA_NOT_REAL, _MAX_IMPACTS, _FULL = 0, 1, 2, 3, 4
+_impact = jit(impact_saltation_kernel, inline=True)
 
 
 @jit(inline=True)
@@ -168,6 +170,7 @@ def _run(
     kappa_c,
     kappa_q,
     dc,
+    linear,
     y0,
     t0,
     t1,
@@ -194,6 +197,10 @@ def _run(
     za = np.empty(6)
     zb = np.empty(6)
     tmp = np.empty((4, 5))
+    reset = np.empty(18)  # the saltation matrix (16), w'+ and its derivative in the loss
+    pars = np.empty(7)  # the kernel's: eps, beta, gamma, sigma, Abar, loss, q
+    pars[:5] = linear
+    pars[6] = kappa_q
     z[:4] = y0
     times[0] = t0
     states[0] = y0
@@ -265,16 +272,15 @@ def _run(
             if loss > 1.0:
                 impacts[hits, 3] = math.nan
                 return times, states, impacts, rows, hits + 1, _KAPPA_NOT_REAL
-            zn[:] = z
-            kappa = math.sqrt(1.0 - loss)
+            pars[5] = loss
+            _impact(ta + done, z, reset, pars)
             z[2] = side  # exactly on the wall, so the next flight starts inside
-            z[3] = -kappa * v_minus
+            z[3] = reset[16]
             impacts[hits, 3] = z[3]
-            if jac:  # d w'+ / d w'- = -kappa - v kappa'(v), with kappa = sqrt(1 - c v**q)
-                slope = -kappa + (0.5 * kappa_q * loss / kappa if speed > 0.0 else 0.0)
-                saltation(K, zn, z, slope, phi, dp)
-                if dc != 0.0:  # a wall parameter moves c: d w'+ / dp = v- speed**q dc / (2 kappa)
-                    dp[3] += v_minus * speed**kappa_q * dc / (2.0 * kappa)
+            if jac:
+                saltation(reset, phi, dp)
+                if dc != 0.0:  # a wall parameter moves c, and the loss c speed**q with it
+                    dp[3] += reset[17] * speed**kappa_q * dc
             hits += 1
             times[rows] = ta + done
             states[rows] = z[:4]
@@ -325,6 +331,7 @@ class ImpactFlow:
             self.taylor += 1
             term *= size / self.taylor
         P = params
+        self.linear = np.array([P.eps, P.beta, P.gamma, P.sigma, P.Abar])
         self.kappa_c = float(dissipation_at_unit_speed(P.lam, P.chi, P.n, P.pbar))
         self.kappa_q = P.pbar / (P.n + 1)
         # dc / d param of kappa = sqrt(1 - c v**q) (21): c is linear in lam and goes as chi**-a
@@ -350,6 +357,7 @@ class ImpactFlow:
                 self.kappa_c,
                 self.kappa_q,
                 self.dc,
+                self.linear,
                 np.asarray(y0, dtype=float),
                 float(t0),
                 float(t1),

@@ -256,7 +256,8 @@ def _cross_grazing(params, param, symmetric, problem, x, p, sign, opts):
     """(problem, x, p) of the orbit just beyond a grazing point, on a problem holding its own
     impact count, or None. The map is not smooth at grazing (the new impact's saltation grows as
     1 / its speed), and Newton from the grazing orbit lands on the old side; the map's own iterates
-    from there, when the orbit beyond attracts, give the guess that Newton then polishes."""
+    from there, when the orbit beyond attracts, give the guess that Newton then polishes. An
+    orbit beyond that does not attract is not sought (the branch ends at the grazing)."""
     for step in CROSSING_STEPS:
         q = p + sign * step
         if not opts.p_min <= q <= opts.p_max:
@@ -274,7 +275,14 @@ def _cross_grazing(params, param, symmetric, problem, x, p, sign, opts):
         # the orbit beyond moves away from the grazing one as the square root of the step (the
         # new impact's speed); one farther off is another attractor, not the branch's continuation
         near = np.linalg.norm(run.x - x) <= NEAR_GRAZING * np.sqrt(step) * (1.0 + np.linalg.norm(x))
-        if run.converged and near and probe.in_domain(run.x, q):
+        # and only an attracting one: where the iterates wander (no attractor beyond), Newton's
+        # landing place depends on rounding, and an unstable orbit it finds is left alone
+        if (
+            run.converged
+            and near
+            and probe.in_domain(run.x, q)
+            and probe.is_stable(probe.eigenvalues(run.x, q))
+        ):
             count = len(probe.evaluate(run.x, q).impacts)
             if count != problem.impacts:
                 return (

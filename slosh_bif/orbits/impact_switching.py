@@ -25,7 +25,7 @@ import dataclasses
 import numpy as np
 
 from slosh_bif.continuation import ContinuationOptions, ConvergenceError, switch_branch
-from slosh_bif.continuation.branch import BRANCH_POINT, PERIOD_DOUBLING
+from slosh_bif.continuation.branch import BRANCH_POINT, FOLD, PERIOD_DOUBLING
 from slosh_bif.model.params import Params
 from slosh_bif.orbits.impact_branches import ImpactBranch, trace_impact_orbits
 from slosh_bif.orbits.impact_orbits import ImpactOrbitProblem
@@ -97,7 +97,7 @@ def doubled_branches(
         for sp in piece.branch.special:
             if sp.kind != PERIOD_DOUBLING or not sp.located or len(found) >= max_branches:
                 continue
-            if any(_passes_through(branch, sp.p) for _, branch in found):
+            if any(_passes_through(branch, sp.p, (BRANCH_POINT, FOLD)) for _, branch in found):
                 continue
             start = _doubled_start(params, param, piece, sp, p_min, p_max)
             if start is None:
@@ -156,10 +156,13 @@ def _switched_start(params, param, phase, sp, p_min, p_max, multiple=1):
     return y, p
 
 
-def _passes_through(branch: ImpactBranch, p: float) -> bool:
-    """Whether an asymmetric branch has a branch point at ``p`` (it reaches this pitchfork too)."""
+def _passes_through(branch: ImpactBranch, p: float, kinds=(BRANCH_POINT,)) -> bool:
+    """Whether a switched branch has a special point of ``kinds`` at ``p`` (it reaches this
+    pitchfork or period doubling too). A doubled branch is born at a period doubling as a fold in
+    the parameter (p - p_PD goes as the square of the distance from the parent), located as
+    exactly as the doubling itself; its branch point there is found only to the tracer's step."""
     return any(
-        s.kind == BRANCH_POINT and abs(s.p - p) < 1e-4 * (1 + abs(p))
+        s.kind in kinds and abs(s.p - p) < 1e-4 * (1 + abs(p))
         for piece in branch.pieces
         for s in piece.branch.special
     )

@@ -38,6 +38,7 @@ __all__ = [
 ]
 
 
+SECOND_ON_CIRCLE = 1e-5  # a located codimension-2 point has its second multiplier this near the circle
 CRITICAL_COLUMNS = ("sigma", "Abar_b_slowflow", "Abar_c_full", "rel_diff", "bounded_by")
 
 
@@ -152,16 +153,31 @@ def _bounds_stable_contact(ob, sp) -> bool:
 
 def lowest_stable_boundary(curves, sigma):
     """(Abar, kind) of the lowest point at sigma of the ``curves`` that bounds stable period-1
-    orbits with wall contact, by linear interpolation along each curve; (nan, "") when none."""
+    orbits with wall contact, by linear interpolation along each curve; (nan, "") when none.
+    Grazing curves of (8) are not read: there the number of impacts changes, not stability (on
+    the Fig. 13 set the lowest is where the impact-free response first touches the walls)."""
     best = (np.nan, "")
     for c in curves:
-        if c.period_multiple != 1:
-            continue  # a period-2 branch's curves bound period-2 orbits
-        good = c.branch.stable & (c["max_abs_w"] >= 1.0)
+        if c.period_multiple != 1 or c.kind == "GR":
+            continue  # a period-2 branch's curves bound period-2 orbits; a grazing is no loss of stability
+        good = _bounds_stable(c)
         value = interp_min(c["sigma"], np.where(good, c["Abar"], np.nan), sigma)
         if value is not None and not value >= best[0]:
             best = (value, c.kind)
     return best
+
+
+def _bounds_stable(curve) -> np.ndarray:
+    """Whether each point of ``curve`` bounds stable orbits with wall contact. At a codimension-2
+    point a second multiplier is on the unit circle (BPLP, LPPD, ...), and the point's own flag is
+    decided by rounding: there the flag of its stable neighbour holds, as the segment between them
+    bounds stable orbits up to that point."""
+    contact = curve["max_abs_w"] >= 1.0
+    good = curve.branch.stable & contact
+    second = curve["max_abs_multiplier"]
+    for i in np.flatnonzero(contact & (np.abs(second - 1.0) < SECOND_ON_CIRCLE)):
+        good[i] = bool(good[max(i - 1, 0)] or good[min(i + 1, len(good) - 1)])
+    return good
 
 
 def _slow_flow_critical_at(slow, sigma: float) -> float:

@@ -122,7 +122,7 @@ def write_codim2_csv(chart, path) -> Path:
     )
 
 
-_COLORS = {"LP": "tab:red", "PD": "tab:blue", "NS": "tab:purple", "BP": "tab:orange"}
+_COLORS = {"LP": "tab:red", "PD": "tab:blue", "NS": "tab:purple", "BP": "tab:orange", "GR": "tab:brown"}
 
 
 def _primary(chart) -> str:
@@ -142,6 +142,10 @@ def _draw(ax, chart, *, numbers: bool):
         main = primary in c.origin
         s, a, st = c["sigma"], c[chart.second], c.branch.stable
         style = dict(color=_COLORS[c.kind], lw=1.8 if main else 0.8, alpha=1.0 if main else 0.45)
+        if c.kind == "GR":  # where the number of impacts changes: one style, stable or not
+            (line,) = ax.plot(s, a, "-.", **{**style, "lw": 1.2})
+            drawn.setdefault("GR curve (grazing: the number of impacts changes)", line)
+            continue
         (line,) = ax.plot(s, np.where(st, a, np.nan), "-", **style)
         if np.any(st):
             drawn.setdefault(f"{c.kind} curve" + ("" if main else " (other families)"), line)

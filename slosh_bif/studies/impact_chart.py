@@ -1,5 +1,6 @@
 """The (sigma, Abar) chart of the vibro-impact model (8): the curves where its periodic orbits
-fold (LP), double their period (PD), lose stability to a torus (NS) or break their symmetry (BP),
+fold (LP), double their period (PD), lose stability to a torus (NS), break their symmetry (BP)
+or graze the wall (GR: the number of impacts per period changes),
 traced in two parameters (:func:`~slosh_bif.orbits.codim2.impact_curves.trace_impact_curve`) from
 every special point of its branches in sigma (the branch a simulation of (8) settles on and, for a
 symmetric one, the asymmetric branches born at its pitchforks), and the least forcing Abar_c at
@@ -8,8 +9,9 @@ is a
 :class:`~slosh_bif.studies.chart.Chart`, written and drawn by the chart's own output functions.
 
 A curve keeps its start's number of impacts per period; it ends at the domain's edge where that
-changes (grazing) or an impact reaches the section of its start (the chart does not yet follow a
-curve across either).
+changes (on a grazing curve) or an impact reaches the section of its start (the chart does not yet
+follow a curve across either). A grazing curve bounds Abar_c where its orbits are stable: there
+the stable orbit with contact exists up to the grazing.
 """
 
 from __future__ import annotations
@@ -22,6 +24,7 @@ import numpy as np
 from slosh_bif.continuation import ConvergenceError
 from slosh_bif.model.params import Params
 from slosh_bif.orbits.codim2 import ImpactCurveSeed, trace_impact_curve
+from slosh_bif.orbits.codim2.impact_curves import trace_grazing_curve
 from slosh_bif.orbits.impact_branches import settled_orbit, trace_impact_orbits
 from slosh_bif.orbits.impact_orbits import ImpactOrbitProblem
 from slosh_bif.orbits.impact_switching import asymmetric_branches, doubled_branches, is_symmetric
@@ -186,10 +189,11 @@ def impact_family(
 
 def impact_curve_starts(named: NamedImpactBranch, params: Params, box: dict, pitchforks=()):
     """The located LP, PD, NS (and, on a symmetric branch, BP) points of a branch of (8) (in
-    sigma or Abar, at ``params``) as starts of curves over ``box``. ``pitchforks``: sigma at the
-    family's pitchforks, where an asymmetric branch's LP (the mirror pair turning in sigma where
-    it is born) is no fold."""
+    sigma or Abar, at ``params``) and its grazing points as starts of curves over ``box``.
+    ``pitchforks``: sigma at the family's pitchforks, where an asymmetric branch's LP (the mirror
+    pair turning in sigma where it is born) is no fold."""
     param = named.branch.param
+    yield from _grazing_starts(named, params, box)
     for piece in named.branch.pieces:
         if piece.period_multiple != 1:  # the curve problems of (8) are on the forcing period's map
             continue
@@ -228,6 +232,26 @@ def impact_curve_starts(named: NamedImpactBranch, params: Params, box: dict, pit
                 origin,
                 dict(trace=trace_impact_curve, params=params, seed=seed, box=box),
             )
+
+
+def _grazing_starts(named: NamedImpactBranch, params: Params, box: dict):
+    """The grazing points of a branch of (8) (each once; a branch's two directions may end at the
+    same one) as starts of grazing curves over ``box``."""
+    param, seen = named.branch.param, []
+    period_multiple = named.branch.pieces[0].period_multiple if named.branch.pieces else 1
+    for p, x, phase in named.branch.grazing:
+        if period_multiple != 1 or any(abs(p - q) <= 1e-8 * (1 + abs(q)) for q in seen):
+            continue
+        seen.append(p)
+        at = params.replace(**{param: float(p)})
+        origin = (
+            f"GR at sigma = {at.sigma:.6g}, Abar = {at.Abar:.6g} on the {named.name} branch of (8) in {param}"
+        )
+        seed = ImpactCurveSeed(
+            "GR", x, float(p), param, symmetric=named.symmetric, phase=phase, origin=origin
+        )
+        job = dict(trace=trace_grazing_curve, params=params, seed=seed, box=box)
+        yield CurveStart.with_job("GR", at.sigma, at.Abar, origin, job)
 
 
 @dataclasses.dataclass(frozen=True)

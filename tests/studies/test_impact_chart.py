@@ -7,7 +7,7 @@ import csv
 import numpy as np
 import pytest
 
-from slosh_bif import get_preset
+from slosh_bif import ImpactModel, get_preset
 from slosh_bif.cli import main
 from slosh_bif.orbits.impact_branches import settled_orbit, trace_impact_orbits
 
@@ -89,3 +89,30 @@ def test_an_impact_curve_ends_near_grazing_by_its_rule():
     problem = ImpactOrbitProblem(P.replace(Abar=lp.p), "Abar", symmetric=True, phase=piece.phase)
     at_zero = ImpactOrbitProblem(P.replace(Abar=lp.p), "Abar", symmetric=True)
     assert np.linalg.norm(at_zero.residual(state_at_zero(problem, lp.x, lp.p), lp.p)) < 1e-9
+
+
+def test_the_grazing_curve_of_the_impact_free_response_is_its_closed_form(impact_chart_folder):
+    """Where the impact-free response of (8), y = Re(Y e^{i tau}) with (i - M) Y = F, first touches
+    the walls: Abar |W| = 1 for the w-part W of Y at Abar = 1. One of the chart's grazing curves is
+    this curve over sigma in [0.5, 3] (the lowest there, with its minimum near sigma = 0.9)."""
+    P = get_preset("fig13").params
+    curves = _rows(impact_chart_folder / "curves.csv")
+    grazing = {}
+    for r in curves:
+        if r["kind"] == "GR" and 0.5 <= float(r["sigma"]) <= 3.0:
+            grazing.setdefault(r["curve"], []).append((float(r["sigma"]), float(r["Abar"])))
+
+    def closed_form(sigma):
+        model = ImpactModel(P.replace(sigma=sigma, Abar=1.0))
+        Y = np.linalg.solve(1j * np.eye(4) - model.matrix, model.forcing)
+        return 1.0 / abs(Y[2])
+
+    matches = [
+        points
+        for points in grazing.values()
+        if len(points) > 5 and all(abs(a - closed_form(s)) < 1e-8 * a for s, a in points)
+    ]
+    assert matches, "no grazing curve on the closed form"
+    assert min(a for s, a in matches[0]) == pytest.approx(
+        min(closed_form(s) for s in np.linspace(0.5, 3, 501)), rel=1e-3
+    )

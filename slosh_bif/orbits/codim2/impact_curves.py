@@ -6,7 +6,8 @@ the null vector are central differences of that exact Jacobian.
 
 A curve keeps the number of impacts per period of its start: where that changes (grazing) or an
 impact reaches the section tau = ``phase``, the map is not smooth and the curve ends at the
-domain's edge (its status says so).
+domain's edge (its status says so). The grazing points themselves are continued as curves too
+(:func:`trace_grazing_curve`, on :class:`~slosh_bif.orbits.codim2.impact_grazing.GrazingCurveProblem`).
 """
 
 from __future__ import annotations
@@ -14,8 +15,10 @@ from __future__ import annotations
 import dataclasses
 
 import numpy as np
+from scipy import linalg
 
-from slosh_bif.continuation import ContinuationOptions
+from slosh_bif.continuation import ContinuationOptions, continuation, newton_solve
+from slosh_bif.model.equations import ImpactModel
 from slosh_bif.model.params import Params
 from slosh_bif.orbits.codim2.curves import (
     CURVE_PROBLEMS,
@@ -26,11 +29,12 @@ from slosh_bif.orbits.codim2.curves import (
     start_multipliers,
     start_params,
 )
+from slosh_bif.orbits.codim2.impact_grazing import FREE, GrazingCurveProblem
 from slosh_bif.orbits.codim2.impact_strobe import ImpactStrobe
 from slosh_bif.orbits.impact_orbits import ImpactOrbitProblem
 from slosh_bif.orbits.impact_output import orbit_measures
 
-__all__ = ["ImpactCurveSeed", "trace_impact_curve"]
+__all__ = ["ImpactCurveSeed", "trace_impact_curve", "trace_grazing_curve"]
 
 
 @dataclasses.dataclass(frozen=True)
@@ -136,4 +140,106 @@ def _measures(problem, branch) -> dict:
     out["max_abs_multiplier"] = (
         np.max(np.abs(branch.eigenvalues[:, critical:]), axis=1) if len(branch) else np.array([])
     )
+    return out
+
+
+def trace_grazing_curve(
+    params: Params,
+    seed: ImpactCurveSeed,
+    *,
+    box: dict,
+    options: ContinuationOptions | None = None,
+    callback=None,
+) -> BifurcationCurve:
+    """Trace the grazing curve (kind GR) through the grazing point of ``seed`` (a GR point of a
+    branch of orbits of (8): ``seed.x`` the orbit's state on its section tau = ``seed.phase``
+    there) over ``box`` as :func:`trace_impact_curve` does for the other kinds. The seed is first
+    moved onto the grazing exactly (Newton at its p1 on
+    :class:`~slosh_bif.orbits.codim2.impact_grazing.GrazingCurveProblem`); a seed that is not
+    within 1e-6 of a regular grazing is refused with the reason."""
+    if seed.kind != "GR":
+        raise ValueError(f"a grazing curve starts from a GR point; got kind {seed.kind!r}")
+    (p1, (lo1, hi1)), (p2, (lo2, hi2)) = read_box(box)
+    at = start_params(params, seed, box)
+    probe = ImpactOrbitProblem(
+        at, p1, symmetric=seed.symmetric, period_multiple=seed.period_multiple, phase=seed.phase
+    )
+    x = np.asarray(seed.x, dtype=float)
+    gap = probe.grazing(x, getattr(at, p1))
+    if not gap.gap < 1e-6:
+        raise ValueError(
+            f"the start is not a grazing orbit of (8): its nearest approach to grazing is {gap.gap:.3g}"
+        )
+    # to the grazing point: the compiled flow to FREE before it, then the flight with the wall
+    # ignored (a grazing impact of speed ~0 there would stop the flow as sticking)
+    t_g = gap.t
+    t_near = max(seed.phase, t_g - FREE)
+    y = x
+    if t_near > seed.phase:
+        _, ys, _, code = probe.flow_at(getattr(at, p1)).run(
+            x, seed.phase, t_near, stick_speed=1e-9, max_impacts=10_000
+        )
+        if code != 0:
+            raise ValueError(f"the start orbit of (8) cannot be followed to its grazing point (code {code})")
+        y = ys[:, -1]
+    free = linalg.expm(ImpactModel(at).augmented() * (t_g - t_near))
+    y_g = (free @ np.concatenate([y, [np.cos(t_near), np.sin(t_near)]]))[:4]
+    span1 = hi1 - lo1
+    problem = GrazingCurveProblem(
+        at,
+        p1,
+        p2,
+        side=float(np.sign(y_g[2])),
+        symmetric=seed.symmetric,
+        period_multiple=seed.period_multiple,
+        box=(lo1 - 0.5 * span1, hi1 + 0.5 * span1),
+        p2_box=(lo2, hi2),
+    )
+    u0 = np.array([y_g[0], y_g[1], t_g, getattr(at, p2)])
+    p1_0 = float(getattr(at, p1))
+    run = newton_solve(problem, u0, p1_0, tol=1e-11)
+    if not run.converged:
+        raise ValueError(f"no grazing orbit of (8) near the start: {run.message}")
+    problem.impacts = len(problem.evaluate(run.x, p1_0)[4])
+    if not problem.in_domain(run.x, p1_0):
+        raise ValueError(
+            "the start's grazing is not a regular one (the particle does not leave the wall inward)"
+        )
+    opts = dataclasses.replace(options or CURVE_OPTIONS_GR, p_min=lo1, p_max=hi1)
+    branch = continuation(problem, run.x, p1_0, param=p1, options=opts, callback=callback)
+    return BifurcationCurve(
+        "GR", p1, p2, branch, _grazing_measures(problem, branch), seed.origin, seed.period_multiple
+    )
+
+
+# A grazing curve has no test functions; its steps as the other curves' of (8).
+CURVE_OPTIONS_GR = ContinuationOptions(
+    step=0.05, step_max=0.25, tol=1e-10, max_steps=2000, detect_folds=False, detect_branch_points=False
+)
+
+
+def _grazing_measures(problem: GrazingCurveProblem, branch) -> dict:
+    """The measures of :func:`_measures` for each grazing orbit, taken from the end of the map's
+    first free stretch (max |w| is 1: the orbit touches the wall)."""
+    rows = []
+    for u, p in zip(branch.x, branch.p):
+        at = problem.params_at(u, p)
+        t_start = float(u[2]) + FREE
+        single = ImpactOrbitProblem(
+            at,
+            problem.p1,
+            symmetric=problem.symmetric,
+            period_multiple=problem.period_multiple,
+            phase=t_start,
+        )
+        row = orbit_measures(single, problem.leaving(u, p), p)
+        row["max_abs_w"] = max(row["max_abs_w"], 1.0)
+        rows.append(row)
+    keys = ("A1", "max_abs_X", "max_abs_w", "min_impact_speed")
+    out = (
+        {key: np.array([r[key] for r in rows]) for key in keys}
+        if rows
+        else {key: np.array([]) for key in keys}
+    )
+    out["max_abs_multiplier"] = np.max(np.abs(branch.eigenvalues), axis=1) if len(branch) else np.array([])
     return out
