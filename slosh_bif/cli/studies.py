@@ -73,19 +73,10 @@ def _compare(args) -> int:
 
 
 def _impact_branch_rows(args, params, lo, hi) -> list:
-    """Rows of the branch of orbits of (8) through the orbit a simulation of (8) settles on at the
-    set's sigma (as ``shoot --model impact``), over [lo, hi], at steps of at most 0.05 so that A1
-    read between points is within about 1e-4 of the orbit's (0.3 % at shoot's 0.3)."""
-    from slosh_bif.continuation import ContinuationOptions
-    from slosh_bif.orbits.impact_branches import settled_orbit, trace_impact_orbits
-    from slosh_bif.orbits.impact_output import impact_rows
+    from slosh_bif.studies.compare import impact_branch_rows
 
     progress(f"orbits of (8) from a {args.settle}-period simulation at sigma = {params.sigma:g}")
-    x0 = settled_orbit(params, state0_of(args, params), periods=args.settle)
-    result = trace_impact_orbits(
-        params, x0, p_min=lo, p_max=hi, options=ContinuationOptions(step=0.02, step_max=0.05, tol=1e-10)
-    )
-    rows = list(impact_rows(result, params))
+    rows = impact_branch_rows(params, state0_of(args, params), lo, hi, settle=args.settle)
     progress(
         f"orbits of (8): {len(rows)} points over sigma in [{min(r['sigma'] for r in rows):.6g}, "
         f"{max(r['sigma'] for r in rows):.6g}]"
@@ -120,6 +111,7 @@ def _trust(args) -> int:
         max_branches=args.max_branches,
         backend=args.backend,
         model=args.model,
+        **({"impact": True} if args.impact else {}),  # stores written without it resume as before
     )
     done, keep = trust_store(args.out / "trust_map.json", settings, resume=args.resume)
     if done:
@@ -149,6 +141,7 @@ def _trust(args) -> int:
             shooting=ShootingSettings(backend=args.backend),
             branching=BranchingSettings(switch=not args.no_switch, max_branches=args.max_branches),
             model=args.model,
+            impact=args.impact,
             progress=report,
             resume=Resume(done, keep),
             workers=Workers(executor, args.workers),
@@ -295,6 +288,12 @@ def add_commands(sub) -> None:
     add_scheduler_option(trust)
     add_backend_option(trust)
     add_model_option(trust)
+    trust.add_argument(
+        "--impact",
+        action="store_true",
+        help="also the orbits of the vibro-impact model (8) at each set: the expansion's error "
+        "((46) against (8)) and the wall's ((8) against (9)) apart",
+    )
     trust.add_argument(
         "--resume",
         action="store_true",

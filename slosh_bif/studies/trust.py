@@ -47,7 +47,7 @@ from slosh_bif.simulation.settings import LOCAL, Workers
 from slosh_bif.simulation.sweep import run_cells
 from slosh_bif.slowflow.flow import AsymptoticsWarning, asymptotics_concerns
 from slosh_bif.slowflow.steady_states import frequency_response
-from slosh_bif.studies.compare import compare_rows
+from slosh_bif.studies.compare import compare_rows, impact_branch_rows, impact_errors
 from slosh_bif.studies.isolas import ISOLA_TRIES, missed_families
 
 __all__ = ["TrustPoint", "trust_point", "trust_map", "TRUST_COLUMNS"]
@@ -66,6 +66,12 @@ TRUST_COLUMNS = (
     "branches",
     "seconds",
     "status",
+    "impact_measured",
+    "asymptotic_median",
+    "asymptotic_max",
+    "wall_median",
+    "wall_max",
+    "impact_status",
 )
 
 
@@ -86,6 +92,11 @@ class TrustPoint:
     status : str
         "ok", or why there is nothing to compare (no steady state, no orbit found, no orbit at
         the sigma of any stable state).
+    impact_measured, asymptotic_median, asymptotic_max, wall_median, wall_max, impact_status
+        With the orbits of (8) (``impact=True``): over the stable states that have a stable orbit
+        of (8) and one of (9) nearby (``impact_measured`` of them), the expansion's error ((46)
+        against (8)) and the wall's ((8) against (9)), median and largest; ``impact_status`` "ok"
+        or why (8) was not measured ("" when not asked).
     """
 
     eps: float
@@ -101,6 +112,12 @@ class TrustPoint:
     branches: int
     seconds: float
     status: str
+    impact_measured: int = 0
+    asymptotic_median: float = float("nan")
+    asymptotic_max: float = float("nan")
+    wall_median: float = float("nan")
+    wall_max: float = float("nan")
+    impact_status: str = ""
 
     def as_row(self) -> dict:
         return dataclasses.asdict(self)
@@ -121,6 +138,7 @@ def trust_point(
     branching: BranchingSettings = BRANCHING,
     model: str = "slowflow",
     isola_tries: int = ISOLA_TRIES,
+    impact: bool = False,
 ) -> TrustPoint:
     """Compare (46) with the 2pi-orbits of (9) over [sigma_min, sigma_max] at ``params``.
 
@@ -132,7 +150,9 @@ def trust_point(
     follows beyond the first. ``model``: the slow flow
     compared (the paper's or the corrected one); the family is started from the paper's slow flow
     with either, the missed families are searched from the compared model's own states (a model
-    is measured against every orbit near its states that Newton finds).
+    is measured against every orbit near its states that Newton finds). ``impact``: also the
+    orbits of (8) (from a simulation of (8) started on the family's first orbit), so that the
+    expansion's error and the wall's are measured apart.
     """
     if not (np.isfinite(sigma_min) and np.isfinite(sigma_max) and sigma_min < sigma_max):
         raise ValueError(f"need finite sigma_min < sigma_max; got [{sigma_min}, {sigma_max}]")
@@ -220,7 +240,10 @@ def trust_point(
                 shooting=shooting,
             )
         )
-    rows = [r for r in compare_rows(family, fr, sigmas) if r["slow_flow_stable"]]
+    split = _impact_split(start, sigma_min, sigma_max) if impact else ([], {})
+    rows = [
+        r for r in compare_rows(family, fr, sigmas, split[0] if impact else None) if r["slow_flow_stable"]
+    ]
     if not rows:
         return failed("no stable steady state of (46) in the range", start.sigma)
     d = np.array([r["relative_difference"] for r in rows])
@@ -241,7 +264,31 @@ def trust_point(
         branches=len(family.branches),
         seconds=time.perf_counter() - started,
         status="ok",
+        **(_impact_fields(rows, split[1]) if impact else {}),
     )
+
+
+IMPACT_SETTLE = 200  # forcing periods of (8) simulated from the family's first orbit
+
+
+def _impact_split(start, sigma_min, sigma_max):
+    """(rows of (8)'s branch, {"impact_status": why not}) from the family's start orbit."""
+    try:
+        rows = impact_branch_rows(
+            start.params, np.asarray(start.y0, dtype=float)[:4], sigma_min, sigma_max, settle=IMPACT_SETTLE
+        )
+    except (RuntimeError, ValueError) as err:  # ConvergenceError included
+        return [], {"impact_status": f"no orbit of (8): {' '.join(str(err).split())}"}
+    return rows, {}
+
+
+def _impact_fields(rows, failure: dict) -> dict:
+    if failure:
+        return failure
+    errors = impact_errors(rows)
+    measured = errors.pop("measured")
+    status = "ok" if measured else "no stable state with a stable orbit of both (8) and (9) nearby"
+    return dict(impact_measured=measured, impact_status=status, **errors)
 
 
 def trust_map(

@@ -43,6 +43,19 @@ def trust_table(points, *, model: str = "slowflow") -> str:
             f"{_percent(p.confirmed):>11s} {p.median_difference:11.3%} {p.max_difference:8.1%}  "
             f"{'yes' if p.warned else 'no':>6s}  {p.status[:60]}"
         )
+    measured = [p for p in points if p.impact_status]
+    if measured:
+        lines += [
+            "",
+            "the two errors apart, over the stable states with a stable orbit of both (8) and (9) nearby",
+            f"{'eps':>5s} {'beta':>4s} {'n':>3s}  {'states':>6s}  {'(46) vs (8): median':>19s} "
+            f"{'max':>6s}  {'(8) vs (9): median':>18s} {'max':>6s}  status",
+        ]
+        for p in measured:
+            lines.append(
+                f"{p.eps:5.3g} {p.beta:4.2g} {p.n:3d}  {p.impact_measured:6d}  {p.asymptotic_median:19.2%} "
+                f"{p.asymptotic_max:6.1%}  {p.wall_median:18.2%} {p.wall_max:6.1%}  {p.impact_status[:60]}"
+            )
     return "\n".join(lines)
 
 
@@ -83,6 +96,8 @@ def plot_trust_map(points, path, *, title: str = "", model: str = "slowflow") ->
                         if not np.isfinite(grid[i, j])
                         else f"{100 * grid[i, j]:.0f}%\n{p.median_difference:.1%}"
                     )
+                    if row == 1 and p.impact_measured:  # the median difference split in two
+                        text += f"\n(46)-(8) {p.asymptotic_median:.1%}\n(8)-(9) {p.wall_median:.1%}"
                     if p.warned:  # hatched at the cell's edge, clear of the numbers
                         ax.add_patch(
                             Rectangle(
@@ -118,10 +133,17 @@ def plot_trust_map(points, path, *, title: str = "", model: str = "slowflow") ->
                 ax.set_ylabel(r"$\beta$" + f"\n{label}", fontsize=8)
     fig.colorbar(image, ax=axes, shrink=0.8, label="fraction of stable slow-flow states")
     name = _MODEL_NAMES[model][0].upper() + _MODEL_NAMES[model][1:]
+    split = any(p.impact_measured for p in points)
     fig.suptitle(
         title
         or f"{name} against periodic orbits of (9): % of stable states within 5 %, median difference; "
-        "hatched: AsymptoticsWarning",
+        "hatched: AsymptoticsWarning"
+        + (
+            "\nbottom row: the median split into the expansion's error, (46) against (8), and the "
+            "wall's, (8) against (9)"
+            if split
+            else ""
+        ),
         fontsize=9,
     )
     return save_figure(fig, path)

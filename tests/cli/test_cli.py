@@ -543,6 +543,7 @@ def test_trust_writes_the_map_and_checks_its_input(tmp_path, capsys):
         "--grid",
         "21",
         "--no-switch",
+        "--impact",
         "--workers",
         "2",
         "--out",
@@ -553,11 +554,16 @@ def test_trust_writes_the_map_and_checks_its_input(tmp_path, capsys):
     assert [(r["n"], r["status"]) for r in rows] == [("50", "ok"), ("20", "ok")]
     for r in rows:
         assert 0 <= float(r["confirmed"]) <= float(r["agree"]) <= 1 and int(r["stable_states"]) > 0
+        # the orbits of (8) beside (9)'s: the two errors apart on the states where both are stable
+        assert r["impact_status"] == "ok" and 0 < int(r["impact_measured"]) <= int(r["stable_states"])
+        for key in ("asymptotic", "wall"):
+            assert 0 <= float(r[f"{key}_median"]) <= float(r[f"{key}_max"]) < 1
     # n = 20 loses more than half the energy per impact at these parameters: the warning fires.
     assert [r["warned"] for r in rows] == ["False", "True"]
     assert (out / "trust_map.png").stat().st_size > 10_000 and "confirmed %" in (
         out / "trust_map.txt"
     ).read_text()
+    assert "(46) vs (8): median" in (out / "trust_map.txt").read_text()
     assert (
         main(["trust", "--preset", "fig13", "--eps", "0.05", "--beta", "0.3", "--n", "0", "--out", str(out)])
         == 2

@@ -67,3 +67,23 @@ def test_compare_with_the_impact_model_reports_both_errors(tmp_path):
     assert np.allclose(traj.y[:, -1], y0, atol=1e-7)  # periodic: the loop returns to the start
     assert A8 == pytest.approx(A1, rel=5e-4)  # the table interpolates between branch points
     assert 0 < float(row["wall_difference"]) < 0.2 and 0 < float(row["relative_difference_impact"]) < 0.1
+
+
+def test_the_two_errors_are_taken_over_the_states_that_have_both():
+    """impact_errors: medians and largest values over the stable states where both (8) and (9)
+    have a stable orbit; a state missing either, or unstable in the slow flow, does not count."""
+    from slosh_bif.studies.compare import impact_errors
+
+    nan = float("nan")
+    rows = [
+        dict(slow_flow_stable=1, relative_difference_impact=0.01, wall_difference=0.10),
+        dict(slow_flow_stable=1, relative_difference_impact=0.03, wall_difference=0.30),
+        dict(slow_flow_stable=1, relative_difference_impact=0.02, wall_difference=0.20),
+        dict(slow_flow_stable=1, relative_difference_impact=0.50, wall_difference=nan),  # no stable (9)
+        dict(slow_flow_stable=0, relative_difference_impact=0.90, wall_difference=0.90),  # unstable state
+    ]
+    e = impact_errors(rows)
+    assert e["measured"] == 3
+    assert (e["asymptotic_median"], e["asymptotic_max"]) == pytest.approx((0.02, 0.03))
+    assert (e["wall_median"], e["wall_max"]) == pytest.approx((0.20, 0.30))
+    assert impact_errors(rows[3:])["measured"] == 0 and np.isnan(impact_errors([])["wall_max"])
