@@ -189,7 +189,9 @@ def _basins(args) -> int:
     params.require_positive_stiffness()
     first, second = np.linspace(*args.range1, n1), np.linspace(*args.range2, n2)
     store = basin_store(
-        args.out / "basins.json", basin_settings(params, args.axes, first, second, tmax), resume=args.resume
+        args.out / "basins.json",
+        basin_settings(params, args.axes, first, second, tmax, args.model),
+        resume=args.resume,
     )
     if args.resume:
         progress(f"resuming: {len(store.done)} of {n1 * n2} initial states already simulated in {args.out}")
@@ -202,6 +204,7 @@ def _basins(args) -> int:
             axes=tuple(args.axes),
             tmax=tmax,
             backend=args.backend,
+            model=args.model,
             workers=Workers(executor, args.workers),
             resume=Resume(store.done, store.keep),
             progress=cell_progress(
@@ -304,7 +307,7 @@ def add_commands(sub) -> None:
 
     basins = sub.add_parser(
         "basins",
-        help="basins of attraction of (9): which response each initial state reaches, at the preset's "
+        help="basins of attraction of (9) or (8): which response each initial state reaches, at the preset's "
         "(sigma, Abar)",
     )
     add_params_options(basins)
@@ -350,6 +353,12 @@ def add_commands(sub) -> None:
     basins.add_argument("--workers", type=int, default=None, help="worker processes (default: one per core)")
     add_scheduler_option(basins)
     add_backend_option(basins)
+    basins.add_argument(
+        "--model",
+        choices=("smooth", "impact"),
+        default="smooth",
+        help="the smooth model (9) (default) or the impact model (8) on its exact flow",
+    )
     basins.add_argument(
         "--resume",
         action="store_true",

@@ -1,13 +1,14 @@
-"""Basins of attraction of the full model (9) at one (sigma, Abar): which response each initial
-state reaches, where several coexist (stable symmetric and asymmetric orbits, a periodic response
-beside strongly modulated response; Figs. 9-15 start from one state each), and how far the
-cell-by-cell picture can be believed.
+"""Basins of attraction of the full model (9), or of the impact model (8), at one (sigma, Abar):
+which response each initial state reaches, where several coexist (stable symmetric and
+asymmetric orbits, a periodic response beside strongly modulated response; Figs. 9-15 start from
+one state each), and how far the cell-by-cell picture can be believed.
 
 A plane of initial states (two of X, X', w, w'; the other two zero) is followed on the
 stroboscopic map of (9) (one forcing period at a time) until its strobe settles: it moves by less
 than ``SETTLE_TOL`` (relative) for ``SETTLE_PERIODS`` periods in a row on a fixed point (or on a
 2-cycle), within ``tmax`` at most. A settled strobe on a fixed point is refined by Newton on the
-2pi-map to the orbit it settled on, and orbits are told apart by their state at tau = 0 (a mirror
+2pi-map to the orbit it settled on (for (8): the map of its exact flow, with saltation matrices),
+and orbits are told apart by their state at tau = 0 (a mirror
 pair's two members are two attractors); a start that has not settled by ``tmax`` is simulated
 for ``TAIL_PERIODS`` more periods and labelled by its regime, marked unsettled. No fixed
 simulation time decides an outcome.
@@ -27,8 +28,12 @@ import math
 
 import numpy as np
 
+from slosh_bif.continuation import newton_solve
 from slosh_bif.flows import integrator
 from slosh_bif.model.params import Params
+from slosh_bif.orbits.impact_orbits import ImpactOrbitProblem
+from slosh_bif.orbits.impact_output import orbit_measures as impact_measures
+from slosh_bif.orbits.impact_switching import is_symmetric
 from slosh_bif.orbits.orbit_tools import orbit_at, orbit_measures
 from slosh_bif.orbits.shooting import ShootingProblem
 from slosh_bif.orbits.starts import START_TOL
@@ -67,7 +72,8 @@ class BasinMap:
     (``PERTURBATIONS``) reached another; ``periods[i, j]``: forcing periods until its strobe
     settled (NaN: not settled by ``tmax``); ``uncertain_fraction``: {eps: the share of cells whose
     outcome changed under that perturbation}; ``attractors``: {label: description};
-    ``orbits``: {label: the orbit's state at tau = 0}; ``status``: "complete", or why the map
+    ``orbits``: {label: the orbit's state at tau = 0}; ``model``: "smooth" (9) or "impact" (8);
+    ``status``: "complete", or why the map
     stopped (missing cells are "not computed")."""
 
     params: Params
@@ -82,6 +88,7 @@ class BasinMap:
     uncertain: np.ndarray | None = None
     periods: np.ndarray | None = None
     uncertain_fraction: dict = dataclasses.field(default_factory=dict)
+    model: str = "smooth"
 
     def fractions(self) -> dict:
         """The share of the plane's cells per attractor, largest first."""
@@ -110,20 +117,45 @@ class BasinMap:
         return float(math.log(f2 / f1) / math.log(e2 / e1)) if f1 > 0 and f2 > 0 and e1 != e2 else math.nan
 
 
-def _settle(params, state0, max_periods: int, backend):
-    """(outcome, orbit state at tau = 0 or None, periods): the strobe of (9) from ``state0``
-    followed until it settles (see the module docstring). The outcome is "orbit" (Newton found
-    the 2pi-orbit it settled on), "period-2", a regime with "(not settled)", "diverged" or
-    "failed"."""
+class _Strobe:
+    """One forcing period of (9) (the compiled or scipy integrator) or of (8) (its exact flow):
+    ``step(y)`` -> (state after it or None, why not); ``orbit(y)`` -> the 2pi-orbit's state at
+    tau = 0 near y by Newton, or None."""
+
+    def __init__(self, params, backend, model):
+        self.params, self.backend, self.model = params, backend, model
+        if model == "impact":
+            self.problem = ImpactOrbitProblem(params)
+            self.flow = self.problem.flow_at(params.sigma)
+
+    def step(self, y):
+        if self.model == "impact":
+            _, ys, _, code = self.flow.run(y, 0.0, PERIOD, stick_speed=1e-9, max_impacts=100_000)
+            return (ys[:, -1], "") if code == 0 else (None, "sticking" if code == 1 else "failed")
+        run = integrator.integrate(self.params, y, 0.0, PERIOD, rtol=1e-9, atol=1e-11, backend=self.backend)
+        return (run.z, "") if run.success and np.all(np.isfinite(run.z)) else (None, "failed")
+
+    def orbit(self, y):
+        if self.model == "impact":
+            run = newton_solve(self.problem, y, self.params.sigma, tol=1e-12)
+            return run.x if run.converged and self.problem.in_domain(run.x, self.params.sigma) else None
+        problem = ShootingProblem(self.params, segments=4, backend=self.backend)
+        orbit = orbit_at(problem, problem.initial_states(y), self.params.sigma, tol=START_TOL)
+        return orbit.y0 if orbit.converged else None
+
+
+def _settle(params, state0, max_periods: int, backend, model="smooth"):
+    """(outcome, orbit state at tau = 0 or None, periods): the strobe of (9) (or (8)) from
+    ``state0`` followed until it settles (see the module docstring). The outcome is "orbit"
+    (Newton found the 2pi-orbit it settled on), "period-2", a regime with "(not settled)",
+    "diverged", "sticking" ((8)'s particle comes to rest on a wall) or "failed"."""
     y, before, calm1, calm2 = np.asarray(state0, dtype=float), None, 0, 0
     bound = diverged_beyond(params)
+    strobe = _Strobe(params, backend, model)
     for k in range(1, max_periods + 1):
-        run = integrator.integrate(
-            params, y, 0.0, PERIOD, rtol=1e-9, atol=1e-11, backend=backend
-        )  # (9) is 2pi-periodic: every period alike
-        z = run.z
-        if not (run.success and np.all(np.isfinite(z))):
-            return "failed", None, k
+        z, why = strobe.step(y)  # both models are 2pi-periodic: every period alike
+        if z is None:
+            return why, None, k
         if np.max(np.abs(z[:2])) > bound:
             return "diverged", None, k
         scale = SETTLE_TOL * (1.0 + np.linalg.norm(z))
@@ -131,9 +163,8 @@ def _settle(params, state0, max_periods: int, backend):
         calm2 = calm2 + 1 if before is not None and np.linalg.norm(z - before) <= scale else 0
         before, y = y, z
         if calm1 >= SETTLE_PERIODS:
-            problem = ShootingProblem(params, segments=4, backend=backend)
-            orbit = orbit_at(problem, problem.initial_states(y), params.sigma, tol=START_TOL)
-            return ("orbit", orbit.y0, k) if orbit.converged else ("periodic (no 2pi orbit found)", None, k)
+            y0 = strobe.orbit(y)
+            return ("orbit", y0, k) if y0 is not None else ("periodic (no 2pi orbit found)", None, k)
         if calm2 >= SETTLE_PERIODS:
             return "period-2", None, k
     sim = simulate(
@@ -141,7 +172,7 @@ def _settle(params, state0, max_periods: int, backend):
         y,
         max_periods * PERIOD + TAIL_PERIODS * PERIOD,
         t0=max_periods * PERIOD,
-        settings=SimulationSettings(backend=backend),
+        settings=SimulationSettings(model=model, backend=backend),
     )
     if sim.status == "diverged":
         return "diverged", None, max_periods
@@ -150,11 +181,11 @@ def _settle(params, state0, max_periods: int, backend):
     return f"{classify(sim).regime} (not settled)", None, max_periods
 
 
-def _basin_point(params, state0, max_periods, backend, shifts):
+def _basin_point(params, state0, max_periods, backend, shifts, model="smooth"):
     """The outcome of ``state0`` and of its perturbed copies ``state0 + shift`` (in a worker):
     a list of (outcome, orbit state or None, periods)."""
     return [
-        _settle(params, np.asarray(state0) + np.asarray(shift), max_periods, backend)
+        _settle(params, np.asarray(state0) + np.asarray(shift), max_periods, backend, model)
         for shift in ((0.0,) * 4, *shifts)
     ]
 
@@ -167,20 +198,23 @@ def basin_map(
     axes=("X", "w"),
     tmax: float = BASIN_TMAX,
     backend: str = "auto",
+    model: str = "smooth",
     workers: Workers = LOCAL,
     resume: Resume | None = None,
     progress=None,
 ) -> BasinMap:
-    """Follow (9) from every state of the grid ``first`` x ``second`` in the state components
-    ``axes`` (the others zero), and from two perturbed copies of each, until the strobe settles
-    or ``tmax`` (rounded up to whole forcing periods) is reached, and label each by the attractor
-    it reaches (see the module docstring); points run on ``workers`` (see
+    """Follow (9) (``model="impact"``: (8)) from every state of the grid ``first`` x ``second`` in
+    the state components ``axes`` (the others zero), and from two perturbed copies of each, until
+    the strobe settles or ``tmax`` (rounded up to whole forcing periods) is reached, and label
+    each by the attractor it reaches (see the module docstring); points run on ``workers`` (see
     :func:`~slosh_bif.simulation.sweep.run_cells`), ``progress(done, total)`` and
     ``resume.keep((i, j), outcomes)`` as they finish. ``resume.done``: such
     results of an earlier run with the same settings, not simulated again. Interrupted, it
     returns the cells done, the rest "not computed"."""
     if len(axes) != 2 or axes[0] == axes[1] or any(a not in STATE_NAMES for a in axes):
         raise ValueError(f"axes must be two different names of {', '.join(STATE_NAMES)}; got {axes!r}")
+    if model not in ("smooth", "impact"):
+        raise ValueError(f"model must be smooth or impact; got {model!r}")
     params.require_positive_stiffness()
     first, second = np.asarray(first, dtype=float), np.asarray(second, dtype=float)
     for name, grid in ((axes[0], first), (axes[1], second)):
@@ -209,7 +243,9 @@ def basin_map(
             jobs[(i, j)] = state
     resume = resume or Resume()
     done = {key: result for key, result in (resume.done or {}).items() if key in jobs}
-    arguments = {key: (params, state, max_periods, backend, tuple(shifts)) for key, state in jobs.items()}
+    arguments = {
+        key: (params, state, max_periods, backend, tuple(shifts), model) for key, state in jobs.items()
+    }
     results, status = run_cells(
         _basin_point,
         arguments,
@@ -217,7 +253,7 @@ def basin_map(
         resume=dataclasses.replace(resume, done=done),
         progress=progress,
     )
-    names = _Names(params, backend)
+    names = _Names(params, backend, model)
     label = np.full((second.size, first.size), "not computed", dtype=object)
     uncertain = np.zeros(label.shape, dtype=bool)
     periods = np.full(label.shape, np.nan)
@@ -244,6 +280,7 @@ def basin_map(
         uncertain,
         periods,
         fraction,
+        model,
     )
 
 
@@ -252,9 +289,24 @@ class _Names:
     "asymmetric orbit a/b, A1 = ...", "non-impacting orbit ..." (max |w| < 1); orbits told apart by
     their state at tau = 0."""
 
-    def __init__(self, params, backend):
-        self.params, self.problem = params, ShootingProblem(params, segments=4, backend=backend)
+    def __init__(self, params, backend, model="smooth"):
+        self.params, self.model = params, model
+        self.problem = (
+            ImpactOrbitProblem(params)
+            if model == "impact"
+            else ShootingProblem(params, segments=4, backend=backend)
+        )
         self.orbits, self.attractors = {}, {}
+
+    def _measures(self, y0) -> dict:
+        """A1, max |w| and how far the orbit is from symmetric (0 for a symmetric one)."""
+        if self.model == "impact":
+            m = impact_measures(self.problem, y0, self.params.sigma)
+            m["symmetry_defect"] = 0.0 if is_symmetric(self.params, y0) else 1.0
+            return m
+        return orbit_measures(
+            self.problem, self.problem.initial_states(y0), self.params.sigma, points_per_2pi=128
+        )
 
     def of(self, outcome: str, y0) -> str:
         if y0 is None:
@@ -263,9 +315,7 @@ class _Names:
         for name, z in self.orbits.items():
             if np.linalg.norm(z - y0) <= 1e-5 * (1 + np.linalg.norm(y0)):
                 return name
-        m = orbit_measures(
-            self.problem, self.problem.initial_states(y0), self.params.sigma, points_per_2pi=128
-        )
+        m = self._measures(y0)
         kind = (
             "non-impacting"
             if m["max_abs_w"] < 1.0

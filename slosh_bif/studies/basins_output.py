@@ -125,7 +125,8 @@ def plot_basins(bmap, path) -> Path:
     alpha = bmap.uncertainty_exponent
     note = f"; uncertainty exponent {max(alpha, 0.0):.2f}" if math.isfinite(alpha) else ""
     ax.set_title(
-        f"basins of attraction of (9): sigma = {P.sigma:g}, Abar = {P.Abar:g}, n = {P.n}{note}"
+        f"basins of attraction of {'(8)' if bmap.model == 'impact' else '(9)'}: sigma = {P.sigma:g}, "
+        f"Abar = {P.Abar:g}, n = {P.n}{note}"
         + ("" if bmap.status == "complete" else f"\nPARTIAL: {bmap.status}"),
         fontsize=10,
     )
@@ -133,7 +134,7 @@ def plot_basins(bmap, path) -> Path:
     return save_figure(fig, path)
 
 
-def basin_settings(params, axes, first, second, tmax) -> dict:
+def basin_settings(params, axes, first, second, tmax, model: str = "smooth") -> dict:
     """What decides every cell of a basin map (a resumed run reuses stored cells only when equal)."""
     from slosh_bif.studies.basins import PERTURBATIONS, SETTLE_PERIODS, SETTLE_TOL
 
@@ -145,6 +146,7 @@ def basin_settings(params, axes, first, second, tmax) -> dict:
         "tmax": float(tmax),
         "settle": [SETTLE_TOL, SETTLE_PERIODS],
         "perturbations": list(PERTURBATIONS),
+        **({"model": model} if model != "smooth" else {}),  # stores of (9) written without it resume
     }
 
 

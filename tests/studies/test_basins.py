@@ -49,3 +49,30 @@ def test_every_start_settles_and_the_shares_carry_their_uncertainty(basins):
     )
     assert all(0 < f < 1 for f in bmap.uncertain_fraction.values())
     assert sorted(name.split(",")[0] for name in bmap.orbits) == ["asymmetric orbit a", "asymmetric orbit b"]
+
+
+def test_the_basins_of_8_name_orbits_that_the_reference_flow_confirms():
+    """basins --model impact: each orbit the map of (8) names is a fixed point of the 2pi map of the
+    reference flow (scipy's expm between impacts, not the compiled flow that found it), stable by
+    that map's finite-difference multipliers, and the pair are mirror images; a start on a wall at
+    rest, pressed into it, is reported as sticking (where (8) is not defined), not as an orbit."""
+    from slosh_bif import simulate_impact
+
+    P = get_preset("fig10").params.replace(sigma=3.0)
+    bmap = basin_map(
+        P, np.linspace(-3, 3, 4), np.linspace(-1, 1, 3), model="impact", workers=Workers(max_workers=2)
+    )
+    assert bmap.status == "complete" and bmap.model == "impact" and len(bmap.orbits) >= 2
+
+    def reference(y, t=2 * np.pi):
+        return simulate_impact(P, y, (0.0, t), backend="scipy").y[:, -1]
+
+    for name, y0 in bmap.orbits.items():
+        assert np.linalg.norm(reference(y0) - y0) < 1e-8, name
+        J = np.column_stack([(reference(y0 + 1e-6 * e) - reference(y0 - 1e-6 * e)) / 2e-6 for e in np.eye(4)])
+        assert np.max(np.abs(np.linalg.eigvals(J))) < 1, name
+    a, b = list(bmap.orbits.values())[:2]
+    assert np.linalg.norm(reference(a, np.pi) + b) < 1e-6
+    assert set(bmap.label[[0, -1]].ravel()) <= {"sticking"} | set(bmap.orbits)
+    with pytest.raises(ValueError, match="model must be smooth or impact"):
+        basin_map(P, [0.0], [0.0], model="corrected")
