@@ -31,9 +31,12 @@ def _answer(args) -> int:
     print(f"ran in {result.seconds:.2f} s")
     r = result.result
     if args.question == "frequency-response":
-        branches = (
-            [ob.branch for ob in r.branches] if hasattr(r.branches[0], "measures") else list(r.branches)
-        )
+        if hasattr(r, "pieces"):  # a branch of orbits of (8), in pieces
+            branches = [piece.branch for piece in r.pieces]
+        else:
+            branches = (
+                [ob.branch for ob in r.branches] if hasattr(r.branches[0], "measures") else list(r.branches)
+            )
         print(
             f"{len(branches)} branch(es), {sum(len(b) for b in branches)} points; special points: "
             + ", ".join(f"{s.kind} {s.p:.5g}" for b in branches for s in b.special)

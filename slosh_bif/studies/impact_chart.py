@@ -3,7 +3,8 @@ fold (LP), double their period (PD), lose stability to a torus (NS), break their
 or graze the wall (GR: the number of impacts per period changes),
 traced in two parameters (:func:`~slosh_bif.orbits.codim2.impact_curves.trace_impact_curve`) from
 every special point of its branches in sigma (the branch a simulation of (8) settles on and, for a
-symmetric one, the asymmetric branches born at its pitchforks), and the least forcing Abar_c at
+symmetric one, the asymmetric branches born at its pitchforks, and the period-2 branches born at
+their period doublings, whose curves are of period-2 orbits), and the least forcing Abar_c at
 which (8) has a stable periodic orbit, read off them as for (9) (:mod:`slosh_bif.studies.chart`). The result
 is a
 :class:`~slosh_bif.studies.chart.Chart`, written and drawn by the chart's own output functions.
@@ -81,8 +82,8 @@ def impact_chart(
         settled_orbit(params, state0, periods=settings.settle),
         param="sigma",
         p_range=(s0, s1),
-        # the curves start from period-1 branches only: no cascade traced for them
-        branching=dataclasses.replace(branching, doublings=False),
+        # the period-2 branches too (their curves are of period-2 orbits); no deeper cascade
+        branching=dataclasses.replace(branching, max_branches=min(branching.max_branches, 6)),
     )
     primary, symmetric = family[0].branch, family[0].symmetric
     say(
@@ -195,7 +196,7 @@ def impact_curve_starts(named: NamedImpactBranch, params: Params, box: dict, pit
     param = named.branch.param
     yield from _grazing_starts(named, params, box)
     for piece in named.branch.pieces:
-        if piece.period_multiple != 1:  # the curve problems of (8) are on the forcing period's map
+        if piece.period_multiple > 2:  # curves of period-1 and period-2 orbits
             continue
         for sp in piece.branch.special:
             if (
@@ -210,6 +211,8 @@ def impact_curve_starts(named: NamedImpactBranch, params: Params, box: dict, pit
                 and any(abs(sp.p - q) <= 1e-6 * (1 + abs(q)) for q in pitchforks)
             ):
                 continue
+            if sp.kind == "LP" and _parents_orbit(params, param, piece, sp):
+                continue  # a doubled branch turns where it is born: the parent's period doubling, no fold
             at = params.replace(**{param: float(sp.p)})
             origin = (
                 f"{sp.kind} at sigma = {at.sigma:.6g}, Abar = {at.Abar:.6g} on the {named.name} branch "
@@ -223,6 +226,7 @@ def impact_curve_starts(named: NamedImpactBranch, params: Params, box: dict, pit
                 symmetric=named.symmetric,
                 phase=piece.phase,
                 impacts=piece.impacts,
+                period_multiple=piece.period_multiple,
                 origin=origin,
             )
             yield CurveStart.with_job(
@@ -232,6 +236,18 @@ def impact_curve_starts(named: NamedImpactBranch, params: Params, box: dict, pit
                 origin,
                 dict(trace=trace_impact_curve, params=params, seed=seed, box=box),
             )
+
+
+def _parents_orbit(params, param, piece, sp) -> bool:
+    """Whether the orbit at ``sp`` of a period-2 piece repeats after one forcing period to 1e-3
+    (as :func:`~slosh_bif.orbits.codim2.repeats_early` for (9)): the parent's orbit, where the
+    doubled branch is born at its period doubling (a fold located there is off the parent's orbit
+    by the square root of its location's error)."""
+    if piece.period_multiple == 1:
+        return False
+    single = ImpactOrbitProblem(params.replace(**{param: float(sp.p)}), param, phase=piece.phase)
+    x = np.asarray(sp.x, dtype=float)
+    return bool(np.linalg.norm(single.residual(x, sp.p)) <= 1e-3 * (1 + np.linalg.norm(x)))
 
 
 def _grazing_starts(named: NamedImpactBranch, params: Params, box: dict):

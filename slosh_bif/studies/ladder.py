@@ -50,6 +50,7 @@ import numpy as np
 from slosh_bif.model.params import Params
 from slosh_bif.model.presets import CLASSIFY_TMAX, get_preset
 from slosh_bif.orbits.families import trace_orbits
+from slosh_bif.orbits.impact_branches import settled_orbit, trace_impact_orbits
 from slosh_bif.orbits.settings import NO_SWITCHING, ParameterRange
 from slosh_bif.orbits.starts import settle_and_shoot
 from slosh_bif.simulation.direct import simulate
@@ -59,7 +60,15 @@ from slosh_bif.slowflow.flow import AsymptoticsWarning, SlowFlow, asymptotics_co
 from slosh_bif.slowflow.steady_states import frequency_response
 from slosh_bif.studies.chart_critical import critical_forcing_full
 
-__all__ = ["QUESTIONS", "SLOW_FLOW_ERROR", "CORRECTED_ERROR", "Answer", "answer", "model_choice"]
+__all__ = [
+    "QUESTIONS",
+    "SLOW_FLOW_ERROR",
+    "CORRECTED_ERROR",
+    "IMPACT_ERROR",
+    "Answer",
+    "answer",
+    "model_choice",
+]
 
 QUESTIONS = ("frequency-response", "critical-forcing", "time-response", "regime")
 
@@ -73,6 +82,12 @@ SLOW_FLOW_ERROR = {
 # The same for the corrected slow flow (``docs/bench``: frequency_response.csv, critical_forcing.csv).
 CORRECTED_ERROR = {"frequency-response": 0.26, "critical-forcing": 0.36}
 SLOW_FLOW, CORRECTED = "slow flow", "corrected slow flow"
+IMPACT = "impact model (8): its periodic orbits"
+# The largest wall error of the orbits of (8) against those of (9), (8)'s own error as an answer,
+# per wall exponent n: ``trust --impact`` on the Fig. 13 set (docs/trust/fig13-impact, the stable
+# states of (46) with a stable orbit of both nearby). Used from the largest measured n at or below
+# the set's (the error falls as n grows); below the least n measured, not at all.
+IMPACT_ERROR = {"frequency-response": {}}
 # Error of the full-model answers. Measured: shooting at rtol 1e-10 is within 2e-8 of the rtol
 # 1e-12 reference (frequency_response.csv). Not measured, stated: the critical forcing is a special
 # point located on a branch continued at rtol 1e-10 (1e-6 is a bound, not a chart); a simulation at rtol 1e-9
@@ -131,6 +146,20 @@ def model_choice(question: str, params: Params, tol: float) -> tuple:
             if corrected_concerns
             else f"measured {error:g}"
         )
+    table = IMPACT_ERROR.get(question)
+    if table:
+        measured = [n for n in table if n <= params.n]
+        if not measured:
+            why += f"; the impact model's error is not measured below n = {min(table)}"
+        elif table[max(measured)] <= tol:
+            error = table[max(measured)]
+            return (
+                IMPACT,
+                f"{why}; (8)'s measured error at n >= {max(measured)}, {error:g}, is within it",
+                error,
+            )
+        else:
+            why += f"; (8) measured {table[max(measured)]:g} at n >= {max(measured)}"
     return FULL_MODEL[question], why, FULL_MODEL_ERROR[question]
 
 
@@ -192,7 +221,9 @@ def answer(
         if escape:  # the slow flow cannot answer after all: the full model must
             model, reason, error = FULL_MODEL[question], escape, FULL_MODEL_ERROR[question]
         reason += note
-    if model not in (SLOW_FLOW, CORRECTED):
+    if model == IMPACT:
+        result = _impact(params, y0, lo, hi)
+    elif model not in (SLOW_FLOW, CORRECTED):
         result = _full(question, params, y0, lo, hi, tmax, say)
     return Answer(question, model, reason, float(error), result, time.perf_counter() - start)
 
@@ -212,6 +243,15 @@ def _slow(question, params, y0, lo, hi, tmax, model):
         "not resonant (non-resonant or strongly modulated)" if trajectory.escaped else "periodic-resonant"
     )
     return regime, "", f"; (45) from the initial state: {trajectory.message}"
+
+
+def _impact(params, y0, lo, hi):
+    """The branch of orbits of (8) through the one a simulation of (8) from y0 settles on."""
+    x0 = settled_orbit(params, y0, periods=IMPACT_SETTLE)
+    return trace_impact_orbits(params, x0, p_min=lo, p_max=hi)
+
+
+IMPACT_SETTLE = 300  # forcing periods of (8) before Newton on its map
 
 
 def _full(question, params, y0, lo, hi, tmax, say=None):

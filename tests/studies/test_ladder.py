@@ -133,3 +133,28 @@ def test_a_slow_time_response_that_leaves_the_manifold_hands_over_to_the_full_mo
     got = answer("time-response", FIG10.replace(sigma=-6.0), tol=0.5, tmax=200.0)
     assert got.model == "smooth model (9) simulated" and "leaves S+" in got.reason
     assert got.result.success and got.result.t[-1] == pytest.approx(200.0)
+
+
+def test_the_impact_model_is_the_rung_between_the_slow_flows_and_shooting_on_9():
+    """For the frequency response at n = 50, a tolerance below the corrected slow flow's error but
+    above (8)'s measured wall error picks the orbits of (8); below that, shooting on (9); below the
+    least n measured, (8) is passed over and says so."""
+    from slosh_bif.studies.ladder import CORRECTED_ERROR, IMPACT, IMPACT_ERROR
+
+    table = IMPACT_ERROR["frequency-response"]
+    at50 = table[max(n for n in table if n <= 50)]
+    assert at50 < CORRECTED_ERROR["frequency-response"]
+    tol = 0.5 * (at50 + CORRECTED_ERROR["frequency-response"])
+    model, reason, error = model_choice("frequency-response", FIG10, tol=tol)
+    assert model == IMPACT and error == at50 and "(8)'s measured error" in reason
+    model, reason, _ = model_choice("frequency-response", FIG10, tol=0.5 * at50)
+    assert model == "shooting on (9)" and "(8) measured" in reason
+    model, reason, _ = model_choice("frequency-response", FIG10.replace(n=min(table) - 1), tol=tol)
+    assert model == "shooting on (9)" and "not measured below" in reason
+    # the answer itself: the orbits of (8) over the range, from the orbit a simulation settles on
+    from slosh_bif.orbits.impact_branches import ImpactBranch
+
+    got = answer("frequency-response", FIG10.replace(sigma=5.0), tol=tol, sigma_min=4.5, sigma_max=5.5)
+    assert got.model == IMPACT and isinstance(got.result, ImpactBranch)
+    ps = np.concatenate([piece.branch.p for piece in got.result.pieces])
+    assert ps.min() == pytest.approx(4.5) and ps.max() == pytest.approx(5.5)
