@@ -11,9 +11,10 @@ curve; (45) integrated 0.1 s) < the impact model (8) simulated by its compiled e
 integrator (0.036 s / 100 periods at n = 50); shooting on (9) costs a settling simulation plus
 Newton (0.15-0.2 s a point). The orbits of the impact model (8) (a branch of its exact map, 1-2 s)
 are the frequency response's rung between the slow flows and shooting on (9): their error as an
-answer is the rigid wall's, (8) against (9), measured by ``trust --impact`` on the Fig. 13 set
-over the stable states where both have a stable orbit: largest 0.48 at n = 20 and 0.16 at n = 50
-(the wall's clearance and restitution approach (21)'s rigid wall like 1/n). For the other
+answer is the rigid wall's, (8) against (9), over the stable states where both have a stable
+orbit: largest 0.48 at n = 20 and 0.16 at n = 50 (``trust --impact`` on the Fig. 13 set; on the
+Fig. 10 set, ``compare --impact``, 0.099 at n = 50); the wall's clearance and restitution approach
+(21)'s rigid wall like 1/n. For the other
 questions (8)'s error is not measured per question, and it is not on their ladders.
 
 Error of the slow flow, measured where the asymptotics are in range (``asymptotics_concerns``
