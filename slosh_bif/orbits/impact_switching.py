@@ -12,6 +12,10 @@ that direction: as for (9), whose pitchforks are refined on the half-period map)
 branch is then traced across sections and grazings like any other (its mirror image is the same
 family, found by going through the pitchfork).
 
+From the other side, a located branch point of an asymmetric branch is where it meets its
+symmetric parent: switching there on the full map gives a symmetric orbit (checked on the
+half-period map), whose branch is then traced on the half-period map (:func:`symmetric_branch`).
+
 A period doubling (multiplier -1 of the map over m forcing periods) is a branch point of the map
 over 2m periods, whose fixed points include the parent's: switching there on the doubled map from
 the located point takes the new direction, and a point that is not a fixed point of the parent's
@@ -24,13 +28,13 @@ import dataclasses
 
 import numpy as np
 
-from slosh_bif.continuation import ContinuationOptions, ConvergenceError, switch_branch
+from slosh_bif.continuation import ContinuationOptions, ConvergenceError, newton_solve, switch_branch
 from slosh_bif.continuation.branch import BRANCH_POINT, FOLD, PERIOD_DOUBLING
 from slosh_bif.model.params import Params
 from slosh_bif.orbits.impact_branches import ImpactBranch, trace_impact_orbits
 from slosh_bif.orbits.impact_orbits import ImpactOrbitProblem
 
-__all__ = ["is_symmetric", "asymmetric_branches", "doubled_branches"]
+__all__ = ["is_symmetric", "asymmetric_branches", "doubled_branches", "symmetric_branch"]
 
 # Steps onto the new branch: a few short ones, so that the start of the traced branch lies on it
 # and clear of the pitchfork (where the full map's Jacobian is singular).
@@ -56,17 +60,19 @@ def asymmetric_branches(
     p_max: float,
     options: ContinuationOptions | None = None,
     max_branches: int = 4,
+    known: tuple = (),
 ) -> list:
     """(origin, ImpactBranch) of the asymmetric branch born at each located pitchfork of the
     ``symmetric`` branch (traced on the half-period map), each family once: a pitchfork that an
-    earlier asymmetric branch passes through is not switched at again."""
+    earlier asymmetric branch (or one of the ``known`` ones) passes through is not switched at
+    again."""
     param = symmetric.param
     found = []
     for piece in symmetric.pieces:
         for sp in piece.branch.special:
             if sp.kind != BRANCH_POINT or not sp.located or len(found) >= max_branches:
                 continue
-            if any(_passes_through(branch, sp.p) for _, branch in found):
+            if any(_passes_through(branch, sp.p) for branch in [b for _, b in found] + list(known)):
                 continue
             start = _switched_start(params, param, piece.phase, sp, p_min, p_max)
             if start is None:
@@ -77,6 +83,40 @@ def asymmetric_branches(
             )
             found.append((f"BP at {param} = {sp.p:.6g} on the symmetric branch", branch))
     return found
+
+
+def symmetric_branch(
+    params: Params,
+    asymmetric: ImpactBranch,
+    *,
+    p_min: float,
+    p_max: float,
+    options: ContinuationOptions | None = None,
+):
+    """(origin, ImpactBranch) of the symmetric branch that the asymmetric branch ``asymmetric``
+    meets at its first located branch point where switching gives a symmetric orbit (traced on the
+    half-period map), or None."""
+    param = asymmetric.param
+    for piece in asymmetric.pieces:
+        if piece.period_multiple != 1:
+            continue
+        for sp in piece.branch.special:
+            if sp.kind != BRANCH_POINT or not sp.located:
+                continue
+            start = _switched_start(params, param, piece.phase, sp, p_min, p_max)
+            if start is None:
+                continue
+            x0, p = start
+            at = params.replace(**{param: p})
+            half = ImpactOrbitProblem(at, param, symmetric=True)
+            run = newton_solve(half, x0, p, tol=1e-12)
+            if not (run.converged and is_symmetric(at, run.x)):
+                continue
+            branch = trace_impact_orbits(
+                at, run.x, param=param, p_min=p_min, p_max=p_max, options=options, symmetric=True
+            )
+            return f"BP at {param} = {sp.p:.6g} on the asymmetric branch", branch
+    return None
 
 
 def doubled_branches(

@@ -28,7 +28,12 @@ from slosh_bif.orbits.codim2 import ImpactCurveSeed, trace_impact_curve
 from slosh_bif.orbits.codim2.impact_curves import trace_grazing_curve
 from slosh_bif.orbits.impact_branches import settled_orbit, trace_impact_orbits
 from slosh_bif.orbits.impact_orbits import ImpactOrbitProblem
-from slosh_bif.orbits.impact_switching import asymmetric_branches, doubled_branches, is_symmetric
+from slosh_bif.orbits.impact_switching import (
+    asymmetric_branches,
+    doubled_branches,
+    is_symmetric,
+    symmetric_branch,
+)
 from slosh_bif.orbits.settings import BRANCHING, BranchingSettings
 from slosh_bif.orbits.shooting import MAX_PERIOD_MULTIPLE
 from slosh_bif.slowflow.critical import critical_curve
@@ -85,15 +90,19 @@ def impact_chart(
         # the period-2 branches too (their curves are of period-2 orbits); no deeper cascade
         branching=dataclasses.replace(branching, max_branches=min(branching.max_branches, 6)),
     )
-    primary, symmetric = family[0].branch, family[0].symmetric
     say(
         f"orbits of (8): {len(family)} branch(es), "
         f"{sum(len(piece.branch) for nb in family for piece in nb.branch.pieces)} points"
     )
     box = {"sigma": (s0, s1), "Abar": (a0, a1)}
-    pitchforks = (
-        [s.p for piece in primary.pieces for s in piece.branch.special if s.kind == "BP"] if symmetric else []
-    )
+    pitchforks = [
+        s.p
+        for nb in family
+        if nb.symmetric
+        for piece in nb.branch.pieces
+        for s in piece.branch.special
+        if s.kind == "BP"
+    ]
     starts = [s for nb in family for s in impact_curve_starts(nb, params, box, pitchforks)]
     # Folds and period doublings met when the forcing falls: the primary branch's orbits at
     # ``settings.seeds`` values of sigma, each continued in Abar over the box.
@@ -136,7 +145,9 @@ def impact_family(
 ) -> list:
     """The branch of orbits of (8) through x0 (its state at tau = 0) over ``p_range`` of
     ``param`` (a symmetric one on the half-period map) and, unless ``branching.switch`` is off,
-    the asymmetric branches born at its pitchforks and (with ``branching.doublings``) the branches of
+    the asymmetric branches born at its pitchforks (for an asymmetric start, first the symmetric
+    branch it meets at its own branch point, then that one's other pitchforks') and (with
+    ``branching.doublings``) the branches of
     twice the period born at the period doublings of its non-symmetric branches (a cascade followed
     to period 8, ``branching.max_branches`` branches in all), as
     :class:`NamedImpactBranch` (the first one first); ``say(message)`` hears of each switched
@@ -149,10 +160,25 @@ def impact_family(
         params, x0, param=param, p_min=lo, p_max=hi, options=options, symmetric=symmetric
     )
     family = [NamedImpactBranch("symmetric" if symmetric else "primary", primary, symmetric)]
-    if symmetric and branching.switch:
+    known = ()
+    if not symmetric and branching.switch:  # the symmetric parent, met at the primary's pitchfork
+        met = symmetric_branch(params, primary, p_min=lo, p_max=hi, options=options)
+        if met is not None:
+            family.append(NamedImpactBranch("symmetric", met[1], True))
+            known = (primary,)
+            if say is not None:
+                say(f"symmetric: from the {met[0]}, {len(met[1].pieces)} pieces")
+    sym = next((nb.branch for nb in family if nb.symmetric), None)
+    if sym is not None and branching.switch:
         for k, (origin, branch) in enumerate(
             asymmetric_branches(
-                params, primary, p_min=lo, p_max=hi, options=options, max_branches=branching.max_branches - 1
+                params,
+                sym,
+                p_min=lo,
+                p_max=hi,
+                options=options,
+                max_branches=branching.max_branches - len(family),
+                known=known,
             )
         ):
             family.append(NamedImpactBranch("asymmetric" + (f"-{k + 1}" if k else ""), branch, False))

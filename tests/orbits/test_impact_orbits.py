@@ -272,3 +272,26 @@ def test_shoot_model_impact_switches_at_the_pitchforks_of_the_symmetric_branch(t
         half = simulate_impact(at, x, (phase, phase + np.pi), backend="scipy").y[:, -1]
         np.testing.assert_allclose(full, x, atol=1e-7)
         assert np.linalg.norm(half + x) > 1e-2  # y(tau + pi) != -y(tau): not symmetric
+
+
+def test_an_asymmetric_start_finds_its_symmetric_parent_by_switching_at_its_branch_point():
+    """From the Fig. 10 set's asymmetric orbit (sigma = 3) the family of (8) switches at the
+    asymmetric branch's branch point onto the symmetric branch (traced on the half-period map): it
+    has its pitchfork at the same sigma, 3.49970, and its orbits are symmetric under the reference
+    flow (scipy's expm between impacts): y(tau + pi) = -y(tau)."""
+    from slosh_bif.orbits.settings import BranchingSettings
+    from slosh_bif.studies.impact_chart import impact_family
+
+    params, x0 = _settled("fig10 sigma=3")
+    family = impact_family(
+        params, x0, param="sigma", p_range=(0.0, 5.0), branching=BranchingSettings(doublings=False)
+    )
+    names = [nb.name for nb in family]
+    assert names[:2] == ["primary", "symmetric"] and family[1].symmetric
+    bps = [s.p for nb in family[:2] for pc in nb.branch.pieces for s in pc.branch.special if s.kind == "BP"]
+    assert len(bps) >= 2 and max(bps) - min(bps) < 1e-5 and bps[0] == pytest.approx(3.49970, abs=1e-4)
+    piece = family[1].branch.pieces[0]
+    i = len(piece.branch) // 2
+    y0, p, phase = piece.branch.x[i], piece.branch.p[i], piece.phase
+    half = simulate_impact(params.replace(sigma=p), y0, (phase, phase + np.pi), backend="scipy").y[:, -1]
+    assert np.abs(half + y0).max() < 1e-8
