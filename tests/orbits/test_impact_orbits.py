@@ -284,7 +284,7 @@ def test_an_asymmetric_start_finds_its_symmetric_parent_by_switching_at_its_bran
 
     params, x0 = _settled("fig10 sigma=3")
     family = impact_family(
-        params, x0, param="sigma", p_range=(0.0, 5.0), branching=BranchingSettings(doublings=False)
+        params, x0, param="sigma", p_range=(2.5, 4.0), branching=BranchingSettings(doublings=False)
     )
     names = [nb.name for nb in family]
     assert names[:2] == ["primary", "symmetric"] and family[1].symmetric
