@@ -4,6 +4,7 @@ table."""
 from __future__ import annotations
 
 import json
+import textwrap
 from pathlib import Path
 
 import numpy as np
@@ -134,18 +135,18 @@ def plot_trust_map(points, path, *, title: str = "", model: str = "slowflow") ->
     fig.colorbar(image, ax=axes, shrink=0.8, label="fraction of stable slow-flow states")
     name = _MODEL_NAMES[model][0].upper() + _MODEL_NAMES[model][1:]
     split = any(p.impact_measured for p in points)
-    fig.suptitle(
-        title
-        or f"{name} against periodic orbits of (9): % of stable states within 5 %, median difference; "
+    lines = [
+        f"{name} against periodic orbits of (9): % of stable states within 5 %, median difference; "
         "hatched: AsymptoticsWarning"
-        + (
-            "\nbottom row: the median split into the expansion's error, (46) against (8), and the "
-            "wall's, (8) against (9)"
-            if split
-            else ""
-        ),
-        fontsize=9,
-    )
+    ]
+    if split:
+        lines.append(
+            "bottom row: the median split into the expansion's error, (46) against (8), and the wall's, "
+            "(8) against (9)"
+        )
+    # about 13 characters of the 9-point title per inch of the figure's width
+    wrapped = "\n".join(textwrap.fill(line, int(13 * (3.2 * len(ns) + 1.2))) for line in lines)
+    fig.suptitle(title or wrapped, fontsize=9)
     return save_figure(fig, path)
 
 
