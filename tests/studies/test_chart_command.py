@@ -7,6 +7,7 @@ import subprocess
 import sys
 
 import numpy as np
+import pytest
 
 from slosh_bif import get_preset
 from slosh_bif.cli import main
@@ -58,6 +59,8 @@ def _rows(path):
         return list(csv.DictReader(f))
 
 
+# the Fig. 10 chart without switching (about a minute); the (sigma, beta) chart below is the fast check
+@pytest.mark.slow
 def test_the_fig10_chart_draws_a_curve_from_every_start(tmp_path, capsys):
     code = main([*FIG10_NO_SWITCH, "--out", str(tmp_path)])
     err = capsys.readouterr().err
@@ -108,3 +111,6 @@ def test_the_curves_do_not_depend_on_workers_or_load(tmp_path):
             b.kill()
     one, two = (tmp_path / name / "curves.csv" for name in ("one", "two"))
     assert one.read_text() == two.read_text()
+    rows = _rows(one)
+    # every start gives its curve, the fold curves included (they were lost once, silently)
+    assert {r["status"] for r in rows} == {"ok"} and {"LP", "NS", "BP"} <= {r["kind"] for r in rows}

@@ -1,6 +1,7 @@
 """The chart of the impact model (8): ``chart --model impact`` from a fresh folder, its critical
 forcing checked against a one-parameter branch of (8) in Abar (another problem class, its fold
-located by its own test), and a curve ending near grazing by its stated rule."""
+located by its own test), one of its grazing curves against a closed form, and a curve ending near
+grazing by its stated rule."""
 
 import csv
 
@@ -12,9 +13,16 @@ from slosh_bif.cli import main
 from slosh_bif.orbits.impact_branches import settled_orbit, trace_impact_orbits
 
 
-@pytest.fixture(scope="module")
-def impact_chart_folder(tmp_path_factory):
-    out = tmp_path_factory.mktemp("chart8")
+def test_the_impact_chart_from_a_fresh_folder(tmp_path):
+    """One chart of (8) (about 40 s), read by the checks below (one test: pytest-xdist would draw
+    a module-scoped chart once per worker)."""
+    folder = _impact_chart(tmp_path / "chart8")
+    _writes_every_curve_and_names_its_model(folder)
+    _critical_forcing_is_the_fold_of_a_one_parameter_branch(folder)
+    _grazing_curve_of_the_impact_free_response_is_its_closed_form(folder)
+
+
+def _impact_chart(out):
     argv = [
         "chart",
         "--preset",
@@ -41,7 +49,7 @@ def _rows(path):
         return list(csv.DictReader(fh))
 
 
-def test_the_impact_chart_writes_every_curve_and_names_its_model(impact_chart_folder):
+def _writes_every_curve_and_names_its_model(impact_chart_folder):
     curves = _rows(impact_chart_folder / "curves.csv")
     last = {r["curve"]: r for r in curves}
     assert {r["kind"] for r in last.values()} >= {"LP", "PD", "NS", "BP"}
@@ -50,7 +58,7 @@ def test_the_impact_chart_writes_every_curve_and_names_its_model(impact_chart_fo
     assert (impact_chart_folder / "chart.png").stat().st_size > 10_000
 
 
-def test_the_impact_charts_critical_forcing_is_the_fold_of_a_one_parameter_branch(impact_chart_folder):
+def _critical_forcing_is_the_fold_of_a_one_parameter_branch(impact_chart_folder):
     # Below the resonance the least forcing with a stable orbit of (8) is the fold of its
     # resonant symmetric orbits: the one-parameter branch in Abar at sigma = -2 locates it.
     row = next(r for r in _rows(impact_chart_folder / "critical.csv") if float(r["sigma"]) == -2.0)
@@ -91,7 +99,7 @@ def test_an_impact_curve_ends_near_grazing_by_its_rule():
     assert np.linalg.norm(at_zero.residual(state_at_zero(problem, lp.x, lp.p), lp.p)) < 1e-9
 
 
-def test_the_grazing_curve_of_the_impact_free_response_is_its_closed_form(impact_chart_folder):
+def _grazing_curve_of_the_impact_free_response_is_its_closed_form(impact_chart_folder):
     """Where the impact-free response of (8), y = Re(Y e^{i tau}) with (i - M) Y = F, first touches
     the walls: Abar |W| = 1 for the w-part W of Y at Abar = 1. One of the chart's grazing curves is
     this curve over sigma in [0.5, 3] (the lowest there, with its minimum near sigma = 0.9)."""
