@@ -18,6 +18,12 @@ S maps f- to f+, and S acts as G on the directions tangent to the wall (n^T u = 
 The kernel written from it takes the impact's energy loss L = c v**q as an input (the compiled
 flow computes it to test for a real kappa first): dL/dv = q L / v, and dL/dc = L / c carries a
 wall parameter's derivative (lam, chi move c).
+
+The corrected impact model puts the smooth wall's own law in place of (21): restitution
+kappa_wall(v) and the wall at the clearance ``|w| = D(v)`` of the equivalent rigid wall
+(:mod:`slosh_bif.model.restitution.wall`), a surface that depends on the impact speed:
+``h(y) = side * w - D(side * w')``, whose gradient has a component ``-side D'(v)`` along w'. Its
+kernel (:func:`measured_saltation`) takes kappa, d kappa/dv and dD/dv at the impact speed.
 """
 
 from __future__ import annotations
@@ -26,6 +32,7 @@ import models as m
 import sympy as sp
 
 side, loss, q = sp.symbols("side loss q", real=True)
+kappa, dkappa, dclear = sp.symbols("kappa dkappa dclear", real=True)
 tau = m.tau
 
 
@@ -48,10 +55,37 @@ def saltation():
     f_minus = m.impact_rhs()
     f_plus = f_minus.subs(after, simultaneous=True)
     normal = sp.Matrix([[0, 0, side, 0]])  # grad (side * w - 1)
+    S = _saltation_matrix(G, f_minus, f_plus, normal)
+    return S, w_plus, sp.diff(w_plus, loss)
+
+
+def measured_saltation():
+    """(S, w'+) for an impact of the corrected impact model on the wall ``side`` at ``|w| = D(v)``
+    with restitution kappa(v), given kappa, dkappa = kappa'(v) and dclear = D'(v)."""
+    X, Xd, w, wd = m.STATE
+    v = side * wd
+    K, D = sp.Function("K"), sp.Function("D")
+
+    def given(expr, value):  # a derivative of K or D at v, written as the kernel's input
+        return expr.replace(lambda e: isinstance(e, (sp.Subs, sp.Derivative)), lambda e: value)
+
+    w_plus_of_v = -K(v) * wd
+    G = sp.eye(4)
+    G[3, 3] = given(sp.diff(w_plus_of_v, wd), dkappa).subs(K(v), kappa)
+    w_plus = w_plus_of_v.subs(K(v), kappa)
+    after = dict(zip(m.STATE, (X, Xd, w, w_plus)))
+    f_minus = m.impact_rhs()
+    f_plus = f_minus.subs(after, simultaneous=True)
+    normal = sp.Matrix([[given(sp.diff(side * w - D(v), u), dclear) for u in m.STATE]])
+    S = _saltation_matrix(G, f_minus, f_plus, normal)
+    return S, w_plus
+
+
+def _saltation_matrix(G, f_minus, f_plus, normal):
     S = G + (f_plus - G * f_minus) * normal / (normal * f_minus)[0]
     S = S.applyfunc(lambda e: sp.factor_terms(sp.simplify(e)))
     _check(S, G, f_minus, f_plus, normal)
-    return S, w_plus, sp.diff(w_plus, loss)
+    return S
 
 
 def _check(S, G, f_minus, f_plus, normal):
@@ -60,15 +94,19 @@ def _check(S, G, f_minus, f_plus, normal):
     gap = (S * f_minus - f_plus).applyfunc(lambda e: sp.simplify(e.subs(on_wall)))
     if gap != sp.zeros(4, 1):
         raise AssertionError(f"the saltation matrix does not map f- to f+: {gap.T}")
-    for u in (sp.Matrix([1, 0, 0, 0]), sp.Matrix([0, 1, 0, 0]), sp.Matrix([0, 0, 0, 1])):
-        assert (normal * u)[0] == 0
+    tangents = sp.Matrix.hstack(*(normal.T.nullspace()))
+    for u in (tangents[:, j] for j in range(tangents.shape[1])):
+        if sp.simplify((normal * u)[0].subs(on_wall)) != 0:
+            raise AssertionError(f"{u.T} is not tangent to the wall")
         if (S * u - G * u).applyfunc(sp.simplify) != sp.zeros(4, 1):
             raise AssertionError(f"the saltation matrix is not G on the wall's tangent {u.T}")
 
 
 def kernel_functions(Function):
-    """The compiled flow's impact kernel: out = [S row-major (16), w'+, dw'+/dL]."""
+    """The compiled flow's impact kernels: (21)'s, out = [S row-major (16), w'+, dw'+/dL], and the
+    measured wall's, out = [S row-major (16), w'+]."""
     S, w_plus, dloss = saltation()
+    measured, measured_w_plus = measured_saltation()
     outputs = sp.Matrix(list(S) + [w_plus, dloss])
     if side in outputs.free_symbols:  # it cancels: one kernel for both walls
         raise AssertionError("the saltation matrix depends on the wall's side")
@@ -80,5 +118,15 @@ def kernel_functions(Function):
             (("y", m.STATE),),
             (m.eps, m.beta, m.gamma, m.sigma, m.Abar, loss, q),
             outputs,
-        )
+        ),
+        Function(
+            "impact_measured_kernel",
+            "out = [S (16, row-major), w'+] of an impact of the corrected impact model on the wall "
+            "side (eqs. 2, 8; the wall at |w| = D(v) with restitution kappa(v) of the measured wall); "
+            "y is the state before it, pars = (eps, beta, gamma, sigma, Abar, side, kappa, "
+            "kappa'(v), D'(v)).",
+            (("y", m.STATE),),
+            (m.eps, m.beta, m.gamma, m.sigma, m.Abar, side, kappa, dkappa, dclear),
+            sp.Matrix(list(measured) + [measured_w_plus]),
+        ),
     ]

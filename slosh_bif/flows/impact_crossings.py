@@ -9,7 +9,7 @@ import numpy as np
 
 from slosh_bif.flows.compiled import jit
 
-__all__ = ["crossing", "flow_taylor", "max_abs", "may_reach", "saltation"]
+__all__ = ["apply", "carry", "crossing", "flow_taylor", "max_abs", "may_reach", "saltation"]
 
 
 @jit(inline=True)
@@ -51,15 +51,15 @@ def flow_taylor(K, terms, z, s, out):
 
 
 @jit
-def crossing(K, terms, za, side, L, out):
-    """The one s in (0, L] where ``side * w = 1``, with f = side * w - 1 increasing over [0, L] and
+def crossing(K, terms, za, side, L, out, c):
+    """The one s in (0, L] where ``side * w = c``, with f = side * w - c increasing over [0, L] and
     f(0) < 0 <= f(L): Newton on the Taylor-series flow from za, kept inside the bracket (bisection
     where a Newton step leaves it); ``out`` is the state there (the caller puts w on the wall)."""
     a, b = 0.0, L
     s = 0.5 * L
     for _ in range(200):
         flow_taylor(K, terms, za, s, out)
-        f = side * out[2] - 1.0
+        f = side * out[2] - c
         if f == 0.0:
             return s
         if f > 0.0:
@@ -92,3 +92,34 @@ def saltation(S, phi, dp):
             phi[:, j] = col
         else:
             dp[:] = col
+
+
+@jit(inline=True)
+def apply(P, z, out):
+    """``out = P z`` (6 x 6)."""
+    for i in range(6):
+        acc = 0.0
+        for j in range(6):
+            acc += P[i, j] * z[j]
+        out[i] = acc
+
+
+@jit(inline=True)
+def carry(P, Q, za, phi, dp, tmp):
+    """The variations over an interval of propagator P from state za: ``phi <- A phi`` and
+    ``dp <- A dp + Q za`` (A the top-left 4 x 4 block of P; Q the parameter derivative of P)."""
+    for i in range(4):
+        for j in range(4):
+            acc = 0.0
+            for m in range(4):
+                acc += P[i, m] * phi[m, j]
+            tmp[i, j] = acc
+    for i in range(4):
+        acc = 0.0
+        for m in range(4):
+            acc += P[i, m] * dp[m]
+        for m in range(6):
+            acc += Q[i, m] * za[m]
+        tmp[i, 4] = acc
+    phi[:, :] = tmp[:, :4]
+    dp[:] = tmp[:, 4]

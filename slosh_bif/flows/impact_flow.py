@@ -24,7 +24,9 @@ holds the impact, and one whose end does not is a tangency within rounding, not 
 Impacts. ``w'+ = -kappa(|w'-|) w'-`` with kappa of (21), ``sqrt(1 - c v**q)``. A run stops with a
 status rather than going on without a model: ``"kappa-not-real"`` where (21) gives no real kappa,
 ``"sticking"`` where the post-impact speed falls below ``stick_speed`` (impacts then accumulate at a
-point in time, beyond which (8) without a sticking phase is not defined), ``"max-impacts"``.
+point in time, beyond which (8) without a sticking phase is not defined), ``"max-impacts"``. The
+corrected impact model (``law="measured"``) puts the smooth wall's kappa_wall(v) at a wall that
+stands at |w| = D(v) (:mod:`slosh_bif.flows.impact_band`).
 
 :func:`slosh_bif.simulation.vibro_impact.simulate_impact` is the entry point; its event loop on
 ``scipy.linalg.expm`` is the reference this flow is tested against.
@@ -37,54 +39,29 @@ import math
 import numpy as np
 
 from slosh_bif.flows.compiled import jit
-from slosh_bif.flows.impact_crossings import crossing, max_abs, may_reach, saltation
+from slosh_bif.flows.impact_band import LEFT, REACHED, TOO_FAST, band, law, law_arrays
+from slosh_bif.flows.impact_crossings import apply, carry, crossing, max_abs, may_reach, saltation
 from slosh_bif.flows.impact_propagators import (
     LINEAR_PARAMETERS,
     WALL_PARAMETERS,
     derivative_of_K,
     propagators,
 )
-from slosh_bif.model._generated.impact_kernels import impact_saltation_kernel
+from slosh_bif.model._generated.impact_kernels import impact_measured_kernel, impact_saltation_kernel
 from slosh_bif.model.equations import ImpactModel
 from slosh_bif.model.params import Params
 from slosh_bif.model.restitution import dissipation_at_unit_speed
+from slosh_bif.model.restitution.corrected import measured_wall
 
-__all__ = ["LEVELS", "LINEAR_PARAMETERS", "WALL_PARAMETERS", "ImpactFlow"]
+__all__ = ["IMPACT_LAWS", "LEVELS", "LINEAR_PARAMETERS", "WALL_PARAMETERS", "ImpactFlow"]
+
+IMPACT_LAWS = ("eq21", "measured")
 
 LEVELS = 48  # the finest interval is h 2**-48
 # Codes of the compiled run.
-_FINISHED, _STICKING, _KAPPA_NOT_REAL, _MAX_IMPACTS, _FULL = 0, 1, 2, 3, 4
+_FINISHED, _STICKING, _KAPPA_NOT_REAL, _MAX_IMPACTS, _FULL, _TOO_FAST = 0, 1, 2, 3, 4, 5
 _impact = jit(impact_saltation_kernel, inline=True)
-
-
-@jit(inline=True)
-def _apply(P, z, out):
-    for i in range(6):
-        acc = 0.0
-        for j in range(6):
-            acc += P[i, j] * z[j]
-        out[i] = acc
-
-
-@jit(inline=True)
-def _carry(P, Q, za, phi, dp, tmp):
-    """The variations over an interval of propagator P from state za: ``phi <- A phi`` and
-    ``dp <- A dp + Q za`` (A the top-left 4 x 4 block of P; Q the parameter derivative of P)."""
-    for i in range(4):
-        for j in range(4):
-            acc = 0.0
-            for m in range(4):
-                acc += P[i, m] * phi[m, j]
-            tmp[i, j] = acc
-    for i in range(4):
-        acc = 0.0
-        for m in range(4):
-            acc += P[i, m] * dp[m]
-        for m in range(6):
-            acc += Q[i, m] * za[m]
-        tmp[i, 4] = acc
-    phi[:, :] = tmp[:, :4]
-    dp[:] = tmp[:, 4]
+_measured = jit(impact_measured_kernel, inline=True)
 
 
 @jit
@@ -108,9 +85,11 @@ def _piece(
     tmp,
     za,
     zb,
+    c,
 ):
-    """Advance ``z`` over one dyadic piece of length ``lengths[k0]``, or to the first impact in it;
-    with ``jac``, carry the variations ``phi`` (d y / d y0) and ``dp`` (d y / d param) along.
+    """Advance ``z`` over one dyadic piece of length ``lengths[k0]``, or to the first crossing of
+    ``|w| = c`` in it (c = 1: an impact of (8)); with ``jac``, carry the variations ``phi``
+    (d y / d y0) and ``dp`` (d y / d param) along.
 
     Returns ``(side, s)``: side 0 and s the piece's length when it is free (``out`` is the end
     state), or the wall hit (+1/-1) and its offset s (``out`` is the state there, before the reset).
@@ -126,31 +105,31 @@ def _piece(
         s = stack_s[top]
         za[:] = stack_z[top]
         top -= 1
-        _apply(table[k], za, zb)
+        apply(table[k], za, zb)
         L = lengths[k]
-        B = row_norm * growth[k] * max_abs(za)
-        up = may_reach(za[2], za[3], zb[2], zb[3], L, B)
-        down = may_reach(-za[2], -za[3], -zb[2], -zb[3], L, B)
-        if not (up or down) or (k == LEVELS and abs(zb[2]) < 1.0):
+        B = row_norm * growth[k] * max_abs(za) / c
+        up = may_reach(za[2] / c, za[3] / c, zb[2] / c, zb[3] / c, L, B)
+        down = may_reach(-za[2] / c, -za[3] / c, -zb[2] / c, -zb[3] / c, L, B)
+        if not (up or down) or (k == LEVELS and abs(zb[2]) < c):
             out[:] = zb  # free, or a tangency within rounding
             reached = s + L
             if jac:
-                _carry(table[k], dtable[k], za, phi, dp, tmp)
+                carry(table[k], dtable[k], za, phi, dp, tmp)
             continue
         if k == LEVELS:
             out[:] = zb
             if jac:
-                _carry(table[k], dtable[k], za, phi, dp, tmp)
-            return (1 if zb[2] >= 1.0 else -1), s + L
+                carry(table[k], dtable[k], za, phi, dp, tmp)
+            return (1 if zb[2] >= c else -1), s + L
         if not jac and up != down:  # one wall only: a single crossing where f is certified monotone
             side = 1.0 if up else -1.0
-            if side * zb[2] >= 1.0 and side * za[3] - B * L > 0.0:
-                offset = crossing(K, taylor, za, side, L, out)
+            if side * zb[2] >= c and side * za[3] / c - B * L > 0.0:
+                offset = crossing(K, taylor, za, side, L, out, c)
                 return int(side), s + offset
         top += 1  # right half, then left half on top of it
         stack_k[top] = k + 1
         stack_s[top] = s + lengths[k + 1]
-        _apply(table[k + 1], za, stack_z[top])
+        apply(table[k + 1], za, stack_z[top])
         top += 1
         stack_k[top] = k + 1
         stack_s[top] = s
@@ -170,6 +149,8 @@ def _run(
     kappa_c,
     kappa_q,
     dc,
+    shape,
+    stacked,
     linear,
     y0,
     t0,
@@ -184,7 +165,11 @@ def _run(
 ):
     """Samples every h from t0 to t1 (t1 last) with the impacts among them; see :class:`ImpactFlow`.
     Stops with code _FULL when more than ``capacity`` impacts would be stored. With ``jac``,
-    ``phi`` (identity on entry) and ``dp`` (zero) end as d y(t1) / d y0 and d y(t1) / d param."""
+    ``phi`` (identity on entry) and ``dp`` (zero) end as d y(t1) / d y0 and d y(t1) / d param.
+    A non-empty ``stacked`` is the measured wall's law (:mod:`slosh_bif.flows.impact_band`; its
+    band's threshold ``shape[4]`` is the certified search's), else the wall is (21)'s at |w| = 1."""
+    measured = stacked.shape[0] > 0
+    c = shape[4] if measured else 1.0
     count = int(math.ceil((t1 - t0) / h - 1e-12))
     times = np.empty(count + 1 + capacity)
     states = np.empty((count + 1 + capacity, 4))
@@ -198,9 +183,8 @@ def _run(
     zb = np.empty(6)
     tmp = np.empty((4, 5))
     reset = np.empty(18)  # the saltation matrix (16), w'+ and its derivative in the loss
-    pars = np.empty(7)  # the kernel's: eps, beta, gamma, sigma, Abar, loss, q
-    pars[:5] = linear
-    pars[6] = kappa_q
+    pars = np.empty(9)  # (21)'s kernel: eps, beta, gamma, sigma, Abar, loss, q; the measured wall's:
+    pars[:5] = linear  # eps, beta, gamma, sigma, Abar, side, kappa, kappa', D'
     z[:4] = y0
     times[0] = t0
     states[0] = y0
@@ -209,72 +193,98 @@ def _run(
         ta = t0 + j * h
         tb = t1 if j == count - 1 else t0 + (j + 1) * h
         done = 0.0
+        in_band = measured and abs(z[2]) >= c
         while True:
             tau = ta + done
             z[4] = math.cos(tau)
             z[5] = math.sin(tau)
-            rest = (tb - tau) / h  # in steps; taken as its binary expansion
             side = 0
-            if not jac and rest >= 1.0 - 1e-9:  # a whole step certified free, without the search's set-up
-                _apply(table[0], z, zn)
-                B = row_norm * growth[0] * max_abs(z)
-                if not (
-                    may_reach(z[2], z[3], zn[2], zn[3], h, B) or may_reach(-z[2], -z[3], -zn[2], -zn[3], h, B)
-                ):
-                    z[:] = zn
-                    break
-            for k in range(LEVELS + 1):
-                unit = lengths[k] / h
-                if rest < unit * (1.0 - 1e-9):
-                    if rest < lengths[LEVELS] / h:
-                        break
-                    continue
-                side, s = _piece(
-                    table,
-                    dtable,
-                    K,
-                    taylor,
-                    lengths,
-                    growth,
-                    row_norm,
-                    z,
-                    k,
-                    zn,
-                    stack_z,
-                    stack_k,
-                    stack_s,
-                    jac,
-                    phi,
-                    dp,
-                    tmp,
-                    za,
-                    zb,
+            if in_band:
+                code, s = band(
+                    table, dtable, K, taylor, lengths, shape, stacked, z, tb - tau, jac, phi, dp, tmp, za, zb
                 )
-                z[:] = zn
-                if side != 0:
-                    done += s
-                    break
-                rest -= unit
                 done += s
-            if side == 0:
-                break
+                in_band = False
+                if code == REACHED:
+                    break
+                if code == LEFT:
+                    continue
+                if code == TOO_FAST:
+                    return times, states, impacts, rows, hits, _TOO_FAST
+                side = 1 if z[2] >= 0.0 else -1
+            else:
+                rest = (tb - tau) / h  # in steps; taken as its binary expansion
+                if not jac and rest >= 1.0 - 1e-9:  # a whole step certified free, without the search's set-up
+                    apply(table[0], z, zn)
+                    B = row_norm * growth[0] * max_abs(z) / c
+                    if not (
+                        may_reach(z[2] / c, z[3] / c, zn[2] / c, zn[3] / c, h, B)
+                        or may_reach(-z[2] / c, -z[3] / c, -zn[2] / c, -zn[3] / c, h, B)
+                    ):
+                        z[:] = zn
+                        break
+                for k in range(LEVELS + 1):
+                    unit = lengths[k] / h
+                    if rest < unit * (1.0 - 1e-9):
+                        if rest < lengths[LEVELS] / h:
+                            break
+                        continue
+                    side, s = _piece(
+                        table,
+                        dtable,
+                        K,
+                        taylor,
+                        lengths,
+                        growth,
+                        row_norm,
+                        z,
+                        k,
+                        zn,
+                        stack_z,
+                        stack_k,
+                        stack_s,
+                        jac,
+                        phi,
+                        dp,
+                        tmp,
+                        za,
+                        zb,
+                        c,
+                    )
+                    z[:] = zn
+                    if side != 0:
+                        done += s
+                        break
+                    rest -= unit
+                    done += s
+                if side == 0:
+                    break
+                if measured:  # |w| reached the band: the wall itself is found there
+                    in_band = True
+                    continue
             if hits >= capacity:
                 return times, states, impacts, rows, hits, _FULL
             v_minus = z[3]
             speed = abs(v_minus)
-            if speed > 0.0:
-                loss = kappa_c * speed**kappa_q
-            else:  # the limit of (21) at zero speed
-                loss = kappa_c if kappa_q == 0.0 else (0.0 if kappa_q > 0.0 else math.inf)
             impacts[hits, 0] = ta + done
             impacts[hits, 1] = side
             impacts[hits, 2] = v_minus
-            if loss > 1.0:
-                impacts[hits, 3] = math.nan
-                return times, states, impacts, rows, hits + 1, _KAPPA_NOT_REAL
-            pars[5] = loss
-            _impact(ta + done, z, reset, pars)
-            z[2] = side  # exactly on the wall, so the next flight starts inside
+            if measured:
+                kappa, dkappa, _, dclear = law(shape, stacked, speed)
+                pars[5], pars[6], pars[7], pars[8] = side, kappa, dkappa, dclear
+                _measured(ta + done, z, reset, pars)
+                in_band = True  # the particle leaves the wall through the band
+            else:
+                if speed > 0.0:
+                    loss = kappa_c * speed**kappa_q
+                else:  # the limit of (21) at zero speed
+                    loss = kappa_c if kappa_q == 0.0 else (0.0 if kappa_q > 0.0 else math.inf)
+                if loss > 1.0:
+                    impacts[hits, 3] = math.nan
+                    return times, states, impacts, rows, hits + 1, _KAPPA_NOT_REAL
+                pars[5], pars[6] = loss, kappa_q
+                _impact(ta + done, z, reset, pars)
+                z[2] = side  # exactly on the wall, so the next flight starts inside
             z[3] = reset[16]
             impacts[hits, 3] = z[3]
             if jac:
@@ -303,15 +313,21 @@ class ImpactFlow:
     impacts' saltation matrices) and its derivative with respect to ``param``: one of the
     parameters in the linear part of (8) (eps, beta, gamma, sigma, Abar), through the flights'
     propagators, or of the wall's (lam, chi), through the restitution law at each impact.
+
+    ``law``: ``"eq21"``, (8) as the paper states it (kappa of (21), the wall at |w| = 1), or
+    ``"measured"``, the corrected impact model (the smooth wall's own kappa_wall(v) and clearance
+    D(v): :mod:`slosh_bif.flows.impact_band`), whose wall parameters enter through a measured
+    law (no derivatives in lam, chi).
     """
 
-    def __init__(self, params: Params, step: float = 0.05, param: str | None = None):
+    def __init__(self, params: Params, step: float = 0.05, param: str | None = None, law: str = "eq21"):
         if not (np.isfinite(step) and 0 < step <= 0.5):
             raise ValueError(f"sample_step must be in (0, 0.5]; got {step!r}")
-        if param is not None and param not in LINEAR_PARAMETERS + WALL_PARAMETERS:
-            raise ValueError(
-                f"param must be one of {', '.join(LINEAR_PARAMETERS + WALL_PARAMETERS)}; got {param!r}"
-            )
+        if law not in IMPACT_LAWS:
+            raise ValueError(f"law must be one of {', '.join(IMPACT_LAWS)}; got {law!r}")
+        allowed = LINEAR_PARAMETERS + (WALL_PARAMETERS if law == "eq21" else ())
+        if param is not None and param not in allowed:
+            raise ValueError(f"param must be one of {', '.join(allowed)} with law {law!r}; got {param!r}")
         K = ImpactModel(params).augmented()
         self.K = K
         self.step = float(step)
@@ -331,6 +347,12 @@ class ImpactFlow:
             self.taylor += 1
             term *= size / self.taylor
         P = params
+        self.law = law
+        if law == "measured":
+            self.wall = measured_wall(P.lam, P.chi, P.n, P.pbar)
+            self.shape, self.stacked = law_arrays(self.wall)
+        else:
+            self.wall, self.shape, self.stacked = None, np.zeros(5), np.zeros((0, 4))
         self.linear = np.array([P.eps, P.beta, P.gamma, P.sigma, P.Abar])
         self.kappa_c = float(dissipation_at_unit_speed(P.lam, P.chi, P.n, P.pbar))
         self.kappa_q = P.pbar / (P.n + 1)
@@ -357,6 +379,8 @@ class ImpactFlow:
                 self.kappa_c,
                 self.kappa_q,
                 self.dc,
+                self.shape,
+                self.stacked,
                 self.linear,
                 np.asarray(y0, dtype=float),
                 float(t0),
@@ -376,7 +400,8 @@ class ImpactFlow:
     def run(self, y0, t0: float, t1: float, *, stick_speed: float, max_impacts: int):
         """``(t, y, impacts, code)``: sample times (with the impact instants), states ``(4, N)``
         (post-impact at an impact), impacts ``(K, 4)`` rows ``t, side, w'-, w'+`` and the end code
-        (0 finished, 1 sticking, 2 kappa not real, 3 ``max_impacts`` reached)."""
+        (0 finished, 1 sticking, 2 kappa not real, 3 ``max_impacts`` reached, 5 an impact faster
+        than the measured law's speeds)."""
         count = int(math.ceil((t1 - t0) / self.step - 1e-12))
         return self._call(y0, t0, t1, stick_speed, max_impacts, min(max_impacts, 2 * count + 64), False)[:4]
 

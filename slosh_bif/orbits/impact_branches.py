@@ -110,11 +110,11 @@ def quiet_section(problem: ImpactOrbitProblem, x, p):
     return float(middle % (2 * np.pi)), state
 
 
-def settled_orbit(params: Params, state0, *, periods: int, tries: int = 4):
+def settled_orbit(params: Params, state0, *, periods: int, tries: int = 4, law: str = "eq21"):
     """A periodic orbit of (8) (its state at tau = 0) that a simulation from ``state0`` settles on:
     Newton on the map from the strobe after ``periods`` forcing periods, then after twice as many
     more, ... (``tries`` times: the early motion can be chaotic for a long time)."""
-    problem = ImpactOrbitProblem(params)
+    problem = ImpactOrbitProblem(params, law=law)
     flow = problem.flow_at(params.sigma)
     x, done = np.asarray(state0, dtype=float), 0
     for k in range(tries):
@@ -150,16 +150,9 @@ def _seen(starts, phase, p, x) -> bool:
     return False
 
 
-def _problem(params, param, symmetric, phase, x, p, multiple=1):
-    probe = ImpactOrbitProblem(params, param, symmetric=symmetric, phase=phase, period_multiple=multiple)
-    return ImpactOrbitProblem(
-        params,
-        param,
-        symmetric=symmetric,
-        phase=phase,
-        period_multiple=multiple,
-        impacts=len(probe.evaluate(x, p).impacts),
-    )
+def _problem(first: ImpactOrbitProblem, phase, x, p):
+    probe = first.replace(phase=phase, impacts=None)
+    return probe.replace(impacts=len(probe.evaluate(x, p).impacts))
 
 
 def _far_end(branch: Branch, p0: float, x0):
@@ -181,15 +174,17 @@ def trace_impact_orbits(
     symmetric: bool = False,
     period_multiple: int = 1,
     max_pieces: int = 40,
+    law: str = "eq21",
 ) -> ImpactBranch:
     """Continue the orbit of (8) through ``x0`` (its state at tau = 0, a fixed point of the map
     over ``period_multiple`` forcing periods at the value of ``param`` in ``params``) in both
-    directions between ``p_min`` and ``p_max``."""
+    directions between ``p_min`` and ``p_max``; ``law`` the impact law
+    (:class:`~slosh_bif.orbits.impact_orbits.ImpactOrbitProblem`)."""
     opts = dataclasses.replace(
         options or ContinuationOptions(step=0.05, step_max=0.3, tol=1e-10), p_min=p_min, p_max=p_max
     )
     p0 = float(getattr(params, param))
-    first = ImpactOrbitProblem(params, param, symmetric=symmetric, period_multiple=period_multiple)
+    first = ImpactOrbitProblem(params, param, symmetric=symmetric, period_multiple=period_multiple, law=law)
     run = newton_solve(first, x0, p0, tol=1e-12)
     if not run.converged:
         raise ConvergenceError(f"no periodic orbit of (8) near x0 at {param} = {p0}: {run.message}")
@@ -197,7 +192,7 @@ def trace_impact_orbits(
     for direction in ("forward", "backward"):
         phase, x = quiet_section(first, run.x, p0)
         p, sign = p0, 1.0 if direction == "forward" else -1.0
-        problem = _problem(params, param, symmetric, phase, x, p, period_multiple)
+        problem = _problem(first, phase, x, p)
         while True:
             if len(pieces) >= max_pieces:
                 ends.append(BranchEnd(direction, PIECES, f"stopped after {max_pieces} pieces"))
@@ -233,10 +228,10 @@ def trace_impact_orbits(
                     )
                     break
                 starts.append((phase, p, x))
-                problem = _problem(params, param, symmetric, phase, x, p, period_multiple)
+                problem = _problem(first, phase, x, p)
                 continue
             grazing.append((p_end, x_end, problem.phase))
-            beyond = _cross_grazing(params, param, symmetric, problem, x_end, p_end, sign, opts)
+            beyond = _cross_grazing(problem, x_end, p_end, sign, opts)
             if beyond is None:
                 ends.append(
                     BranchEnd(
@@ -252,7 +247,7 @@ def trace_impact_orbits(
     return ImpactBranch(param, tuple(pieces), tuple(grazing), tuple(ends), complete)
 
 
-def _cross_grazing(params, param, symmetric, problem, x, p, sign, opts):
+def _cross_grazing(problem, x, p, sign, opts):
     """(problem, x, p) of the orbit just beyond a grazing point, on a problem holding its own
     impact count, or None. The map is not smooth at grazing (the new impact's saltation grows as
     1 / its speed), and Newton from the grazing orbit lands on the old side; the map's own iterates
@@ -262,9 +257,7 @@ def _cross_grazing(params, param, symmetric, problem, x, p, sign, opts):
         q = p + sign * step
         if not opts.p_min <= q <= opts.p_max:
             return None
-        probe = ImpactOrbitProblem(
-            params, param, symmetric=symmetric, phase=problem.phase, period_multiple=problem.period_multiple
-        )
+        probe = problem.replace(impacts=None)
         guess = np.asarray(x, dtype=float)
         for _ in range(CROSSING_ITERATES):
             m = probe.evaluate(guess, q)
@@ -285,16 +278,5 @@ def _cross_grazing(params, param, symmetric, problem, x, p, sign, opts):
         ):
             count = len(probe.evaluate(run.x, q).impacts)
             if count != problem.impacts:
-                return (
-                    ImpactOrbitProblem(
-                        params,
-                        param,
-                        symmetric=symmetric,
-                        phase=problem.phase,
-                        period_multiple=problem.period_multiple,
-                        impacts=count,
-                    ),
-                    run.x,
-                    q,
-                )
+                return problem.replace(impacts=count), run.x, q
     return None

@@ -24,7 +24,8 @@ from collections import OrderedDict
 import numpy as np
 from scipy import linalg, optimize
 
-from slosh_bif.flows.impact_flow import LINEAR_PARAMETERS, WALL_PARAMETERS, ImpactFlow
+from slosh_bif.flows.impact_band import inside_measured_wall
+from slosh_bif.flows.impact_flow import IMPACT_LAWS, LINEAR_PARAMETERS, WALL_PARAMETERS, ImpactFlow
 from slosh_bif.model.params import Params
 from slosh_bif.orbits.multipliers import (
     TEST_FLOOR,
@@ -41,6 +42,7 @@ _CODES = {
     1: "the particle sticks to the wall (impacts accumulate)",
     2: "kappa (eq. 21) is not real at an impact speed reached",
     3: "more than 10,000 impacts a period",
+    5: "an impact faster than the measured wall law's speeds",
 }
 
 
@@ -89,13 +91,17 @@ class ImpactOrbitProblem:
         box: tuple | None = None,
         phase: float = 0.0,
         impacts: int | None = None,
+        law: str = "eq21",
     ):
         if not isinstance(params, Params):
             raise TypeError(f"params must be a slosh_bif.Params; got {type(params).__name__}")
-        if param not in LINEAR_PARAMETERS + WALL_PARAMETERS:
+        if law not in IMPACT_LAWS:
+            raise ValueError(f"law must be one of {', '.join(IMPACT_LAWS)}; got {law!r}")
+        allowed = LINEAR_PARAMETERS + (WALL_PARAMETERS if law == "eq21" else ())
+        if param not in allowed:
             raise ValueError(
-                f"param must be one of {', '.join(LINEAR_PARAMETERS + WALL_PARAMETERS)} for orbits "
-                f"of (8) (n and pbar are integers); got {param!r}"
+                f"param must be one of {', '.join(allowed)} for orbits of (8) with law {law!r} (n and "
+                f"pbar are integers; the measured wall has no derivatives in its parameters); got {param!r}"
             )
         if not (isinstance(period_multiple, int) and 1 <= period_multiple <= 8):
             raise ValueError(f"period_multiple must be an integer in [1, 8]; got {period_multiple!r}")
@@ -111,11 +117,27 @@ class ImpactOrbitProblem:
         self.test_kinds = ("BP", "NS") if symmetric else ("PD", "NS")
         self.test_floor = TEST_FLOOR
         self.phase, self.impacts = float(phase), impacts
+        self.law = law
         self.edge_name = GRAZING
         self.state_bound = 1e3 * (1.0 + params.Abar)
         self.evaluations = 0
         self._flows: OrderedDict = OrderedDict()
         self._maps: OrderedDict = OrderedDict()
+
+    def replace(self, **changes) -> ImpactOrbitProblem:
+        """The same problem (parameters, continued parameter, law) with ``changes`` to the keyword
+        arguments (symmetric, period_multiple, box, phase, impacts, params, param)."""
+        kept = dict(
+            params=self.params,
+            param=self.param,
+            symmetric=self.symmetric,
+            period_multiple=self.period_multiple,
+            box=self.box,
+            phase=self.phase,
+            impacts=self.impacts,
+            law=self.law,
+        )
+        return ImpactOrbitProblem(**{**kept, **changes})
 
     def params_at(self, p: float) -> Params:
         return self.params.replace(**{self.param: float(p)})
@@ -123,7 +145,7 @@ class ImpactOrbitProblem:
     def flow_at(self, p: float) -> ImpactFlow:
         key = float(p)
         if key not in self._flows:
-            self._flows[key] = ImpactFlow(self.params_at(p), param=self.param)
+            self._flows[key] = ImpactFlow(self.params_at(p), param=self.param, law=self.law)
             if len(self._flows) > _KEEP:
                 self._flows.popitem(last=False)
         return self._flows[key]
@@ -148,7 +170,9 @@ class ImpactOrbitProblem:
         if self.box is not None and not self.box[0] <= p <= self.box[1]:
             return False
         x = np.asarray(x, dtype=float)
-        if not (np.all(np.isfinite(x)) and abs(x[2]) <= 1.0 and np.abs(x).max() < self.state_bound):
+        if not (np.all(np.isfinite(x)) and np.abs(x).max() < self.state_bound):
+            return False
+        if self.wall_distance(x, p) < 0.0:
             return False
         try:
             self.params_at(p).require_positive_stiffness()
@@ -195,13 +219,13 @@ class ImpactOrbitProblem:
 
     def edge_distance(self, x, p) -> float:
         """How near (x, p) is to an edge: the smaller of the grazing gap and 1 - |w| on the section."""
-        return min(self.grazing(x, p).gap, 1.0 - abs(float(x[2])))
+        return min(self.grazing(x, p).gap, self.wall_distance(x, p))
 
     def edge_point(self, x, p):
         """The grazing point nearest (x, p), located: Newton on [map(x) - x, gap] in (x, p), the gap
         signed (negative at an impact); None at an impact on the section, whose exact place is of no
         interest (the section moves there). ``edge_name`` says which edge it is."""
-        on_section = 1.0 - abs(float(x[2])) < self.grazing(x, p).gap
+        on_section = self.wall_distance(x, p) < self.grazing(x, p).gap
         self.edge_name = SECTION if on_section else GRAZING
         if on_section:
             return None
@@ -241,7 +265,7 @@ class ImpactOrbitProblem:
     def orbit(self, x, p, *, step: float = 0.01):
         """(t, y, impacts) of the orbit through x over the map's time, sampled every ``step`` and
         at the impacts (post-impact states), impacts rows t, side, w'-, w'+."""
-        t, y, impacts, _ = ImpactFlow(self.params_at(p), step).run(
+        t, y, impacts, _ = ImpactFlow(self.params_at(p), step, law=self.law).run(
             np.asarray(x, dtype=float),
             self.phase,
             self.phase + self.period,
@@ -250,10 +274,17 @@ class ImpactOrbitProblem:
         )
         return t, y, impacts
 
+    def wall_distance(self, x, p) -> float:
+        """How far the particle at x is inside the wall: ``1 - |w|``, or for the measured wall
+        ``D(v) - |w|`` with v its speed towards the wall (clamped to the law's speeds)."""
+        wall = self.flow_at(p).wall
+        return 1.0 - abs(float(x[2])) if wall is None else inside_measured_wall(wall, x)
+
     def grazing(self, x, p) -> GrazingGap:
-        """The orbit's nearest approach to grazing: ``1 - |w|`` at a turning point of a flight short
-        of the wall, or the depth ``v**2 / (2 a)`` that an impact of speed v against an acceleration
-        a away from the wall would have reached beyond it."""
+        """The orbit's nearest approach to grazing: ``1 - |w|`` (for the measured wall ``D(v_min) -
+        |w|``) at a turning point of a flight short of the wall, or the depth ``v**2 / (2 a)`` that
+        an impact of speed v against an acceleration a away from the wall would have reached beyond
+        it."""
         flow = self.flow_at(p)
         t, y, impacts, _ = flow.run(
             np.asarray(x, dtype=float),
@@ -266,16 +297,19 @@ class ImpactOrbitProblem:
         K = flow.K
         for tk, side, v_minus, _ in impacts:
             i = int(np.searchsorted(t, tk))
-            z = np.array([y[0, i], y[1, i], side, v_minus, np.cos(tk), np.sin(tk)])
+            z = np.array([y[0, i], y[1, i], y[2, i], v_minus, np.cos(tk), np.sin(tk)])
             away = -side * (K[3] @ z)  # acceleration away from the wall just before the impact
             if away > 0 and v_minus**2 / (2 * away) < best.gap:
                 best = GrazingGap(v_minus**2 / (2 * away), float(tk), "impact", len(impacts))
         wd = y[3]
-        turns = np.flatnonzero((wd[:-1] * wd[1:] < 0) & (y[2, :-1] * wd[:-1] > 0) & (np.abs(y[2, 1:]) < 1))
+        level = 1.0 if flow.wall is None else float(flow.wall.clearance(flow.wall.v_min))
+        turns = np.flatnonzero(
+            (wd[:-1] * wd[1:] < 0) & (y[2, :-1] * wd[:-1] > 0) & (np.abs(y[2, 1:]) < level)
+        )
         for i in turns:
             s, w = _turning_point(K, t[i], y[:, i], t[i + 1] - t[i])
-            if 1 - abs(w) < best.gap:
-                best = GrazingGap(1 - abs(w), float(t[i] + s), "flight", len(impacts))
+            if level - abs(w) < best.gap:
+                best = GrazingGap(level - abs(w), float(t[i] + s), "flight", len(impacts))
         return best
 
 

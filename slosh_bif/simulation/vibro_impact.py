@@ -24,7 +24,8 @@ import functools
 import numpy as np
 from scipy import linalg, optimize
 
-from slosh_bif.flows.impact_flow import ImpactFlow
+from slosh_bif.flows.impact_band import inside_measured_wall
+from slosh_bif.flows.impact_flow import IMPACT_LAWS, ImpactFlow
 from slosh_bif.flows.integrator import resolve_backend
 from slosh_bif.model.equations import ImpactModel
 from slosh_bif.model.params import Params
@@ -36,6 +37,7 @@ FINISHED = "finished"
 STICKING = "sticking"  # post-impact speed too small to leave the wall: the impact model has a Zeno point
 KAPPA_NOT_REAL = "kappa-not-real"  # eq. (21) gives no real kappa at this impact speed
 MAX_IMPACTS = "max-impacts"
+BEYOND_LAW = "beyond-measured-speeds"  # an impact faster than the measured wall law's range
 
 
 @dataclasses.dataclass(frozen=True)
@@ -112,6 +114,7 @@ def simulate_impact(
     max_impacts: int = 1_000_000,
     stick_speed: float = 1e-9,
     backend: str = "auto",
+    law: str = "eq21",
 ) -> ImpactTrajectory:
     """Simulate the vibro-impact model (8) from ``state0`` over ``t_span = (t0, t1)``.
 
@@ -129,12 +132,16 @@ def simulate_impact(
         A post-impact speed below this ends the run (status ``"sticking"``): impacts would
         accumulate at a point in time (a Zeno point), beyond which (8) is not defined.
     backend : ``"auto"``/``"numba"`` the compiled flow, ``"scipy"`` the expm event loop.
+    law : ``"eq21"`` (8) as stated, or ``"measured"``: the corrected impact model, the smooth wall's
+        own restitution at its clearance |w| = D(v) (compiled flow only).
     """
     model = ImpactModel(params)
     y0 = np.asarray(state0, dtype=float)
     if y0.shape != (4,) or not np.all(np.isfinite(y0)):
         raise ValueError(f"state0 must be 4 finite numbers [X, X', w, w']; got {state0!r}")
-    if abs(y0[2]) > 1.0:
+    if law not in IMPACT_LAWS:
+        raise ValueError(f"law must be one of {', '.join(IMPACT_LAWS)}; got {law!r}")
+    if law == "eq21" and abs(y0[2]) > 1.0:
         raise ValueError(f"state0 must start between the walls, |w| <= 1; got w = {float(y0[2])!r}")
     t0, t1 = (float(t) for t in t_span)
     if not (np.isfinite(t0) and np.isfinite(t1) and t1 > t0):
@@ -144,8 +151,18 @@ def simulate_impact(
 
     if not (isinstance(max_impacts, (int, np.integer)) and max_impacts >= 1):
         raise ValueError(f"max_impacts must be a positive integer; got {max_impacts!r}")
+    if law == "measured":
+        if resolve_backend(backend) != "numba":
+            raise ValueError("the measured impact law runs on the compiled flow only (backend 'numba')")
+        flow = _compiled_flow(params, float(sample_step), law)
+        inside = inside_measured_wall(flow.wall, y0)
+        if inside < 0:
+            raise ValueError(
+                f"state0 must start inside the measured wall, |w| < D(v) = {abs(y0[2]) + inside:.6g}; "
+                f"got w = {float(y0[2])!r}"
+            )
     if resolve_backend(backend) == "numba":
-        t, y, hits, code = _compiled_flow(params, float(sample_step)).run(
+        t, y, hits, code = _compiled_flow(params, float(sample_step), law).run(
             y0, t0, t1, stick_speed=stick_speed, max_impacts=int(max_impacts)
         )
         return _trajectory(t, y, hits, code, t1, stick_speed, max_impacts)
@@ -206,9 +223,9 @@ def simulate_impact(
 
 
 @functools.lru_cache(maxsize=8)
-def _compiled_flow(params: Params, step: float) -> ImpactFlow:
+def _compiled_flow(params: Params, step: float, law: str = "eq21") -> ImpactFlow:
     """The propagator table of a parameter set, kept for the pieces of one long run."""
-    return ImpactFlow(params, step)
+    return ImpactFlow(params, step, law=law)
 
 
 def _trajectory(t, y, hits, code, t1, stick_speed, max_impacts) -> ImpactTrajectory:
@@ -227,6 +244,11 @@ def _trajectory(t, y, hits, code, t1, stick_speed, max_impacts) -> ImpactTraject
             f"at tau = {hits[-1, 0]:.10g}: kappa (eq. 21) is not real at impact speed {abs(hits[-1, 2]):.6g}"
         )
         hits = hits[:-1]
+    elif code == 5:
+        status, message = (
+            BEYOND_LAW,
+            f"an impact after tau = {t[-1]:.10g} is faster than the measured law's speeds",
+        )
     else:
         status, message = (
             MAX_IMPACTS,
