@@ -158,7 +158,7 @@ def _shoot(args) -> int:
         lo, hi = abar_range(args, default=(0.0, 2 * params.Abar))
     else:
         lo, hi = sigma_range(args)
-    if args.model == "impact":
+    if args.model != "smooth":
         return _shoot_impact(args, params, lo, hi)
     args.out.mkdir(parents=True, exist_ok=True)
     family = family_from_args(args, params, lo, hi, param=args.parameter)
@@ -200,6 +200,8 @@ def _shoot_impact(args, params, lo, hi) -> int:
             f"--start {args.start} is for the smooth model (9); --model impact starts from a "
             "simulation of (8) or from --guess"
         )
+    law = "measured" if args.model == "impact-corrected" else "eq21"
+    model_name = "(8) with the measured wall" if law == "measured" else "(8)"
     check_family_options(args)
     p0 = getattr(params, args.parameter)
     if not lo <= p0 <= hi:
@@ -213,11 +215,18 @@ def _shoot_impact(args, params, lo, hi) -> int:
     x0 = (
         args.guess
         if args.guess is not None
-        else settled_orbit(params, state0_of(args, params), periods=args.settle)
+        else settled_orbit(params, state0_of(args, params), periods=args.settle, law=law)
     )
     branching = BranchingSettings(switch=not args.no_switch, max_branches=args.max_branches)
     family = impact_family(
-        params, x0, param=args.parameter, p_range=(lo, hi), branching=branching, options=options, say=progress
+        params,
+        x0,
+        param=args.parameter,
+        p_range=(lo, hi),
+        branching=branching,
+        options=options,
+        say=progress,
+        law=law,
     )
     branches = [(nb.name, nb.branch, nb.symmetric) for nb in family]
     rows = [
@@ -238,7 +247,7 @@ def _shoot_impact(args, params, lo, hi) -> int:
             or "no special points"
         )
         print(
-            f"orbits of (8), {name}: {len(part)} points in {len(branch.pieces)} pieces over "
+            f"orbits of {model_name}, {name}: {len(part)} points in {len(branch.pieces)} pieces over "
             f"{args.parameter} in [{min(r[args.parameter] for r in part):.6g}, "
             f"{max(r[args.parameter] for r in part):.6g}], impacts per period "
             f"{sorted({r['impacts'] for r in part})}; {counts}"
@@ -350,12 +359,12 @@ def add_commands(sub) -> None:
     )
     shoot.add_argument(
         "--model",
-        choices=("smooth", "impact"),
+        choices=("smooth", "impact", "impact-corrected"),
         default="smooth",
         help="smooth: orbits of (9) by multiple shooting (default); impact: orbits of the vibro-impact "
-        "model (8) on its exact flow, "
-        "with saltation multipliers and grazing (GR); from --start simulation or --guess, no "
-        "branch switching",
+        "model (8) on its exact flow, with saltation multipliers and grazing (GR), from --start "
+        "simulation or --guess; impact-corrected: the same with the smooth wall's own restitution "
+        "at its clearance |w| = D(v) (the corrected impact model)",
     )
     add_abar_range_options(shoot)
     add_shooting_options(shoot)

@@ -171,9 +171,10 @@ def add_commands(sub) -> None:
     add_params_options(sim)
     sim.add_argument(
         "--model",
-        choices=("smooth", "impact"),
+        choices=("smooth", "impact", "impact-corrected"),
         default="smooth",
-        help="(9) with the wall potential, or (8) with impacts (default smooth)",
+        help="(9) with the wall potential, (8) with impacts, or the corrected impact model (the "
+        "smooth wall's own restitution at its clearance |w| = D(v)) (default smooth)",
     )
     sim.add_argument(
         "--tmax",

@@ -82,6 +82,7 @@ class ImpactBranch:
     grazing: tuple
     ends: tuple
     complete: bool
+    law: str = "eq21"  # the impact law of its orbits (ImpactOrbitProblem)
 
     def special(self, kind: str):
         """(p, message) of every special point of one kind over all pieces (ends excluded)."""
@@ -244,7 +245,7 @@ def trace_impact_orbits(
                 break
             problem, x, p = beyond
     complete = all(e.reason in (Status.BOUND.value, Status.LOOP.value) for e in ends)
-    return ImpactBranch(param, tuple(pieces), tuple(grazing), tuple(ends), complete)
+    return ImpactBranch(param, tuple(pieces), tuple(grazing), tuple(ends), complete, law)
 
 
 def _cross_grazing(problem, x, p, sign, opts):

@@ -303,8 +303,9 @@ class ImpactOrbitProblem:
                 best = GrazingGap(v_minus**2 / (2 * away), float(tk), "impact", len(impacts))
         wd = y[3]
         level = 1.0 if flow.wall is None else float(flow.wall.clearance(flow.wall.v_min))
+        reset = np.isin(t[1:], impacts[:, 0])  # the interval ends at an impact: w' jumps there
         turns = np.flatnonzero(
-            (wd[:-1] * wd[1:] < 0) & (y[2, :-1] * wd[:-1] > 0) & (np.abs(y[2, 1:]) < level)
+            (wd[:-1] * wd[1:] < 0) & (y[2, :-1] * wd[:-1] > 0) & (np.abs(y[2, 1:]) < level) & ~reset
         )
         for i in turns:
             s, w = _turning_point(K, t[i], y[:, i], t[i + 1] - t[i])

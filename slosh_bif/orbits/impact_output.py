@@ -72,7 +72,12 @@ def impact_rows(result: ImpactBranch, params, symmetric: bool = False, name: str
         b = piece.branch
         labels = _labels(b)
         problem = ImpactOrbitProblem(
-            params, b.param, symmetric=symmetric, phase=piece.phase, period_multiple=piece.period_multiple
+            params,
+            b.param,
+            symmetric=symmetric,
+            phase=piece.phase,
+            period_multiple=piece.period_multiple,
+            law=result.law,
         )
         for i in range(len(b)):
             at = params.replace(**{b.param: float(b.p[i])})

@@ -43,9 +43,9 @@ SWITCH_OPTIONS = ContinuationOptions(
 )
 
 
-def is_symmetric(params: Params, x, tol: float = 1e-8) -> bool:
+def is_symmetric(params: Params, x, tol: float = 1e-8, law: str = "eq21") -> bool:
     """Whether the orbit through x (its state at tau = 0) is symmetric: G(x) = x on the half-period map."""
-    half = ImpactOrbitProblem(params, "sigma", symmetric=True)
+    half = ImpactOrbitProblem(params, "sigma", symmetric=True, law=law)
     return bool(
         np.linalg.norm(half.residual(np.asarray(x, dtype=float), params.sigma))
         <= tol * (1 + np.linalg.norm(x))
@@ -74,12 +74,18 @@ def asymmetric_branches(
                 continue
             if any(_passes_through(branch, sp.p) for branch in [b for _, b in found] + list(known)):
                 continue
-            start = _switched_start(params, param, piece.phase, sp, p_min, p_max)
+            start = _switched_start(params, param, piece.phase, sp, p_min, p_max, law=symmetric.law)
             if start is None:
                 continue
             x0, p = start
             branch = trace_impact_orbits(
-                params.replace(**{param: p}), x0, param=param, p_min=p_min, p_max=p_max, options=options
+                params.replace(**{param: p}),
+                x0,
+                param=param,
+                p_min=p_min,
+                p_max=p_max,
+                options=options,
+                law=symmetric.law,
             )
             found.append((f"BP at {param} = {sp.p:.6g} on the symmetric branch", branch))
     return found
@@ -103,17 +109,18 @@ def symmetric_branch(
         for sp in piece.branch.special:
             if sp.kind != BRANCH_POINT or not sp.located:
                 continue
-            start = _switched_start(params, param, piece.phase, sp, p_min, p_max)
+            law = asymmetric.law
+            start = _switched_start(params, param, piece.phase, sp, p_min, p_max, law=law)
             if start is None:
                 continue
             x0, p = start
             at = params.replace(**{param: p})
-            half = ImpactOrbitProblem(at, param, symmetric=True)
+            half = ImpactOrbitProblem(at, param, symmetric=True, law=law)
             run = newton_solve(half, x0, p, tol=1e-12)
-            if not (run.converged and is_symmetric(at, run.x)):
+            if not (run.converged and is_symmetric(at, run.x, law=law)):
                 continue
             branch = trace_impact_orbits(
-                at, run.x, param=param, p_min=p_min, p_max=p_max, options=options, symmetric=True
+                at, run.x, param=param, p_min=p_min, p_max=p_max, options=options, symmetric=True, law=law
             )
             return f"BP at {param} = {sp.p:.6g} on the asymmetric branch", branch
     return None
@@ -139,7 +146,7 @@ def doubled_branches(
                 continue
             if any(_passes_through(branch, sp.p, (BRANCH_POINT, FOLD)) for _, branch in found):
                 continue
-            start = _doubled_start(params, param, piece, sp, p_min, p_max)
+            start = _doubled_start(params, param, piece, sp, p_min, p_max, parent.law)
             if start is None:
                 continue
             x0, p = start
@@ -151,35 +158,32 @@ def doubled_branches(
                 p_max=p_max,
                 options=options,
                 period_multiple=2 * piece.period_multiple,
+                law=parent.law,
             )
             found.append((f"PD at {param} = {sp.p:.6g}", branch))
     return found
 
 
-def _doubled_start(params, param, piece, sp, p_min, p_max):
+def _doubled_start(params, param, piece, sp, p_min, p_max, law):
     """(state at tau = 0, p) of a point of the doubled branch a few short steps from the period
     doubling ``sp`` of ``piece``, or None when switching finds no new branch (or only the parent's
     orbits, which are fixed points of the doubled map too)."""
-    start = _switched_start(params, param, piece.phase, sp, p_min, p_max, multiple=2 * piece.period_multiple)
+    start = _switched_start(
+        params, param, piece.phase, sp, p_min, p_max, multiple=2 * piece.period_multiple, law=law
+    )
     if start is None:
         return None
-    single = ImpactOrbitProblem(params, param, period_multiple=piece.period_multiple)
+    single = ImpactOrbitProblem(params, param, period_multiple=piece.period_multiple, law=law)
     y, p = start
     return None if np.linalg.norm(single.residual(y, p)) <= 1e-6 * (1 + np.linalg.norm(y)) else start
 
 
-def _switched_start(params, param, phase, sp, p_min, p_max, multiple=1):
+def _switched_start(params, param, phase, sp, p_min, p_max, multiple=1, law="eq21"):
     """(state at tau = 0, p) of a point of the new branch a few short steps from the branch point
     ``sp`` of the map over ``multiple`` forcing periods (a pitchfork of the half-period map on the
     full one; a period doubling on the doubled one), or None when switching finds no new branch."""
-    probe = ImpactOrbitProblem(params, param, phase=phase, period_multiple=multiple)
-    full = ImpactOrbitProblem(
-        params,
-        param,
-        phase=phase,
-        period_multiple=multiple,
-        impacts=len(probe.evaluate(sp.x, sp.p).impacts),
-    )
+    probe = ImpactOrbitProblem(params, param, phase=phase, period_multiple=multiple, law=law)
+    full = probe.replace(impacts=len(probe.evaluate(sp.x, sp.p).impacts))
     try:
         new = switch_branch(
             full,

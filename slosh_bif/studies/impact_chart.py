@@ -142,9 +142,10 @@ def impact_family(
     branching: BranchingSettings = BRANCHING,
     options=None,
     say=None,
+    law: str = "eq21",
 ) -> list:
-    """The branch of orbits of (8) through x0 (its state at tau = 0) over ``p_range`` of
-    ``param`` (a symmetric one on the half-period map) and, unless ``branching.switch`` is off,
+    """The branch of orbits of (8) (with the impact ``law``) through x0 (its state at tau = 0) over
+    ``p_range`` of ``param`` (a symmetric one on the half-period map) and, unless ``branching.switch`` is off,
     the asymmetric branches born at its pitchforks (for an asymmetric start, first the symmetric
     branch it meets at its own branch point, then that one's other pitchforks') and (with
     ``branching.doublings``) the branches of
@@ -153,11 +154,10 @@ def impact_family(
     :class:`NamedImpactBranch` (the first one first); ``say(message)`` hears of each switched
     branch."""
     lo, hi = p_range
-    symmetric = is_symmetric(
-        params, x0
-    )  # then on the half-period map, where its pitchforks are regular points
+    # a symmetric start is continued on the half-period map, where its pitchforks are regular points
+    symmetric = is_symmetric(params, x0, law=law)
     primary = trace_impact_orbits(
-        params, x0, param=param, p_min=lo, p_max=hi, options=options, symmetric=symmetric
+        params, x0, param=param, p_min=lo, p_max=hi, options=options, symmetric=symmetric, law=law
     )
     family = [NamedImpactBranch("symmetric" if symmetric else "primary", primary, symmetric)]
     known = ()
