@@ -81,6 +81,13 @@ def _models_module() -> str:
             impact_matrix,
         ),
         F(
+            "flight_matrix",
+            "Matrix M of (9) without the wall (lam = chi = 0): the flights of the corrected impact model.",
+            (),
+            m.LINEAR_PARAMS,
+            m.flight_rhs().jacobian(sp_matrix(m.STATE)),
+        ),
+        F(
             "impact_forcing",
             "Forcing vector F of the linear flow of model (8).",
             (),

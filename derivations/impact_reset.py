@@ -19,8 +19,9 @@ The kernel written from it takes the impact's energy loss L = c v**q as an input
 flow computes it to test for a real kappa first): dL/dv = q L / v, and dL/dc = L / c carries a
 wall parameter's derivative (lam, chi move c).
 
-The corrected impact model puts the smooth wall's own law in place of (21): restitution
-kappa_wall(v) and the wall at the clearance ``|w| = D(v)`` of the equivalent rigid wall
+The corrected impact model is (9) with its wall replaced by the wall's own measured law: it flies
+on (9)'s linear part (the exact coefficients, not (8)'s first-order ones), and impacts with the
+restitution kappa_wall(v) at the clearance ``|w| = D(v)`` of the equivalent rigid wall
 (:mod:`slosh_bif.model.restitution.wall`), a surface that depends on the impact speed:
 ``h(y) = side * w - D(side * w')``, whose gradient has a component ``-side D'(v)`` along w'. Its
 kernel (:func:`measured_saltation`) takes kappa, d kappa/dv and dD/dv at the impact speed.
@@ -74,7 +75,7 @@ def measured_saltation():
     G[3, 3] = given(sp.diff(w_plus_of_v, wd), dkappa).subs(K(v), kappa)
     w_plus = w_plus_of_v.subs(K(v), kappa)
     after = dict(zip(m.STATE, (X, Xd, w, w_plus)))
-    f_minus = m.impact_rhs()
+    f_minus = m.flight_rhs()
     f_plus = f_minus.subs(after, simultaneous=True)
     normal = sp.Matrix([[given(sp.diff(side * w - D(v), u), dclear) for u in m.STATE]])
     S = _saltation_matrix(G, f_minus, f_plus, normal)

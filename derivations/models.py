@@ -95,6 +95,12 @@ def impact_rhs():
     )
 
 
+def flight_rhs():
+    """Right-hand side of (9) without the wall (lam = chi = 0): linear in the state, with (9)'s exact
+    coefficients and its eps**2 damping. The corrected impact model flies on it between impacts."""
+    return smooth_rhs().subs({lam: 0, chi: 0})
+
+
 def impact_weight():
     """Weight mu = b/c of the w-row in the energy of (8); b/c = eps/(1 - eps(sigma + beta^2))."""
     _, b, c, _ = impact_coefficients()

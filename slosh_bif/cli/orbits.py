@@ -200,8 +200,8 @@ def _shoot_impact(args, params, lo, hi) -> int:
             f"--start {args.start} is for the smooth model (9); --model impact starts from a "
             "simulation of (8) or from --guess"
         )
-    law = "measured" if args.model == "impact-corrected" else "eq21"
-    model_name = "(8) with the measured wall" if law == "measured" else "(8)"
+    variant = "corrected" if args.model == "impact-corrected" else "paper"
+    model_name = "the corrected impact model" if variant == "corrected" else "(8)"
     check_family_options(args)
     p0 = getattr(params, args.parameter)
     if not lo <= p0 <= hi:
@@ -215,7 +215,7 @@ def _shoot_impact(args, params, lo, hi) -> int:
     x0 = (
         args.guess
         if args.guess is not None
-        else settled_orbit(params, state0_of(args, params), periods=args.settle, law=law)
+        else settled_orbit(params, state0_of(args, params), periods=args.settle, variant=variant)
     )
     branching = BranchingSettings(switch=not args.no_switch, max_branches=args.max_branches)
     family = impact_family(
@@ -226,7 +226,7 @@ def _shoot_impact(args, params, lo, hi) -> int:
         branching=branching,
         options=options,
         say=progress,
-        law=law,
+        variant=variant,
     )
     branches = [(nb.name, nb.branch, nb.symmetric) for nb in family]
     rows = [

@@ -2,7 +2,7 @@
 with a certificate, and the restitution law (2), (21) applied at each.
 
 Flights. Between impacts (8) is linear with constant coefficients; on ``z = [X, X', w, w', cos tau,
-sin tau]`` it is ``z' = K z`` (:meth:`~slosh_bif.model.equations.ImpactModel.augmented`), whose flow
+sin tau]`` it is ``z' = K z`` (:func:`~slosh_bif.model.equations.impact_augmented`), whose flow
 over s is ``expm(K s)``. The propagators ``P_k = expm(K h 2**-k)``, k = 0..LEVELS, are made once per
 parameter set and sample step h; products of them give the state at any dyadic point of a step
 exactly up to rounding. There is no integration error, no expm in the loop, and no special case at
@@ -25,7 +25,7 @@ Impacts. ``w'+ = -kappa(|w'-|) w'-`` with kappa of (21), ``sqrt(1 - c v**q)``. A
 status rather than going on without a model: ``"kappa-not-real"`` where (21) gives no real kappa,
 ``"sticking"`` where the post-impact speed falls below ``stick_speed`` (impacts then accumulate at a
 point in time, beyond which (8) without a sticking phase is not defined), ``"max-impacts"``. The
-corrected impact model (``law="measured"``) puts the smooth wall's kappa_wall(v) at a wall that
+corrected impact model (``variant="corrected"``) puts the smooth wall's kappa_wall(v) at a wall that
 stands at |w| = D(v) (:mod:`slosh_bif.flows.impact_band`).
 
 :func:`slosh_bif.simulation.vibro_impact.simulate_impact` is the entry point; its event loop on
@@ -48,14 +48,14 @@ from slosh_bif.flows.impact_propagators import (
     propagators,
 )
 from slosh_bif.model._generated.impact_kernels import impact_measured_kernel, impact_saltation_kernel
-from slosh_bif.model.equations import ImpactModel
+from slosh_bif.model.equations import impact_augmented
 from slosh_bif.model.params import Params
 from slosh_bif.model.restitution import dissipation_at_unit_speed
 from slosh_bif.model.restitution.corrected import measured_wall
 
-__all__ = ["IMPACT_LAWS", "LEVELS", "LINEAR_PARAMETERS", "WALL_PARAMETERS", "ImpactFlow"]
+__all__ = ["IMPACT_VARIANTS", "LEVELS", "LINEAR_PARAMETERS", "WALL_PARAMETERS", "ImpactFlow"]
 
-IMPACT_LAWS = ("eq21", "measured")
+IMPACT_VARIANTS = ("paper", "corrected")
 
 LEVELS = 48  # the finest interval is h 2**-48
 # Codes of the compiled run.
@@ -314,21 +314,41 @@ class ImpactFlow:
     parameters in the linear part of (8) (eps, beta, gamma, sigma, Abar), through the flights'
     propagators, or of the wall's (lam, chi), through the restitution law at each impact.
 
-    ``law``: ``"eq21"``, (8) as the paper states it (kappa of (21), the wall at |w| = 1), or
-    ``"measured"``, the corrected impact model (the smooth wall's own kappa_wall(v) and clearance
-    D(v): :mod:`slosh_bif.flows.impact_band`), whose wall parameters enter through a measured
-    law (no derivatives in lam, chi).
+    ``variant``: ``"paper"``, (8) as the paper states it (first-order coefficients, kappa of (21),
+    the wall at |w| = 1), or ``"corrected"``, the corrected impact model: (9) with its wall replaced
+    by the wall's own measured law (flights on (9)'s exact linear part, kappa_wall(v) at the
+    clearance D(v): :mod:`slosh_bif.flows.impact_band`; no derivatives in the wall's lam, chi).
+    ``exact_flights`` (for :meth:`run` only) swaps the flights: (9)'s exact linear part for
+    ``"paper"``, (8)'s first-order coefficients for ``"corrected"``.
     """
 
-    def __init__(self, params: Params, step: float = 0.05, param: str | None = None, law: str = "eq21"):
+    def __init__(
+        self,
+        params: Params,
+        step: float = 0.05,
+        param: str | None = None,
+        variant: str = "paper",
+        *,
+        exact_flights: bool | None = None,
+    ):
         if not (np.isfinite(step) and 0 < step <= 0.5):
             raise ValueError(f"sample_step must be in (0, 0.5]; got {step!r}")
-        if law not in IMPACT_LAWS:
-            raise ValueError(f"law must be one of {', '.join(IMPACT_LAWS)}; got {law!r}")
-        allowed = LINEAR_PARAMETERS + (WALL_PARAMETERS if law == "eq21" else ())
+        if variant not in IMPACT_VARIANTS:
+            raise ValueError(f"variant must be one of {', '.join(IMPACT_VARIANTS)}; got {variant!r}")
+        allowed = LINEAR_PARAMETERS + (WALL_PARAMETERS if variant == "paper" else ())
         if param is not None and param not in allowed:
-            raise ValueError(f"param must be one of {', '.join(allowed)} with law {law!r}; got {param!r}")
-        K = ImpactModel(params).augmented()
+            raise ValueError(
+                f"param must be one of {', '.join(allowed)} with variant {variant!r}; got {param!r}"
+            )
+        if not isinstance(params, Params):
+            raise TypeError(f"params must be a slosh_bif.Params; got {type(params).__name__}")
+        # the flights of the other variant, to tell the two differences apart (runs only: the
+        # saltation matrices are derived for each variant's own flights)
+        exact = variant == "corrected" if exact_flights is None else bool(exact_flights)
+        self.own_flights = exact == (variant == "corrected")
+        self.params, self.exact_flights = params, exact
+        P = params
+        K = impact_augmented(P.eps, P.beta, P.gamma, P.sigma, P.Abar, exact=exact)
         self.K = K
         self.step = float(step)
         self.lengths = self.step * 0.5 ** np.arange(LEVELS + 2)
@@ -336,7 +356,7 @@ class ImpactFlow:
             self.table = propagators(K, self.lengths)
             self.dtable = np.zeros_like(self.table)
         else:  # Q = d expm(K L) / d param: the lower-left block of expm([[K, 0], [K_p, K]] L)
-            block = np.block([[K, np.zeros_like(K)], [derivative_of_K(params, param), K]])
+            block = np.block([[K, np.zeros_like(K)], [derivative_of_K(params, param, exact), K]])
             both = propagators(block, self.lengths)
             self.table, self.dtable = both[:, :6, :6].copy(), both[:, 6:, :6].copy()
         self.growth = np.exp(np.abs(K).sum(axis=1).max() * self.lengths)
@@ -346,9 +366,8 @@ class ImpactFlow:
         while term > 1e-17 and self.taylor < 60:
             self.taylor += 1
             term *= size / self.taylor
-        P = params
-        self.law = law
-        if law == "measured":
+        self.variant = variant
+        if variant == "corrected":
             self.wall = measured_wall(P.lam, P.chi, P.n, P.pbar)
             self.shape, self.stacked = law_arrays(self.wall)
         else:
@@ -408,6 +427,8 @@ class ImpactFlow:
     def strobe(self, y0, t0: float, period: float, *, stick_speed: float = 1e-9, max_impacts: int = 10_000):
         """``(y, phi, dp, impacts, code)``: the state at ``t0 + period``, its derivatives with respect
         to y0 (4 x 4) and to ``param`` (zero without one), the impacts and the end code of :meth:`run`."""
+        if not self.own_flights:
+            raise ValueError("a flow with the other variant's flights runs, but has no saltation matrices")
         _, states, impacts, code, phi, dp = self._call(
             y0, t0, t0 + period, stick_speed, max_impacts, min(max_impacts, 64), True
         )

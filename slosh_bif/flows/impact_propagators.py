@@ -36,10 +36,11 @@ def propagators(K, lengths):
     return out + np.eye(len(K))
 
 
-def derivative_of_K(params: Params, param: str) -> np.ndarray:
-    """dK/d param by a five-point central difference (K's entries are polynomials of degree <= 4 in
-    the parameters, the first-order expansion of (9)'s coefficients: exact up to rounding)."""
+def derivative_of_K(params: Params, param: str, exact: bool = False) -> np.ndarray:
+    """dK/d param by a five-point central difference: K of (8), whose entries are polynomials of
+    degree <= 4 in the parameters (exact up to rounding), or ``exact``, of (9)'s linear part,
+    rational in eps (the difference's error, ~1e-12 of dK, is below the map's rounding)."""
     values = {name: float(getattr(params, name)) for name in LINEAR_PARAMETERS}
     step = 1e-3 * max(1.0, abs(values[param]))
-    K = [impact_augmented(**{**values, param: values[param] + k * step}) for k in (-2, -1, 1, 2)]
+    K = [impact_augmented(**{**values, param: values[param] + k * step}, exact=exact) for k in (-2, -1, 1, 2)]
     return (K[0] - 8 * K[1] + 8 * K[2] - K[3]) / (12 * step)

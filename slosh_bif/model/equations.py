@@ -32,11 +32,13 @@ from slosh_bif.model.restitution import kappa as kappa_of_speed
 __all__ = ["SmoothModel", "ImpactModel", "impact_augmented"]
 
 
-def impact_augmented(eps, beta, gamma, sigma, Abar):
+def impact_augmented(eps, beta, gamma, sigma, Abar, *, exact: bool = False):
     """K of :meth:`ImpactModel.augmented` from bare numbers (no validation: for derivatives by
-    differences, which step outside the admissible ranges at their ends)."""
+    differences, which step outside the admissible ranges at their ends). ``exact``: the linear
+    part of (9) instead (its exact coefficients and eps**2 damping: the corrected impact model's
+    flights)."""
     K = np.zeros((6, 6))
-    K[:4, :4] = gen.impact_matrix(eps, beta, gamma, sigma)
+    K[:4, :4] = (gen.flight_matrix if exact else gen.impact_matrix)(eps, beta, gamma, sigma)
     K[:4, 4] = gen.impact_forcing(eps, Abar)
     K[4, 5] = -1.0  # (cos tau)' = -sin tau
     K[5, 4] = 1.0  # (sin tau)' = cos tau

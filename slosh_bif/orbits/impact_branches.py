@@ -82,7 +82,7 @@ class ImpactBranch:
     grazing: tuple
     ends: tuple
     complete: bool
-    law: str = "eq21"  # the impact law of its orbits (ImpactOrbitProblem)
+    variant: str = "paper"  # (8) as the paper states it, or "corrected" (ImpactOrbitProblem)
 
     def special(self, kind: str):
         """(p, message) of every special point of one kind over all pieces (ends excluded)."""
@@ -111,11 +111,11 @@ def quiet_section(problem: ImpactOrbitProblem, x, p):
     return float(middle % (2 * np.pi)), state
 
 
-def settled_orbit(params: Params, state0, *, periods: int, tries: int = 4, law: str = "eq21"):
+def settled_orbit(params: Params, state0, *, periods: int, tries: int = 4, variant: str = "paper"):
     """A periodic orbit of (8) (its state at tau = 0) that a simulation from ``state0`` settles on:
     Newton on the map from the strobe after ``periods`` forcing periods, then after twice as many
     more, ... (``tries`` times: the early motion can be chaotic for a long time)."""
-    problem = ImpactOrbitProblem(params, law=law)
+    problem = ImpactOrbitProblem(params, variant=variant)
     flow = problem.flow_at(params.sigma)
     x, done = np.asarray(state0, dtype=float), 0
     for k in range(tries):
@@ -175,17 +175,19 @@ def trace_impact_orbits(
     symmetric: bool = False,
     period_multiple: int = 1,
     max_pieces: int = 40,
-    law: str = "eq21",
+    variant: str = "paper",
 ) -> ImpactBranch:
     """Continue the orbit of (8) through ``x0`` (its state at tau = 0, a fixed point of the map
     over ``period_multiple`` forcing periods at the value of ``param`` in ``params``) in both
-    directions between ``p_min`` and ``p_max``; ``law`` the impact law
+    directions between ``p_min`` and ``p_max``; ``variant`` the impact model
     (:class:`~slosh_bif.orbits.impact_orbits.ImpactOrbitProblem`)."""
     opts = dataclasses.replace(
         options or ContinuationOptions(step=0.05, step_max=0.3, tol=1e-10), p_min=p_min, p_max=p_max
     )
     p0 = float(getattr(params, param))
-    first = ImpactOrbitProblem(params, param, symmetric=symmetric, period_multiple=period_multiple, law=law)
+    first = ImpactOrbitProblem(
+        params, param, symmetric=symmetric, period_multiple=period_multiple, variant=variant
+    )
     run = newton_solve(first, x0, p0, tol=1e-12)
     if not run.converged:
         raise ConvergenceError(f"no periodic orbit of (8) near x0 at {param} = {p0}: {run.message}")
@@ -245,7 +247,7 @@ def trace_impact_orbits(
                 break
             problem, x, p = beyond
     complete = all(e.reason in (Status.BOUND.value, Status.LOOP.value) for e in ends)
-    return ImpactBranch(param, tuple(pieces), tuple(grazing), tuple(ends), complete, law)
+    return ImpactBranch(param, tuple(pieces), tuple(grazing), tuple(ends), complete, variant)
 
 
 def _cross_grazing(problem, x, p, sign, opts):

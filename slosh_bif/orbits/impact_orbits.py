@@ -25,7 +25,7 @@ import numpy as np
 from scipy import linalg, optimize
 
 from slosh_bif.flows.impact_band import inside_measured_wall
-from slosh_bif.flows.impact_flow import IMPACT_LAWS, LINEAR_PARAMETERS, WALL_PARAMETERS, ImpactFlow
+from slosh_bif.flows.impact_flow import IMPACT_VARIANTS, LINEAR_PARAMETERS, WALL_PARAMETERS, ImpactFlow
 from slosh_bif.model.params import Params
 from slosh_bif.orbits.multipliers import (
     TEST_FLOOR,
@@ -91,16 +91,16 @@ class ImpactOrbitProblem:
         box: tuple | None = None,
         phase: float = 0.0,
         impacts: int | None = None,
-        law: str = "eq21",
+        variant: str = "paper",
     ):
         if not isinstance(params, Params):
             raise TypeError(f"params must be a slosh_bif.Params; got {type(params).__name__}")
-        if law not in IMPACT_LAWS:
-            raise ValueError(f"law must be one of {', '.join(IMPACT_LAWS)}; got {law!r}")
-        allowed = LINEAR_PARAMETERS + (WALL_PARAMETERS if law == "eq21" else ())
+        if variant not in IMPACT_VARIANTS:
+            raise ValueError(f"variant must be one of {', '.join(IMPACT_VARIANTS)}; got {variant!r}")
+        allowed = LINEAR_PARAMETERS + (WALL_PARAMETERS if variant == "paper" else ())
         if param not in allowed:
             raise ValueError(
-                f"param must be one of {', '.join(allowed)} for orbits of (8) with law {law!r} (n and "
+                f"param must be one of {', '.join(allowed)} for orbits of (8), variant {variant!r} (n and "
                 f"pbar are integers; the measured wall has no derivatives in its parameters); got {param!r}"
             )
         if not (isinstance(period_multiple, int) and 1 <= period_multiple <= 8):
@@ -117,7 +117,7 @@ class ImpactOrbitProblem:
         self.test_kinds = ("BP", "NS") if symmetric else ("PD", "NS")
         self.test_floor = TEST_FLOOR
         self.phase, self.impacts = float(phase), impacts
-        self.law = law
+        self.variant = variant
         self.edge_name = GRAZING
         self.state_bound = 1e3 * (1.0 + params.Abar)
         self.evaluations = 0
@@ -125,7 +125,7 @@ class ImpactOrbitProblem:
         self._maps: OrderedDict = OrderedDict()
 
     def replace(self, **changes) -> ImpactOrbitProblem:
-        """The same problem (parameters, continued parameter, law) with ``changes`` to the keyword
+        """The same problem (parameters, continued parameter, variant) with ``changes`` to the keyword
         arguments (symmetric, period_multiple, box, phase, impacts, params, param)."""
         kept = dict(
             params=self.params,
@@ -135,7 +135,7 @@ class ImpactOrbitProblem:
             box=self.box,
             phase=self.phase,
             impacts=self.impacts,
-            law=self.law,
+            variant=self.variant,
         )
         return ImpactOrbitProblem(**{**kept, **changes})
 
@@ -145,7 +145,7 @@ class ImpactOrbitProblem:
     def flow_at(self, p: float) -> ImpactFlow:
         key = float(p)
         if key not in self._flows:
-            self._flows[key] = ImpactFlow(self.params_at(p), param=self.param, law=self.law)
+            self._flows[key] = ImpactFlow(self.params_at(p), param=self.param, variant=self.variant)
             if len(self._flows) > _KEEP:
                 self._flows.popitem(last=False)
         return self._flows[key]
@@ -265,7 +265,7 @@ class ImpactOrbitProblem:
     def orbit(self, x, p, *, step: float = 0.01):
         """(t, y, impacts) of the orbit through x over the map's time, sampled every ``step`` and
         at the impacts (post-impact states), impacts rows t, side, w'-, w'+."""
-        t, y, impacts, _ = ImpactFlow(self.params_at(p), step, law=self.law).run(
+        t, y, impacts, _ = ImpactFlow(self.params_at(p), step, variant=self.variant).run(
             np.asarray(x, dtype=float),
             self.phase,
             self.phase + self.period,

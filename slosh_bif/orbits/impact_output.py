@@ -77,7 +77,7 @@ def impact_rows(result: ImpactBranch, params, symmetric: bool = False, name: str
             symmetric=symmetric,
             phase=piece.phase,
             period_multiple=piece.period_multiple,
-            law=result.law,
+            variant=result.variant,
         )
         for i in range(len(b)):
             at = params.replace(**{b.param: float(b.p[i])})

@@ -43,9 +43,9 @@ SWITCH_OPTIONS = ContinuationOptions(
 )
 
 
-def is_symmetric(params: Params, x, tol: float = 1e-8, law: str = "eq21") -> bool:
+def is_symmetric(params: Params, x, tol: float = 1e-8, variant: str = "paper") -> bool:
     """Whether the orbit through x (its state at tau = 0) is symmetric: G(x) = x on the half-period map."""
-    half = ImpactOrbitProblem(params, "sigma", symmetric=True, law=law)
+    half = ImpactOrbitProblem(params, "sigma", symmetric=True, variant=variant)
     return bool(
         np.linalg.norm(half.residual(np.asarray(x, dtype=float), params.sigma))
         <= tol * (1 + np.linalg.norm(x))
@@ -74,7 +74,7 @@ def asymmetric_branches(
                 continue
             if any(_passes_through(branch, sp.p) for branch in [b for _, b in found] + list(known)):
                 continue
-            start = _switched_start(params, param, piece.phase, sp, p_min, p_max, law=symmetric.law)
+            start = _switched_start(params, param, piece.phase, sp, p_min, p_max, variant=symmetric.variant)
             if start is None:
                 continue
             x0, p = start
@@ -85,7 +85,7 @@ def asymmetric_branches(
                 p_min=p_min,
                 p_max=p_max,
                 options=options,
-                law=symmetric.law,
+                variant=symmetric.variant,
             )
             found.append((f"BP at {param} = {sp.p:.6g} on the symmetric branch", branch))
     return found
@@ -109,18 +109,25 @@ def symmetric_branch(
         for sp in piece.branch.special:
             if sp.kind != BRANCH_POINT or not sp.located:
                 continue
-            law = asymmetric.law
-            start = _switched_start(params, param, piece.phase, sp, p_min, p_max, law=law)
+            variant = asymmetric.variant
+            start = _switched_start(params, param, piece.phase, sp, p_min, p_max, variant=variant)
             if start is None:
                 continue
             x0, p = start
             at = params.replace(**{param: p})
-            half = ImpactOrbitProblem(at, param, symmetric=True, law=law)
+            half = ImpactOrbitProblem(at, param, symmetric=True, variant=variant)
             run = newton_solve(half, x0, p, tol=1e-12)
-            if not (run.converged and is_symmetric(at, run.x, law=law)):
+            if not (run.converged and is_symmetric(at, run.x, variant=variant)):
                 continue
             branch = trace_impact_orbits(
-                at, run.x, param=param, p_min=p_min, p_max=p_max, options=options, symmetric=True, law=law
+                at,
+                run.x,
+                param=param,
+                p_min=p_min,
+                p_max=p_max,
+                options=options,
+                symmetric=True,
+                variant=variant,
             )
             return f"BP at {param} = {sp.p:.6g} on the asymmetric branch", branch
     return None
@@ -146,7 +153,7 @@ def doubled_branches(
                 continue
             if any(_passes_through(branch, sp.p, (BRANCH_POINT, FOLD)) for _, branch in found):
                 continue
-            start = _doubled_start(params, param, piece, sp, p_min, p_max, parent.law)
+            start = _doubled_start(params, param, piece, sp, p_min, p_max, parent.variant)
             if start is None:
                 continue
             x0, p = start
@@ -158,31 +165,31 @@ def doubled_branches(
                 p_max=p_max,
                 options=options,
                 period_multiple=2 * piece.period_multiple,
-                law=parent.law,
+                variant=parent.variant,
             )
             found.append((f"PD at {param} = {sp.p:.6g}", branch))
     return found
 
 
-def _doubled_start(params, param, piece, sp, p_min, p_max, law):
+def _doubled_start(params, param, piece, sp, p_min, p_max, variant):
     """(state at tau = 0, p) of a point of the doubled branch a few short steps from the period
     doubling ``sp`` of ``piece``, or None when switching finds no new branch (or only the parent's
     orbits, which are fixed points of the doubled map too)."""
     start = _switched_start(
-        params, param, piece.phase, sp, p_min, p_max, multiple=2 * piece.period_multiple, law=law
+        params, param, piece.phase, sp, p_min, p_max, multiple=2 * piece.period_multiple, variant=variant
     )
     if start is None:
         return None
-    single = ImpactOrbitProblem(params, param, period_multiple=piece.period_multiple, law=law)
+    single = ImpactOrbitProblem(params, param, period_multiple=piece.period_multiple, variant=variant)
     y, p = start
     return None if np.linalg.norm(single.residual(y, p)) <= 1e-6 * (1 + np.linalg.norm(y)) else start
 
 
-def _switched_start(params, param, phase, sp, p_min, p_max, multiple=1, law="eq21"):
+def _switched_start(params, param, phase, sp, p_min, p_max, multiple=1, variant="paper"):
     """(state at tau = 0, p) of a point of the new branch a few short steps from the branch point
     ``sp`` of the map over ``multiple`` forcing periods (a pitchfork of the half-period map on the
     full one; a period doubling on the doubled one), or None when switching finds no new branch."""
-    probe = ImpactOrbitProblem(params, param, phase=phase, period_multiple=multiple, law=law)
+    probe = ImpactOrbitProblem(params, param, phase=phase, period_multiple=multiple, variant=variant)
     full = probe.replace(impacts=len(probe.evaluate(sp.x, sp.p).impacts))
     try:
         new = switch_branch(

@@ -95,7 +95,7 @@ def integrate_smooth(
 # --- direct simulation of either model, with the noise of (47) ------------------------------------
 
 MODELS = ("smooth", "impact", "impact-corrected")
-_LAWS = {"impact": "eq21", "impact-corrected": "measured"}  # the impact law of each impact model
+_VARIANTS = {"impact": "paper", "impact-corrected": "corrected"}  # ImpactFlow's variant of each model
 # Samples a simulation keeps in memory at most (t and four states each: 2e7 is 0.8 GB); the default
 # sampling reaches it at tau = 4e5.
 MAX_SAMPLES = 20_000_000
@@ -197,7 +197,7 @@ def wall_contacts(params: Params, t, y, *, rtol=1e-9, atol=1e-11, backend="auto"
     return wall_passages(np.concatenate(times)[order], np.concatenate(states, axis=1)[:, order])
 
 
-def _simulate_impact_in_chunks(params, y0, t0, tmax, sample_step, progress, start, backend, law):
+def _simulate_impact_in_chunks(params, y0, t0, tmax, sample_step, progress, start, backend, variant):
     """(8) over [t0, tmax] in up to 20 pieces of at least 200 time units, so that progress can be
     reported; each piece starts from the previous one's end state (the flow is exact, so the pieces
     join seamlessly)."""
@@ -206,7 +206,7 @@ def _simulate_impact_in_chunks(params, y0, t0, tmax, sample_step, progress, star
     parts = []
     y = y0
     for k, (a, b) in enumerate(zip(edges[:-1], edges[1:])):
-        run = simulate_impact(params, y, (a, b), sample_step=sample_step, backend=backend, law=law)
+        run = simulate_impact(params, y, (a, b), sample_step=sample_step, backend=backend, variant=variant)
         parts.append(run)
         if progress is not None:
             progress((k + 1) / (len(edges) - 1))
@@ -288,7 +288,7 @@ def simulate(
         raise ValueError(
             f"noise std (sigma_bar of eq. 47) must be in [0, {MAX_NOISE_STD:g}]; got {noise_std!r}"
         )
-    samples = (tmax - t0) / (min(sample_step, 0.05) if model in _LAWS else sample_step)
+    samples = (tmax - t0) / (min(sample_step, 0.05) if model in _VARIANTS else sample_step)
     if samples > MAX_SAMPLES:  # the samples are kept in memory (5 doubles each): refuse before integrating
         raise ValueError(
             f"tmax - t0 = {tmax - t0:g} at sample_step {sample_step:g} would keep {samples:.3g} "
@@ -308,9 +308,9 @@ def simulate(
         forcing = band_limited_noise(noise_std, seed=seed, duration=tmax - t0, t0=t0, cutoff=noise_cutoff)
 
     start = time.perf_counter()
-    if model in _LAWS:
+    if model in _VARIANTS:
         return _simulate_impact_in_chunks(
-            params, y0, t0, tmax, min(sample_step, 0.05), progress, start, backend, _LAWS[model]
+            params, y0, t0, tmax, min(sample_step, 0.05), progress, start, backend, _VARIANTS[model]
         )
 
     count = int(np.ceil((tmax - t0) / sample_step))

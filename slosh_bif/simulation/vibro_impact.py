@@ -25,7 +25,7 @@ import numpy as np
 from scipy import linalg, optimize
 
 from slosh_bif.flows.impact_band import inside_measured_wall
-from slosh_bif.flows.impact_flow import IMPACT_LAWS, ImpactFlow
+from slosh_bif.flows.impact_flow import IMPACT_VARIANTS, ImpactFlow
 from slosh_bif.flows.integrator import resolve_backend
 from slosh_bif.model.equations import ImpactModel
 from slosh_bif.model.params import Params
@@ -114,7 +114,7 @@ def simulate_impact(
     max_impacts: int = 1_000_000,
     stick_speed: float = 1e-9,
     backend: str = "auto",
-    law: str = "eq21",
+    variant: str = "paper",
 ) -> ImpactTrajectory:
     """Simulate the vibro-impact model (8) from ``state0`` over ``t_span = (t0, t1)``.
 
@@ -132,16 +132,16 @@ def simulate_impact(
         A post-impact speed below this ends the run (status ``"sticking"``): impacts would
         accumulate at a point in time (a Zeno point), beyond which (8) is not defined.
     backend : ``"auto"``/``"numba"`` the compiled flow, ``"scipy"`` the expm event loop.
-    law : ``"eq21"`` (8) as stated, or ``"measured"``: the corrected impact model, the smooth wall's
-        own restitution at its clearance |w| = D(v) (compiled flow only).
+    variant : ``"paper"``, (8) as the paper states it, or ``"corrected"``: (9) with its wall replaced
+        by the wall's own restitution at its clearance |w| = D(v) (compiled flow only).
     """
     model = ImpactModel(params)
     y0 = np.asarray(state0, dtype=float)
     if y0.shape != (4,) or not np.all(np.isfinite(y0)):
         raise ValueError(f"state0 must be 4 finite numbers [X, X', w, w']; got {state0!r}")
-    if law not in IMPACT_LAWS:
-        raise ValueError(f"law must be one of {', '.join(IMPACT_LAWS)}; got {law!r}")
-    if law == "eq21" and abs(y0[2]) > 1.0:
+    if variant not in IMPACT_VARIANTS:
+        raise ValueError(f"variant must be one of {', '.join(IMPACT_VARIANTS)}; got {variant!r}")
+    if variant == "paper" and abs(y0[2]) > 1.0:
         raise ValueError(f"state0 must start between the walls, |w| <= 1; got w = {float(y0[2])!r}")
     t0, t1 = (float(t) for t in t_span)
     if not (np.isfinite(t0) and np.isfinite(t1) and t1 > t0):
@@ -151,10 +151,10 @@ def simulate_impact(
 
     if not (isinstance(max_impacts, (int, np.integer)) and max_impacts >= 1):
         raise ValueError(f"max_impacts must be a positive integer; got {max_impacts!r}")
-    if law == "measured":
+    if variant == "corrected":
         if resolve_backend(backend) != "numba":
-            raise ValueError("the measured impact law runs on the compiled flow only (backend 'numba')")
-        flow = _compiled_flow(params, float(sample_step), law)
+            raise ValueError("the corrected impact model runs on the compiled flow only (backend 'numba')")
+        flow = _compiled_flow(params, float(sample_step), variant)
         inside = inside_measured_wall(flow.wall, y0)
         if inside < 0:
             raise ValueError(
@@ -162,7 +162,7 @@ def simulate_impact(
                 f"got w = {float(y0[2])!r}"
             )
     if resolve_backend(backend) == "numba":
-        t, y, hits, code = _compiled_flow(params, float(sample_step), law).run(
+        t, y, hits, code = _compiled_flow(params, float(sample_step), variant).run(
             y0, t0, t1, stick_speed=stick_speed, max_impacts=int(max_impacts)
         )
         return _trajectory(t, y, hits, code, t1, stick_speed, max_impacts)
@@ -223,9 +223,9 @@ def simulate_impact(
 
 
 @functools.lru_cache(maxsize=8)
-def _compiled_flow(params: Params, step: float, law: str = "eq21") -> ImpactFlow:
+def _compiled_flow(params: Params, step: float, variant: str = "paper") -> ImpactFlow:
     """The propagator table of a parameter set, kept for the pieces of one long run."""
-    return ImpactFlow(params, step, law=law)
+    return ImpactFlow(params, step, variant=variant)
 
 
 def _trajectory(t, y, hits, code, t1, stick_speed, max_impacts) -> ImpactTrajectory:

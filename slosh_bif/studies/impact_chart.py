@@ -142,9 +142,9 @@ def impact_family(
     branching: BranchingSettings = BRANCHING,
     options=None,
     say=None,
-    law: str = "eq21",
+    variant: str = "paper",
 ) -> list:
-    """The branch of orbits of (8) (with the impact ``law``) through x0 (its state at tau = 0) over
+    """The branch of orbits of (8) (``variant`` "paper" or "corrected") through x0 (its state at tau = 0) over
     ``p_range`` of ``param`` (a symmetric one on the half-period map) and, unless ``branching.switch`` is off,
     the asymmetric branches born at its pitchforks (for an asymmetric start, first the symmetric
     branch it meets at its own branch point, then that one's other pitchforks') and (with
@@ -155,9 +155,9 @@ def impact_family(
     branch."""
     lo, hi = p_range
     # a symmetric start is continued on the half-period map, where its pitchforks are regular points
-    symmetric = is_symmetric(params, x0, law=law)
+    symmetric = is_symmetric(params, x0, variant=variant)
     primary = trace_impact_orbits(
-        params, x0, param=param, p_min=lo, p_max=hi, options=options, symmetric=symmetric, law=law
+        params, x0, param=param, p_min=lo, p_max=hi, options=options, symmetric=symmetric, variant=variant
     )
     family = [NamedImpactBranch("symmetric" if symmetric else "primary", primary, symmetric)]
     known = ()

@@ -145,6 +145,29 @@ def impact_matrix(eps, beta, gamma, sigma):
     return out
 
 
+def flight_matrix(eps, beta, gamma, sigma):
+    """Matrix M of (9) without the wall (lam = chi = 0): the flights of the corrected impact model."""
+    x0 = eps*sigma - 1
+    x1 = -eps*gamma
+    x2 = beta**2
+    x3 = x0/(eps*x2 + 1)
+    x4 = x3*(x2 - 1)
+    x5 = -eps**2*gamma
+    shape = ()
+    out = numpy.zeros((4, 4) + shape)
+    out[0, 1] = 1
+    out[1, 0] = x0
+    out[1, 1] = x1
+    out[1, 2] = -eps*x4
+    out[1, 3] = x5
+    out[2, 3] = 1
+    out[3, 0] = -x4
+    out[3, 1] = x1
+    out[3, 2] = x3*(eps + x2)
+    out[3, 3] = x5
+    return out
+
+
 def impact_forcing(eps, Abar):
     """Forcing vector F of the linear flow of model (8)."""
     x0 = Abar*eps
