@@ -12,7 +12,6 @@ from __future__ import annotations
 import dataclasses
 
 import numpy as np
-from scipy import optimize
 
 from slosh_bif.continuation.branch import BRANCH_POINT, FOLD
 from slosh_bif.continuation.corrector import Point, correct, make_point
@@ -40,6 +39,8 @@ def locate(problem, a: Point, h, which, opts, bend=None):
             raise ConvergenceError("corrector failed while locating a special point")
         seen[s] = make_point(problem, u, a.t)
         return seen[s]
+
+    from scipy import optimize  # here: a branch without special points never needs it (0.2 s to import)
 
     try:
         s = optimize.brentq(

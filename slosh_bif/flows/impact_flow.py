@@ -40,7 +40,7 @@ import numpy as np
 
 from slosh_bif.flows.compiled import jit
 from slosh_bif.flows.impact_band import LEFT, REACHED, TOO_FAST, band, law, law_arrays
-from slosh_bif.flows.impact_crossings import apply, carry, crossing, max_abs, may_reach, saltation
+from slosh_bif.flows.impact_crossings import LEVELS, apply, max_abs, may_reach, piece, saltation
 from slosh_bif.flows.impact_propagators import (
     LINEAR_PARAMETERS,
     WALL_PARAMETERS,
@@ -57,84 +57,10 @@ __all__ = ["IMPACT_VARIANTS", "LEVELS", "LINEAR_PARAMETERS", "WALL_PARAMETERS", 
 
 IMPACT_VARIANTS = ("paper", "corrected")
 
-LEVELS = 48  # the finest interval is h 2**-48
 # Codes of the compiled run.
 _FINISHED, _STICKING, _KAPPA_NOT_REAL, _MAX_IMPACTS, _FULL, _TOO_FAST = 0, 1, 2, 3, 4, 5
 _impact = jit(impact_saltation_kernel, inline=True)
 _measured = jit(impact_measured_kernel, inline=True)
-
-
-@jit
-def _piece(
-    table,
-    dtable,
-    K,
-    taylor,
-    lengths,
-    growth,
-    row_norm,
-    z,
-    k0,
-    out,
-    stack_z,
-    stack_k,
-    stack_s,
-    jac,
-    phi,
-    dp,
-    tmp,
-    za,
-    zb,
-    c,
-):
-    """Advance ``z`` over one dyadic piece of length ``lengths[k0]``, or to the first crossing of
-    ``|w| = c`` in it (c = 1: an impact of (8)); with ``jac``, carry the variations ``phi``
-    (d y / d y0) and ``dp`` (d y / d param) along.
-
-    Returns ``(side, s)``: side 0 and s the piece's length when it is free (``out`` is the end
-    state), or the wall hit (+1/-1) and its offset s (``out`` is the state there, before the reset).
-    """
-    top = 0
-    stack_k[0] = k0
-    stack_s[0] = 0.0
-    stack_z[0, :] = z
-    reached = 0.0
-    out[:] = z
-    while top >= 0:
-        k = stack_k[top]
-        s = stack_s[top]
-        za[:] = stack_z[top]
-        top -= 1
-        apply(table[k], za, zb)
-        L = lengths[k]
-        B = row_norm * growth[k] * max_abs(za) / c
-        up = may_reach(za[2] / c, za[3] / c, zb[2] / c, zb[3] / c, L, B)
-        down = may_reach(-za[2] / c, -za[3] / c, -zb[2] / c, -zb[3] / c, L, B)
-        if not (up or down) or (k == LEVELS and abs(zb[2]) < c):
-            out[:] = zb  # free, or a tangency within rounding
-            reached = s + L
-            if jac:
-                carry(table[k], dtable[k], za, phi, dp, tmp)
-            continue
-        if k == LEVELS:
-            out[:] = zb
-            if jac:
-                carry(table[k], dtable[k], za, phi, dp, tmp)
-            return (1 if zb[2] >= c else -1), s + L
-        if not jac and up != down:  # one wall only: a single crossing where f is certified monotone
-            side = 1.0 if up else -1.0
-            if side * zb[2] >= c and side * za[3] / c - B * L > 0.0:
-                offset = crossing(K, taylor, za, side, L, out, c)
-                return int(side), s + offset
-        top += 1  # right half, then left half on top of it
-        stack_k[top] = k + 1
-        stack_s[top] = s + lengths[k + 1]
-        apply(table[k + 1], za, stack_z[top])
-        top += 1
-        stack_k[top] = k + 1
-        stack_s[top] = s
-        stack_z[top, :] = za
-    return 0, reached
 
 
 @jit
@@ -229,7 +155,7 @@ def _run(
                         if rest < lengths[LEVELS] / h:
                             break
                         continue
-                    side, s = _piece(
+                    side, s = piece(
                         table,
                         dtable,
                         K,

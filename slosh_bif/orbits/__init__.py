@@ -7,47 +7,45 @@ contract): :mod:`.shooting` integrates with :mod:`slosh_bif.flows.integrator`, a
 :mod:`.starts` takes start guesses from :mod:`slosh_bif.simulation` and :mod:`slosh_bif.slowflow`.
 """
 
-from slosh_bif.orbits.families import SHOOTING_OPTIONS, trace_orbits
-from slosh_bif.orbits.orbit_branch import OrbitBranch, OrbitFamily, mirror
-from slosh_bif.orbits.orbit_tools import orbit_at, periodic_orbit
-from slosh_bif.orbits.scan import on_traced_branch, scan_families
-from slosh_bif.orbits.settings import (
-    NO_SWITCHING,
-    BranchingSettings,
-    ShootingSettings,
-    StartSettings,
-)
-from slosh_bif.orbits.shooting import PeriodicOrbit, ShootingProblem
-from slosh_bif.orbits.stability import StabilityLoss, loss_of_stability
-from slosh_bif.orbits.starts import (
-    StartOrbit,
-    orbit_from_simulation,
-    orbit_from_slow_flow,
-    settle_and_shoot,
-    slow_flow_start,
-)
+import importlib
 
-__all__ = [
-    "ShootingProblem",
-    "PeriodicOrbit",
-    "periodic_orbit",
-    "orbit_at",
-    "trace_orbits",
-    "ShootingSettings",
-    "BranchingSettings",
-    "StartSettings",
-    "NO_SWITCHING",
-    "OrbitFamily",
-    "OrbitBranch",
-    "mirror",
-    "SHOOTING_OPTIONS",
-    "StartOrbit",
-    "orbit_from_simulation",
-    "orbit_from_slow_flow",
-    "slow_flow_start",
-    "settle_and_shoot",
-    "scan_families",
-    "on_traced_branch",
-    "loss_of_stability",
-    "StabilityLoss",
-]
+# public name -> the module that defines it, loaded on first use: a caller of one wing (the impact
+# model's orbits, say) does not pay for the import of the others
+_WHERE = {
+    "SHOOTING_OPTIONS": "families",
+    "trace_orbits": "families",
+    "OrbitBranch": "orbit_branch",
+    "OrbitFamily": "orbit_branch",
+    "mirror": "orbit_branch",
+    "orbit_at": "orbit_tools",
+    "periodic_orbit": "orbit_tools",
+    "on_traced_branch": "scan",
+    "scan_families": "scan",
+    "NO_SWITCHING": "settings",
+    "BranchingSettings": "settings",
+    "ShootingSettings": "settings",
+    "StartSettings": "settings",
+    "PeriodicOrbit": "shooting",
+    "ShootingProblem": "shooting",
+    "StabilityLoss": "stability",
+    "loss_of_stability": "stability",
+    "StartOrbit": "starts",
+    "orbit_from_simulation": "starts",
+    "orbit_from_slow_flow": "starts",
+    "settle_and_shoot": "starts",
+    "slow_flow_start": "starts",
+}
+
+__all__ = sorted(_WHERE)
+
+
+def __getattr__(name):
+    if name in _WHERE:
+        value = getattr(importlib.import_module(f"slosh_bif.orbits.{_WHERE[name]}"), name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module 'slosh_bif.orbits' has no attribute {name!r}")
+
+
+def __dir__():
+    return sorted(set(globals()) | set(__all__))

@@ -49,6 +49,18 @@ COMPARE_COLUMNS = (
     "relative_difference_stable_orbit",
 )
 IMPACT_COLUMNS = ("A1_impact", "relative_difference_impact", "wall_difference")
+IMPACT_NAMES = {"paper": "impact model (8)", "corrected": "corrected impact model"}
+SHORT_NAMES = {"paper": "(8)", "corrected": "the corrected impact model"}
+IMPACT_LABELS = {  # what the two impact columns measure, for (8) and for the corrected impact model
+    "paper": (
+        ("asymptotic", "the expansion's error, slow flow against (8)"),
+        ("wall", "(8)'s own error, (8) against (9) (its first-order coefficients and its wall)"),
+    ),
+    "corrected": (
+        ("asymptotic", "slow flow against the corrected impact model"),
+        ("wall", "the contact's duration, the corrected impact model against (9)"),
+    ),
+}
 
 
 def compare_rows(family: OrbitFamily, fr: FrequencyResponse, sigmas, impact=None):
@@ -100,22 +112,26 @@ def compare_rows(family: OrbitFamily, fr: FrequencyResponse, sigmas, impact=None
             yield row
 
 
-def impact_branch_rows(params, state0, sigma_min: float, sigma_max: float, *, settle: int) -> list:
+def impact_branch_rows(
+    params, state0, sigma_min: float, sigma_max: float, *, settle: int, variant: str = "paper"
+) -> list:
     """Rows (:func:`~slosh_bif.orbits.impact_output.impact_rows`) of the branch of orbits of (8)
-    through the orbit a ``settle``-period simulation of (8) from ``state0`` settles on at the set's
-    sigma (as ``shoot --model impact``), over [sigma_min, sigma_max], at steps of at most 0.05 so
-    that A1 read between points is within about 1e-4 of the orbit's (0.3 % at shoot's 0.3)."""
+    (``variant="corrected"``: of the corrected impact model) through the orbit a ``settle``-period
+    simulation from ``state0`` settles on at the set's sigma (as ``shoot --model impact``), over
+    [sigma_min, sigma_max], at steps of at most 0.05 so that A1 read between points is within
+    about 1e-4 of the orbit's (0.3 % at shoot's 0.3)."""
     from slosh_bif.continuation import ContinuationOptions
     from slosh_bif.orbits.impact_branches import settled_orbit, trace_impact_orbits
     from slosh_bif.orbits.impact_output import impact_rows
 
-    x0 = settled_orbit(params, state0, periods=settle)
+    x0 = settled_orbit(params, state0, periods=settle, variant=variant)
     result = trace_impact_orbits(
         params,
         x0,
         p_min=sigma_min,
         p_max=sigma_max,
         options=ContinuationOptions(step=0.02, step_max=0.05, tol=1e-10),
+        variant=variant,
     )
     return list(impact_rows(result, params))
 
@@ -241,7 +257,7 @@ def write_compare_csv(rows, path) -> Path:
     return write_rows(rows, COMPARE_COLUMNS + (IMPACT_COLUMNS if with_impact else ()), path)
 
 
-def compare_table(rows, *, agree: float = 0.05) -> str:
+def compare_table(rows, *, agree: float = 0.05, impact_model: str = "paper") -> str:
     """Sigma intervals where the slow flow's stable states agree with the nearest orbit to
     within ``agree`` (relative), and where not, with the largest differences."""
     rows = [r for r in rows if r["slow_flow_stable"]]
@@ -278,10 +294,7 @@ def compare_table(rows, *, agree: float = 0.05) -> str:
     )
     if "A1_impact" in rows[0]:
         errors = impact_errors(rows)
-        for key, what in (
-            ("asymptotic", "the expansion's error, slow flow against (8)"),
-            ("wall", "the wall's error, (8) against (9)"),
-        ):
+        for key, what in IMPACT_LABELS[impact_model]:
             lines.append(
                 f"{what}: median {errors[key + '_median']:.2%}, largest {errors[key + '_max']:.2%} "
                 f"over {errors['measured']} states"
@@ -291,7 +304,9 @@ def compare_table(rows, *, agree: float = 0.05) -> str:
     return "\n".join(lines)
 
 
-def plot_compare(family: OrbitFamily, fr: FrequencyResponse, rows, path, impact=None) -> Path:
+def plot_compare(
+    family: OrbitFamily, fr: FrequencyResponse, rows, path, impact=None, impact_model: str = "paper"
+) -> Path:
     from slosh_bif.report.plotting import pyplot, save_figure
 
     fig, (ax, axd) = pyplot().subplots(
@@ -325,14 +340,15 @@ def plot_compare(family: OrbitFamily, fr: FrequencyResponse, rows, path, impact=
         s8 = np.array([r["sigma"] for r in impact])
         a8 = np.array([r["A1"] for r in impact])
         st8 = np.array([bool(r["stable"]) for r in impact])
-        ax.plot(s8[st8], a8[st8], "s", ms=2.5, mfc="none", color="C3", label="impact model (8), stable")
-        ax.plot(s8[~st8], a8[~st8], "x", ms=2.5, color="C3", alpha=0.5, label="impact model (8), unstable")
+        impact_name = IMPACT_NAMES[impact_model]
+        ax.plot(s8[st8], a8[st8], "s", ms=2.5, mfc="none", color="C3", label=f"{impact_name}, stable")
+        ax.plot(s8[~st8], a8[~st8], "x", ms=2.5, color="C3", alpha=0.5, label=f"{impact_name}, unstable")
     ax.set_ylabel("amplitude of X (A; A1 for orbits)")
     P = family.params
     ax.set_title(
         f"{name[0].upper() + name[1:]} against periodic orbits of "
-        f"(9){' and (8)' if impact else ''}: eps = {P.eps:g}, beta = {P.beta:g}, Abar = "
-        f"{P.Abar:g}, n = {P.n}"
+        f"(9){' and ' + SHORT_NAMES[impact_model] if impact else ''}: eps = {P.eps:g}, "
+        f"beta = {P.beta:g}, Abar = {P.Abar:g}, n = {P.n}"
     )
     ax.legend(fontsize=7)
     ax.grid(alpha=0.3)
@@ -343,8 +359,8 @@ def plot_compare(family: OrbitFamily, fr: FrequencyResponse, rows, path, impact=
     axd.semilogy(s[~st], d[~st], ".", color="0.6", ms=3, label="unstable slow-flow states")
     if impact:
         for key, style, label in (
-            ("relative_difference_impact", "s", "slow flow against (8): the expansion"),
-            ("wall_difference", "^", "(8) against (9): the wall"),
+            ("relative_difference_impact", "s", IMPACT_LABELS[impact_model][0][1]),
+            ("wall_difference", "^", IMPACT_LABELS[impact_model][1][1]),
         ):
             axd.semilogy(
                 s, np.array([r[key] for r in rows], dtype=float), style, ms=3, mfc="none", label=label

@@ -141,7 +141,7 @@ def plot_trust_map(points, path, *, title: str = "", model: str = "slowflow") ->
     ]
     if split:
         lines.append(
-            "bottom row: the median split into the expansion's error, (46) against (8), and the wall's, "
+            "bottom row: the median split into the expansion's error, (46) against (8), and (8)'s own, "
             "(8) against (9)"
         )
     # about 13 characters of the 9-point title per inch of the figure's width
