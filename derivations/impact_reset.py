@@ -78,13 +78,15 @@ def measured_saltation():
     f_minus = m.flight_rhs()
     f_plus = f_minus.subs(after, simultaneous=True)
     normal = sp.Matrix([[given(sp.diff(side * w - D(v), u), dclear) for u in m.STATE]])
-    S = _saltation_matrix(G, f_minus, f_plus, normal)
+    S = _saltation_matrix(G, f_minus, f_plus, normal, simplify=sp.cancel)
     return S, w_plus
 
 
-def _saltation_matrix(G, f_minus, f_plus, normal):
+def _saltation_matrix(G, f_minus, f_plus, normal, simplify=sp.simplify):
+    """S from its formula, each entry simplified (``sp.cancel`` for the measured wall's, whose
+    entries full simplification takes half a minute over) and its defining properties checked."""
     S = G + (f_plus - G * f_minus) * normal / (normal * f_minus)[0]
-    S = S.applyfunc(lambda e: sp.factor_terms(sp.simplify(e)))
+    S = S.applyfunc(lambda e: sp.factor_terms(simplify(e)))
     _check(S, G, f_minus, f_plus, normal)
     return S
 
