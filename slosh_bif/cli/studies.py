@@ -367,9 +367,10 @@ def add_commands(sub) -> None:
     add_backend_option(basins)
     basins.add_argument(
         "--model",
-        choices=("smooth", "impact"),
+        choices=("smooth", "impact", "impact-corrected"),
         default="smooth",
-        help="the smooth model (9) (default) or the impact model (8) on its exact flow",
+        help="the smooth model (9) (default), the impact model (8) on its exact flow, or the "
+        "corrected impact model ((9) with its wall's own law)",
     )
     basins.add_argument(
         "--resume",

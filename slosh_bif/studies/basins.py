@@ -63,6 +63,7 @@ PERTURBATIONS = (
 )  # the perturbed copies of each start, as fractions of the plane's span along the first axis
 BASIN_TMAX = 2 * math.pi * 2000  # the longest any start is followed: 2,000 forcing periods
 PERIOD = 2 * math.pi
+VARIANTS = {"impact": "paper", "impact-corrected": "corrected"}  # the impact models' ImpactFlow variants
 
 
 @dataclasses.dataclass(frozen=True)
@@ -72,7 +73,8 @@ class BasinMap:
     (``PERTURBATIONS``) reached another; ``periods[i, j]``: forcing periods until its strobe
     settled (NaN: not settled by ``tmax``); ``uncertain_fraction``: {eps: the share of cells whose
     outcome changed under that perturbation}; ``attractors``: {label: description};
-    ``orbits``: {label: the orbit's state at tau = 0}; ``model``: "smooth" (9) or "impact" (8);
+    ``orbits``: {label: the orbit's state at tau = 0}; ``model``: "smooth" (9), "impact" (8) or
+    "impact-corrected";
     ``status``: "complete", or why the map
     stopped (missing cells are "not computed")."""
 
@@ -124,19 +126,19 @@ class _Strobe:
 
     def __init__(self, params, backend, model):
         self.params, self.backend, self.model = params, backend, model
-        if model == "impact":
-            self.problem = ImpactOrbitProblem(params)
+        if model in VARIANTS:
+            self.problem = ImpactOrbitProblem(params, variant=VARIANTS[model])
             self.flow = self.problem.flow_at(params.sigma)
 
     def step(self, y):
-        if self.model == "impact":
+        if self.model in VARIANTS:
             _, ys, _, code = self.flow.run(y, 0.0, PERIOD, stick_speed=1e-9, max_impacts=100_000)
             return (ys[:, -1], "") if code == 0 else (None, "sticking" if code == 1 else "failed")
         run = integrator.integrate(self.params, y, 0.0, PERIOD, rtol=1e-9, atol=1e-11, backend=self.backend)
         return (run.z, "") if run.success and np.all(np.isfinite(run.z)) else (None, "failed")
 
     def orbit(self, y):
-        if self.model == "impact":
+        if self.model in VARIANTS:
             run = newton_solve(self.problem, y, self.params.sigma, tol=1e-12)
             return run.x if run.converged and self.problem.in_domain(run.x, self.params.sigma) else None
         problem = ShootingProblem(self.params, segments=4, backend=self.backend)
@@ -203,8 +205,9 @@ def basin_map(
     resume: Resume | None = None,
     progress=None,
 ) -> BasinMap:
-    """Follow (9) (``model="impact"``: (8)) from every state of the grid ``first`` x ``second`` in
-    the state components ``axes`` (the others zero), and from two perturbed copies of each, until
+    """Follow (9) (``model="impact"``: (8); ``"impact-corrected"``: the corrected impact model)
+    from every state of the grid ``first`` x ``second`` in the state components ``axes`` (the
+    others zero), and from two perturbed copies of each, until
     the strobe settles or ``tmax`` (rounded up to whole forcing periods) is reached, and label
     each by the attractor it reaches (see the module docstring); points run on ``workers`` (see
     :func:`~slosh_bif.simulation.sweep.run_cells`), ``progress(done, total)`` and
@@ -213,8 +216,8 @@ def basin_map(
     returns the cells done, the rest "not computed"."""
     if len(axes) != 2 or axes[0] == axes[1] or any(a not in STATE_NAMES for a in axes):
         raise ValueError(f"axes must be two different names of {', '.join(STATE_NAMES)}; got {axes!r}")
-    if model not in ("smooth", "impact"):
-        raise ValueError(f"model must be smooth or impact; got {model!r}")
+    if model not in ("smooth", *VARIANTS):
+        raise ValueError(f"model must be one of smooth, {', '.join(VARIANTS)}; got {model!r}")
     params.require_positive_stiffness()
     first, second = np.asarray(first, dtype=float), np.asarray(second, dtype=float)
     for name, grid in ((axes[0], first), (axes[1], second)):
@@ -292,17 +295,19 @@ class _Names:
     def __init__(self, params, backend, model="smooth"):
         self.params, self.model = params, model
         self.problem = (
-            ImpactOrbitProblem(params)
-            if model == "impact"
+            ImpactOrbitProblem(params, variant=VARIANTS[model])
+            if model in VARIANTS
             else ShootingProblem(params, segments=4, backend=backend)
         )
         self.orbits, self.attractors = {}, {}
 
     def _measures(self, y0) -> dict:
         """A1, max |w| and how far the orbit is from symmetric (0 for a symmetric one)."""
-        if self.model == "impact":
+        if self.model in VARIANTS:
             m = impact_measures(self.problem, y0, self.params.sigma)
-            m["symmetry_defect"] = 0.0 if is_symmetric(self.params, y0) else 1.0
+            m["symmetry_defect"] = 0.0 if is_symmetric(self.params, y0, variant=VARIANTS[self.model]) else 1.0
+            # by its impacts, wherever the wall is (the corrected model's |w| = D(v) is < 1 when slow)
+            m["impacting"] = len(self.problem.evaluate(y0, self.params.sigma).impacts) > 0
             return m
         return orbit_measures(
             self.problem, self.problem.initial_states(y0), self.params.sigma, points_per_2pi=128
@@ -318,7 +323,7 @@ class _Names:
         m = self._measures(y0)
         kind = (
             "non-impacting"
-            if m["max_abs_w"] < 1.0
+            if not m.get("impacting", m["max_abs_w"] >= 1.0)
             else "symmetric"
             if m["symmetry_defect"] < 1e-6
             else "asymmetric"

@@ -74,5 +74,27 @@ def test_the_basins_of_8_name_orbits_that_the_reference_flow_confirms():
     a, b = list(bmap.orbits.values())[:2]
     assert np.linalg.norm(reference(a, np.pi) + b) < 1e-6
     assert set(bmap.label[[0, -1]].ravel()) <= {"sticking"} | set(bmap.orbits)
-    with pytest.raises(ValueError, match="model must be smooth or impact"):
+    with pytest.raises(ValueError, match="model must be one of smooth, impact, impact-corrected"):
         basin_map(P, [0.0], [0.0], model="corrected")
+
+
+def test_the_corrected_impact_models_basins_name_9s_mirror_pair(basins):
+    """basins --model impact-corrected: the two orbits it names are (9)'s mirror pair (the orbits
+    (9)'s own basin map names, found by shooting) up to the contact's duration, 1e-3 in A1."""
+    P, smooth = basins
+    bmap = basin_map(
+        P,
+        np.linspace(-3, 3, 4),
+        np.linspace(-1, 1, 3),
+        model="impact-corrected",
+        workers=Workers(max_workers=2),
+    )
+    assert bmap.status == "complete" and bmap.model == "impact-corrected"
+    named = [name for name in bmap.orbits if name.startswith("asymmetric orbit")]
+    nine = [name for name in smooth.orbits if name.startswith("asymmetric orbit")]
+    assert len(named) == 2 and len(nine) >= 1
+
+    def a1(name):
+        return float(name.split("A1 = ")[1])
+
+    assert abs(a1(named[0]) - a1(nine[0])) < 1e-3 * a1(nine[0])
