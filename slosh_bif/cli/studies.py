@@ -50,8 +50,7 @@ def _compare(args) -> int:
     check_sigma_points(args)
     check_family_options(args)
     args.out.mkdir(parents=True, exist_ok=True)
-    if args.impact_model != "paper" and not args.impact:
-        raise ValueError("--impact-model chooses the impact model of --impact; give --impact too")
+    _check_impact_model(args)
     if args.impact:
         params.require_positive_stiffness()
         if not lo <= params.sigma <= hi:
@@ -72,6 +71,21 @@ def _compare(args) -> int:
     print(table)
     print(f"wrote {csv_path}, {png_path}, {args.out / 'compare.txt'}")
     return 0
+
+
+def _add_impact_model_option(parser) -> None:
+    parser.add_argument(
+        "--impact-model",
+        choices=("paper", "corrected"),
+        default="paper",
+        help="with --impact: (8) as the paper states it (default), or the corrected impact model ((9) "
+        "with its wall's own law), whose difference to (9) is the contact's duration alone",
+    )
+
+
+def _check_impact_model(args) -> None:
+    if args.impact_model != "paper" and not args.impact:
+        raise ValueError("--impact-model chooses the impact model of --impact; give --impact too")
 
 
 def _impact_branch_rows(args, params, lo, hi) -> list:
@@ -104,6 +118,7 @@ def _trust(args) -> int:
     lo, hi = sigma_range(args)
     check_sigma_points(args)
     check_workers(args)
+    _check_impact_model(args)
     settings = dict(
         params=base.as_dict(),
         eps=args.eps,
@@ -115,7 +130,8 @@ def _trust(args) -> int:
         max_branches=args.max_branches,
         backend=args.backend,
         model=args.model,
-        **({"impact": True} if args.impact else {}),  # stores written without it resume as before
+        # stores written without it resume as before
+        **({"impact": True if args.impact_model == "paper" else args.impact_model} if args.impact else {}),
     )
     done, keep = trust_store(args.out / "trust_map.json", settings, resume=args.resume)
     if done:
@@ -145,16 +161,16 @@ def _trust(args) -> int:
             shooting=ShootingSettings(backend=args.backend),
             branching=BranchingSettings(switch=not args.no_switch, max_branches=args.max_branches),
             model=args.model,
-            impact=args.impact,
+            impact=args.impact and args.impact_model,
             progress=report,
             resume=Resume(done, keep),
             workers=Workers(executor, args.workers),
         )
-    table = trust_table(points, model=args.model)
+    table = trust_table(points, model=args.model, impact_model=args.impact_model)
     write_text_atomically(args.out / "trust_map.txt", table + "\n")
     csv_path, png_path = (
         write_trust_csv(points, args.out / "trust_map.csv"),
-        plot_trust_map(points, args.out / "trust_map.png", model=args.model),
+        plot_trust_map(points, args.out / "trust_map.png", model=args.model, impact_model=args.impact_model),
     )
     print(table)
     print(f"wrote {csv_path}, {png_path}, {args.out / 'trust_map.txt'}")
@@ -255,13 +271,7 @@ def add_commands(sub) -> None:
         "(the expansion's) and (8)'s against (9) (its first-order coefficients and its wall) as "
         "columns of their own",
     )
-    compare.add_argument(
-        "--impact-model",
-        choices=("paper", "corrected"),
-        default="paper",
-        help="with --impact: (8) as the paper states it (default), or the corrected impact model ((9) "
-        "with its wall's own law), whose difference to (9) is the contact's duration alone",
-    )
+    _add_impact_model_option(compare)
     compare.set_defaults(run=_compare)
 
     trust = sub.add_parser(
@@ -307,8 +317,9 @@ def add_commands(sub) -> None:
         "--impact",
         action="store_true",
         help="also the orbits of the vibro-impact model (8) at each set: the expansion's error "
-        "((46) against (8)) and the wall's ((8) against (9)) apart",
+        "((46) against (8)) and (8)'s own ((8) against (9)) apart",
     )
+    _add_impact_model_option(trust)
     trust.add_argument(
         "--resume",
         action="store_true",

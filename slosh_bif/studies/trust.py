@@ -152,7 +152,8 @@ def trust_point(
     with either, the missed families are searched from the compared model's own states (a model
     is measured against every orbit near its states that Newton finds). ``impact``: also the
     orbits of (8) (from a simulation of (8) started on the family's first orbit), so that the
-    expansion's error and the wall's are measured apart.
+    expansion's error and (8)'s own are measured apart (``"corrected"``: of the corrected impact
+    model instead, whose difference to (9) is the contact's duration alone).
     """
     if not (np.isfinite(sigma_min) and np.isfinite(sigma_max) and sigma_min < sigma_max):
         raise ValueError(f"need finite sigma_min < sigma_max; got [{sigma_min}, {sigma_max}]")
@@ -240,7 +241,8 @@ def trust_point(
                 shooting=shooting,
             )
         )
-    split = _impact_split(start, sigma_min, sigma_max) if impact else ([], {})
+    variant = "paper" if impact is True else impact  # True: (8) as the paper states it
+    split = _impact_split(start, sigma_min, sigma_max, variant) if impact else ([], {})
     rows = [
         r for r in compare_rows(family, fr, sigmas, split[0] if impact else None) if r["slow_flow_stable"]
     ]
@@ -271,11 +273,16 @@ def trust_point(
 IMPACT_SETTLE = 200  # forcing periods of (8) simulated from the family's first orbit
 
 
-def _impact_split(start, sigma_min, sigma_max):
+def _impact_split(start, sigma_min, sigma_max, variant):
     """(rows of (8)'s branch, {"impact_status": why not}) from the family's start orbit."""
     try:
         rows = impact_branch_rows(
-            start.params, np.asarray(start.y0, dtype=float)[:4], sigma_min, sigma_max, settle=IMPACT_SETTLE
+            start.params,
+            np.asarray(start.y0, dtype=float)[:4],
+            sigma_min,
+            sigma_max,
+            settle=IMPACT_SETTLE,
+            variant=variant,
         )
     except (RuntimeError, ValueError) as err:  # ConvergenceError included
         return [], {"impact_status": f"no orbit of (8): {' '.join(str(err).split())}"}

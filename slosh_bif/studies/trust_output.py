@@ -30,7 +30,10 @@ _MODEL_NAMES = {
 }
 
 
-def trust_table(points, *, model: str = "slowflow") -> str:
+_IMPACT_TAGS = {"paper": "(8)", "corrected": "(C)"}  # (C): the corrected impact model
+
+
+def trust_table(points, *, model: str = "slowflow", impact_model: str = "paper") -> str:
     """One line per point: agree / confirmed (% of stable slow-flow states) and the median and
     largest difference to the nearest orbit; a first line names the slow flow compared."""
     lines = [
@@ -45,12 +48,14 @@ def trust_table(points, *, model: str = "slowflow") -> str:
             f"{'yes' if p.warned else 'no':>6s}  {p.status[:60]}"
         )
     measured = [p for p in points if p.impact_status]
+    tag = _IMPACT_TAGS[impact_model]
     if measured:
         lines += [
             "",
-            "the two errors apart, over the stable states with a stable orbit of both (8) and (9) nearby",
-            f"{'eps':>5s} {'beta':>4s} {'n':>3s}  {'states':>6s}  {'(46) vs (8): median':>19s} "
-            f"{'max':>6s}  {'(8) vs (9): median':>18s} {'max':>6s}  status",
+            f"the two errors apart, over the stable states with a stable orbit of both {tag} and (9) "
+            "nearby" + (" ((C): the corrected impact model)" if impact_model == "corrected" else ""),
+            f"{'eps':>5s} {'beta':>4s} {'n':>3s}  {'states':>6s}  {f'(46) vs {tag}: median':>19s} "
+            f"{'max':>6s}  {f'{tag} vs (9): median':>18s} {'max':>6s}  status",
         ]
         for p in measured:
             lines.append(
@@ -60,7 +65,9 @@ def trust_table(points, *, model: str = "slowflow") -> str:
     return "\n".join(lines)
 
 
-def plot_trust_map(points, path, *, title: str = "", model: str = "slowflow") -> Path:
+def plot_trust_map(
+    points, path, *, title: str = "", model: str = "slowflow", impact_model: str = "paper"
+) -> Path:
     """One column of panels per n; eps across, beta up. Top row: fraction of the slow flow's stable
     states within 5 % of some 2pi-orbit of (9); bottom row: of a *stable* orbit. Each cell is
     annotated with that percentage and the median difference; cells where AsymptoticsWarning
@@ -98,7 +105,8 @@ def plot_trust_map(points, path, *, title: str = "", model: str = "slowflow") ->
                         else f"{100 * grid[i, j]:.0f}%\n{p.median_difference:.1%}"
                     )
                     if row == 1 and p.impact_measured:  # the median difference split in two
-                        text += f"\n(46)-(8) {p.asymptotic_median:.1%}\n(8)-(9) {p.wall_median:.1%}"
+                        tag = _IMPACT_TAGS[impact_model]
+                        text += f"\n(46)-{tag} {p.asymptotic_median:.1%}\n{tag}-(9) {p.wall_median:.1%}"
                     if p.warned:  # hatched at the cell's edge, clear of the numbers
                         ax.add_patch(
                             Rectangle(
@@ -143,6 +151,9 @@ def plot_trust_map(points, path, *, title: str = "", model: str = "slowflow") ->
         lines.append(
             "bottom row: the median split into the expansion's error, (46) against (8), and (8)'s own, "
             "(8) against (9)"
+            if impact_model == "paper"
+            else "bottom row: the median split into (46) against the corrected impact model (C) and "
+            "the contact's duration, (C) against (9)"
         )
     # about 13 characters of the 9-point title per inch of the figure's width
     wrapped = "\n".join(textwrap.fill(line, int(13 * (3.2 * len(ns) + 1.2))) for line in lines)

@@ -571,6 +571,37 @@ def test_trust_writes_the_map_and_checks_its_input(tmp_path, capsys):
     assert "parameter n must be in integers >= 1; got 0" in capsys.readouterr().err
 
 
+def test_trust_names_the_corrected_impact_model_and_needs_impact_for_it(tmp_path, capsys):
+    from slosh_bif.studies.trust import TrustPoint
+    from slosh_bif.studies.trust_output import trust_table
+
+    point = TrustPoint(
+        eps=0.05,
+        beta=0.3,
+        n=50,
+        stable_states=30,
+        agree=0.2,
+        confirmed=0.1,
+        median_difference=0.09,
+        max_difference=0.2,
+        warned=False,
+        sigma_start=1.0,
+        branches=3,
+        seconds=1.0,
+        status="ok",
+        impact_measured=23,
+        asymptotic_median=0.095,
+        asymptotic_max=0.19,
+        wall_median=0.0012,
+        wall_max=0.013,
+        impact_status="ok",
+    )
+    table = trust_table([point], impact_model="corrected")
+    assert "(46) vs (C): median" in table and "(C) vs (9): median" in table and "0.12%" in table
+    argv = ["trust", "--preset", "fig13", "--impact-model", "corrected", "--out", str(tmp_path)]
+    assert main(argv) == 2 and "give --impact too" in capsys.readouterr().err
+
+
 def test_shoot_without_an_orbit_near_the_guess_says_so(tmp_path, capsys):
     argv = [
         "shoot",
