@@ -127,6 +127,18 @@ def add_model_option(parser):
     )
 
 
+def add_impact_model_option(parser) -> None:
+    """``--impact-model paper|corrected``: which impact model ``--impact`` adds."""
+    help_ = "with --impact: (8) as stated (default) or the corrected impact model ((9) with its wall's law)"
+    parser.add_argument("--impact-model", choices=("paper", "corrected"), default="paper", help=help_)
+
+
+def check_impact_model(args) -> None:
+    """A one-line error for ``--impact-model`` without ``--impact``."""
+    if args.impact_model != "paper" and not args.impact:
+        raise ValueError("--impact-model chooses the impact model of --impact; give --impact too")
+
+
 def add_abar_range_options(parser, *, default=(None, None)):
     lo, hi = default
     parser.add_argument(

@@ -8,12 +8,14 @@ import numpy as np
 from slosh_bif.cli.common import (
     MAX_GRID,
     add_backend_option,
+    add_impact_model_option,
     add_model_option,
     add_params_options,
     add_range_options,
     add_scheduler_option,
     add_sigma_points_option,
     cell_progress,
+    check_impact_model,
     check_sigma_points,
     check_workers,
     floats,
@@ -50,7 +52,7 @@ def _compare(args) -> int:
     check_sigma_points(args)
     check_family_options(args)
     args.out.mkdir(parents=True, exist_ok=True)
-    _check_impact_model(args)
+    check_impact_model(args)
     if args.impact:
         params.require_positive_stiffness()
         if not lo <= params.sigma <= hi:
@@ -71,21 +73,6 @@ def _compare(args) -> int:
     print(table)
     print(f"wrote {csv_path}, {png_path}, {args.out / 'compare.txt'}")
     return 0
-
-
-def _add_impact_model_option(parser) -> None:
-    parser.add_argument(
-        "--impact-model",
-        choices=("paper", "corrected"),
-        default="paper",
-        help="with --impact: (8) as the paper states it (default), or the corrected impact model ((9) "
-        "with its wall's own law), whose difference to (9) is the contact's duration alone",
-    )
-
-
-def _check_impact_model(args) -> None:
-    if args.impact_model != "paper" and not args.impact:
-        raise ValueError("--impact-model chooses the impact model of --impact; give --impact too")
 
 
 def _impact_branch_rows(args, params, lo, hi) -> list:
@@ -118,7 +105,7 @@ def _trust(args) -> int:
     lo, hi = sigma_range(args)
     check_sigma_points(args)
     check_workers(args)
-    _check_impact_model(args)
+    check_impact_model(args)
     settings = dict(
         params=base.as_dict(),
         eps=args.eps,
@@ -271,7 +258,7 @@ def add_commands(sub) -> None:
         "(the expansion's) and (8)'s against (9) (its first-order coefficients and its wall) as "
         "columns of their own",
     )
-    _add_impact_model_option(compare)
+    add_impact_model_option(compare)
     compare.set_defaults(run=_compare)
 
     trust = sub.add_parser(
@@ -319,7 +306,7 @@ def add_commands(sub) -> None:
         help="also the orbits of the vibro-impact model (8) at each set: the expansion's error "
         "((46) against (8)) and (8)'s own ((8) against (9)) apart",
     )
-    _add_impact_model_option(trust)
+    add_impact_model_option(trust)
     trust.add_argument(
         "--resume",
         action="store_true",

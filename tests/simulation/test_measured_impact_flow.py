@@ -64,7 +64,7 @@ def _reference(params, y0, t0, t1):
 
 @pytest.mark.parametrize(
     "preset, changes, periods",
-    [("fig13", {"sigma": 1.0}, 10), ("fig10", {"sigma": 3.0}, 3), ("fig10", {"sigma": 3.0, "pbar": 2}, 3)],
+    [("fig13", {"sigma": 1.0}, 6), ("fig10", {"sigma": 3.0}, 3), ("fig10", {"sigma": 3.0, "pbar": 2}, 3)],
 )
 def test_every_impact_matches_scipy_with_the_state_dependent_wall(preset, changes, periods):
     params = get_preset(preset).params.replace(**changes)

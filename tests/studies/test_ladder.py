@@ -139,7 +139,13 @@ def test_the_impact_model_is_the_rung_between_the_slow_flows_and_shooting_on_9()
     """For the frequency response at n = 50, a tolerance below the corrected slow flow's error but
     above (8)'s measured wall error picks the orbits of (8); below that, shooting on (9); below the
     least n measured, (8) is passed over and says so."""
-    from slosh_bif.studies.ladder import CORRECTED_ERROR, IMPACT, IMPACT_ERROR
+    from slosh_bif.studies.ladder import (
+        CORRECTED_ERROR,
+        CORRECTED_IMPACT,
+        CORRECTED_IMPACT_ERROR,
+        IMPACT,
+        IMPACT_ERROR,
+    )
 
     table = IMPACT_ERROR["frequency-response"]
     at50 = table[max(n for n in table if n <= 50)]
@@ -147,8 +153,12 @@ def test_the_impact_model_is_the_rung_between_the_slow_flows_and_shooting_on_9()
     tol = 0.5 * (at50 + CORRECTED_ERROR["frequency-response"])
     model, reason, error = model_choice("frequency-response", FIG10, tol=tol)
     assert model == IMPACT and error == at50 and "(8)'s measured error" in reason
-    model, reason, _ = model_choice("frequency-response", FIG10, tol=0.5 * at50)
-    assert model == "shooting on (9)" and "(8) measured" in reason
+    # below (8)'s error, the corrected impact model's orbits (the contact's error alone); below that, (9)
+    corrected = CORRECTED_IMPACT_ERROR["frequency-response"][50]
+    model, reason, error = model_choice("frequency-response", FIG10, tol=0.5 * at50)
+    assert model == CORRECTED_IMPACT and error == corrected and "(8) measured" in reason
+    model, reason, _ = model_choice("frequency-response", FIG10, tol=0.5 * corrected)
+    assert model == "shooting on (9)" and "the corrected impact model measured" in reason
     model, reason, _ = model_choice("frequency-response", FIG10.replace(n=min(table) - 2), tol=tol)
     assert model == "shooting on (9)" and "not measured below" in reason
     # the answer itself: the orbits of (8) over the range, from the orbit a simulation settles on
