@@ -271,7 +271,6 @@ class ImpactFlow:
         # the flights of the other variant, to tell the two differences apart (runs only: the
         # saltation matrices are derived for each variant's own flights)
         exact = variant == "corrected" if exact_flights is None else bool(exact_flights)
-        self.own_flights = exact == (variant == "corrected")
         self.params, self.exact_flights = params, exact
         P = params
         K = impact_augmented(P.eps, P.beta, P.gamma, P.sigma, P.Abar, exact=exact)
@@ -353,7 +352,7 @@ class ImpactFlow:
     def strobe(self, y0, t0: float, period: float, *, stick_speed: float = 1e-9, max_impacts: int = 10_000):
         """``(y, phi, dp, impacts, code)``: the state at ``t0 + period``, its derivatives with respect
         to y0 (4 x 4) and to ``param`` (zero without one), the impacts and the end code of :meth:`run`."""
-        if not self.own_flights:
+        if self.exact_flights != (self.variant == "corrected"):  # the other variant's flights
             raise ValueError("a flow with the other variant's flights runs, but has no saltation matrices")
         _, states, impacts, code, phi, dp = self._call(
             y0, t0, t0 + period, stick_speed, max_impacts, min(max_impacts, 64), True

@@ -21,7 +21,14 @@ from slosh_bif.orbits.impact_branches import ImpactBranch
 from slosh_bif.orbits.impact_orbits import GRAZING, ImpactOrbitProblem
 from slosh_bif.report.tables import write_rows
 
-__all__ = ["IMPACT_COLUMNS", "orbit_measures", "impact_rows", "write_impact_csv", "plot_impact_branch"]
+__all__ = [
+    "IMPACT_COLUMNS",
+    "first_harmonic",
+    "orbit_measures",
+    "impact_rows",
+    "write_impact_csv",
+    "plot_impact_branch",
+]
 
 IMPACT_COLUMNS = (
     "sigma",
@@ -40,17 +47,21 @@ IMPACT_COLUMNS = (
 MEASURE_STEP = 0.01  # sample step of an orbit for its measures: A1 to about 1e-5
 
 
+def first_harmonic(t, X) -> float:
+    """A1 of X sampled at t over a whole period of the orbit (2 pi times its multiple): 2/T times
+    the trapezoid rule's integral of X exp(-i t)."""
+    f = X * np.exp(-1j * t)
+    return float(abs(np.sum(0.5 * (f[1:] + f[:-1]) * np.diff(t)) / (0.5 * (t[-1] - t[0]))))
+
+
 def orbit_measures(problem: ImpactOrbitProblem, x, p) -> dict:
     """A1, max |X|, max |w| (1 on an orbit with impacts) and the slowest impact speed of the orbit
     of (8) through x on the problem's section."""
     t, y, impacts = problem.orbit(x, p, step=MEASURE_STEP)
     if problem.symmetric:  # over half its period: the other half is -y
         t, y = np.concatenate([t, t[1:] + problem.period]), np.concatenate([y, -y[:, 1:]], axis=1)
-    f = y[0] * np.exp(-1j * t)
-    # the trapezoid rule over the orbit's period (2 pi times its multiple): 2/T times the integral
-    harmonic = np.sum(0.5 * (f[1:] + f[:-1]) * np.diff(t)) / (0.5 * (t[-1] - t[0]))
     return {
-        "A1": float(abs(harmonic)),
+        "A1": first_harmonic(t, y[0]),
         "max_abs_X": float(np.abs(y[0]).max()),
         "max_abs_w": float(np.abs(y[2]).max()),
         "min_impact_speed": float(np.abs(impacts[:, 2]).min()) if len(impacts) else float("nan"),

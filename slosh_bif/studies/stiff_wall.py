@@ -31,7 +31,7 @@ from slosh_bif.continuation.corrector import newton_solve
 from slosh_bif.flows.impact_flow import ImpactFlow
 from slosh_bif.model.params import Params
 from slosh_bif.orbits.impact_orbits import ImpactOrbitProblem
-from slosh_bif.orbits.impact_output import orbit_measures
+from slosh_bif.orbits.impact_output import first_harmonic, orbit_measures
 from slosh_bif.orbits.starts import settle_and_shoot
 
 __all__ = [
@@ -103,15 +103,10 @@ def stiff_wall_points(params: Params, sigmas, ns, state0=(0.0, 0.0, 0.0, 0.5), p
                 for name, v in (("(9)", smooth if np.isfinite(smooth) else None), *found.items())
                 if v is None
             ]
-            status = (
-                "ok"
-                if not missing and len(counts) == 1
-                else (
-                    f"not found: {', '.join(missing)}"
-                    if missing
-                    else "the impact models' orbits differ in impacts"
-                )
-            )
+            if missing:
+                status = f"not found: {', '.join(missing)}"
+            else:
+                status = "ok" if len(counts) == 1 else "the impact models' orbits differ in impacts"
             point = StiffWallPoint(
                 sigma,
                 n,
@@ -182,8 +177,7 @@ def _settled_a1(flow: ImpactFlow, y0) -> float:
     t, y, _, code = fine.run(run[1][:, -1], 0.0, 2 * np.pi, stick_speed=1e-9, max_impacts=10**5)
     if code != 0 or np.abs(y[:, -1] - y[:, 0]).max() > 1e-8 * (1 + np.abs(y[:, 0]).max()):
         return float("nan")
-    f = y[0] * np.exp(-1j * t)
-    return float(abs(np.sum(0.5 * (f[1:] + f[:-1]) * np.diff(t)) / np.pi))
+    return first_harmonic(t, y[0])
 
 
 def simplifications(params: Params, sigmas, state0=(0.0, 0.0, 0.0, 0.5)) -> list:
