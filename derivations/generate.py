@@ -22,6 +22,7 @@ if str(HERE) not in sys.path:
 import codegen  # noqa: E402
 import impact_reset  # noqa: E402
 import models as m  # noqa: E402
+import numpy as np  # noqa: E402
 import report  # noqa: E402
 import slow_flow  # noqa: E402
 import sympy as sp  # noqa: E402
@@ -186,6 +187,36 @@ def _kernels_module() -> str:
     )
 
 
+def _tableau_module() -> str:
+    """The DOP853 coefficients the compiled loop uses, written from scipy's own (exact float reprs), so
+    that the loop neither imports scipy.integrate (a third of a second at start-up) nor differs
+    from scipy's method by a digit."""
+    from scipy.integrate._ivp import dop853_coefficients as dop
+
+    stages = dop.N_STAGES
+
+    def rows(name, array):
+        array = np.asarray(array, dtype=float)
+        if array.ndim == 1:
+            return f"{name} = ({', '.join(repr(float(v)) for v in array)},)\n"
+        inner = "".join(f"    ({', '.join(repr(float(v)) for v in row)},),\n" for row in array)
+        return f"{name} = (\n{inner})\n"
+
+    return (
+        '"""The coefficients of DOP853 (Hairer, Norsett & Wanner) as scipy\'s solve_ivp has them.\n\n'
+        "GENERATED CODE - DO NOT EDIT.\n"
+        f"Written by derivations/{SCRIPT} from scipy.integrate._ivp.dop853_coefficients.\n"
+        "Regenerate with `slosh-bif derive` (or `python derivations/generate.py`); `slosh-bif derive "
+        '--check`\nfails when this file is stale.\n"""\n\n'
+        f"N_STAGES = {stages}\n"
+        + rows("A", dop.A[:stages, :stages])
+        + rows("B", dop.B)
+        + rows("C", dop.C[:stages])
+        + rows("E3", dop.E3)
+        + rows("E5", dop.E5)
+    )
+
+
 def sp_matrix(items):
     return sp.Matrix(list(items))
 
@@ -197,6 +228,7 @@ def render_all() -> dict[Path, str]:
         / "__init__.py": '"""Generated code: written by derivations/generate.py, never edited by hand."""\n',
         GENERATED / "models.py": _models_module(),
         GENERATED / "kernels.py": _kernels_module(),
+        GENERATED / "dop853_tableau.py": _tableau_module(),
         GENERATED / "impact_kernels.py": codegen.render_kernels(
             "The impact of the vibro-impact model (8): its reset and saltation matrix, for the compiled "
             "flow (slosh_bif.flows.impact_flow).",

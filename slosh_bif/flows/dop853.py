@@ -1,6 +1,7 @@
 """The compiled DOP853 loop: the explicit Runge-Kutta pair of Hairer, Norsett and Wanner with exactly
 the error norm, step-size control and initial-step rule of scipy's ``solve_ivp(method="DOP853")``
-(its Butcher coefficients are read from scipy at import), compiled by numba around the scalar
+(its coefficients written from scipy's by the derivation, ``_generated/dop853_tableau.py``, so
+that the loop does not import scipy.integrate), compiled by numba around the scalar
 kernels that the sympy derivation writes for (9) (``_generated/kernels.py``): (9) alone, (9) with
 everything shooting needs (variational equations, two parameter sensitivities, the Liouville
 integral; the (sigma, Abar) kernel or the pair kernel for any two parameters), and (9) with the
@@ -16,14 +17,24 @@ import math
 from pathlib import Path
 
 import numpy as np
-from scipy.integrate._ivp import dop853_coefficients as _dop
 
 from slosh_bif.flows.compiled import HAVE_NUMBA, numba
 from slosh_bif.flows.compiled import jit as _jit
 from slosh_bif.model import powers as _powers
+from slosh_bif.model._generated import dop853_tableau as _dop
 from slosh_bif.model._generated import kernels as _kernels
 
-__all__ = ["HAVE_NUMBA", "TABLEAU", "KERNELS", "WHICH", "MESSAGES", "OK", "dop853_loop", "grid_loop"]
+__all__ = [
+    "HAVE_NUMBA",
+    "TABLEAU",
+    "KERNELS",
+    "WHICH",
+    "MESSAGES",
+    "OK",
+    "dop853_loop",
+    "grid_loop",
+    "arcs_loop",
+]
 
 if HAVE_NUMBA:  # before any kernel compiles: the kernels' int_power becomes repeated squaring here
 
@@ -33,11 +44,11 @@ if HAVE_NUMBA:  # before any kernel compiles: the kernels' int_power becomes rep
 
 
 _STAGES = _dop.N_STAGES
-_A = np.ascontiguousarray(_dop.A[:_STAGES, :_STAGES])
-_B = np.ascontiguousarray(_dop.B)
-_C = np.ascontiguousarray(_dop.C[:_STAGES])
-_E3 = np.ascontiguousarray(_dop.E3)
-_E5 = np.ascontiguousarray(_dop.E5)
+_A = np.array(_dop.A)
+_B = np.array(_dop.B)
+_C = np.array(_dop.C)
+_E3 = np.array(_dop.E3)
+_E5 = np.array(_dop.E5)
 
 # Status codes of the compiled loop.
 _OK, _MAX_STEPS, _TOO_SMALL, _NOT_FINITE = 0, 1, 2, 3
@@ -269,10 +280,36 @@ def _dop853_loop(which, t0, t1, z0, pars, rtol, atol, h, max_steps, A, B, C, E3,
     return z, steps, rejected, nfev, h, status
 
 
+@_jit
+def _arcs_loop(which, taus, starts, pars, rtol, atol, max_steps, A, B, C, E3, E5):
+    """Every arc of multiple shooting in one call: arc k runs the shooting system from
+    [starts[k], I, 0, 0] over [taus[k], taus[k + 1]]. Returns (end states (m, 29), arcs done,
+    status of the first that failed or 0). One call instead of one per arc: the Python around
+    each call cost as much as a short arc at n = 6."""
+    m = starts.shape[0]
+    size = 29
+    out = np.full((m, size), np.nan)
+    z0 = np.zeros(size)
+    for k in range(m):
+        for i in range(size):
+            z0[i] = 0.0
+        for i in range(4):
+            z0[i] = starts[k, i]
+            z0[4 + 5 * i] = 1.0
+        z, steps, rejected, nfev, h, status = _dop853_loop(
+            which, taus[k], taus[k + 1], z0, pars, rtol, atol, 0.0, max_steps, A, B, C, E3, E5
+        )
+        if status != 0:
+            return out, k, status
+        for i in range(size):
+            out[k, i] = z[i]
+    return out, m, 0
+
+
 if HAVE_NUMBA:
     _forget_compilations_of_other_kernels(_dop853_loop)
 
 # The interface of :mod:`slosh_bif.flows.integrator`.
 TABLEAU = (_A, _B, _C, _E3, _E5)
 KERNELS, WHICH, MESSAGES, OK = _RAW, _WHICH, _MESSAGES, _OK
-dop853_loop, grid_loop = _dop853_loop, _grid_loop
+dop853_loop, grid_loop, arcs_loop = _dop853_loop, _grid_loop, _arcs_loop

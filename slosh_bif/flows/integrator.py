@@ -21,7 +21,6 @@ import math
 import typing
 
 import numpy as np
-from scipy.integrate import solve_ivp
 
 from slosh_bif.flows.dop853 import (
     HAVE_NUMBA,
@@ -30,6 +29,7 @@ from slosh_bif.flows.dop853 import (
     OK,
     TABLEAU,
     WHICH,
+    arcs_loop,
     dop853_loop,
     grid_loop,
 )
@@ -41,6 +41,7 @@ __all__ = [
     "Integration",
     "integrate",
     "integrate_grid",
+    "integrate_arcs",
     "SHOOTING_SIZE",
     "resolve_backend",
     "DEFAULT_SENSITIVITIES",
@@ -196,6 +197,8 @@ def integrate(
         return Integration(
             z, steps, rejected, nfev, h, status == OK, MESSAGES[status]
         )  # numba returns Python int and float
+    from scipy.integrate import solve_ivp  # the fallback only: a third of a second to import
+
     fun = _scipy_rhs(which, pars)
     with np.errstate(over="ignore", invalid="ignore"):  # trial steps deep in the wall may overflow
         sol = solve_ivp(fun, (tau0, tau1), z0, method="DOP853", rtol=rtol, atol=atol, first_step=h0 or None)
@@ -209,6 +212,61 @@ def integrate(
         bool(sol.success),
         "ok" if sol.success else sol.message,
     )
+
+
+def integrate_arcs(
+    params: Params,
+    starts,
+    taus,
+    *,
+    rtol: float = 1e-10,
+    atol: float = 1e-12,
+    backend: str = "auto",
+    sensitivities: tuple = DEFAULT_SENSITIVITIES,
+    max_steps: int = 2_000_000,
+):
+    """The shooting system over every arc of multiple shooting: arc k from ``starts[k]`` (with
+    Phi = I and zero sensitivities) over [taus[k], taus[k + 1]]. Returns (ends (m, 29), arcs
+    integrated); rows of the arcs after a failed one are NaN. The compiled backend runs all
+    arcs in one call; otherwise :func:`integrate` arc by arc."""
+    starts = np.asarray(starts, dtype=float)
+    m = len(starts)
+    if resolve_backend(backend) == "numba" and np.all(np.isfinite(starts)):
+        pair = tuple(sensitivities) != DEFAULT_SENSITIVITIES
+        pars = _pars(params, None, real_pair(sensitivities, "sensitivities") if pair else None)
+        ends, done, status = arcs_loop(
+            WHICH["pair" if pair else "shooting"],
+            np.asarray(taus, dtype=float),
+            starts,
+            pars,
+            float(rtol),
+            float(atol),
+            int(max_steps),
+            *TABLEAU,
+        )
+        return ends, min(done + 1, m)
+    ends = np.full((m, SHOOTING_SIZE), np.nan)
+    z0 = np.concatenate([np.zeros(4), np.eye(4).ravel(), np.zeros(9)])
+    for k in range(m):
+        if not np.all(np.isfinite(starts[k])):
+            return ends, k
+        z0[:4] = starts[k]
+        run = integrate(
+            params,
+            z0,
+            taus[k],
+            taus[k + 1],
+            shooting=True,
+            rtol=rtol,
+            atol=atol,
+            backend=backend,
+            sensitivities=sensitivities,
+            max_steps=max_steps,
+        )
+        if not (run.success and np.all(np.isfinite(run.z))):
+            return ends, k + 1
+        ends[k] = run.z
+    return ends, m
 
 
 def integrate_grid(
@@ -228,6 +286,8 @@ def integrate_grid(
     which = "plain" if noise is None else "noisy"
     pars = _pars(params, noise)
     if resolve_backend(backend) == "scipy":
+        from scipy.integrate import solve_ivp
+
         with np.errstate(over="ignore", invalid="ignore"):
             sol = solve_ivp(
                 _scipy_rhs(which, pars),

@@ -35,7 +35,6 @@ import dataclasses
 import math
 
 import numpy as np
-from scipy.interpolate import PPoly, make_interp_spline
 
 __all__ = ["BandLimitedNoise", "band_limited_noise", "MAX_NOISE_SAMPLES", "MAX_NOISE_STD"]
 
@@ -138,6 +137,8 @@ def band_limited_noise(
     # Pad with samples beyond both ends (the realisation is L-periodic, so they exist) so that the
     # spline's irregular end pieces fall outside the run and the kept pieces sit between samples.
     knots = np.arange(-2 * _DEGREE, count + 2 * _DEGREE)
+    from scipy.interpolate import PPoly, make_interp_spline  # only where noise is drawn
+
     spline = PPoly.from_spline(make_interp_spline(t0 + dt * knots, samples[knots % m], k=_DEGREE))
     start = np.searchsorted(spline.x, t0 - 0.5 * dt)
     coef = spline.c[:, start : start + count - 1]

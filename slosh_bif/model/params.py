@@ -48,6 +48,9 @@ _REAL_RANGES = {
     "chi": ("(0, inf)", lambda v: v > 0),
 }
 
+# the real fields no rule across fields involves (lam and chi enter the restitution check)
+_UNCOUPLED = frozenset(_REAL_RANGES) - {"lam", "chi"}
+
 
 def real_pair(pair, what: str = "two-parameter curves") -> tuple:
     """``pair`` as a tuple if it names two different real fields; else a one-line ValueError."""
@@ -66,6 +69,16 @@ def real_pair(pair, what: str = "two-parameter curves") -> tuple:
 
 def _bad(name: str, allowed: str, value) -> ValueError:
     return ValueError(f"parameter {name} must be in {allowed}; got {value!r}")
+
+
+def _real(name: str, value) -> float:
+    """A real field's value as a float, or the one-line error naming its range."""
+    allowed, ok = _REAL_RANGES[name]
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        raise _bad(name, allowed, value)
+    if not math.isfinite(value) or not ok(value):
+        raise _bad(name, allowed, value)
+    return float(value)
 
 
 def _as_integer(name: str, value, allowed: str) -> int:
@@ -97,13 +110,8 @@ class Params:
     pbar: int
 
     def __post_init__(self):
-        for name, (allowed, ok) in _REAL_RANGES.items():
-            value = getattr(self, name)
-            if isinstance(value, bool) or not isinstance(value, numbers.Real):
-                raise _bad(name, allowed, value)
-            if not math.isfinite(value) or not ok(value):
-                raise _bad(name, allowed, value)
-            object.__setattr__(self, name, float(value))
+        for name in _REAL_RANGES:
+            object.__setattr__(self, name, _real(name, getattr(self, name)))
         n = _as_integer("n", self.n, "integers >= 1")
         if n < 1:
             raise _bad("n", "integers >= 1", self.n)
@@ -157,6 +165,12 @@ class Params:
         unknown = sorted(set(changes) - set(FIELDS))
         if unknown:
             raise ValueError(f"unknown parameter(s) {unknown}; known: {', '.join(FIELDS)}")
+        if changes.keys() <= _UNCOUPLED:  # only their own ranges to check (a continuation asks often)
+            copy = object.__new__(Params)
+            copy.__dict__.update(self.__dict__)
+            for name, value in changes.items():
+                object.__setattr__(copy, name, _real(name, value))
+            return copy
         return dataclasses.replace(self, **changes)
 
     def as_dict(self) -> dict:

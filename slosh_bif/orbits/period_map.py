@@ -12,7 +12,6 @@ from __future__ import annotations
 import dataclasses
 
 import numpy as np
-from scipy.integrate import solve_ivp
 
 from slosh_bif.continuation.corrector import newton_solve
 
@@ -58,6 +57,8 @@ def period_map(rhs, jac, y0, period, *, tau0=0.0, rtol=1e-10, atol=1e-12, method
         return np.concatenate([rhs(tau, y), (J @ Phi).ravel(), [np.trace(J)]])
 
     z0 = np.concatenate([y0, np.eye(n).ravel(), [0.0]])
+    from scipy.integrate import solve_ivp  # the reference path only
+
     with np.errstate(over="ignore", invalid="ignore"):  # trial steps deep in the wall may overflow
         sol = solve_ivp(augmented, (tau0, tau0 + period), z0, method=method, rtol=rtol, atol=atol)
     if not sol.success:

@@ -148,6 +148,7 @@ class ShootingProblem:
         self.closing = -1.0 if symmetric else 1.0
         self.period = np.pi if symmetric else 2 * np.pi * period_multiple  # what the arcs span
         self.orbit_period = 2 * np.pi * period_multiple
+        self._taus = np.linspace(0.0, self.period, segments + 1)
         # G's multiplier -1 is the pitchfork (a branch point of the 2pi problem); M's -1 is a
         # period doubling, which a symmetric orbit does not have generically (M = G^2).
         self.test_kinds = ("BP", "NS") if symmetric else ("PD", "NS")
@@ -199,7 +200,7 @@ class ShootingProblem:
         return np.concatenate([x, -x], axis=-1) if self.symmetric else x
 
     def arc_times(self):
-        return np.linspace(0.0, self.period, self.segments + 1)
+        return self._taus.copy()
 
     def initial_states(self, y0, p=None):
         """x for the orbit guess through y0 at tau = 0: y0 integrated across the arcs."""
@@ -220,39 +221,24 @@ class ShootingProblem:
         hit = self._cache.get(key)
         if hit is not None:
             return hit
-        taus = self.arc_times()
         m = self.segments
-        ends, mats, sens, trace, ok = np.empty((m, 4)), np.empty((m, 4, 4)), np.empty((m, 4, 2)), 0.0, True
-        if not np.all(np.isfinite(x)):  # no integration from a non-finite state: every arc fails
-            mats[:], sens[:], ok = np.nan, np.nan, False
-        for k in range(m if ok else 0):
-            z0 = np.concatenate([x[4 * k : 4 * k + 4], np.eye(4).ravel(), np.zeros(9)])
-            run = integrator.integrate(
-                params,
-                z0,
-                taus[k],
-                taus[k + 1],
-                shooting=True,
-                rtol=self.rtol,
-                atol=self.atol,
-                backend=self.backend,
-                sensitivities=self.sensitivities,
-                max_steps=ARC_MAX_STEPS,
-            )
-            self.evaluations += 1
-            ok &= run.success and bool(np.all(np.isfinite(run.z)))
-            ends[k], mats[k] = run.z[:4], run.z[4:20].reshape(4, 4)
-            sens[k] = run.z[20:28].reshape(2, 4).T
-            trace += run.z[28]
-            if not ok:  # the rest of the arcs cannot mend it: Newton or the corrector steps back
-                mats[k + 1 :], sens[k + 1 :] = np.nan, np.nan
-                break
-        if not ok:
-            ends[:] = np.nan
-        M = np.eye(4)
-        for Phi in mats:
+        z, done = integrator.integrate_arcs(
+            params,
+            x.reshape(m, 4),
+            self._taus,
+            rtol=self.rtol,
+            atol=self.atol,
+            backend=self.backend,
+            sensitivities=self.sensitivities,
+            max_steps=ARC_MAX_STEPS,
+        )
+        self.evaluations += done
+        mats = z[:, 4:20].reshape(m, 4, 4)
+        ends = z[:, :4] if np.isfinite(z).all() else np.full((m, 4), np.nan)  # a failed arc: no residual
+        M = mats[0]
+        for Phi in mats[1:]:
             M = Phi @ M
-        result = Arcs(ends, mats, sens, trace, M)
+        result = Arcs(ends, mats, z[:, 20:28].reshape(m, 2, 4).transpose(0, 2, 1), float(z[:, 28].sum()), M)
         if len(self._cache) > 8:
             self._cache.clear()
         self._cache[key] = result
@@ -268,9 +254,11 @@ class ShootingProblem:
 
     def residual_of(self, x, arcs: "Arcs"):
         """phi_k(y_k) - y_{k+1}, the last arc closing on y_0 (on -y_0 for a symmetric problem), stacked."""
-        following = np.roll(x.reshape(-1, 4), -1, axis=0)
-        following[-1] *= self.closing
-        return (arcs.ends - following).ravel()
+        starts = x.reshape(-1, 4)
+        out = arcs.ends.copy()
+        out[:-1] -= starts[1:]
+        out[-1] -= self.closing * starts[0]
+        return out.ravel()
 
     def jacobian(self, x, p):
         return self.jacobian_of(self._arcs(x, p))

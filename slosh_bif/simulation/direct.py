@@ -14,7 +14,6 @@ import dataclasses
 import time
 
 import numpy as np
-from scipy.integrate import solve_ivp
 
 from slosh_bif.flows import integrator
 from slosh_bif.flows.noise import MAX_NOISE_STD, band_limited_noise
@@ -77,6 +76,8 @@ def integrate_smooth(
         raise ValueError(f"state0 must be 4 finite numbers [X, X', w, w']; got {state0!r}")
     model = SmoothModel(params)
     extra = {"jac": model.jac} if method in _IMPLICIT else {}
+    from scipy.integrate import solve_ivp  # here: the compiled path needs none of scipy.integrate
+
     with np.errstate(over="ignore", invalid="ignore"):  # trial steps far inside the wall may overflow
         sol = solve_ivp(
             model.rhs,

@@ -22,7 +22,6 @@ import dataclasses
 import functools
 
 import numpy as np
-from scipy import linalg, optimize
 
 from slosh_bif.flows.impact_band import inside_measured_wall
 from slosh_bif.flows.impact_flow import IMPACT_VARIANTS, ImpactFlow
@@ -70,10 +69,13 @@ class _ExactFlow:
     """Exact flow of (8) between impacts on the augmented state ``z = [y, cos tau, sin tau]``."""
 
     def __init__(self, model: ImpactModel):
+        from scipy import linalg  # the reference path only (the compiled flow needs no scipy)
+
         self.K = model.augmented()
+        self._expm = linalg.expm
 
     def propagator(self, s):
-        return linalg.expm(self.K * s)
+        return self._expm(self.K * s)
 
     def component(self, z, s, index):
         return (self.propagator(s) @ z)[index]
@@ -85,6 +87,7 @@ def _augment(tau, y):
 
 def _find_impact(flow, z, h, side):
     """Earliest s in (0, h] where w reaches the wall ``side`` (+1/-1), or None."""
+    from scipy import optimize
 
     def beyond(s):
         return side * flow.component(z, s, 2) - 1.0

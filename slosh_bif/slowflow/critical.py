@@ -20,7 +20,6 @@ from __future__ import annotations
 import dataclasses
 
 import numpy as np
-from scipy import optimize
 
 import slosh_bif.continuation as cont
 from slosh_bif.model.params import Params
@@ -250,6 +249,8 @@ def critical_forcing(params: Params, sigma: float, *, model: str = "slowflow") -
         raise RuntimeError(
             f"Abar of (46) at sigma = {sigma} still falls at A = {top:.6g}, the largest amplitude searched"
         )
+    from scipy import optimize  # here: importing the slow flow does not import scipy.optimize
+
     found = optimize.minimize_scalar(
         lambda a: float(abar_on_curve(flow, a)),
         bounds=(A[i - 1], A[i + 1]),

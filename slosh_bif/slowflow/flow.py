@@ -32,7 +32,6 @@ import dataclasses
 import warnings
 
 import numpy as np
-from scipy.integrate import solve_ivp
 
 from slosh_bif.model import restitution
 from slosh_bif.model._generated import slow_flow as gen
@@ -236,6 +235,8 @@ class SlowFlow:
 
         reaches_end.terminal = True
         reaches_end.direction = -1
+        from scipy.integrate import solve_ivp  # here: a process that only shoots never imports it
+
         sol = solve_ivp(
             rhs, T1_span, [A0, psi0], method="DOP853", rtol=rtol, atol=atol, t_eval=t_eval, events=reaches_end
         )

@@ -3,43 +3,40 @@ period doubling (PD), pitchfork (BP) and Neimark-Sacker (NS) curves, one problem
 shared minimally augmented base over either model's orbit equations (multiple shooting of (9),
 the stroboscopic map of (8)), their codimension-2 points, and the curve result object."""
 
-from slosh_bif.orbits.codim2.curves import (
-    CODIM2_KINDS,
-    CURVE_OPTIONS,
-    CURVE_PROBLEMS,
-    BifurcationCurve,
-    CurveSeed,
-    curve_problem,
-    trace_curve,
-)
-from slosh_bif.orbits.codim2.impact_curves import ImpactCurveSeed, trace_impact_curve
-from slosh_bif.orbits.codim2.impact_strobe import ImpactStrobe
-from slosh_bif.orbits.codim2.minaug import MinAugCurveProblem
-from slosh_bif.orbits.codim2.multiplier_curves import (
-    MEETS_PARENT,
-    FlipCurveProblem,
-    FoldCurveProblem,
-    PitchforkCurveProblem,
-    repeats_early,
-)
-from slosh_bif.orbits.codim2.torus import TorusCurveProblem
+import importlib
 
-__all__ = [
-    "BifurcationCurve",
-    "CurveSeed",
-    "trace_curve",
-    "curve_problem",
-    "CURVE_PROBLEMS",
-    "MinAugCurveProblem",
-    "FoldCurveProblem",
-    "FlipCurveProblem",
-    "PitchforkCurveProblem",
-    "TorusCurveProblem",
-    "CURVE_OPTIONS",
-    "CODIM2_KINDS",
-    "ImpactCurveSeed",
-    "trace_impact_curve",
-    "ImpactStrobe",
-    "repeats_early",
-    "MEETS_PARENT",
-]
+# public name -> the module that defines it, loaded on first use: a caller that needs one curve
+# kind (a one-parameter family's pitchfork test, say) does not import the impact model's curves
+_WHERE = {
+    "BifurcationCurve": "curves",
+    "CurveSeed": "curves",
+    "trace_curve": "curves",
+    "curve_problem": "curves",
+    "CURVE_PROBLEMS": "curves",
+    "CURVE_OPTIONS": "curves",
+    "CODIM2_KINDS": "curves",
+    "MinAugCurveProblem": "minaug",
+    "FoldCurveProblem": "multiplier_curves",
+    "FlipCurveProblem": "multiplier_curves",
+    "PitchforkCurveProblem": "multiplier_curves",
+    "repeats_early": "multiplier_curves",
+    "MEETS_PARENT": "multiplier_curves",
+    "TorusCurveProblem": "torus",
+    "ImpactCurveSeed": "impact_curves",
+    "trace_impact_curve": "impact_curves",
+    "ImpactStrobe": "impact_strobe",
+}
+
+__all__ = list(_WHERE)
+
+
+def __getattr__(name):
+    if name in _WHERE:
+        value = getattr(importlib.import_module(f"slosh_bif.orbits.codim2.{_WHERE[name]}"), name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module 'slosh_bif.orbits.codim2' has no attribute {name!r}")
+
+
+def __dir__():
+    return sorted(set(globals()) | set(__all__))
