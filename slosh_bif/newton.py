@@ -18,7 +18,7 @@ import numpy as np
 
 __all__ = ["CRITERIA", "NewtonSettings", "NewtonResult", "newton_loop"]
 
-CRITERIA = ("step", "residual", "corrector")
+CRITERIA = ("step", "residual", "corrector", "lookahead")
 """How convergence is judged, with ``scale = 1 + |x|``:
 
 * ``"step"``: the last update is below ``tol * scale`` (or the start is a solution to rounding),
@@ -28,7 +28,14 @@ CRITERIA = ("step", "residual", "corrector")
 * ``"corrector"``: after at least one update, ``|F|`` at the tolerance and the last update, or the
   next one predicted from quadratic convergence (``|dx_k|^2 / |dx_k-1|``), below ``tol * scale``;
   or, after three updates, ``|F| <= tol / 100`` (near a branch point the updates are rounding
-  amplified by the condition number, while the residual still says done)."""
+  amplified by the condition number, while the residual still says done);
+* ``"lookahead"``: as ``"corrector"``, and also done after at least one update when ``|F|`` is at
+  the tolerance and the *next* update, solved from this iterate's residual and Jacobian, is below
+  ``tol * scale``: the iterate is returned as it is, so its Jacobian (which the caller may reuse)
+  belongs to it, and one evaluation of the residual is saved (a continuation's corrector thus
+  stops after two evaluations where the strict rule takes three); and a run whose residual has
+  not halved over three updates stops unconverged (a continuation then shortens its step
+  instead of spending the remaining updates of a wandering run)."""
 
 
 @dataclasses.dataclass(frozen=True)
@@ -48,14 +55,16 @@ class NewtonSettings:
 
 @dataclasses.dataclass(frozen=True)
 class NewtonResult:
-    """The last iterate, whether it converged, the updates taken, the last residual norm and a
-    message saying why the run stopped."""
+    """The last iterate, whether it converged, the updates taken, the last residual norm, a
+    message saying why the run stopped, and whether it stopped for lack of progress (the
+    ``"lookahead"`` rule: a run that would not have converged, not one that left the domain)."""
 
     x: np.ndarray
     converged: bool
     iterations: int
     residual: float
     message: str
+    stalled: bool = False
 
 
 def _corrector_done(k, residual, step, previous, tol, scale) -> bool:
@@ -92,10 +101,11 @@ def newton_loop(
     x = np.array(x0, dtype=float)
     F = np.full(1, np.nan)
     step = previous = math.inf
+    norms = []
 
-    def stop(converged, k, message):
+    def stop(converged, k, message, stalled=False):
         norm = float(np.linalg.norm(F)) if np.all(np.isfinite(F)) else math.inf
-        return NewtonResult(x, converged, k, norm, message)
+        return NewtonResult(x, converged, k, norm, message, stalled)
 
     for k in range(max_iter + 1):
         if admissible is not None and not admissible(x):
@@ -106,14 +116,18 @@ def newton_loop(
                 False, k, "the residual is not finite (an evaluation failed): no solution near this guess"
             )
         scale, norm = 1.0 + np.linalg.norm(x), float(np.linalg.norm(F))
+        norms.append(norm)
         if criterion == "residual" and norm <= tol * scale:
             return stop(True, k, f"converged in {k} Newton steps")
-        if criterion == "corrector" and _corrector_done(k, norm, step, previous, tol, scale):
+        if criterion in ("corrector", "lookahead") and _corrector_done(k, norm, step, previous, tol, scale):
             return stop(True, k, f"converged in {k} Newton steps")
         if criterion == "step" and k == 0 and norm <= 1e3 * np.finfo(float).eps * scale:
             return stop(True, 0, "the start is a solution")  # a closed form, say: no Jacobian needed
         if k == max_iter:
             break
+        if criterion == "lookahead" and k >= 3 and norm > 0.5 * norms[k - 3]:
+            message = f"no progress: |F| = {norm:.3g} after {k} Newton steps, not half of three before"
+            return stop(False, k, message, stalled=True)
         J = jacobian(x)
         if not np.all(np.isfinite(J)):
             return stop(False, k, f"the Jacobian is not finite at iteration {k}")
@@ -121,6 +135,8 @@ def newton_loop(
             dx = solve(J, -F)
         except np.linalg.LinAlgError:
             return stop(False, k, f"the Jacobian is singular at iteration {k}: a fold or branch point")
+        if criterion == "lookahead" and k > 0 and norm <= tol and np.linalg.norm(dx) <= tol * scale:
+            return stop(True, k, f"converged in {k} Newton steps (the next one below the tolerance)")
         if bound_step is not None:
             dx = bound_step(x, dx)
         for _ in range(settings.halvings):

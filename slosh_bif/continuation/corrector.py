@@ -92,18 +92,26 @@ def initial_tangent(problem, u, forward: bool, orient=None):
     return t if forward else -t
 
 
-def correct(problem, u_pred, t, opts):
-    """Newton on [F(u); t . (u - u_pred)] = 0 (:func:`~slosh_bif.newton.newton_loop`, its
-    ``"corrector"`` rule at ``opts.tol``). Returns (u, iterations) or (None, iterations)."""
+def correct(problem, u_pred, t, opts, *, strict: bool = False):
+    """Newton on [F(u); t . (u - u_pred)] = 0 (:func:`~slosh_bif.newton.newton_loop` at
+    ``opts.tol``, its ``"lookahead"`` rule, or with ``strict`` its ``"corrector"`` rule, which
+    takes one more evaluation to converge further: for located special points). Returns
+    (u, iterations) or (None, iterations)."""
     run = newton_loop(
         lambda u: np.append(problem.residual(u[:-1], u[-1]), t @ (u - u_pred)),
         lambda u: bordered(problem, u, t),
         u_pred,
-        NewtonSettings(tol=opts.tol, max_iter=opts.max_newton, criterion="corrector"),
+        NewtonSettings(
+            tol=opts.tol, max_iter=opts.max_newton, criterion="corrector" if strict else "lookahead"
+        ),
         admissible=lambda u: in_domain(problem, u),
         solve=solve,
     )
-    return (run.x, run.iterations) if run.converged else (None, run.iterations)
+    if run.converged:
+        return run.x, run.iterations
+    # a run stopped for lack of progress counts as one that spent its updates (the engine reads
+    # a failure in fewer as the domain's edge)
+    return None, opts.max_newton if run.stalled else run.iterations
 
 
 def newton_solve(problem, x0, p, *, tol=1e-11, max_iter=30, criterion: str = "step") -> NewtonResult:

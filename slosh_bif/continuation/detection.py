@@ -21,10 +21,10 @@ from slosh_bif.continuation.problem import capabilities
 __all__ = ["locate", "special_between", "TEST_MEANING"]
 
 
-def locate(problem, a: Point, h, which, opts, bend=None):
+def locate(problem, a: Point, h, which, opts, predict=None):
     """Brent on the arclength s in (0, h) from point a for a zero of test function ``which``,
-    each trial point predicted as the step was (``bend``: the predictor's curvature term, see
-    :func:`~slosh_bif.continuation.engine.continuation`), so that s = h gives the step's point.
+    each trial point predicted as the step was (``predict(s)``, the engine's guess at arclength s;
+    along the tangent when not given), so that s = h gives the step's point.
 
     Returns (point, note). Exactly at a branch point the corrector's matrix is singular, and
     Brent may step so close that the correction fails: then the best point found so far is
@@ -33,8 +33,8 @@ def locate(problem, a: Point, h, which, opts, bend=None):
     seen = {}
 
     def point(s):
-        guess = a.u + s * a.t if bend is None else a.u + s * a.t + (0.5 * s * s) * bend
-        u, _ = correct(problem, guess, a.t, opts)
+        guess = a.u + s * a.t if predict is None else predict(s)
+        u, _ = correct(problem, guess, a.t, opts, strict=True)
         if u is None:
             raise ConvergenceError("corrector failed while locating a special point")
         seen[s] = make_point(problem, u, a.t)
@@ -63,7 +63,7 @@ TEST_MEANING = {
 }
 
 
-def special_between(problem, a: Point, b: Point, h, opts, bend=None):
+def special_between(problem, a: Point, b: Point, h, opts, predict=None):
     found = []
     tests = [(0, FOLD, opts.detect_folds), (1, BRANCH_POINT, opts.detect_branch_points)]
     caps = capabilities(problem)
@@ -77,7 +77,7 @@ def special_between(problem, a: Point, b: Point, h, opts, bend=None):
             and max(abs(a.tests[which]), abs(b.tests[which])) >= floor
         ):
             try:
-                q, note = locate(problem, a, h, which, opts, bend)
+                q, note = locate(problem, a, h, which, opts, predict)
             except (ConvergenceError, ValueError) as err:
                 if confirm is not None and which >= 2 and confirm(kind, b.u[:-1], b.u[-1]) is None:
                     continue  # what the problem says is none at the step's end (a sign flip of rounding)

@@ -100,12 +100,10 @@ def _run(problem, start: Point, opts, loop_guard: bool, callback=None):
             )
             return points, TIME
         a = points[-1]
-        # A turn estimated at tiny steps may be noise: trusted only while it moves the guess by < h / 2.
-        turn = bend if bend is not None and 0.5 * h * float(np.linalg.norm(bend)) < 0.5 else None
-        guess = a.u + h * a.t if turn is None else a.u + h * a.t + (0.5 * h * h) * turn
-        u, iters = correct(problem, guess, a.t, opts)
+        predict = _predictor(points, bend, h, opts)
+        u, iters = correct(problem, predict(h), a.t, opts)
         if u is None:  # failed: halve, and end when the step is below its minimum
-            edge_hits += not in_domain(problem, guess) or iters < opts.max_newton
+            edge_hits += not in_domain(problem, predict(h)) or iters < opts.max_newton
             h *= 0.5
             if h < opts.step_min:
                 finer = _finer(caps, refinements) if stalls(caps, points[-1], edge_hits) else None
@@ -131,7 +129,7 @@ def _run(problem, start: Point, opts, loop_guard: bool, callback=None):
         if angle > 2 * opts.max_angle and h > 2 * opts.step_min:
             h *= 0.5 * opts.max_angle / angle + 0.25  # turned far too sharply: redo shorter
             continue
-        found = special_between(problem, a, b, h, opts, turn)
+        found = special_between(problem, a, b, h, opts, predict)
         end = next((i for i, q in enumerate(found) if q.kind in terminal and q.located), None)
         if end is not None:  # the curve ends at this point by nature: nothing beyond it is kept
             points.extend(found[: end + 1])
@@ -172,6 +170,39 @@ def _run(problem, start: Point, opts, loop_guard: bool, callback=None):
             # A closed curve has no end: the branch's message says it closed, no point is an END.
             return points, LOOP
         h = _next_step(h, iters, angle, opts)
+
+
+def _predictor(points, bend, h, opts):
+    """The guess at arclength s from the last point a, as a function of s (the step's point is
+    ``predict(h)``; a special point between is located along the same curve of guesses).
+
+    Third order where it can be: the cubic through the last two points with their tangents,
+    extrapolated (when the last two points lie between h / 4 and 4 h apart: a nearer one, a
+    located special point say, would amplify its own error). Otherwise second order: the tangent
+    plus half the turn over the last step (``bend``, trusted while it moves the guess by < h / 2),
+    or the tangent alone."""
+    a = points[-1]
+    if opts.curved_predictor and len(points) > 1:
+        prev = points[-2]
+        span = float(np.linalg.norm(a.u - prev.u))
+        if 0.25 * h <= span <= 4.0 * h and prev.t @ a.t > 0.5:
+            return lambda s: _hermite(prev, a, span, s)
+    turn = bend if bend is not None and 0.5 * h * float(np.linalg.norm(bend)) < 0.5 else None
+    if turn is None:
+        return lambda s: a.u + s * a.t
+    return lambda s: a.u + s * a.t + (0.5 * s * s) * turn
+
+
+def _hermite(prev, a, span, s):
+    """The cubic Hermite curve through prev (at -span) and a (at 0) with their unit tangents, at s."""
+    x = 1.0 + s / span
+    x2, x3 = x * x, x * x * x
+    return (
+        (2 * x3 - 3 * x2 + 1) * prev.u
+        + (x3 - 2 * x2 + x) * span * prev.t
+        + (3 * x2 - 2 * x3) * a.u
+        + (x3 - x2) * span * a.t
+    )
 
 
 def _finer(caps, refinements):

@@ -110,13 +110,21 @@ def symmetric_branch(
             if sp.kind != BRANCH_POINT or not sp.located:
                 continue
             variant = asymmetric.variant
-            start = _switched_start(params, param, piece.phase, sp, p_min, p_max, variant=variant)
-            if start is None:
-                continue
-            x0, p = start
-            at = params.replace(**{param: p})
-            half = ImpactOrbitProblem(at, param, symmetric=True, variant=variant)
-            run = newton_solve(half, x0, p, tol=1e-12)
+            # At the pitchfork the asymmetric orbit is the symmetric one: Newton on the half-period
+            # map from the branch point itself (regular there: G's multiplier is -1) needs no
+            # switching, which a branch point located only to the corrector's reach (it coincides
+            # with the asymmetric branch's fold) can send astray.
+            run, at = _symmetric_at(params, param, piece.phase, sp, variant), None
+            if run is not None and run.converged:
+                at = params.replace(**{param: sp.p})
+            else:
+                start = _switched_start(params, param, piece.phase, sp, p_min, p_max, variant=variant)
+                if start is None:
+                    continue
+                x0, p = start
+                at = params.replace(**{param: p})
+                half = ImpactOrbitProblem(at, param, symmetric=True, variant=variant)
+                run = newton_solve(half, x0, p, tol=1e-12)
             if not (run.converged and is_symmetric(at, run.x, variant=variant)):
                 continue
             branch = trace_impact_orbits(
@@ -201,10 +209,29 @@ def _switched_start(params, param, phase, sp, p_min, p_max, multiple=1, variant=
         )
     except ConvergenceError:
         return None
-    x, p = new.x[-1], float(new.p[-1])
-    flow = full.flow_at(p)  # from the section at ``phase`` on to tau = 2pi, the same state as at tau = 0
-    y = flow.run(x, phase, 2 * np.pi, stick_speed=1e-9, max_impacts=10_000)[1][:, -1] if phase > 0 else x
-    return y, p
+    p = float(new.p[-1])
+    return _at_zero(full, new.x[-1], p, phase), p
+
+
+def _at_zero(problem, x, p, phase):
+    """The state at tau = 0 of the orbit through x at the section ``phase``: carried on to tau = 2pi."""
+    if phase <= 0:
+        return np.asarray(x, dtype=float)
+    flow = problem.flow_at(p)
+    return flow.run(x, phase, 2 * np.pi, stick_speed=1e-9, max_impacts=10_000)[1][:, -1]
+
+
+def _symmetric_at(params, param, phase, sp, variant):
+    """Newton on the half-period map at the branch point's parameter from its orbit (its state at
+    the section ``phase`` carried on to tau = 0), or None when that state cannot be had."""
+    at = params.replace(**{param: sp.p})
+    probe = ImpactOrbitProblem(at, param, phase=phase, variant=variant)
+    try:
+        y = _at_zero(probe, sp.x, sp.p, phase)
+    except (ValueError, RuntimeError):
+        return None
+    half = ImpactOrbitProblem(at, param, symmetric=True, variant=variant)
+    return newton_solve(half, np.asarray(y, dtype=float), sp.p, tol=1e-12)
 
 
 def _passes_through(branch: ImpactBranch, p: float, kinds=(BRANCH_POINT,)) -> bool:

@@ -359,11 +359,12 @@ ASYMMETRIC_FOLD = (
 def test_a_fold_curve_that_stalls_is_resumed_with_finer_arcs_and_passes(scipy_multipliers):
     # Past the cusp at sigma = 0.2401 the curve runs by a nearly singular stretch (the augmented
     # Jacobian's least singular value 6e-7 near sigma = 0.2394) where the finite differences of
-    # arcs integrated to rtol 1e-10 are too coarse and the steps creep to nothing. Resumed with
-    # the arcs at 1e-12 it passes, through a second fold-flip point to the box's edge.
+    # arcs integrated to rtol 1e-10 are too coarse for a corrector tolerance of 1e-10 and the
+    # steps creep to nothing. Resumed with the arcs at 1e-12 it passes, through a second
+    # fold-flip point to the box's edge.
     p, u = ASYMMETRIC_FOLD
     P = get_preset("fig13").params.replace(Abar=u[-1])
-    options = dataclasses.replace(CURVE_OPTIONS, direction="forward", max_steps=200)
+    options = dataclasses.replace(CURVE_OPTIONS, direction="forward", max_steps=200, tol=1e-10)
     curve = trace_curve(
         P, CurveSeed("LP", u[:-1], p), box={"sigma": (-0.25, 1.0), "Abar": (0.3, 1.0)}, options=options
     )
