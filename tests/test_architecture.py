@@ -105,3 +105,27 @@ def test_the_cli_starts_without_the_heavy_libraries():
     )
     run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
     assert run.returncode == 0, run.stdout[-300:] + run.stderr[-300:]
+
+
+def test_shooting_loads_no_scipy_solver_and_no_plotting():
+    # The compiled path of a shooting run (start-up target of the speed issue: import to the first
+    # Newton step): its integrations and Newton need none of scipy.integrate, scipy.optimize,
+    # scipy.interpolate (0.3-0.8 s to import) nor matplotlib; the reference paths import them
+    # where they run.
+    code = (
+        "import sys\n"
+        "import numpy as np\n"
+        "from slosh_bif.model.presets import get_preset\n"
+        "from slosh_bif.continuation.corrector import newton_solve\n"
+        "from slosh_bif.orbits.shooting import ShootingProblem\n"
+        "P = get_preset('fig10').params.replace(sigma=3.0)\n"
+        "problem = ShootingProblem(P, symmetric=True, segments=2)\n"
+        "x = problem.initial_states([-0.805, 0.099, 0.532, 1.0])\n"
+        "newton_solve(problem, x, 3.0, max_iter=2)\n"
+        "heavy = [m for m in ('scipy.integrate', 'scipy.optimize', 'scipy.interpolate', 'matplotlib')"
+        " if m in sys.modules]\n"
+        "print(heavy)\n"
+        "sys.exit(1 if heavy else 0)\n"
+    )
+    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
+    assert run.returncode == 0, run.stdout[-300:] + run.stderr[-300:]

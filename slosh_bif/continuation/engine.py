@@ -5,10 +5,10 @@ A problem is what :mod:`slosh_bif.continuation.problem` writes down as types: ``
 stability, the problem's own test functions, an ``accept`` hook), read once per problem by
 :func:`~slosh_bif.continuation.problem.capabilities`.
 
-With ``u = (x, p)`` and the unit tangent ``t`` of the curve F(u) = 0, each step predicts
-``u + h t`` (plus ``h^2 / 2`` times the tangent's turn per unit arclength over the last step, a
-second-order predictor that saves about one corrector iteration on curved stretches) and
-corrects by Newton on the bordered system ``[F(u); t . (u - u_pred)] = 0``,
+With ``u = (x, p)`` and the unit tangent ``t`` of the curve F(u) = 0, each step predicts the
+next point at arclength h (:mod:`.predictor`: the cubic through the last two points and their
+tangents, or the tangent plus its turn) and corrects by Newton on the bordered system
+``[F(u); t . (u - u_pred)] = 0``,
 whose matrix ``[[F_x, F_p], [t^T]]`` stays regular through folds. The step h grows after easy
 corrections and shrinks after slow or failed ones (or when a point leaves the domain), between
 ``step_min`` and ``step_max``.
@@ -55,6 +55,7 @@ from slosh_bif.continuation.options import (
     ContinuationOptions,
     ConvergenceError,
 )
+from slosh_bif.continuation.predictor import predictor
 from slosh_bif.continuation.problem import capabilities, require_problem
 
 __all__ = ["continuation", "switch_branch"]
@@ -100,7 +101,7 @@ def _run(problem, start: Point, opts, loop_guard: bool, callback=None):
             )
             return points, TIME
         a = points[-1]
-        predict = _predictor(points, bend, h, opts)
+        predict = predictor(points, bend, h, opts)
         u, iters = correct(problem, predict(h), a.t, opts)
         if u is None:  # failed: halve, and end when the step is below its minimum
             edge_hits += not in_domain(problem, predict(h)) or iters < opts.max_newton
@@ -170,39 +171,6 @@ def _run(problem, start: Point, opts, loop_guard: bool, callback=None):
             # A closed curve has no end: the branch's message says it closed, no point is an END.
             return points, LOOP
         h = _next_step(h, iters, angle, opts)
-
-
-def _predictor(points, bend, h, opts):
-    """The guess at arclength s from the last point a, as a function of s (the step's point is
-    ``predict(h)``; a special point between is located along the same curve of guesses).
-
-    Third order where it can be: the cubic through the last two points with their tangents,
-    extrapolated (when the last two points lie between h / 4 and 4 h apart: a nearer one, a
-    located special point say, would amplify its own error). Otherwise second order: the tangent
-    plus half the turn over the last step (``bend``, trusted while it moves the guess by < h / 2),
-    or the tangent alone."""
-    a = points[-1]
-    if opts.curved_predictor and len(points) > 1:
-        prev = points[-2]
-        span = float(np.linalg.norm(a.u - prev.u))
-        if 0.25 * h <= span <= 4.0 * h and prev.t @ a.t > 0.5:
-            return lambda s: _hermite(prev, a, span, s)
-    turn = bend if bend is not None and 0.5 * h * float(np.linalg.norm(bend)) < 0.5 else None
-    if turn is None:
-        return lambda s: a.u + s * a.t
-    return lambda s: a.u + s * a.t + (0.5 * s * s) * turn
-
-
-def _hermite(prev, a, span, s):
-    """The cubic Hermite curve through prev (at -span) and a (at 0) with their unit tangents, at s."""
-    x = 1.0 + s / span
-    x2, x3 = x * x, x * x * x
-    return (
-        (2 * x3 - 3 * x2 + 1) * prev.u
-        + (x3 - 2 * x2 + x) * span * prev.t
-        + (3 * x2 - 2 * x3) * a.u
-        + (x3 - x2) * span * a.t
-    )
 
 
 def _finer(caps, refinements):

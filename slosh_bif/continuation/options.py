@@ -68,8 +68,9 @@ class ContinuationOptions:
         ``max_newton``, the step halvings down to ``step_min``), never by this: a result cut by
         the clock depends on the machine's load, and says so in its status.
     curved_predictor : bool
-        Predict along the tangent plus the curvature seen over the last step (second order)
-        rather than along the tangent alone.
+        Predict along the cubic through the last two points and their tangents (third order;
+        else the tangent plus the turn seen over the last step) rather than along the tangent
+        alone (:mod:`slosh_bif.continuation.predictor`).
     """
 
     step: float = 0.05

@@ -7,7 +7,7 @@ contract): :mod:`.shooting` integrates with :mod:`slosh_bif.flows.integrator`, a
 :mod:`.starts` takes start guesses from :mod:`slosh_bif.simulation` and :mod:`slosh_bif.slowflow`.
 """
 
-import importlib
+from slosh_bif.lazy import lazy_names
 
 # public name -> the module that defines it, loaded on first use: a caller of one wing (the impact
 # model's orbits, say) does not pay for the import of the others
@@ -39,13 +39,4 @@ _WHERE = {
 __all__ = sorted(_WHERE)
 
 
-def __getattr__(name):
-    if name in _WHERE:
-        value = getattr(importlib.import_module(f"slosh_bif.orbits.{_WHERE[name]}"), name)
-        globals()[name] = value
-        return value
-    raise AttributeError(f"module 'slosh_bif.orbits' has no attribute {name!r}")
-
-
-def __dir__():
-    return sorted(set(globals()) | set(__all__))
+__getattr__, __dir__ = lazy_names(__name__, _WHERE)

@@ -3,7 +3,7 @@ period doubling (PD), pitchfork (BP) and Neimark-Sacker (NS) curves, one problem
 shared minimally augmented base over either model's orbit equations (multiple shooting of (9),
 the stroboscopic map of (8)), their codimension-2 points, and the curve result object."""
 
-import importlib
+from slosh_bif.lazy import lazy_names
 
 # public name -> the module that defines it, loaded on first use: a caller that needs one curve
 # kind (a one-parameter family's pitchfork test, say) does not import the impact model's curves
@@ -30,13 +30,4 @@ _WHERE = {
 __all__ = list(_WHERE)
 
 
-def __getattr__(name):
-    if name in _WHERE:
-        value = getattr(importlib.import_module(f"slosh_bif.orbits.codim2.{_WHERE[name]}"), name)
-        globals()[name] = value
-        return value
-    raise AttributeError(f"module 'slosh_bif.orbits.codim2' has no attribute {name!r}")
-
-
-def __dir__():
-    return sorted(set(globals()) | set(__all__))
+__getattr__, __dir__ = lazy_names(__name__, _WHERE)
