@@ -1,13 +1,19 @@
-"""The speed targets of the shooting issue, measured as ratios in one run (``slosh-bif bench --only speed``).
+"""The speed targets of the shooting issues, measured as ratios in one run (``slosh-bif bench --only speed``).
 
 * **Shooting branch, whole process**: ``slosh-bif shoot --preset fig10 --no-switch --sigma-min -6
   --sigma-max 8`` run as a user runs it (a fresh interpreter: imports, cached compilation, the
   settling simulation, the branch with every special point, the output files), against 1,000
-  one-period integrations of (9) by scipy's ``solve_ivp`` DOP853 at rtol 1e-10, atol 1e-12 on the
-  same machine in the same run; the target is a ratio of at most 0.3. The same with
-  ``--set n=6 --set sigma=-6`` (a symmetric start at sigma = -6 for the n = 6 set).
-* **Start-up**: ``slosh-bif info --preset fig10`` in a fresh interpreter (target < 0.5 s), and
-  the shooting start alone in this process (the settling simulation and Newton).
+  reference periods (:func:`~benchmarks.speed_reference.one_period_reference`: scipy's
+  ``solve_ivp`` DOP853 at rtol 1e-10 over one period of the Fig. 10 set at sigma = 3 from its
+  attractor); target at most 0.18. The n = 6 set's branch from its symmetric orbit at sigma = -6
+  (``--set n=6 --set sigma=-6 --guess`` that orbit), against the n = 6 reference: at most 0.095.
+  Both also against the earlier reference (1,000 periods chained from the preset's state; target
+  0.3), which gives smaller ratios.
+* **Whole studies** (not in ``--quick``): the Fig. 10 chart with switching (at most 22 times
+  1,000 reference periods) and ``shoot --start scan`` (every family, at most 11 times).
+* **Start-up**: a ``shoot`` run from launch to its first Newton step (target < 0.3 s with numba's
+  cache warm), ``slosh-bif info`` (target < 0.5 s), the shooting start alone in this process; and
+  (not in ``--quick``) where the Fig. 10 branch's whole process spends its time, stage by stage.
 * **Load independence**: ``slosh-bif simulate --preset fig9a --model impact --backend scipy --tmax
   150`` (the expm event loop: many small matrix exponentials) with one CPU-burning process beside it, as a
   ratio to its time
@@ -33,9 +39,8 @@ import tempfile
 import time
 
 import numpy as np
-from scipy.integrate import solve_ivp
 
-from slosh_bif.model.equations import SmoothModel
+from benchmarks.speed_reference import chained_reference, first_newton, one_period_reference, stage_profile
 from slosh_bif.model.presets import get_preset
 from slosh_bif.orbits.starts import orbit_from_simulation
 from slosh_bif.simulation.direct import SimulationSettings, simulate
@@ -44,7 +49,41 @@ __all__ = ["speed_bench", "run_cli", "SPEED_COLUMNS"]
 
 SPEED_COLUMNS = ("case", "seconds", "reference_seconds", "ratio", "target", "peak_rss_mb", "note")
 SHOOT = ["shoot", "--preset", "fig10", "--no-switch", "--sigma-min", "-6", "--sigma-max", "8"]
-CASES = {"fig10 (n = 50)": [], "fig10, n = 6, from sigma = -6": ["--set", "n=6", "--set", "sigma=-6"]}
+
+
+def _n6_guess():
+    """``--set n=6 --set sigma=-6 --guess X,Xd,w,wd``: the symmetric orbit there, found once."""
+    params = get_preset("fig10").params.replace(n=6, sigma=-6.0)
+    y0 = orbit_from_simulation(params, get_preset("fig10").state_for(params)).y0
+    return ["--set", "n=6", "--set", "sigma=-6", "--guess", ",".join(f"{v:.17g}" for v in y0)]
+
+
+# case -> (its extra arguments, the n of its reference, the target ratio to 1,000 reference periods)
+CASES = {
+    "fig10 (n = 50)": (list, 50, 0.18),
+    "fig10, n = 6, from the symmetric orbit at sigma = -6": (_n6_guess, 6, 0.095),
+}
+WHOLE_STUDIES = (  # (case, arguments, target ratio to 1,000 reference periods at n = 50)
+    (
+        "chart fig10 with switching",
+        ["chart", "--preset", "fig10", "--sigma-min", "-6", "--sigma-max", "8", "--abar-min", "0.2"]
+        + ["--abar-max", "6"],
+        22.0,
+    ),
+    ("shoot fig10 --start scan (every family)", ["shoot", "--preset", "fig10", "--start", "scan"], 11.0),
+)
+
+
+def _row(case, seconds, reference, target, note, peak=np.nan):
+    return dict(
+        case=case,
+        seconds=seconds,
+        reference_seconds=reference,
+        ratio=seconds / reference,
+        target=target,
+        peak_rss_mb=peak,
+        note=note,
+    )
 
 
 _CHILD = (
@@ -82,16 +121,6 @@ def run_cli(arguments, timeout=900.0, workers=False):
     return (seconds, *peaks) if workers else (seconds, peaks[0])
 
 
-def _scipy_periods(params, y0, count=1000):
-    model = SmoothModel(params)
-    start = time.perf_counter()
-    y = np.asarray(y0, dtype=float)
-    with np.errstate(all="ignore"):  # rejected trial steps into the wall overflow harmlessly
-        for _ in range(count):
-            y = solve_ivp(model.rhs, (0.0, 2 * np.pi), y, method="DOP853", rtol=1e-10, atol=1e-12).y[:, -1]
-    return time.perf_counter() - start
-
-
 def _simulated(preset, model, repeats=3):
     """Best of ``repeats`` wall times of 100 forcing periods of one model, in this process."""
     simulate(
@@ -113,26 +142,57 @@ def speed_bench(*, quick: bool = False, progress=None) -> list:
     periods = 100 if quick else 1000
     with tempfile.TemporaryDirectory() as tmp:
         run_cli(["info", "--preset", "fig10"])  # compile and cache once, as an installed user has
-        for case, extra in CASES.items():
+        references = {n: 1000 * one_period_reference(n) for n in (50, 6)}
+        for case, (extra, n, target) in CASES.items():
             say(f"speed: slosh-bif shoot, {case}")
+            extra = extra()
             seconds, peak = run_cli([*SHOOT, *extra, "--out", os.path.join(tmp, "shoot")])
-            params = get_preset("fig10").params.with_overrides(extra[1::2])
-            say(f"speed: {periods} scipy DOP853 periods, {case}")
-            reference = _scipy_periods(params, get_preset("fig10").state_for(params), periods) * (
-                1000 / periods
-            )
             rows.append(
-                dict(
-                    case=f"shoot --no-switch, {case}",
-                    seconds=seconds,
-                    reference_seconds=reference,
-                    ratio=seconds / reference,
-                    target=0.3,
-                    peak_rss_mb=peak,
-                    note="whole process against 1,000 one-period scipy DOP853 integrations (rtol 1e-10)"
-                    + (" (100 measured, scaled)" if quick else ""),
+                _row(
+                    f"shoot --no-switch, {case}",
+                    seconds,
+                    references[n],
+                    target,
+                    "whole process against 1,000 reference periods (scipy DOP853 at rtol 1e-10, one "
+                    f"period of the Fig. 10 set at sigma = 3, n = {n}, from its attractor)",
+                    peak,
                 )
             )
+            say(f"speed: {periods} chained scipy periods (the earlier reference), {case}")
+            params = get_preset("fig10").params.with_overrides(extra[1:4:2])
+            chained = chained_reference(params, get_preset("fig10").state_for(params), periods)
+            rows.append(
+                _row(
+                    f"shoot --no-switch, {case}, earlier reference",
+                    seconds,
+                    chained * 1000 / periods,
+                    0.3,
+                    "the same run against 1,000 chained periods from the preset's state (the earlier "
+                    "reference)" + (" (100 measured, scaled)" if quick else ""),
+                )
+            )
+        if not quick:
+            for case, arguments, target in WHOLE_STUDIES:
+                say(f"speed: slosh-bif {' '.join(arguments)}")
+                seconds, peak = run_cli([*arguments, "--out", os.path.join(tmp, "study")], timeout=7200.0)
+                rows.append(
+                    _row(case, seconds, references[50], target, "whole process, times 1,000 periods", peak)
+                )
+        say("speed: start-up to the first Newton step")
+        start_up = min(first_newton([*SHOOT, *extra, "--out", tmp]) for _ in range(3))  # the n = 6 case's
+        rows.append(
+            _row(
+                "shoot start-up: launch to the first Newton step (n = 6 set, --guess)",
+                start_up,
+                np.nan,
+                0.3,
+                "seconds, interpreter start included, numba's cache warm; target in seconds",
+            )
+        )
+        if not quick:
+            say("speed: the profile of the Fig. 10 branch")
+            for stage, seconds in stage_profile([*SHOOT, "--out", os.path.join(tmp, "profile")]).items():
+                rows.append(_row(f"profile of shoot fig10: {stage}", seconds, np.nan, np.nan, "seconds"))
         say("speed: the impact model beside a CPU-burning process")
         # the expm event loop (--backend scipy): many tiny matrix exponentials, what BLAS threads slowed
         impact = [

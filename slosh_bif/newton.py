@@ -104,14 +104,14 @@ def newton_loop(
     norms = []
 
     def stop(converged, k, message, stalled=False):
-        norm = float(np.linalg.norm(F)) if np.all(np.isfinite(F)) else math.inf
+        norm = float(np.linalg.norm(F)) if np.isfinite(F).all() else math.inf
         return NewtonResult(x, converged, k, norm, message, stalled)
 
     for k in range(max_iter + 1):
         if admissible is not None and not admissible(x):
             return stop(False, k, f"Newton left {domain} at iteration {k} (x = {x})")
         F = np.asarray(residual(x), dtype=float)
-        if not np.all(np.isfinite(F)):
+        if not np.isfinite(F).all():
             return stop(
                 False, k, "the residual is not finite (an evaluation failed): no solution near this guess"
             )
@@ -129,7 +129,7 @@ def newton_loop(
             message = f"no progress: |F| = {norm:.3g} after {k} Newton steps, not half of three before"
             return stop(False, k, message, stalled=True)
         J = jacobian(x)
-        if not np.all(np.isfinite(J)):
+        if not np.isfinite(J).all():
             return stop(False, k, f"the Jacobian is not finite at iteration {k}")
         try:
             dx = solve(J, -F)
@@ -145,7 +145,7 @@ def newton_loop(
             dx = 0.5 * dx
         previous, step = step, float(np.linalg.norm(dx))
         x = x + dx
-        if not np.all(np.isfinite(x)):
+        if not np.isfinite(x).all():
             return stop(False, k + 1, "Newton diverged (non-finite iterate)")
         inside = admissible is None or admissible(x)
         if criterion == "step" and step <= tol * (1.0 + np.linalg.norm(x)) and inside:

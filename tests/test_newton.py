@@ -14,7 +14,7 @@ def square_root_of_two(criterion):
     )
 
 
-@pytest.mark.parametrize("criterion", ["step", "residual", "corrector"])
+@pytest.mark.parametrize("criterion", ["step", "residual", "corrector", "lookahead"])
 def test_each_rule_converges_to_the_closed_form(criterion):
     run = square_root_of_two(criterion)
     # the residual rule stops at |F| <= 1e-11 (1 + |x|), i.e. |x - sqrt 2| <~ 1e-11
@@ -54,3 +54,33 @@ def test_failures_say_why_in_bounded_steps():
     assert not wander.converged and wander.iterations == 12 and "no convergence in 12" in wander.message
     with pytest.raises(ValueError, match="criterion"):
         NewtonSettings(criterion="norm")
+
+
+def test_lookahead_stops_one_evaluation_before_the_corrector_rule_at_the_same_accuracy():
+    # x^2 = 2 from 1.4142 at tol 1e-6: after one update |F| is at the tolerance; the corrector rule
+    # evaluates F once more to see the next update, the look-ahead rule solves for it where it is
+    calls = {"corrector": 0, "lookahead": 0}
+
+    def run(criterion):
+        def F(x):
+            calls[criterion] += 1
+            return x**2 - 2.0
+
+        settings = NewtonSettings(tol=1e-6, criterion=criterion)
+        return newton_loop(F, lambda x: np.array([[2.0 * x[0]]]), [1.4142], settings)
+
+    strict, ahead = run("corrector"), run("lookahead")
+    assert strict.converged and ahead.converged
+    assert calls["lookahead"] == calls["corrector"] - 1 == 2
+    assert ahead.x[0] == pytest.approx(math.sqrt(2.0), abs=1e-6 * (1 + math.sqrt(2.0)))
+
+
+def test_lookahead_gives_up_on_a_run_that_makes_no_progress():
+    # x^2 + 1 = 0 has no real root: Newton wanders; the look-ahead rule stops after three updates
+    # without the residual halving, flagged as stalled (not as a domain exit), the corrector rule
+    # only at max_iter
+    F, J = lambda x: x**2 + 1.0, lambda x: np.array([[2.0 * x[0]]])
+    ahead = newton_loop(F, J, [0.5], NewtonSettings(criterion="lookahead"))
+    strict = newton_loop(F, J, [0.5], NewtonSettings(criterion="corrector"))
+    assert not ahead.converged and ahead.stalled and ahead.iterations < 30 and "no progress" in ahead.message
+    assert not strict.converged and not strict.stalled and strict.iterations == 30

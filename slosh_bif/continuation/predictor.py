@@ -9,6 +9,8 @@ end after two evaluations instead of three.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 __all__ = ["predictor", "hermite"]
@@ -26,13 +28,17 @@ def predictor(points, bend, h, opts):
     a = points[-1]
     if opts.curved_predictor and len(points) > 1:
         prev = points[-2]
-        span = float(np.linalg.norm(a.u - prev.u))
-        if 0.25 * h <= span <= 4.0 * h and prev.t @ a.t > 0.5:
+        # the arclength between them from the chord and the turn of the tangent (exact on a
+        # circle; the chord alone would leave the guess second order)
+        turn = math.acos(min(1.0, float(prev.t @ a.t)))
+        span = float(np.linalg.norm(a.u - prev.u)) * (
+            1.0 if turn < 1e-8 else 0.5 * turn / math.sin(0.5 * turn)
+        )
+        if 0.25 * h <= span <= 4.0 * h and turn < 1.0:
             return lambda s: hermite(prev, a, span, s)
-    turn = bend if bend is not None and 0.5 * h * float(np.linalg.norm(bend)) < 0.5 else None
-    if turn is None:
+    if bend is None or 0.5 * h * float(np.linalg.norm(bend)) >= 0.5:
         return lambda s: a.u + s * a.t
-    return lambda s: a.u + s * a.t + (0.5 * s * s) * turn
+    return lambda s: a.u + s * a.t + (0.5 * s * s) * bend
 
 
 def hermite(prev, a, span, s):

@@ -135,7 +135,7 @@ class Capabilities:
 
     def in_domain(self, u) -> bool:
         """u = (x, p) is finite and inside the problem's domain."""
-        return bool(np.all(np.isfinite(u))) and (
+        return bool(np.isfinite(u).all()) and (
             self._in_domain is None or bool(self._in_domain(u[:-1], u[-1]))
         )
 
@@ -153,7 +153,7 @@ class Capabilities:
         n = len(x)
         if self.from_jacobian:
             J = jac if jac is not None else self.problem.jacobian(x, p)
-            return np.linalg.eigvals(J) if np.all(np.isfinite(J)) else np.full(n, np.nan + 0j)
+            return np.linalg.eigvals(J) if np.isfinite(J).all() else np.full(n, np.nan + 0j)
         if self._eigenvalues is not None:
             return self._eigenvalues(x, p)
         return np.full(n, np.nan + 0j)

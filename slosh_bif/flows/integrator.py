@@ -231,7 +231,7 @@ def integrate_arcs(
     arcs in one call; otherwise :func:`integrate` arc by arc."""
     starts = np.asarray(starts, dtype=float)
     m = len(starts)
-    if resolve_backend(backend) == "numba" and np.all(np.isfinite(starts)):
+    if resolve_backend(backend) == "numba" and np.isfinite(starts).all():
         pair = tuple(sensitivities) != DEFAULT_SENSITIVITIES
         pars = _pars(params, None, real_pair(sensitivities, "sensitivities") if pair else None)
         ends, done, status = arcs_loop(
