@@ -31,9 +31,13 @@ def locate(problem, a: Point, h, which, opts, predict=None):
     returned, with a note of how far from the zero it may be.
     """
     seen = {}
+    predict = predict or (lambda s: a.u + s * a.t)
 
     def point(s):
-        guess = a.u + s * a.t if predict is None else predict(s)
+        guess = predict(s)
+        if seen:  # start from the nearest trial's point, moved along: the same hyperplane t.(u - guess) = 0
+            near = min(seen, key=lambda r: abs(r - s))
+            guess = guess + (seen[near].u - predict(near))
         u, _ = correct(problem, guess, a.t, opts, strict=True)
         if u is None:
             raise ConvergenceError("corrector failed while locating a special point")
