@@ -57,6 +57,7 @@ from slosh_bif.studies.chart_curves import (
     CurveFailure,
     curve_starts,
     pitchforks_of,
+    torus_starts,
     trace_curves,
 )
 
@@ -209,6 +210,11 @@ def bifurcation_chart(
     if resume.done:
         say(f"{len(resume.done)} curves from an earlier run")
     curves, status, failures = trace_curves(starts, say, workers, resume.done, resume.keep)
+    met = list(torus_starts(curves, params, box, shooting)) if status == "complete" else []
+    if met:  # one more round, not stored for a resume (it is found again from the curves)
+        say(f"{len(met)} NS curves met by the fold and period-doubling curves, not yet traced")
+        tori, status, more = trace_curves(met, say, workers)
+        curves, failures = curves + tori, failures + more
     slow = None
     if second == "Abar":
         try:

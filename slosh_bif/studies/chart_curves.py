@@ -20,7 +20,15 @@ from slosh_bif.orbits.codim2 import (
 )
 from slosh_bif.orbits.settings import SHOOTING, ShootingSettings
 
-__all__ = ["CurveStart", "CurveFailure", "curve_starts", "pitchforks_of", "repeats_early", "trace_curves"]
+__all__ = [
+    "CurveStart",
+    "CurveFailure",
+    "curve_starts",
+    "torus_starts",
+    "pitchforks_of",
+    "repeats_early",
+    "trace_curves",
+]
 
 
 @dataclasses.dataclass(frozen=True)
@@ -92,6 +100,32 @@ def curve_starts(ob, params, box: dict, pitchforks=(), shooting: ShootingSetting
         )  # the branch's own arcs per forcing period
         job = dict(params=params, seed=CurveSeed.on(ob, sp, origin), box=box, shooting=arcs)
         yield CurveStart.with_job(sp.kind, float(sigma), float(value), origin, job)
+
+
+def torus_starts(curves, params, box: dict, shooting: ShootingSettings = SHOOTING):
+    """Starts of the Neimark-Sacker curves that the traced fold and period-doubling ``curves`` meet
+    at their located LPNS and PDNS points and that no traced NS curve passes through: an NS curve
+    is found from the orbit branches only where the branch's steps see its test change sign, and
+    two NS points a few 1e-5 apart beside a fold (seen on the period-4 branch of the Fig. 10 set)
+    fall inside one step; the curve they bound still meets the fold curve, where it starts here."""
+    tori = [c for c in curves if c.kind == "NS"]
+    second = list(box)[1]
+    for curve in curves:
+        if curve.kind not in ("LP", "PD") or curve.p1 != "sigma":
+            continue
+        for sp in curve.branch.special:
+            sigma, value = float(sp.p), float(sp.x[-1])
+            if sp.kind not in ("LPNS", "PDNS") or any(_on_curve(c, sigma, value) for c in tori):
+                continue
+            where = f"{sp.kind} at sigma = {sigma:.6g}, {second} = {value:.6g}"
+            origin = f"{where} on the {curve.kind} curve from {curve.origin}"
+            states = sp.x[:-1]
+            seed = CurveSeed("NS", states, sigma, "sigma", curve.period_multiple, origin)
+            arcs = shooting.replace(segments=len(states) // (4 * curve.period_multiple))
+            job = dict(
+                params=params.replace(sigma=sigma, **{second: value}), seed=seed, box=box, shooting=arcs
+            )
+            yield CurveStart.with_job("NS", sigma, value, origin, job)
 
 
 def pitchforks_of(family) -> list:

@@ -77,3 +77,36 @@ def test_a_period_two_branch_turning_where_it_meets_its_parent_gives_no_fold_cur
     assert not repeats_early(
         ShootingProblem(P, segments=4), np.tile(parent, 2)
     )  # a 2pi problem has no parent to meet
+
+
+def test_an_ns_curve_met_at_a_codim2_point_of_a_fold_curve_is_started_there_once():
+    # A fold curve's LPNS point lying on no traced NS curve starts an NS curve from the orbit
+    # there (its states without the curve's second parameter), at both parameters of the point;
+    # one on a traced NS curve starts nothing.
+    from types import SimpleNamespace
+
+    from slosh_bif.studies.chart_curves import torus_starts
+
+    P = PRESET.params
+    states = np.arange(16.0)  # 4 arcs of one forcing period
+    lpns = SimpleNamespace(kind="LPNS", p=-0.07, x=np.append(states, 0.8))
+    fold = SimpleNamespace(
+        kind="LP", p1="sigma", period_multiple=1, origin="LP at ...", branch=SimpleNamespace(special=[lpns])
+    )
+    box = {"sigma": (-1.0, 1.0), "Abar": (0.2, 3.0)}
+    (start,) = torus_starts([fold], P, box)
+    job = start.job
+    assert (start.kind, start.sigma, start.value) == ("NS", -0.07, 0.8)
+    assert job["seed"].kind == "NS" and np.array_equal(job["seed"].x, states) and job["seed"].p == -0.07
+    assert (job["params"].sigma, job["params"].Abar) == (-0.07, 0.8) and job["shooting"].segments == 4
+
+    class Traced:  # an NS curve through the point
+        kind, p2 = "NS", "Abar"
+
+        def __len__(self):
+            return 2
+
+        def __getitem__(self, name):
+            return {"sigma": np.array([-0.2, 0.1]), "Abar": np.array([0.8, 0.8])}[name]
+
+    assert list(torus_starts([fold, Traced()], P, box)) == []
