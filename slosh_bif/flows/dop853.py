@@ -207,8 +207,8 @@ def _dop853_loop(which, t0, t1, z0, pars, rtol, atol, h, max_steps, A, B, C, E3,
         step_rejected = False
         while True:
             min_step = 10 * abs(np.nextafter(t, np.inf) - t)
-            if h < min_step:
-                status = 2
+            if not h >= min_step:  # NaN as well: a step size from a right-hand side that is not finite
+                status = 2 if h == h else 3
                 break
             t_new = t + h
             if t_new > t1:

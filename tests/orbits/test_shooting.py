@@ -365,3 +365,17 @@ def test_a_failed_newton_run_integrates_nothing_more():
     assert not orbit.converged and "left the problem's domain" in orbit.message
     assert problem.evaluations == 4  # the start's four arcs, once
     assert np.all(np.isnan(orbit.multipliers)) and not orbit.stable
+
+
+def test_arcs_from_a_newton_iterate_far_in_the_wall_fail_in_bounded_time():
+    # A Newton iterate of the scan (sigma = 1, Fig. 10 set) with w = -3969: the wall term is not
+    # finite there, the first step size was NaN, and the compiled loop's step rejection never
+    # ended (a scan hung for minutes). Now the arcs fail at once: a NaN residual, which Newton
+    # and the corrector read as a failed evaluation.
+    P = get_preset("fig10").params.replace(sigma=1.0)
+    x = np.array([-218.9, -389.7, -7.0, 618.9, -406.8, 213.8, -3968.6, -2432.7])
+    x = np.concatenate([x, [197.8, 388.6, 1619.7, -3720.3, 380.4, -206.7, 788.8, -308.6]])
+    problem = ShootingProblem(P, segments=4)
+    assert np.all(np.isnan(problem.residual(x, 1.0)))
+    run = integrator.integrate(P, x[4:8], 0.0, np.pi / 2)
+    assert not run.success and run.steps == 0
