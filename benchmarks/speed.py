@@ -40,7 +40,13 @@ import time
 
 import numpy as np
 
-from benchmarks.speed_reference import chained_reference, first_newton, one_period_reference, stage_profile
+from benchmarks.speed_reference import (
+    chained_reference,
+    first_newton,
+    one_period_reference,
+    run_child,
+    stage_profile,
+)
 from slosh_bif.model.presets import get_preset
 from slosh_bif.orbits.starts import orbit_from_simulation
 from slosh_bif.simulation.direct import SimulationSettings, simulate
@@ -100,15 +106,7 @@ REGIME_GRIDS = (20, 100)
 def run_cli(arguments, timeout=900.0, workers=False):
     """Wall time and the child's own peak resident set (MB; ru_maxrss is in kB on Linux) of
     ``slosh-bif ARGUMENTS`` in a fresh interpreter; ``workers``: also its largest worker's."""
-    start = time.perf_counter()
-    done = subprocess.run(
-        [sys.executable, "-c", _CHILD, *arguments],
-        capture_output=True,
-        text=True,
-        timeout=timeout,
-        env={**os.environ, "PYTHONWARNINGS": "ignore"},
-    )
-    seconds = time.perf_counter() - start
+    seconds, done = run_child(_CHILD, arguments, timeout)
     lines = done.stderr.strip().splitlines()
     peaks = (
         [float(v) / 1024 for v in lines[-1].split()[1:]]

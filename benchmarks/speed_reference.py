@@ -25,7 +25,14 @@ from slosh_bif.model.equations import SmoothModel
 from slosh_bif.model.presets import get_preset
 from slosh_bif.simulation.direct import simulate
 
-__all__ = ["one_period_reference", "chained_reference", "stage_profile", "first_newton", "STAGES"]
+__all__ = [
+    "one_period_reference",
+    "chained_reference",
+    "stage_profile",
+    "first_newton",
+    "run_child",
+    "STAGES",
+]
 
 
 def _scipy_period(model, y0):
@@ -94,7 +101,8 @@ print('stage_marks', t0, *marks, file=sys.stderr)
 """
 
 
-def _child(code, arguments, timeout):
+def run_child(code, arguments, timeout):
+    """(wall seconds, completed process) of ``python -c CODE ARGUMENTS`` with warnings silenced."""
     start = time.perf_counter()
     done = subprocess.run(
         [sys.executable, "-c", code, *arguments],
@@ -109,7 +117,7 @@ def _child(code, arguments, timeout):
 def stage_profile(arguments, timeout: float = 900.0) -> dict:
     """Seconds per stage (:data:`STAGES`) of ``slosh-bif ARGUMENTS`` (a ``shoot`` of one family of
     (9)) in a fresh interpreter; the continuations of all its branches are added up."""
-    wall, done = _child(_PROFILE, arguments, timeout)
+    wall, done = run_child(_PROFILE, arguments, timeout)
     line = next((x for x in done.stderr.splitlines() if x.startswith("stage_marks")), None)
     if line is None:
         raise RuntimeError(f"slosh-bif {' '.join(arguments)} failed: {done.stderr.strip()[-300:]}")
@@ -144,7 +152,7 @@ cli.main()
 def first_newton(arguments, timeout: float = 300.0) -> float:
     """Wall seconds from launching ``slosh-bif ARGUMENTS`` to its first Newton step (the process
     stops there), interpreter start included."""
-    wall, done = _child(_FIRST_NEWTON, arguments, timeout)
+    wall, done = run_child(_FIRST_NEWTON, arguments, timeout)
     if "first_newton" not in done.stderr:
         raise RuntimeError(f"slosh-bif {' '.join(arguments)} reached no Newton step: {done.stderr[-300:]}")
     return wall
