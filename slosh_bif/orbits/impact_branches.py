@@ -7,10 +7,13 @@ in pieces, each direction on its own:
 * an impact on the section: the section moves to the middle of the orbit's longest flight (the
   same orbits in new coordinates) and the continuation resumes from the located edge point in the
   same direction of the parameter;
-* grazing (GR): the point is kept; the orbit with one impact more or fewer is sought just beyond
-  it (the map iterated from the grazing orbit, then Newton), and the branch goes on from there, or
-  ends at the grazing with a status that says so (the orbit beyond does not attract, or there is
-  none: a grazing can end a branch).
+* grazing (GR): the point is kept; the family on the other side (an impact more or fewer) is
+  found on the contact's own unfolding (:mod:`slosh_bif.orbits.impact_grazing_crossing`),
+  attracting or not, and the branch goes on from there in the direction that leads away from the
+  grazing (back in the parameter where the grazing is a non-smooth fold). Where that fails (two
+  contacts grazing at once, say), the map's iterates are tried for an attracting orbit beyond;
+  failing both, the branch ends at the grazing with a status that says so. A grazing met again
+  (or its mirror image) closes the branch as a loop.
 
 The result is an :class:`ImpactBranch`: its pieces (each a :class:`~slosh_bif.continuation.Branch`
 with its section and impact count), the grazing points, and how each direction ended.
@@ -31,6 +34,7 @@ from slosh_bif.continuation import (
 from slosh_bif.continuation.branch import Kind, Status
 from slosh_bif.continuation.corrector import newton_solve
 from slosh_bif.model.params import Params
+from slosh_bif.orbits.impact_grazing_crossing import contact_at, cross_grazing
 from slosh_bif.orbits.impact_orbits import GRAZING, SECTION, ImpactOrbitProblem
 
 __all__ = [
@@ -191,7 +195,7 @@ def trace_impact_orbits(
     run = newton_solve(first, x0, p0, tol=1e-12)
     if not run.converged:
         raise ConvergenceError(f"no periodic orbit of (8) near x0 at {param} = {p0}: {run.message}")
-    pieces, grazing, ends, starts = [], [], [], []
+    pieces, grazing, ends, starts, contacts = [], [], [], [], []
     for direction in ("forward", "backward"):
         phase, x = quiet_section(first, run.x, p0)
         p, sign = p0, 1.0 if direction == "forward" else -1.0
@@ -233,8 +237,22 @@ def trace_impact_orbits(
                 starts.append((phase, p, x))
                 problem = _problem(first, phase, x, p)
                 continue
+            contact = contact_at(problem, x_end, p_end)
+            if any(contact.same_as(c, p_end, q) for c, q in contacts):
+                ends.append(
+                    BranchEnd(
+                        direction,
+                        Status.LOOP.value,
+                        f"closed loop (back at the grazing of {param} = {p_end:.10g}, or at its "
+                        "mirror image)",
+                    )
+                )
+                break
+            contacts.append((contact, p_end))
             grazing.append((p_end, x_end, problem.phase))
-            beyond = _cross_grazing(problem, x_end, p_end, sign, opts)
+            beyond = cross_grazing(problem, x_end, p_end, opts) or _attracting_beyond(
+                problem, x_end, p_end, sign, opts
+            )
             if beyond is None:
                 ends.append(
                     BranchEnd(
@@ -245,17 +263,15 @@ def trace_impact_orbits(
                     )
                 )
                 break
-            problem, x, p = beyond
+            problem, x, p, sign = beyond
     complete = all(e.reason in (Status.BOUND.value, Status.LOOP.value) for e in ends)
     return ImpactBranch(param, tuple(pieces), tuple(grazing), tuple(ends), complete, variant)
 
 
-def _cross_grazing(problem, x, p, sign, opts):
-    """(problem, x, p) of the orbit just beyond a grazing point, on a problem holding its own
-    impact count, or None. The map is not smooth at grazing (the new impact's saltation grows as
-    1 / its speed), and Newton from the grazing orbit lands on the old side; the map's own iterates
-    from there, when the orbit beyond attracts, give the guess that Newton then polishes. An
-    orbit beyond that does not attract is not sought (the branch ends at the grazing)."""
+def _attracting_beyond(problem, x, p, sign, opts):
+    """(problem, x, p, sign) of an attracting orbit just beyond a grazing point, on a problem
+    holding its own impact count, or None: the fallback where the unfolding fails. The map's own
+    iterates from the grazing orbit give the guess that Newton then polishes."""
     for step in CROSSING_STEPS:
         q = p + sign * step
         if not opts.p_min <= q <= opts.p_max:
@@ -281,5 +297,5 @@ def _cross_grazing(problem, x, p, sign, opts):
         ):
             count = len(probe.evaluate(run.x, q).impacts)
             if count != problem.impacts:
-                return problem.replace(impacts=count), run.x, q
+                return problem.replace(impacts=count), run.x, q, sign
     return None

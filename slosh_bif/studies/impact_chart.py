@@ -26,6 +26,7 @@ from slosh_bif.continuation import ConvergenceError
 from slosh_bif.model.params import Params
 from slosh_bif.orbits.codim2 import ImpactCurveSeed, trace_impact_curve
 from slosh_bif.orbits.codim2.impact_curves import trace_grazing_curve
+from slosh_bif.orbits.codim2.impact_strobe import MIN_IMPACT_SPEED
 from slosh_bif.orbits.impact_branches import settled_orbit, trace_impact_orbits
 from slosh_bif.orbits.impact_orbits import ImpactOrbitProblem
 from slosh_bif.orbits.impact_switching import (
@@ -239,6 +240,8 @@ def impact_curve_starts(named: NamedImpactBranch, params: Params, box: dict, pit
                 continue
             if sp.kind == "LP" and _parents_orbit(params, param, piece, sp):
                 continue  # a doubled branch turns where it is born: the parent's period doubling, no fold
+            if _within_grazing_rule(params, param, named.symmetric, piece, sp):
+                continue  # a curve from there would end where it starts
             at = params.replace(**{param: float(sp.p)})
             origin = (
                 f"{sp.kind} at sigma = {at.sigma:.6g}, Abar = {at.Abar:.6g} on the {named.name} branch "
@@ -274,6 +277,21 @@ def _parents_orbit(params, param, piece, sp) -> bool:
     single = ImpactOrbitProblem(params.replace(**{param: float(sp.p)}), param, phase=piece.phase)
     x = np.asarray(sp.x, dtype=float)
     return bool(np.linalg.norm(single.residual(x, sp.p)) <= 1e-3 * (1 + np.linalg.norm(x)))
+
+
+def _within_grazing_rule(params, param, symmetric, piece, sp) -> bool:
+    """Whether the orbit at ``sp`` has an impact slower than
+    :data:`~slosh_bif.orbits.codim2.impact_strobe.MIN_IMPACT_SPEED`: a point the curves of (8)
+    count as their grazing edge (a fold within a few 1e-6 of a grazing, say)."""
+    problem = ImpactOrbitProblem(
+        params.replace(**{param: float(sp.p)}),
+        param,
+        symmetric=symmetric,
+        period_multiple=piece.period_multiple,
+        phase=piece.phase,
+    )
+    impacts = problem.evaluate(np.asarray(sp.x, dtype=float), sp.p).impacts
+    return bool(len(impacts) and np.abs(impacts[:, 2]).min() < MIN_IMPACT_SPEED)
 
 
 def _grazing_starts(named: NamedImpactBranch, params: Params, box: dict):

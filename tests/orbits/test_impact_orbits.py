@@ -94,19 +94,26 @@ def _turning_gap(params, phase, x, t_graze):
     return 1.0 - np.abs(sol.y_events[0][:, 2]).max()
 
 
-def test_a_branch_locates_its_period_doubling_and_ends_at_grazing():
+def test_a_branch_locates_its_period_doubling_and_crosses_its_grazing():
     """The Fig. 10 set from sigma = 3 down: the asymmetric pair's orbit, its period doubling, and
-    its grazing near sigma = 2.16 (checked by scipy: the turning point touches the wall), where no
-    orbit with a third impact continues it nearby: the branch ends there and says so."""
+    its grazing near sigma = 2.16 (checked by scipy: the turning point touches the wall), beyond
+    which the branch goes on with a third impact: its first orbit there returns to itself under
+    scipy's event loop."""
     params, x0 = _settled("fig10 sigma=3")
     branch = trace_impact_orbits(params, x0, p_min=1.0, p_max=3.2)
-    assert branch.grazing and not branch.complete
-    assert any(end.reason == "grazing" and "at sigma = 2.16104" in end.message for end in branch.ends)
+    assert branch.grazing and branch.complete
     p_gr, x_gr, phase = branch.grazing[0]
     assert p_gr == pytest.approx(2.16104015, abs=1e-6)
     where = ImpactOrbitProblem(params, phase=phase).grazing(x_gr, p_gr)  # only where to look
     assert where.kind == "flight"
     assert _turning_gap(params.replace(sigma=p_gr), phase, x_gr, where.t) == pytest.approx(0.0, abs=1e-8)
+    beyond = next(pc for pc in branch.pieces if pc.impacts == 3)
+    x, q = beyond.branch.x[0], float(beyond.branch.p[0])
+    assert abs(q - p_gr) < 1e-2
+    ref = simulate_impact(
+        params.replace(sigma=q), x, (beyond.phase, beyond.phase + 2 * np.pi), backend="scipy"
+    )
+    assert len(ref.impact_t) == 3 and np.abs(ref.y[:, -1] - x).max() < 1e-7
     pds = [(pc, s) for pc in branch.pieces for s in pc.branch.special if s.kind == "PD"]
     assert pds
     piece, point = pds[0]
@@ -225,10 +232,10 @@ def test_a_symmetric_orbit_is_a_fixed_point_of_the_half_period_map_whose_multipl
 
 
 def test_shoot_model_impact_switches_at_the_pitchforks_of_the_symmetric_branch(tmp_path):
-    """The asymmetric branches of (8) born at the two pitchforks of the Fig. 13 symmetric branch
-    (sigma = 0.43717 and -2.00827, located on the half-period map): each starts at its pitchfork,
-    and its orbits are periodic but not symmetric under the reference flow (scipy's expm between
-    impacts), which also checks that the pitchfork's orbit is symmetric."""
+    """The asymmetric branch of (8) born at the pitchforks of the Fig. 13 symmetric branch (sigma =
+    0.43717 and -2.00827, located on the half-period map): continued through its grazings it joins
+    the two; its orbits are periodic but not symmetric under the reference flow (scipy's expm
+    between impacts), which also checks that the pitchfork's orbit is symmetric."""
     import csv
 
     from slosh_bif.cli import main
@@ -250,23 +257,24 @@ def test_shoot_model_impact_switches_at_the_pitchforks_of_the_symmetric_branch(t
             ]
         )
         == 3
-    )  # they end at grazings
+    )  # period-doubled branches end at grazings
     rows = list(csv.DictReader(open(tmp_path / "branch.csv")))
-    # and the cascade born at the asymmetric branches' period doublings (six branches, the default)
-    names = {"symmetric", "asymmetric", "asymmetric-2", "period-2", "period-2-2", "period-4"}
+    # and the cascade born at the asymmetric branch's period doublings (six branches, the default)
+    names = {"symmetric", "asymmetric", "period-2", "period-2-2", "period-2-3", "period-2-4"}
     assert {r["branch"] for r in rows} == names
     bps = sorted(
         float(r["sigma"]) for r in rows if r["branch"] == "symmetric" and "BP" in r["special"].split()
     )
     assert bps == pytest.approx([-2.00827, 0.43717], abs=1e-4)
     P = get_preset("fig13").params
-    for name, bp in (("asymmetric", bps[1]), ("asymmetric-2", bps[0])):
-        part = [r for r in rows if r["branch"] == name]
-        assert min(abs(float(r["sigma"]) - bp) for r in part) < 1e-4  # it reaches its pitchfork
-        piece = np.load(tmp_path / f"{name}-piece0.npz")
-        k = len(piece["p"]) // 2
-        x, sigma, phase = piece["x"][k], float(piece["p"][k]), float(piece["phase"])
-        assert abs(sigma - bp) > 0.02
+    part = [r for r in rows if r["branch"] == "asymmetric"]
+    for bp in bps:
+        assert min(abs(float(r["sigma"]) - bp) for r in part) < 1e-4  # it reaches both pitchforks
+    for k in (0, 1):
+        piece = np.load(tmp_path / f"asymmetric-piece{k}.npz")
+        i = len(piece["p"]) // 2
+        x, sigma, phase = piece["x"][i], float(piece["p"][i]), float(piece["phase"])
+        assert min(abs(sigma - bp) for bp in bps) > 0.02
         at = P.replace(sigma=sigma)
         full = simulate_impact(at, x, (phase, phase + 2 * np.pi), backend="scipy").y[:, -1]
         half = simulate_impact(at, x, (phase, phase + np.pi), backend="scipy").y[:, -1]

@@ -63,6 +63,9 @@ def I(n, pbar):  # noqa: E743 - the paper's name
 
     Valid for ``pbar > -(n+1)`` (checked); vectorised over ``n`` and ``pbar``.
     """
+    if np.ndim(n) == 0 and np.ndim(pbar) == 0 and pbar > -(n + 1):  # the common case, without vectorize
+        a = pbar / (2 * (n + 1)) + 0.5
+        return math.sqrt(math.pi) * math.exp(math.lgamma(a) - math.lgamma(a + 1.5)) / (4 * (n + 1))
     n = np.asarray(n, dtype=float)
     pbar = np.asarray(pbar, dtype=float)
     if np.any(pbar <= -(n + 1)):

@@ -123,6 +123,8 @@ class ImpactStrobe:
         """The edge near the orbit x at ``params``: grazing when its slowest impact is within a
         factor 2 of ``MIN_IMPACT_SPEED`` (or it has no longer the domain's impacts), the section
         when the particle sits within 1e-3 of a wall there; None for neither."""
+        if 1.0 - abs(float(x[2])) < 1e-6:  # an impact at the section: the count flips there
+            return SECTION
         m = self._maps_of(params)[0].evaluate(
             np.asarray(x, dtype=float), getattr(params, self.sensitivities[0])
         )
@@ -133,6 +135,13 @@ class ImpactStrobe:
         if 1.0 - abs(float(x[2])) < 1e-3:
             return SECTION
         return None
+
+    def edge_distance_at(self, x, params: Params) -> float:
+        """0 where :meth:`edge_name_at` names the grazing rule's edge, else how far the particle
+        is inside the wall on the section (``1 - |w|``)."""
+        if self.edge_name_at(x, params) == NEAR_GRAZING:
+            return 0.0
+        return self._probe.wall_distance(x, getattr(params, self.param))
 
     def full_states(self, x):
         """The orbit's state on the section (the whole-period map's unknowns are the same four)."""

@@ -127,6 +127,20 @@ class MinAugCurveProblem:
         near = getattr(self.orbits, "edge_name_at", None)
         return (near(x[: -self._extra], self.params_at(x, p)) if near else None) or "boundary"
 
+    def edge_distance(self, x, p) -> float:
+        """How near the curve point is to an end of ``p2_box`` (relative to its width) or to an
+        edge of the orbits' own domain (for (8): the section, grazing): a corrector failing within
+        1e-5 of one has met it (its solution lies just beyond), which is no stall."""
+        distance = np.inf
+        if self.p2_box is not None:
+            lo, hi = self.p2_box
+            p2 = float(x[-self._extra])
+            distance = min(p2 - lo, hi - p2) / (hi - lo)
+        near = getattr(self.orbits, "edge_distance_at", None)
+        if near is not None:
+            distance = min(distance, near(x[: -self._extra], self.params_at(x, p)))
+        return distance
+
     def in_domain(self, x, p) -> bool:
         self._edge = None
         p2 = x[-self._extra]

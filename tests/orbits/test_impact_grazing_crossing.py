@@ -1,0 +1,70 @@
+"""Crossing a grazing point of (8): the orbits beyond it against independent evaluations and the
+local theory of grazing (Nordmark's discontinuity map).
+
+Near a grazing point p_g, the family with the new impact of speed v has (i) p - p_g linear in v,
+(ii) a multiplier of the map growing as 1/v (the saltation of a slow impact), so it is unstable
+right beyond the grazing, and (iii) each of its orbits returns to itself under scipy's event loop
+(the reference flow, expm between impacts) with an impact of speed v. The Fig. 10 set's symmetric
+branch of (8), continued through its four grazings, covers sigma in [-6, 8] as (9)'s does."""
+
+import numpy as np
+import pytest
+
+from slosh_bif import get_preset, simulate_impact
+from slosh_bif.continuation.corrector import newton_solve
+from slosh_bif.flows.integrator import HAVE_NUMBA
+from slosh_bif.orbits.impact_branches import settled_orbit, trace_impact_orbits
+from slosh_bif.orbits.impact_grazing_crossing import _on_section, contact_at, unfold
+from slosh_bif.orbits.impact_orbits import ImpactOrbitProblem
+
+pytestmark = pytest.mark.skipif(not HAVE_NUMBA, reason="the compiled flow needs numba")
+
+
+@pytest.fixture(scope="module")
+def symmetric_branch():
+    """The Fig. 10 set's symmetric orbit of (8) at sigma = 5, continued over [-6, 8]."""
+    p = get_preset("fig10")
+    params = p.params.replace(sigma=5.0)
+    x0 = settled_orbit(params, p.state0, periods=300)
+    return params, trace_impact_orbits(params, x0, p_min=-6.0, p_max=8.0, symmetric=True)
+
+
+def test_beyond_the_grazing_the_new_impacts_speed_is_linear_in_p_and_its_orbit_unstable(symmetric_branch):
+    params, branch = symmetric_branch
+    p_g, x_g, phase = branch.grazing[0]
+    assert p_g == pytest.approx(0.51416123, abs=1e-7)
+    problem = ImpactOrbitProblem(params, symmetric=True, phase=phase, impacts=1)
+    contact = contact_at(problem, x_g, p_g)
+    assert contact.kind == "flight"
+    probe = problem.replace(impacts=None)
+    offsets, largest = [], []
+    for v in (1e-3, 2e-3):
+        u, equations = unfold(problem, contact, p_g, "impact", v)
+        q = float(u[3])
+        run = newton_solve(probe, _on_section(problem, equations, u), q, tol=1e-12)
+        assert run.converged and len(probe.evaluate(run.x, q).impacts) == 2
+        offsets.append(q - p_g)
+        largest.append(np.abs(probe.map_multipliers(run.x, q)).max())
+        # an orbit of (8) under the reference flow, with an impact of speed v
+        ref = simulate_impact(params.replace(sigma=q), run.x, (phase, phase + 2 * np.pi), backend="scipy")
+        assert np.abs(ref.y[:, -1] - run.x).max() < 1e-7
+        assert np.abs(np.abs(ref.impact_v_minus).min() - v) < 1e-6
+    assert offsets[1] / offsets[0] == pytest.approx(2.0, rel=1e-2)  # p - p_g linear in v
+    assert largest[0] / largest[1] == pytest.approx(2.0, rel=1e-2)  # a multiplier ~ 1/v
+    assert largest[1] > 1e3
+
+
+def test_the_symmetric_branch_is_continued_through_its_grazings_over_the_whole_range(symmetric_branch):
+    params, branch = symmetric_branch
+    assert branch.complete and [e.reason for e in branch.ends] == ["parameter bound"] * 2
+    assert len(branch.grazing) == 4
+    assert {pc.impacts for pc in branch.pieces} == {1, 2, 3}  # per half period
+    lo = min(pc.branch.p.min() for pc in branch.pieces)
+    hi = max(pc.branch.p.max() for pc in branch.pieces)
+    assert lo == -6.0 and hi == 8.0
+    # each grazing joins two pieces whose impact counts differ by one, both ending within 1e-3 of it
+    for p_g, _, _ in branch.grazing:
+        near = [pc for pc in branch.pieces if np.min(np.abs(pc.branch.p[[0, -1]] - p_g)) < 1e-3]
+        assert len({pc.impacts for pc in near}) == 2
+    # the branch has (9)'s sequence of special points (docs/findings/impact.md): 4 folds, 6 pitchforks
+    assert len(branch.special("LP")) == 4 and len(branch.special("BP")) == 6
