@@ -71,25 +71,32 @@ def _chart(args) -> int:
     if args.seeds < 0:
         raise ValueError(f"--seeds must be an integer >= 0; got {args.seeds}")
     check_workers(args)
-    if args.model == "impact" and (args.second != "Abar" or args.resume):
+    impact = args.model in ("impact", "impact-corrected")
+    if impact and (args.second != "Abar" or args.resume):
         raise ValueError(
-            "--model impact draws the (sigma, Abar) chart of (8) in one run: without --second and --resume"
+            f"--model {args.model} draws the (sigma, Abar) chart of an impact model in one run: without "
+            "--second and --resume"
         )
-    if args.model == "impact" and args.backend != "auto" and args.regimes is None:
+    if impact and args.backend != "auto" and args.regimes is None:
         raise ValueError(
             "--backend chooses the integrator of (9), or with --model impact that of --regimes' simulations; "
-            "the orbits of (8) have one exact flow"
+            "the orbits of the impact models have one exact flow"
+        )
+    if args.model == "impact-corrected" and args.regimes is not None:
+        raise ValueError(
+            "--regimes simulates (9) or (8); with --model impact-corrected, draw them with --model impact "
+            "or without --model"
         )
     state0 = state0_of(args, params)
     options = dict(switch=not args.no_switch, seeds=args.seeds, backend=args.backend)
     if args.second != "Abar":  # (a stored Abar chart's settings stay as they were: --resume keeps working)
         options["second"] = args.second
-    if args.model == "impact":
-        options["model"] = "impact"
+    if impact:
+        options["model"] = args.model
     settings = chart_settings(params, state0, (lo, hi), (a_lo, a_hi), **options)
     done, keep = curve_store(args.out / "curves", settings, resume=args.resume)
     say = throttled(progress, passes=lambda message: ": point " not in message)
-    if args.model == "impact":
+    if impact:
         from slosh_bif.studies.impact_chart import impact_chart
 
         chart = impact_chart(
@@ -100,6 +107,7 @@ def _chart(args) -> int:
             branching=BranchingSettings(switch=not args.no_switch),
             settings=ChartSettings(seeds=args.seeds, workers=args.workers),
             progress=say,
+            variant="corrected" if args.model == "impact-corrected" else "paper",
         )
     else:
         chart = bifurcation_chart(
@@ -229,10 +237,11 @@ def add_commands(sub) -> None:
     chart.add_argument("--out", type=out_path, required=True, help="output folder (created if missing)")
     chart.add_argument(
         "--model",
-        choices=("slowflow", "corrected", "impact"),
+        choices=("slowflow", "corrected", "impact", "impact-corrected"),
         default="slowflow",
         help="curves of (9) with the slow flow (46) beside them (default) or the corrected slow flow "
         "('corrected'); 'impact': the curves of the impact model (8) (from its branches in sigma), "
-        "with (46) beside them",
+        "with (46) beside them; 'impact-corrected': those of the corrected impact model ((9)'s "
+        "flights, its wall's measured law)",
     )
     chart.set_defaults(run=_chart)

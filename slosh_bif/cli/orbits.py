@@ -187,6 +187,7 @@ def _shoot_impact(args, params, lo, hi) -> int:
     with the asymmetric branches born at its pitchforks (unless --no-switch)."""
     from slosh_bif.continuation import ContinuationOptions
     from slosh_bif.orbits.impact_branches import settled_orbit
+    from slosh_bif.orbits.impact_orbits import VARIANT_NAMES
     from slosh_bif.orbits.impact_output import (
         impact_rows,
         plot_impact_branch,
@@ -201,7 +202,7 @@ def _shoot_impact(args, params, lo, hi) -> int:
             "simulation of (8) or from --guess"
         )
     variant = "corrected" if args.model == "impact-corrected" else "paper"
-    model_name = "the corrected impact model" if variant == "corrected" else "(8)"
+    model_name = VARIANT_NAMES[variant]
     check_family_options(args)
     p0 = getattr(params, args.parameter)
     if not lo <= p0 <= hi:

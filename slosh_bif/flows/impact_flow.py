@@ -307,6 +307,12 @@ class ImpactFlow:
             "chi": -exponent * self.kappa_c / P.chi,
         }.get(param, 0.0)
 
+    @property
+    def grazing_level(self) -> float:
+        """Where a flight grazes the wall: |w| = 1 for (8), and for the corrected impact model the
+        measured wall's clearance at its least speed (the clamp of its law: D(v_min))."""
+        return 1.0 if self.wall is None else float(self.wall.clearance(self.wall.v_min))
+
     def _call(self, y0, t0, t1, stick_speed, max_impacts, capacity, jac):
         """The compiled run from room for ``capacity`` impacts up, rerun with four times the room
         while it fills (the same inputs give the same run); its arrays cut to what was stored."""

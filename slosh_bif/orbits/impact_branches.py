@@ -35,7 +35,7 @@ from slosh_bif.continuation.branch import Kind, Status
 from slosh_bif.continuation.corrector import newton_solve
 from slosh_bif.model.params import Params
 from slosh_bif.orbits.impact_grazing_crossing import contact_at, cross_grazing
-from slosh_bif.orbits.impact_orbits import GRAZING, SECTION, ImpactOrbitProblem
+from slosh_bif.orbits.impact_orbits import GRAZING, SECTION, VARIANT_NAMES, ImpactOrbitProblem
 
 __all__ = [
     "ImpactPiece",
@@ -127,7 +127,7 @@ def settled_orbit(params: Params, state0, *, periods: int, tries: int = 4, varia
         t, y, _, code = flow.run(x, 0.0, 2 * np.pi * count, stick_speed=1e-9, max_impacts=10**7)
         if code != 0:
             raise ConvergenceError(
-                f"the simulation of (8) for a start orbit stopped (code {code}) after "
+                f"the simulation of {VARIANT_NAMES[variant]} for a start orbit stopped (code {code}) after "
                 f"{done + t[-1] / (2 * np.pi):.0f} periods"
             )
         x, done = y[:, -1], done + count
@@ -135,8 +135,8 @@ def settled_orbit(params: Params, state0, *, periods: int, tries: int = 4, varia
         if run.converged and problem.in_domain(run.x, params.sigma):
             return run.x
     raise ConvergenceError(
-        f"no periodic orbit of (8) near the strobe of a {done}-period simulation (it has not "
-        "settled); pass --guess X,Xd,w,wd"
+        f"no periodic orbit of {VARIANT_NAMES[variant]} near the strobe of a {done}-period simulation "
+        "(it has not settled); pass --guess X,Xd,w,wd"
     )
 
 

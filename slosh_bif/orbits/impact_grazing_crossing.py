@@ -88,10 +88,6 @@ def _wall(flow, v):
     return kappa, clearance
 
 
-def _level(flow) -> float:
-    return 1.0 if flow.wall is None else float(flow.wall.clearance(flow.wall.v_min))
-
-
 class _Unfolding:
     """The closing equations of the orbits with one contact of kind ``kind`` and size ``size``."""
 
@@ -109,7 +105,7 @@ class _Unfolding:
         flow = self.problem.flow_at(u[3])
         s = self.side
         if self.kind == "flight":
-            y = np.array([u[0], u[1], s * (_level(flow) - self.size), 0.0])
+            y = np.array([u[0], u[1], s * (flow.grazing_level - self.size), 0.0])
             return y, y
         kappa, clearance = _wall(flow, self.size)
         arriving = np.array([u[0], u[1], s * clearance, s * self.size])
@@ -123,6 +119,16 @@ class _Unfolding:
         return (self._propagator(u[3], flow) @ np.concatenate([post, [np.cos(t), np.sin(t)]]))[:4]
 
     def residual(self, u):
+        """The orbit's return to its contact state; NaN where it cannot be evaluated (a parameter
+        set that does not exist, a flow that stops short)."""
+        if not np.all(np.isfinite(u)):
+            return np.full(4, np.nan)
+        try:
+            return self._residual(u)
+        except ValueError:
+            return np.full(4, np.nan)
+
+    def _residual(self, u):
         problem, t = self.problem, float(u[2])
         flow = problem.flow_at(u[3])
         arriving, _ = self.contact_states(u)
@@ -153,6 +159,8 @@ def unfold(problem, contact: Contact, p: float, kind: str, size: float):
             e = np.zeros(4)
             e[j] = 1e-7 * max(1.0, abs(u[j]))
             J[:, j] = (equations.residual(u + e) - equations.residual(u - e)) / (2 * e[j])
+        if not np.all(np.isfinite(J)):
+            return None
         try:
             u = u - np.linalg.solve(J, F)
         except np.linalg.LinAlgError:

@@ -34,9 +34,10 @@ from slosh_bif.orbits.multipliers import (
     multiplier_tests,
 )
 
-__all__ = ["ImpactOrbitProblem", "StrobeMap", "GrazingGap", "SECTION", "GRAZING"]
+__all__ = ["ImpactOrbitProblem", "StrobeMap", "GrazingGap", "SECTION", "GRAZING", "VARIANT_NAMES"]
 
 SECTION, GRAZING = "an impact on the section", "grazing (GR)"
+VARIANT_NAMES = {"paper": "(8)", "corrected": "the corrected impact model"}  # in messages and titles
 _KEEP = 8  # evaluations and flows kept: one corrector step and its finite-difference-free tangent
 _CODES = {
     1: "the particle sticks to the wall (impacts accumulate)",
@@ -301,7 +302,7 @@ class ImpactOrbitProblem:
             if away > 0 and v_minus**2 / (2 * away) < best.gap:
                 best = GrazingGap(v_minus**2 / (2 * away), float(tk), "impact", len(impacts))
         wd = y[3]
-        level = 1.0 if flow.wall is None else float(flow.wall.clearance(flow.wall.v_min))
+        level = flow.grazing_level
         reset = np.isin(t[1:], impacts[:, 0])  # the interval ends at an impact: w' jumps there
         turns = np.flatnonzero(
             (wd[:-1] * wd[1:] < 0) & (y[2, :-1] * wd[:-1] > 0) & (np.abs(y[2, 1:]) < level) & ~reset

@@ -50,7 +50,6 @@ COMPARE_COLUMNS = (
 )
 IMPACT_COLUMNS = ("A1_impact", "relative_difference_impact", "wall_difference")
 IMPACT_NAMES = {"paper": "impact model (8)", "corrected": "corrected impact model"}
-SHORT_NAMES = {"paper": "(8)", "corrected": "the corrected impact model"}
 IMPACT_LABELS = {  # what the two impact columns measure, for (8) and for the corrected impact model
     "paper": (
         ("asymptotic", "the expansion's error, slow flow against (8)"),
@@ -307,6 +306,7 @@ def compare_table(rows, *, agree: float = 0.05, impact_model: str = "paper") -> 
 def plot_compare(
     family: OrbitFamily, fr: FrequencyResponse, rows, path, impact=None, impact_model: str = "paper"
 ) -> Path:
+    from slosh_bif.orbits.impact_orbits import VARIANT_NAMES
     from slosh_bif.report.plotting import pyplot, save_figure
 
     fig, (ax, axd) = pyplot().subplots(
@@ -347,7 +347,7 @@ def plot_compare(
     P = family.params
     ax.set_title(
         f"{name[0].upper() + name[1:]} against periodic orbits of "
-        f"(9){' and ' + SHORT_NAMES[impact_model] if impact else ''}: eps = {P.eps:g}, "
+        f"(9){' and ' + VARIANT_NAMES[impact_model] if impact else ''}: eps = {P.eps:g}, "
         f"beta = {P.beta:g}, Abar = {P.Abar:g}, n = {P.n}"
     )
     ax.legend(fontsize=7)

@@ -28,7 +28,7 @@ from slosh_bif.orbits.codim2 import ImpactCurveSeed, trace_impact_curve
 from slosh_bif.orbits.codim2.impact_curves import trace_grazing_curve
 from slosh_bif.orbits.codim2.impact_strobe import MIN_IMPACT_SPEED
 from slosh_bif.orbits.impact_branches import settled_orbit, trace_impact_orbits
-from slosh_bif.orbits.impact_orbits import ImpactOrbitProblem
+from slosh_bif.orbits.impact_orbits import VARIANT_NAMES, ImpactOrbitProblem
 from slosh_bif.orbits.impact_switching import (
     asymmetric_branches,
     doubled_branches,
@@ -70,6 +70,7 @@ def impact_chart(
     branching: BranchingSettings = BRANCHING,
     settings: ChartSettings | None = None,
     progress=None,
+    variant: str = "paper",
 ) -> Chart:
     """The chart of (8) over ``sigma_range`` x ``abar_range``: the branch of orbits of (8) through
     the orbit a ``settings.settle``-period simulation from ``state0`` settles on (at the set's
@@ -85,14 +86,15 @@ def impact_chart(
     params.require_positive_stiffness()
     family = impact_family(
         params,
-        settled_orbit(params, state0, periods=settings.settle),
+        settled_orbit(params, state0, periods=settings.settle, variant=variant),
         param="sigma",
         p_range=(s0, s1),
+        variant=variant,
         # the period-2 branches too (their curves are of period-2 orbits); no deeper cascade
         branching=dataclasses.replace(branching, max_branches=min(branching.max_branches, 6)),
     )
     say(
-        f"orbits of (8): {len(family)} branch(es), "
+        f"orbits of {VARIANT_NAMES[variant]}: {len(family)} branch(es), "
         f"{sum(len(piece.branch) for nb in family for piece in nb.branch.pieces)} points"
     )
     box = {"sigma": (s0, s1), "Abar": (a0, a1)}
@@ -112,7 +114,10 @@ def impact_chart(
         if seed is not None:
             starts += list(impact_curve_starts(seed, seed.at, box))
     workers = chart_workers(settings.workers)
-    say(f"{len(starts)} special points of (8) to start curves from, on {workers} process(es)")
+    say(
+        f"{len(starts)} special points of {VARIANT_NAMES[variant]} to start curves from, "
+        f"on {workers} process(es)"
+    )
     curves, status, failures = trace_curves(starts, say, workers)
     slow = None
     try:
@@ -130,7 +135,7 @@ def impact_chart(
         status,
         "Abar",
         failures,
-        orbits="(8)",
+        orbits=VARIANT_NAMES[variant],
     )
 
 
@@ -221,6 +226,8 @@ def impact_curve_starts(named: NamedImpactBranch, params: Params, box: dict, pit
     ``pitchforks``: sigma at the family's pitchforks, where an asymmetric branch's LP (the mirror
     pair turning in sigma where it is born) is no fold."""
     param = named.branch.param
+    if not named.symmetric:  # its own pitchforks too: a branch in Abar meets its parent there
+        pitchforks = [*pitchforks, *(p for p, _ in named.branch.special("BP"))]
     yield from _grazing_starts(named, params, box)
     for piece in named.branch.pieces:
         if piece.period_multiple > 2:  # curves of period-1 and period-2 orbits
@@ -238,14 +245,14 @@ def impact_curve_starts(named: NamedImpactBranch, params: Params, box: dict, pit
                 and any(abs(sp.p - q) <= 1e-6 * (1 + abs(q)) for q in pitchforks)
             ):
                 continue
-            if sp.kind == "LP" and _parents_orbit(params, param, piece, sp):
+            if sp.kind == "LP" and _parents_orbit(params, param, piece, sp, named.branch.variant):
                 continue  # a doubled branch turns where it is born: the parent's period doubling, no fold
-            if _within_grazing_rule(params, param, named.symmetric, piece, sp):
+            if _within_grazing_rule(params, param, named, piece, sp):
                 continue  # a curve from there would end where it starts
             at = params.replace(**{param: float(sp.p)})
             origin = (
                 f"{sp.kind} at sigma = {at.sigma:.6g}, Abar = {at.Abar:.6g} on the {named.name} branch "
-                f"of (8) in {param}"
+                f"of {VARIANT_NAMES[named.branch.variant]} in {param}"
             )
             seed = ImpactCurveSeed(
                 sp.kind,
@@ -257,6 +264,7 @@ def impact_curve_starts(named: NamedImpactBranch, params: Params, box: dict, pit
                 impacts=piece.impacts,
                 period_multiple=piece.period_multiple,
                 origin=origin,
+                variant=named.branch.variant,
             )
             yield CurveStart.with_job(
                 sp.kind,
@@ -267,28 +275,31 @@ def impact_curve_starts(named: NamedImpactBranch, params: Params, box: dict, pit
             )
 
 
-def _parents_orbit(params, param, piece, sp) -> bool:
+def _parents_orbit(params, param, piece, sp, variant) -> bool:
     """Whether the orbit at ``sp`` of a period-2 piece repeats after one forcing period to 1e-3
     (as :func:`~slosh_bif.orbits.codim2.repeats_early` for (9)): the parent's orbit, where the
     doubled branch is born at its period doubling (a fold located there is off the parent's orbit
     by the square root of its location's error)."""
     if piece.period_multiple == 1:
         return False
-    single = ImpactOrbitProblem(params.replace(**{param: float(sp.p)}), param, phase=piece.phase)
+    single = ImpactOrbitProblem(
+        params.replace(**{param: float(sp.p)}), param, phase=piece.phase, variant=variant
+    )
     x = np.asarray(sp.x, dtype=float)
     return bool(np.linalg.norm(single.residual(x, sp.p)) <= 1e-3 * (1 + np.linalg.norm(x)))
 
 
-def _within_grazing_rule(params, param, symmetric, piece, sp) -> bool:
+def _within_grazing_rule(params, param, named, piece, sp) -> bool:
     """Whether the orbit at ``sp`` has an impact slower than
     :data:`~slosh_bif.orbits.codim2.impact_strobe.MIN_IMPACT_SPEED`: a point the curves of (8)
     count as their grazing edge (a fold within a few 1e-6 of a grazing, say)."""
     problem = ImpactOrbitProblem(
         params.replace(**{param: float(sp.p)}),
         param,
-        symmetric=symmetric,
+        symmetric=named.symmetric,
         period_multiple=piece.period_multiple,
         phase=piece.phase,
+        variant=named.branch.variant,
     )
     impacts = problem.evaluate(np.asarray(sp.x, dtype=float), sp.p).impacts
     return bool(len(impacts) and np.abs(impacts[:, 2]).min() < MIN_IMPACT_SPEED)
@@ -305,10 +316,18 @@ def _grazing_starts(named: NamedImpactBranch, params: Params, box: dict):
         seen.append(p)
         at = params.replace(**{param: float(p)})
         origin = (
-            f"GR at sigma = {at.sigma:.6g}, Abar = {at.Abar:.6g} on the {named.name} branch of (8) in {param}"
+            f"GR at sigma = {at.sigma:.6g}, Abar = {at.Abar:.6g} on the {named.name} branch of "
+            f"{VARIANT_NAMES[named.branch.variant]} in {param}"
         )
         seed = ImpactCurveSeed(
-            "GR", x, float(p), param, symmetric=named.symmetric, phase=phase, origin=origin
+            "GR",
+            x,
+            float(p),
+            param,
+            symmetric=named.symmetric,
+            phase=phase,
+            origin=origin,
+            variant=named.branch.variant,
         )
         job = dict(trace=trace_grazing_curve, params=params, seed=seed, box=box)
         yield CurveStart.with_job("GR", at.sigma, at.Abar, origin, job)
@@ -337,11 +356,18 @@ def _seed_in_abar(primary: NamedImpactBranch, params: Params, sigma: float, abar
         return None
     piece, i = best
     at = params.replace(sigma=float(piece.branch.p[i]))
-    problem = ImpactOrbitProblem(at, "sigma", symmetric=primary.symmetric, phase=piece.phase)
+    variant = primary.branch.variant
+    problem = ImpactOrbitProblem(at, "sigma", symmetric=primary.symmetric, phase=piece.phase, variant=variant)
     try:
         x0 = state_at_zero(problem, piece.branch.x[i], at.sigma)
         branch = trace_impact_orbits(
-            at, x0, param="Abar", p_min=abar_range[0], p_max=abar_range[1], symmetric=primary.symmetric
+            at,
+            x0,
+            param="Abar",
+            p_min=abar_range[0],
+            p_max=abar_range[1],
+            symmetric=primary.symmetric,
+            variant=variant,
         )
     except (ConvergenceError, ValueError):
         return None

@@ -60,7 +60,7 @@ TANK = [
                 "--backend",
                 "scipy",
             ],
-            "the orbits of (8) have one exact flow",
+            "the orbits of the impact models have one exact flow",
         ),
     ],
 )

@@ -94,3 +94,37 @@ def test_bad_impact_seeds_are_refused_before_any_work():
             ImpactCurveSeed("PD", np.array(x), p, symmetric=True, phase=SECTION),
             box={"sigma": (-1, 2), "Abar": (0.6, 1.6)},
         )
+
+
+def test_a_pitchfork_curve_of_the_corrected_impact_model_meets_its_one_parameter_branches():
+    """The corrected impact model ((9)'s flights, the wall's measured law at its clearance D(v)):
+    its symmetric branch on the Fig. 13 set from sigma = 0.5 down locates its pitchfork; the BP curve
+    from there, at two interior points, is where one-parameter branches of that model in sigma at
+    the point's Abar locate their own pitchfork."""
+    from slosh_bif.orbits.impact_branches import settled_orbit, trace_impact_orbits
+
+    at = P.replace(sigma=0.5)
+    x0 = settled_orbit(at, get_preset("fig13").state0, periods=300, variant="corrected")
+    branch = trace_impact_orbits(at, x0, p_min=0.2, p_max=0.8, symmetric=True, variant="corrected")
+    piece, sp = next((pc, s) for pc in branch.pieces for s in pc.branch.special if s.kind == "BP")
+    assert sp.p == pytest.approx(0.372879, abs=1e-5)
+    seed = ImpactCurveSeed(
+        "BP", sp.x, sp.p, symmetric=True, phase=piece.phase, impacts=piece.impacts, variant="corrected"
+    )
+    curve = trace_impact_curve(P, seed, box={"sigma": (0.0, 1.0), "Abar": (0.85, 1.2)})
+    assert curve.status == "ok" and len(curve) > 5, curve.branch.message
+    for i in (len(curve) // 3, (2 * len(curve)) // 3):
+        sigma, abar = float(curve["sigma"][i]), float(curve["Abar"][i])
+        problem = ImpactOrbitProblem(
+            P.replace(sigma=sigma - 0.02, Abar=abar),
+            "sigma",
+            symmetric=True,
+            phase=piece.phase,
+            variant="corrected",
+        )
+        options = ContinuationOptions(
+            step=0.01, step_max=0.02, tol=1e-10, p_min=sigma - 0.05, p_max=sigma + 0.05
+        )
+        one = continuation(problem, curve.branch.x[i, :4], sigma - 0.02, param="sigma", options=options)
+        (found,) = [s.p for s in one.special if s.kind == "BP"]
+        assert found == pytest.approx(sigma, abs=1e-8)

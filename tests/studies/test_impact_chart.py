@@ -125,3 +125,11 @@ def _grazing_curve_of_the_impact_free_response_is_its_closed_form(impact_chart_f
     lowest = fine[np.argmin([closed_form(s) for s in fine])]
     sigmas = [s for s, a in matches[0]]
     assert min(sigmas) < lowest < max(sigmas)  # the curve runs across the closed form's minimum
+
+
+def test_chart_of_the_corrected_impact_model_refuses_what_it_cannot_draw(tmp_path, capsys):
+    base = ["chart", "--preset", "fig13", "--model", "impact-corrected", "--out", str(tmp_path)]
+    assert main([*base, "--regimes", "3", "3"]) == 2
+    assert "--regimes simulates (9) or (8)" in capsys.readouterr().err
+    assert main([*base, "--second", "beta", "--second-min", "0", "--second-max", "1"]) == 2
+    assert "--model impact-corrected draws the (sigma, Abar) chart" in capsys.readouterr().err

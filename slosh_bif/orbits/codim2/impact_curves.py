@@ -18,7 +18,6 @@ import numpy as np
 from scipy import linalg
 
 from slosh_bif.continuation import ContinuationOptions, continuation, newton_solve
-from slosh_bif.model.equations import ImpactModel
 from slosh_bif.model.params import Params
 from slosh_bif.orbits.codim2.curves import (
     CURVE_PROBLEMS,
@@ -43,7 +42,7 @@ class ImpactCurveSeed:
     branch of orbits of (8) continued in ``branch_param``. ``x``: the orbit's state [X, X', w, w']
     on the section tau = ``phase``; ``symmetric``: the branch is one of symmetric orbits (traced on
     the half-period map, as a BP curve needs); ``impacts``: impacts per map period on the branch
-    there (None: taken from the orbit)."""
+    there (None: taken from the orbit); ``variant``: the impact model the branch is of."""
 
     kind: str
     x: np.ndarray
@@ -54,6 +53,7 @@ class ImpactCurveSeed:
     impacts: int | None = None
     period_multiple: int = 1
     origin: str = ""
+    variant: str = "paper"  # or "corrected": the corrected impact model (ImpactOrbitProblem)
 
 
 def trace_impact_curve(
@@ -96,12 +96,18 @@ def trace_impact_curve(
         box=(lo1 - 0.5 * span1, hi1 + 0.5 * span1),
         phase=seed.phase,
         impacts=impacts,
+        variant=seed.variant,
     )
     mu = start_multipliers(orbits, x, at, kind)
     if orbits.impacts is None:  # the domain holds the start's count
         orbits.impacts = len(
             ImpactOrbitProblem(
-                at, p1, symmetric=symmetric, period_multiple=seed.period_multiple, phase=seed.phase
+                at,
+                p1,
+                symmetric=symmetric,
+                period_multiple=seed.period_multiple,
+                phase=seed.phase,
+                variant=seed.variant,
             )
             .evaluate(x, getattr(at, p1))
             .impacts
@@ -126,6 +132,7 @@ def _measures(problem, branch) -> dict:
             symmetric=orbits.symmetric,
             period_multiple=orbits.period_multiple,
             phase=orbits.phase,
+            variant=orbits.variant,
         )
         rows.append(orbit_measures(single, u[:4], p))
     out = (
@@ -162,7 +169,12 @@ def trace_grazing_curve(
     (p1, (lo1, hi1)), (p2, (lo2, hi2)) = read_box(box)
     at = start_params(params, seed, box)
     probe = ImpactOrbitProblem(
-        at, p1, symmetric=seed.symmetric, period_multiple=seed.period_multiple, phase=seed.phase
+        at,
+        p1,
+        symmetric=seed.symmetric,
+        period_multiple=seed.period_multiple,
+        phase=seed.phase,
+        variant=seed.variant,
     )
     x = np.asarray(seed.x, dtype=float)
     gap = probe.grazing(x, getattr(at, p1))
@@ -182,7 +194,7 @@ def trace_grazing_curve(
         if code != 0:
             raise ValueError(f"the start orbit of (8) cannot be followed to its grazing point (code {code})")
         y = ys[:, -1]
-    free = linalg.expm(ImpactModel(at).augmented() * (t_g - t_near))
+    free = linalg.expm(probe.flow_at(getattr(at, p1)).K * (t_g - t_near))
     y_g = (free @ np.concatenate([y, [np.cos(t_near), np.sin(t_near)]]))[:4]
     span1 = hi1 - lo1
     problem = GrazingCurveProblem(
@@ -194,6 +206,7 @@ def trace_grazing_curve(
         period_multiple=seed.period_multiple,
         box=(lo1 - 0.5 * span1, hi1 + 0.5 * span1),
         p2_box=(lo2, hi2),
+        variant=seed.variant,
     )
     u0 = np.array([y_g[0], y_g[1], t_g, getattr(at, p2)])
     p1_0 = float(getattr(at, p1))
@@ -231,9 +244,10 @@ def _grazing_measures(problem: GrazingCurveProblem, branch) -> dict:
             symmetric=problem.symmetric,
             period_multiple=problem.period_multiple,
             phase=t_start,
+            variant=problem.variant,
         )
         row = orbit_measures(single, problem.leaving(u, p), p)
-        row["max_abs_w"] = max(row["max_abs_w"], 1.0)
+        row["max_abs_w"] = max(row["max_abs_w"], problem.level_at(u, p))
         rows.append(row)
     keys = ("A1", "max_abs_X", "max_abs_w", "min_impact_speed")
     out = (

@@ -29,9 +29,8 @@ from collections import OrderedDict
 import numpy as np
 from scipy import linalg
 
-from slosh_bif.flows.impact_flow import ImpactFlow
+from slosh_bif.flows.impact_flow import IMPACT_VARIANTS, ImpactFlow
 from slosh_bif.flows.impact_propagators import WALL_PARAMETERS, derivative_of_K
-from slosh_bif.model.equations import ImpactModel
 from slosh_bif.model.params import Params, real_pair
 from slosh_bif.orbits.codim2.impact_strobe import MIN_IMPACT_SPEED
 
@@ -45,12 +44,14 @@ _SAMPLES = 16  # points at which each free stretch is checked to stay inside the
 
 
 class _Pieces:
-    """What the map needs at one parameter set: the flows of (8) with their derivative in p1 and
-    in p2, the free stretch's propagator E and its derivatives in p1, p2, and K."""
+    """What the map needs at one parameter set: the flows of (8) (or of the corrected impact
+    model) with their derivative in p1 and in p2, the free stretch's propagator E and its
+    derivatives in p1, p2, K, and the wall's level (1, or the measured wall's least clearance)."""
 
-    def __init__(self, params: Params, pair: tuple):
-        self.K = ImpactModel(params).augmented()
-        self.flows = tuple(ImpactFlow(params, param=name) for name in pair)
+    def __init__(self, params: Params, pair: tuple, variant: str):
+        self.flows = tuple(ImpactFlow(params, param=name, variant=variant) for name in pair)
+        self.K = self.flows[0].K
+        self.level = self.flows[0].grazing_level
         self.E = linalg.expm(self.K * FREE)
         zero = np.zeros_like(self.K)
         self.dE = []
@@ -58,7 +59,8 @@ class _Pieces:
             if name in WALL_PARAMETERS:  # the flights do not depend on the wall
                 self.dE.append(np.zeros_like(self.K))
                 continue
-            block = np.block([[self.K, zero], [derivative_of_K(params, name), self.K]])
+            exact = variant == "corrected"
+            block = np.block([[self.K, zero], [derivative_of_K(params, name, exact), self.K]])
             self.dE.append(linalg.expm(block * FREE)[6:, :6])
         self.samples = [linalg.expm(self.K * s) for s in np.linspace(0.0, FREE, _SAMPLES + 1)[1:-1]]
 
@@ -83,6 +85,7 @@ class GrazingCurveProblem:
         impacts: int | None = None,
         box: tuple | None = None,
         p2_box: tuple | None = None,
+        variant: str = "paper",
     ):
         if not isinstance(params, Params):
             raise TypeError(f"params must be a slosh_bif.Params; got {type(params).__name__}")
@@ -91,7 +94,9 @@ class GrazingCurveProblem:
             raise ValueError(f"side must be +1 or -1 (the wall touched); got {side!r}")
         if symmetric and period_multiple != 1:
             raise ValueError("a symmetric grazing orbit is one of the half-period map (period_multiple = 1)")
-        self.params, self.side = params, float(side)
+        if variant not in IMPACT_VARIANTS:
+            raise ValueError(f"variant must be one of {', '.join(IMPACT_VARIANTS)}; got {variant!r}")
+        self.params, self.side, self.variant = params, float(side), variant
         self.symmetric, self.period_multiple = bool(symmetric), int(period_multiple)
         self.closing = -1.0 if symmetric else 1.0
         self.period = np.pi if symmetric else 2 * np.pi * period_multiple
@@ -108,7 +113,7 @@ class GrazingCurveProblem:
 
     def _pieces_at(self, params: Params) -> _Pieces:
         if params not in self._pieces:
-            self._pieces[params] = _Pieces(params, (self.p1, self.p2))
+            self._pieces[params] = _Pieces(params, (self.p1, self.p2), self.variant)
             if len(self._pieces) > _KEEP:
                 self._pieces.popitem(last=False)
         return self._pieces[params]
@@ -125,7 +130,7 @@ class GrazingCurveProblem:
         at = self.params_at(u, p)
         pc = self._pieces_at(at)
         t_g = float(u[2])
-        y_g = np.array([u[0], u[1], self.side, 0.0])
+        y_g = np.array([u[0], u[1], self.side * pc.level, 0.0])
         a = self.leaving(u, p)
         t_mid = t_g + self.period - FREE
         y2, phi, dp1, impacts, code = pc.flows[0].strobe(a[:4], t_g + FREE, self.period - 2 * FREE)
@@ -159,8 +164,12 @@ class GrazingCurveProblem:
         """The state at tau = t_g + FREE of the grazing orbit u, after its free flight off the wall
         (the compiled flow, started on the wall at zero speed, would see an impact there)."""
         t_g = float(u[2])
-        E = self._pieces_at(self.params_at(u, p)).E
-        return (E @ np.array([u[0], u[1], self.side, 0.0, np.cos(t_g), np.sin(t_g)]))[:4]
+        pc = self._pieces_at(self.params_at(u, p))
+        return (pc.E @ np.array([u[0], u[1], self.side * pc.level, 0.0, np.cos(t_g), np.sin(t_g)]))[:4]
+
+    def level_at(self, u, p) -> float:
+        """|w| at the grazing point (1 for (8), the measured wall's least clearance otherwise)."""
+        return self._pieces_at(self.params_at(u, p)).level
 
     def residual(self, u, p):
         return self.evaluate(u, p)[0]
@@ -176,7 +185,7 @@ class GrazingCurveProblem:
     def leaves_inward(self, u, p) -> float:
         """``-side * w''`` at the grazing point: positive where the particle leaves the wall inward."""
         pc = self._pieces_at(self.params_at(u, p))
-        return -self.side * self._field(pc.K, np.array([u[0], u[1], self.side, 0.0]), u[2])[3]
+        return -self.side * self._field(pc.K, np.array([u[0], u[1], self.side * pc.level, 0.0]), u[2])[3]
 
     def in_domain(self, u, p) -> bool:
         """u finite, p1 and p2 in their boxes, a positive vessel stiffness, the grazing a regular
@@ -206,7 +215,7 @@ class GrazingCurveProblem:
     def _free_stretches_inside(self, u, p) -> bool:
         pc = self._pieces_at(self.params_at(u, p))
         t_g = float(u[2])
-        start = np.array([u[0], u[1], self.side, 0.0, np.cos(t_g), np.sin(t_g)])
+        start = np.array([u[0], u[1], self.side * pc.level, 0.0, np.cos(t_g), np.sin(t_g)])
         # the end stretch, run backwards from the grazing point it closes on (the mirror's for a
         # symmetric orbit): the state at its start is expm(-K FREE) applied to the end state
         end_state = self.closing * start[:4]
@@ -214,7 +223,7 @@ class GrazingCurveProblem:
         end = np.concatenate([end_state, [np.cos(t_end), np.sin(t_end)]])
         back = linalg.solve(pc.E, end)
         for P in pc.samples:
-            if abs((P @ start)[2]) >= 1.0 or abs((P @ back)[2]) >= 1.0:
+            if abs((P @ start)[2]) >= pc.level or abs((P @ back)[2]) >= pc.level:
                 return False
         return True
 

@@ -36,7 +36,8 @@ class ImpactStrobe:
     """Orbits of (8) through x = [X, X', w, w'] at tau = ``phase`` for the curve problems, with
     the interface of :class:`~slosh_bif.orbits.shooting.ShootingProblem` they use: one arc,
     ``sensitivities`` = (p1, p2). ``impacts``: the number of impacts over the map's time that
-    the domain holds to (None: any)."""
+    the domain holds to (None: any); ``variant``: (8) as stated or the corrected impact model
+    (:class:`~slosh_bif.orbits.impact_orbits.ImpactOrbitProblem`)."""
 
     branch_kind = "periodic orbits of (8)"
     names = ("X", "Xd", "w", "wd")
@@ -52,8 +53,10 @@ class ImpactStrobe:
         box: tuple | None = None,
         phase: float = 0.0,
         impacts: int | None = None,
+        variant: str = "paper",
     ):
         self.sensitivities = real_pair(sensitivities, "sensitivities")
+        self.variant = variant
         self.params, self.param = params, self.sensitivities[0]
         self.symmetric, self.period_multiple = bool(symmetric), period_multiple
         self.closing = -1.0 if symmetric else 1.0
@@ -68,6 +71,7 @@ class ImpactStrobe:
             period_multiple=period_multiple,
             box=box,
             phase=self.phase,
+            variant=variant,
         )
 
     def _maps_of(self, params: Params):
@@ -80,6 +84,7 @@ class ImpactStrobe:
                     symmetric=self.symmetric,
                     period_multiple=self.period_multiple,
                     phase=self.phase,
+                    variant=self.variant,
                 )
                 for name in self.sensitivities
             )
