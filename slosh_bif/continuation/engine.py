@@ -43,7 +43,7 @@ from slosh_bif.continuation.corrector import (
     top_rows,
 )
 from slosh_bif.continuation.detection import special_between
-from slosh_bif.continuation.ends import end_after_failures, end_on_bound, mark_end, stalls
+from slosh_bif.continuation.ends import at_named_edge, end_after_failures, end_on_bound, mark_end, stalls
 from slosh_bif.continuation.options import (
     BOUND,
     COMPLETE,
@@ -159,6 +159,9 @@ def _run(problem, start: Point, opts, loop_guard: bool, callback=None):
             accept, terminal = caps.accept, caps.terminal_kinds
             _restart_at(finer, points)
             continue
+        if crept >= CREEP_STEPS and at_named_edge(caps, points[-1]):
+            # creeping up to the domain's edge (a slow impact's 1/v saltation near grazing): the edge
+            return points, end_after_failures(problem, points, h, 1, opts)
         if crept >= CREEP_STEPS:  # Newton converges only for tiny steps: a singular point, not progress
             mark_end(
                 points[-1],

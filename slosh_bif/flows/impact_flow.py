@@ -277,13 +277,10 @@ class ImpactFlow:
         self.K = K
         self.step = float(step)
         self.lengths = self.step * 0.5 ** np.arange(LEVELS + 2)
-        if param not in LINEAR_PARAMETERS:  # none, or a wall parameter: the flights do not depend on it
-            self.table = propagators(K, self.lengths)
-            self.dtable = np.zeros_like(self.table)
-        else:  # Q = d expm(K L) / d param: the lower-left block of expm([[K, 0], [K_p, K]] L)
-            block = np.block([[K, np.zeros_like(K)], [derivative_of_K(params, param, exact), K]])
-            both = propagators(block, self.lengths)
-            self.table, self.dtable = both[:, :6, :6].copy(), both[:, 6:, :6].copy()
+        # with a parameter of the flights, the propagators' derivatives in it too (a wall
+        # parameter, or none: the flights do not depend on it, zeros)
+        Kp = derivative_of_K(params, param, exact) if param in LINEAR_PARAMETERS else None
+        self.table, self.dtable = propagators(K, self.lengths, Kp)
         self.growth = np.exp(np.abs(K).sum(axis=1).max() * self.lengths)
         self.row_norm = float(np.abs(K[3]).sum())  # |w''| <= row_norm |z|
         # terms of the Taylor series of expm(K s) z for s <= step: the rest below 1e-17 |z|

@@ -21,40 +21,75 @@ LINEAR_PARAMETERS = ("eps", "beta", "gamma", "sigma", "Abar")
 WALL_PARAMETERS = ("lam", "chi")  # enter only the restitution law (21)
 
 
-def propagators(K, lengths):
-    """``expm(K L)`` for the halving lengths L (longest first), by squaring up from the shortest:
-    with ``expm(K L) = I + E``, ``E(2L) = 2 E(L) + E(L)**2`` keeps E's relative accuracy (the
-    identity is never added in), so the 50 levels cost 50 small products instead of 50 expm."""
-    A = np.ascontiguousarray(K * lengths[-1])
-    E = A @ (
-        np.eye(len(K)) + A @ (np.eye(len(K)) / 2 + A @ (np.eye(len(K)) / 6 + A / 24))
-    )  # |A| < 1e-15: exact
-    out = np.empty((len(lengths),) + K.shape)
-    _square_up(np.ascontiguousarray(E), out)
-    return out
+def propagators(K, lengths, Kp=None):
+    """``(table, dtable)``: ``expm(K L)`` for the halving lengths L (longest first), and with
+    ``Kp = dK/d param`` its derivative in the parameter, the lower-left block of
+    ``expm([[K, 0], [Kp, K]] L)`` (zeros without). Squared up from the shortest length: with
+    ``expm(K L) = I + E`` and the derivative Q, ``E(2L) = 2 E + E**2`` and ``Q(2L) = 2 Q + Q E + E Q``
+    keep their relative accuracy (the identity is never added in), so the 50 levels cost a few small
+    products each instead of an expm."""
+    K = np.ascontiguousarray(K, dtype=float)
+    n = len(K)
+    table = np.empty((len(lengths), n, n))
+    dtable = np.zeros_like(table)
+    derivative = Kp is not None
+    Kp = np.ascontiguousarray(Kp, dtype=float) if derivative else np.zeros_like(K)
+    _tables(K, Kp, float(lengths[-1]), derivative, table, dtable)
+    return table, dtable
 
 
 @jit
-def _square_up(E, out):
-    """out[k] = I + E_k with E_{k-1} = 2 E_k + E_k**2 from E_last = E (compiled: a chart builds
-    thousands of flows, each 50 products of 12 x 12 matrices)."""
-    n = E.shape[0]
-    last = out.shape[0] - 1
-    current = E.copy()
-    nxt = np.empty_like(E)
+def _mul(A, B, out):
+    n = A.shape[0]
+    for i in range(n):
+        for j in range(n):
+            total = 0.0
+            for m in range(n):
+                total += A[i, m] * B[m, j]
+            out[i, j] = total
+
+
+@jit
+def _tables(K, Kp, L, derivative, table, dtable):
+    """The squaring of :func:`propagators`, compiled (a chart builds thousands of flows)."""
+    n = K.shape[0]
+    A = K * L
+    B = Kp * L
+    AA = np.empty((n, n))
+    AAA = np.empty((n, n))
+    _mul(A, A, AA)
+    _mul(AA, A, AAA)
+    E = A + AA / 2.0 + AAA / 6.0  # |A| < 1e-15: the next term is below rounding
+    Q = np.zeros((n, n))
+    if derivative:
+        BA = np.empty((n, n))
+        AB = np.empty((n, n))
+        t1 = np.empty((n, n))
+        t2 = np.empty((n, n))
+        t3 = np.empty((n, n))
+        _mul(B, A, BA)
+        _mul(A, B, AB)
+        _mul(BA, A, t1)
+        _mul(A, BA, t2)
+        _mul(AA, B, t3)
+        Q = B + (BA + AB) / 2.0 + (t1 + t2 + t3) / 6.0
+    EE = np.empty((n, n))
+    QE = np.empty((n, n))
+    EQ = np.empty((n, n))
+    last = table.shape[0] - 1
     for k in range(last, -1, -1):
         for i in range(n):
             for j in range(n):
-                out[k, i, j] = current[i, j] + (1.0 if i == j else 0.0)
+                table[k, i, j] = E[i, j] + (1.0 if i == j else 0.0)
+                dtable[k, i, j] = Q[i, j]
         if k == 0:
             break
-        for i in range(n):
-            for j in range(n):
-                total = 0.0
-                for m in range(n):
-                    total += current[i, m] * current[m, j]
-                nxt[i, j] = 2.0 * current[i, j] + total
-        current[:, :] = nxt
+        _mul(E, E, EE)
+        if derivative:
+            _mul(Q, E, QE)
+            _mul(E, Q, EQ)
+            Q = 2.0 * Q + QE + EQ
+        E = 2.0 * E + EE
 
 
 def derivative_of_K(params: Params, param: str, exact: bool = False) -> np.ndarray:
