@@ -21,7 +21,8 @@
   neighbour for the cores made it 26x).
 * **The impact model**: 100 forcing periods of (8) by its compiled exact flow against 100 of (9)
   at n = 50 (the Fig. 10 set, in this process; target at most 0.1), and ``shoot --model impact``
-  against the (9) branch above (target at most a third).
+  against the (9) branch above (target at most a third), as whole processes and as the
+  continuation alone (``branch_compute.py``).
 * **Peak memory** of the whole-process branch (the child's maximum resident set size), and of
   regime maps of 20 x 20 and 100 x 100 cells (Fig. 13 set, short runs: a memory case, not a regime
   study): the parent's and the largest worker's resident sets, which must not grow with the cells.
@@ -40,6 +41,7 @@ import time
 
 import numpy as np
 
+from benchmarks.branch_compute import branch_seconds
 from benchmarks.speed_reference import (
     chained_reference,
     first_newton,
@@ -238,7 +240,21 @@ def speed_bench(*, quick: bool = False, progress=None) -> list:
                 target=1 / 3,
                 peak_rss_mb=np.nan,
                 note="whole process against the (9) branch above; (8)'s symmetric branch from sigma = "
-                "5, on the half-period map, ends at its grazing, sigma = 0.514",
+                "5 on the half-period map, through its four grazings",
+            )
+        )
+        say("speed: the two branches' continuation alone, in this process")
+        alone = branch_seconds(repeats=1 if quick else 3)
+        rows.append(
+            dict(
+                case="(8)'s symmetric branch over [-6, 8] against (9)'s, continuation alone",
+                seconds=alone["impact"],
+                reference_seconds=alone["smooth"],
+                ratio=alone["impact"] / alone["smooth"],
+                target=1 / 3,
+                peak_rss_mb=np.nan,
+                note="in process, best wall seconds of alternating runs: the continuation without the "
+                "interpreter, imports, measures and plot that both whole processes add",
             )
         )
         say("speed: start-up")
