@@ -3,8 +3,9 @@ fold (LP), double their period (PD), lose stability to a torus (NS), break their
 or graze the wall (GR: the number of impacts per period changes),
 traced in two parameters (:func:`~slosh_bif.orbits.codim2.impact_curves.trace_impact_curve`) from
 every special point of its branches in sigma (the branch a simulation of (8) settles on and, for a
-symmetric one, the asymmetric branches born at its pitchforks, and the period-2 branches born at
-their period doublings, whose curves are of period-2 orbits), and the least forcing Abar_c at
+symmetric one, the asymmetric branches born at its pitchforks, and the cascade born at their
+period doublings, within six branches: each branch's curves are of orbits of its period), and the
+least forcing Abar_c at
 which (8) has a stable periodic orbit, read off them as for (9) (:mod:`slosh_bif.studies.chart`). The result
 is a
 :class:`~slosh_bif.studies.chart.Chart`, written and drawn by the chart's own output functions.
@@ -90,7 +91,7 @@ def impact_chart(
         param="sigma",
         p_range=(s0, s1),
         variant=variant,
-        # the period-2 branches too (their curves are of period-2 orbits); no deeper cascade
+        # the period-doubling cascade too (each branch's curves of its own period), six branches in all
         branching=dataclasses.replace(branching, max_branches=min(branching.max_branches, 6)),
     )
     say(
@@ -230,8 +231,6 @@ def impact_curve_starts(named: NamedImpactBranch, params: Params, box: dict, pit
         pitchforks = [*pitchforks, *(p for p, _ in named.branch.special("BP"))]
     yield from _grazing_starts(named, params, box)
     for piece in named.branch.pieces:
-        if piece.period_multiple > 2:  # curves of period-1 and period-2 orbits
-            continue
         for sp in piece.branch.special:
             if (
                 sp.kind not in ("LP", "PD", "NS", "BP")
@@ -311,7 +310,7 @@ def _grazing_starts(named: NamedImpactBranch, params: Params, box: dict):
     param, seen = named.branch.param, []
     period_multiple = named.branch.pieces[0].period_multiple if named.branch.pieces else 1
     for p, x, phase in named.branch.grazing:
-        if period_multiple != 1 or any(abs(p - q) <= 1e-8 * (1 + abs(q)) for q in seen):
+        if any(abs(p - q) <= 1e-8 * (1 + abs(q)) for q in seen):
             continue
         seen.append(p)
         at = params.replace(**{param: float(p)})
@@ -326,6 +325,7 @@ def _grazing_starts(named: NamedImpactBranch, params: Params, box: dict):
             param,
             symmetric=named.symmetric,
             phase=phase,
+            period_multiple=period_multiple,
             origin=origin,
             variant=named.branch.variant,
         )

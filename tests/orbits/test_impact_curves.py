@@ -128,3 +128,36 @@ def test_a_pitchfork_curve_of_the_corrected_impact_model_meets_its_one_parameter
         one = continuation(problem, curve.branch.x[i, :4], sigma - 0.02, param="sigma", options=options)
         (found,) = [s.p for s in one.special if s.kind == "BP"]
         assert found == pytest.approx(sigma, abs=1e-8)
+
+
+def test_a_period_doubling_curve_of_period_4_orbits_meets_its_one_parameter_branches():
+    """The Fig. 10 set from sigma = 3: the asymmetric orbit's period doubling gives period-2 orbits,
+    theirs period-4 ones, whose own period doubling (the onset of period 8) is traced as a curve in
+    (sigma, Abar); at an interior point a one-parameter branch of period-4 orbits in sigma at that
+    Abar locates its period doubling at the curve's sigma."""
+    from slosh_bif import simulate_impact
+    from slosh_bif.orbits.impact_branches import trace_impact_orbits
+    from slosh_bif.orbits.impact_switching import doubled_branches
+
+    pre = get_preset("fig10")
+    at = pre.params.replace(sigma=3.0)
+    x0 = simulate_impact(at, pre.state0, (0.0, 300 * np.pi)).y[:, -1]
+    branch = trace_impact_orbits(at, x0, p_min=2.3, p_max=3.2)
+    for _ in range(2):  # period 2, then period 4
+        (_, branch), *_ = doubled_branches(at, branch, p_min=2.3, p_max=3.2, max_branches=1)
+    piece, sp = next((pc, s) for pc in branch.pieces for s in pc.branch.special if s.kind == "PD")
+    assert piece.period_multiple == 4
+    seed = ImpactCurveSeed("PD", sp.x, sp.p, phase=piece.phase, impacts=piece.impacts, period_multiple=4)
+    curve = trace_impact_curve(at, seed, box={"sigma": (2.0, 3.5), "Abar": (2.5, 3.5)})
+    assert curve.status == "ok" and len(curve) > 10, curve.branch.message
+    i = int(np.argmin(np.abs(curve["Abar"] - 2.75)))
+    sigma, abar = float(curve["sigma"][i]), float(curve["Abar"][i])
+    problem = ImpactOrbitProblem(
+        at.replace(sigma=sigma - 0.005, Abar=abar), "sigma", period_multiple=4, phase=piece.phase
+    )
+    options = ContinuationOptions(
+        step=0.002, step_max=0.004, tol=1e-10, p_min=sigma - 0.01, p_max=sigma + 0.01
+    )
+    one = continuation(problem, curve.branch.x[i, :4], sigma - 0.005, param="sigma", options=options)
+    found = [s.p for s in one.special if s.kind == "PD"]
+    assert found and min(abs(q - sigma) for q in found) < 1e-8
