@@ -194,7 +194,9 @@ def trace_impact_orbits(
     )
     run = newton_solve(first, x0, p0, tol=1e-12)
     if not run.converged:
-        raise ConvergenceError(f"no periodic orbit of (8) near x0 at {param} = {p0}: {run.message}")
+        raise ConvergenceError(
+            f"no periodic orbit of {VARIANT_NAMES[variant]} near x0 at {param} = {p0}: {run.message}"
+        )
     pieces, grazing, ends, starts, contacts = [], [], [], [], []
     for direction in ("forward", "backward"):
         phase, x = quiet_section(first, run.x, p0)
@@ -250,7 +252,7 @@ def trace_impact_orbits(
                 break
             contacts.append((contact, p_end))
             grazing.append((p_end, x_end, problem.phase))
-            beyond = cross_grazing(problem, x_end, p_end, opts) or _attracting_beyond(
+            beyond = cross_grazing(problem, x_end, p_end, opts, contact) or _attracting_beyond(
                 problem, x_end, p_end, sign, opts
             )
             if beyond is None:

@@ -178,12 +178,13 @@ def _on_section(problem, equations, u):
     return problem.closing**k * y
 
 
-def cross_grazing(problem, x, p, opts):
-    """(problem, x, p, sign) of the branch beyond the grazing point (x, p) of ``problem``: the
-    orbit with the other contact at the least size in :data:`CONTACT_SIZES` for which it is
-    found and polished, its problem holding its own impact count, and the direction of p that leads
-    away from the grazing; None when none is found within ``opts``' parameter bounds."""
-    contact = contact_at(problem, x, p)
+def cross_grazing(problem, x, p, opts, contact: Contact | None = None):
+    """(problem, x, p, sign) of the branch beyond the grazing point (x, p) of ``problem`` (its
+    ``contact``, when known): the orbit with the other contact at the least size in
+    :data:`CONTACT_SIZES` for which it is found and polished, its problem holding its own impact
+    count, and the direction of p that leads away from the grazing; None when none is found within
+    ``opts``' parameter bounds."""
+    contact = contact or contact_at(problem, x, p)
     probe = problem.replace(impacts=None)
     # the located point may sit on either side of the contact (an impact of speed ~0, or a flight
     # turning at the wall): the family beyond is the one whose impact count differs from the branch's
