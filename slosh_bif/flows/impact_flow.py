@@ -310,6 +310,13 @@ class ImpactFlow:
         measured wall's clearance at its least speed (the clamp of its law: D(v_min))."""
         return 1.0 if self.wall is None else float(self.wall.clearance(self.wall.v_min))
 
+    @property
+    def slowest_smooth_impact(self) -> float:
+        """The least impact speed above which the map is smooth in it: 0 for (8) (its kappa is
+        smooth down to grazing), the measured law's least speed for the corrected impact model
+        (below it the law is clamped)."""
+        return 0.0 if self.wall is None else float(self.wall.v_min)
+
     def _call(self, y0, t0, t1, stick_speed, max_impacts, capacity, jac):
         """The compiled run from room for ``capacity`` impacts up, rerun with four times the room
         while it fills (the same inputs give the same run); its arrays cut to what was stored."""

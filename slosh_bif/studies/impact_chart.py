@@ -290,8 +290,9 @@ def _parents_orbit(params, param, piece, sp, variant) -> bool:
 
 def _within_grazing_rule(params, param, named, piece, sp) -> bool:
     """Whether the orbit at ``sp`` has an impact slower than
-    :data:`~slosh_bif.orbits.codim2.impact_strobe.MIN_IMPACT_SPEED`: a point the curves of (8)
-    count as their grazing edge (a fold within a few 1e-6 of a grazing, say)."""
+    :data:`~slosh_bif.orbits.codim2.impact_strobe.MIN_IMPACT_SPEED` (or, for the corrected impact
+    model, than its law's least speed): a point the curves count as their grazing edge (a fold
+    within a few 1e-6 of a grazing, say)."""
     problem = ImpactOrbitProblem(
         params.replace(**{param: float(sp.p)}),
         param,
@@ -301,7 +302,8 @@ def _within_grazing_rule(params, param, named, piece, sp) -> bool:
         variant=named.branch.variant,
     )
     impacts = problem.evaluate(np.asarray(sp.x, dtype=float), sp.p).impacts
-    return bool(len(impacts) and np.abs(impacts[:, 2]).min() < MIN_IMPACT_SPEED)
+    least = max(MIN_IMPACT_SPEED, problem.flow_at(sp.p).slowest_smooth_impact)
+    return bool(len(impacts) and np.abs(impacts[:, 2]).min() < least)
 
 
 def _grazing_starts(named: NamedImpactBranch, params: Params, box: dict):

@@ -30,7 +30,7 @@ from slosh_bif.orbits.codim2.curves import (
 )
 from slosh_bif.orbits.codim2.impact_grazing import FREE, GrazingCurveProblem
 from slosh_bif.orbits.codim2.impact_strobe import ImpactStrobe
-from slosh_bif.orbits.impact_orbits import ImpactOrbitProblem
+from slosh_bif.orbits.impact_orbits import VARIANT_NAMES, ImpactOrbitProblem
 from slosh_bif.orbits.impact_output import orbit_measures
 
 __all__ = ["ImpactCurveSeed", "trace_impact_curve", "trace_grazing_curve"]
@@ -163,7 +163,8 @@ def trace_grazing_curve(
     there) over ``box`` as :func:`trace_impact_curve` does for the other kinds. The seed is first
     moved onto the grazing exactly (Newton at its p1 on
     :class:`~slosh_bif.orbits.codim2.impact_grazing.GrazingCurveProblem`); a seed that is not
-    within 1e-6 of a regular grazing is refused with the reason."""
+    within 1e-4 of a regular grazing (a GR point located from the impacting side is known to about
+    1e-5: the map's Jacobian there grows as 1 / the slow impact's speed) is refused with the reason."""
     if seed.kind != "GR":
         raise ValueError(f"a grazing curve starts from a GR point; got kind {seed.kind!r}")
     (p1, (lo1, hi1)), (p2, (lo2, hi2)) = read_box(box)
@@ -178,9 +179,10 @@ def trace_grazing_curve(
     )
     x = np.asarray(seed.x, dtype=float)
     gap = probe.grazing(x, getattr(at, p1))
-    if not gap.gap < 1e-6:
+    if not gap.gap < 1e-4:
         raise ValueError(
-            f"the start is not a grazing orbit of (8): its nearest approach to grazing is {gap.gap:.3g}"
+            f"the start is not a grazing orbit of {VARIANT_NAMES[seed.variant]}: its nearest approach to "
+            f"grazing is {gap.gap:.3g}"
         )
     # to the grazing point: the compiled flow to FREE before it, then the flight with the wall
     # ignored (a grazing impact of speed ~0 there would stop the flow as sticking)
@@ -212,7 +214,7 @@ def trace_grazing_curve(
     p1_0 = float(getattr(at, p1))
     run = newton_solve(problem, u0, p1_0, tol=1e-11)
     if not run.converged:
-        raise ValueError(f"no grazing orbit of (8) near the start: {run.message}")
+        raise ValueError(f"no grazing orbit of {VARIANT_NAMES[seed.variant]} near the start: {run.message}")
     problem.impacts = len(problem.evaluate(run.x, p1_0)[4])
     if not problem.in_domain(run.x, p1_0):
         raise ValueError(

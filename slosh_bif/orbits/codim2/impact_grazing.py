@@ -16,7 +16,8 @@ parameter derivative), and the compiled flow with its impacts runs in between. T
 requires what makes this the orbit of (8): the free stretches stay inside the walls but at the
 grazing point itself, the particle leaves the wall inward (``side * w'' < 0`` there: where it
 vanishes the grazing degenerates, and the curve ends), and the other impacts keep their number and
-stay faster than :data:`~slosh_bif.orbits.codim2.impact_strobe.MIN_IMPACT_SPEED`.
+stay faster than :data:`~slosh_bif.orbits.codim2.impact_strobe.MIN_IMPACT_SPEED` (and, for the
+corrected impact model, than its measured law's least speed).
 
 Derivatives are exact as elsewhere for (8): the flights' propagators, the impacts' saltation
 matrices; d/dt_g of the map of a time-periodic flow is ``f(end) - Phi f(start)``.
@@ -52,6 +53,7 @@ class _Pieces:
         self.flows = tuple(ImpactFlow(params, param=name, variant=variant) for name in pair)
         self.K = self.flows[0].K
         self.level = self.flows[0].grazing_level
+        self.min_speed = max(MIN_IMPACT_SPEED, self.flows[0].slowest_smooth_impact)
         self.E = linalg.expm(self.K * FREE)
         zero = np.zeros_like(self.K)
         self.dE = []
@@ -208,7 +210,7 @@ class GrazingCurveProblem:
             return False
         if self.impacts is not None and len(impacts) != self.impacts:
             return False
-        if len(impacts) and np.abs(impacts[:, 2]).min() < MIN_IMPACT_SPEED:
+        if len(impacts) and np.abs(impacts[:, 2]).min() < self._pieces_at(self.params_at(u, p)).min_speed:
             return False
         return self._free_stretches_inside(u, p)
 

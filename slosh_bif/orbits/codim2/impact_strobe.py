@@ -73,6 +73,16 @@ class ImpactStrobe:
             phase=self.phase,
             variant=variant,
         )
+        # the slowest impact the domain admits: for the corrected impact model also its measured
+        # law's least speed, below which the law is clamped and the map is not smooth
+        clamp = self._probe.flow_at(getattr(params, self.param)).slowest_smooth_impact
+        self.min_speed = max(MIN_IMPACT_SPEED, clamp)
+        self.edge_rule = (
+            NEAR_GRAZING
+            if clamp < MIN_IMPACT_SPEED
+            else f"an impact at the measured wall law's least speed {clamp:g} (below it the law is "
+            "clamped and the map is not smooth), or the number of impacts changes"
+        )
 
     def _maps_of(self, params: Params):
         key = params
@@ -95,13 +105,13 @@ class ImpactStrobe:
     def arcs(self, x, params: Params) -> Arcs:
         """The map at (x, params) as one arc: its end (before the mirror), its Jacobian and its
         derivatives in (p1, p2); NaN where the flow stops short (sticking, a complex kappa), the
-        number of impacts is not the domain's or an impact is slower than ``MIN_IMPACT_SPEED``."""
+        number of impacts is not the domain's or an impact is slower than ``min_speed``."""
         x = np.asarray(x, dtype=float)
         first, second = self._maps_of(params)
         m1 = first.evaluate(x, getattr(params, self.sensitivities[0]))
         m2 = second.evaluate(x, getattr(params, self.sensitivities[1])) if m1.code == 0 else m1
         grazing = (self.impacts is not None and len(m1.impacts) != self.impacts) or (
-            len(m1.impacts) and np.abs(m1.impacts[:, 2]).min() < MIN_IMPACT_SPEED
+            len(m1.impacts) and np.abs(m1.impacts[:, 2]).min() < self.min_speed
         )
         if m1.code != 0 or m2.code != 0 or grazing:
             nan = np.full((4, 4), np.nan)
@@ -125,8 +135,8 @@ class ImpactStrobe:
         return self._probe.admissible(x, p)
 
     def edge_name_at(self, x, params: Params) -> str | None:
-        """The edge near the orbit x at ``params``: grazing when its slowest impact is within a
-        factor 2 of ``MIN_IMPACT_SPEED`` (or it has no longer the domain's impacts), the section
+        """The edge near the orbit x at ``params``: ``edge_rule`` (grazing) when its slowest impact
+        is within a factor 2 of ``min_speed`` (or it has no longer the domain's impacts), the section
         when the particle sits within 1e-3 of a wall there; None for neither."""
         if 1.0 - abs(float(x[2])) < 1e-6:  # an impact at the section: the count flips there
             return SECTION
@@ -134,9 +144,9 @@ class ImpactStrobe:
             np.asarray(x, dtype=float), getattr(params, self.sensitivities[0])
         )
         if (self.impacts is not None and len(m.impacts) != self.impacts) or (
-            len(m.impacts) and np.abs(m.impacts[:, 2]).min() < 2 * MIN_IMPACT_SPEED
+            len(m.impacts) and np.abs(m.impacts[:, 2]).min() < 2 * self.min_speed
         ):
-            return NEAR_GRAZING
+            return self.edge_rule
         if 1.0 - abs(float(x[2])) < 1e-3:
             return SECTION
         return None
@@ -144,7 +154,7 @@ class ImpactStrobe:
     def edge_distance_at(self, x, params: Params) -> float:
         """0 where :meth:`edge_name_at` names the grazing rule's edge, else how far the particle
         is inside the wall on the section (``1 - |w|``)."""
-        if self.edge_name_at(x, params) == NEAR_GRAZING:
+        if self.edge_name_at(x, params) == self.edge_rule:
             return 0.0
         return self._probe.wall_distance(x, getattr(params, self.param))
 
