@@ -120,6 +120,7 @@ def plot_impact_branch(rows, params, path, *, title=None) -> Path:
         pyplot,
         save_figure,
         special_legend,
+        stability_runs,
     )
 
     rows = list(rows)
@@ -137,14 +138,8 @@ def plot_impact_branch(rows, params, path, *, title=None) -> Path:
         p = np.array([r[param] for r in part])
         a1 = np.array([r["A1"] for r in part])
         stable = np.array([r["stable"] for r in part], dtype=bool)
-        solid = stable[:-1] & stable[1:]  # a segment is drawn solid between two stable orbits
-        start = 0
-        for j in range(1, len(solid) + 1):  # one line per run of segments alike (not one per segment)
-            if j == len(solid) or solid[j] != solid[start]:
-                ax.plot(
-                    p[start : j + 1], a1[start : j + 1], "-" if solid[start] else "--", color=color, lw=1.4
-                )
-                start = j
+        for a, b in stability_runs(stable):  # one line per run (one per segment cost seconds)
+            ax.plot(p[a : b + 1], a1[a : b + 1], "-" if stable[a] else "--", color=color, lw=1.4)
         axi.plot(p, [r["impacts"] for r in part], color=color, lw=1.2)
         for r in part:
             for kind in r["special"].split():

@@ -18,6 +18,7 @@ __all__ = [
     "plot_projection",
     "plot_time_history",
     "plot_branch",
+    "stability_runs",
     "pyplot",
     "save_figure",
     "cell_edges",
@@ -94,8 +95,9 @@ def plot_time_history(ax, t, y, *, envelope=None):
     return ax
 
 
-def _runs(mask):
-    """(start, stop) index pairs of the runs of equal values in a boolean array (stop inclusive)."""
+def stability_runs(mask):
+    """(start, stop) index pairs of the runs of equal values in a boolean array (stop inclusive:
+    each run drawn as one line reaches the next run's first point)."""
     change = np.flatnonzero(np.diff(mask.astype(int))) + 1
     bounds = np.concatenate([[0], change, [len(mask)]])
     return [(a, min(b, len(mask) - 1)) for a, b in zip(bounds[:-1], bounds[1:])]
@@ -140,7 +142,7 @@ def plot_branch(ax, branch, y, *, x=None, color="tab:blue", label=None, label_en
     ``y`` (and optionally ``x``, default the continued parameter) are arrays along the branch.
     """
     x = branch.p if x is None else x
-    for a, b in _runs(branch.stable):
+    for a, b in stability_runs(branch.stable):
         ax.plot(x[a : b + 1], y[a : b + 1], "-" if branch.stable[a] else "--", color=color, lw=1.4)
     if label is not None:  # the branch's legend entry in its colour, solid: dashes mean unstable only
         ax.plot([], [], "-", color=color, lw=1.4, label=label)
