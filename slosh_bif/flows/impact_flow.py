@@ -294,6 +294,9 @@ class ImpactFlow:
             self.shape, self.stacked = law_arrays(self.wall)
         else:
             self.wall, self.shape, self.stacked = None, np.zeros(5), np.zeros((0, 4))
+        # where a flight grazes the wall: |w| = 1 for (8), and for the corrected impact model the
+        # measured wall's clearance at its least speed (the clamp of its law: D(v_min))
+        self.grazing_level = 1.0 if self.wall is None else float(self.wall.clearance(self.wall.v_min))
         self.linear = np.array([P.eps, P.beta, P.gamma, P.sigma, P.Abar])
         self.kappa_c = float(dissipation_at_unit_speed(P.lam, P.chi, P.n, P.pbar))
         self.kappa_q = P.pbar / (P.n + 1)
@@ -303,12 +306,6 @@ class ImpactFlow:
             "lam": float(dissipation_at_unit_speed(1.0, P.chi, P.n, P.pbar)),
             "chi": -exponent * self.kappa_c / P.chi,
         }.get(param, 0.0)
-
-    @property
-    def grazing_level(self) -> float:
-        """Where a flight grazes the wall: |w| = 1 for (8), and for the corrected impact model the
-        measured wall's clearance at its least speed (the clamp of its law: D(v_min))."""
-        return 1.0 if self.wall is None else float(self.wall.clearance(self.wall.v_min))
 
     @property
     def slowest_smooth_impact(self) -> float:

@@ -27,7 +27,7 @@ from slosh_bif.continuation import ConvergenceError
 from slosh_bif.model.params import Params
 from slosh_bif.orbits.codim2 import ImpactCurveSeed, trace_impact_curve
 from slosh_bif.orbits.codim2.impact_curves import trace_grazing_curve
-from slosh_bif.orbits.codim2.impact_strobe import MIN_IMPACT_SPEED
+from slosh_bif.orbits.codim2.impact_strobe import least_impact_speed
 from slosh_bif.orbits.impact_branches import settled_orbit, trace_impact_orbits
 from slosh_bif.orbits.impact_orbits import VARIANT_NAMES, ImpactOrbitProblem
 from slosh_bif.orbits.impact_switching import (
@@ -302,7 +302,7 @@ def _within_grazing_rule(params, param, named, piece, sp) -> bool:
         variant=named.branch.variant,
     )
     impacts = problem.evaluate(np.asarray(sp.x, dtype=float), sp.p).impacts
-    least = max(MIN_IMPACT_SPEED, problem.flow_at(sp.p).slowest_smooth_impact)
+    least = least_impact_speed(problem.flow_at(sp.p))
     return bool(len(impacts) and np.abs(impacts[:, 2]).min() < least)
 
 

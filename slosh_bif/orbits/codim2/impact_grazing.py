@@ -33,7 +33,7 @@ from scipy import linalg
 from slosh_bif.flows.impact_flow import IMPACT_VARIANTS, ImpactFlow
 from slosh_bif.flows.impact_propagators import WALL_PARAMETERS, derivative_of_K
 from slosh_bif.model.params import Params, real_pair
-from slosh_bif.orbits.codim2.impact_strobe import MIN_IMPACT_SPEED
+from slosh_bif.orbits.codim2.impact_strobe import least_impact_speed
 
 __all__ = ["GrazingCurveProblem", "FREE", "DEGENERATE"]
 
@@ -53,7 +53,7 @@ class _Pieces:
         self.flows = tuple(ImpactFlow(params, param=name, variant=variant) for name in pair)
         self.K = self.flows[0].K
         self.level = self.flows[0].grazing_level
-        self.min_speed = max(MIN_IMPACT_SPEED, self.flows[0].slowest_smooth_impact)
+        self.min_speed = least_impact_speed(self.flows[0])
         self.E = linalg.expm(self.K * FREE)
         zero = np.zeros_like(self.K)
         self.dE = []

@@ -21,7 +21,7 @@ from slosh_bif.model.params import Params, real_pair
 from slosh_bif.orbits.impact_orbits import SECTION, ImpactOrbitProblem
 from slosh_bif.orbits.shooting import Arcs
 
-__all__ = ["ImpactStrobe", "MIN_IMPACT_SPEED", "NEAR_GRAZING"]
+__all__ = ["ImpactStrobe", "MIN_IMPACT_SPEED", "NEAR_GRAZING", "least_impact_speed"]
 
 _KEEP = 8  # parameter sets whose problems are kept (a corrector step and its differences)
 
@@ -30,6 +30,13 @@ _KEEP = 8  # parameter sets whose problems are kept (a corrector step and its di
 # falls below this speed (the Fig. 13 fold curves crept to a stop at 0.004, with a multiplier 1e6).
 MIN_IMPACT_SPEED = 1e-2
 NEAR_GRAZING = f"grazing (GR): an impact slower than {MIN_IMPACT_SPEED:g}, or the number of impacts changes"
+
+
+def least_impact_speed(flow) -> float:
+    """The slowest impact the curves of an impact model admit: :data:`MIN_IMPACT_SPEED`, and for
+    the corrected impact model also its measured law's least speed, below which the law is clamped
+    and the map is not smooth."""
+    return max(MIN_IMPACT_SPEED, flow.slowest_smooth_impact)
 
 
 class ImpactStrobe:
@@ -73,15 +80,12 @@ class ImpactStrobe:
             phase=self.phase,
             variant=variant,
         )
-        # the slowest impact the domain admits: for the corrected impact model also its measured
-        # law's least speed, below which the law is clamped and the map is not smooth
-        clamp = self._probe.flow_at(getattr(params, self.param)).slowest_smooth_impact
-        self.min_speed = max(MIN_IMPACT_SPEED, clamp)
+        self.min_speed = least_impact_speed(self._probe.flow_at(getattr(params, self.param)))
         self.edge_rule = (
             NEAR_GRAZING
-            if clamp < MIN_IMPACT_SPEED
-            else f"an impact at the measured wall law's least speed {clamp:g} (below it the law is "
-            "clamped and the map is not smooth), or the number of impacts changes"
+            if self.min_speed == MIN_IMPACT_SPEED
+            else f"an impact at the measured wall law's least speed {self.min_speed:g} (below it the law "
+            "is clamped and the map is not smooth), or the number of impacts changes"
         )
 
     def _maps_of(self, params: Params):
