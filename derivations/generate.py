@@ -44,6 +44,14 @@ def _models_module() -> str:
     # Model (8) between impacts is y' = M y + F cos(tau): read M and F off the right-hand side.
     impact_matrix = impact.jacobian(sp_matrix(m.STATE))
     impact_forcing = impact.diff(m.Abar).subs(m.tau, 0) * m.Abar
+    linear = m.LINEAR_PARAMS + (m.Abar,)
+
+    def derivatives(M):
+        """[dM/dq | dF/dq] for q in eps, beta, gamma, sigma, Abar, stacked (20 x 5): the propagators'
+        parameter derivatives need dK/dq exactly (no differences)."""
+        block = M.row_join(impact_forcing)
+        return sp.Matrix.vstack(*(block.diff(q) for q in linear))
+
     functions = [
         F("smooth_rhs", "Right-hand side of the smooth model (9); y = [X, X', w, w'].", state, full, smooth),
         F(
@@ -87,6 +95,20 @@ def _models_module() -> str:
             (),
             m.LINEAR_PARAMS,
             m.flight_rhs().jacobian(sp_matrix(m.STATE)),
+        ),
+        F(
+            "impact_linear_derivatives",
+            "[dM/dq | dF/dq] of model (8) for q = eps, beta, gamma, sigma, Abar, stacked (20 x 5).",
+            (),
+            linear,
+            derivatives(impact_matrix),
+        ),
+        F(
+            "flight_linear_derivatives",
+            "[dM/dq | dF/dq] of (9)'s flights for q = eps, beta, gamma, sigma, Abar, stacked (20 x 5).",
+            (),
+            linear,
+            derivatives(m.flight_rhs().jacobian(sp_matrix(m.STATE))),
         ),
         F(
             "impact_forcing",

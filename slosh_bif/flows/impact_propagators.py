@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from slosh_bif.flows.compiled import jit
-from slosh_bif.model.equations import impact_augmented
+from slosh_bif.model._generated import models as gen
 from slosh_bif.model.params import Params
 
 __all__ = ["LINEAR_PARAMETERS", "WALL_PARAMETERS", "propagators", "derivative_of_K"]
@@ -93,10 +93,11 @@ def _tables(K, Kp, L, derivative, table, dtable):
 
 
 def derivative_of_K(params: Params, param: str, exact: bool = False) -> np.ndarray:
-    """dK/d param by a five-point central difference: K of (8), whose entries are polynomials of
-    degree <= 4 in the parameters (exact up to rounding), or ``exact``, of (9)'s linear part,
-    rational in eps (the difference's error, ~1e-12 of dK, is below the map's rounding)."""
-    values = {name: float(getattr(params, name)) for name in LINEAR_PARAMETERS}
-    step = 1e-3 * max(1.0, abs(values[param]))
-    K = [impact_augmented(**{**values, param: values[param] + k * step}, exact=exact) for k in (-2, -1, 1, 2)]
-    return (K[0] - 8 * K[1] + 8 * K[2] - K[3]) / (12 * step)
+    """dK/d param of K of (8) (or, ``exact``, of (9)'s linear part: the corrected impact model's
+    flights), from the derivation's generated derivatives: exact, no differences."""
+    values = [float(getattr(params, name)) for name in LINEAR_PARAMETERS]
+    stacked = (gen.flight_linear_derivatives if exact else gen.impact_linear_derivatives)(*values)
+    block = stacked.reshape(len(LINEAR_PARAMETERS), 4, 5)[LINEAR_PARAMETERS.index(param)]
+    Kp = np.zeros((6, 6))
+    Kp[:4, :5] = block
+    return Kp

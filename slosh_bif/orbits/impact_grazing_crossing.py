@@ -32,7 +32,7 @@ from scipy import linalg
 from slosh_bif.continuation.corrector import newton_solve
 from slosh_bif.flows.impact_band import law
 
-__all__ = ["Contact", "contact_at", "unfold", "cross_grazing", "CONTACT_SIZES", "FREE"]
+__all__ = ["Contact", "contact_at", "unfold", "on_section", "cross_grazing", "CONTACT_SIZES", "FREE"]
 
 FREE = 0.1  # the flights beside the contact, in tau, taken with the wall ignored
 CONTACT_SIZES = (1e-3, 1e-2)  # gaps or impact speeds tried in turn beyond a grazing point
@@ -168,7 +168,7 @@ def unfold(problem, contact: Contact, p: float, kind: str, size: float):
     return (u, equations) if np.abs(equations.residual(u)).max() < 1e-10 else None
 
 
-def _on_section(problem, equations, u):
+def on_section(problem, equations, u):
     """The state on the problem's section tau = phase (mod its period) of the unfolded orbit u."""
     t = float(u[2])
     k = int(np.ceil((t + FREE - problem.phase) / problem.period - 1e-12))
@@ -197,7 +197,7 @@ def cross_grazing(problem, x, p, opts, contact: Contact | None = None):
         q = float(u[3])
         if q == p or not opts.p_min <= q <= opts.p_max:
             continue
-        run = newton_solve(probe, _on_section(problem, equations, u), q, tol=1e-12)
+        run = newton_solve(probe, on_section(problem, equations, u), q, tol=1e-12)
         if not (run.converged and probe.in_domain(run.x, q)):
             continue
         count = len(probe.evaluate(run.x, q).impacts)

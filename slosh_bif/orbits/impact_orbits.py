@@ -230,8 +230,11 @@ class ImpactOrbitProblem:
             return None
 
         def condition(x, p):
+            # linear in the distance to the grazing on both sides: the gap of a flight, and at an
+            # impact the square root of its depth (the depth goes as the distance squared, as the
+            # speed does as the distance)
             g = self.grazing(x, p)
-            return g.gap if g.kind == "flight" else -g.gap
+            return g.gap if g.kind == "flight" else -np.sqrt(g.gap)
 
         # Newton, keeping the best iterate: an iterate a hair beyond the grazing has a new impact
         # of speed sqrt(gap), whose square-root term in the map puts the residual far above the
@@ -249,17 +252,36 @@ class ImpactOrbitProblem:
                 best, best_size = u.copy(), size
             if size < 1e-12:
                 break
-            row = np.empty(5)
-            for j in range(5):  # the condition's gradient by central differences
-                e = np.zeros(5)
-                e[j] = 1e-7 * max(1.0, abs(u[j]))
-                row[j] = (condition(*_split(u + e)) - condition(*_split(u - e))) / (2 * e[j])
+            row = self._gap_gradient(*_split(u))
+            if row is None:
+                row = np.empty(5)
+                for j in range(5):  # the condition's gradient by central differences
+                    e = np.zeros(5)
+                    e[j] = 1e-7 * max(1.0, abs(u[j]))
+                    row[j] = (condition(*_split(u + e)) - condition(*_split(u - e))) / (2 * e[j])
             J = np.vstack([np.column_stack([m.phi - np.eye(4), m.dp]), row])
             try:
                 u = u - np.linalg.solve(J, F)
             except np.linalg.LinAlgError:
                 break
-        return _split(best) if best_size < 1e-8 else None
+        if best_size < 1e-8:
+            return _split(best)
+        # from the impacting side the map's Jacobian grows as 1 / (the slow impact's speed) along
+        # the very direction the gap's gradient points, and Newton on the section stalls: locate
+        # the grazing orbit where it is smooth, written at its contact with the gap set to zero
+        return _grazing_by_unfolding(self, x, p)
+
+    def _gap_gradient(self, x, p):
+        """d gap / d(x, p) where the nearest approach is a flight's turning point short of the wall:
+        ``-sign(w) dw(t*)/d(x, p)`` (w' = 0 there, so the turning time's own change drops out),
+        from the flow's Jacobian up to t*; None at an impact (the caller differentiates)."""
+        g = self.grazing(x, p)
+        if g.kind != "flight" or not np.isfinite(g.gap):
+            return None
+        y, phi, dp, _, code = self.flow_at(p).strobe(np.asarray(x, dtype=float), self.phase, g.t - self.phase)
+        if code != 0:
+            return None
+        return -np.sign(y[2]) * np.append(phi[2], dp[2])
 
     def orbit(self, x, p, *, step: float = 0.01):
         """(t, y, impacts) of the orbit through x over the map's time, sampled every ``step`` and
@@ -312,6 +334,19 @@ class ImpactOrbitProblem:
             if level - abs(w) < best.gap:
                 best = GrazingGap(level - abs(w), float(t[i] + s), "flight", len(impacts))
         return best
+
+
+def _grazing_by_unfolding(problem, x, p):
+    """(x, p) of the grazing orbit near (x, p) from the contact's unfolding at zero gap
+    (:mod:`slosh_bif.orbits.impact_grazing_crossing`), or None where it does not converge."""
+    from slosh_bif.orbits.impact_grazing_crossing import contact_at, on_section, unfold
+
+    found = unfold(problem, contact_at(problem, x, p), p, "flight", 0.0)
+    if found is None:
+        return None
+    u, equations = found
+    y = on_section(problem, equations, u)
+    return (y, float(u[3])) if problem.admissible(y, u[3]) else None
 
 
 def _split(u):

@@ -14,7 +14,7 @@ from slosh_bif import get_preset, simulate_impact
 from slosh_bif.continuation.corrector import newton_solve
 from slosh_bif.flows.integrator import HAVE_NUMBA
 from slosh_bif.orbits.impact_branches import settled_orbit, trace_impact_orbits
-from slosh_bif.orbits.impact_grazing_crossing import _on_section, contact_at, unfold
+from slosh_bif.orbits.impact_grazing_crossing import contact_at, on_section, unfold
 from slosh_bif.orbits.impact_orbits import ImpactOrbitProblem
 
 pytestmark = pytest.mark.skipif(not HAVE_NUMBA, reason="the compiled flow needs numba")
@@ -41,7 +41,7 @@ def test_beyond_the_grazing_the_new_impacts_speed_is_linear_in_p_and_its_orbit_u
     for v in (1e-3, 2e-3):
         u, equations = unfold(problem, contact, p_g, "impact", v)
         q = float(u[3])
-        run = newton_solve(probe, _on_section(problem, equations, u), q, tol=1e-12)
+        run = newton_solve(probe, on_section(problem, equations, u), q, tol=1e-12)
         assert run.converged and len(probe.evaluate(run.x, q).impacts) == 2
         offsets.append(q - p_g)
         largest.append(np.abs(probe.map_multipliers(run.x, q)).max())
@@ -68,3 +68,37 @@ def test_the_symmetric_branch_is_continued_through_its_grazings_over_the_whole_r
         assert len({pc.impacts for pc in near}) == 2
     # the branch has (9)'s sequence of special points (docs/findings/impact.md): 4 folds, 6 pitchforks
     assert len(branch.special("LP")) == 4 and len(branch.special("BP")) == 6
+
+
+def _slow_impacts(params, piece, p_g):
+    """(v, p): the slowest impact's speed v of the piece's orbits within 0.05 of p_g, with v spread
+    by at least a factor 1.5 from one to the next."""
+    problem = ImpactOrbitProblem(params, symmetric=True, phase=piece.phase)
+    rows = []
+    for x, p in zip(piece.branch.x, piece.branch.p):
+        impacts = problem.evaluate(x, p).impacts
+        if abs(p - p_g) < 0.05 and len(impacts):
+            rows.append((np.abs(impacts[:, 2]).min(), p))
+    spread = []
+    for v, p in sorted(rows):
+        if 1e-6 < v < 3e-2 and (not spread or v > 1.5 * spread[-1][0]):
+            spread.append((v, p))
+    return np.array(spread)
+
+
+def test_each_grazing_is_where_the_orbits_slow_impact_extrapolates_to_zero_speed(symmetric_branch):
+    """The GR points reached from the impacting side (where Newton on the section stalls: the
+    map's Jacobian grows as 1/v) are located to 1e-9 in sigma: the piece's own orbits with a slow
+    impact, their p against its speed v fitted by a quadratic, reach v = 0 there."""
+    params, branch = symmetric_branch
+    checked = 0
+    for p_g, _, _ in branch.grazing:
+        fits = []
+        for piece in branch.pieces:
+            rows = _slow_impacts(params, piece, p_g)
+            if len(rows) >= 3:
+                fits.append(np.polyfit(rows[:3, 0], rows[:3, 1], 2)[-1])
+        if fits:
+            checked += 1
+            assert min(abs(f - p_g) for f in fits) < 1e-9
+    assert checked >= 3

@@ -168,6 +168,87 @@ def flight_matrix(eps, beta, gamma, sigma):
     return out
 
 
+def impact_linear_derivatives(eps, beta, gamma, sigma, Abar):
+    """[dM/dq | dF/dq] of model (8) for q = eps, beta, gamma, sigma, Abar, stacked (20 x 5)."""
+    x0 = -gamma
+    x1 = beta**2
+    x2 = x1 - 1
+    x3 = beta**4 + sigma*x1
+    x4 = 2*beta
+    x5 = -eps
+    x6 = eps*x1
+    x7 = eps*sigma + 2*x6 - 1
+    shape = ()
+    out = numpy.zeros((20, 5) + shape)
+    out[1, 0] = sigma
+    out[1, 1] = x0
+    out[1, 2] = x2
+    out[1, 4] = Abar
+    out[3, 0] = sigma + x1 - x3
+    out[3, 1] = x0
+    out[3, 2] = x3 - 1
+    out[3, 4] = Abar
+    out[5, 2] = eps*x4
+    out[7, 0] = x4*(-x5 - x7)
+    out[7, 2] = x4*x7
+    out[9, 1] = x5
+    out[11, 1] = x5
+    out[13, 0] = eps
+    out[15, 0] = -eps*x2
+    out[15, 2] = x6
+    out[17, 4] = eps
+    out[19, 4] = eps
+    return out
+
+
+def flight_linear_derivatives(eps, beta, gamma, sigma, Abar):
+    """[dM/dq | dF/dq] of (9)'s flights for q = eps, beta, gamma, sigma, Abar, stacked (20 x 5)."""
+    x0 = -gamma
+    x1 = eps*sigma
+    x2 = beta**2
+    x3 = eps*x2
+    x4 = (x3 + 1)**(-1.0)
+    x5 = x4*(x1 - 1)
+    x6 = x4*(x2 - 1)
+    x7 = 2*eps
+    x8 = -gamma*x7
+    x9 = x2*x5
+    x10 = eps + x2
+    x11 = eps*x6
+    x12 = x11 - 1
+    x13 = 2*beta*x5
+    x14 = eps*x10*x4
+    x15 = -eps
+    x16 = eps**2
+    x17 = -x16
+    shape = ()
+    out = numpy.zeros((20, 5) + shape)
+    out[1, 0] = sigma
+    out[1, 1] = x0
+    out[1, 2] = x6*(-2*x1 + x3*x5 + 1)
+    out[1, 3] = x8
+    out[1, 4] = Abar
+    out[3, 0] = x6*(-sigma + x9)
+    out[3, 1] = x0
+    out[3, 2] = x4*(eps*sigma + sigma*x10 - x10*x9 - 1)
+    out[3, 3] = x8
+    out[3, 4] = Abar
+    out[5, 2] = beta*x12*x5*x7
+    out[7, 0] = x12*x13
+    out[7, 2] = x13*(1 - x14)
+    out[9, 1] = x15
+    out[9, 3] = x17
+    out[11, 1] = x15
+    out[11, 3] = x17
+    out[13, 0] = eps
+    out[13, 2] = -x16*x6
+    out[15, 0] = -x11
+    out[15, 2] = x14
+    out[17, 4] = eps
+    out[19, 4] = eps
+    return out
+
+
 def impact_forcing(eps, Abar):
     """Forcing vector F of the linear flow of model (8)."""
     x0 = Abar*eps
