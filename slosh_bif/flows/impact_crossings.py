@@ -13,6 +13,7 @@ __all__ = [
     "LEVELS",
     "apply",
     "carry",
+    "carry_taylor",
     "crossing",
     "flow_taylor",
     "max_abs",
@@ -137,11 +138,45 @@ def carry(P, Q, za, phi, dp, tmp):
     dp[:] = tmp[:, 4]
 
 
+@jit(inline=True)
+def carry_taylor(K, Kp, terms, za, s, phi, dp, tmp):
+    """``carry`` over a length s the tables do not hold (up to a crossing): ``phi <- A(s) phi`` and
+    ``dp <- A(s) dp + Q(s) za``, by the Taylor series of the flight on each column of phi and of
+    its variational system ``[z, dz]' = [[K, 0], [Kp, K]] [z, dz]`` from ``[za, dp]`` (Horner form;
+    two terms beyond the flight's own for the derivative's extra factor k)."""
+    v = np.zeros(6)
+    out = np.empty(6)
+    for j in range(4):
+        v[:4] = phi[:, j]
+        flow_taylor(K, terms, v, s, out)
+        tmp[:, j] = out[:4]
+    top = np.empty(6)
+    bottom = np.zeros(6)
+    bottom[:4] = dp
+    top[:] = za
+    new_top = np.empty(6)
+    new_bottom = np.empty(6)
+    for j in range(terms + 2, 0, -1):
+        for i in range(6):
+            a = 0.0
+            b = 0.0
+            for m in range(6):
+                a += K[i, m] * top[m]
+                b += Kp[i, m] * top[m] + K[i, m] * bottom[m]
+            new_top[i] = za[i] + a * s / j
+            new_bottom[i] = (dp[i] if i < 4 else 0.0) + b * s / j
+        top[:] = new_top
+        bottom[:] = new_bottom
+    phi[:, :] = tmp[:, :4]
+    dp[:] = bottom[:4]
+
+
 @jit
 def piece(
     table,
     dtable,
     K,
+    Kp,
     taylor,
     lengths,
     growth,
@@ -194,10 +229,12 @@ def piece(
             if jac:
                 carry(table[k], dtable[k], za, phi, dp, tmp)
             return (1 if zb[2] >= c else -1), s + L
-        if not jac and up != down:  # one wall only: a single crossing where f is certified monotone
+        if up != down:  # one wall only: a single crossing where f is certified monotone
             side = 1.0 if up else -1.0
             if side * zb[2] >= c and side * za[3] / c - B * L > 0.0:
                 offset = crossing(K, taylor, za, side, L, out, c)
+                if jac:
+                    carry_taylor(K, Kp, taylor, za, offset, phi, dp, tmp)
                 return int(side), s + offset
         top += 1  # right half, then left half on top of it
         stack_k[top] = k + 1

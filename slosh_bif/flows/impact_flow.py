@@ -34,13 +34,14 @@ stands at |w| = D(v) (:mod:`slosh_bif.flows.impact_band`).
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
 
 from slosh_bif.flows.compiled import jit
 from slosh_bif.flows.impact_band import LEFT, REACHED, TOO_FAST, band, law, law_arrays
-from slosh_bif.flows.impact_crossings import LEVELS, apply, max_abs, may_reach, piece, saltation
+from slosh_bif.flows.impact_crossings import LEVELS, apply, carry, max_abs, may_reach, piece, saltation
 from slosh_bif.flows.impact_propagators import (
     LINEAR_PARAMETERS,
     WALL_PARAMETERS,
@@ -68,6 +69,7 @@ def _run(
     table,
     dtable,
     K,
+    Kp,
     taylor,
     lengths,
     growth,
@@ -140,13 +142,15 @@ def _run(
                 side = 1 if z[2] >= 0.0 else -1
             else:
                 rest = (tb - tau) / h  # in steps; taken as its binary expansion
-                if not jac and rest >= 1.0 - 1e-9:  # a whole step certified free, without the search's set-up
+                if rest >= 1.0 - 1e-9:  # a whole step certified free, without the search's set-up
                     apply(table[0], z, zn)
                     B = row_norm * growth[0] * max_abs(z) / c
                     if not (
                         may_reach(z[2] / c, z[3] / c, zn[2] / c, zn[3] / c, h, B)
                         or may_reach(-z[2] / c, -z[3] / c, -zn[2] / c, -zn[3] / c, h, B)
                     ):
+                        if jac:
+                            carry(table[0], dtable[0], z, phi, dp, tmp)
                         z[:] = zn
                         break
                 for k in range(LEVELS + 1):
@@ -159,6 +163,7 @@ def _run(
                         table,
                         dtable,
                         K,
+                        Kp,
                         taylor,
                         lengths,
                         growth,
@@ -231,6 +236,16 @@ def _run(
     return times, states, impacts, rows, hits, _FINISHED
 
 
+@functools.lru_cache(maxsize=32)
+def _restitution_constants(lam, chi, n, pbar, param):
+    """(c, q, dc / d param) of kappa = sqrt(1 - c v**q) (21): c is linear in lam and goes as
+    chi**-a; kept across the many flows of a continuation (its wall stays)."""
+    c = float(dissipation_at_unit_speed(lam, chi, n, pbar))
+    exponent = pbar / (2 * (n + 1)) + 0.5
+    dc = {"lam": float(dissipation_at_unit_speed(1.0, chi, n, pbar)), "chi": -exponent * c / chi}
+    return c, pbar / (n + 1), dc.get(param, 0.0)
+
+
 class ImpactFlow:
     """The compiled exact flow of (8) for one parameter set, sampled every ``step``.
 
@@ -281,10 +296,12 @@ class ImpactFlow:
         # parameter, or none: the flights do not depend on it, zeros)
         Kp = derivative_of_K(params, param, exact) if param in LINEAR_PARAMETERS else None
         self.table, self.dtable = propagators(K, self.lengths, Kp)
-        self.growth = np.exp(np.abs(K).sum(axis=1).max() * self.lengths)
+        self.Kp = np.zeros_like(K) if Kp is None else Kp
+        norm = float(np.abs(K).sum(axis=1).max())
+        self.growth = np.exp(norm * self.lengths)
         self.row_norm = float(np.abs(K[3]).sum())  # |w''| <= row_norm |z|
         # terms of the Taylor series of expm(K s) z for s <= step: the rest below 1e-17 |z|
-        size, term, self.taylor = float(np.abs(K).sum(axis=1).max()) * self.step, 1.0, 0
+        size, term, self.taylor = norm * self.step, 1.0, 0
         while term > 1e-17 and self.taylor < 60:
             self.taylor += 1
             term *= size / self.taylor
@@ -298,14 +315,7 @@ class ImpactFlow:
         # measured wall's clearance at its least speed (the clamp of its law: D(v_min))
         self.grazing_level = 1.0 if self.wall is None else float(self.wall.clearance(self.wall.v_min))
         self.linear = np.array([P.eps, P.beta, P.gamma, P.sigma, P.Abar])
-        self.kappa_c = float(dissipation_at_unit_speed(P.lam, P.chi, P.n, P.pbar))
-        self.kappa_q = P.pbar / (P.n + 1)
-        # dc / d param of kappa = sqrt(1 - c v**q) (21): c is linear in lam and goes as chi**-a
-        exponent = P.pbar / (2 * (P.n + 1)) + 0.5
-        self.dc = {
-            "lam": float(dissipation_at_unit_speed(1.0, P.chi, P.n, P.pbar)),
-            "chi": -exponent * self.kappa_c / P.chi,
-        }.get(param, 0.0)
+        self.kappa_c, self.kappa_q, self.dc = _restitution_constants(P.lam, P.chi, P.n, P.pbar, param)
 
     @property
     def slowest_smooth_impact(self) -> float:
@@ -323,6 +333,7 @@ class ImpactFlow:
                 self.table,
                 self.dtable,
                 self.K,
+                self.Kp,
                 self.taylor,
                 self.lengths,
                 self.growth,

@@ -50,6 +50,19 @@ def _mul(A, B, out):
 
 
 @jit
+def _mul_upper(A, B, out):
+    """``out = A B`` for 6 x 6 matrices whose lower-left 2 x 4 block is zero, as the product's is
+    (the flight's: the forcing's phase (cos tau, sin tau) is driven by nothing else)."""
+    for i in range(6):
+        lo = 4 if i >= 4 else 0
+        for j in range(6):
+            total = 0.0
+            for m in range(lo, 4 if j < 4 else 6):
+                total += A[i, m] * B[m, j]
+            out[i, j] = total
+
+
+@jit
 def _tables(K, Kp, L, derivative, table, dtable):
     """The squaring of :func:`propagators`, compiled (a chart builds thousands of flows)."""
     n = K.shape[0]
@@ -84,10 +97,10 @@ def _tables(K, Kp, L, derivative, table, dtable):
                 dtable[k, i, j] = Q[i, j]
         if k == 0:
             break
-        _mul(E, E, EE)
+        _mul_upper(E, E, EE)
         if derivative:
-            _mul(Q, E, QE)
-            _mul(E, Q, EQ)
+            _mul_upper(Q, E, QE)
+            _mul_upper(E, Q, EQ)
             Q = 2.0 * Q + QE + EQ
         E = 2.0 * E + EE
 

@@ -123,6 +123,8 @@ class ImpactOrbitProblem:
         self.state_bound = 1e3 * (1.0 + params.Abar)
         self.evaluations = 0
         self._flows: OrderedDict = OrderedDict()
+        self._params: dict = {}
+        self._nearest = None  # the last grazing gap computed, with its (p, x)
         self._maps: OrderedDict = OrderedDict()
 
     def replace(self, **changes) -> ImpactOrbitProblem:
@@ -141,7 +143,12 @@ class ImpactOrbitProblem:
         return ImpactOrbitProblem(**{**kept, **changes})
 
     def params_at(self, p: float) -> Params:
-        return self.params.replace(**{self.param: float(p)})
+        key = float(p)
+        if key not in self._params:
+            if len(self._params) > 4 * _KEEP:
+                self._params.clear()
+            self._params[key] = self.params.replace(**{self.param: key})
+        return self._params[key]
 
     def flow_at(self, p: float) -> ImpactFlow:
         key = float(p)
@@ -221,13 +228,25 @@ class ImpactOrbitProblem:
         return min(self.grazing(x, p).gap, self.wall_distance(x, p))
 
     def edge_point(self, x, p):
-        """The grazing point nearest (x, p), located: Newton on [map(x) - x, gap] in (x, p), the gap
-        signed (negative at an impact); None at an impact on the section, whose exact place is of no
-        interest (the section moves there). ``edge_name`` says which edge it is."""
-        on_section = self.wall_distance(x, p) < self.grazing(x, p).gap
+        """The grazing point nearest (x, p), located; None at an impact on the section, whose exact
+        place is of no interest (the section moves there). ``edge_name`` says which edge it is.
+
+        From a flight turning short of the wall: Newton on [map(x) - x, gap] in (x, p). From an
+        impact whose speed falls to zero (or where that Newton fails): the map's Jacobian grows as
+        1 / (the slow impact's speed) along the very direction the gap's gradient points, and
+        Newton on the section stalls; the grazing orbit is located where it is smooth, written at
+        its contact with the gap set to zero."""
+        nearest = self.grazing(x, p)
+        on_section = self.wall_distance(x, p) < nearest.gap
         self.edge_name = SECTION if on_section else GRAZING
         if on_section:
             return None
+        found = self._grazing_from_flight(x, p) if nearest.kind == "flight" else None
+        return found if found is not None else _grazing_by_unfolding(self, x, p)
+
+    def _grazing_from_flight(self, x, p):
+        """Newton on [map(x) - x, gap] from a flight's side of the grazing, keeping the best iterate
+        (None where it does not reach 1e-8)."""
 
         def condition(x, p):
             # linear in the distance to the grazing on both sides: the gap of a flight, and at an
@@ -264,12 +283,7 @@ class ImpactOrbitProblem:
                 u = u - np.linalg.solve(J, F)
             except np.linalg.LinAlgError:
                 break
-        if best_size < 1e-8:
-            return _split(best)
-        # from the impacting side the map's Jacobian grows as 1 / (the slow impact's speed) along
-        # the very direction the gap's gradient points, and Newton on the section stalls: locate
-        # the grazing orbit where it is smooth, written at its contact with the gap set to zero
-        return _grazing_by_unfolding(self, x, p)
+        return _split(best) if best_size < 1e-8 else None
 
     def _gap_gradient(self, x, p):
         """d gap / d(x, p) where the nearest approach is a flight's turning point short of the wall:
@@ -307,6 +321,13 @@ class ImpactOrbitProblem:
         |w|``) at a turning point of a flight short of the wall, or the depth ``v**2 / (2 a)`` that
         an impact of speed v against an acceleration a away from the wall would have reached beyond
         it."""
+        x = np.asarray(x, dtype=float)
+        key = (float(p), x.tobytes())
+        if self._nearest is None or self._nearest[0] != key:
+            self._nearest = (key, self._grazing(x, p))
+        return self._nearest[1]
+
+    def _grazing(self, x, p) -> GrazingGap:
         flow = self.flow_at(p)
         t, y, impacts, _ = flow.run(
             np.asarray(x, dtype=float),

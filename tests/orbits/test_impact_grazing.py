@@ -105,8 +105,10 @@ def test_the_one_parameter_locator_finds_the_grazing_at_the_curves_sigma(curve):
     end = 2 * np.pi * np.ceil(t0 / (2 * np.pi))
     orbits = ImpactOrbitProblem(at, "sigma")
     x0 = orbits.flow_at(p).run(problem.leaving(u, p), t0, end, stick_speed=1e-9, max_impacts=100)[1][:, -1]
-    # the other formulation holds at the curve's point: a fixed point of the map, gap zero
-    assert np.abs(orbits.residual(x0, p)).max() < 1e-10 and orbits.grazing(x0, p).gap < 1e-10
+    # the other formulation holds at the curve's point: a fixed point of the map, gap zero; at an
+    # orbit grazing exactly, a rounding-sized penetration delta (or none) registers as an impact of
+    # speed sqrt(2 a delta) ~ 1e-7, which moves the map's image by as much
+    assert np.abs(orbits.residual(x0, p)).max() < 1e-6 and orbits.grazing(x0, p).gap < 1e-10
     located = orbits.edge_point(x0 + 1e-7, p + 1e-6)  # Newton from beside it
     assert located is not None
     assert located[1] == pytest.approx(p, abs=1e-8)
