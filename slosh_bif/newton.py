@@ -67,6 +67,13 @@ class NewtonResult:
     stalled: bool = False
 
 
+def _norm(v) -> float:
+    """The 2-norm of a vector, as ``np.linalg.norm`` computes it (sqrt of the dot product), without
+    its dispatch: a corrector takes a few per evaluation."""
+    v = np.ravel(v)
+    return math.sqrt(float(v @ v))
+
+
 def _corrector_done(k, residual, step, previous, tol, scale) -> bool:
     if k == 0 or residual > max(tol, 1e3 * np.finfo(float).eps * scale):
         return False
@@ -115,7 +122,7 @@ def newton_loop(
             return stop(
                 False, k, "the residual is not finite (an evaluation failed): no solution near this guess"
             )
-        scale, norm = 1.0 + np.linalg.norm(x), float(np.linalg.norm(F))
+        scale, norm = 1.0 + _norm(x), _norm(F)
         norms.append(norm)
         if criterion == "residual" and norm <= tol * scale:
             return stop(True, k, f"converged in {k} Newton steps")
@@ -135,7 +142,7 @@ def newton_loop(
             dx = solve(J, -F)
         except np.linalg.LinAlgError:
             return stop(False, k, f"the Jacobian is singular at iteration {k}: a fold or branch point")
-        if criterion == "lookahead" and k > 0 and norm <= tol and np.linalg.norm(dx) <= tol * scale:
+        if criterion == "lookahead" and k > 0 and norm <= tol and _norm(dx) <= tol * scale:
             return stop(True, k, f"converged in {k} Newton steps (the next one below the tolerance)")
         if bound_step is not None:
             dx = bound_step(x, dx)
@@ -143,12 +150,12 @@ def newton_loop(
             if admissible(x + dx):
                 break
             dx = 0.5 * dx
-        previous, step = step, float(np.linalg.norm(dx))
+        previous, step = step, _norm(dx)
         x = x + dx
         if not np.isfinite(x).all():
             return stop(False, k + 1, "Newton diverged (non-finite iterate)")
         inside = admissible is None or admissible(x)
-        if criterion == "step" and step <= tol * (1.0 + np.linalg.norm(x)) and inside:
+        if criterion == "step" and step <= tol * (1.0 + _norm(x)) and inside:
             return stop(True, k + 1, f"converged in {k + 1} Newton steps")
     return stop(
         False, max_iter, f"no convergence in {max_iter} Newton steps (last |F| = {np.linalg.norm(F):.3g})"

@@ -19,6 +19,7 @@ the edge's condition: a flight's turning point at the wall, or w = +-1 on the se
 from __future__ import annotations
 
 import dataclasses
+import functools
 from collections import OrderedDict
 
 import numpy as np
@@ -58,6 +59,13 @@ class StrobeMap:
     dp: np.ndarray
     impacts: np.ndarray
     code: int
+
+    @functools.cached_property
+    def multipliers(self) -> np.ndarray:
+        """The eigenvalues of ``phi``, largest modulus first (asked for by the tests and the
+        stability of one point)."""
+        mu = np.linalg.eigvals(self.phi)
+        return mu[np.argsort(-np.abs(mu), kind="stable")]
 
 
 @dataclasses.dataclass(frozen=True)
@@ -177,12 +185,10 @@ class ImpactOrbitProblem:
         stiffness, the particle between the walls and the state finite and within ``state_bound``."""
         if self.box is not None and not self.box[0] <= p <= self.box[1]:
             return False
-        x = np.asarray(x, dtype=float)
-        if not (np.all(np.isfinite(x)) and np.abs(x).max() < self.state_bound):
+        if not all(abs(float(v)) < self.state_bound for v in x):  # NaN compares False: refused
             return False
-        try:
-            self.params_at(p).require_positive_stiffness()
-        except ValueError:
+        params = self.params_at(p)
+        if params.eps * params.sigma >= 1.0:  # the vessel's stiffness (Params.require_positive_stiffness)
             return False
         return self.wall_distance(x, p) >= 0.0
 
@@ -204,8 +210,7 @@ class ImpactOrbitProblem:
 
     def map_multipliers(self, x, p):
         """The multipliers of the map solved for: the period map's, or G's = -phi_pi's."""
-        mu = np.linalg.eigvals(self.evaluate(x, p).phi)
-        return mu[np.argsort(-np.abs(mu), kind="stable")]
+        return self.evaluate(x, p).multipliers
 
     def eigenvalues(self, x, p):
         """The Floquet multipliers over the orbit's whole period (for a symmetric orbit G's squares)."""
