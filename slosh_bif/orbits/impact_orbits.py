@@ -187,7 +187,10 @@ class ImpactOrbitProblem:
             return False
         if not all(abs(float(v)) < self.state_bound for v in x):  # NaN compares False: refused
             return False
-        params = self.params_at(p)
+        try:
+            params = self.params_at(p)  # a value outside the parameter's range raises
+        except ValueError:
+            return False
         if params.eps * params.sigma >= 1.0:  # the vessel's stiffness (Params.require_positive_stiffness)
             return False
         return self.wall_distance(x, p) >= 0.0
@@ -267,10 +270,14 @@ class ImpactOrbitProblem:
         u = np.append(np.asarray(x, dtype=float), float(p))
         best, best_size = None, np.inf
         for _ in range(12):
+            if not self.admissible(*_split(u)):
+                break
             m = self.evaluate(*_split(u))
             if m.code != 0:
                 break
             F = np.append(m.y - u[:4], condition(*_split(u)))
+            if not np.all(np.isfinite(F)):  # no approach to the wall left to measure
+                break
             size = np.abs(F).max()
             if size < best_size:
                 best, best_size = u.copy(), size

@@ -10,6 +10,7 @@ import numpy as np
 __all__ = ["DOUBLE", "TEST_FLOOR", "multiplier_tests", "describe_crossing", "is_stable"]
 
 DOUBLE = 1e-5  # two multipliers this close to -1 (or a pair to +-1) are a double one, not a crossing
+JUMP = 0.5  # a multiplier farther than this from -1 at a located PD/BP: the map jumped, nothing crossed
 
 # A sign change of the NS test whose values at both ends of the step are below this is rounding,
 # not a crossing: a particle that stays off the walls is undamped to rounding (its damping
@@ -38,6 +39,10 @@ def describe_crossing(kind, mu, symmetric: bool):
     neutral saddle for NS)."""
     if kind in ("PD", "BP"):
         k = int(np.argmin(np.abs(mu + 1)))
+        if abs(mu[k] + 1) > JUMP:
+            # no multiplier near -1: the test changed sign across a jump of the map's Jacobian (a
+            # non-smooth point of an impact map: the measured law's clamp, say), not a crossing
+            return None
         if np.min(np.abs(np.delete(mu, k) + 1)) < DOUBLE:
             # A double -1 is no simple crossing: off the walls at beta = 0 the particle drifts
             # freely (G has -1 twice all along), and the test's sign flips on rounding.
