@@ -3,6 +3,8 @@ written as fit.json, fit.png and a parameter file the other commands take with `
 
 from __future__ import annotations
 
+import csv
+import sys
 from pathlib import Path
 
 from slosh_bif.cli.common import add_params_options, out_path, params_of
@@ -10,11 +12,95 @@ from slosh_bif.cli.common import add_params_options, out_path, params_of
 __all__ = ["add_commands"]
 
 
+RESPONSE_MODELS = ("slowflow", "corrected")
+
+
+def _header(path: Path) -> list:
+    try:
+        with open(path, newline="") as fh:
+            return next(csv.reader(fh), [])
+    except (OSError, UnicodeDecodeError) as err:
+        raise ValueError(f"{path}: cannot be read as a CSV file ({err})") from None
+
+
 def _fit(args) -> int:
+    columns = _header(args.data)
+    if "sigma" in columns and "A" in columns:
+        return _fit_response(args)
+    if "v0" in columns and "v_out" in columns:
+        return _fit_records(args)
+    raise ValueError(
+        f"{args.data}: its header names neither a frequency response (sigma, A[, std, sweep]) nor impact "
+        f"records (v0, v_out[, std]); has {', '.join(columns) or 'no header'}"
+    )
+
+
+def _free(args) -> tuple:
+    return tuple(name.strip() for name in args.free.split(",") if name.strip())
+
+
+def _fit_response(args) -> int:
+    from slosh_bif.identify.response_data import read_response_data
+    from slosh_bif.identify.response_fit import RESPONSE_FREE, fit_response
+    from slosh_bif.identify.response_output import write_response_fit
+
+    model = args.model or "slowflow"
+    if model not in RESPONSE_MODELS:
+        raise ValueError(
+            f"--model for a frequency response must be one of {', '.join(RESPONSE_MODELS)} (the slow "
+            f"flows; fits by the orbits of (8) and (9) are not built yet); got {model!r}"
+        )
+    free = _free(args)
+    unknown = [name for name in free if name not in RESPONSE_FREE]
+    if unknown or not free:
+        raise ValueError(
+            f"--free takes a comma-separated subset of {', '.join(RESPONSE_FREE)} for a frequency "
+            f"response; got {args.free!r}"
+        )
+    base = params_of(args)
+    data = read_response_data(args.data)
+    fit = fit_response(data, base, free, model=model, seed=args.seed)
+    paths = write_response_fit(fit, data, base, args.out)
+    print(
+        f"{fit.points} response points, the slow flow's steady states (46) ({model}): "
+        f"{'chi-square' if fit.scale_known else 'residual sum of squares'} {fit.misfit:.4g}, rms residual "
+        f"{fit.rms:.3g}"
+    )
+    for name, e in fit.estimate.items():
+        if "wald_95" in e:
+            profile = e.get("profile_95")
+            print(
+                f"  {name} = {e['value']:.6g} +- {e['std']:.2g} (95 %: Wald [{e['wald_95'][0]:.6g}, "
+                f"{e['wald_95'][1]:.6g}]"
+                + (f", profile [{_bound(profile[0])}, {_bound(profile[1])}])" if profile else ")")
+            )
+        else:
+            print(f"  {name} = {e['value']} (consistent at 95 %: {e.get('consistent_95')})")
+    if fit.not_identifiable:
+        print(f"  not identifiable: {fit.not_identifiable}")
+    print("wrote " + ", ".join(str(p) for p in paths))
+    if not fit.converged:
+        print(
+            f"slosh-bif fit: the fit did not converge ({fit.message}); its best point is written",
+            file=sys.stderr,
+        )
+        return 3
+    return 0
+
+
+def _bound(value) -> str:
+    return "unbounded" if value is None else f"{value:.6g}"
+
+
+def _fit_records(args) -> int:
     from slosh_bif.identify import FREE_NAMES, fit_wall, read_impact_records
     from slosh_bif.identify.output import write_fit
 
-    free = tuple(name.strip() for name in args.free.split(",") if name.strip())
+    if args.model is not None:
+        raise ValueError(
+            "--model applies to a frequency response; impact records are fitted by eq. (21) itself"
+        )
+    free = _free(args)
     unknown = [name for name in free if name not in FREE_NAMES]
     if unknown or not free:
         raise ValueError(
@@ -51,18 +137,28 @@ def add_commands(sub) -> None:
     """Register ``fit`` on the ``slosh-bif`` subparsers ``sub``."""
     fit = sub.add_parser(
         "fit",
-        help="identify the wall's restitution law (lam, chi, pbar of eq. 21) from impact records, with "
-        "intervals",
-        epilog="data: a CSV with the columns v0 (incoming speed), v_out (outgoing speed) and optionally "
-        "std (the outgoing speed's standard deviation)",
+        help="identify the wall's (and vessel's) parameters from measurements, with intervals: a "
+        "frequency response (by the slow flow's steady states) or impact records (by eq. 21)",
+        epilog="data: a CSV with the columns sigma, A (the response's first-harmonic amplitude) and "
+        "optionally std and sweep (up or down): a frequency response; or v0 (incoming speed), v_out "
+        "(outgoing speed) and optionally std: impact records",
     )
     add_params_options(fit)
-    fit.add_argument("--data", type=Path, required=True, help="CSV of impact records: v0, v_out[, std]")
+    fit.add_argument(
+        "--data", type=Path, required=True, help="CSV: sigma, A[, std, sweep] or v0, v_out[, std]"
+    )
     fit.add_argument(
         "--free",
         required=True,
-        help="the parameters to fit, comma-separated: lam, chi, pbar (lam and chi together: only their "
-        "combination is determined)",
+        help="the parameters to fit, comma-separated: of lam, chi, gamma, Abar, pbar for a response; of "
+        "lam, chi, pbar for impact records (lam and chi together: only their combination is determined)",
     )
+    fit.add_argument(
+        "--model",
+        default=None,
+        help="for a frequency response: slowflow (default; eq. 46 with the law 21) or corrected (the "
+        "corrected slow flow, the wall's measured law)",
+    )
+    fit.add_argument("--seed", type=int, default=0, help="seed of the fit's extra starts (default 0)")
     fit.add_argument("--out", type=out_path, required=True, help="output folder (created if missing)")
     fit.set_defaults(run=_fit)

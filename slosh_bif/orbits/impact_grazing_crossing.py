@@ -32,7 +32,16 @@ from scipy import linalg
 from slosh_bif.continuation.corrector import newton_solve
 from slosh_bif.flows.impact_band import law
 
-__all__ = ["Contact", "contact_at", "unfold", "on_section", "cross_grazing", "CONTACT_SIZES", "FREE"]
+__all__ = [
+    "Contact",
+    "contact_at",
+    "unfold",
+    "on_section",
+    "grazing_by_unfolding",
+    "cross_grazing",
+    "CONTACT_SIZES",
+    "FREE",
+]
 
 FREE = 0.1  # the flights beside the contact, in tau, taken with the wall ignored
 CONTACT_SIZES = (1e-3, 1e-2)  # gaps or impact speeds tried in turn beyond a grazing point
@@ -176,6 +185,18 @@ def on_section(problem, equations, u):
     flow = problem.flow_at(u[3])
     y = flow.run(equations.leaving(u), t + FREE, target, stick_speed=1e-9, max_impacts=10_000)[1][:, -1]
     return problem.closing**k * y
+
+
+def grazing_by_unfolding(problem, x, p):
+    """(x, p) of the grazing orbit near (x, p), on the problem's section, from the contact's
+    unfolding at zero gap (smooth where the section's map is not: reached from an impact whose
+    speed falls to zero), or None where it does not converge."""
+    found = unfold(problem, contact_at(problem, x, p), p, "flight", 0.0)
+    if found is None:
+        return None
+    u, equations = found
+    y = on_section(problem, equations, u)
+    return (y, float(u[3])) if problem.admissible(y, u[3]) else None
 
 
 def cross_grazing(problem, x, p, opts, contact: Contact | None = None):

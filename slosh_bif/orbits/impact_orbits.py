@@ -250,7 +250,11 @@ class ImpactOrbitProblem:
         if on_section:
             return None
         found = self._grazing_from_flight(x, p) if nearest.kind == "flight" else None
-        return found if found is not None else _grazing_by_unfolding(self, x, p)
+        if found is not None:
+            return found
+        from slosh_bif.orbits.impact_grazing_crossing import grazing_by_unfolding  # it builds on this module
+
+        return grazing_by_unfolding(self, x, p)
 
     def _grazing_from_flight(self, x, p):
         """Newton on [map(x) - x, gap] from a flight's side of the grazing, keeping the best iterate
@@ -367,19 +371,6 @@ class ImpactOrbitProblem:
             if level - abs(w) < best.gap:
                 best = GrazingGap(level - abs(w), float(t[i] + s), "flight", len(impacts))
         return best
-
-
-def _grazing_by_unfolding(problem, x, p):
-    """(x, p) of the grazing orbit near (x, p) from the contact's unfolding at zero gap
-    (:mod:`slosh_bif.orbits.impact_grazing_crossing`), or None where it does not converge."""
-    from slosh_bif.orbits.impact_grazing_crossing import contact_at, on_section, unfold
-
-    found = unfold(problem, contact_at(problem, x, p), p, "flight", 0.0)
-    if found is None:
-        return None
-    u, equations = found
-    y = on_section(problem, equations, u)
-    return (y, float(u[3])) if problem.admissible(y, u[3]) else None
 
 
 def _split(u):

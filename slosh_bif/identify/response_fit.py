@@ -1,0 +1,333 @@
+"""The wall's (and the vessel's) parameters fitted to a measured frequency response by the slow
+flow's steady states (46), with standard errors, profile-likelihood intervals, correlations and a
+plain statement of what the data cannot determine.
+
+Each measured point (sigma_i, A_i) is compared with the stable steady state of (45) at sigma_i
+nearest A_i (:mod:`.response_model`): an up- and a down-sweep across a hysteresis loop are two
+stable branches, not one averaged curve. The residual is (A_i - A_model) / std_i (std_i = 1 when
+not given; the scale is then estimated). Continuous parameters (lam, chi, gamma, Abar) are fitted
+by bounded least squares in their logarithms (they are positive) from several seeded starts; the
+integer pbar is profiled over the values of n's parity. Intervals:
+
+* Wald: the estimate times exp(+-1.96 standard errors of its logarithm) (t quantiles when the
+  scale is estimated), from the Gauss-Newton covariance (J^T J)^-1 in the logarithms (times the
+  residual variance when std is not given); the standard error reported is the value's;
+* profile likelihood: the values where the best misfit with the parameter held rises by the
+  chi-square(1) 95 % quantile 3.84 (N log RSS when the scale is estimated).
+
+With Newtonian restitution (pbar = 0) kappa is a constant and (46) depends on lam and chi only
+through it: both free, the fit holds chi, fits lam and reports kappa with its interval. eps does
+not enter (46) in the scaled sigma at all.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import warnings
+
+import numpy as np
+from scipy import optimize, stats
+
+from slosh_bif.identify.response_data import ResponseData
+from slosh_bif.identify.response_model import response_curve
+from slosh_bif.model.params import Params
+from slosh_bif.model.restitution import dissipation_at_unit_speed
+from slosh_bif.slowflow.flow import AsymptoticsWarning
+
+__all__ = ["RESPONSE_FREE", "ResponseFit", "fit_response", "residuals"]
+
+RESPONSE_FREE = ("lam", "chi", "gamma", "Abar", "pbar")
+CONTINUOUS = ("lam", "chi", "gamma", "Abar")
+PBAR_MAX = 8
+CHI2_95 = 3.841458820694124  # chi-square(1) 95 % quantile: the profile's threshold
+STARTS = 4  # seeded starts of the least squares (the base values and three spread about them)
+
+
+def residuals(data: ResponseData, params: Params, model: str = "slowflow") -> np.ndarray:
+    """(A_i - A_model(sigma_i)) / std_i with A_model the stable steady state nearest A_i (any
+    steady state where none is stable; 0 where there is none)."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", AsymptoticsWarning)
+        curve = response_curve(params, model)
+    out = np.empty(len(data))
+    for i, (sigma, A) in enumerate(zip(data.sigma, data.A)):
+        states = curve.states_at(float(sigma))
+        stable = [a for a, ok in states if ok] or [a for a, _ in states] or [0.0]
+        out[i] = A - min(stable, key=lambda a: abs(a - A))
+    return out / data.std if data.std is not None else out
+
+
+@dataclasses.dataclass(frozen=True)
+class ResponseFit:
+    """A fitted frequency response: ``values`` (the whole wall and vessel parameter set's fitted
+    entries), ``estimate`` per free parameter (value, std, Wald and profile 95 % intervals),
+    ``correlation`` (rows and columns in ``free`` order), the misfit, what is ``not_identifiable``,
+    whether the fit ``converged`` (and why not) and the profiles (held value, misfit rise)."""
+
+    free: tuple
+    values: dict
+    estimate: dict
+    correlation: np.ndarray
+    misfit: float
+    rms: float
+    points: int
+    model: str
+    not_identifiable: str
+    converged: bool
+    message: str
+    profiles: dict
+    scale_known: bool
+
+    def params(self, base: Params) -> Params:
+        return base.replace(**self.values)
+
+    def as_dict(self) -> dict:
+        return {
+            "model": f"steady states of the slow flow (46), model {self.model!r}",
+            "free": list(self.free),
+            "values": self.values,
+            "estimate": self.estimate,
+            "correlation": self.correlation.tolist(),
+            "misfit": self.misfit,
+            "misfit_kind": "chi-square" if self.scale_known else "residual sum of squares",
+            "rms_residual": self.rms,
+            "points": self.points,
+            "not_identifiable": self.not_identifiable,
+            "converged": self.converged,
+            "message": self.message,
+            "profiles": {k: [list(map(float, row)) for row in v] for k, v in self.profiles.items()},
+        }
+
+
+class _Objective:
+    """Residuals as a function of the logarithms of the continuous free parameters."""
+
+    def __init__(self, data, base: Params, names, model):
+        self.data, self.base, self.names, self.model = data, base, tuple(names), model
+
+    def params(self, z) -> Params:
+        return self.base.replace(**{n: float(math.exp(v)) for n, v in zip(self.names, z)})
+
+    def __call__(self, z):
+        try:
+            return residuals(self.data, self.params(z), self.model)
+        except ValueError:  # outside the admissible set (kappa not real, say): far off
+            return np.full(len(self.data), 1e3 * (1.0 + float(np.abs(self.data.A).max())))
+
+
+def _misfit(r, scale_known: bool) -> float:
+    rss = float(r @ r)
+    return rss if scale_known else len(r) * math.log(max(rss, 1e-300))
+
+
+def _least_squares(objective, z0, rng, starts=STARTS):
+    """The best of ``starts`` bounded least-squares runs (the first from z0, the others spread
+    about it by the seeded ``rng``)."""
+    best = None
+    for k in range(starts):
+        start = z0 if k == 0 else z0 + rng.normal(0.0, 0.5, size=len(z0))
+        run = optimize.least_squares(objective, start, method="trf", x_scale="jac", xtol=1e-12, ftol=1e-12)
+        if best is None or run.cost < best.cost:
+            best = run
+    return best
+
+
+def fit_response(
+    data: ResponseData, base: Params, free, *, model: str = "slowflow", seed: int = 0
+) -> ResponseFit:
+    """Fit ``free`` (a subset of :data:`RESPONSE_FREE`) to ``data``; the rest from ``base``.
+    One-line ValueErrors for a name that cannot be fitted and for fewer points than parameters."""
+    free = tuple(dict.fromkeys(free))
+    unknown = [f for f in free if f not in RESPONSE_FREE]
+    if unknown or not free:
+        extra = " (eps does not enter (46) in the scaled sigma)" if "eps" in unknown else ""
+        raise ValueError(
+            f"--free takes one or more of {', '.join(RESPONSE_FREE)} for a frequency response{extra}; "
+            f"got {', '.join(free) or 'nothing'}"
+        )
+    continuous = [f for f in free if f in CONTINUOUS]
+    if len(data) <= len(free):
+        raise ValueError(
+            f"{data.source or 'the data'}: {len(data)} response points for {len(free)} free parameters "
+            f"({', '.join(free)}); the fit needs more points than parameters"
+        )
+    note = ""
+    candidates = list(range(base.n % 2, PBAR_MAX + 1, 2)) if "pbar" in free else [base.pbar]
+    if model == "slowflow" and "lam" in continuous and "chi" in continuous:
+        continuous.remove("chi")
+        note = (
+            "(46) with the law (21) depends on lam and chi only through the prefactor C = 1 - "
+            f"kappa(1)^2 of (21): chi is held at {base.chi:g} and lam fitted; C and kappa(1) are what "
+            "the response determines (reported with their intervals). A measured contact time or "
+            "penetration depth (which depend on chi alone) would separate them."
+        )
+    scale_known = data.std is not None
+    rng = np.random.default_rng(seed)
+    results = {}
+    for pbar in candidates:
+        at = base.replace(pbar=pbar)
+        objective = _Objective(data, at, continuous, model)
+        z0 = np.log([getattr(at, n) for n in continuous])
+        run = _least_squares(objective, z0, rng) if continuous else None
+        r = objective(run.x) if run is not None else objective(z0)
+        results[pbar] = (_misfit(r, scale_known), run, objective, r)
+    pbar = min(results, key=lambda k: results[k][0])
+    misfit, run, objective, r = results[pbar]
+    z = run.x if run is not None else np.zeros(0)
+    fitted = objective.params(z)
+    converged = run is None or run.status > 0
+    message = run.message if run is not None else "no continuous parameter to fit"
+    estimate, correlation, identifiability = _uncertainty(objective, z, r, scale_known, len(data))
+    if identifiability:
+        note = _join(note, identifiability)
+    profiles = {}
+    for k, name in enumerate(continuous):
+        interval, rows = _profile(objective, z, k, misfit, scale_known, estimate[name], rng)
+        estimate[name]["profile_95"] = interval
+        profiles[name] = rows
+        for bound, side in zip(interval, ("below", "above")):
+            if bound is None:
+                reached = min(v for v, _ in rows) if side == "below" else max(v for v, _ in rows)
+                note = _join(
+                    note,
+                    f"The data do not bound {name} from {side}: its profile stays within 3.84 of the "
+                    f"best out to {name} = {reached:.4g}.",
+                )
+    if "pbar" in free:
+        consistent = sorted(p for p, v in results.items() if v[0] - misfit <= CHI2_95)
+        estimate["pbar"] = {"value": int(pbar), "consistent_95": consistent}
+        if len(consistent) > 1:
+            note = _join(
+                note,
+                f"pbar is not determined: {', '.join(map(str, consistent))} fit equally at 95 %; the "
+                f"other estimates hold given pbar = {pbar}.",
+            )
+    if "lam" in continuous and "chi" in free and "chi" not in continuous:
+        estimate.update(_dissipation_estimates(fitted, estimate["lam"]))
+    values = {n: float(getattr(fitted, n)) for n in continuous}
+    if "pbar" in free:
+        values["pbar"] = int(pbar)
+    rms = math.sqrt(float(r @ r) / len(r))
+    return ResponseFit(
+        free,
+        values,
+        estimate,
+        correlation,
+        misfit,
+        rms,
+        len(data),
+        model,
+        note,
+        converged,
+        message,
+        profiles,
+        scale_known,
+    )
+
+
+def _join(note: str, sentence: str) -> str:
+    return f"{note} {sentence}" if note else sentence
+
+
+def _uncertainty(objective, z, r, scale_known, n_points):
+    """Per parameter: value, standard error and Wald interval; the correlation matrix; a sentence
+    when the Jacobian is (nearly) rank deficient."""
+    names = objective.names
+    if not names:
+        return {}, np.zeros((0, 0)), ""
+    J = _jacobian(objective, z)
+    values = np.exp(z)
+    dof = max(n_points - len(names), 1)
+    s2 = 1.0 if scale_known else float(r @ r) / dof
+    u, sv, vt = np.linalg.svd(J, full_matrices=False)
+    note = ""
+    if sv[-1] <= 1e-8 * sv[0]:
+        direction = ", ".join(f"{c:+.3g} log {n}" for c, n in zip(vt[-1], names) if abs(c) > 0.05)
+        note = (
+            f"The data do not determine the combination {direction} (the Jacobian's singular "
+            f"values {sv[0]:.3g} and {sv[-1]:.3g})."
+        )
+    cov_log = s2 * (vt.T / np.maximum(sv, 1e-300 * sv[0]) ** 2) @ vt
+    quantile = 1.959963984540054 if scale_known else float(stats.t.ppf(0.975, dof))
+    estimate = {}
+    for k, name in enumerate(names):
+        sd_log = math.sqrt(max(cov_log[k, k], 0.0))
+        estimate[name] = {
+            "value": float(values[k]),
+            "std": float(values[k] * sd_log),
+            # in the logarithm, as fitted: positive, and asymmetric when the error is large
+            "wald_95": [
+                float(values[k] * math.exp(-quantile * sd_log)),
+                float(values[k] * math.exp(quantile * sd_log)),
+            ],
+        }
+    d = np.sqrt(np.maximum(np.diag(cov_log), 1e-300))
+    return estimate, cov_log / np.outer(d, d), note
+
+
+def _jacobian(objective, z, h=1e-6):
+    """Central differences of the residuals in the log parameters."""
+    cols = []
+    for k in range(len(z)):
+        e = np.zeros(len(z))
+        e[k] = h
+        cols.append((objective(z + e) - objective(z - e)) / (2 * h))
+    return np.column_stack(cols)
+
+
+def _profile(objective, z, k, best, scale_known, estimate, rng):
+    """The 95 % profile-likelihood interval of parameter k: held at values stepping away from the
+    estimate (in log: a quarter of its standard error's worth growing by half each step, up to a
+    factor 1000 either way), the others refitted, until the misfit rises by 3.84 on each side;
+    (interval, rows of (value, rise)). An end the rise does not reach is None: the data do not
+    bound the parameter on that side."""
+    sd = min(max(estimate["std"] / estimate["value"], 1e-3), 1.0)
+    rows, bounds = [(math.exp(z[k]), 0.0)], []
+    others = [j for j in range(len(z)) if j != k]
+    for side in (-1.0, 1.0):
+        previous, found, step, held = (z[k], 0.0), None, 0.75 * sd, z[k]
+        while abs(held - z[k]) < math.log(1e3):
+            held = held + side * step
+            step *= 1.5
+            sub = _Held(objective, z, k, held)
+            r = sub(_least_squares(sub, z[others], rng, starts=1).x) if others else sub(np.zeros(0))
+            rise = _misfit(r, scale_known) - best
+            rows.append((math.exp(held), rise))
+            if rise >= CHI2_95:
+                w = (CHI2_95 - previous[1]) / max(rise - previous[1], 1e-300)
+                found = math.exp(previous[0] + w * (held - previous[0]))
+                break
+            previous = (held, rise)
+        bounds.append(None if found is None else float(found))
+    return bounds, sorted(rows)
+
+
+class _Held:
+    """The residuals with parameter k held at ``held`` (in log), the others free."""
+
+    def __init__(self, objective, z, k, held):
+        self.objective, self.z, self.k, self.held = objective, np.array(z, dtype=float), k, held
+
+    def __call__(self, others):
+        z = np.insert(np.asarray(others, dtype=float), self.k, self.held)
+        return self.objective(z)
+
+
+def _dissipation_estimates(params: Params, lam: dict) -> dict:
+    """C of (21) (the energy fraction lost at unit impact speed) and kappa(1) = sqrt(1 - C), with
+    intervals from lam's: C is proportional to lam."""
+    C = float(dissipation_at_unit_speed(params.lam, params.chi, params.n, params.pbar))
+    per_lam = C / params.lam
+    out = {"C": {"value": C, "std": per_lam * lam["std"]}}
+    kappa = {
+        "value": math.sqrt(max(1.0 - C, 0.0)),
+        "std": 0.5 * per_lam * lam["std"] / max(math.sqrt(max(1.0 - C, 0.0)), 1e-300),
+    }
+    for key in ("wald_95", "profile_95"):
+        if key in lam:
+            bounds = [None if v is None else per_lam * max(v, 0.0) for v in lam[key]]
+            out["C"][key] = bounds
+            kappa[key] = [None if c is None else math.sqrt(max(1.0 - c, 0.0)) for c in bounds[::-1]]
+    out["kappa_at_unit_speed"] = kappa
+    return out

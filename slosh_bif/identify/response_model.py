@@ -1,0 +1,71 @@
+"""The model's side of a frequency-response fit: every steady state of the slow flow (45) at a
+given sigma, with its stability, from the steady-state equation (46).
+
+For a fixed amplitude A, (46) is quadratic in sigma: its two roots sigma_-(A) <= sigma_+(A)
+(:func:`~slosh_bif.slowflow.steady_states.sigma_on_curve`) trace the whole response curve. The
+steady states at one sigma are the roots in A of sigma_+-(A) = sigma, bracketed on a log grid of A
+over S+ and refined by Brent; each is stable when the Jacobian of (45) there has both eigenvalues
+in the left half-plane (the middle branch of a hysteresis loop is a saddle; a Hopf point bounds
+the strongly modulated response).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+from scipy import optimize
+
+from slosh_bif.model.params import Params
+from slosh_bif.slowflow.flow import SlowFlow
+from slosh_bif.slowflow.steady_states import sigma_on_curve
+
+__all__ = ["ResponseCurve", "response_curve"]
+
+GRID = 800  # amplitudes on S+ where the roots are bracketed
+_EDGE = 2e-8  # relative margin from the manifold's ends (alpha has a square root there)
+
+
+@dataclasses.dataclass(frozen=True)
+class ResponseCurve:
+    """The response curve of one parameter set: its amplitude grid ``A`` and both roots of (46)
+    there (``sigma_low``, ``sigma_high``, NaN where no steady state has that amplitude)."""
+
+    flow: SlowFlow
+    A: np.ndarray
+    sigma_low: np.ndarray
+    sigma_high: np.ndarray
+
+    def states_at(self, sigma: float) -> list:
+        """(A, stable) of every steady state at ``sigma``, by increasing A."""
+        found = []
+        for k, branch in enumerate((self.sigma_low, self.sigma_high)):
+            g = branch - sigma
+            ok = np.isfinite(g[:-1]) & np.isfinite(g[1:])
+            for i in np.flatnonzero(ok & (np.sign(g[:-1]) * np.sign(g[1:]) <= 0)):
+                if g[i] == 0.0 and i > 0 and ok[i - 1] and g[i - 1] != 0.0:
+                    continue  # a root on a grid point, found from the interval before
+                A = optimize.brentq(
+                    lambda a: sigma_on_curve(self.flow, a)[k] - sigma,
+                    self.A[i],
+                    self.A[i + 1],
+                    xtol=1e-13,
+                    rtol=4 * np.finfo(float).eps,
+                )
+                found.append((float(A), self.stable(A, sigma)))
+        return sorted(found)
+
+    def stable(self, A: float, sigma: float) -> bool:
+        psi = float(self.flow.steady_phase(A, sigma=sigma))
+        return bool(np.all(np.linalg.eigvals(self.flow.jac(A, psi, sigma=sigma)).real < 0))
+
+
+def response_curve(params: Params, model: str = "slowflow") -> ResponseCurve:
+    """The response curve of (46) for ``params`` (its sigma is not used) with the slow flow
+    ``model`` ("slowflow" or "corrected")."""
+    flow = SlowFlow(params, model)
+    top = 10.0 * (params.Abar / params.gamma + 1.0) if params.gamma > 0 else 1e3  # E >= gamma pi^2 A^2
+    top = min(top, flow.A_max * (1 - _EDGE)) if np.isfinite(flow.A_max) else top
+    A = np.geomspace(flow.A_min * (1 + _EDGE), top, GRID)
+    low, high = sigma_on_curve(flow, A)
+    return ResponseCurve(flow, A, low, high)

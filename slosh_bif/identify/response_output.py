@@ -1,0 +1,127 @@
+"""The outputs of a frequency-response fit (:mod:`.response_fit`): ``fit.json`` (estimates, Wald
+and profile intervals, correlations, what is not identifiable, the data file's SHA-256),
+``fit.png`` (the measured points with the fitted response curve of (46), stable and unstable, and
+the residuals), ``profiles.png`` (each free parameter's profile of the misfit) and
+``params.toml``, the fitted set that every command takes with ``--params``."""
+
+from __future__ import annotations
+
+import hashlib
+import json
+from pathlib import Path
+
+import numpy as np
+
+from slosh_bif.atomic import write_text_atomically
+from slosh_bif.identify.response_fit import CHI2_95, residuals
+from slosh_bif.identify.response_model import response_curve
+from slosh_bif.model.parameter_file import render_parameter_file
+from slosh_bif.model.params import Params
+
+__all__ = ["write_response_fit"]
+
+
+def write_response_fit(fit, data, base: Params, folder) -> list:
+    """Write fit.json, params.toml, fit.png and profiles.png into ``folder``; returns their paths."""
+    folder = Path(folder)
+    folder.mkdir(parents=True, exist_ok=True)
+    record = fit.as_dict()
+    if data.source and Path(data.source).is_file():
+        record["data"] = {
+            "file": data.source,
+            "sha256": hashlib.sha256(Path(data.source).read_bytes()).hexdigest(),
+        }
+    paths = [write_text_atomically(folder / "fit.json", json.dumps(record, indent=2) + "\n")]
+    fitted = fit.params(base)
+    paths.append(
+        write_text_atomically(
+            folder / "params.toml",
+            render_parameter_file(
+                params=fitted,
+                comment="fitted by `slosh-bif fit` (the slow flow's steady states, (46)) to "
+                + (data.source or "a response"),
+            ),
+        )
+    )
+    paths.append(_plot_fit(fit, data, fitted, folder / "fit.png"))
+    paths.append(_plot_profiles(fit, folder / "profiles.png"))
+    return paths
+
+
+def _branches(curve):
+    """Polylines (sigma, A, stable) of the response curve: both roots of (46) on the amplitude
+    grid, each cut into runs of one stability."""
+    runs = []
+    for sigma in (curve.sigma_low, curve.sigma_high):
+        ok = np.isfinite(sigma)
+        stable = np.array([curve.stable(a, s) if k else False for a, s, k in zip(curve.A, sigma, ok)])
+        start = 0
+        for i in range(1, len(sigma) + 1):
+            if i == len(sigma) or ok[i] != ok[start] or stable[i] != stable[start]:
+                if ok[start] and i - start > 1:
+                    runs.append((sigma[start:i], curve.A[start:i], bool(stable[start])))
+                start = i
+    return runs
+
+
+def _plot_fit(fit, data, fitted: Params, path) -> Path:
+    from slosh_bif.report.plotting import pyplot, save_figure
+
+    plt = pyplot()
+    fig, (top, bottom) = plt.subplots(
+        2, 1, figsize=(7.5, 6.5), sharex=True, gridspec_kw={"height_ratios": [3, 1]}
+    )
+    curve = response_curve(fitted, fit.model)
+    lo, hi = float(data.sigma.min()), float(data.sigma.max())
+    pad = 0.1 * (hi - lo or 1.0)
+    labelled = set()
+    for sigma, A, stable in _branches(curve):
+        keep = (sigma >= lo - pad) & (sigma <= hi + pad)
+        if not keep.any():
+            continue
+        label = ("fitted (46): stable" if stable else "unstable") if stable not in labelled else None
+        labelled.add(stable)
+        top.plot(sigma[keep], A[keep], "-" if stable else "--", color="tab:red", lw=1.2, label=label)
+    for direction, marker in (("up", "^"), ("down", "v"), ("", "o")):
+        pick = (
+            np.array([s == direction for s in data.sweep])
+            if data.sweep
+            else np.full(len(data), direction == "")
+        )
+        if pick.any():
+            yerr = data.std[pick] if data.std is not None else None
+            name = f"measured ({direction}-sweep)" if direction else "measured"
+            top.errorbar(data.sigma[pick], data.A[pick], yerr=yerr, fmt=marker, ms=4, color="k", label=name)
+    top.set_ylabel("amplitude A")
+    top.legend(fontsize=8)
+    free = ", ".join(f"{k} = {v:.4g}" for k, v in fit.values.items())
+    top.set_title(f"frequency response fitted by the slow flow ({fit.model}): {free}", fontsize=9)
+    r = residuals(data, fitted, fit.model)
+    bottom.axhline(0.0, color="0.6", lw=0.8)
+    bottom.plot(data.sigma, r, "o", ms=3, color="k")
+    bottom.set_xlabel("sigma")
+    bottom.set_ylabel("residual / std" if data.std is not None else "residual")
+    return save_figure(fig, path)
+
+
+def _plot_profiles(fit, path) -> Path:
+    from slosh_bif.report.plotting import pyplot, save_figure
+
+    plt = pyplot()
+    names = list(fit.profiles) or ["(none)"]
+    fig, axes = plt.subplots(1, len(names), figsize=(3.6 * len(names), 3.2), squeeze=False)
+    for ax, name in zip(axes[0], names):
+        if name in fit.profiles:
+            rows = np.array(fit.profiles[name])
+            ax.plot(rows[:, 0], rows[:, 1], "o-", ms=3, color="k")
+            ax.axhline(CHI2_95, color="tab:red", lw=0.8, ls="--", label="95 % (3.84)")
+            for bound in fit.estimate[name]["profile_95"]:
+                if bound is not None:
+                    ax.axvline(bound, color="tab:red", lw=0.8)
+            ax.set_xlabel(name)
+            ax.legend(fontsize=7)
+        else:
+            ax.text(0.5, 0.5, "no continuous parameter", ha="center", va="center", transform=ax.transAxes)
+    axes[0][0].set_ylabel("misfit rise, the others refitted")
+    fig.suptitle("profile likelihood of each free parameter", fontsize=9)
+    return save_figure(fig, path)

@@ -1,0 +1,164 @@
+"""A frequency response fitted by the slow flow's steady states (46): exact recovery from points
+that the continuation of (45) computed (Newton on the slow flow, not the fit's roots of (46)),
+lam and chi named as one combination, intervals that hold over seeded noisy repetitions, and bad
+data refused in one line naming the file, the line or the parameter."""
+
+import json
+import warnings
+
+import numpy as np
+import pytest
+
+from slosh_bif import get_preset
+from slosh_bif.cli import main
+from slosh_bif.identify.response_data import ResponseData, read_response_data
+from slosh_bif.identify.response_fit import fit_response
+from slosh_bif.model.parameter_file import read_parameter_file
+from slosh_bif.model.restitution import dissipation_at_unit_speed
+from slosh_bif.slowflow.flow import AsymptoticsWarning
+from slosh_bif.slowflow.steady_states import frequency_response
+
+TRUTH = get_preset("fig10").params  # lam = 0.35, chi = 0.2, gamma = 0.2, pbar = 0, n = 50, Abar = 3
+
+
+def _points(params, count=21, lo=-4.0, hi=4.0):
+    """(sigma, A) of stable steady states on the continued branches of (45), about evenly spread
+    in sigma over [lo, hi]."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", AsymptoticsWarning)
+        response = frequency_response(params, sigma_min=lo, sigma_max=hi)
+    sigma, A = [], []
+    for branch in response.branches:
+        keep = branch.stable & (branch.p >= lo) & (branch.p <= hi)
+        sigma.extend(branch.p[keep])
+        A.extend(branch.x[keep, 0])
+    sigma, A = np.array(sigma), np.array(A)
+    picks = sorted({int(np.argmin(np.abs(sigma - s))) for s in np.linspace(lo, hi, count)})
+    return sigma[picks], A[picks]
+
+
+@pytest.fixture(scope="module")
+def exact():
+    sigma, A = _points(TRUTH)
+    return ResponseData(sigma, A, None, (), "exact")
+
+
+def test_points_of_the_continued_slow_flow_give_back_the_vessel_and_the_wall(exact):
+    fit = fit_response(exact, TRUTH.replace(lam=0.6, gamma=0.12), ["lam", "gamma"])
+    assert fit.converged and fit.rms < 1e-8
+    assert fit.values["lam"] == pytest.approx(TRUTH.lam, rel=1e-6)
+    assert fit.values["gamma"] == pytest.approx(TRUTH.gamma, rel=1e-6)
+    # both damp the response: their estimates are strongly (negatively) correlated
+    assert fit.correlation[0, 1] < -0.9 and fit.correlation[0, 0] == pytest.approx(1.0)
+
+
+def test_lam_and_chi_together_are_one_combination_reported_with_kappa(exact):
+    fit = fit_response(exact, TRUTH.replace(lam=0.6, chi=0.5), ["lam", "chi"])
+    assert "only through the prefactor C" in fit.not_identifiable and "contact time" in fit.not_identifiable
+    assert fit.values["chi"] == 0.5 if "chi" in fit.values else "chi" not in fit.values
+    C = float(dissipation_at_unit_speed(TRUTH.lam, TRUTH.chi, TRUTH.n, TRUTH.pbar))
+    assert fit.estimate["C"]["value"] == pytest.approx(C, rel=1e-6)
+    assert fit.estimate["kappa_at_unit_speed"]["value"] == pytest.approx(np.sqrt(1 - C), rel=1e-6)
+
+
+def _misses(seeds, free, known_std=True):
+    """How often the 95 % intervals (Wald, profile) of each free parameter miss the truth over
+    seeded repetitions with noise of 3 % of the largest amplitude."""
+    sigma, A = _points(TRUTH, count=25)
+    size = 0.03 * A.max()
+    misses = {(name, key): 0 for name in free for key in ("wald_95", "profile_95")}
+    start = TRUTH.replace(**{name: 0.7 * getattr(TRUTH, name) for name in free})
+    for seed in seeds:
+        noisy = A + np.random.default_rng(seed).normal(0.0, size, A.size)
+        data = ResponseData(sigma, noisy, np.full(A.size, size) if known_std else None, (), f"seed {seed}")
+        fit = fit_response(data, start, free, seed=seed)
+        for name, key in misses:
+            lo, hi = fit.estimate[name][key]
+            misses[name, key] += not ((lo or 0.0) <= getattr(TRUTH, name) <= (np.inf if hi is None else hi))
+    return misses
+
+
+def test_intervals_cover_the_truth_with_noise_of_known_size():
+    """Over 10 seeded repetitions the 95 % intervals of gamma miss the truth at most twice
+    (binomial: P(more than 2 misses in 10) = 1 % at 95 % coverage)."""
+    assert max(_misses(range(10), ["gamma"]).values()) <= 2
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("known_std", [True, False])
+def test_coverage_over_40_seeds_with_two_correlated_parameters(known_std):
+    """lam and gamma free (correlation about -0.99), 40 seeds: each 95 % interval misses the truth
+    in at most 5 (binomial: P(more than 5 misses in 40) = 1.4 % at 95 % coverage)."""
+    assert max(_misses(range(40), ["lam", "gamma"], known_std).values()) <= 5
+
+
+def test_bad_data_and_bad_requests_are_named_before_any_fitting(tmp_path, exact):
+    bad = tmp_path / "bad.csv"
+    bad.write_text("sigma,amplitude\n0,1\n")
+    with pytest.raises(
+        ValueError, match=r"bad.csv: a frequency response needs the columns sigma and A.*missing A"
+    ):
+        read_response_data(bad)
+    bad.write_text("sigma,A\n0,1\n0.5,x\n")
+    with pytest.raises(ValueError, match=r"bad.csv, line 3: A must be a number; got 'x'"):
+        read_response_data(bad)
+    bad.write_text("sigma,A,sweep\n0,1,sideways\n")
+    with pytest.raises(ValueError, match=r"line 2: sweep must be up, down or empty"):
+        read_response_data(bad)
+    with pytest.raises(ValueError, match=r"eps does not enter \(46\)"):
+        fit_response(exact, TRUTH, ["eps"])
+    few = ResponseData(exact.sigma[:2], exact.A[:2], None, (), "few.csv")
+    with pytest.raises(ValueError, match=r"few.csv: 2 response points for 2 free parameters"):
+        fit_response(few, TRUTH, ["lam", "gamma"])
+
+
+def test_slosh_bif_fit_writes_the_fit_and_a_parameter_file_every_command_takes(tmp_path, exact, capsys):
+    data = tmp_path / "response.csv"
+    rows = "\n".join(f"{s:.12g},{a:.12g},0.01" for s, a in zip(exact.sigma, exact.A))
+    data.write_text("sigma,A,std\n" + rows + "\n")
+    out = tmp_path / "fit"
+    code = main(
+        [
+            "fit",
+            "--preset",
+            "fig10",
+            "--set",
+            "gamma=0.15",
+            "--data",
+            str(data),
+            "--free",
+            "gamma",
+            "--out",
+            str(out),
+        ]
+    )
+    assert code == 0
+    record = json.loads((out / "fit.json").read_text())
+    assert record["values"]["gamma"] == pytest.approx(TRUTH.gamma, rel=1e-6)
+    assert (
+        record["estimate"]["gamma"]["profile_95"][0]
+        < TRUTH.gamma
+        < record["estimate"]["gamma"]["profile_95"][1]
+    )
+    assert len(record["data"]["sha256"]) == 64
+    assert read_parameter_file(out / "params.toml").params.gamma == pytest.approx(TRUTH.gamma, rel=1e-6)
+    assert (out / "fit.png").stat().st_size > 0 and (out / "profiles.png").stat().st_size > 0
+    assert (
+        main(
+            [
+                "fit",
+                "--preset",
+                "fig10",
+                "--data",
+                str(data),
+                "--free",
+                "gamma",
+                "--model",
+                "smooth",
+                "--out",
+                str(out),
+            ]
+        )
+        == 2
+    )
+    assert "not built yet" in capsys.readouterr().err
