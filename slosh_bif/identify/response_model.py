@@ -1,9 +1,9 @@
 """The model's side of a frequency-response fit: every steady state of the slow flow (45) at a
 given sigma, with its stability, from the steady-state equation (46).
 
-For a fixed amplitude A, (46) is quadratic in sigma: its two roots sigma_-(A) <= sigma_+(A)
-(:func:`~slosh_bif.slowflow.steady_states.sigma_on_curve`) trace the whole response curve. The
-steady states at one sigma are the roots in A of sigma_+-(A) = sigma, bracketed on a log grid of A
+For a fixed amplitude A, (46) is quadratic in sigma: its two roots, low and high
+(:func:`~slosh_bif.slowflow.steady_states.sigma_on_curve`), trace the whole response curve. The
+steady states at one sigma are the amplitudes where either root equals it, bracketed on a log grid of A
 over S+ and refined by Brent; each is stable when the Jacobian of (45) there has both eigenvalues
 in the left half-plane (the middle branch of a hysteresis loop is a saddle; a Hopf point bounds
 the strongly modulated response).
