@@ -6,14 +6,17 @@ Each measured point (sigma_i, A_i) is compared with the stable steady state of (
 nearest A_i (:mod:`.response_model`): an up- and a down-sweep across a hysteresis loop are two
 stable branches, not one averaged curve. The residual is (A_i - A_model) / std_i (std_i = 1 when
 not given; the scale is then estimated). Continuous parameters (lam, chi, gamma, Abar) are fitted
-by bounded least squares in their logarithms (they are positive) from several seeded starts; the
-integer pbar is profiled over the values of n's parity. Intervals:
+by least squares within their admissible ranges (lam down to 0, the elastic wall, a bound the fit
+may reach) from several seeded starts; the integer pbar is profiled over the values of n's
+parity. Intervals:
 
-* Wald: the estimate times exp(+-1.96 standard errors of its logarithm) (t quantiles when the
-  scale is estimated), from the Gauss-Newton covariance (J^T J)^-1 in the logarithms (times the
-  residual variance when std is not given); the standard error reported is the value's;
+* Wald: the estimate +- 1.96 standard errors (t quantiles when the scale is estimated) from the
+  Gauss-Newton covariance (J^T J)^-1 (times the residual variance when std is not given),
+  clipped to the range: right for a misfit that is quadratic in the parameters;
 * profile likelihood: the values where the best misfit with the parameter held rises by the
-  chi-square(1) 95 % quantile 3.84 (N log RSS when the scale is estimated).
+  chi-square(1) 95 % quantile 3.84 (N log RSS when the scale is estimated), the others refitted:
+  right also where the misfit is not quadratic (two damping parameters trading against each
+  other, a parameter at its range's end), which the coverage tests show the Wald's are not.
 
 With Newtonian restitution (pbar = 0) kappa is a constant and (46) depends on lam and chi only
 through it: both free, the fit holds chi, fits lam and reports kappa with its interval. eps does
@@ -101,18 +104,31 @@ class ResponseFit:
 
 
 class _Objective:
-    """Residuals as a function of the logarithms of the continuous free parameters."""
+    """Residuals as a function of the continuous free parameters, each within its admissible range
+    (``lower``, ``upper``): gamma >= 0, Abar > 0, and lam >= 0 and chi > 0 where kappa (21) stays
+    real (C, the energy fraction lost at unit speed, is linear in lam and goes as chi**-a). An
+    elastic wall, lam -> 0, is a bound the fit may reach, not a point at infinity."""
 
     def __init__(self, data, base: Params, names, model):
         self.data, self.base, self.names, self.model = data, base, tuple(names), model
+        C = float(dissipation_at_unit_speed(base.lam, base.chi, base.n, base.pbar))
+        a = base.pbar / (2 * (base.n + 1)) + 0.5
+        ranges = {
+            "lam": (1e-9, base.lam / C * (1 - 1e-9) if C > 0 else np.inf),
+            "chi": (base.chi * C ** (1 / a) * (1 + 1e-9) if C > 0 else 1e-9, np.inf),
+            "gamma": (0.0, np.inf),
+            "Abar": (1e-9, np.inf),
+        }
+        self.lower = np.array([ranges[n][0] for n in self.names])
+        self.upper = np.array([ranges[n][1] for n in self.names])
 
     def params(self, z) -> Params:
-        return self.base.replace(**{n: float(math.exp(v)) for n, v in zip(self.names, z)})
+        return self.base.replace(**{n: float(v) for n, v in zip(self.names, z)})
 
     def __call__(self, z):
         try:
             return residuals(self.data, self.params(z), self.model)
-        except ValueError:  # outside the admissible set (kappa not real, say): far off
+        except ValueError:  # outside the admissible set after all: far off
             return np.full(len(self.data), 1e3 * (1.0 + float(np.abs(self.data.A).max())))
 
 
@@ -122,12 +138,22 @@ def _misfit(r, scale_known: bool) -> float:
 
 
 def _least_squares(objective, z0, rng, starts=STARTS):
-    """The best of ``starts`` bounded least-squares runs (the first from z0, the others spread
-    about it by the seeded ``rng``)."""
+    """The best of ``starts`` least-squares runs within the objective's bounds, the first from z0,
+    the others from z0 scaled by seeded log-normal factors."""
+    lower, upper = objective.lower, objective.upper
+    inside = (lower + 1e-12 * np.abs(lower), np.where(np.isfinite(upper), upper * (1 - 1e-9), np.inf))
     best = None
     for k in range(starts):
-        start = z0 if k == 0 else z0 + rng.normal(0.0, 0.5, size=len(z0))
-        run = optimize.least_squares(objective, start, method="trf", x_scale="jac", xtol=1e-12, ftol=1e-12)
+        start = z0 if k == 0 else z0 * np.exp(rng.normal(0.0, 0.5, size=len(z0)))
+        run = optimize.least_squares(
+            objective,
+            np.clip(start, *inside),
+            bounds=(lower, upper),
+            method="trf",
+            x_scale="jac",
+            xtol=1e-12,
+            ftol=1e-12,
+        )
         if best is None or run.cost < best.cost:
             best = run
     return best
@@ -168,7 +194,10 @@ def fit_response(
     for pbar in candidates:
         at = base.replace(pbar=pbar)
         objective = _Objective(data, at, continuous, model)
-        z0 = np.log([getattr(at, n) for n in continuous])
+        z0 = np.array([getattr(at, n) for n in continuous], dtype=float)
+        z0 = np.clip(
+            z0, objective.lower, np.where(np.isfinite(objective.upper), objective.upper * (1 - 1e-6), np.inf)
+        )
         run = _least_squares(objective, z0, rng) if continuous else None
         r = objective(run.x) if run is not None else objective(z0)
         results[pbar] = (_misfit(r, scale_known), run, objective, r)
@@ -186,6 +215,10 @@ def fit_response(
         interval, rows = _profile(objective, z, k, misfit, scale_known, estimate[name], rng)
         estimate[name]["profile_95"] = interval
         profiles[name] = rows
+        if name == "lam" and interval[0] == 0.0:
+            note = _join(
+                note, "lam's interval reaches 0: an elastic wall (kappa = 1) is consistent with the data."
+            )
         for bound, side in zip(interval, ("below", "above")):
             if bound is None:
                 reached = min(v for v, _ in rows) if side == "below" else max(v for v, _ in rows)
@@ -231,83 +264,117 @@ def _join(note: str, sentence: str) -> str:
 
 
 def _uncertainty(objective, z, r, scale_known, n_points):
-    """Per parameter: value, standard error and Wald interval; the correlation matrix; a sentence
-    when the Jacobian is (nearly) rank deficient."""
+    """Per parameter: value, standard error and Wald interval (clipped to the parameter's range);
+    the correlation matrix; a sentence when the Jacobian is (nearly) rank deficient."""
     names = objective.names
     if not names:
         return {}, np.zeros((0, 0)), ""
     J = _jacobian(objective, z)
-    values = np.exp(z)
     dof = max(n_points - len(names), 1)
     s2 = 1.0 if scale_known else float(r @ r) / dof
-    u, sv, vt = np.linalg.svd(J, full_matrices=False)
+    scale = np.maximum(np.abs(z), 1e-12)  # the SVD of the relative Jacobian: units do not matter
+    _, sv, vt = np.linalg.svd(J * scale, full_matrices=False)
     note = ""
     if sv[-1] <= 1e-8 * sv[0]:
-        direction = ", ".join(f"{c:+.3g} log {n}" for c, n in zip(vt[-1], names) if abs(c) > 0.05)
+        direction = ", ".join(f"{c:+.3g} d{n}/{n}" for c, n in zip(vt[-1], names) if abs(c) > 0.05)
         note = (
-            f"The data do not determine the combination {direction} (the Jacobian's singular "
+            f"The data do not determine the combination {direction} (the relative Jacobian's singular "
             f"values {sv[0]:.3g} and {sv[-1]:.3g})."
         )
-    cov_log = s2 * (vt.T / np.maximum(sv, 1e-300 * sv[0]) ** 2) @ vt
+    cov = s2 * np.outer(scale, scale) * ((vt.T / np.maximum(sv, 1e-300 * sv[0]) ** 2) @ vt)
     quantile = 1.959963984540054 if scale_known else float(stats.t.ppf(0.975, dof))
     estimate = {}
     for k, name in enumerate(names):
-        sd_log = math.sqrt(max(cov_log[k, k], 0.0))
+        sd = math.sqrt(max(cov[k, k], 0.0))
+        lo, hi = z[k] - quantile * sd, z[k] + quantile * sd
         estimate[name] = {
-            "value": float(values[k]),
-            "std": float(values[k] * sd_log),
-            # in the logarithm, as fitted: positive, and asymmetric when the error is large
+            "value": float(z[k]),
+            "std": float(sd),
             "wald_95": [
-                float(values[k] * math.exp(-quantile * sd_log)),
-                float(values[k] * math.exp(quantile * sd_log)),
+                _at_end(max(lo, objective.lower[k]), objective.lower[k]),
+                float(min(hi, objective.upper[k])),
             ],
         }
-    d = np.sqrt(np.maximum(np.diag(cov_log), 1e-300))
-    return estimate, cov_log / np.outer(d, d), note
+    d = np.sqrt(np.maximum(np.diag(cov), 1e-300))
+    return estimate, cov / np.outer(d, d), note
 
 
-def _jacobian(objective, z, h=1e-6):
-    """Central differences of the residuals in the log parameters."""
+def _at_end(value, lower) -> float:
+    """A lower end at the parameter's floor written as 0 (lam's floor 1e-9 is the elastic wall)."""
+    return 0.0 if value <= lower * (1 + 1e-6) and lower <= 1e-9 else float(value)
+
+
+def _jacobian(objective, z, rel=1e-6):
+    """Differences of the residuals in each parameter: central, or one-sided inward within a step
+    of the parameter's range."""
     cols = []
     for k in range(len(z)):
+        h = rel * max(abs(z[k]), 1e-6)
         e = np.zeros(len(z))
         e[k] = h
-        cols.append((objective(z + e) - objective(z - e)) / (2 * h))
+        if z[k] - h < objective.lower[k]:
+            cols.append((objective(z + e) - objective(z)) / h)
+        elif z[k] + h > objective.upper[k]:
+            cols.append((objective(z) - objective(z - e)) / h)
+        else:
+            cols.append((objective(z + e) - objective(z - e)) / (2 * h))
     return np.column_stack(cols)
+
+
+PROFILE_STEPS = 30  # held values on each side at most (steps growing by half each)
 
 
 def _profile(objective, z, k, best, scale_known, estimate, rng):
     """The 95 % profile-likelihood interval of parameter k: held at values stepping away from the
-    estimate (in log: a quarter of its standard error's worth growing by half each step, up to a
-    factor 1000 either way), the others refitted, until the misfit rises by 3.84 on each side;
-    (interval, rows of (value, rise)). An end the rise does not reach is None: the data do not
-    bound the parameter on that side."""
-    sd = min(max(estimate["std"] / estimate["value"], 1e-3), 1.0)
-    rows, bounds = [(math.exp(z[k]), 0.0)], []
+    estimate (a fifth of its value or three quarters of its standard error, the smaller, growing
+    by half each step), the others refitted (each from the last: the valley may curve), until the
+    misfit rises past 3.84, the crossing then located by Brent; (interval, rows of (value, rise)).
+    A side that reaches the parameter's range end first ends there (lam: 0, an elastic wall); one
+    that reaches neither in PROFILE_STEPS steps is None: the data do not bound it there."""
     others = [j for j in range(len(z)) if j != k]
-    for side in (-1.0, 1.0):
-        previous, found, step, held = (z[k], 0.0), None, 0.75 * sd, z[k]
-        while abs(held - z[k]) < math.log(1e3):
+
+    def rise_at(held, start):
+        sub = _Held(objective, z, k, held)
+        fit = _least_squares(sub, start, rng, starts=1) if others else None
+        r = sub(fit.x) if fit is not None else sub(np.zeros(0))
+        rows.append((float(held), _misfit(r, scale_known) - best))
+        return rows[-1][1], (fit.x if fit is not None else start)
+
+    # at a range end (lam = 0) the value sets no scale: then a thousandth of the standard error
+    first = max(min(0.75 * estimate["std"], 0.2 * abs(z[k])), 1e-3 * max(estimate["std"], abs(z[k]), 1e-6))
+    rows, bounds = [(float(z[k]), 0.0)], []
+    for side, end in ((-1.0, objective.lower[k]), (1.0, objective.upper[k])):
+        previous, found, step, held, start = (z[k], 0.0, z[others]), None, first, z[k], z[others]
+        for _ in range(PROFILE_STEPS):
             held = held + side * step
             step *= 1.5
-            sub = _Held(objective, z, k, held)
-            r = sub(_least_squares(sub, z[others], rng, starts=1).x) if others else sub(np.zeros(0))
-            rise = _misfit(r, scale_known) - best
-            rows.append((math.exp(held), rise))
+            at_end = side * (held - end) >= 0
+            held = end if at_end else held
+            rise, start = rise_at(held, start)
             if rise >= CHI2_95:
-                w = (CHI2_95 - previous[1]) / max(rise - previous[1], 1e-300)
-                found = math.exp(previous[0] + w * (held - previous[0]))
+                origin = previous[2]
+                found = optimize.brentq(
+                    lambda h: rise_at(h, origin)[0] - CHI2_95,
+                    min(previous[0], held),
+                    max(previous[0], held),
+                    xtol=1e-6 * max(abs(z[k]), 1e-9),
+                    maxiter=40,
+                )
                 break
-            previous = (held, rise)
-        bounds.append(None if found is None else float(found))
+            if at_end:
+                found = _at_end(held, end) if side < 0 else held
+                break
+            previous = (held, rise, start)
+        bounds.append(None if found is None or not np.isfinite(found) else float(found))
     return bounds, sorted(rows)
 
 
 class _Held:
-    """The residuals with parameter k held at ``held`` (in log), the others free."""
+    """The residuals with parameter k held at ``held``, the others free (their bounds kept)."""
 
     def __init__(self, objective, z, k, held):
         self.objective, self.z, self.k, self.held = objective, np.array(z, dtype=float), k, held
+        self.lower, self.upper = np.delete(objective.lower, k), np.delete(objective.upper, k)
 
     def __call__(self, others):
         z = np.insert(np.asarray(others, dtype=float), self.k, self.held)

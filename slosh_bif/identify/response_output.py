@@ -115,6 +115,7 @@ def _plot_profiles(fit, path) -> Path:
             rows = np.array(fit.profiles[name])
             ax.plot(rows[:, 0], rows[:, 1], "o-", ms=3, color="k")
             ax.axhline(CHI2_95, color="tab:red", lw=0.8, ls="--", label="95 % (3.84)")
+            ax.set_ylim(-0.3, min(float(rows[:, 1].max()), 4 * CHI2_95) * 1.05 + 0.3)  # the crossing in view
             for bound in fit.estimate[name]["profile_95"]:
                 if bound is not None:
                     ax.axvline(bound, color="tab:red", lw=0.8)
