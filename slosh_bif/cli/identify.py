@@ -35,8 +35,14 @@ def _fit(args) -> int:
     )
 
 
-def _free(args) -> tuple:
-    return tuple(name.strip() for name in args.free.split(",") if name.strip())
+def _free(args, allowed, what: str) -> tuple:
+    """The names of ``--free``, each one of ``allowed`` (``what``: the data they are fitted to)."""
+    free = tuple(name.strip() for name in args.free.split(",") if name.strip())
+    if not free or any(name not in allowed for name in free):
+        raise ValueError(
+            f"--free takes a comma-separated subset of {', '.join(allowed)} for {what}; got {args.free!r}"
+        )
+    return free
 
 
 def _fit_response(args) -> int:
@@ -50,13 +56,7 @@ def _fit_response(args) -> int:
             f"--model for a frequency response must be one of {', '.join(RESPONSE_MODELS)} (the slow "
             f"flows; fits by the orbits of (8) and (9) are not built yet); got {model!r}"
         )
-    free = _free(args)
-    unknown = [name for name in free if name not in RESPONSE_FREE]
-    if unknown or not free:
-        raise ValueError(
-            f"--free takes a comma-separated subset of {', '.join(RESPONSE_FREE)} for a frequency "
-            f"response; got {args.free!r}"
-        )
+    free = _free(args, RESPONSE_FREE, "a frequency response")
     base = params_of(args)
     data = read_response_data(args.data)
     fit = fit_response(data, base, free, model=model, seed=args.seed)
@@ -100,13 +100,7 @@ def _fit_records(args) -> int:
         raise ValueError(
             "--model applies to a frequency response; impact records are fitted by eq. (21) itself"
         )
-    free = _free(args)
-    unknown = [name for name in free if name not in FREE_NAMES]
-    if unknown or not free:
-        raise ValueError(
-            f"--free takes a comma-separated subset of {', '.join(FREE_NAMES)} (impact records "
-            f"speak to the restitution law); got {args.free!r}"
-        )
+    free = _free(args, FREE_NAMES, "impact records (they speak to the restitution law)")
     base = params_of(args)
     records = read_impact_records(args.data)
     fit = fit_wall(records, base, free)

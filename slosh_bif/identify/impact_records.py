@@ -14,7 +14,6 @@ fit reports the combination, and lam when chi is given (or chi when lam is).
 
 from __future__ import annotations
 
-import csv
 import dataclasses
 import math
 from pathlib import Path
@@ -22,6 +21,7 @@ from pathlib import Path
 import numpy as np
 from scipy import stats
 
+from slosh_bif.identify.csv_table import number, read_table
 from slosh_bif.model import restitution
 from slosh_bif.model.params import Params
 
@@ -51,29 +51,11 @@ def read_impact_records(path) -> ImpactRecords:
     ``std``, the outgoing speed's standard deviation); a one-line ValueError naming the file and
     the row or column otherwise, before any fitting."""
     path = Path(path)
-    try:
-        with open(path, newline="") as fh:
-            reader = csv.DictReader(fh)
-            columns = reader.fieldnames or []
-            missing = [c for c in ("v0", "v_out") if c not in columns]
-            if missing:
-                raise ValueError(
-                    f"{path}: needs the columns v0 and v_out (and optionally std); missing "
-                    f"{', '.join(missing)} (has {', '.join(columns) or 'no header'})"
-                )
-            rows = list(reader)
-    except (OSError, UnicodeDecodeError) as err:
-        raise ValueError(f"{path}: cannot be read as a CSV file of impact records ({err})") from None
+    columns, rows = read_table(path, ("v0", "v_out"), "impact records", optional=("std",))
     values = {name: [] for name in ("v0", "v_out", "std")}
     for k, row in enumerate(rows, start=2):  # line numbers, the header being line 1
         for name in ("v0", "v_out") + (("std",) if "std" in columns else ()):
-            try:
-                value = float(row[name])
-            except (TypeError, ValueError):
-                raise ValueError(f"{path}, line {k}: {name} must be a number; got {row[name]!r}") from None
-            if not (math.isfinite(value) and value > 0):
-                raise ValueError(f"{path}, line {k}: {name} must be a positive finite number; got {value!r}")
-            values[name].append(value)
+            values[name].append(number(path, k, name, row[name], positive=True))
         if values["v_out"][-1] > values["v0"][-1]:
             raise ValueError(
                 f"{path}, line {k}: the outgoing speed {values['v_out'][-1]:g} exceeds the "

@@ -6,12 +6,12 @@ by the stable branches, never by averaging them)."""
 
 from __future__ import annotations
 
-import csv
 import dataclasses
-import math
 from pathlib import Path
 
 import numpy as np
+
+from slosh_bif.identify.csv_table import number, read_table
 
 __all__ = ["ResponseData", "read_response_data", "RESPONSE_COLUMNS", "SWEEPS"]
 
@@ -40,32 +40,13 @@ def read_response_data(path) -> ResponseData:
     ``std`` and ``sweep``); a one-line ValueError naming the file and the line or column
     otherwise, before any fitting."""
     path = Path(path)
-    try:
-        with open(path, newline="") as fh:
-            reader = csv.DictReader(fh)
-            columns = reader.fieldnames or []
-            missing = [c for c in RESPONSE_COLUMNS if c not in columns]
-            if missing:
-                raise ValueError(
-                    f"{path}: a frequency response needs the columns sigma and A (and optionally std, "
-                    f"sweep); missing {', '.join(missing)} (has {', '.join(columns) or 'no header'})"
-                )
-            rows = list(reader)
-    except (OSError, UnicodeDecodeError) as err:
-        raise ValueError(f"{path}: cannot be read as a CSV file of response points ({err})") from None
+    columns, rows = read_table(path, RESPONSE_COLUMNS, "a frequency response", optional=("std", "sweep"))
     numbers = ("sigma", "A") + (("std",) if "std" in columns else ())
     values = {name: [] for name in numbers}
     sweep = []
     for k, row in enumerate(rows, start=2):  # line numbers, the header being line 1
         for name in numbers:
-            try:
-                value = float(row[name])
-            except (TypeError, ValueError):
-                raise ValueError(f"{path}, line {k}: {name} must be a number; got {row[name]!r}") from None
-            if not math.isfinite(value) or (name != "sigma" and value <= 0):
-                allowed = "a finite number" if name == "sigma" else "a positive finite number"
-                raise ValueError(f"{path}, line {k}: {name} must be {allowed}; got {row[name]!r}")
-            values[name].append(value)
+            values[name].append(number(path, k, name, row[name], positive=name != "sigma"))
         direction = (row.get("sweep") or "").strip().lower()
         if direction not in SWEEPS:
             raise ValueError(f"{path}, line {k}: sweep must be up, down or empty; got {row['sweep']!r}")

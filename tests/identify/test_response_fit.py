@@ -96,7 +96,7 @@ def test_bad_data_and_bad_requests_are_named_before_any_fitting(tmp_path, exact)
     bad = tmp_path / "bad.csv"
     bad.write_text("sigma,amplitude\n0,1\n")
     with pytest.raises(
-        ValueError, match=r"bad.csv: a frequency response needs the columns sigma and A.*missing A"
+        ValueError, match=r"bad.csv: needs the columns sigma and A .*for a frequency response; missing A"
     ):
         read_response_data(bad)
     bad.write_text("sigma,A\n0,1\n0.5,x\n")
