@@ -195,9 +195,6 @@ def fit_response(
         at = base.replace(pbar=pbar)
         objective = _Objective(data, at, continuous, model)
         z0 = np.array([getattr(at, n) for n in continuous], dtype=float)
-        z0 = np.clip(
-            z0, objective.lower, np.where(np.isfinite(objective.upper), objective.upper * (1 - 1e-6), np.inf)
-        )
         run = _least_squares(objective, z0, rng) if continuous else None
         r = objective(run.x) if run is not None else objective(z0)
         results[pbar] = (_misfit(r, scale_known), run, objective, r)
