@@ -162,3 +162,43 @@ def test_slosh_bif_fit_writes_the_fit_and_a_parameter_file_every_command_takes(t
         == 2
     )
     assert "not built yet" in capsys.readouterr().err
+
+
+def test_the_corrected_slow_flow_gives_back_its_own_response():
+    """Points of the continued corrected slow flow (the wall's measured law) fitted with
+    --model corrected: gamma to 1e-6; the same points fitted by (46) as the paper states it give
+    another gamma (the two slow flows differ)."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", AsymptoticsWarning)
+        response = frequency_response(TRUTH, sigma_min=-4.0, sigma_max=4.0, model="corrected")
+    sigma = np.concatenate([b.p[b.stable] for b in response.branches])
+    A = np.concatenate([b.x[b.stable, 0] for b in response.branches])
+    picks = sorted({int(np.argmin(np.abs(sigma - s))) for s in np.linspace(-4.0, 4.0, 15)})
+    data = ResponseData(sigma[picks], A[picks], None, (), "corrected")
+    fit = fit_response(data, TRUTH.replace(gamma=0.15), ["gamma"], model="corrected")
+    assert fit.values["gamma"] == pytest.approx(TRUTH.gamma, rel=1e-6)
+    other = fit_response(data, TRUTH.replace(gamma=0.15), ["gamma"])
+    assert abs(other.values["gamma"] - TRUTH.gamma) > 1e-3
+
+
+def test_pbar_is_profiled_over_the_integers_of_n_parity():
+    """Points made with pbar = 2 (n = 50): the profile over 0, 2, ..., 8 keeps pbar = 2 alone (the
+    others' misfits are more than 3.84 above)."""
+    truth = TRUTH.replace(pbar=2)
+    sigma, A = _points(truth, count=15)
+    fit = fit_response(
+        ResponseData(sigma, A, np.full(A.size, 0.01), (), "pbar 2"), truth.replace(pbar=0), ["pbar"]
+    )
+    assert fit.values == {"pbar": 2} and fit.estimate["pbar"]["consistent_95"] == [2]
+    assert fit.rms < 1e-6
+
+
+@pytest.mark.slow
+def test_pbar_and_lam_together():
+    """The same points with lam fitted beside pbar (a law of (39) per evaluation: 2 min)."""
+    truth = TRUTH.replace(pbar=2)
+    sigma, A = _points(truth, count=15)
+    fit = fit_response(
+        ResponseData(sigma, A, None, (), "pbar 2"), truth.replace(pbar=0, lam=0.5), ["lam", "pbar"]
+    )
+    assert fit.values["pbar"] == 2 and fit.values["lam"] == pytest.approx(truth.lam, rel=1e-5)
