@@ -24,6 +24,7 @@ __all__ = ["ResponseCurve", "response_curve"]
 
 GRID = 800  # amplitudes on S+ where the roots are bracketed
 _EDGE = 2e-8  # relative margin from the manifold's ends (alpha has a square root there)
+_TURN = 1e-12  # a discriminant of (46) this far below zero (relative) is the curve's turn
 
 
 @dataclasses.dataclass(frozen=True)
@@ -46,7 +47,7 @@ class ResponseCurve:
                 if g[i] == 0.0 and i > 0 and ok[i - 1] and g[i - 1] != 0.0:
                     continue  # a root on a grid point, found from the interval before
                 A = optimize.brentq(
-                    lambda a: sigma_on_curve(self.flow, a)[k] - sigma,
+                    lambda a: sigma_on_curve(self.flow, a, rounding=_TURN)[k] - sigma,
                     self.A[i],
                     self.A[i + 1],
                     xtol=1e-13,
@@ -67,5 +68,31 @@ def response_curve(params: Params, model: str = "slowflow") -> ResponseCurve:
     top = 10.0 * (params.Abar / params.gamma + 1.0) if params.gamma > 0 else 1e3  # E >= gamma pi^2 A^2
     top = min(top, flow.A_max * (1 - _EDGE)) if np.isfinite(flow.A_max) else top
     A = np.geomspace(flow.A_min * (1 + _EDGE), top, GRID)
-    low, high = sigma_on_curve(flow, A)
+    A = np.sort(np.concatenate([A, _turns(flow, A)]))
+    low, high = sigma_on_curve(flow, A, rounding=_TURN)
     return ResponseCurve(flow, A, low, high)
+
+
+def _discriminant(flow: SlowFlow, A):
+    """(pi^2 A Abar)^2 - E^2 of (46): steady states of amplitude A exist where it is >= 0."""
+    E, _ = flow.steady_balances(A, sigma=0.0)
+    return (np.pi**2 * A * flow.params.Abar) ** 2 - E**2
+
+
+def _turns(flow: SlowFlow, A) -> np.ndarray:
+    """The amplitudes where the response curve turns between grid points (its two roots of (46)
+    meet: the peak of a resonance, the ends of a closed curve), by Brent on the discriminant, so
+    that a point near a peak is bracketed on one of the two roots."""
+    disc = _discriminant(flow, A)
+    found = []
+    for i in np.flatnonzero(np.sign(disc[:-1]) * np.sign(disc[1:]) < 0):
+        found.append(
+            optimize.brentq(
+                lambda a: float(_discriminant(flow, a)),
+                A[i],
+                A[i + 1],
+                xtol=1e-15,
+                rtol=4 * np.finfo(float).eps,
+            )
+        )
+    return np.array(found)

@@ -135,12 +135,16 @@ class SteadyStateProblem:
         return (np.array([A, run.x[0]]), run.x[1]) if run.converged else None
 
 
-def sigma_on_curve(flow: SlowFlow, A):
-    """Both roots sigma(A) of (46) at amplitude(s) A (NaN where pi^2 A Abar < E)."""
+def sigma_on_curve(flow: SlowFlow, A, *, rounding: float = 0.0):
+    """Both roots sigma(A) of (46) at amplitude(s) A (NaN where pi^2 A Abar < E; with ``rounding``,
+    a discriminant below zero by at most that fraction of (pi^2 A Abar)^2 counts as zero: the
+    curve's turn, where the two roots meet)."""
     A = np.asarray(A, dtype=float)
     E, Phi0 = flow.steady_balances(A, sigma=0.0)  # Phi is Phi0 - pi^2 A^2 sigma
-    disc = (np.pi**2 * A * flow.params.Abar) ** 2 - E**2
-    root = np.sqrt(np.where(disc >= 0, disc, np.nan))
+    force = (np.pi**2 * A * flow.params.Abar) ** 2
+    disc = force - E**2
+    disc = np.where(disc >= -rounding * force, np.maximum(disc, 0.0), np.nan)
+    root = np.sqrt(disc)
     scale = np.pi**2 * A**2
     return (Phi0 - root) / scale, (Phi0 + root) / scale
 

@@ -202,3 +202,25 @@ def test_pbar_and_lam_together():
         ResponseData(sigma, A, None, (), "pbar 2"), truth.replace(pbar=0, lam=0.5), ["lam", "pbar"]
     )
     assert fit.values["pbar"] == 2 and fit.values["lam"] == pytest.approx(truth.lam, rel=1e-5)
+
+
+def test_random_admissible_sets_are_given_back_a_point_at_the_peak_included():
+    """Three seeded random parameter sets (beta, gamma, lam, chi, n, Abar drawn over their usual
+    ranges; the first has a point 0.006 from the resonance peak, where the curve turns between two
+    grid amplitudes and is bracketed only through the located turn): lam and gamma to 1e-6 from
+    60 % of their values."""
+    sets = [
+        dict(beta=0.002633, gamma=0.419553, Abar=2.212130, lam=0.488388, chi=0.521141, n=6),
+        dict(beta=0.396331, gamma=0.329981, Abar=1.640848, lam=0.593928, chi=0.293778, n=20),
+        dict(beta=0.31, gamma=0.069774, Abar=3.3, lam=0.069624, chi=0.7, n=50),
+    ]
+    for changes in sets:
+        truth = TRUTH.replace(**changes)
+        sigma, A = _points(truth, count=15)
+        fit = fit_response(
+            ResponseData(sigma, A, None, (), "random"),
+            truth.replace(lam=0.6 * truth.lam, gamma=0.6 * truth.gamma),
+            ["lam", "gamma"],
+        )
+        assert fit.values["lam"] == pytest.approx(truth.lam, rel=1e-6), changes
+        assert fit.values["gamma"] == pytest.approx(truth.gamma, rel=1e-6), changes
