@@ -1,7 +1,8 @@
 """Impacts of (8) found with a certificate (the paragraph of :mod:`slosh_bif.flows.impact_flow`):
 an interval of a flight is free of the wall when both parabolas bounding w from its ends stay below
-it; an interval holding exactly one crossing is solved by Newton on the flow's Taylor series; the
-saltation matrix of an impact (derived by sympy) maps the flow's Jacobian across it (eqs. 2, 8, 21)."""
+it; an interval holding exactly one crossing is solved by Newton on the flow's Taylor series (the
+Jacobian carried to it by the same series); the saltation matrix of an impact (derived by sympy)
+maps the flow's Jacobian across it (eqs. 2, 8, 21)."""
 
 from __future__ import annotations
 

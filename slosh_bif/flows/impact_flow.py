@@ -16,8 +16,8 @@ so if it is below the wall there and at s = L, f cannot reach the wall inside: t
 An interval that is not free is halved, the left half first, so the first impact is found however
 fast or however grazing the approach. Once an interval ends beyond one wall only and f's slope is
 certified positive over it (``f'(0) - B L > 0``), it holds exactly one crossing, which Newton on the
-flow's Taylor series from the interval's start finds to rounding (the map with its Jacobian halves
-on to the finest level instead, whose propagators it multiplies). At the finest level (L = h
+flow's Taylor series from the interval's start finds to rounding (the map's Jacobian is carried
+there by the Taylor series of the flight's variational system). At the finest level (L = h
 2**-LEVELS, 1e-16 of tau at the default step) an interval whose end lies at or beyond the wall
 holds the impact, and one whose end does not is a tangency within rounding, not an impact.
 
