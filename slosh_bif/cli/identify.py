@@ -7,7 +7,7 @@ import csv
 import sys
 from pathlib import Path
 
-from slosh_bif.cli.common import add_params_options, out_path, params_of
+from slosh_bif.cli.common import add_params_options, out_path, params_of, progress
 
 __all__ = ["add_commands"]
 
@@ -59,7 +59,7 @@ def _fit_response(args) -> int:
     free = _free(args, RESPONSE_FREE, "a frequency response")
     base = params_of(args)
     data = read_response_data(args.data)
-    fit = fit_response(data, base, free, model=model, seed=args.seed)
+    fit = fit_response(data, base, free, model=model, seed=args.seed, progress=progress)
     paths = write_response_fit(fit, data, base, args.out)
     print(
         f"{fit.points} response points, the slow flow's steady states (46) ({model}): "

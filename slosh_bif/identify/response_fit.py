@@ -160,10 +160,12 @@ def _least_squares(objective, z0, rng, starts=STARTS):
 
 
 def fit_response(
-    data: ResponseData, base: Params, free, *, model: str = "slowflow", seed: int = 0
+    data: ResponseData, base: Params, free, *, model: str = "slowflow", seed: int = 0, progress=None
 ) -> ResponseFit:
     """Fit ``free`` (a subset of :data:`RESPONSE_FREE`) to ``data``; the rest from ``base``.
-    One-line ValueErrors for a name that cannot be fitted and for fewer points than parameters."""
+    One-line ValueErrors for a name that cannot be fitted and for fewer points than parameters.
+    ``progress(message)`` is told of each stage (a fit per pbar, a profile per parameter)."""
+    say = progress or (lambda message: None)
     free = tuple(dict.fromkeys(free))
     unknown = [f for f in free if f not in RESPONSE_FREE]
     if unknown or not free:
@@ -192,6 +194,7 @@ def fit_response(
     rng = np.random.default_rng(seed)
     results = {}
     for pbar in candidates:
+        say(f"least squares of {', '.join(continuous) or 'nothing'} at pbar = {pbar} from {STARTS} starts")
         at = base.replace(pbar=pbar)
         objective = _Objective(data, at, continuous, model)
         z0 = np.array([getattr(at, n) for n in continuous], dtype=float)
@@ -209,6 +212,7 @@ def fit_response(
         note = _join(note, identifiability)
     profiles = {}
     for k, name in enumerate(continuous):
+        say(f"profile likelihood of {name}")
         interval, rows = _profile(objective, z, k, misfit, scale_known, estimate[name], rng)
         estimate[name]["profile_95"] = interval
         profiles[name] = rows
