@@ -12,7 +12,7 @@ from slosh_bif.cli.common import add_params_options, out_path, params_of, progre
 __all__ = ["add_commands"]
 
 
-RESPONSE_MODELS = ("slowflow", "corrected")
+RESPONSE_MODELS = ("slowflow", "corrected", "smooth")
 
 
 def _header(path: Path) -> list:
@@ -54,7 +54,7 @@ def _fit_response(args) -> int:
     if model not in RESPONSE_MODELS:
         raise ValueError(
             f"--model for a frequency response must be one of {', '.join(RESPONSE_MODELS)} (the slow "
-            f"flows; fits by the orbits of (8) and (9) are not built yet); got {model!r}"
+            f"flows and the full model (9); a fit by the orbits of (8) is not built yet); got {model!r}"
         )
     free = _free(args, RESPONSE_FREE, "a frequency response")
     base = params_of(args)
@@ -62,7 +62,13 @@ def _fit_response(args) -> int:
     fit = fit_response(data, base, free, model=model, seed=args.seed, progress=progress)
     paths = write_response_fit(fit, data, base, args.out)
     print(
-        f"{fit.points} response points, the slow flow's steady states (46) ({model}): "
+        f"{fit.points} response points, "
+        + (
+            "the stable orbits of (9)"
+            if model == "smooth"
+            else f"the slow flow's steady states (46) ({model})"
+        )
+        + ": "
         f"{'chi-square' if fit.scale_known else 'residual sum of squares'} {fit.misfit:.4g}, rms residual "
         f"{fit.rms:.3g}"
     )
@@ -150,8 +156,8 @@ def add_commands(sub) -> None:
     fit.add_argument(
         "--model",
         default=None,
-        help="for a frequency response: slowflow (default; eq. 46 with the law 21) or corrected (the "
-        "corrected slow flow, the wall's measured law)",
+        help="for a frequency response: slowflow (default; eq. 46 with the law 21), corrected (the "
+        "corrected slow flow, the wall's measured law) or smooth (the stable orbits of the full model 9)",
     )
     fit.add_argument("--seed", type=int, default=0, help="seed of the fit's extra starts (default 0)")
     fit.add_argument("--out", type=out_path, required=True, help="output folder (created if missing)")

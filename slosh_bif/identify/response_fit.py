@@ -18,6 +18,12 @@ parity. Intervals:
   right also where the misfit is not quadratic (two damping parameters trading against each
   other, a parameter at its range's end), which the coverage tests show the Wald's are not.
 
+``model="smooth"`` compares each point with the stable 2pi-orbit of the full model (9) that it
+follows (:mod:`.response_orbits`: the family traced once at the base set, each orbit then
+Newton's from the last), its first-harmonic amplitude A1: the fit without the slow flow's own
+error, at the cost of the family's trace (seconds to a minute) and a Newton per point and
+evaluation.
+
 With Newtonian restitution (pbar = 0) kappa is a constant and (46) depends on lam and chi only
 through it: both free, the fit holds chi, fits lam and reports kappa with its interval. eps does
 not enter (46) in the scaled sigma at all.
@@ -34,13 +40,15 @@ from scipy import optimize, stats
 
 from slosh_bif.identify.response_data import ResponseData
 from slosh_bif.identify.response_model import response_curve
+from slosh_bif.identify.response_orbits import OrbitResponse
 from slosh_bif.model.params import Params
 from slosh_bif.model.restitution import dissipation_at_unit_speed
 from slosh_bif.slowflow.flow import AsymptoticsWarning
 
-__all__ = ["RESPONSE_FREE", "ResponseFit", "fit_response", "residuals"]
+__all__ = ["RESPONSE_FREE", "MODELS", "ResponseFit", "fit_response", "residuals"]
 
 RESPONSE_FREE = ("lam", "chi", "gamma", "Abar", "pbar")
+MODELS = ("slowflow", "corrected", "smooth")  # the slow flows (46) and the full model (9)
 CONTINUOUS = ("lam", "chi", "gamma", "Abar")
 PBAR_MAX = 8
 CHI2_95 = 3.841458820694124  # chi-square(1) 95 % quantile: the profile's threshold
@@ -81,6 +89,7 @@ class ResponseFit:
     message: str
     profiles: dict
     scale_known: bool
+    residuals: np.ndarray  # at the estimate, per point (divided by std when given)
 
     def params(self, base: Params) -> Params:
         return base.replace(**self.values)
@@ -100,6 +109,7 @@ class ResponseFit:
             "converged": self.converged,
             "message": self.message,
             "profiles": {k: [list(map(float, row)) for row in v] for k, v in self.profiles.items()},
+            "residuals": self.residuals.tolist(),
         }
 
 
@@ -109,8 +119,10 @@ class _Objective:
     real (C, the energy fraction lost at unit speed, is linear in lam and goes as chi**-a). An
     elastic wall, lam -> 0, is a bound the fit may reach, not a point at infinity."""
 
-    def __init__(self, data, base: Params, names, model):
+    def __init__(self, data, base: Params, names, model, progress=None):
         self.data, self.base, self.names, self.model = data, base, tuple(names), model
+        # the full model's orbits are found once, at the base set, and followed from there
+        self.orbits = OrbitResponse(data, base, progress) if model == "smooth" else None
         C = float(dissipation_at_unit_speed(base.lam, base.chi, base.n, base.pbar))
         a = base.pbar / (2 * (base.n + 1)) + 0.5
         ranges = {
@@ -127,8 +139,11 @@ class _Objective:
 
     def __call__(self, z):
         try:
-            return residuals(self.data, self.params(z), self.model)
-        except ValueError:  # outside the admissible set after all: far off
+            if self.orbits is None:
+                return residuals(self.data, self.params(z), self.model)
+            r = self.data.A - self.orbits.amplitudes(self.params(z))
+            return r / self.data.std if self.data.std is not None else r
+        except ValueError:  # outside the admissible set, or an orbit of (9) lost: far off
             return np.full(len(self.data), 1e3 * (1.0 + float(np.abs(self.data.A).max())))
 
 
@@ -174,6 +189,10 @@ def fit_response(
             f"--free takes one or more of {', '.join(RESPONSE_FREE)} for a frequency response{extra}; "
             f"got {', '.join(free) or 'nothing'}"
         )
+    if model not in MODELS:
+        raise ValueError(f"model must be one of {', '.join(MODELS)}; got {model!r}")
+    if model == "smooth" and "pbar" in free:
+        raise ValueError("pbar is profiled by the slow flows only (each value would trace (9)'s family anew)")
     continuous = [f for f in free if f in CONTINUOUS]
     if len(data) <= len(free):
         raise ValueError(
@@ -196,7 +215,7 @@ def fit_response(
     for pbar in candidates:
         say(f"least squares of {', '.join(continuous) or 'nothing'} at pbar = {pbar} from {STARTS} starts")
         at = base.replace(pbar=pbar)
-        objective = _Objective(data, at, continuous, model)
+        objective = _Objective(data, at, continuous, model, say)
         z0 = np.array([getattr(at, n) for n in continuous], dtype=float)
         run = _least_squares(objective, z0, rng) if continuous else None
         r = objective(run.x) if run is not None else objective(z0)
@@ -257,6 +276,7 @@ def fit_response(
         message,
         profiles,
         scale_known,
+        r,
     )
 
 
