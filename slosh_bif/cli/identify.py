@@ -61,16 +61,10 @@ def _fit_response(args) -> int:
     data = read_response_data(args.data)
     fit = fit_response(data, base, free, model=model, seed=args.seed, progress=progress)
     paths = write_response_fit(fit, data, base, args.out)
+    by = "the orbits of (9)" if model == "smooth" else f"the slow flow's steady states (46) ({model})"
+    misfit = "chi-square" if fit.scale_known else "residual sum of squares"
     print(
-        f"{fit.points} response points, "
-        + (
-            "the stable orbits of (9)"
-            if model == "smooth"
-            else f"the slow flow's steady states (46) ({model})"
-        )
-        + ": "
-        f"{'chi-square' if fit.scale_known else 'residual sum of squares'} {fit.misfit:.4g}, rms residual "
-        f"{fit.rms:.3g}"
+        f"{fit.points} response points, {by}: {misfit} {_sum_of_squares(fit):.4g}, rms residual {fit.rms:.3g}"
     )
     for name, e in fit.estimate.items():
         if "wald_95" in e:
@@ -92,6 +86,10 @@ def _fit_response(args) -> int:
         )
         return 3
     return 0
+
+
+def _sum_of_squares(fit) -> float:
+    return float(fit.residuals @ fit.residuals)
 
 
 def _bound(value) -> str:

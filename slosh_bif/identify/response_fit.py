@@ -226,6 +226,29 @@ def fit_response(
     fitted = objective.params(z)
     converged = run is None or run.status > 0
     message = run.message if run is not None else "no continuous parameter to fit"
+    if objective.orbits is not None:
+        objective(z)  # the orbits of (9) at the estimate (the profiles below move them on)
+        if not all(objective.orbits.stable):
+            # some points followed orbits that are unstable here (the start's stable set differed):
+            # the orbits found again at the estimate, and the fit redone from it once
+            say("orbits of (9) unstable at the estimate: found again there, and the fit redone")
+            objective = _Objective(data, fitted, continuous, model, say)
+            run = _least_squares(objective, z, rng, starts=1)
+            z, r = run.x, objective(run.x)
+            misfit, fitted, converged, message = (
+                _misfit(r, scale_known),
+                objective.params(run.x),
+                run.status > 0,
+                run.message,
+            )
+            objective(z)
+        unstable = [f"{s:.4g}" for s, ok in zip(data.sigma, objective.orbits.stable) if not ok]
+        if unstable:
+            note = _join(
+                note,
+                f"At the estimate the orbits of (9) followed at sigma = {', '.join(unstable)} are "
+                "unstable: a measured response cannot be them there.",
+            )
     estimate, correlation, identifiability = _uncertainty(objective, z, r, scale_known, len(data))
     if identifiability:
         note = _join(note, identifiability)
@@ -373,13 +396,8 @@ def _profile(objective, z, k, best, scale_known, estimate, rng):
             held = end if at_end else held
             rise, start = rise_at(held, start)
             if rise >= CHI2_95:
-                origin = previous[2]
-                found = optimize.brentq(
-                    lambda h: rise_at(h, origin)[0] - CHI2_95,
-                    min(previous[0], held),
-                    max(previous[0], held),
-                    xtol=1e-6 * max(abs(z[k]), 1e-9),
-                    maxiter=40,
+                found = _crossing(
+                    lambda h, origin=previous[2]: rise_at(h, origin)[0] - CHI2_95, previous, held, rise, z[k]
                 )
                 break
             if at_end:
@@ -388,6 +406,18 @@ def _profile(objective, z, k, best, scale_known, estimate, rng):
             previous = (held, rise, start)
         bounds.append(None if found is None or not np.isfinite(found) else float(found))
     return bounds, sorted(rows)
+
+
+def _crossing(excess, previous, held, rise, scale) -> float:
+    """Where the profile's rise crosses 3.84 between the last held value below it and the first
+    above, by Brent; by the chord where a refit does not reproduce the bracket (the full model's
+    orbits are followed from call to call, and may come back to another)."""
+    lo, hi = sorted((previous[0], held))
+    try:
+        return optimize.brentq(excess, lo, hi, xtol=1e-6 * max(abs(scale), 1e-9), maxiter=40)
+    except ValueError:
+        w = (CHI2_95 - previous[1]) / max(rise - previous[1], 1e-300)
+        return previous[0] + w * (held - previous[0])
 
 
 class _Held:

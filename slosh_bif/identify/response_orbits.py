@@ -4,11 +4,13 @@ approximates), followed from one parameter set to the next.
 
 At the first parameter set the family of 2pi-orbits is traced over the data's sigma range from a
 start on the slow flow (:func:`~slosh_bif.orbits.families.trace_orbits`, with switching at its
-pitchforks and period doublings); each point takes the stable orbit whose A1 is nearest its
-amplitude, by interpolation between the branch's points, corrected by Newton at the point's own
-sigma. At any later parameter set each orbit is Newton's from the last accepted one (the least
-squares moves the parameters by small steps), its stability checked by its multipliers: an orbit
-that is lost or no longer stable is reported, never replaced silently by another.
+pitchforks and period doublings); each point takes the orbit whose A1 is nearest its amplitude,
+a stable one where there is one, by interpolation between the branch's points, corrected by Newton
+at the point's own sigma. At any later parameter set each orbit is Newton's from the last one (the
+least squares moves the parameters by small steps), stable or not (a fit started off the truth
+may pass parameter sets where the measured orbit is unstable); :attr:`OrbitResponse.stable` says
+which are stable at the last set, and an orbit Newton loses is reported, never replaced silently
+by another.
 """
 
 from __future__ import annotations
@@ -29,7 +31,7 @@ SEGMENTS = 4  # arcs of each orbit's shooting problem
 
 
 class LostOrbit(ValueError):
-    """The orbit a data point follows has no stable continuation at this parameter set."""
+    """No orbit to follow at a data point, or Newton lost the one it followed."""
 
 
 class OrbitResponse:
@@ -47,17 +49,15 @@ class OrbitResponse:
             start.params, start.y0, interval=ParameterRange(name="sigma", lo=lo - pad, hi=hi + pad)
         )
         problem = ShootingProblem(params, segments=SEGMENTS)
-        self.x = []
+        self.x, self.stable = [], []
         for s, A in zip(self.sigma, data.A):
-            guesses = sorted(_stable_near(family, s), key=lambda g: abs(g[0] - A))
-            for _, y0 in guesses:
-                found = _orbit(problem, problem.initial_states(y0, s), s)
-                if found is not None:
-                    self.x.append(found[0])
-                    break
-            else:
-                raise LostOrbit(f"no stable 2pi-orbit of (9) found at sigma = {s:.6g} to follow")
-        self.params = params
+            found = [_orbit(problem, problem.initial_states(y0, s), s) for _, y0 in _near(family, s)]
+            found = [f for f in found if f is not None]
+            if not found:
+                raise LostOrbit(f"no 2pi-orbit of (9) found at sigma = {s:.6g} to follow")
+            best = min(found, key=lambda f: (not f[2], abs(f[1] - A)))  # stable first, then nearest
+            self.x.append(best[0])
+            self.stable.append(best[2])
 
     def amplitudes(self, params: Params) -> np.ndarray:
         """A1 at each point's sigma for ``params``; :class:`LostOrbit` where an orbit is lost. The
@@ -67,35 +67,35 @@ class OrbitResponse:
         lost = [s for f, s in zip(found, self.sigma) if f is None]
         if lost:
             raise LostOrbit(
-                f"the stable orbits of (9) at sigma = {', '.join(f'{s:.4g}' for s in lost)} are lost at "
-                f"{params}"
+                f"the orbits of (9) at sigma = {', '.join(f'{s:.4g}' for s in lost)} are lost at {params}"
             )
-        self.x = [f[0] for f in found]
+        self.x, self.stable = [f[0] for f in found], [f[2] for f in found]
         return np.array([f[1] for f in found])
 
 
 def _orbit(problem: ShootingProblem, x, sigma):
-    """(x, A1) of the stable orbit Newton finds from x at sigma, or None."""
+    """(x, A1, stable) of the orbit Newton finds from x at sigma, or None."""
     run = newton_solve(problem, x, sigma, tol=1e-10, max_iter=20, criterion="residual")
-    if not run.converged or not problem.is_stable(problem.eigenvalues(run.x, sigma)):
+    if not run.converged:
         return None
-    return run.x, orbit_measures(problem, run.x, sigma)["A1"]
+    stable = bool(problem.is_stable(problem.eigenvalues(run.x, sigma)))
+    return run.x, orbit_measures(problem, run.x, sigma)["A1"], stable
 
 
-def _stable_near(family, sigma) -> list:
-    """(A1, y0) of each 2pi-orbit of the family at ``sigma`` that may be stable, interpolated
-    between the points of a branch that bracket it (one of them stable: a special point between
-    them is stable on one side only)."""
+def _near(family, sigma) -> list:
+    """(A1, y0) guesses of each 2pi-orbit of the family at ``sigma``: on each branch segment that
+    brackets it, the orbit interpolated between its ends, and the ends' own."""
     out = []
     for ob in family.branches:
         if ob.problem.period_multiple != 1:
             continue
         p, b = ob.branch.p, ob.branch
         for i in range(len(p) - 1):
-            bracket = (p[i] - sigma) * (p[i + 1] - sigma) <= 0 and p[i] != p[i + 1]
-            if bracket and (b.stable[i] or b.stable[i + 1]):  # Newton's multipliers decide
+            if (p[i] - sigma) * (p[i + 1] - sigma) <= 0 and p[i] != p[i + 1]:
                 w = (sigma - p[i]) / (p[i + 1] - p[i])
                 A1 = (1 - w) * ob.measures["A1"][i] + w * ob.measures["A1"][i + 1]
-                y0 = (1 - w) * b.x[i, :4] + w * b.x[i + 1, :4]
-                out.append((float(A1), y0))
+                # the interpolated orbit first, then the segment's ends (a curved branch's chord
+                # can miss where Newton converges)
+                for y0 in ((1 - w) * b.x[i, :4] + w * b.x[i + 1, :4], b.x[i, :4], b.x[i + 1, :4]):
+                    out.append((float(A1), y0))
     return out

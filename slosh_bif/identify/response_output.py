@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from slosh_bif.atomic import write_text_atomically
-from slosh_bif.identify.response_fit import CHI2_95, residuals
+from slosh_bif.identify.response_fit import CHI2_95
 from slosh_bif.identify.response_model import response_curve
 from slosh_bif.model.parameter_file import render_parameter_file
 from slosh_bif.model.params import Params
@@ -71,17 +71,13 @@ def _plot_fit(fit, data, fitted: Params, path) -> Path:
     fig, (top, bottom) = plt.subplots(
         2, 1, figsize=(7.5, 6.5), sharex=True, gridspec_kw={"height_ratios": [3, 1]}
     )
-    curve = response_curve(fitted, fit.model)
-    lo, hi = float(data.sigma.min()), float(data.sigma.max())
-    pad = 0.1 * (hi - lo or 1.0)
-    labelled = set()
-    for sigma, A, stable in _branches(curve):
-        keep = (sigma >= lo - pad) & (sigma <= hi + pad)
-        if not keep.any():
-            continue
-        label = ("fitted (46): stable" if stable else "unstable") if stable not in labelled else None
-        labelled.add(stable)
-        top.plot(sigma[keep], A[keep], "-" if stable else "--", color="tab:red", lw=1.2, label=label)
+    scale = data.std if data.std is not None else 1.0
+    if fit.model == "smooth":  # the fitted orbits of (9) at the points' sigma
+        order = np.argsort(data.sigma)
+        model_A = (data.A - fit.residuals * scale)[order]
+        top.plot(data.sigma[order], model_A, ".-", color="tab:red", lw=1.2, label="fitted (9): its orbits")
+    else:
+        _plot_curve(top, response_curve(fitted, fit.model), data)
     for direction, marker in (("up", "^"), ("down", "v"), ("", "o")):
         pick = (
             np.array([s == direction for s in data.sweep])
@@ -95,13 +91,27 @@ def _plot_fit(fit, data, fitted: Params, path) -> Path:
     top.set_ylabel("amplitude A")
     top.legend(fontsize=8)
     free = ", ".join(f"{k} = {v:.4g}" for k, v in fit.values.items())
-    top.set_title(f"frequency response fitted by the slow flow ({fit.model}): {free}", fontsize=9)
-    r = residuals(data, fitted, fit.model)
+    by = "the full model (9)" if fit.model == "smooth" else f"the slow flow ({fit.model})"
+    top.set_title(f"frequency response fitted by {by}: {free}", fontsize=9)
     bottom.axhline(0.0, color="0.6", lw=0.8)
-    bottom.plot(data.sigma, r, "o", ms=3, color="k")
+    bottom.plot(data.sigma, fit.residuals, "o", ms=3, color="k")
     bottom.set_xlabel("sigma")
     bottom.set_ylabel("residual / std" if data.std is not None else "residual")
     return save_figure(fig, path)
+
+
+def _plot_curve(ax, curve, data):
+    """The response curve of (46) over the data's sigma range, stable solid and unstable dashed."""
+    lo, hi = float(data.sigma.min()), float(data.sigma.max())
+    pad = 0.1 * (hi - lo or 1.0)
+    labelled = set()
+    for sigma, A, stable in _branches(curve):
+        keep = (sigma >= lo - pad) & (sigma <= hi + pad)
+        if not keep.any():
+            continue
+        label = ("fitted (46): stable" if stable else "unstable") if stable not in labelled else None
+        labelled.add(stable)
+        ax.plot(sigma[keep], A[keep], "-" if stable else "--", color="tab:red", lw=1.2, label=label)
 
 
 def _plot_profiles(fit, path) -> Path:
