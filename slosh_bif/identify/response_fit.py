@@ -36,11 +36,11 @@ import math
 import warnings
 
 import numpy as np
-from scipy import optimize, stats
 
 from slosh_bif.identify.response_data import ResponseData
 from slosh_bif.identify.response_model import response_curve
 from slosh_bif.identify.response_orbits import OrbitResponse
+from slosh_bif.identify.response_stats import CHI2_95, STARTS, least_squares, misfit_of, profile, wald
 from slosh_bif.model.params import Params
 from slosh_bif.model.restitution import dissipation_at_unit_speed
 from slosh_bif.slowflow.flow import AsymptoticsWarning
@@ -51,8 +51,6 @@ RESPONSE_FREE = ("lam", "chi", "gamma", "Abar", "pbar")
 MODELS = ("slowflow", "corrected", "smooth")  # the slow flows (46) and the full model (9)
 CONTINUOUS = ("lam", "chi", "gamma", "Abar")
 PBAR_MAX = 8
-CHI2_95 = 3.841458820694124  # chi-square(1) 95 % quantile: the profile's threshold
-STARTS = 4  # seeded starts of the least squares (the base values and three spread about them)
 
 
 def residuals(data: ResponseData, params: Params, model: str = "slowflow") -> np.ndarray:
@@ -147,33 +145,6 @@ class _Objective:
             return np.full(len(self.data), 1e3 * (1.0 + float(np.abs(self.data.A).max())))
 
 
-def _misfit(r, scale_known: bool) -> float:
-    rss = float(r @ r)
-    return rss if scale_known else len(r) * math.log(max(rss, 1e-300))
-
-
-def _least_squares(objective, z0, rng, starts=STARTS):
-    """The best of ``starts`` least-squares runs within the objective's bounds, the first from z0,
-    the others from z0 scaled by seeded log-normal factors."""
-    lower, upper = objective.lower, objective.upper
-    inside = (lower + 1e-12 * np.abs(lower), np.where(np.isfinite(upper), upper * (1 - 1e-9), np.inf))
-    best = None
-    for k in range(starts):
-        start = z0 if k == 0 else z0 * np.exp(rng.normal(0.0, 0.5, size=len(z0)))
-        run = optimize.least_squares(
-            objective,
-            np.clip(start, *inside),
-            bounds=(lower, upper),
-            method="trf",
-            x_scale="jac",
-            xtol=1e-12,
-            ftol=1e-12,
-        )
-        if best is None or run.cost < best.cost:
-            best = run
-    return best
-
-
 def fit_response(
     data: ResponseData, base: Params, free, *, model: str = "slowflow", seed: int = 0, progress=None
 ) -> ResponseFit:
@@ -217,9 +188,9 @@ def fit_response(
         at = base.replace(pbar=pbar)
         objective = _Objective(data, at, continuous, model, say)
         z0 = np.array([getattr(at, n) for n in continuous], dtype=float)
-        run = _least_squares(objective, z0, rng) if continuous else None
+        run = least_squares(objective, z0, rng) if continuous else None
         r = objective(run.x) if run is not None else objective(z0)
-        results[pbar] = (_misfit(r, scale_known), run, objective, r)
+        results[pbar] = (misfit_of(r, scale_known), run, objective, r)
     pbar = min(results, key=lambda k: results[k][0])
     misfit, run, objective, r = results[pbar]
     z = run.x if run is not None else np.zeros(0)
@@ -233,10 +204,10 @@ def fit_response(
             # the orbits found again at the estimate, and the fit redone from it once
             say("orbits of (9) unstable at the estimate: found again there, and the fit redone")
             objective = _Objective(data, fitted, continuous, model, say)
-            run = _least_squares(objective, z, rng, starts=1)
+            run = least_squares(objective, z, rng, starts=1)
             z, r = run.x, objective(run.x)
             misfit, fitted, converged, message = (
-                _misfit(r, scale_known),
+                misfit_of(r, scale_known),
                 objective.params(run.x),
                 run.status > 0,
                 run.message,
@@ -249,13 +220,13 @@ def fit_response(
                 f"At the estimate the orbits of (9) followed at sigma = {', '.join(unstable)} are "
                 "unstable: a measured response cannot be them there.",
             )
-    estimate, correlation, identifiability = _uncertainty(objective, z, r, scale_known, len(data))
+    estimate, correlation, identifiability = wald(objective, z, r, scale_known, len(data))
     if identifiability:
         note = _join(note, identifiability)
     profiles = {}
     for k, name in enumerate(continuous):
         say(f"profile likelihood of {name}")
-        interval, rows = _profile(objective, z, k, misfit, scale_known, estimate[name], rng)
+        interval, rows = profile(objective, z, k, misfit, scale_known, estimate[name], rng)
         estimate[name]["profile_95"] = interval
         profiles[name] = rows
         if name == "lam" and interval[0] == 0.0:
@@ -305,131 +276,6 @@ def fit_response(
 
 def _join(note: str, sentence: str) -> str:
     return f"{note} {sentence}" if note else sentence
-
-
-def _uncertainty(objective, z, r, scale_known, n_points):
-    """Per parameter: value, standard error and Wald interval (clipped to the parameter's range);
-    the correlation matrix; a sentence when the Jacobian is (nearly) rank deficient."""
-    names = objective.names
-    if not names:
-        return {}, np.zeros((0, 0)), ""
-    J = _jacobian(objective, z)
-    dof = max(n_points - len(names), 1)
-    s2 = 1.0 if scale_known else float(r @ r) / dof
-    scale = np.maximum(np.abs(z), 1e-12)  # the SVD of the relative Jacobian: units do not matter
-    _, sv, vt = np.linalg.svd(J * scale, full_matrices=False)
-    note = ""
-    if sv[-1] <= 1e-8 * sv[0]:
-        direction = ", ".join(f"{c:+.3g} d{n}/{n}" for c, n in zip(vt[-1], names) if abs(c) > 0.05)
-        note = (
-            f"The data do not determine the combination {direction} (the relative Jacobian's singular "
-            f"values {sv[0]:.3g} and {sv[-1]:.3g})."
-        )
-    cov = s2 * np.outer(scale, scale) * ((vt.T / np.maximum(sv, 1e-300 * sv[0]) ** 2) @ vt)
-    quantile = 1.959963984540054 if scale_known else float(stats.t.ppf(0.975, dof))
-    estimate = {}
-    for k, name in enumerate(names):
-        sd = math.sqrt(max(cov[k, k], 0.0))
-        lo, hi = z[k] - quantile * sd, z[k] + quantile * sd
-        estimate[name] = {
-            "value": float(z[k]),
-            "std": float(sd),
-            "wald_95": [
-                _at_end(max(lo, objective.lower[k]), objective.lower[k]),
-                float(min(hi, objective.upper[k])),
-            ],
-        }
-    d = np.sqrt(np.maximum(np.diag(cov), 1e-300))
-    return estimate, cov / np.outer(d, d), note
-
-
-def _at_end(value, lower) -> float:
-    """A lower end at the parameter's floor written as 0 (lam's floor 1e-9 is the elastic wall)."""
-    return 0.0 if value <= lower * (1 + 1e-6) and lower <= 1e-9 else float(value)
-
-
-def _jacobian(objective, z, rel=1e-6):
-    """Differences of the residuals in each parameter: central, or one-sided inward within a step
-    of the parameter's range."""
-    cols = []
-    for k in range(len(z)):
-        h = rel * max(abs(z[k]), 1e-6)
-        e = np.zeros(len(z))
-        e[k] = h
-        if z[k] - h < objective.lower[k]:
-            cols.append((objective(z + e) - objective(z)) / h)
-        elif z[k] + h > objective.upper[k]:
-            cols.append((objective(z) - objective(z - e)) / h)
-        else:
-            cols.append((objective(z + e) - objective(z - e)) / (2 * h))
-    return np.column_stack(cols)
-
-
-PROFILE_STEPS = 30  # held values on each side at most (steps growing by half each)
-
-
-def _profile(objective, z, k, best, scale_known, estimate, rng):
-    """The 95 % profile-likelihood interval of parameter k: held at values stepping away from the
-    estimate (a fifth of its value or three quarters of its standard error, the smaller, growing
-    by half each step), the others refitted (each from the last: the valley may curve), until the
-    misfit rises past 3.84, the crossing then located by Brent; (interval, rows of (value, rise)).
-    A side that reaches the parameter's range end first ends there (lam: 0, an elastic wall); one
-    that reaches neither in PROFILE_STEPS steps is None: the data do not bound it there."""
-    others = [j for j in range(len(z)) if j != k]
-
-    def rise_at(held, start):
-        sub = _Held(objective, z, k, held)
-        fit = _least_squares(sub, start, rng, starts=1) if others else None
-        r = sub(fit.x) if fit is not None else sub(np.zeros(0))
-        rows.append((float(held), _misfit(r, scale_known) - best))
-        return rows[-1][1], (fit.x if fit is not None else start)
-
-    # at a range end (lam = 0) the value sets no scale: then a thousandth of the standard error
-    first = max(min(0.75 * estimate["std"], 0.2 * abs(z[k])), 1e-3 * max(estimate["std"], abs(z[k]), 1e-6))
-    rows, bounds = [(float(z[k]), 0.0)], []
-    for side, end in ((-1.0, objective.lower[k]), (1.0, objective.upper[k])):
-        previous, found, step, held, start = (z[k], 0.0, z[others]), None, first, z[k], z[others]
-        for _ in range(PROFILE_STEPS):
-            held = held + side * step
-            step *= 1.5
-            at_end = side * (held - end) >= 0
-            held = end if at_end else held
-            rise, start = rise_at(held, start)
-            if rise >= CHI2_95:
-                found = _crossing(
-                    lambda h, origin=previous[2]: rise_at(h, origin)[0] - CHI2_95, previous, held, rise, z[k]
-                )
-                break
-            if at_end:
-                found = _at_end(held, end) if side < 0 else held
-                break
-            previous = (held, rise, start)
-        bounds.append(None if found is None or not np.isfinite(found) else float(found))
-    return bounds, sorted(rows)
-
-
-def _crossing(excess, previous, held, rise, scale) -> float:
-    """Where the profile's rise crosses 3.84 between the last held value below it and the first
-    above, by Brent; by the chord where a refit does not reproduce the bracket (the full model's
-    orbits are followed from call to call, and may come back to another)."""
-    lo, hi = sorted((previous[0], held))
-    try:
-        return optimize.brentq(excess, lo, hi, xtol=1e-6 * max(abs(scale), 1e-9), maxiter=40)
-    except ValueError:
-        w = (CHI2_95 - previous[1]) / max(rise - previous[1], 1e-300)
-        return previous[0] + w * (held - previous[0])
-
-
-class _Held:
-    """The residuals with parameter k held at ``held``, the others free (their bounds kept)."""
-
-    def __init__(self, objective, z, k, held):
-        self.objective, self.z, self.k, self.held = objective, np.array(z, dtype=float), k, held
-        self.lower, self.upper = np.delete(objective.lower, k), np.delete(objective.upper, k)
-
-    def __call__(self, others):
-        z = np.insert(np.asarray(others, dtype=float), self.k, self.held)
-        return self.objective(z)
 
 
 def _dissipation_estimates(params: Params, lam: dict) -> dict:
