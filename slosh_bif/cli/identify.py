@@ -148,8 +148,9 @@ def add_commands(sub) -> None:
     fit.add_argument(
         "--free",
         required=True,
-        help="the parameters to fit, comma-separated: of lam, chi, gamma, Abar, pbar for a response; of "
-        "lam, chi, pbar for impact records (lam and chi together: only their combination is determined)",
+        help="the parameters to fit, comma-separated: of lam, chi, gamma, Abar, eps (with --model smooth), "
+        "pbar for a response; of lam, chi, pbar for impact records (lam and chi together: only their "
+        "combination is determined)",
     )
     fit.add_argument(
         "--model",

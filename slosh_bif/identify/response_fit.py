@@ -26,7 +26,7 @@ evaluation.
 
 With Newtonian restitution (pbar = 0) kappa is a constant and (46) depends on lam and chi only
 through it: both free, the fit holds chi, fits lam and reports kappa with its interval. eps does
-not enter (46) in the scaled sigma at all.
+not enter (46) in the scaled sigma at all: it is fitted by the orbits of (9) only.
 """
 
 from __future__ import annotations
@@ -47,9 +47,9 @@ from slosh_bif.slowflow.flow import AsymptoticsWarning
 
 __all__ = ["RESPONSE_FREE", "MODELS", "ResponseFit", "fit_response", "residuals"]
 
-RESPONSE_FREE = ("lam", "chi", "gamma", "Abar", "pbar")
+RESPONSE_FREE = ("lam", "chi", "gamma", "Abar", "eps", "pbar")  # eps: by the orbits of (9) only
 MODELS = ("slowflow", "corrected", "smooth")  # the slow flows (46) and the full model (9)
-CONTINUOUS = ("lam", "chi", "gamma", "Abar")
+CONTINUOUS = ("lam", "chi", "gamma", "Abar", "eps")
 PBAR_MAX = 8
 
 
@@ -113,9 +113,10 @@ class ResponseFit:
 
 class _Objective:
     """Residuals as a function of the continuous free parameters, each within its admissible range
-    (``lower``, ``upper``): gamma >= 0, Abar > 0, and lam >= 0 and chi > 0 where kappa (21) stays
-    real (C, the energy fraction lost at unit speed, is linear in lam and goes as chi**-a). An
-    elastic wall, lam -> 0, is a bound the fit may reach, not a point at infinity."""
+    (``lower``, ``upper``): gamma >= 0, Abar > 0, eps > 0 with 1 - eps sigma > 0 at every point,
+    and lam >= 0 and chi > 0 where kappa (21) stays real (C, the energy fraction lost at unit
+    speed, is linear in lam and goes as chi**-a). An elastic wall, lam -> 0, is a bound the fit
+    may reach, not a point at infinity."""
 
     def __init__(self, data, base: Params, names, model, progress=None):
         self.data, self.base, self.names, self.model = data, base, tuple(names), model
@@ -128,6 +129,11 @@ class _Objective:
             "chi": (base.chi * C ** (1 / a) * (1 + 1e-9) if C > 0 else 1e-9, np.inf),
             "gamma": (0.0, np.inf),
             "Abar": (1e-9, np.inf),
+            # the vessel's stiffness 1 - eps sigma stays positive at every data point
+            "eps": (
+                1e-9,
+                1 / sigma_top * (1 - 1e-9) if (sigma_top := float(np.max(data.sigma))) > 0 else np.inf,
+            ),
         }
         self.lower = np.array([ranges[n][0] for n in self.names])
         self.upper = np.array([ranges[n][1] for n in self.names])
@@ -155,13 +161,16 @@ def fit_response(
     free = tuple(dict.fromkeys(free))
     unknown = [f for f in free if f not in RESPONSE_FREE]
     if unknown or not free:
-        extra = " (eps does not enter (46) in the scaled sigma)" if "eps" in unknown else ""
         raise ValueError(
-            f"--free takes one or more of {', '.join(RESPONSE_FREE)} for a frequency response{extra}; "
+            f"--free takes one or more of {', '.join(RESPONSE_FREE)} for a frequency response; "
             f"got {', '.join(free) or 'nothing'}"
         )
     if model not in MODELS:
         raise ValueError(f"model must be one of {', '.join(MODELS)}; got {model!r}")
+    if "eps" in free and model != "smooth":
+        raise ValueError(
+            "eps does not enter (46) in the scaled sigma: it is fitted by the orbits of (9) (--model smooth)"
+        )
     if model == "smooth" and "pbar" in free:
         raise ValueError("pbar is profiled by the slow flows only (each value would trace (9)'s family anew)")
     continuous = [f for f in free if f in CONTINUOUS]

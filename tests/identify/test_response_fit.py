@@ -105,7 +105,10 @@ def test_bad_data_and_bad_requests_are_named_before_any_fitting(tmp_path, exact)
     bad.write_text("sigma,A,sweep\n0,1,sideways\n")
     with pytest.raises(ValueError, match=r"line 2: sweep must be up, down or empty"):
         read_response_data(bad)
-    with pytest.raises(ValueError, match=r"eps does not enter \(46\)"):
+    with pytest.raises(
+        ValueError,
+        match=r"eps does not enter \(46\) in the scaled sigma: it is fitted by the orbits of \(9\)",
+    ):
         fit_response(exact, TRUTH, ["eps"])
     few = ResponseData(exact.sigma[:2], exact.A[:2], None, (), "few.csv")
     with pytest.raises(ValueError, match=r"few.csv: 2 response points for 2 free parameters"):
@@ -254,6 +257,9 @@ def test_the_full_model_fit_gives_back_gamma_where_the_slow_flow_is_biased():
     assert smooth.converged and smooth.values["gamma"] == pytest.approx(TRUTH.gamma, rel=1e-6)
     slow = fit_response(data, TRUTH.replace(gamma=0.15), ["gamma"])
     assert abs(slow.values["gamma"] / TRUTH.gamma - 1) > 0.05
+    # the mass ratio eps, which (46) does not contain, from the orbits of (9)
+    mass = fit_response(data, TRUTH.replace(eps=0.04), ["eps"], model="smooth")
+    assert mass.values["eps"] == pytest.approx(TRUTH.eps, rel=1e-6)
 
 
 @pytest.mark.slow
