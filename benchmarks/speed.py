@@ -233,14 +233,12 @@ def speed_bench(*, quick: bool = False, progress=None) -> list:
         )
         smooth_branch = next(r["seconds"] for r in rows if r["case"].endswith("fig10 (n = 50)"))
         rows.append(
-            dict(
-                case="shoot --model impact --set sigma=5, fig10 (8)",
-                seconds=impact_branch,
-                reference_seconds=smooth_branch,
-                ratio=impact_branch / smooth_branch,
-                target=np.nan,
-                peak_rss_mb=np.nan,
-                note="whole process against the (9) branch above; (8)'s symmetric branch from sigma = "
+            _row(
+                "shoot --model impact --set sigma=5, fig10 (8)",
+                impact_branch,
+                smooth_branch,
+                np.nan,
+                "whole process against the (9) branch above; (8)'s symmetric branch from sigma = "
                 "5 on the half-period map, through its four grazings; both carry the same ~2 s of "
                 "imports, settling and plot (the branch's own target is the next row's)",
             )
@@ -248,14 +246,12 @@ def speed_bench(*, quick: bool = False, progress=None) -> list:
         say("speed: the two branches' continuation alone, in this process")
         alone = branch_seconds(repeats=1 if quick else 3)
         rows.append(
-            dict(
-                case="(8)'s symmetric branch over [-6, 8] against (9)'s, continuation alone",
-                seconds=alone["impact"],
-                reference_seconds=alone["smooth"],
-                ratio=alone["impact"] / alone["smooth"],
-                target=1 / 3,
-                peak_rss_mb=np.nan,
-                note="in process, best wall seconds of alternating runs: the continuation without the "
+            _row(
+                "(8)'s symmetric branch over [-6, 8] against (9)'s, continuation alone",
+                alone["impact"],
+                alone["smooth"],
+                1 / 3,
+                "in process, best wall seconds of alternating runs: the continuation without the "
                 "interpreter, imports, measures and plot that both whole processes add",
             )
         )
@@ -302,14 +298,12 @@ def speed_bench(*, quick: bool = False, progress=None) -> list:
     say("speed: 100 periods of (8) and of (9)")
     seconds = {model: _simulated(pre, model) for model in ("impact", "smooth")}
     rows.append(
-        dict(
-            case="simulate (8), fig10, 100 periods",
-            seconds=seconds["impact"],
-            reference_seconds=seconds["smooth"],
-            ratio=seconds["impact"] / seconds["smooth"],
-            target=0.1,
-            peak_rss_mb=np.nan,
-            note="in process, best of 3, against (9) at n = 50 compiled; impact times to 1e-10",
+        _row(
+            "simulate (8), fig10, 100 periods",
+            seconds["impact"],
+            seconds["smooth"],
+            0.1,
+            "in process, best of 3, against (9) at n = 50 compiled; impact times to 1e-10",
         )
     )
     start = time.perf_counter()

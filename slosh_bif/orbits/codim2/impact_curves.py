@@ -163,8 +163,8 @@ def trace_grazing_curve(
     there) over ``box`` as :func:`trace_impact_curve` does for the other kinds. The seed is first
     moved onto the grazing exactly (Newton at its p1 on
     :class:`~slosh_bif.orbits.codim2.impact_grazing.GrazingCurveProblem`); a seed that is not
-    within 1e-4 of a regular grazing (a GR point located from the impacting side is known to about
-    1e-5: the map's Jacobian there grows as 1 / the slow impact's speed) is refused with the reason."""
+    within 1e-4 of a regular grazing (a branch's GR points are located to 1e-9; the margin is for
+    seeds given otherwise) is refused with the reason."""
     if seed.kind != "GR":
         raise ValueError(f"a grazing curve starts from a GR point; got kind {seed.kind!r}")
     (p1, (lo1, hi1)), (p2, (lo2, hi2)) = read_box(box)
