@@ -12,9 +12,6 @@ from slosh_bif.cli.common import add_params_options, out_path, params_of, progre
 __all__ = ["add_commands"]
 
 
-RESPONSE_MODELS = ("slowflow", "corrected", "smooth")
-
-
 def _header(path: Path) -> list:
     try:
         with open(path, newline="") as fh:
@@ -47,21 +44,21 @@ def _free(args, allowed, what: str) -> tuple:
 
 def _fit_response(args) -> int:
     from slosh_bif.identify.response_data import read_response_data
-    from slosh_bif.identify.response_fit import RESPONSE_FREE, fit_response
+    from slosh_bif.identify.response_fit import MODEL_NAMES, MODELS, RESPONSE_FREE, fit_response
     from slosh_bif.identify.response_output import write_response_fit
 
     model = args.model or "slowflow"
-    if model not in RESPONSE_MODELS:
+    if model not in MODELS:
         raise ValueError(
-            f"--model for a frequency response must be one of {', '.join(RESPONSE_MODELS)} (the slow "
-            f"flows and the full model (9); a fit by the orbits of (8) is not built yet); got {model!r}"
+            f"--model for a frequency response must be one of {', '.join(MODELS)} (the slow flows, the "
+            f"smooth model (9), the impact model (8) and the corrected impact model); got {model!r}"
         )
     free = _free(args, RESPONSE_FREE, "a frequency response")
     base = params_of(args)
     data = read_response_data(args.data)
     fit = fit_response(data, base, free, model=model, seed=args.seed, progress=progress)
     paths = write_response_fit(fit, data, base, args.out)
-    by = "the orbits of (9)" if model == "smooth" else f"the slow flow's steady states (46) ({model})"
+    by = MODEL_NAMES[model]
     misfit = "chi-square" if fit.scale_known else "residual sum of squares"
     print(
         f"{fit.points} response points, {by}: {misfit} {_sum_of_squares(fit):.4g}, rms residual {fit.rms:.3g}"
@@ -148,7 +145,7 @@ def add_commands(sub) -> None:
     fit.add_argument(
         "--free",
         required=True,
-        help="the parameters to fit, comma-separated: of lam, chi, gamma, Abar, eps (with --model smooth), "
+        help="the parameters to fit, comma-separated: of lam, chi, gamma, Abar, eps (by the orbits), "
         "pbar for a response; of lam, chi, pbar for impact records (lam and chi together: only their "
         "combination is determined)",
     )
@@ -156,7 +153,9 @@ def add_commands(sub) -> None:
         "--model",
         default=None,
         help="for a frequency response: slowflow (default; eq. 46 with the law 21), corrected (the "
-        "corrected slow flow, the wall's measured law) or smooth (the stable orbits of the full model 9)",
+        "corrected slow flow, the wall's measured law), smooth (the stable orbits of the full model 9), "
+        "impact (the stable orbits of the vibro-impact model 8) or impact-corrected (of the corrected "
+        "impact model)",
     )
     fit.add_argument("--seed", type=int, default=0, help="seed of the fit's extra starts (default 0)")
     fit.add_argument("--out", type=out_path, required=True, help="output folder (created if missing)")

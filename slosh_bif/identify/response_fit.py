@@ -22,11 +22,15 @@ parity. Intervals:
 follows (:mod:`.response_orbits`: the family traced once at the base set, each orbit then
 Newton's from the last), its first-harmonic amplitude A1: the fit without the slow flow's own
 error, at the cost of the family's trace (seconds to a minute) and a Newton per point and
-evaluation.
+evaluation. ``model="impact"`` does the same with the stable 2pi-orbits of the vibro-impact model
+(8) (:mod:`.response_impact`; ``"impact-corrected"``: of the corrected impact model): the paper's
+own model, whose difference from the slow flow's fit is the expansion's error alone.
 
 With Newtonian restitution (pbar = 0) kappa is a constant and (46) depends on lam and chi only
-through it: both free, the fit holds chi, fits lam and reports kappa with its interval. eps does
-not enter (46) in the scaled sigma at all: it is fitted by the orbits of (9) only.
+through it: both free, the fit holds chi, fits lam and reports kappa with its interval. So does
+(8) with the law (21) at any pbar: kappa(v)**2 = 1 - C v**q with q set by n and pbar, so lam and chi
+enter only through C. eps does not enter (46) in the scaled sigma at all: it is fitted by the
+orbits of (9) or (8) only.
 """
 
 from __future__ import annotations
@@ -38,6 +42,7 @@ import warnings
 import numpy as np
 
 from slosh_bif.identify.response_data import ResponseData
+from slosh_bif.identify.response_impact import ImpactResponse
 from slosh_bif.identify.response_model import response_curve
 from slosh_bif.identify.response_orbits import OrbitResponse
 from slosh_bif.identify.response_stats import CHI2_95, STARTS, least_squares, misfit_of, profile, wald
@@ -45,10 +50,21 @@ from slosh_bif.model.params import Params
 from slosh_bif.model.restitution import dissipation_at_unit_speed
 from slosh_bif.slowflow.flow import AsymptoticsWarning
 
-__all__ = ["RESPONSE_FREE", "MODELS", "ResponseFit", "fit_response", "residuals"]
+__all__ = ["RESPONSE_FREE", "MODELS", "MODEL_NAMES", "ResponseFit", "fit_response", "residuals"]
 
-RESPONSE_FREE = ("lam", "chi", "gamma", "Abar", "eps", "pbar")  # eps: by the orbits of (9) only
-MODELS = ("slowflow", "corrected", "smooth")  # the slow flows (46) and the full model (9)
+RESPONSE_FREE = ("lam", "chi", "gamma", "Abar", "eps", "pbar")  # eps: by the orbits only
+SLOW_MODELS = ("slowflow", "corrected")  # the slow flows (46)
+ORBIT_MODELS = ("smooth", "impact", "impact-corrected")  # the orbits of (9), (8), the corrected (8)
+MODELS = SLOW_MODELS + ORBIT_MODELS
+# the models where lam and chi enter only through C of (21)
+C_ONLY = ("slowflow", "impact")
+MODEL_NAMES = {
+    "slowflow": "the slow flow's steady states (46)",
+    "corrected": "the corrected slow flow's steady states",
+    "smooth": "the orbits of the smooth model (9)",
+    "impact": "the orbits of the vibro-impact model (8)",
+    "impact-corrected": "the orbits of the corrected impact model",
+}
 CONTINUOUS = ("lam", "chi", "gamma", "Abar", "eps")
 PBAR_MAX = 8
 
@@ -94,7 +110,7 @@ class ResponseFit:
 
     def as_dict(self) -> dict:
         return {
-            "model": f"steady states of the slow flow (46), model {self.model!r}",
+            "model": f"{MODEL_NAMES[self.model]} (model {self.model!r})",
             "free": list(self.free),
             "values": self.values,
             "estimate": self.estimate,
@@ -121,7 +137,10 @@ class _Objective:
     def __init__(self, data, base: Params, names, model, progress=None):
         self.data, self.base, self.names, self.model = data, base, tuple(names), model
         # the full model's orbits are found once, at the base set, and followed from there
-        self.orbits = OrbitResponse(data, base, progress) if model == "smooth" else None
+        self.orbits = _orbit_response(data, base, model, progress)
+        # an orbit's A1 is Newton's, to ~1e-12: differences of scipy's default step (1.5e-8 relative)
+        # would be noise for a parameter the response hardly feels (eps)
+        self.diff_step = None if self.orbits is None else 1e-6
         C = float(dissipation_at_unit_speed(base.lam, base.chi, base.n, base.pbar))
         a = base.pbar / (2 * (base.n + 1)) + 0.5
         ranges = {
@@ -167,12 +186,12 @@ def fit_response(
         )
     if model not in MODELS:
         raise ValueError(f"model must be one of {', '.join(MODELS)}; got {model!r}")
-    if "eps" in free and model != "smooth":
+    if "eps" in free and model in SLOW_MODELS:
         raise ValueError(
-            "eps does not enter (46) in the scaled sigma: it is fitted by the orbits of (9) (--model smooth)"
+            "eps does not enter (46) in the scaled sigma: it is fitted by the orbits (--model smooth, impact)"
         )
-    if model == "smooth" and "pbar" in free:
-        raise ValueError("pbar is profiled by the slow flows only (each value would trace (9)'s family anew)")
+    if model in ORBIT_MODELS and "pbar" in free:
+        raise ValueError("pbar is profiled by the slow flows only (each value would find the orbits anew)")
     continuous = [f for f in free if f in CONTINUOUS]
     if len(data) <= len(free):
         raise ValueError(
@@ -181,10 +200,11 @@ def fit_response(
         )
     note = ""
     candidates = list(range(base.n % 2, PBAR_MAX + 1, 2)) if "pbar" in free else [base.pbar]
-    if model == "slowflow" and "lam" in continuous and "chi" in continuous:
+    if model in C_ONLY and "lam" in continuous and "chi" in continuous:
         continuous.remove("chi")
         note = (
-            "(46) with the law (21) depends on lam and chi only through the prefactor C = 1 - "
+            f"{'(46)' if model == 'slowflow' else '(8)'} with the law (21) depends on lam and chi only "
+            "through the prefactor C = 1 - "
             f"kappa(1)^2 of (21): chi is held at {base.chi:g} and lam fitted; C and kappa(1) are what "
             "the response determines (reported with their intervals). A measured contact time or "
             "penetration depth (which depend on chi alone) would separate them."
@@ -281,6 +301,16 @@ def fit_response(
         scale_known,
         r,
     )
+
+
+def _orbit_response(data, base: Params, model: str, progress):
+    """The orbits each point follows, found at ``base``, for the orbit models; None for the slow flows."""
+    if model == "smooth":
+        return OrbitResponse(data, base, progress)
+    if model in ("impact", "impact-corrected"):
+        variant = "corrected" if model == "impact-corrected" else "paper"
+        return ImpactResponse(data, base, progress, variant=variant)
+    return None
 
 
 def _join(note: str, sentence: str) -> str:

@@ -13,6 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from slosh_bif.atomic import write_text_atomically
+from slosh_bif.identify.response_fit import MODEL_NAMES, ORBIT_MODELS
 from slosh_bif.identify.response_model import response_curve
 from slosh_bif.identify.response_stats import CHI2_95
 from slosh_bif.model.parameter_file import render_parameter_file
@@ -72,10 +73,17 @@ def _plot_fit(fit, data, fitted: Params, path) -> Path:
         2, 1, figsize=(7.5, 6.5), sharex=True, gridspec_kw={"height_ratios": [3, 1]}
     )
     scale = data.std if data.std is not None else 1.0
-    if fit.model == "smooth":  # the fitted orbits of (9) at the points' sigma
+    if fit.model in ORBIT_MODELS:  # the fitted orbits at the points' sigma
         order = np.argsort(data.sigma)
         model_A = (data.A - fit.residuals * scale)[order]
-        top.plot(data.sigma[order], model_A, ".-", color="tab:red", lw=1.2, label="fitted (9): its orbits")
+        top.plot(
+            data.sigma[order],
+            model_A,
+            ".-",
+            color="tab:red",
+            lw=1.2,
+            label=f"fitted: {MODEL_NAMES[fit.model]}",
+        )
     else:
         _plot_curve(top, response_curve(fitted, fit.model), data)
     for direction, marker in (("up", "^"), ("down", "v"), ("", "o")):
@@ -91,8 +99,7 @@ def _plot_fit(fit, data, fitted: Params, path) -> Path:
     top.set_ylabel("amplitude A")
     top.legend(fontsize=8)
     free = ", ".join(f"{k} = {v:.4g}" for k, v in fit.values.items())
-    by = "the full model (9)" if fit.model == "smooth" else f"the slow flow ({fit.model})"
-    top.set_title(f"frequency response fitted by {by}: {free}", fontsize=9)
+    top.set_title(f"frequency response fitted by {MODEL_NAMES[fit.model]}: {free}", fontsize=9)
     bottom.axhline(0.0, color="0.6", lw=0.8)
     bottom.plot(data.sigma, fit.residuals, "o", ms=3, color="k")
     bottom.set_xlabel("sigma")

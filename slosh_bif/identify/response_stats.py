@@ -25,7 +25,8 @@ def misfit_of(r, scale_known: bool) -> float:
 
 def least_squares(objective, z0, rng, starts=STARTS):
     """The best of ``starts`` least-squares runs within the objective's bounds, the first from z0,
-    the others from z0 scaled by seeded log-normal factors."""
+    the others from z0 scaled by seeded log-normal factors; differences of relative step
+    ``objective.diff_step`` (None: scipy's, sqrt of the machine epsilon)."""
     lower, upper = objective.lower, objective.upper
     inside = (lower + 1e-12 * np.abs(lower), np.where(np.isfinite(upper), upper * (1 - 1e-9), np.inf))
     best = None
@@ -39,6 +40,10 @@ def least_squares(objective, z0, rng, starts=STARTS):
             x_scale="jac",
             xtol=1e-12,
             ftol=1e-12,
+            # the gradient J^T r is as small as the residuals times a weak parameter's effect (eps:
+            # 5e-3 in A per unit): scipy's default 1e-8 stops far from the least squares' minimum
+            gtol=1e-15,
+            diff_step=getattr(objective, "diff_step", None),
         )
         if best is None or run.cost < best.cost:
             best = run
@@ -164,6 +169,7 @@ class _Held:
     def __init__(self, objective, z, k, held):
         self.objective, self.z, self.k, self.held = objective, np.array(z, dtype=float), k, held
         self.lower, self.upper = np.delete(objective.lower, k), np.delete(objective.upper, k)
+        self.diff_step = getattr(objective, "diff_step", None)
 
     def __call__(self, others):
         z = np.insert(np.asarray(others, dtype=float), self.k, self.held)

@@ -1,0 +1,128 @@
+"""The vibro-impact model's side of a frequency-response fit: the stable 2pi-orbits of (8) (or of
+the corrected impact model) at the data's detunings and the amplitude A1 of their first harmonic,
+followed from one parameter set to the next: the fit by the paper's own model, whose error against
+the slow flow (46) is the expansion's alone.
+
+At the first parameter set each point's orbit is the one a simulation of (8) settles on from the
+slow flow's motion (25), (29), (35) on its stable steady state of (46) nearest the point's
+amplitude (then from the others, nearest first, while the orbit found is unstable or its A1 more
+than :data:`FAR` off); Newton on the stroboscopic map polishes it, and the map's section is moved
+to the middle of the orbit's longest flight, where an impact does not cross it for small parameter
+changes. At any later set each orbit is Newton's from the last, stable or not, and an orbit Newton
+loses is reported, never replaced silently by another (as :mod:`.response_orbits` for (9)).
+"""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+
+from slosh_bif.continuation.corrector import newton_solve
+from slosh_bif.identify.response_model import response_curve
+from slosh_bif.identify.response_orbits import LostOrbit
+from slosh_bif.model.params import Params
+from slosh_bif.orbits.impact_branches import quiet_section, settled_orbit
+from slosh_bif.orbits.impact_orbits import VARIANT_NAMES, ImpactOrbitProblem
+from slosh_bif.slowflow.flow import AsymptoticsWarning, SlowFlow
+
+__all__ = ["ImpactResponse", "first_harmonic_c1", "SETTLE", "FAR", "STEP"]
+
+STEP = 0.02  # sample step of an orbit for A1: the corrected trapezoid's error ~ STEP**4 / 720
+SETTLE = 100  # forcing periods simulated before Newton (doubled up to three times while unsettled)
+FAR = 0.2  # an orbit whose A1 is this far (relative) from the point's amplitude: try another start
+
+
+class ImpactResponse:
+    """A1 of the stable 2pi-orbit of the impact model ``variant`` ("paper": (8); "corrected") that
+    each point of ``data`` follows, at any parameter set near the first (:meth:`amplitudes`)."""
+
+    def __init__(self, data, params: Params, progress=None, variant: str = "paper"):
+        say = progress or (lambda message: None)
+        self.variant, self.name = variant, VARIANT_NAMES[variant]
+        self.sigma = np.asarray(data.sigma, dtype=float)
+        say(f"orbits of {self.name}: from the slow flow's steady states at {len(self.sigma)} points")
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", AsymptoticsWarning)
+            curve = response_curve(params)
+        self.phase, self.x, self.stable = [], [], []
+        for s, A in zip(self.sigma, data.A):
+            at = params.replace(sigma=float(s))
+            states = sorted(curve.states_at(float(s)), key=lambda st: (not st[1], abs(st[0] - A)))
+            best = None
+            for A0, _ in states or [(float(A), False)]:
+                found = self._settle(at, A0)
+                if found is not None and (best is None or _better(found, best, A)):
+                    best = found
+                if best is not None and best[3] and abs(best[2] - A) <= FAR * A:
+                    break
+            if best is None:
+                raise LostOrbit(
+                    f"no 2pi-orbit of {self.name} found at sigma = {s:.6g} to follow: simulations from the "
+                    "slow "
+                    "flow's steady states there settle on none (the response of the impact model there may "
+                    "not be periodic; leave the point out or fit by another model)"
+                )
+            self.phase.append(best[0])
+            self.x.append(best[1])
+            self.stable.append(best[3])
+
+    def _settle(self, at: Params, A0: float):
+        """(phase, x, A1, stable) of the orbit a simulation from the slow flow's motion at amplitude
+        A0 settles on, or None."""
+        flow = SlowFlow(at)
+        try:
+            psi = float(flow.steady_phase(A0))
+            y0 = flow.fast_state(A0, psi, np.array([0.0]))[0]
+        except ValueError:  # A0 off the manifold: start from the vessel's motion alone
+            y0 = np.array([A0, 0.0, A0, 0.0])
+        y0[2] = np.clip(y0[2], -1 + 1e-9, 1 - 1e-9)  # the particle inside the walls
+        try:
+            x = settled_orbit(at, y0, periods=SETTLE, tries=3, variant=self.variant)
+        except Exception:  # noqa: BLE001 - a start that does not settle (ConvergenceError) or sticks
+            return None
+        problem = ImpactOrbitProblem(at, variant=self.variant)
+        phase, x = quiet_section(problem, x, at.sigma)
+        return self._orbit(at, phase, x)
+
+    def _orbit(self, params: Params, phase: float, x):
+        """(phase, x, A1, stable) of the orbit Newton finds from x on the section at ``phase``."""
+        problem = ImpactOrbitProblem(params, phase=phase, variant=self.variant)
+        run = newton_solve(problem, x, params.sigma, tol=1e-11, max_iter=20, criterion="residual")
+        if not run.converged or not problem.in_domain(run.x, params.sigma):
+            return None
+        stable = bool(problem.is_stable(problem.eigenvalues(run.x, params.sigma)))
+        t, y, _ = problem.orbit(run.x, params.sigma, step=STEP)
+        return phase, run.x, first_harmonic_c1(t, y[0], y[1]), stable
+
+    def amplitudes(self, params: Params) -> np.ndarray:
+        """A1 at each point's sigma for ``params``; :class:`LostOrbit` where an orbit is lost. The
+        orbits found become the next call's starts."""
+        found = [
+            self._orbit(params.replace(sigma=float(s)), phase, x)
+            for s, phase, x in zip(self.sigma, self.phase, self.x)
+        ]
+        lost = [s for f, s in zip(found, self.sigma) if f is None]
+        if lost:
+            where = ", ".join(f"{s:.4g}" for s in lost)
+            raise LostOrbit(f"the orbits of {self.name} at sigma = {where} are lost at {params}")
+        self.x, self.stable = [f[1] for f in found], [f[3] for f in found]
+        return np.array([f[2] for f in found])
+
+
+def first_harmonic_c1(t, X, Xd) -> float:
+    """A1 of X over the whole period sampled at t (the impact instants among them), by the
+    trapezoid rule with its end correction h**2/12 (f'(a) - f'(b)) on each interval, f = X e^(-i t):
+    fourth order where X is C1 (the vessel's speed does not jump at an impact of (8), its
+    acceleration does, and the impacts are sample points), so that A1 is smooth to ~1e-10 in the
+    parameters, as the least squares' differences need (a sampled trapezoid's 1e-5 is not)."""
+    e = np.exp(-1j * t)
+    f, df = X * e, (Xd - 1j * X) * e
+    h = np.diff(t)
+    integral = np.sum(0.5 * h * (f[1:] + f[:-1]) + h * h / 12.0 * (df[:-1] - df[1:]))
+    return float(abs(integral) / (0.5 * (t[-1] - t[0])))
+
+
+def _better(found, best, A) -> bool:
+    """Whether ``found`` beats ``best`` for a point of amplitude A: stable first, then nearer."""
+    return (not found[3], abs(found[2] - A)) < (not best[3], abs(best[2] - A))
