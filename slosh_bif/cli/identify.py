@@ -3,7 +3,6 @@ written as fit.json, fit.png and a parameter file the other commands take with `
 
 from __future__ import annotations
 
-import csv
 import sys
 from pathlib import Path
 
@@ -12,22 +11,17 @@ from slosh_bif.cli.common import add_params_options, out_path, params_of, progre
 __all__ = ["add_commands"]
 
 
-def _header(path: Path) -> list:
-    try:
-        with open(path, newline="") as fh:
-            return next(csv.reader(fh), [])
-    except (OSError, UnicodeDecodeError) as err:
-        raise ValueError(f"{path}: cannot be read as a CSV file ({err})") from None
-
-
 def _fit(args) -> int:
-    columns = _header(args.data)
-    if "sigma" in columns and "A" in columns:
+    from slosh_bif.identify.csv_table import read_header
+
+    columns = read_header(args.data)
+    if ("sigma" in columns and "A" in columns) or ("f_hz" in columns and "A_m" in columns):
         return _fit_response(args)
     if "v0" in columns and "v_out" in columns:
         return _fit_records(args)
     raise ValueError(
-        f"{args.data}: its header names neither a frequency response (sigma, A[, std, sweep]) nor impact "
+        f"{args.data}: its header names neither a frequency response (sigma, A[, std, sweep] or f_hz, "
+        "A_m[, std_m, sweep] with a tank file) nor impact "
         f"records (v0, v_out[, std]); has {', '.join(columns) or 'no header'}"
     )
 
@@ -46,6 +40,7 @@ def _fit_response(args) -> int:
     from slosh_bif.identify.response_data import read_response_data
     from slosh_bif.identify.response_fit import MODEL_NAMES, MODELS, RESPONSE_FREE, fit_response
     from slosh_bif.identify.response_output import write_response_fit
+    from slosh_bif.model.parameter_file import read_site
 
     model = args.model or "slowflow"
     if model not in MODELS:
@@ -55,7 +50,8 @@ def _fit_response(args) -> int:
         )
     free = _free(args, RESPONSE_FREE, "a frequency response")
     base = params_of(args)
-    data = read_response_data(args.data)
+    site = read_site(args.params) if args.params is not None else None
+    data = read_response_data(args.data, base, site)
     fit = fit_response(data, base, free, model=model, seed=args.seed, progress=progress)
     paths = write_response_fit(fit, data, base, args.out)
     by = MODEL_NAMES[model]

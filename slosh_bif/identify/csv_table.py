@@ -7,7 +7,17 @@ import csv
 import math
 from pathlib import Path
 
-__all__ = ["read_table", "number"]
+__all__ = ["read_header", "read_table", "number"]
+
+
+def read_header(path) -> list:
+    """The column names on the first line of the CSV file ``path`` (a one-line ValueError when it
+    cannot be read)."""
+    try:
+        with open(path, newline="") as fh:
+            return next(csv.reader(fh), [])
+    except (OSError, UnicodeDecodeError) as err:
+        raise ValueError(f"{path}: cannot be read as a CSV file ({err})") from None
 
 
 def read_table(path, required, what: str, optional=()) -> tuple:

@@ -2,7 +2,15 @@
 sigma of eq. (7) and the amplitude A of the vessel's first harmonic (the slow flow's amplitude,
 eqs. 25, 46), with an optional standard deviation of each amplitude and an optional sweep
 direction (``up`` or ``down``: the branch a sweep stays on until it jumps, which the fit explains
-by the stable branches, never by averaging them)."""
+by the stable branches, never by averaging them).
+
+Or in physical units (columns ``f_hz``, ``A_m``, optionally ``std_m``) with a tank parameter file:
+each point's excitation frequency f_i is a parameter set of its own, as ``slosh-bif tank`` would
+make it at f_i (:func:`~slosh_bif.model.tank.tank_model`, eq. 7 with tau = Omega t): with r_i =
+f_ref / f_i (f_ref the file's excitation frequency), ``1 - eps sigma_i = (1 - eps sigma_ref)
+r_i**2``, ``gamma_i = gamma r_i`` and ``Abar_i = Abar r_i**4`` (a sweep at constant ground
+acceleration); amplitudes are divided by the clearance. A fitted gamma or Abar is then the
+value at f_ref."""
 
 from __future__ import annotations
 
@@ -11,11 +19,14 @@ from pathlib import Path
 
 import numpy as np
 
-from slosh_bif.identify.csv_table import number, read_table
+from slosh_bif.identify.csv_table import number, read_header, read_table
+from slosh_bif.model.params import Params
+from slosh_bif.model.tank import Site
 
-__all__ = ["ResponseData", "read_response_data", "RESPONSE_COLUMNS", "SWEEPS"]
+__all__ = ["ResponseData", "read_response_data", "RESPONSE_COLUMNS", "PHYSICAL_COLUMNS", "SWEEPS"]
 
 RESPONSE_COLUMNS = ("sigma", "A")  # required; "std" and "sweep" optional
+PHYSICAL_COLUMNS = ("f_hz", "A_m")  # required with a tank file; "std_m" and "sweep" optional
 SWEEPS = ("up", "down", "")
 
 
@@ -23,25 +34,45 @@ SWEEPS = ("up", "down", "")
 class ResponseData:
     """Measured response points: ``sigma``, amplitude ``A``, each amplitude's standard deviation
     ``std`` (None: equal, estimated from the residuals), the ``sweep`` direction of each point
-    (empty strings where not given) and the file they came from."""
+    (empty strings where not given), the file they came from and, for data in Hz, each point's
+    ``ratio`` f_ref / f_i (None: one parameter set but for sigma)."""
 
     sigma: np.ndarray
     A: np.ndarray
     std: np.ndarray | None = None
     sweep: tuple = ()
     source: str = ""
+    ratio: np.ndarray | None = None
 
     def __len__(self) -> int:
         return len(self.sigma)
 
+    def params_at(self, base: Params, i: int) -> Params:
+        """The parameter set of point i: ``base`` at its sigma (and, for data in Hz, its gamma and
+        Abar scaled to its frequency)."""
+        if self.ratio is None:
+            return base.replace(sigma=float(self.sigma[i]))
+        r = float(self.ratio[i])
+        return base.replace(sigma=float(self.sigma[i]), gamma=base.gamma * r, Abar=base.Abar * r**4)
 
-def read_response_data(path) -> ResponseData:
+
+def read_response_data(path, params: Params | None = None, site: Site | None = None) -> ResponseData:
     """The response points of a CSV file with a header holding ``sigma`` and ``A`` (optionally
-    ``std`` and ``sweep``); a one-line ValueError naming the file and the line or column
-    otherwise, before any fitting."""
+    ``std`` and ``sweep``), or ``f_hz`` and ``A_m`` (optionally ``std_m``, ``sweep``) with the
+    tank's ``site`` and its ``params``; a one-line ValueError naming the file and the line or
+    column otherwise, before any fitting."""
     path = Path(path)
-    columns, rows = read_table(path, RESPONSE_COLUMNS, "a frequency response", optional=("std", "sweep"))
-    numbers = ("sigma", "A") + (("std",) if "std" in columns else ())
+    physical = "f_hz" in read_header(path)
+    if physical and site is None:
+        raise ValueError(
+            f"{path}: a response in Hz and metres (f_hz, A_m) needs the tank it was measured on: "
+            "--params FILE with a [tank] table (as `slosh-bif tank --out` writes)"
+        )
+    names = PHYSICAL_COLUMNS if physical else RESPONSE_COLUMNS
+    spread = "std_m" if physical else "std"
+    what = "a frequency response" + (" in physical units" if physical else "")
+    columns, rows = read_table(path, names, what, optional=(spread, "sweep"))
+    numbers = names + ((spread,) if spread in columns else ())
     values = {name: [] for name in numbers}
     sweep = []
     for k, row in enumerate(rows, start=2):  # line numbers, the header being line 1
@@ -53,5 +84,12 @@ def read_response_data(path) -> ResponseData:
         sweep.append(direction)
     if not rows:
         raise ValueError(f"{path}: no response points below the header")
-    std = np.array(values["std"]) if "std" in values else None
-    return ResponseData(np.array(values["sigma"]), np.array(values["A"]), std, tuple(sweep), str(path))
+    std = np.array(values[spread]) if spread in values else None
+    if not physical:
+        return ResponseData(np.array(values["sigma"]), np.array(values["A"]), std, tuple(sweep), str(path))
+    ratio = site.excitation_frequency / np.array(values["f_hz"])
+    sigma = (1.0 - (1.0 - params.eps * params.sigma) * ratio**2) / params.eps
+    D = site.clearance
+    return ResponseData(
+        sigma, np.array(values["A_m"]) / D, None if std is None else std / D, tuple(sweep), str(path), ratio
+    )

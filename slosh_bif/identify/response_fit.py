@@ -72,14 +72,15 @@ PBAR_MAX = 8
 def residuals(data: ResponseData, params: Params, model: str = "slowflow") -> np.ndarray:
     """(A_i - A_model(sigma_i)) / std_i with A_model the stable steady state nearest A_i (any
     steady state where none is stable; 0 where there is none)."""
+    out = np.empty(len(data))
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", AsymptoticsWarning)
-        curve = response_curve(params, model)
-    out = np.empty(len(data))
-    for i, (sigma, A) in enumerate(zip(data.sigma, data.A)):
-        states = curve.states_at(float(sigma))
-        stable = [a for a, ok in states if ok] or [a for a, _ in states] or [0.0]
-        out[i] = A - min(stable, key=lambda a: abs(a - A))
+        curve = response_curve(params, model) if data.ratio is None else None
+        for i, (sigma, A) in enumerate(zip(data.sigma, data.A)):
+            # data in Hz: each point's own gamma and Abar, so its own curve
+            states = (curve or response_curve(data.params_at(params, i), model)).states_at(float(sigma))
+            stable = [a for a, ok in states if ok] or [a for a, _ in states] or [0.0]
+            out[i] = A - min(stable, key=lambda a: abs(a - A))
     return out / data.std if data.std is not None else out
 
 
@@ -189,6 +190,11 @@ def fit_response(
     if "eps" in free and model in SLOW_MODELS:
         raise ValueError(
             "eps does not enter (46) in the scaled sigma: it is fitted by the orbits (--model smooth, impact)"
+        )
+    if "eps" in free and data.ratio is not None:
+        raise ValueError(
+            f"{data.source}: eps sets the map from Hz to sigma; with data in Hz it is the tank's (fit eps "
+            "to a response in sigma)"
         )
     if model in ORBIT_MODELS and "pbar" in free:
         raise ValueError("pbar is profiled by the slow flows only (each value would find the orbits anew)")

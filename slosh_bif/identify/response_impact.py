@@ -46,8 +46,9 @@ class ImpactResponse:
             warnings.simplefilter("ignore", AsymptoticsWarning)
             curve = response_curve(params)
         self.phase, self.x, self.stable = [], [], []
-        for s, A in zip(self.sigma, data.A):
-            at = params.replace(sigma=float(s))
+        self.data = data
+        for i, (s, A) in enumerate(zip(self.sigma, data.A)):
+            at = data.params_at(params, i)
             states = sorted(curve.states_at(float(s)), key=lambda st: (not st[1], abs(st[0] - A)))
             best = None
             for A0, _ in states or [(float(A), False)]:
@@ -99,8 +100,8 @@ class ImpactResponse:
         """A1 at each point's sigma for ``params``; :class:`LostOrbit` where an orbit is lost. The
         orbits found become the next call's starts."""
         found = [
-            self._orbit(params.replace(sigma=float(s)), phase, x)
-            for s, phase, x in zip(self.sigma, self.phase, self.x)
+            self._orbit(self.data.params_at(params, i), phase, x)
+            for i, (phase, x) in enumerate(zip(self.phase, self.x))
         ]
         lost = [s for f, s in zip(found, self.sigma) if f is None]
         if lost:

@@ -48,9 +48,9 @@ class OrbitResponse:
         family = trace_orbits(
             start.params, start.y0, interval=ParameterRange(name="sigma", lo=lo - pad, hi=hi + pad)
         )
-        problem = ShootingProblem(params, segments=SEGMENTS)
+        self.data = data
         self.x, self.stable = [], []
-        for s, A in zip(self.sigma, data.A):
+        for problem, s, A in zip(self._problems(params), self.sigma, data.A):
             found = [_orbit(problem, problem.initial_states(y0, s), s) for _, y0 in _near(family, s)]
             found = [f for f in found if f is not None]
             if not found:
@@ -62,8 +62,7 @@ class OrbitResponse:
     def amplitudes(self, params: Params) -> np.ndarray:
         """A1 at each point's sigma for ``params``; :class:`LostOrbit` where an orbit is lost. The
         orbits found become the next call's starts."""
-        problem = ShootingProblem(params, segments=SEGMENTS)
-        found = [_orbit(problem, x, s) for x, s in zip(self.x, self.sigma)]
+        found = [_orbit(problem, x, s) for problem, x, s in zip(self._problems(params), self.x, self.sigma)]
         lost = [s for f, s in zip(found, self.sigma) if f is None]
         if lost:
             raise LostOrbit(
@@ -71,6 +70,15 @@ class OrbitResponse:
             )
         self.x, self.stable = [f[0] for f in found], [f[2] for f in found]
         return np.array([f[1] for f in found])
+
+    def _problems(self, params: Params) -> list:
+        """Each point's shooting problem: one for all but data in Hz, whose points each have their
+        own gamma and Abar."""
+        if self.data.ratio is None:
+            return [ShootingProblem(params, segments=SEGMENTS)] * len(self.sigma)
+        return [
+            ShootingProblem(self.data.params_at(params, i), segments=SEGMENTS) for i in range(len(self.sigma))
+        ]
 
 
 def _orbit(problem: ShootingProblem, x, sigma):

@@ -73,7 +73,8 @@ def _plot_fit(fit, data, fitted: Params, path) -> Path:
         2, 1, figsize=(7.5, 6.5), sharex=True, gridspec_kw={"height_ratios": [3, 1]}
     )
     scale = data.std if data.std is not None else 1.0
-    if fit.model in ORBIT_MODELS:  # the fitted orbits at the points' sigma
+    # the fitted model at the points' sigma: orbits, or steady states of each point's own set (data in Hz)
+    if fit.model in ORBIT_MODELS or data.ratio is not None:
         order = np.argsort(data.sigma)
         model_A = (data.A - fit.residuals * scale)[order]
         top.plot(

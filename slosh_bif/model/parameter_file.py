@@ -37,7 +37,7 @@ if sys.version_info >= (3, 11):
 else:  # pragma: no cover - Python 3.10
     import tomli as tomllib
 
-__all__ = ["read_parameter_file", "render_parameter_file", "TANK_KEYS"]
+__all__ = ["read_parameter_file", "read_site", "render_parameter_file", "TANK_KEYS"]
 
 _TANK = tuple(f.name for f in dataclasses.fields(Tank))
 _SITE = tuple(f.name for f in dataclasses.fields(Site))
@@ -130,6 +130,17 @@ def read_parameter_file(path) -> Preset:
     if not 0 <= window[0] < window[1]:
         raise ValueError(f"{path}: window must be [tau0, tau1] with 0 <= tau0 < tau1; got {list(window)}")
     return Preset(path.stem, params, uv0, window, note=f"from {path.name} ({source})")
+
+
+def read_site(path) -> Site | None:
+    """The [tank] table's site (its excitation frequency and clearance: the units of measured data
+    in Hz and metres), or None for a file of dimensionless [params]."""
+    path = Path(path)
+    data = _load(path)
+    read_parameter_file(path)  # the whole file checked first
+    if "tank" not in data:
+        return None
+    return Site(**{k: v for k, v in data["tank"].items() if k in _SITE})
 
 
 def _plain(value):

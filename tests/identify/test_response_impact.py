@@ -98,3 +98,63 @@ def test_slosh_bif_fit_by_the_impact_model_and_its_refusals(tmp_path, capsys):
         fit_response(ResponseData(sigma, sigma, None, (), "x"), TRUTH, ["pbar", "gamma"], model="impact")
     with pytest.raises(ValueError, match="eps does not enter"):
         fit_response(ResponseData(sigma, sigma, None, (), "x"), TRUTH, ["eps"], model="slowflow")
+
+
+def _tank_response(tmp_path, frequencies):
+    """A tank file (the README's tank at 0.3 g) and the slow flow's stable steady states at each
+    excitation frequency, each from its own parameter set by ``tank_model`` and Newton on (45)
+    (scipy's root; the fit's roots of (46) only as its start), in metres."""
+    import dataclasses
+    import warnings
+
+    from scipy import optimize
+
+    from slosh_bif.identify.response_model import response_curve
+    from slosh_bif.model.parameter_file import render_parameter_file
+    from slosh_bif.model.tank import Site, Tank, tank_model
+    from slosh_bif.slowflow.flow import SlowFlow
+
+    tank = Tank("cylinder", depth=8.0, radius=5.0)
+    site = Site(2e6, 0.8, 0.72, 3.0, 1.0, 0.02)
+    path = tmp_path / "tank.toml"
+    path.write_text(render_parameter_file(tank={**dataclasses.asdict(tank), **dataclasses.asdict(site)}))
+    A = []
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        for f in frequencies:
+            params = tank_model(tank, dataclasses.replace(site, excitation_frequency=f)).params
+            flow = SlowFlow(params)
+            (A0, _), *_ = response_curve(params).states_at(params.sigma)
+            start = [A0 * 1.01, flow.steady_phase(A0) + 0.01]
+            root = optimize.root(lambda z: flow.rhs(z[0], z[1]), start, tol=1e-13)
+            assert np.abs(flow.rhs(*root.x)).max() < 1e-13
+            assert np.all(np.linalg.eigvals(flow.jac(*root.x)).real < 0)
+            A.append(root.x[0] * site.clearance)
+    return path, np.array(A)
+
+
+def test_a_response_in_hz_and_metres_is_fitted_through_the_tank_file(tmp_path, capsys):
+    """Each point its own parameter set (gamma ~ 1/f, Abar ~ 1/f**4 at constant ground
+    acceleration, as ``tank_model`` makes them): gamma at the file's frequency comes back to 1e-6."""
+    from slosh_bif.identify.response_data import read_response_data
+    from slosh_bif.model.parameter_file import read_parameter_file, read_site
+
+    frequencies = np.linspace(0.62, 0.84, 9)
+    path, A = _tank_response(tmp_path, frequencies)
+    data_file = tmp_path / "measured.csv"
+    data_file.write_text("f_hz,A_m\n" + "".join(f"{f:.17g},{a:.17g}\n" for f, a in zip(frequencies, A)))
+    truth = read_parameter_file(path).params
+    data = read_response_data(data_file, truth, read_site(path))
+    fit = fit_response(data, truth.replace(gamma=0.8 * truth.gamma), ["gamma"])
+    assert fit.values["gamma"] == pytest.approx(truth.gamma, rel=1e-6)
+    out = tmp_path / "fit"
+    assert (
+        main(["fit", "--params", str(path), "--data", str(data_file), "--free", "gamma", "--out", str(out)])
+        == 0
+    )
+    with pytest.raises(
+        ValueError, match=r"measured.csv: a response in Hz and metres \(f_hz, A_m\) needs the tank"
+    ):
+        read_response_data(data_file)
+    with pytest.raises(ValueError, match="eps sets the map from Hz to sigma"):
+        fit_response(data, truth, ["eps"], model="smooth")
