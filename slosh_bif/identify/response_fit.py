@@ -43,14 +43,22 @@ import numpy as np
 
 from slosh_bif.identify.response_data import ResponseData
 from slosh_bif.identify.response_impact import ImpactResponse
-from slosh_bif.identify.response_model import response_curve
+from slosh_bif.identify.response_model import impact_free, response_curve
 from slosh_bif.identify.response_orbits import OrbitResponse
 from slosh_bif.identify.response_stats import CHI2_95, STARTS, least_squares, misfit_of, profile, wald
 from slosh_bif.model.params import Params
 from slosh_bif.model.restitution import dissipation_at_unit_speed
 from slosh_bif.slowflow.flow import AsymptoticsWarning
 
-__all__ = ["RESPONSE_FREE", "MODELS", "MODEL_NAMES", "ResponseFit", "fit_response", "residuals"]
+__all__ = [
+    "RESPONSE_FREE",
+    "MODELS",
+    "MODEL_NAMES",
+    "ResponseFit",
+    "fit_response",
+    "residuals",
+    "model_amplitudes",
+]
 
 RESPONSE_FREE = ("lam", "chi", "gamma", "Abar", "eps", "pbar")  # eps: by the orbits only
 SLOW_MODELS = ("slowflow", "corrected")  # the slow flows (46)
@@ -70,18 +78,47 @@ PBAR_MAX = 8
 
 
 def residuals(data: ResponseData, params: Params, model: str = "slowflow") -> np.ndarray:
-    """(A_i - A_model(sigma_i)) / std_i with A_model the stable steady state nearest A_i (any
-    steady state where none is stable; 0 where there is none)."""
-    out = np.empty(len(data))
+    """(A_i - A_model_i) / std_i, A_model_i the steady state of the slow flow ``model`` point i is
+    on (:func:`model_amplitudes`)."""
+    out = data.A - model_amplitudes(data, params, model)
+    return out / data.std if data.std is not None else out
+
+
+def model_amplitudes(data: ResponseData, params: Params, model: str = "slowflow") -> np.ndarray:
+    """The amplitude of the steady state each point is on: the stable states at its sigma are
+    those of (46) and the impact-free response where the particle stays inside the walls
+    (:func:`~.response_model.impact_free`). A point without a sweep direction takes the one
+    nearest its amplitude. The points of an up-sweep (down-sweep), taken by increasing
+    (decreasing) sigma, follow the state the sweep is on: the first the one nearest its amplitude,
+    each next the one nearest the last's model amplitude (the same branch while it lasts; where
+    it ends, the state the sweep jumps to), so that where the model jumps is fitted to where the
+    measurement did. Any steady state where none is stable; 0 where there is none."""
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", AsymptoticsWarning)
-        curve = response_curve(params, model) if data.ratio is None else None
-        for i, (sigma, A) in enumerate(zip(data.sigma, data.A)):
-            # data in Hz: each point's own gamma and Abar, so its own curve
-            states = (curve or response_curve(data.params_at(params, i), model)).states_at(float(sigma))
-            stable = [a for a, ok in states if ok] or [a for a, _ in states] or [0.0]
-            out[i] = A - min(stable, key=lambda a: abs(a - A))
-    return out / data.std if data.std is not None else out
+        # data in Hz: each point's own gamma and Abar, so its own curve
+        shared = response_curve(params, model) if data.ratio is None else None
+        states = [_states(data, params, model, i, shared) for i in range(len(data))]
+    out = np.empty(len(data))
+    sweep = data.sweep or ("",) * len(data)
+    for direction, order in (("", 1), ("up", 1), ("down", -1)):
+        points = sorted(
+            (i for i in range(len(data)) if sweep[i] == direction), key=lambda i: order * data.sigma[i]
+        )
+        last = None
+        for i in points:
+            target = data.A[i] if last is None or direction == "" else last
+            stable = [a for a, ok in states[i] if ok] or [a for a, _ in states[i]] or [0.0]
+            out[i] = last = min(stable, key=lambda a: abs(a - target))
+    return out
+
+
+def _states(data: ResponseData, params: Params, model: str, i: int, shared) -> list:
+    """(A, stable) of every steady state at point i's sigma (on the ``shared`` curve, or its own),
+    the impact-free response among them where it stays inside the walls."""
+    at = data.params_at(params, i)
+    states = (shared or response_curve(at, model)).states_at(float(data.sigma[i]))
+    A, w = impact_free(at)
+    return states + [(A, True)] if w < 1.0 else states
 
 
 @dataclasses.dataclass(frozen=True)

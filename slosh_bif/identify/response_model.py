@@ -7,6 +7,11 @@ steady states at one sigma are the amplitudes where either root equals it, brack
 over S+ and refined by Brent; each is stable when the Jacobian of (45) there has both eigenvalues
 in the left half-plane (the middle branch of a hysteresis loop is a saddle; a Hopf point bounds
 the strongly modulated response).
+
+Below S+'s end the particle need not reach the walls at all: the impact-free response of (8)'s
+linear flight, Y = (i - K)^-1 F (X = Re Y e^(i tau)), is a steady state too, stable (a damped
+linear motion) wherever its |w| stays below the wall, |Y_w| < 1 (:func:`impact_free`): the
+non-resonant response a sweep jumps from and to.
 """
 
 from __future__ import annotations
@@ -16,11 +21,12 @@ import dataclasses
 import numpy as np
 from scipy import optimize
 
+from slosh_bif.model.equations import ImpactModel
 from slosh_bif.model.params import Params
 from slosh_bif.slowflow.flow import SlowFlow
 from slosh_bif.slowflow.steady_states import sigma_on_curve
 
-__all__ = ["ResponseCurve", "response_curve"]
+__all__ = ["ResponseCurve", "response_curve", "impact_free"]
 
 GRID = 800  # amplitudes on S+ where the roots are bracketed
 _EDGE = 2e-8  # relative margin from the manifold's ends (alpha has a square root there)
@@ -71,6 +77,15 @@ def response_curve(params: Params, model: str = "slowflow") -> ResponseCurve:
     A = np.sort(np.concatenate([A, _turns(flow, A)]))
     low, high = sigma_on_curve(flow, A, rounding=_TURN)
     return ResponseCurve(flow, A, low, high)
+
+
+def impact_free(params: Params) -> tuple:
+    """(A, |w| amplitude) of the impact-free 2pi-response of (8) at ``params``: the linear flight
+    forced by F cos(tau), X = |Y_X| sin(tau + phase). A steady state of the system where the
+    particle's amplitude is below 1 (it then never reaches the walls)."""
+    model = ImpactModel(params)
+    Y = np.linalg.solve(1j * np.eye(4) - model.matrix, model.forcing.astype(complex))
+    return float(abs(Y[0])), float(abs(Y[2]))
 
 
 def _discriminant(flow: SlowFlow, A):

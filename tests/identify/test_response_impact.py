@@ -158,3 +158,53 @@ def test_a_response_in_hz_and_metres_is_fitted_through_the_tank_file(tmp_path, c
         read_response_data(data_file)
     with pytest.raises(ValueError, match="eps sets the map from Hz to sigma"):
         fit_response(data, truth, ["eps"], model="smooth")
+
+
+def test_the_impact_free_response_is_the_linear_flights_2pi_orbit():
+    """Re Y e^(i tau) integrated by scipy over one period of (8)'s flight returns to itself."""
+    from slosh_bif.identify.response_model import impact_free
+    from slosh_bif.model.equations import ImpactModel
+
+    for sigma in (-6.0, -2.5, 5.0):
+        params = TRUTH.replace(sigma=sigma)
+        model = ImpactModel(params)
+        Y = np.linalg.solve(1j * np.eye(4) - model.matrix, model.forcing.astype(complex))
+        run = integrate.solve_ivp(model.rhs, (0.0, 2 * np.pi), Y.real, rtol=1e-12, atol=1e-13)
+        assert np.abs(run.y[:, -1] - Y.real).max() < 1e-9
+        A, w = impact_free(params)
+        assert A == pytest.approx(np.hypot(Y.real[0], Y.real[1]), rel=1e-12) and w == abs(Y[2])
+
+
+def test_a_sweep_follows_its_branch_until_it_ends():
+    """Fig. 10 set: resonant states of (46) at every sigma in [-6, 2], the impact-free response
+    too below sigma = -2. A down-sweep stays on the resonant branch (the model has no jump there);
+    the same points without a direction take the state nearest each; an up-sweep from the
+    impact-free response jumps to the resonant branch where the particle reaches the walls; a fit
+    of gamma to both sweeps gives it back."""
+    from slosh_bif.identify.response_fit import model_amplitudes
+    from slosh_bif.identify.response_model import impact_free, response_curve
+
+    sigma = np.linspace(-6.0, 1.0, 15)
+    curve = response_curve(TRUTH)
+    resonant = np.array([max(a for a, ok in curve.states_at(s) if ok) for s in sigma])
+    free = np.array([impact_free(TRUTH.replace(sigma=s)) for s in sigma])
+    inside = free[:, 1] < 1.0
+    # a "measured" down-sweep that dropped to the impact-free response at sigma = -3
+    dropped = np.where(sigma < -3.0, free[:, 0], resonant)
+    down = ResponseData(sigma, dropped, None, ("down",) * len(sigma), "down")
+    assert np.allclose(model_amplitudes(down, TRUTH), resonant, rtol=1e-9)
+    nearest = ResponseData(sigma, dropped, None, (), "no direction")
+    assert np.allclose(model_amplitudes(nearest, TRUTH), dropped, rtol=1e-9)
+    # an up-sweep from the impact-free response: on it while it lasts, then on the resonant branch
+    climbed = np.where(inside, free[:, 0], resonant)
+    up = ResponseData(sigma, climbed, None, ("up",) * len(sigma), "up")
+    assert np.allclose(model_amplitudes(up, TRUTH), climbed, rtol=1e-9)
+    both = ResponseData(
+        np.concatenate([sigma, sigma]),
+        np.concatenate([climbed, resonant]),
+        None,
+        ("up",) * len(sigma) + ("down",) * len(sigma),
+        "sweeps",
+    )
+    fit = fit_response(both, TRUTH.replace(gamma=0.15), ["gamma"])
+    assert fit.values["gamma"] == pytest.approx(TRUTH.gamma, rel=1e-6)
