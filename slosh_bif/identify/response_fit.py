@@ -7,8 +7,8 @@ nearest A_i (:mod:`.response_model`): an up- and a down-sweep across a hysteresi
 stable branches, not one averaged curve. The residual is (A_i - A_model) / std_i (std_i = 1 when
 not given; the scale is then estimated). Continuous parameters (lam, chi, gamma, Abar) are fitted
 by least squares within their admissible ranges (lam down to 0, the elastic wall, a bound the fit
-may reach) from several seeded starts; the integer pbar is profiled over the values of n's
-parity. Intervals:
+may reach) from several seeded starts; the integers n and pbar are profiled
+(:mod:`.response_integers`). Intervals:
 
 * Wald: the estimate +- 1.96 standard errors (t quantiles when the scale is estimated) from the
   Gauss-Newton covariance (J^T J)^-1 (times the residual variance when std is not given),
@@ -43,9 +43,10 @@ import numpy as np
 
 from slosh_bif.identify.response_data import ResponseData
 from slosh_bif.identify.response_impact import ImpactResponse
+from slosh_bif.identify.response_integers import INTEGERS, integer_estimates, integer_sets, start_at
 from slosh_bif.identify.response_model import impact_free, response_curve
 from slosh_bif.identify.response_orbits import OrbitResponse
-from slosh_bif.identify.response_stats import CHI2_95, STARTS, least_squares, misfit_of, profile, wald
+from slosh_bif.identify.response_stats import STARTS, least_squares, misfit_of, profile, wald
 from slosh_bif.model.params import Params
 from slosh_bif.model.restitution import dissipation_at_unit_speed
 from slosh_bif.slowflow.flow import AsymptoticsWarning
@@ -60,7 +61,7 @@ __all__ = [
     "model_amplitudes",
 ]
 
-RESPONSE_FREE = ("lam", "chi", "gamma", "Abar", "eps", "pbar")  # eps: by the orbits only
+RESPONSE_FREE = ("lam", "chi", "gamma", "Abar", "eps", "n", "pbar")  # eps: by the orbits only
 SLOW_MODELS = ("slowflow", "corrected")  # the slow flows (46)
 ORBIT_MODELS = ("smooth", "impact", "impact-corrected")  # the orbits of (9), (8), the corrected (8)
 MODELS = SLOW_MODELS + ORBIT_MODELS
@@ -74,7 +75,6 @@ MODEL_NAMES = {
     "impact-corrected": "the orbits of the corrected impact model",
 }
 CONTINUOUS = ("lam", "chi", "gamma", "Abar", "eps")
-PBAR_MAX = 8
 
 
 def residuals(data: ResponseData, params: Params, model: str = "slowflow") -> np.ndarray:
@@ -233,8 +233,10 @@ def fit_response(
             f"{data.source}: eps sets the map from Hz to sigma; with data in Hz it is the tank's (fit eps "
             "to a response in sigma)"
         )
-    if model in ORBIT_MODELS and "pbar" in free:
-        raise ValueError("pbar is profiled by the slow flows only (each value would find the orbits anew)")
+    if model in ORBIT_MODELS and any(name in free for name in INTEGERS):
+        raise ValueError(
+            "n and pbar are profiled by the slow flows only (each value would find the orbits anew)"
+        )
     continuous = [f for f in free if f in CONTINUOUS]
     if len(data) <= len(free):
         raise ValueError(
@@ -242,7 +244,9 @@ def fit_response(
             f"({', '.join(free)}); the fit needs more points than parameters"
         )
     note = ""
-    candidates = list(range(base.n % 2, PBAR_MAX + 1, 2)) if "pbar" in free else [base.pbar]
+    candidates = integer_sets(base, free)
+    if not candidates:
+        raise ValueError(f"no wall power n of pbar = {base.pbar}'s parity to try; free pbar too")
     if model in C_ONLY and "lam" in continuous and "chi" in continuous:
         continuous.remove("chi")
         note = (
@@ -255,16 +259,24 @@ def fit_response(
     scale_known = data.std is not None
     rng = np.random.default_rng(seed)
     results = {}
-    for pbar in candidates:
-        say(f"least squares of {', '.join(continuous) or 'nothing'} at pbar = {pbar} from {STARTS} starts")
-        at = base.replace(pbar=pbar)
+    for n, pbar in candidates:
+        at = start_at(base, n, pbar, "lam" in continuous)
+        if at is None:  # kappa not real at unit speed with this wall and lam held
+            say(f"n = {n}, pbar = {pbar}: kappa (21) is not real with lam = {base.lam:g}; skipped")
+            continue
+        say(
+            f"least squares of {', '.join(continuous) or 'nothing'} at n = {n}, pbar = {pbar} from "
+            f"{STARTS} starts"
+        )
         objective = _Objective(data, at, continuous, model, say)
-        z0 = np.array([getattr(at, n) for n in continuous], dtype=float)
+        z0 = np.array([getattr(at, name) for name in continuous], dtype=float)
         run = least_squares(objective, z0, rng) if continuous else None
         r = objective(run.x) if run is not None else objective(z0)
-        results[pbar] = (misfit_of(r, scale_known), run, objective, r)
-    pbar = min(results, key=lambda k: results[k][0])
-    misfit, run, objective, r = results[pbar]
+        results[n, pbar] = (misfit_of(r, scale_known), run, objective, r)
+    if not results:
+        raise ValueError(f"kappa (21) is not real at any n, pbar tried with lam = {base.lam:g}; free lam too")
+    integers = min(results, key=lambda k: results[k][0])
+    misfit, run, objective, r = results[integers]
     z = run.x if run is not None else np.zeros(0)
     fitted = objective.params(z)
     converged = run is None or run.status > 0
@@ -313,20 +325,15 @@ def fit_response(
                     f"The data do not bound {name} from {side}: its profile stays within 3.84 of the "
                     f"best out to {name} = {reached:.4g}.",
                 )
-    if "pbar" in free:
-        consistent = sorted(p for p, v in results.items() if v[0] - misfit <= CHI2_95)
-        estimate["pbar"] = {"value": int(pbar), "consistent_95": consistent}
-        if len(consistent) > 1:
-            note = _join(
-                note,
-                f"pbar is not determined: {', '.join(map(str, consistent))} fit equally at 95 %; the "
-                f"other estimates hold given pbar = {pbar}.",
-            )
+    integer_estimate, integer_values, sentences = integer_estimates(
+        free, {k: v[0] for k, v in results.items()}, integers
+    )
+    estimate.update(integer_estimate)
+    for sentence in sentences:
+        note = _join(note, sentence)
     if "lam" in continuous and "chi" in free and "chi" not in continuous:
         estimate.update(_dissipation_estimates(fitted, estimate["lam"]))
-    values = {n: float(getattr(fitted, n)) for n in continuous}
-    if "pbar" in free:
-        values["pbar"] = int(pbar)
+    values = {name: float(getattr(fitted, name)) for name in continuous} | integer_values
     rms = math.sqrt(float(r @ r) / len(r))
     return ResponseFit(
         free,

@@ -94,7 +94,7 @@ def test_slosh_bif_fit_by_the_impact_model_and_its_refusals(tmp_path, capsys):
     )
     assert code == 0 and (out / "fit.json").exists() and (out / "fit.png").exists()
     assert "the orbits of the vibro-impact model (8)" in capsys.readouterr().out
-    with pytest.raises(ValueError, match="pbar is profiled by the slow flows only"):
+    with pytest.raises(ValueError, match="n and pbar are profiled by the slow flows only"):
         fit_response(ResponseData(sigma, sigma, None, (), "x"), TRUTH, ["pbar", "gamma"], model="impact")
     with pytest.raises(ValueError, match="eps does not enter"):
         fit_response(ResponseData(sigma, sigma, None, (), "x"), TRUTH, ["eps"], model="slowflow")
@@ -208,3 +208,28 @@ def test_a_sweep_follows_its_branch_until_it_ends():
     )
     fit = fit_response(both, TRUTH.replace(gamma=0.15), ["gamma"])
     assert fit.values["gamma"] == pytest.approx(TRUTH.gamma, rel=1e-6)
+
+
+def test_the_wall_power_n_is_profiled_where_the_model_feels_it():
+    """Points of the continued corrected slow flow (whose clearance D(v) depends on n) made with
+    n = 20: fitted with n and gamma free from n = 50, n = 20 alone is consistent and gamma comes
+    back to 1e-6. By (46) with Newtonian restitution n enters only through C, like lam: with
+    both free it is not determined."""
+    import warnings
+
+    from slosh_bif.slowflow.flow import AsymptoticsWarning
+    from slosh_bif.slowflow.steady_states import frequency_response
+
+    truth = TRUTH.replace(n=20)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", AsymptoticsWarning)
+        response = frequency_response(truth, sigma_min=-4.0, sigma_max=4.0, model="corrected")
+    sigma = np.concatenate([b.p[b.stable] for b in response.branches])
+    A = np.concatenate([b.x[b.stable, 0] for b in response.branches])
+    picks = sorted({int(np.argmin(np.abs(sigma - s))) for s in np.linspace(-4.0, 4.0, 12)})
+    data = ResponseData(sigma[picks], A[picks], np.full(len(picks), 1e-3), (), "n = 20")
+    fit = fit_response(data, TRUTH.replace(gamma=0.15), ["n", "gamma"], model="corrected")
+    assert fit.values["n"] == 20 and fit.estimate["n"]["consistent_95"] == [20]
+    assert fit.values["gamma"] == pytest.approx(truth.gamma, rel=1e-6)
+    slow = fit_response(data, TRUTH.replace(gamma=0.15), ["n", "lam"])
+    assert "n is not determined" in slow.not_identifiable
