@@ -19,9 +19,11 @@ def _fit(args) -> int:
         return _fit_response(args)
     if "v0" in columns and "v_out" in columns:
         return _fit_records(args)
+    if "tau" in columns and ("A" in columns or "X" in columns):
+        return _fit_decay(args)
     raise ValueError(
         f"{args.data}: its header names neither a frequency response (sigma, A[, std, sweep] or f_hz, "
-        "A_m[, std_m, sweep] with a tank file) nor impact "
+        "A_m[, std_m, sweep] with a tank file), a free decay (tau, A[, std] or tau, X) nor impact "
         f"records (v0, v_out[, std]); has {', '.join(columns) or 'no header'}"
     )
 
@@ -56,9 +58,47 @@ def _fit_response(args) -> int:
     paths = write_response_fit(fit, data, base, args.out)
     by = MODEL_NAMES[model]
     misfit = "chi-square" if fit.scale_known else "residual sum of squares"
-    print(
-        f"{fit.points} response points, {by}: {misfit} {_sum_of_squares(fit):.4g}, rms residual {fit.rms:.3g}"
+    return _report(
+        fit,
+        paths,
+        f"{fit.points} response points, {by}: {misfit} {_sum_of_squares(fit):.4g}, rms residual "
+        f"{fit.rms:.3g}",
     )
+
+
+def _fit_decay(args) -> int:
+    from slosh_bif.identify.decay import DECAY_FREE, fit_decay, read_decay_data
+    from slosh_bif.identify.decay_output import write_decay_fit
+
+    free = _free(args, DECAY_FREE, "a free decay (A0 is fitted with them)")
+    base = params_of(args)
+    data = read_decay_data(args.data)
+    progress(f"free decay: {len(data)} envelope points; least squares and profiles (tens of seconds)")
+    fit = fit_decay(data, base, free, model=args.model or "slowflow", seed=args.seed)
+    paths = write_decay_fit(fit, data, base, args.out)
+    return _report(
+        fit,
+        paths,
+        f"{fit.points} envelope points, the slow flow ({fit.model}) with Abar = 0: rms residual "
+        f"{fit.rms:.3g}",
+    )
+
+
+def _report(fit, paths, headline: str) -> int:
+    """Print the headline, the estimates and the files; 3 where the fit did not converge."""
+    print(headline)
+    _print_estimates(fit)
+    print("wrote " + ", ".join(str(p) for p in paths))
+    if not fit.converged:
+        print(
+            f"slosh-bif fit: the fit did not converge ({fit.message}); its best point is written",
+            file=sys.stderr,
+        )
+        return 3
+    return 0
+
+
+def _print_estimates(fit) -> None:
     for name, e in fit.estimate.items():
         if "wald_95" in e:
             profile = e.get("profile_95")
@@ -71,14 +111,6 @@ def _fit_response(args) -> int:
             print(f"  {name} = {e['value']} (consistent at 95 %: {e.get('consistent_95')})")
     if fit.not_identifiable:
         print(f"  not identifiable: {fit.not_identifiable}")
-    print("wrote " + ", ".join(str(p) for p in paths))
-    if not fit.converged:
-        print(
-            f"slosh-bif fit: the fit did not converge ({fit.message}); its best point is written",
-            file=sys.stderr,
-        )
-        return 3
-    return 0
 
 
 def _sum_of_squares(fit) -> float:

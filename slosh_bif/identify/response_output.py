@@ -19,33 +19,37 @@ from slosh_bif.identify.response_stats import CHI2_95
 from slosh_bif.model.parameter_file import render_parameter_file
 from slosh_bif.model.params import Params
 
-__all__ = ["write_response_fit"]
+__all__ = ["write_response_fit", "write_fit_outputs", "plot_profiles"]
 
 
 def write_response_fit(fit, data, base: Params, folder) -> list:
     """Write fit.json, params.toml, fit.png and profiles.png into ``folder``; returns their paths."""
+    fitted = fit.params(base)
+    return write_fit_outputs(
+        fit,
+        data.source,
+        fitted,
+        folder,
+        lambda path: _plot_fit(fit, data, fitted, path),
+        MODEL_NAMES[fit.model],
+    )
+
+
+def write_fit_outputs(fit, source: str, fitted: Params, folder, plot, by: str) -> list:
+    """fit.json (with the data file's SHA-256), params.toml (``fitted``, commented as fitted ``by``
+    to ``source``), fit.png by ``plot(path)`` and profiles.png in ``folder``; their paths."""
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
     record = fit.as_dict()
-    if data.source and Path(data.source).is_file():
-        record["data"] = {
-            "file": data.source,
-            "sha256": hashlib.sha256(Path(data.source).read_bytes()).hexdigest(),
-        }
+    if source and Path(source).is_file():
+        record["data"] = {"file": source, "sha256": hashlib.sha256(Path(source).read_bytes()).hexdigest()}
     paths = [write_text_atomically(folder / "fit.json", json.dumps(record, indent=2) + "\n")]
-    fitted = fit.params(base)
+    comment = f"fitted by `slosh-bif fit` ({by}) to {source or 'measurements'}"
     paths.append(
-        write_text_atomically(
-            folder / "params.toml",
-            render_parameter_file(
-                params=fitted,
-                comment="fitted by `slosh-bif fit` (the slow flow's steady states, (46)) to "
-                + (data.source or "a response"),
-            ),
-        )
+        write_text_atomically(folder / "params.toml", render_parameter_file(params=fitted, comment=comment))
     )
-    paths.append(_plot_fit(fit, data, fitted, folder / "fit.png"))
-    paths.append(_plot_profiles(fit, folder / "profiles.png"))
+    paths.append(plot(folder / "fit.png"))
+    paths.append(plot_profiles(fit, folder / "profiles.png"))
     return paths
 
 
@@ -122,7 +126,7 @@ def _plot_curve(ax, curve, data):
         ax.plot(sigma[keep], A[keep], "-" if stable else "--", color="tab:red", lw=1.2, label=label)
 
 
-def _plot_profiles(fit, path) -> Path:
+def plot_profiles(fit, path) -> Path:
     from slosh_bif.report.plotting import pyplot, save_figure
 
     plt = pyplot()

@@ -1,0 +1,70 @@
+"""A free decay fitted by the slow flow (45) with the forcing off: exact recovery from a decay
+integrated by scipy's Radau (not the fit's DOP853), the envelope of a signal against its closed
+form, the command, and the refusals."""
+
+import warnings
+
+import numpy as np
+import pytest
+from scipy import integrate
+
+from slosh_bif import get_preset
+from slosh_bif.cli import main
+from slosh_bif.identify.decay import DecayData, envelope, fit_decay, read_decay_data
+from slosh_bif.slowflow.flow import AsymptoticsWarning, SlowFlow
+
+TRUTH = get_preset("fig10").params  # lam = 0.35, gamma = 0.2, eps = 0.05
+
+
+@pytest.fixture(scope="module")
+def decay():
+    """A(tau) on S+ from A = 3 by Radau on (45) with Abar = 0, above 1.05 A_min."""
+    free = TRUTH.replace(Abar=0.0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", AsymptoticsWarning)
+        flow = SlowFlow(free)
+        tau = np.linspace(0.0, 200.0, 25)
+        run = integrate.solve_ivp(
+            lambda t, z: flow.rhs(z[0], z[1]),
+            (0.0, free.eps * tau[-1]),
+            [3.0, 0.0],
+            method="Radau",
+            rtol=1e-12,
+            atol=1e-13,
+            t_eval=free.eps * tau,
+        )
+    keep = run.y[0] > 1.05 * flow.A_min
+    return DecayData(tau[keep], run.y[0][keep], None, "radau")
+
+
+def test_a_decay_of_the_slow_flow_gives_back_the_damping(decay):
+    fit = fit_decay(decay, TRUTH.replace(lam=0.5, gamma=0.15), ["lam", "gamma"])
+    assert fit.converged and fit.rms < 1e-8
+    assert fit.values["lam"] == pytest.approx(TRUTH.lam, rel=1e-6)
+    assert fit.values["gamma"] == pytest.approx(TRUTH.gamma, rel=1e-6)
+    assert fit.values["A0"] == pytest.approx(3.0, rel=1e-8)
+    # the decay separates the impacts' loss (it falls with A) from the vessel's (it does not)
+    assert abs(fit.correlation[0, 1]) < 0.99
+
+
+def test_the_envelope_of_a_slowly_decaying_sine():
+    """|2 e^(-k t) sin(t + 0.3)| peaks every pi at the height 2 e^(-k t) / sqrt(1 + k^2) (there
+    tan(t + 0.3) = 1/k): the parabola through three samples 0.02 apart finds it to 1e-7."""
+    tau = np.arange(0.0, 100.0, 0.02)
+    t, A = envelope(tau, 2.0 * np.exp(-0.01 * tau) * np.sin(tau + 0.3))
+    assert len(t) == 32 and np.abs(A - 2.0 * np.exp(-0.01 * t) / np.sqrt(1 + 1e-4)).max() < 1e-7
+
+
+def test_slosh_bif_fit_a_decay_and_its_refusals(tmp_path, decay, capsys):
+    data = tmp_path / "decay.csv"
+    data.write_text("tau,A\n" + "".join(f"{t:.17g},{a:.17g}\n" for t, a in zip(decay.tau, decay.A)))
+    out = tmp_path / "fit"
+    args = ["fit", "--preset", "fig10", "--set", "gamma=0.15", "--data", str(data), "--free", "gamma"]
+    assert main(args + ["--out", str(out)]) == 0
+    assert "envelope points" in capsys.readouterr().out and (out / "fit.png").exists()
+    bad = tmp_path / "bad.csv"
+    bad.write_text("tau,A\n0,1\n2,0.9\n1,0.8\n")
+    with pytest.raises(ValueError, match="bad.csv: tau must increase strictly"):
+        read_decay_data(bad)
+    with pytest.raises(ValueError, match="--free takes one or more of lam, chi, gamma for a free decay"):
+        fit_decay(decay, TRUTH, ["Abar"])
