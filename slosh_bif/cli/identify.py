@@ -20,7 +20,7 @@ def _fit(args) -> int:
     if "v0" in columns and "v_out" in columns:
         return _fit_records(args)
     if "tau" in columns and ("A" in columns or "X" in columns):
-        return _fit_decay(args)
+        return _fit_time_series(args)
     raise ValueError(
         f"{args.data}: its header names neither a frequency response (sigma, A[, std, sweep] or f_hz, "
         "A_m[, std_m, sweep] with a tank file), a free decay (tau, A[, std] or tau, X) nor impact "
@@ -66,21 +66,23 @@ def _fit_response(args) -> int:
     )
 
 
-def _fit_decay(args) -> int:
-    from slosh_bif.identify.decay import DECAY_FREE, fit_decay, read_decay_data
-    from slosh_bif.identify.decay_output import write_decay_fit
+def _fit_time_series(args) -> int:
+    from slosh_bif.identify.time_series import DECAY_FREE, FORCED_FREE, fit_time_series, read_time_record
+    from slosh_bif.identify.time_series_output import write_time_series_fit
 
-    free = _free(args, DECAY_FREE, "a free decay (A0 is fitted with them)")
+    forced = args.record == "forced"
+    kind = "a forced record (A0 and psi0 are fitted with them)" if forced else "a free decay (and A0)"
+    free = _free(args, FORCED_FREE if forced else DECAY_FREE, kind)
     base = params_of(args)
-    data = read_decay_data(args.data)
-    progress(f"free decay: {len(data)} envelope points; least squares and profiles (tens of seconds)")
-    fit = fit_decay(data, base, free, model=args.model or "slowflow", seed=args.seed)
-    paths = write_decay_fit(fit, data, base, args.out)
+    data = read_time_record(args.data)
+    progress(f"{kind}: {len(data)} envelope points; least squares and profiles (tens of seconds)")
+    fit = fit_time_series(data, base, free, forced=forced, model=args.model or "slowflow", seed=args.seed)
+    paths = write_time_series_fit(fit, data, base, args.out)
     return _report(
         fit,
         paths,
-        f"{fit.points} envelope points, the slow flow ({fit.model}) with Abar = 0: rms residual "
-        f"{fit.rms:.3g}",
+        f"{fit.points} envelope points, {kind.split(' (')[0]} by the slow flow ({fit.model}): rms "
+        f"residual {fit.rms:.3g}",
     )
 
 
@@ -161,14 +163,20 @@ def add_commands(sub) -> None:
     fit = sub.add_parser(
         "fit",
         help="identify the wall's (and vessel's) parameters from measurements, with intervals: a "
-        "frequency response (by the slow flow's steady states) or impact records (by eq. 21)",
+        "frequency response (by the slow flows or the orbits of 9 or 8), a free decay or forced record "
+        "(by the slow flow in time) or impact records (by eq. 21)",
         epilog="data: a CSV with the columns sigma, A (the response's first-harmonic amplitude) and "
-        "optionally std and sweep (up or down): a frequency response; or v0 (incoming speed), v_out "
-        "(outgoing speed) and optionally std: impact records",
+        "optionally std and sweep (up or down): a frequency response (or f_hz, A_m[, std_m, sweep] in "
+        "Hz and metres with --params TANK_FILE); tau, A[, std] (the envelope) or tau, X (the vessel's "
+        "displacement): a free decay or, with --record forced, a forced record; or v0 (incoming "
+        "speed), v_out (outgoing speed) and optionally std: impact records",
     )
     add_params_options(fit)
     fit.add_argument(
-        "--data", type=Path, required=True, help="CSV: sigma, A[, std, sweep] or v0, v_out[, std]"
+        "--data",
+        type=Path,
+        required=True,
+        help="CSV: sigma, A[, std, sweep]; f_hz, A_m[, std_m, sweep]; tau, A[, std] or tau, X; v0, v_out",
     )
     fit.add_argument(
         "--free",
@@ -184,6 +192,13 @@ def add_commands(sub) -> None:
         "corrected slow flow, the wall's measured law), smooth (the stable orbits of the full model 9), "
         "impact (the stable orbits of the vibro-impact model 8) or impact-corrected (of the corrected "
         "impact model)",
+    )
+    fit.add_argument(
+        "--record",
+        choices=("decay", "forced"),
+        default="decay",
+        help="for a record in time (tau, A or tau, X): a free decay (default) or a forced record at the "
+        "parameter set's sigma and Abar",
     )
     fit.add_argument("--seed", type=int, default=0, help="seed of the fit's extra starts (default 0)")
     fit.add_argument("--out", type=out_path, required=True, help="output folder (created if missing)")

@@ -1,14 +1,19 @@
-"""The wall's (and the vessel's) damping fitted to a free decay (as Fig. 9 with the forcing off):
-the vessel's amplitude A(tau) falling along the slow invariant manifold (36) under the slow flow
-(45) with Abar = 0, where dA/dT1 (T1 = eps tau) does not depend on the phase and carries the
-impacts' loss C of (21) and the vessel's gamma; below S+'s end A_min the particle stops reaching
-the walls and the vessel decays as the vessel's mode of (8)'s linear flight.
+"""The wall's (and the vessel's) parameters fitted to a record in time: a free decay (as Fig. 9
+with the forcing off) or a forced record at one frequency (the transient onto a steady state, as
+Fig. 9 itself). The vessel's amplitude A(tau) moves along the slow invariant manifold (36) under
+the slow flow (45) from (A0, psi0): with Abar = 0, dA/dT1 (T1 = eps tau) does not depend on the
+phase and carries the impacts' loss C of (21) and the vessel's gamma; with the forcing on, the
+phase matters and psi0 is fitted too. Below S+'s end A_min the particle stops reaching the walls
+and the amplitude relaxes, at the rate of the vessel's mode of (8)'s linear flight, to the
+impact-free response (0 in a free decay): the leading order of a linear transient, its beating
+left out.
 
 Data: a CSV with ``tau`` and ``A`` (the envelope: the vessel's amplitude at each time) or ``tau``
 and ``X`` (the vessel's displacement: its envelope taken from the peaks of |X|, each refined by a
 parabola through its three samples, which the leading order X = A sin(tau + psi) (25) makes A),
-optional ``std``. The initial amplitude A0 at the first time is fitted with the free parameters
-(a nuisance parameter); intervals and profiles as for a frequency response (:mod:`.response_stats`).
+optional ``std``. The initial amplitude A0 (and, forced, the phase psi0) at the first time is
+fitted with the free parameters (nuisance parameters, with Wald intervals only); intervals and
+profiles as for a frequency response (:mod:`.response_stats`).
 """
 
 from __future__ import annotations
@@ -21,19 +26,31 @@ from pathlib import Path
 import numpy as np
 
 from slosh_bif.identify.csv_table import number, read_header, read_table
-from slosh_bif.identify.response_stats import least_squares, misfit_of, profile, wald
+from slosh_bif.identify.response_model import impact_free
+from slosh_bif.identify.response_stats import STARTS, least_squares, misfit_of, profile, wald
 from slosh_bif.model.equations import ImpactModel
 from slosh_bif.model.params import Params
 from slosh_bif.slowflow.flow import AsymptoticsWarning, SlowFlow
 
-__all__ = ["DecayData", "DecayFit", "read_decay_data", "decay_amplitudes", "fit_decay", "DECAY_FREE"]
+__all__ = [
+    "TimeRecord",
+    "TimeSeriesFit",
+    "read_time_record",
+    "envelope",
+    "record_amplitudes",
+    "fit_time_series",
+    "DECAY_FREE",
+    "FORCED_FREE",
+]
 
 DECAY_FREE = ("lam", "chi", "gamma")  # and A0, always fitted
+FORCED_FREE = DECAY_FREE + ("Abar",)  # and A0, psi0
+PHASE_STARTS = 4  # starts of psi0 spread over the circle
 
 
 @dataclasses.dataclass(frozen=True)
-class DecayData:
-    """A measured free decay: times ``tau``, envelope ``A``, optional ``std``, the source file."""
+class TimeRecord:
+    """A measured record: times ``tau``, envelope ``A``, optional ``std``, the source file."""
 
     tau: np.ndarray
     A: np.ndarray
@@ -44,13 +61,13 @@ class DecayData:
         return len(self.tau)
 
 
-def read_decay_data(path) -> DecayData:
+def read_time_record(path) -> TimeRecord:
     """``tau, A[, std]`` or ``tau, X`` (envelope from the peaks of |X|); one-line errors naming the
     file, line and column."""
     path = Path(path)
     signal = "X" in read_header(path) and "A" not in read_header(path)
     names = ("tau", "X") if signal else ("tau", "A")
-    columns, rows = read_table(path, names, "a free decay", optional=() if signal else ("std",))
+    columns, rows = read_table(path, names, "a record in time", optional=() if signal else ("std",))
     numbers = names + (("std",) if "std" in columns and not signal else ())
     values = {name: [] for name in numbers}
     for k, row in enumerate(rows, start=2):
@@ -63,9 +80,9 @@ def read_decay_data(path) -> DecayData:
         tau, A = envelope(tau, np.array(values["X"]))
         if len(tau) < 3:
             raise ValueError(f"{path}: fewer than 3 peaks of |X| to take the envelope from")
-        return DecayData(tau, A, None, str(path))
+        return TimeRecord(tau, A, None, str(path))
     std = np.array(values["std"]) if "std" in values else None
-    return DecayData(tau, np.array(values["A"]), std, str(path))
+    return TimeRecord(tau, np.array(values["A"]), std, str(path))
 
 
 def envelope(tau, X) -> tuple:
@@ -80,11 +97,14 @@ def envelope(tau, X) -> tuple:
     return tau[k] + shift * h, b - 0.25 * (a - c) * shift
 
 
-def decay_amplitudes(params: Params, A0: float, tau, model: str = "slowflow") -> np.ndarray:
-    """A(tau) from A0 at tau[0] with the forcing off: (45) on S+ until A_min, then the vessel's
-    mode of (8)'s linear flight."""
+def record_amplitudes(
+    params: Params, A0: float, tau, model: str = "slowflow", *, forced: bool = False, psi0: float = 0.0
+) -> np.ndarray:
+    """A(tau) from (A0, psi0) at tau[0], the forcing off unless ``forced``: (45) on S+ until A_min,
+    then a relaxation at the rate of the vessel's mode of (8)'s linear flight to the impact-free
+    response (0 without forcing)."""
     tau = np.asarray(tau, dtype=float)
-    free = params.replace(Abar=0.0)
+    free = params if forced else params.replace(Abar=0.0)
     T1 = free.eps * (tau - tau[0])
     out = np.empty(len(tau))
     with warnings.catch_warnings():
@@ -93,13 +113,14 @@ def decay_amplitudes(params: Params, A0: float, tau, model: str = "slowflow") ->
         if A0 <= flow.A_min:
             escape, A_escape = 0.0, A0
         else:
-            run = flow.integrate(A0, 0.0, (0.0, float(T1[-1]) or 1e-12), t_eval=T1)
+            run = flow.integrate(A0, psi0, (0.0, float(T1[-1]) or 1e-12), t_eval=T1)
             out[: len(run.A)] = run.A
             escape, A_escape = run.T1_end, flow.A_min
     after = T1 > escape if A0 > flow.A_min else np.ones(len(tau), dtype=bool)
     if after.any():
         rate = _linear_rate(free)
-        out[after] = A_escape * np.exp(-rate * (T1[after] - escape) / free.eps)
+        target = impact_free(free)[0] if forced else 0.0
+        out[after] = target + (A_escape - target) * np.exp(-rate * (T1[after] - escape) / free.eps)
     return out
 
 
@@ -111,8 +132,8 @@ def _linear_rate(params: Params) -> float:
 
 
 @dataclasses.dataclass(frozen=True)
-class DecayFit:
-    """A fitted free decay: ``values`` (the fitted parameters and A0), ``estimate`` per parameter
+class TimeSeriesFit:
+    """A fitted record: ``values`` (the fitted parameters, A0 and psi0), ``estimate`` per parameter
     (value, std, Wald and profile 95 % intervals), ``correlation``, the misfit and what the data
     do not determine."""
 
@@ -130,14 +151,16 @@ class DecayFit:
     profiles: dict
     scale_known: bool
     residuals: np.ndarray
+    forced: bool
 
     def params(self, base: Params) -> Params:
-        return base.replace(**{k: v for k, v in self.values.items() if k != "A0"})
+        return base.replace(**{k: v for k, v in self.values.items() if k not in NUISANCE})
 
     def as_dict(self) -> dict:
         out = {f.name: getattr(self, f.name) for f in dataclasses.fields(self)}
+        kind = "a forced record" if self.forced else "a free decay (Abar = 0)"
         out.update(
-            model=f"free decay along S+ by the slow flow (45) with Abar = 0 (model {self.model!r})",
+            model=f"{kind} along S+ by the slow flow (45) (model {self.model!r})",
             free=list(self.free),
             correlation=self.correlation.tolist(),
             residuals=self.residuals.tolist(),
@@ -146,39 +169,61 @@ class DecayFit:
         return out
 
 
-class _Objective:
-    """Residuals in (free parameters..., A0) within their ranges."""
+NUISANCE = ("A0", "psi0")
 
-    def __init__(self, data: DecayData, base: Params, names, model):
-        self.data, self.base, self.model = data, base, model
-        self.names = tuple(names) + ("A0",)
+
+class _Objective:
+    """Residuals in (free parameters..., A0[, psi0]) within their ranges."""
+
+    def __init__(self, data: TimeRecord, base: Params, names, model, forced: bool):
+        self.data, self.base, self.model, self.forced = data, base, model, forced
+        self.names = tuple(names) + (NUISANCE if forced else NUISANCE[:1])
         self.diff_step = 1e-6  # the integration's 1e-10 would be noise in differences of 1.5e-8
-        lower = {"lam": 1e-9, "chi": 1e-9, "gamma": 0.0, "A0": 1e-9}
+        # psi0 within two turns either side of its starts (in [-pi, pi)): the phase is periodic
+        lower = {"lam": 1e-9, "chi": 1e-9, "gamma": 0.0, "Abar": 1e-9, "A0": 1e-9, "psi0": -4 * np.pi}
         self.lower = np.array([lower[n] for n in self.names])
-        self.upper = np.full(len(self.names), np.inf)
+        self.upper = np.array([4 * np.pi if n == "psi0" else np.inf for n in self.names])
 
     def params(self, z) -> Params:
-        return self.base.replace(**{n: float(v) for n, v in zip(self.names[:-1], z[:-1])})
+        return self.base.replace(**{n: float(v) for n, v in zip(self.names, z) if n not in NUISANCE})
 
     def __call__(self, z):
+        values = dict(zip(self.names, map(float, z)))
         try:
-            r = self.data.A - decay_amplitudes(self.params(z), float(z[-1]), self.data.tau, self.model)
+            model = record_amplitudes(
+                self.params(z),
+                values["A0"],
+                self.data.tau,
+                self.model,
+                forced=self.forced,
+                psi0=values.get("psi0", 0.0),
+            )
         except (ValueError, RuntimeError):  # outside the admissible set: far off
             return np.full(len(self.data), 1e3 * (1.0 + float(self.data.A.max())))
+        r = self.data.A - model
         return r / self.data.std if self.data.std is not None else r
 
 
-def fit_decay(data: DecayData, base: Params, free, *, model: str = "slowflow", seed: int = 0) -> DecayFit:
-    """Fit ``free`` (of :data:`DECAY_FREE`) and A0 to a free decay; the rest from ``base``."""
+def fit_time_series(
+    data: TimeRecord, base: Params, free, *, forced: bool = False, model: str = "slowflow", seed: int = 0
+) -> TimeSeriesFit:
+    """Fit ``free`` (of :data:`DECAY_FREE`, or :data:`FORCED_FREE` for a ``forced`` record at the
+    set's sigma and Abar) with A0 (and psi0) to a record; the rest from ``base``."""
     free = tuple(dict.fromkeys(free))
-    if not free or any(f not in DECAY_FREE for f in free):
-        raise ValueError(f"--free takes one or more of {', '.join(DECAY_FREE)} for a free decay; got {free}")
-    if model not in ("slowflow", "corrected"):
-        raise ValueError(f"a free decay is fitted by the slow flows (slowflow, corrected); got {model!r}")
-    if len(data) <= len(free) + 1:
+    allowed, kind = (FORCED_FREE, "a forced record") if forced else (DECAY_FREE, "a free decay")
+    if not free or any(f not in allowed for f in free):
         raise ValueError(
-            f"{data.source or 'the data'}: {len(data)} decay points for {len(free) + 1} parameters "
-            f"({', '.join(free)}, A0); the fit needs more points than parameters"
+            f"--free takes one or more of {', '.join(allowed)} for {kind}; got {', '.join(free)}"
+        )
+    if model not in ("slowflow", "corrected"):
+        raise ValueError(f"{kind} is fitted by the slow flows (slowflow, corrected); got {model!r}")
+    if forced and base.Abar <= 0:
+        raise ValueError("a forced record needs the forcing Abar > 0 it was measured at (--set Abar=...)")
+    nuisance = 2 if forced else 1
+    if len(data) <= len(free) + nuisance:
+        raise ValueError(
+            f"{data.source or 'the data'}: {len(data)} points of {kind} for {len(free) + nuisance} "
+            "parameters (the free ones, A0" + (", psi0)" if forced else ")") + "; the fit needs more points"
         )
     names, note = list(free), ""
     if model == "slowflow" and "lam" in names and "chi" in names:
@@ -187,21 +232,31 @@ def fit_decay(data: DecayData, base: Params, free, *, model: str = "slowflow", s
             "The slow flow with the law (21) depends on lam and chi only through C of (21): chi is held "
             f"at {base.chi:g} and lam fitted."
         )
-    objective = _Objective(data, base, names, model)
-    z0 = np.array([getattr(base, n) for n in names] + [float(data.A[0])])
+    objective = _Objective(data, base, names, model, forced)
     rng = np.random.default_rng(seed)
-    run = least_squares(objective, z0, rng)
+    head = [getattr(base, n) for n in names] + [float(data.A[0])]
+    phases = np.linspace(-np.pi, np.pi, PHASE_STARTS, endpoint=False) if forced else [None]
+    # a forced record: one start per phase (the phases are the spread); a decay: the seeded starts
+    runs = [
+        least_squares(
+            objective, np.array(head + ([] if p is None else [p])), rng, starts=1 if forced else STARTS
+        )
+        for p in phases
+    ]
+    run = min(runs, key=lambda r: r.cost)
     r = objective(run.x)
     scale_known = data.std is not None
     misfit = misfit_of(r, scale_known)
     estimate, correlation, rank_note = wald(objective, run.x, r, scale_known, len(data))
     profiles = {}
     for k, name in enumerate(objective.names):
+        if name in NUISANCE:  # their Wald intervals only: the profiles cost as much again
+            continue
         interval, rows = profile(objective, run.x, k, misfit, scale_known, estimate[name], rng)
         estimate[name]["profile_95"] = interval
         profiles[name] = rows
     values = {n: float(v) for n, v in zip(objective.names, run.x)}
-    return DecayFit(
+    return TimeSeriesFit(
         free,
         values,
         estimate,
@@ -216,4 +271,5 @@ def fit_decay(data: DecayData, base: Params, free, *, model: str = "slowflow", s
         profiles,
         scale_known,
         r,
+        forced,
     )

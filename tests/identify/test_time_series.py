@@ -10,7 +10,7 @@ from scipy import integrate
 
 from slosh_bif import get_preset
 from slosh_bif.cli import main
-from slosh_bif.identify.decay import DecayData, envelope, fit_decay, read_decay_data
+from slosh_bif.identify.time_series import TimeRecord, envelope, fit_time_series, read_time_record
 from slosh_bif.slowflow.flow import AsymptoticsWarning, SlowFlow
 
 TRUTH = get_preset("fig10").params  # lam = 0.35, gamma = 0.2, eps = 0.05
@@ -34,11 +34,11 @@ def decay():
             t_eval=free.eps * tau,
         )
     keep = run.y[0] > 1.05 * flow.A_min
-    return DecayData(tau[keep], run.y[0][keep], None, "radau")
+    return TimeRecord(tau[keep], run.y[0][keep], None, "radau")
 
 
 def test_a_decay_of_the_slow_flow_gives_back_the_damping(decay):
-    fit = fit_decay(decay, TRUTH.replace(lam=0.5, gamma=0.15), ["lam", "gamma"])
+    fit = fit_time_series(decay, TRUTH.replace(lam=0.5, gamma=0.15), ["lam", "gamma"])
     assert fit.converged and fit.rms < 1e-8
     assert fit.values["lam"] == pytest.approx(TRUTH.lam, rel=1e-6)
     assert fit.values["gamma"] == pytest.approx(TRUTH.gamma, rel=1e-6)
@@ -65,6 +65,32 @@ def test_slosh_bif_fit_a_decay_and_its_refusals(tmp_path, decay, capsys):
     bad = tmp_path / "bad.csv"
     bad.write_text("tau,A\n0,1\n2,0.9\n1,0.8\n")
     with pytest.raises(ValueError, match="bad.csv: tau must increase strictly"):
-        read_decay_data(bad)
+        read_time_record(bad)
     with pytest.raises(ValueError, match="--free takes one or more of lam, chi, gamma for a free decay"):
-        fit_decay(decay, TRUTH, ["Abar"])
+        fit_time_series(decay, TRUTH, ["Abar"])
+
+
+def test_a_forced_transient_gives_back_the_damping_and_its_start():
+    """(45) at sigma = 3 on the Fig. 10 set from (A0, psi0) = (1.5, 0.5) onto its steady state, by
+    Radau: gamma, A0 and psi0 come back to 1e-6 from four starts of the phase."""
+    at = TRUTH.replace(sigma=3.0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", AsymptoticsWarning)
+        flow = SlowFlow(at)
+        tau = np.linspace(0.0, 150.0, 20)
+        run = integrate.solve_ivp(
+            lambda t, z: flow.rhs(z[0], z[1]),
+            (0.0, at.eps * tau[-1]),
+            [1.5, 0.5],
+            method="Radau",
+            rtol=1e-12,
+            atol=1e-13,
+            t_eval=at.eps * tau,
+        )
+    data = TimeRecord(tau, run.y[0], None, "forced")
+    fit = fit_time_series(data, at.replace(gamma=0.15), ["gamma"], forced=True)
+    assert fit.values["gamma"] == pytest.approx(TRUTH.gamma, rel=1e-6)
+    assert fit.values["A0"] == pytest.approx(1.5, rel=1e-6)
+    assert (fit.values["psi0"] - 0.5 + np.pi) % (2 * np.pi) - np.pi == pytest.approx(0.0, abs=1e-6)
+    with pytest.raises(ValueError, match="a forced record needs the forcing Abar > 0"):
+        fit_time_series(data, at.replace(Abar=0.0), ["gamma"], forced=True)
