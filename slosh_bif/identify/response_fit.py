@@ -286,7 +286,7 @@ def fit_response(
         if not all(objective.orbits.stable):
             # some points followed orbits that are unstable here (the start's stable set differed):
             # the orbits found again at the estimate, and the fit redone from it once
-            say("orbits of (9) unstable at the estimate: found again there, and the fit redone")
+            say(f"{MODEL_NAMES[model]}: unstable at the estimate; found again there, and the fit redone")
             objective = _Objective(data, fitted, continuous, model, say)
             run = least_squares(objective, z, rng, starts=1)
             z, r = run.x, objective(run.x)
@@ -301,7 +301,7 @@ def fit_response(
         if unstable:
             note = _join(
                 note,
-                f"At the estimate the orbits of (9) followed at sigma = {', '.join(unstable)} are "
+                f"At the estimate {MODEL_NAMES[model]} followed at sigma = {', '.join(unstable)} are "
                 "unstable: a measured response cannot be them there.",
             )
     estimate, correlation, identifiability = wald(objective, z, r, scale_known, len(data))

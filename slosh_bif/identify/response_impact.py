@@ -3,13 +3,14 @@ the corrected impact model) at the data's detunings and the amplitude A1 of thei
 followed from one parameter set to the next: the fit by the paper's own model, whose error against
 the slow flow (46) is the expansion's alone.
 
-At the first parameter set each point's orbit is the one a simulation of (8) settles on from the
-slow flow's motion (25), (29), (35) on its stable steady state of (46) nearest the point's
-amplitude (then from the others, nearest first, while the orbit found is unstable or its A1 more
-than :data:`FAR` off); Newton on the stroboscopic map polishes it, and the map's section is moved
-to the middle of the orbit's longest flight, where an impact does not cross it for small parameter
-changes. At any later set each orbit is Newton's from the last, stable or not, and an orbit Newton
-loses is reported, never replaced silently by another (as :mod:`.response_orbits` for (9)).
+At the first parameter set each point's orbit is the impact-free response where it keeps inside the
+walls, or the one a simulation of (8) settles on from the slow flow's motion (25), (29), (35) on its
+stable steady state of (46) nearest the point's amplitude (then from the others, nearest first,
+while the orbit found is unstable or its A1 more than :data:`FAR` off); Newton on the stroboscopic
+map polishes it, and the map's section is moved to the middle of the orbit's longest flight, where
+an impact does not cross it for small parameter changes. At any later set each orbit is Newton's
+from the last, stable or not, and an orbit Newton loses is reported, never replaced silently by
+another (as :mod:`.response_orbits` for (9)).
 """
 
 from __future__ import annotations
@@ -19,7 +20,7 @@ import warnings
 import numpy as np
 
 from slosh_bif.continuation.corrector import newton_solve
-from slosh_bif.identify.response_model import response_curve
+from slosh_bif.identify.response_model import impact_free, impact_free_state, response_curve
 from slosh_bif.identify.response_orbits import LostOrbit
 from slosh_bif.model.params import Params
 from slosh_bif.orbits.impact_branches import quiet_section, settled_orbit
@@ -44,15 +45,20 @@ class ImpactResponse:
         say(f"orbits of {self.name}: from the slow flow's steady states at {len(self.sigma)} points")
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", AsymptoticsWarning)
-            curve = response_curve(params)
+            curve = response_curve(params) if data.ratio is None else None
         self.phase, self.x, self.stable = [], [], []
         self.data = data
         for i, (s, A) in enumerate(zip(self.sigma, data.A)):
             at = data.params_at(params, i)
-            states = sorted(curve.states_at(float(s)), key=lambda st: (not st[1], abs(st[0] - A)))
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", AsymptoticsWarning)
+                states = (curve or response_curve(at)).states_at(float(s))  # data in Hz: the point's set
+            states = sorted(states, key=lambda st: (not st[1], abs(st[0] - A)))
             best = None
-            for A0, _ in states or [(float(A), False)]:
-                found = self._settle(at, A0)
+            # the impact-free response first where it keeps inside the walls: an orbit as it is
+            free = [None] if impact_free(at)[1] < 1.0 else []
+            for A0 in free + [A0 for A0, _ in states or [(float(A), False)]]:
+                found = self._orbit(at, 0.0, impact_free_state(at)) if A0 is None else self._settle(at, A0)
                 if found is not None and (best is None or _better(found, best, A)):
                     best = found
                 if best is not None and best[3] and abs(best[2] - A) <= FAR * A:
@@ -60,9 +66,8 @@ class ImpactResponse:
             if best is None:
                 raise LostOrbit(
                     f"no 2pi-orbit of {self.name} found at sigma = {s:.6g} to follow: simulations from the "
-                    "slow "
-                    "flow's steady states there settle on none (the response of the impact model there may "
-                    "not be periodic; leave the point out or fit by another model)"
+                    "slow flow's steady states there settle on none (the response of the impact model there "
+                    "may not be periodic; leave the point out or fit by another model)"
                 )
             self.phase.append(best[0])
             self.x.append(best[1])

@@ -26,7 +26,7 @@ from slosh_bif.model.params import Params
 from slosh_bif.slowflow.flow import SlowFlow
 from slosh_bif.slowflow.steady_states import sigma_on_curve
 
-__all__ = ["ResponseCurve", "response_curve", "impact_free"]
+__all__ = ["ResponseCurve", "response_curve", "impact_free", "impact_free_state"]
 
 GRID = 800  # amplitudes on S+ where the roots are bracketed
 _EDGE = 2e-8  # relative margin from the manifold's ends (alpha has a square root there)
@@ -83,9 +83,18 @@ def impact_free(params: Params) -> tuple:
     """(A, |w| amplitude) of the impact-free 2pi-response of (8) at ``params``: the linear flight
     forced by F cos(tau), X = |Y_X| sin(tau + phase). A steady state of the system where the
     particle's amplitude is below 1 (it then never reaches the walls)."""
-    model = ImpactModel(params)
-    Y = np.linalg.solve(1j * np.eye(4) - model.matrix, model.forcing.astype(complex))
+    Y = _impact_free_amplitudes(params)
     return float(abs(Y[0])), float(abs(Y[2]))
+
+
+def impact_free_state(params: Params) -> np.ndarray:
+    """The impact-free response's state [X, X', w, w'] at tau = 0 (Re Y)."""
+    return _impact_free_amplitudes(params).real
+
+
+def _impact_free_amplitudes(params: Params) -> np.ndarray:
+    model = ImpactModel(params)
+    return np.linalg.solve(1j * np.eye(4) - model.matrix, model.forcing.astype(complex))
 
 
 def _discriminant(flow: SlowFlow, A):

@@ -6,7 +6,10 @@ At the first parameter set the family of 2pi-orbits is traced over the data's si
 start on the slow flow (:func:`~slosh_bif.orbits.families.trace_orbits`, with switching at its
 pitchforks and period doublings); each point takes the orbit whose A1 is nearest its amplitude,
 a stable one where there is one, by interpolation between the branch's points, corrected by Newton
-at the point's own sigma. At any later parameter set each orbit is Newton's from the last one (the
+at the point's own sigma. Where none of those is stable, and for data in Hz (each point its own
+gamma and Abar, so no one family), the orbits Newton finds from the slow flow's motion on each
+steady state of (46) at the point's own set are tried too. At any later parameter set each orbit
+is Newton's from the last one (through intermediate sets where Newton from the last misses; the
 least squares moves the parameters by small steps), stable or not (a fit started off the truth
 may pass parameter sets where the measured orbit is unstable); :attr:`OrbitResponse.stable` says
 which are stable at the last set, and an orbit Newton loses is reported, never replaced silently
@@ -15,19 +18,24 @@ by another.
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 
 from slosh_bif.continuation.corrector import newton_solve
+from slosh_bif.identify.response_model import response_curve
 from slosh_bif.model.params import Params
 from slosh_bif.orbits.families import trace_orbits
 from slosh_bif.orbits.orbit_tools import orbit_measures
 from slosh_bif.orbits.settings import ParameterRange
 from slosh_bif.orbits.shooting import ShootingProblem
-from slosh_bif.orbits.starts import slow_flow_start
+from slosh_bif.orbits.starts import orbit_from_slow_flow, slow_flow_start
+from slosh_bif.slowflow.flow import AsymptoticsWarning
 
 __all__ = ["OrbitResponse", "LostOrbit"]
 
 SEGMENTS = 4  # arcs of each orbit's shooting problem
+SUBSTEPS = 8  # parameter sets between the last and the next where Newton from the last misses
 
 
 class LostOrbit(ValueError):
@@ -41,18 +49,29 @@ class OrbitResponse:
     def __init__(self, data, params: Params, progress=None):
         say = progress or (lambda message: None)
         self.sigma = np.asarray(data.sigma, dtype=float)
-        lo, hi = float(self.sigma.min()), float(self.sigma.max())
-        pad = 0.05 * (hi - lo) + 0.05
-        say(f"orbits of (9): the family over sigma in [{lo - pad:.4g}, {hi + pad:.4g}]")
-        start = slow_flow_start(params, lo - pad, hi + pad, segments=SEGMENTS)
-        family = trace_orbits(
-            start.params, start.y0, interval=ParameterRange(name="sigma", lo=lo - pad, hi=hi + pad)
-        )
-        self.data = data
+        self.data, self.params = data, params
+        family = None
+        if data.ratio is None:  # one parameter set: its family, traced once, gives every guess
+            lo, hi = float(self.sigma.min()), float(self.sigma.max())
+            pad = 0.05 * (hi - lo) + 0.05
+            say(f"orbits of (9): the family over sigma in [{lo - pad:.4g}, {hi + pad:.4g}]")
+            start = slow_flow_start(params, lo - pad, hi + pad, segments=SEGMENTS)
+            family = trace_orbits(
+                start.params, start.y0, interval=ParameterRange(name="sigma", lo=lo - pad, hi=hi + pad)
+            )
+        else:
+            say(f"orbits of (9): from the slow flow's steady states at each of {len(self.sigma)} points")
         self.x, self.stable = [], []
-        for problem, s, A in zip(self._problems(params), self.sigma, data.A):
-            found = [_orbit(problem, problem.initial_states(y0, s), s) for _, y0 in _near(family, s)]
+        for i, (problem, s, A) in enumerate(zip(self._problems(params), self.sigma, data.A)):
+            guesses = [y0 for _, y0 in _near(family, s)] if family is not None else []
+            found = [_orbit(problem, problem.initial_states(y0, s), s) for y0 in guesses]
             found = [f for f in found if f is not None]
+            if not found or not any(f[2] for f in found):  # each stable state of (46) at the point's set
+                found += [
+                    _orbit(problem, problem.initial_states(y0, s), s)
+                    for y0 in _slow_flow_guesses(data, params, i)
+                ]
+                found = [f for f in found if f is not None]
             if not found:
                 raise LostOrbit(f"no 2pi-orbit of (9) found at sigma = {s:.6g} to follow")
             best = min(found, key=lambda f: (not f[2], abs(f[1] - A)))  # stable first, then nearest
@@ -63,17 +82,37 @@ class OrbitResponse:
         """A1 at each point's sigma for ``params``; :class:`LostOrbit` where an orbit is lost. The
         orbits found become the next call's starts."""
         found = [_orbit(problem, x, s) for problem, x, s in zip(self._problems(params), self.x, self.sigma)]
+        for i in [i for i, f in enumerate(found) if f is None]:
+            found[i] = self._followed(i, params)
         lost = [s for f, s in zip(found, self.sigma) if f is None]
         if lost:
             raise LostOrbit(
                 f"the orbits of (9) at sigma = {', '.join(f'{s:.4g}' for s in lost)} are lost at {params}"
             )
         self.x, self.stable = [f[0] for f in found], [f[2] for f in found]
+        self.params = params
         return np.array([f[1] for f in found])
 
-    def _problems(self, params: Params) -> list:
+    def _followed(self, i: int, params: Params):
+        """Point i's orbit at ``params`` followed from the last set's through SUBSTEPS sets in
+        between (the parameters that differ moved linearly), or None."""
+        last = self.params.as_dict()
+        moved = {k: v for k, v in params.as_dict().items() if v != last[k] and k not in ("n", "pbar")}
+        x = self.x[i]
+        for w in np.linspace(0.0, 1.0, SUBSTEPS + 1)[1:]:
+            at = params.replace(**{k: last[k] + w * (v - last[k]) for k, v in moved.items()})
+            problem = self._problems(at, only=i)
+            found = _orbit(problem, x, self.sigma[i])
+            if found is None:
+                return None
+            x = found[0]
+        return found
+
+    def _problems(self, params: Params, only: int | None = None):
         """Each point's shooting problem: one for all but data in Hz, whose points each have their
-        own gamma and Abar."""
+        own gamma and Abar (``only``: point only's problem)."""
+        if only is not None:
+            return ShootingProblem(self.data.params_at(params, only), segments=SEGMENTS)
         if self.data.ratio is None:
             return [ShootingProblem(params, segments=SEGMENTS)] * len(self.sigma)
         return [
@@ -88,6 +127,17 @@ def _orbit(problem: ShootingProblem, x, sigma):
         return None
     stable = bool(problem.is_stable(problem.eigenvalues(run.x, sigma)))
     return run.x, orbit_measures(problem, run.x, sigma)["A1"], stable
+
+
+def _slow_flow_guesses(data, params: Params, i: int) -> list:
+    """States at tau = 0 of the orbits of (9) that Newton finds from the slow flow's motion on each
+    steady state of (46) at point i's own parameter set (the nearest its amplitude first)."""
+    at = data.params_at(params, i)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", AsymptoticsWarning)
+        states = sorted(response_curve(at).states_at(at.sigma), key=lambda st: abs(st[0] - data.A[i]))
+        orbits = [orbit_from_slow_flow(at, A, segments=SEGMENTS) for A, _ in states]
+    return [orbit.y0 for orbit in orbits if orbit.converged]
 
 
 def _near(family, sigma) -> list:
