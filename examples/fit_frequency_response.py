@@ -13,6 +13,12 @@ that behaves as (9) does by the slow flow gives (its bias):
 
     python examples/fit_frequency_response.py --from-compare docs/compare/fig10/compare.csv \
         --out docs/identify/fig10-smooth-response.csv
+
+and ``--column A1_impact`` takes the orbits of the vibro-impact model (8) instead (over sigma in
+[3.5, 8], where the compare has them):
+
+    python examples/fit_frequency_response.py --from-compare docs/compare/fig10-impact/compare.csv \
+        --column A1_impact --out docs/identify/fig10-impact-response.csv
 """
 
 from __future__ import annotations
@@ -37,9 +43,12 @@ def main(argv=None) -> int:
         "--noise", type=float, default=0.01, help="noise, a fraction of the largest amplitude"
     )
     parser.add_argument("--from-compare", type=Path, help="compare.csv of (9)'s orbits to take A1 from")
+    parser.add_argument(
+        "--column", default="A1_stable_orbit", help="the compare's column (A1_stable_orbit or A1_impact)"
+    )
     args = parser.parse_args(argv)
     if args.from_compare is not None:
-        return _from_compare(args.from_compare, args.out)
+        return _from_compare(args.from_compare, args.out, args.column)
     params = get_preset("fig10").params
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", AsymptoticsWarning)
@@ -60,15 +69,15 @@ def main(argv=None) -> int:
     return 0
 
 
-def _from_compare(source: Path, out: Path) -> int:
+def _from_compare(source: Path, out: Path, column: str) -> int:
     with open(source, newline="") as fh:
-        rows = [r for r in csv.DictReader(fh) if r["A1_stable_orbit"] not in ("", "nan")]
-    points = [
-        (float(r["sigma"]), float(r["A1_stable_orbit"])) for r in rows if -4.0 <= float(r["sigma"]) <= 4.0
-    ]
+        rows = [r for r in csv.DictReader(fh) if r[column] not in ("", "nan")]
+    # (9)'s stable orbits over [-4, 4]; (8)'s where the compare has them
+    low, high = (-4.0, 4.0) if column == "A1_stable_orbit" else (-np.inf, np.inf)
+    points = [(float(r["sigma"]), float(r[column])) for r in rows if low <= float(r["sigma"]) <= high]
     out.parent.mkdir(parents=True, exist_ok=True)
     out.write_text("sigma,A\n" + "".join(f"{s:.6f},{a:.8f}\n" for s, a in points))
-    print(f"wrote {out}: {len(points)} stable orbits of (9) from {source}")
+    print(f"wrote {out}: {len(points)} stable orbits ({column}) from {source}")
     return 0
 
 

@@ -43,6 +43,14 @@ class ResponseData:
     sweep: tuple = ()
     source: str = ""
     ratio: np.ndarray | None = None
+    f_hz: np.ndarray | None = None  # data in Hz: each point's frequency
+    clearance: float = 1.0  # data in metres: the length unit
+
+    def axes(self) -> tuple:
+        """(x, amplitude scale, x label, amplitude unit) for a plot in the data's own units."""
+        if self.f_hz is None:
+            return self.sigma, 1.0, "sigma", ""
+        return self.f_hz, self.clearance, "excitation frequency (Hz)", " (m)"
 
     def __len__(self) -> int:
         return len(self.sigma)
@@ -90,6 +98,6 @@ def read_response_data(path, params: Params | None = None, site: Site | None = N
     ratio = site.excitation_frequency / np.array(values["f_hz"])
     sigma = (1.0 - (1.0 - params.eps * params.sigma) * ratio**2) / params.eps
     D = site.clearance
-    return ResponseData(
-        sigma, np.array(values["A_m"]) / D, None if std is None else std / D, tuple(sweep), str(path), ratio
-    )
+    A = np.array(values["A_m"]) / D
+    std = None if std is None else std / D
+    return ResponseData(sigma, A, std, tuple(sweep), str(path), ratio, np.array(values["f_hz"]), D)

@@ -77,18 +77,13 @@ def _plot_fit(fit, data, fitted: Params, path) -> Path:
         2, 1, figsize=(7.5, 6.5), sharex=True, gridspec_kw={"height_ratios": [3, 1]}
     )
     scale = data.std if data.std is not None else 1.0
-    # the fitted model at the points' sigma: orbits, or steady states of each point's own set (data in Hz)
+    x, unit, xlabel, units = data.axes()
+    # the fitted model at the points: orbits, or steady states of each point's own set (data in Hz)
     if fit.model in ORBIT_MODELS or data.ratio is not None:
-        order = np.argsort(data.sigma)
-        model_A = (data.A - fit.residuals * scale)[order]
-        top.plot(
-            data.sigma[order],
-            model_A,
-            ".-",
-            color="tab:red",
-            lw=1.2,
-            label=f"fitted: {MODEL_NAMES[fit.model]}",
-        )
+        order = np.argsort(x)
+        model_A = (data.A - fit.residuals * scale)[order] * unit
+        label = f"fitted: {MODEL_NAMES[fit.model]}"
+        top.plot(x[order], model_A, "s", mfc="none", ms=7, color="tab:red", label=label)
     else:
         _plot_curve(top, response_curve(fitted, fit.model), data)
     for direction, marker in (("up", "^"), ("down", "v"), ("", "o")):
@@ -98,16 +93,16 @@ def _plot_fit(fit, data, fitted: Params, path) -> Path:
             else np.full(len(data), direction == "")
         )
         if pick.any():
-            yerr = data.std[pick] if data.std is not None else None
+            yerr = data.std[pick] * unit if data.std is not None else None
             name = f"measured ({direction}-sweep)" if direction else "measured"
-            top.errorbar(data.sigma[pick], data.A[pick], yerr=yerr, fmt=marker, ms=4, color="k", label=name)
-    top.set_ylabel("amplitude A")
+            top.errorbar(x[pick], data.A[pick] * unit, yerr=yerr, fmt=marker, ms=4, color="k", label=name)
+    top.set_ylabel("amplitude A" + units)
     top.legend(fontsize=8)
     free = ", ".join(f"{k} = {v:.4g}" for k, v in fit.values.items())
     top.set_title(f"frequency response fitted by {MODEL_NAMES[fit.model]}: {free}", fontsize=9)
     bottom.axhline(0.0, color="0.6", lw=0.8)
-    bottom.plot(data.sigma, fit.residuals, "o", ms=3, color="k")
-    bottom.set_xlabel("sigma")
+    bottom.plot(x, fit.residuals, "o", ms=3, color="k")
+    bottom.set_xlabel(xlabel)
     bottom.set_ylabel("residual / std" if data.std is not None else "residual")
     return save_figure(fig, path)
 
