@@ -198,6 +198,14 @@ class _Objective:
     def params(self, z) -> Params:
         return self.base.replace(**{n: float(v) for n, v in zip(self.names, z)})
 
+    def save(self):
+        """The orbits' state (each evaluation moves them on), for :meth:`restore`; None for the slow flows."""
+        return None if self.orbits is None else self.orbits.state()
+
+    def restore(self, state) -> None:
+        if self.orbits is not None:
+            self.orbits.restore(state)
+
     def __call__(self, z):
         try:
             if self.orbits is None:

@@ -101,6 +101,13 @@ class ImpactResponse:
         t, y, _ = problem.orbit(run.x, params.sigma, step=STEP)
         return phase, run.x, first_harmonic_c1(t, y[0], y[1]), stable
 
+    def state(self):
+        """What the next call starts from (each orbit on its section), for :meth:`restore`."""
+        return list(self.x), list(self.stable)
+
+    def restore(self, state) -> None:
+        self.x, self.stable = list(state[0]), list(state[1])
+
     def amplitudes(self, params: Params) -> np.ndarray:
         """A1 at each point's sigma for ``params``; :class:`LostOrbit` where an orbit is lost. The
         orbits found become the next call's starts."""

@@ -93,6 +93,13 @@ class OrbitResponse:
         self.params = params
         return np.array([f[1] for f in found])
 
+    def state(self):
+        """What the next call starts from (the orbits and the set they are at), for :meth:`restore`."""
+        return list(self.x), list(self.stable), self.params
+
+    def restore(self, state) -> None:
+        self.x, self.stable, self.params = list(state[0]), list(state[1]), state[2]
+
     def _followed(self, i: int, params: Params):
         """Point i's orbit at ``params`` followed from the last set's through SUBSTEPS sets in
         between (the parameters that differ moved linearly), or None."""

@@ -130,7 +130,11 @@ def profile(objective, z, k, best, scale_known, estimate, rng):
     # at a range end (lam = 0) the value sets no scale: then a thousandth of the standard error
     first = max(min(0.75 * estimate["std"], 0.2 * abs(z[k])), 1e-3 * max(estimate["std"], abs(z[k]), 1e-6))
     rows, bounds = [(float(z[k]), 0.0)], []
+    # an objective with a state (the orbits it follows) starts each side from the estimate's
+    home = objective.save() if hasattr(objective, "save") else None
     for side, end in ((-1.0, objective.lower[k]), (1.0, objective.upper[k])):
+        if home is not None:
+            objective.restore(home)
         previous, found, step, held, start = (z[k], 0.0, z[others]), None, first, z[k], z[others]
         for _ in range(PROFILE_STEPS):
             held = held + side * step
