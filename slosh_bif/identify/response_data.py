@@ -46,6 +46,19 @@ class ResponseData:
     f_hz: np.ndarray | None = None  # data in Hz: each point's frequency
     clearance: float = 1.0  # data in metres: the length unit
 
+    def sweep_order(self) -> list:
+        """(i, previous) for every point in the order a model follows them: points without a
+        direction first (previous None), then each sweep's by increasing (up) or decreasing (down)
+        sigma, previous the sweep's point before (None for its first)."""
+        sweep = self.sweep or ("",) * len(self)
+        out = []
+        for direction, sign in (("", 1), ("up", 1), ("down", -1)):
+            points = sorted(
+                (i for i in range(len(self)) if sweep[i] == direction), key=lambda i: sign * self.sigma[i]
+            )
+            out += [(i, None if direction == "" or k == 0 else points[k - 1]) for k, i in enumerate(points)]
+        return out
+
     def axes(self) -> tuple:
         """(x, amplitude scale, x label, amplitude unit) for a plot in the data's own units."""
         if self.f_hz is None:

@@ -51,6 +51,8 @@ from slosh_bif.model.params import Params
 from slosh_bif.model.restitution import dissipation_at_unit_speed
 from slosh_bif.slowflow.flow import AsymptoticsWarning
 
+REFINDS = 3  # times the orbits are chosen again at an estimate and the fit redone
+
 __all__ = [
     "RESPONSE_FREE",
     "MODELS",
@@ -99,16 +101,10 @@ def model_amplitudes(data: ResponseData, params: Params, model: str = "slowflow"
         shared = response_curve(params, model) if data.ratio is None else None
         states = [_states(data, params, model, i, shared) for i in range(len(data))]
     out = np.empty(len(data))
-    sweep = data.sweep or ("",) * len(data)
-    for direction, order in (("", 1), ("up", 1), ("down", -1)):
-        points = sorted(
-            (i for i in range(len(data)) if sweep[i] == direction), key=lambda i: order * data.sigma[i]
-        )
-        last = None
-        for i in points:
-            target = data.A[i] if last is None or direction == "" else last
-            stable = [a for a, ok in states[i] if ok] or [a for a, _ in states[i]] or [0.0]
-            out[i] = last = min(stable, key=lambda a: abs(a - target))
+    for i, previous in data.sweep_order():
+        target = data.A[i] if previous is None else out[previous]
+        stable = [a for a, ok in states[i] if ok] or [a for a, _ in states[i]] or [0.0]
+        out[i] = min(stable, key=lambda a: abs(a - target))
     return out
 
 
@@ -290,12 +286,19 @@ def fit_response(
     converged = run is None or run.status > 0
     message = run.message if run is not None else "no continuous parameter to fit"
     if objective.orbits is not None:
-        objective(z)  # the orbits of (9) at the estimate (the profiles below move them on)
-        if not all(objective.orbits.stable):
-            # some points followed orbits that are unstable here (the start's stable set differed):
-            # the orbits found again at the estimate, and the fit redone from it once
-            say(f"{MODEL_NAMES[model]}: unstable at the estimate; found again there, and the fit redone")
-            objective = _Objective(data, fitted, continuous, model, say)
+        # the orbits each point follows were chosen at the start's parameters; chosen again at the
+        # estimate (stable first, then nearest), they may be others (the start's stable set or
+        # nearest orbit differed): then the fit is redone from the estimate, up to REFINDS times
+        for _ in range(REFINDS):
+            objective(z)  # the followed orbits at the estimate
+            fresh = _Objective(data, fitted, continuous, model, say)
+            r_fresh = fresh(z)
+            if all(objective.orbits.stable) and misfit_of(r_fresh, scale_known) >= misfit - 1e-9 * abs(
+                misfit
+            ):
+                break
+            say(f"{MODEL_NAMES[model]}: other orbits nearer at the estimate; the fit redone from it")
+            objective = fresh
             run = least_squares(objective, z, rng, starts=1)
             z, r = run.x, objective(run.x)
             misfit, fitted, converged, message = (
@@ -304,7 +307,7 @@ def fit_response(
                 run.status > 0,
                 run.message,
             )
-            objective(z)
+        objective(z)  # the orbits at the estimate (the profiles below start from them)
         unstable = [f"{s:.4g}" for s, ok in zip(data.sigma, objective.orbits.stable) if not ok]
         if unstable:
             note = _join(

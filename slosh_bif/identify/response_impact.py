@@ -5,12 +5,12 @@ the slow flow (46) is the expansion's alone.
 
 At the first parameter set each point's orbit is the impact-free response where it keeps inside the
 walls, or the one a simulation of (8) settles on from the slow flow's motion (25), (29), (35) on its
-stable steady state of (46) nearest the point's amplitude (then from the others, nearest first,
-while the orbit found is unstable or its A1 more than :data:`FAR` off); Newton on the stroboscopic
-map polishes it, and the map's section is moved to the middle of the orbit's longest flight, where
-an impact does not cross it for small parameter changes. At any later set each orbit is Newton's
-from the last, stable or not, and an orbit Newton loses is reported, never replaced silently by
-another (as :mod:`.response_orbits` for (9)).
+stable steady state of (46) nearest the point's amplitude (a sweep's point: nearest the A1 its last
+point took; then from the others, nearest first, while the orbit found is unstable or its A1 more
+than :data:`FAR` off); Newton on the stroboscopic map polishes it, and the map's section is moved to
+the middle of the orbit's longest flight, where an impact does not cross it for small parameter
+changes. At any later set each orbit is Newton's from the last, stable or not, and an orbit Newton
+loses is reported, never replaced silently by another (as :mod:`.response_orbits` for (9)).
 """
 
 from __future__ import annotations
@@ -31,6 +31,7 @@ __all__ = ["ImpactResponse", "first_harmonic_c1", "SETTLE", "FAR", "STEP"]
 
 STEP = 0.02  # sample step of an orbit for A1: the corrected trapezoid's error ~ STEP**4 / 720
 SETTLE = 100  # forcing periods simulated before Newton (doubled up to three times while unsettled)
+NEUTRAL = 1e-8  # a multiplier this far outside the unit circle is on it (rounding)
 FAR = 0.2  # an orbit whose A1 is this far (relative) from the point's amplitude: try another start
 
 
@@ -46,10 +47,12 @@ class ImpactResponse:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", AsymptoticsWarning)
             curve = response_curve(params) if data.ratio is None else None
-        self.phase, self.x, self.stable = [], [], []
+        self.phase, self.x, self.stable = [None] * len(data), [None] * len(data), [None] * len(data)
         self.data = data
-        for i, (s, A) in enumerate(zip(self.sigma, data.A)):
-            at = data.params_at(params, i)
+        chosen = np.empty(len(data))
+        for i, previous in data.sweep_order():  # a sweep's points follow its last orbit's A1
+            s, at = self.sigma[i], data.params_at(params, i)
+            A = data.A[i] if previous is None else chosen[previous]
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore", AsymptoticsWarning)
                 states = (curve or response_curve(at)).states_at(float(s))  # data in Hz: the point's set
@@ -69,9 +72,7 @@ class ImpactResponse:
                     "slow flow's steady states there settle on none (the response of the impact model there "
                     "may not be periodic; leave the point out or fit by another model)"
                 )
-            self.phase.append(best[0])
-            self.x.append(best[1])
-            self.stable.append(best[3])
+            self.phase[i], self.x[i], self.stable[i], chosen[i] = best[0], best[1], best[3], best[2]
 
     def _settle(self, at: Params, A0: float):
         """(phase, x, A1, stable) of the orbit a simulation from the slow flow's motion at amplitude
@@ -97,7 +98,11 @@ class ImpactResponse:
         run = newton_solve(problem, x, params.sigma, tol=1e-11, max_iter=20, criterion="residual")
         if not run.converged or not problem.in_domain(run.x, params.sigma):
             return None
-        stable = bool(problem.is_stable(problem.eigenvalues(run.x, params.sigma)))
+        mu = problem.eigenvalues(run.x, params.sigma)
+        # an orbit without impacts has the particle's undamped relative mode, multipliers on the
+        # unit circle: neutrally stable (a family of such orbits), which a sweep can stay on
+        free = len(problem.evaluate(run.x, params.sigma).impacts) == 0
+        stable = bool(problem.is_stable(mu)) or (free and float(np.max(np.abs(mu))) <= 1.0 + NEUTRAL)
         t, y, _ = problem.orbit(run.x, params.sigma, step=STEP)
         return phase, run.x, first_harmonic_c1(t, y[0], y[1]), stable
 

@@ -4,16 +4,16 @@ approximates), followed from one parameter set to the next.
 
 At the first parameter set the family of 2pi-orbits is traced over the data's sigma range from a
 start on the slow flow (:func:`~slosh_bif.orbits.families.trace_orbits`, with switching at its
-pitchforks and period doublings); each point takes the orbit whose A1 is nearest its amplitude,
-a stable one where there is one, by interpolation between the branch's points, corrected by Newton
-at the point's own sigma. Where none of those is stable, and for data in Hz (each point its own
-gamma and Abar, so no one family), the orbits Newton finds from the slow flow's motion on each
-steady state of (46) at the point's own set are tried too. At any later parameter set each orbit
-is Newton's from the last one (through intermediate sets where Newton from the last misses; the
-least squares moves the parameters by small steps), stable or not (a fit started off the truth
-may pass parameter sets where the measured orbit is unstable); :attr:`OrbitResponse.stable` says
-which are stable at the last set, and an orbit Newton loses is reported, never replaced silently
-by another.
+pitchforks and period doublings); each point takes the orbit whose A1 is nearest its amplitude, a
+stable one where there is one, by interpolation between the branch's points, corrected by Newton at
+the point's own sigma (a sweep's point: the one nearest the A1 its last point took). Where none of
+those is stable, and for data in Hz (each point its own gamma and Abar, so no one family), the
+orbits Newton finds from the slow flow's motion on each steady state of (46) at the point's own set
+are tried too. At any later parameter set each orbit is Newton's from the last one (through
+intermediate sets where Newton from the last misses; the least squares moves the parameters by small
+steps), stable or not (a fit started off the truth may pass parameter sets where the measured orbit
+is unstable); :attr:`OrbitResponse.stable` says which are stable at the last set, and an orbit
+Newton loses is reported, never replaced silently by another.
 """
 
 from __future__ import annotations
@@ -23,7 +23,7 @@ import warnings
 import numpy as np
 
 from slosh_bif.continuation.corrector import newton_solve
-from slosh_bif.identify.response_model import response_curve
+from slosh_bif.identify.response_model import impact_free, impact_free_state, response_curve
 from slosh_bif.model.params import Params
 from slosh_bif.orbits.families import trace_orbits
 from slosh_bif.orbits.orbit_tools import orbit_measures
@@ -35,6 +35,8 @@ from slosh_bif.slowflow.flow import AsymptoticsWarning
 __all__ = ["OrbitResponse", "LostOrbit"]
 
 SEGMENTS = 4  # arcs of each orbit's shooting problem
+NEUTRAL = 1e-8  # a multiplier this far outside the unit circle is on it (rounding)
+FREE_W = 0.9  # an orbit whose |w| stays below this does not touch the wall (chi w^(2n+1) ~ 0)
 SUBSTEPS = 8  # parameter sets between the last and the next where Newton from the last misses
 
 
@@ -61,12 +63,19 @@ class OrbitResponse:
             )
         else:
             say(f"orbits of (9): from the slow flow's steady states at each of {len(self.sigma)} points")
-        self.x, self.stable = [], []
-        for i, (problem, s, A) in enumerate(zip(self._problems(params), self.sigma, data.A)):
+        self.x, self.stable = [None] * len(data), [None] * len(data)
+        chosen = np.empty(len(data))
+        problems = self._problems(params)
+        for i, previous in data.sweep_order():  # a sweep's points follow its last orbit's A1
+            problem, s = problems[i], self.sigma[i]
+            A = data.A[i] if previous is None else chosen[previous]
             guesses = [y0 for _, y0 in _near(family, s)] if family is not None else []
+            at = data.params_at(params, i)
+            if impact_free(at)[1] < 1.0:  # the non-resonant response: the linear flight's, nearly
+                guesses.append(impact_free_state(at))
             found = [_orbit(problem, problem.initial_states(y0, s), s) for y0 in guesses]
             found = [f for f in found if f is not None]
-            if not found or not any(f[2] for f in found):  # each stable state of (46) at the point's set
+            if family is None or not any(f[2] for f in found):  # each state of (46) at the point's set
                 found += [
                     _orbit(problem, problem.initial_states(y0, s), s)
                     for y0 in _slow_flow_guesses(data, params, i)
@@ -75,8 +84,7 @@ class OrbitResponse:
             if not found:
                 raise LostOrbit(f"no 2pi-orbit of (9) found at sigma = {s:.6g} to follow")
             best = min(found, key=lambda f: (not f[2], abs(f[1] - A)))  # stable first, then nearest
-            self.x.append(best[0])
-            self.stable.append(best[2])
+            self.x[i], self.stable[i], chosen[i] = best[0], best[2], best[1]
 
     def amplitudes(self, params: Params) -> np.ndarray:
         """A1 at each point's sigma for ``params``; :class:`LostOrbit` where an orbit is lost. The
@@ -132,8 +140,13 @@ def _orbit(problem: ShootingProblem, x, sigma):
     run = newton_solve(problem, x, sigma, tol=1e-10, max_iter=20, criterion="residual")
     if not run.converged:
         return None
-    stable = bool(problem.is_stable(problem.eigenvalues(run.x, sigma)))
-    return run.x, orbit_measures(problem, run.x, sigma)["A1"], stable
+    mu = problem.eigenvalues(run.x, sigma)
+    measures = orbit_measures(problem, run.x, sigma)
+    # far from the walls the particle's relative mode is undamped in (9) too: multipliers on the
+    # unit circle, a neutrally stable orbit that a sweep can stay on
+    free = measures["max_abs_w"] < FREE_W
+    stable = bool(problem.is_stable(mu)) or (free and float(np.max(np.abs(mu))) <= 1.0 + NEUTRAL)
+    return run.x, measures["A1"], stable
 
 
 def _slow_flow_guesses(data, params: Params, i: int) -> list:

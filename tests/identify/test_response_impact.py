@@ -233,3 +233,21 @@ def test_the_wall_power_n_is_profiled_where_the_model_feels_it():
     assert fit.values["gamma"] == pytest.approx(truth.gamma, rel=1e-6)
     slow = fit_response(data, TRUTH.replace(gamma=0.15), ["n", "lam"])
     assert "n is not determined" in slow.not_identifiable
+
+
+def test_an_up_sweep_of_8_stays_on_the_impact_free_orbit():
+    """Fig. 13 set, sigma in [-6, -4.5]: (8)'s impact-free orbit (neutrally stable: the particle's
+    relative mode is undamped) and its resonant orbit coexist. Points 1.5 times the impact-free
+    amplitude after a first point on it: an up-sweep stays on the impact-free orbits; the same
+    points without a direction take the resonant ones, nearer them."""
+    from slosh_bif.identify.response_impact import ImpactResponse
+    from slosh_bif.identify.response_model import impact_free
+
+    params = get_preset("fig13").params
+    sigma = np.array([-6.0, -5.5, -5.0, -4.5])
+    free = np.array([impact_free(params.replace(sigma=s))[0] for s in sigma])
+    A = np.concatenate([free[:1], 1.5 * free[1:]])
+    up = ImpactResponse(ResponseData(sigma, A, None, ("up",) * 4, "up"), params)
+    assert np.allclose(up.amplitudes(params), free, rtol=1e-6) and all(up.stable)
+    nearest = ImpactResponse(ResponseData(sigma, A, None, (), "no direction"), params)
+    assert np.all(nearest.amplitudes(params)[1:] > 1.5 * free[1:]) and all(nearest.stable)
