@@ -26,6 +26,7 @@ from pathlib import Path
 import numpy as np
 
 from slosh_bif.identify.csv_table import number, read_header, read_table
+from slosh_bif.identify.response_fit import ResponseFit
 from slosh_bif.identify.response_model import impact_free
 from slosh_bif.identify.response_stats import STARTS, least_squares, misfit_of, profile, wald
 from slosh_bif.model.equations import ImpactModel
@@ -132,41 +133,21 @@ def _linear_rate(params: Params) -> float:
 
 
 @dataclasses.dataclass(frozen=True)
-class TimeSeriesFit:
-    """A fitted record: ``values`` (the fitted parameters, A0 and psi0), ``estimate`` per parameter
-    (value, std, Wald and profile 95 % intervals), ``correlation``, the misfit and what the data
-    do not determine."""
+class TimeSeriesFit(ResponseFit):
+    """A fitted record: as a :class:`~.response_fit.ResponseFit`, its ``values`` also holding A0
+    (and psi0 for a ``forced`` record), the nuisance parameters."""
 
-    free: tuple
-    values: dict
-    estimate: dict
-    correlation: np.ndarray
-    misfit: float
-    rms: float
-    points: int
-    model: str
-    not_identifiable: str
-    converged: bool
-    message: str
-    profiles: dict
-    scale_known: bool
-    residuals: np.ndarray
-    forced: bool
+    forced: bool = False
 
     def params(self, base: Params) -> Params:
         return base.replace(**{k: v for k, v in self.values.items() if k not in NUISANCE})
 
     def as_dict(self) -> dict:
-        out = {f.name: getattr(self, f.name) for f in dataclasses.fields(self)}
         kind = "a forced record" if self.forced else "a free decay (Abar = 0)"
-        out.update(
-            model=f"{kind} along S+ by the slow flow (45) (model {self.model!r})",
-            free=list(self.free),
-            correlation=self.correlation.tolist(),
-            residuals=self.residuals.tolist(),
-            profiles={k: [list(map(float, r)) for r in v] for k, v in self.profiles.items()},
-        )
-        return out
+        return super().as_dict() | {
+            "model": f"{kind} along S+ by the slow flow (45) (model {self.model!r})",
+            "forced": self.forced,
+        }
 
 
 NUISANCE = ("A0", "psi0")

@@ -16,25 +16,30 @@ from slosh_bif.slowflow.flow import AsymptoticsWarning, SlowFlow
 TRUTH = get_preset("fig10").params  # lam = 0.35, gamma = 0.2, eps = 0.05
 
 
-@pytest.fixture(scope="module")
-def decay():
-    """A(tau) on S+ from A = 3 by Radau on (45) with Abar = 0, above 1.05 A_min."""
-    free = TRUTH.replace(Abar=0.0)
+def _radau(params, A0, psi0, tau):
+    """A(tau) of (45) at ``params`` from (A0, psi0), by scipy's Radau; and A_min."""
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", AsymptoticsWarning)
-        flow = SlowFlow(free)
-        tau = np.linspace(0.0, 200.0, 25)
+        flow = SlowFlow(params)
         run = integrate.solve_ivp(
             lambda t, z: flow.rhs(z[0], z[1]),
-            (0.0, free.eps * tau[-1]),
-            [3.0, 0.0],
+            (0.0, params.eps * tau[-1]),
+            [A0, psi0],
             method="Radau",
             rtol=1e-12,
             atol=1e-13,
-            t_eval=free.eps * tau,
+            t_eval=params.eps * tau,
         )
-    keep = run.y[0] > 1.05 * flow.A_min
-    return TimeRecord(tau[keep], run.y[0][keep], None, "radau")
+    return run.y[0], flow.A_min
+
+
+@pytest.fixture(scope="module")
+def decay():
+    """A(tau) on S+ from A = 3 by Radau on (45) with Abar = 0, above 1.05 A_min."""
+    tau = np.linspace(0.0, 200.0, 25)
+    A, A_min = _radau(TRUTH.replace(Abar=0.0), 3.0, 0.0, tau)
+    keep = A > 1.05 * A_min
+    return TimeRecord(tau[keep], A[keep], None, "radau")
 
 
 def test_a_decay_of_the_slow_flow_gives_back_the_damping(decay):
@@ -74,20 +79,9 @@ def test_a_forced_transient_gives_back_the_damping_and_its_start():
     """(45) at sigma = 3 on the Fig. 10 set from (A0, psi0) = (1.5, 0.5) onto its steady state, by
     Radau: gamma, A0 and psi0 come back to 1e-6 from four starts of the phase."""
     at = TRUTH.replace(sigma=3.0)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", AsymptoticsWarning)
-        flow = SlowFlow(at)
-        tau = np.linspace(0.0, 150.0, 20)
-        run = integrate.solve_ivp(
-            lambda t, z: flow.rhs(z[0], z[1]),
-            (0.0, at.eps * tau[-1]),
-            [1.5, 0.5],
-            method="Radau",
-            rtol=1e-12,
-            atol=1e-13,
-            t_eval=at.eps * tau,
-        )
-    data = TimeRecord(tau, run.y[0], None, "forced")
+    tau = np.linspace(0.0, 150.0, 20)
+    A, _ = _radau(at, 1.5, 0.5, tau)
+    data = TimeRecord(tau, A, None, "forced")
     fit = fit_time_series(data, at.replace(gamma=0.15), ["gamma"], forced=True)
     assert fit.values["gamma"] == pytest.approx(TRUTH.gamma, rel=1e-6)
     assert fit.values["A0"] == pytest.approx(1.5, rel=1e-6)
