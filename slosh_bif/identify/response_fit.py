@@ -35,7 +35,6 @@ orbits of (9) or (8) only.
 
 from __future__ import annotations
 
-import dataclasses
 import math
 import warnings
 
@@ -45,8 +44,16 @@ from slosh_bif.identify.response_data import ResponseData
 from slosh_bif.identify.response_impact import ImpactResponse
 from slosh_bif.identify.response_integers import INTEGERS, integer_estimates, integer_sets, start_at
 from slosh_bif.identify.response_model import impact_free, response_curve
-from slosh_bif.identify.response_orbits import OrbitResponse
-from slosh_bif.identify.response_stats import STARTS, least_squares, misfit_of, profile, wald
+from slosh_bif.identify.response_orbits import LostOrbit, OrbitResponse
+from slosh_bif.identify.response_result import (
+    MODEL_NAMES,
+    MODELS,
+    ORBIT_MODELS,
+    SLOW_MODELS,
+    ResponseFit,
+    dissipation_estimates,
+)
+from slosh_bif.identify.response_stats import STARTS, least_squares, misfit_of, profile, seeded_starts, wald
 from slosh_bif.model.params import Params
 from slosh_bif.model.restitution import dissipation_at_unit_speed
 from slosh_bif.slowflow.flow import AsymptoticsWarning
@@ -64,18 +71,8 @@ __all__ = [
 ]
 
 RESPONSE_FREE = ("lam", "chi", "gamma", "Abar", "eps", "n", "pbar")  # eps: by the orbits only
-SLOW_MODELS = ("slowflow", "corrected")  # the slow flows (46)
-ORBIT_MODELS = ("smooth", "impact", "impact-corrected")  # the orbits of (9), (8), the corrected (8)
-MODELS = SLOW_MODELS + ORBIT_MODELS
 # the models where lam and chi enter only through C of (21)
 C_ONLY = ("slowflow", "impact")
-MODEL_NAMES = {
-    "slowflow": "the slow flow's steady states (46)",
-    "corrected": "the corrected slow flow's steady states",
-    "smooth": "the orbits of the smooth model (9)",
-    "impact": "the orbits of the vibro-impact model (8)",
-    "impact-corrected": "the orbits of the corrected impact model",
-}
 CONTINUOUS = ("lam", "chi", "gamma", "Abar", "eps")
 
 
@@ -115,50 +112,6 @@ def _states(data: ResponseData, params: Params, model: str, i: int, shared) -> l
     states = (shared or response_curve(at, model)).states_at(float(data.sigma[i]))
     A, w = impact_free(at)
     return states + [(A, True)] if w < 1.0 else states
-
-
-@dataclasses.dataclass(frozen=True)
-class ResponseFit:
-    """A fitted frequency response: ``values`` (the whole wall and vessel parameter set's fitted
-    entries), ``estimate`` per free parameter (value, std, Wald and profile 95 % intervals),
-    ``correlation`` (rows and columns in ``free`` order), the misfit, what is ``not_identifiable``,
-    whether the fit ``converged`` (and why not) and the profiles (held value, misfit rise)."""
-
-    free: tuple
-    values: dict
-    estimate: dict
-    correlation: np.ndarray
-    misfit: float
-    rms: float
-    points: int
-    model: str
-    not_identifiable: str
-    converged: bool
-    message: str
-    profiles: dict
-    scale_known: bool
-    residuals: np.ndarray  # at the estimate, per point (divided by std when given)
-
-    def params(self, base: Params) -> Params:
-        return base.replace(**self.values)
-
-    def as_dict(self) -> dict:
-        return {
-            "model": f"{MODEL_NAMES[self.model]} (model {self.model!r})",
-            "free": list(self.free),
-            "values": self.values,
-            "estimate": self.estimate,
-            "correlation": self.correlation.tolist(),
-            "misfit": self.misfit,
-            "misfit_kind": "chi-square" if self.scale_known else "residual sum of squares",
-            "rms_residual": self.rms,
-            "points": self.points,
-            "not_identifiable": self.not_identifiable,
-            "converged": self.converged,
-            "message": self.message,
-            "profiles": {k: [list(map(float, row)) for row in v] for k, v in self.profiles.items()},
-            "residuals": self.residuals.tolist(),
-        }
 
 
 class _Objective:
@@ -274,7 +227,10 @@ def fit_response(
         )
         objective = _Objective(data, at, continuous, model, say)
         z0 = np.array([getattr(at, name) for name in continuous], dtype=float)
-        run = least_squares(objective, z0, rng) if continuous else None
+        if continuous and objective.orbits is not None:
+            run, objective = _orbit_starts(objective, z0, rng, say)
+        else:
+            run = least_squares(objective, z0, rng) if continuous else None
         r = objective(run.x) if run is not None else objective(z0)
         results[n, pbar] = (misfit_of(r, scale_known), run, objective, r)
     if not results:
@@ -343,7 +299,7 @@ def fit_response(
     for sentence in sentences:
         note = _join(note, sentence)
     if "lam" in continuous and "chi" in free and "chi" not in continuous:
-        estimate.update(_dissipation_estimates(fitted, estimate["lam"]))
+        estimate.update(dissipation_estimates(fitted, estimate["lam"]))
     values = {name: float(getattr(fitted, name)) for name in continuous} | integer_values
     rms = math.sqrt(float(r @ r) / len(r))
     return ResponseFit(
@@ -364,6 +320,31 @@ def fit_response(
     )
 
 
+def _orbit_starts(objective, z0, rng, say):
+    """(run, objective) of the best least squares from the seeded starts, each with the orbits
+    chosen afresh at its own parameters (which orbit each point follows is chosen where the fit
+    starts, and different starts reach different minima): all orbits stable at the end first,
+    then the least misfit. A start where an orbit cannot be found is skipped."""
+    best = None
+    for k, start in enumerate(seeded_starts(z0, rng, STARTS, objective.lower, objective.upper)):
+        try:
+            here = (
+                objective
+                if k == 0
+                else _Objective(
+                    objective.data, objective.params(start), objective.names, objective.model, say
+                )
+            )
+        except LostOrbit:
+            continue
+        run = least_squares(here, start, rng, starts=1)
+        here(run.x)  # the orbits at the run's end
+        key = (not all(here.orbits.stable), run.cost)
+        if best is None or key < best[0]:
+            best = (key, run, here)
+    return best[1], best[2]
+
+
 def _orbit_response(data, base: Params, model: str, progress):
     """The orbits each point follows, found at ``base``, for the orbit models; None for the slow flows."""
     if model == "smooth":
@@ -376,22 +357,3 @@ def _orbit_response(data, base: Params, model: str, progress):
 
 def _join(note: str, sentence: str) -> str:
     return f"{note} {sentence}" if note else sentence
-
-
-def _dissipation_estimates(params: Params, lam: dict) -> dict:
-    """C of (21) (the energy fraction lost at unit impact speed) and kappa(1) = sqrt(1 - C), with
-    intervals from lam's: C is proportional to lam."""
-    C = float(dissipation_at_unit_speed(params.lam, params.chi, params.n, params.pbar))
-    per_lam = C / params.lam
-    out = {"C": {"value": C, "std": per_lam * lam["std"]}}
-    kappa = {
-        "value": math.sqrt(max(1.0 - C, 0.0)),
-        "std": 0.5 * per_lam * lam["std"] / max(math.sqrt(max(1.0 - C, 0.0)), 1e-300),
-    }
-    for key in ("wald_95", "profile_95"):
-        if key in lam:
-            bounds = [None if v is None else per_lam * max(v, 0.0) for v in lam[key]]
-            out["C"][key] = bounds
-            kappa[key] = [None if c is None else math.sqrt(max(1.0 - c, 0.0)) for c in bounds[::-1]]
-    out["kappa_at_unit_speed"] = kappa
-    return out

@@ -77,10 +77,11 @@ class ImpactResponse:
     def _settle(self, at: Params, A0: float):
         """(phase, x, A1, stable) of the orbit a simulation from the slow flow's motion at amplitude
         A0 settles on, or None."""
-        flow = SlowFlow(at)
         try:
-            psi = float(flow.steady_phase(A0))
-            y0 = flow.fast_state(A0, psi, np.array([0.0]))[0]
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", AsymptoticsWarning)
+                flow = SlowFlow(at)
+                y0 = flow.fast_state(A0, float(flow.steady_phase(A0)), np.array([0.0]))[0]
         except ValueError:  # A0 off the manifold: start from the vessel's motion alone
             y0 = np.array([A0, 0.0, A0, 0.0])
         y0[2] = np.clip(y0[2], -1 + 1e-9, 1 - 1e-9)  # the particle inside the walls

@@ -13,8 +13,8 @@ from pathlib import Path
 import numpy as np
 
 from slosh_bif.atomic import write_text_atomically
-from slosh_bif.identify.response_fit import MODEL_NAMES, ORBIT_MODELS
 from slosh_bif.identify.response_model import response_curve
+from slosh_bif.identify.response_result import MODEL_NAMES, ORBIT_MODELS
 from slosh_bif.identify.response_stats import CHI2_95
 from slosh_bif.model.parameter_file import render_parameter_file
 from slosh_bif.model.params import Params

@@ -11,7 +11,7 @@ import math
 import numpy as np
 from scipy import optimize, stats
 
-__all__ = ["CHI2_95", "STARTS", "misfit_of", "least_squares", "wald", "profile"]
+__all__ = ["CHI2_95", "STARTS", "misfit_of", "seeded_starts", "least_squares", "wald", "profile"]
 
 CHI2_95 = 3.841458820694124  # chi-square(1) 95 % quantile: the profile's threshold
 STARTS = 4  # seeded starts of the least squares (the base values and three spread about them)
@@ -23,19 +23,25 @@ def misfit_of(r, scale_known: bool) -> float:
     return rss if scale_known else len(r) * math.log(max(rss, 1e-300))
 
 
+def seeded_starts(z0, rng, count, lower, upper) -> list:
+    """``count`` starts inside (lower, upper): z0, then z0 scaled by seeded log-normal factors."""
+    inside = (lower + 1e-12 * np.abs(lower), np.where(np.isfinite(upper), upper * (1 - 1e-9), np.inf))
+    return [
+        np.clip(z0 if k == 0 else z0 * np.exp(rng.normal(0.0, 0.5, size=len(z0))), *inside)
+        for k in range(count)
+    ]
+
+
 def least_squares(objective, z0, rng, starts=STARTS):
     """The best of ``starts`` least-squares runs within the objective's bounds, the first from z0,
     the others from z0 scaled by seeded log-normal factors; differences of relative step
     ``objective.diff_step`` (None: scipy's, sqrt of the machine epsilon)."""
-    lower, upper = objective.lower, objective.upper
-    inside = (lower + 1e-12 * np.abs(lower), np.where(np.isfinite(upper), upper * (1 - 1e-9), np.inf))
     best = None
-    for k in range(starts):
-        start = z0 if k == 0 else z0 * np.exp(rng.normal(0.0, 0.5, size=len(z0)))
+    for start in seeded_starts(z0, rng, starts, objective.lower, objective.upper):
         run = optimize.least_squares(
             objective,
-            np.clip(start, *inside),
-            bounds=(lower, upper),
+            start,
+            bounds=(objective.lower, objective.upper),
             method="trf",
             x_scale="jac",
             xtol=1e-12,

@@ -26,8 +26,8 @@ from pathlib import Path
 import numpy as np
 
 from slosh_bif.identify.csv_table import number, read_header, read_table
-from slosh_bif.identify.response_fit import ResponseFit
 from slosh_bif.identify.response_model import impact_free
+from slosh_bif.identify.response_result import ResponseFit
 from slosh_bif.identify.response_stats import STARTS, least_squares, misfit_of, profile, wald
 from slosh_bif.model.equations import ImpactModel
 from slosh_bif.model.params import Params
