@@ -181,9 +181,10 @@ def add_commands(sub) -> None:
     fit.add_argument(
         "--free",
         required=True,
-        help="the parameters to fit, comma-separated: of lam, chi, gamma, Abar, eps (by the orbits), "
-        "pbar for a response; of lam, chi, pbar for impact records (lam and chi together: only their "
-        "combination is determined)",
+        help="the parameters to fit, comma-separated: of lam, chi, gamma, Abar, eps (by the orbits), n, "
+        "pbar (profiled, by the slow flows) for a response; of lam, chi, gamma (and Abar, forced) for a "
+        "record in time; of lam, chi, pbar for impact records (lam and chi together: only their "
+        "combination is determined where the model has C of eq. 21 alone)",
     )
     fit.add_argument(
         "--model",
