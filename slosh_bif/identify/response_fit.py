@@ -60,15 +60,7 @@ from slosh_bif.slowflow.flow import AsymptoticsWarning
 
 REFINDS = 3  # times the orbits are chosen again at an estimate and the fit redone
 
-__all__ = [
-    "RESPONSE_FREE",
-    "MODELS",
-    "MODEL_NAMES",
-    "ResponseFit",
-    "fit_response",
-    "residuals",
-    "model_amplitudes",
-]
+__all__ = ["RESPONSE_FREE", "fit_response", "residuals", "model_amplitudes"]
 
 RESPONSE_FREE = ("lam", "chi", "gamma", "Abar", "eps", "n", "pbar")  # eps: by the orbits only
 # the models where lam and chi enter only through C of (21)
