@@ -113,10 +113,11 @@ class _Objective:
     speed, is linear in lam and goes as chi**-a). An elastic wall, lam -> 0, is a bound the fit
     may reach, not a point at infinity."""
 
-    def __init__(self, data, base: Params, names, model, progress=None):
+    def __init__(self, data, base: Params, names, model, progress=None, family=None):
         self.data, self.base, self.names, self.model = data, base, tuple(names), model
-        # the full model's orbits are found once, at the base set, and followed from there
-        self.orbits = _orbit_response(data, base, model, progress)
+        # the full model's orbits are found once, at the base set, and followed from there (from
+        # a ``family`` of (9)'s orbits already traced, when given)
+        self.orbits = _orbit_response(data, base, model, progress, family)
         # an orbit's A1 is Newton's, to ~1e-12: differences of scipy's default step (1.5e-8 relative)
         # would be noise for a parameter the response hardly feels (eps)
         self.diff_step = None if self.orbits is None else 1e-6
@@ -318,15 +319,13 @@ def _orbit_starts(objective, z0, rng, say):
     starts, and different starts reach different minima): all orbits stable at the end first,
     then the least misfit. A start where an orbit cannot be found is skipped."""
     best = None
+    family = getattr(objective.orbits, "family", None)  # (9)'s, traced at the base, serves every start
     for k, start in enumerate(seeded_starts(z0, rng, STARTS, objective.lower, objective.upper)):
         try:
-            here = (
-                objective
-                if k == 0
-                else _Objective(
-                    objective.data, objective.params(start), objective.names, objective.model, say
-                )
-            )
+            here = objective
+            if k > 0:
+                params = objective.params(start)
+                here = _Objective(objective.data, params, objective.names, objective.model, say, family)
         except LostOrbit:
             continue
         run = least_squares(here, start, rng, starts=1)
@@ -337,10 +336,10 @@ def _orbit_starts(objective, z0, rng, say):
     return best[1], best[2]
 
 
-def _orbit_response(data, base: Params, model: str, progress):
+def _orbit_response(data, base: Params, model: str, progress, family=None):
     """The orbits each point follows, found at ``base``, for the orbit models; None for the slow flows."""
     if model == "smooth":
-        return OrbitResponse(data, base, progress)
+        return OrbitResponse(data, base, progress, family=family)
     if model in ("impact", "impact-corrected"):
         variant = "corrected" if model == "impact-corrected" else "paper"
         return ImpactResponse(data, base, progress, variant=variant)

@@ -46,14 +46,14 @@ class LostOrbit(ValueError):
 
 class OrbitResponse:
     """A1 of the stable 2pi-orbit of (9) that each point of ``data`` follows, at any parameter set
-    near the first (:meth:`amplitudes`)."""
+    near the first (:meth:`amplitudes`); ``family``: (9)'s orbits already traced near ``params``
+    over the data's sigma range, for the guesses (traced here when None and the data share one set)."""
 
-    def __init__(self, data, params: Params, progress=None):
+    def __init__(self, data, params: Params, progress=None, family=None):
         say = progress or (lambda message: None)
         self.sigma = np.asarray(data.sigma, dtype=float)
         self.data, self.params = data, params
-        family = None
-        if data.ratio is None:  # one parameter set: its family, traced once, gives every guess
+        if family is None and data.ratio is None:  # one set: its family, traced once, gives the guesses
             lo, hi = float(self.sigma.min()), float(self.sigma.max())
             pad = 0.05 * (hi - lo) + 0.05
             say(f"orbits of (9): the family over sigma in [{lo - pad:.4g}, {hi + pad:.4g}]")
@@ -61,8 +61,9 @@ class OrbitResponse:
             family = trace_orbits(
                 start.params, start.y0, interval=ParameterRange(name="sigma", lo=lo - pad, hi=hi + pad)
             )
-        else:
+        elif family is None:
             say(f"orbits of (9): from the slow flow's steady states at each of {len(self.sigma)} points")
+        self.family = family  # (9)'s orbits over the data's sigma range at ``params``, or None
         self.x, self.stable = [None] * len(data), [None] * len(data)
         chosen = np.empty(len(data))
         problems = self._problems(params)

@@ -264,10 +264,11 @@ def test_the_full_model_fit_gives_back_gamma_where_the_slow_flow_is_biased():
 
 @pytest.mark.slow
 def test_the_full_model_fit_finds_its_orbits_again_where_the_start_had_other_stable_ones():
-    """(9)'s stable orbits over sigma in [-4, 4] on the Fig. 10 set (docs/identify, interpolated
-    between the compare's branch points: 1e-3 in A), fitted by (9) from gamma = 0.15, where the
-    stable orbits at sigma in [1.6, 3.3] are others than at the truth: the orbits are found again
-    at the first estimate and gamma comes back within 1 % (75 s)."""
+    """(9)'s stable orbits over sigma in [-4, 4] on the Fig. 10 set (docs/identify, interpolated between
+    the compare's branch points: 1e-3 in A), fitted by (9) from gamma = 0.15, where the stable
+    orbits at sigma in [1.6, 3.3] are others than at the truth: the orbits are found again at the
+    first estimate and gamma comes back within 1 % (about 3 minutes: four starts, each choosing its
+    orbits, and the choice redone at the estimate)."""
     from pathlib import Path
 
     data = read_response_data(Path(__file__).parents[2] / "docs" / "identify" / "fig10-smooth-response.csv")
