@@ -75,8 +75,9 @@ def _fit_time_series(args) -> int:
     free = _free(args, FORCED_FREE if forced else DECAY_FREE, kind)
     base = params_of(args)
     data = read_time_record(args.data)
-    progress(f"{kind}: {len(data)} envelope points; least squares and profiles (tens of seconds)")
-    fit = fit_time_series(data, base, free, forced=forced, model=args.model or "slowflow", seed=args.seed)
+    fit = fit_time_series(
+        data, base, free, forced=forced, model=args.model or "slowflow", seed=args.seed, progress=progress
+    )
     paths = write_time_series_fit(fit, data, base, args.out)
     return _report(
         fit,

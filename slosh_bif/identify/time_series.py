@@ -186,7 +186,14 @@ class _Objective:
 
 
 def fit_time_series(
-    data: TimeRecord, base: Params, free, *, forced: bool = False, model: str = "slowflow", seed: int = 0
+    data: TimeRecord,
+    base: Params,
+    free,
+    *,
+    forced: bool = False,
+    model: str = "slowflow",
+    seed: int = 0,
+    progress=None,
 ) -> TimeSeriesFit:
     """Fit ``free`` (of :data:`DECAY_FREE`, or :data:`FORCED_FREE` for a ``forced`` record at the
     set's sigma and Abar) with A0 (and psi0) to a record; the rest from ``base``."""
@@ -206,6 +213,8 @@ def fit_time_series(
             f"{data.source or 'the data'}: {len(data)} points of {kind} for {len(free) + nuisance} "
             "parameters (the free ones, A0" + (", psi0)" if forced else ")") + "; the fit needs more points"
         )
+    if progress is not None:
+        progress(f"{kind}: {len(data)} envelope points; least squares and profiles (tens of seconds)")
     names, note = list(free), ""
     if model == "slowflow" and "lam" in names and "chi" in names:
         names.remove("chi")
