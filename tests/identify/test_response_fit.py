@@ -21,12 +21,12 @@ from slosh_bif.slowflow.steady_states import frequency_response
 TRUTH = get_preset("fig10").params  # lam = 0.35, chi = 0.2, gamma = 0.2, pbar = 0, n = 50, Abar = 3
 
 
-def _points(params, count=21, lo=-4.0, hi=4.0):
-    """(sigma, A) of stable steady states on the continued branches of (45), about evenly spread
-    in sigma over [lo, hi]."""
+def _points(params, count=21, lo=-4.0, hi=4.0, model="slowflow"):
+    """(sigma, A) of stable steady states on the continued branches of (45) (``model``: or of the
+    corrected slow flow), about evenly spread in sigma over [lo, hi]."""
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", AsymptoticsWarning)
-        response = frequency_response(params, sigma_min=lo, sigma_max=hi)
+        response = frequency_response(params, sigma_min=lo, sigma_max=hi, model=model)
     sigma, A = [], []
     for branch in response.branches:
         keep = branch.stable & (branch.p >= lo) & (branch.p <= hi)
@@ -171,17 +171,27 @@ def test_the_corrected_slow_flow_gives_back_its_own_response():
     """Points of the continued corrected slow flow (the wall's measured law) fitted with
     --model corrected: gamma to 1e-6; the same points fitted by (46) as the paper states it give
     another gamma (the two slow flows differ)."""
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", AsymptoticsWarning)
-        response = frequency_response(TRUTH, sigma_min=-4.0, sigma_max=4.0, model="corrected")
-    sigma = np.concatenate([b.p[b.stable] for b in response.branches])
-    A = np.concatenate([b.x[b.stable, 0] for b in response.branches])
-    picks = sorted({int(np.argmin(np.abs(sigma - s))) for s in np.linspace(-4.0, 4.0, 15)})
-    data = ResponseData(sigma[picks], A[picks], None, (), "corrected")
+    sigma, A = _points(TRUTH, 15, model="corrected")
+    data = ResponseData(sigma, A, None, (), "corrected")
     fit = fit_response(data, TRUTH.replace(gamma=0.15), ["gamma"], model="corrected")
     assert fit.values["gamma"] == pytest.approx(TRUTH.gamma, rel=1e-6)
     other = fit_response(data, TRUTH.replace(gamma=0.15), ["gamma"])
     assert abs(other.values["gamma"] - TRUTH.gamma) > 1e-3
+
+
+def test_the_wall_power_n_is_profiled_where_the_model_feels_it():
+    """Points of the continued corrected slow flow (whose clearance D(v) depends on n) made with
+    n = 20: fitted with n and gamma free from n = 50, n = 20 alone is consistent and gamma comes
+    back to 1e-6. By (46) with Newtonian restitution n enters only through C, like lam: with
+    both free it is not determined."""
+    truth = TRUTH.replace(n=20)
+    sigma, A = _points(truth, 12, model="corrected")
+    data = ResponseData(sigma, A, np.full(len(sigma), 1e-3), (), "n = 20")
+    fit = fit_response(data, TRUTH.replace(gamma=0.15), ["n", "gamma"], model="corrected")
+    assert fit.values["n"] == 20 and fit.estimate["n"]["consistent_95"] == [20]
+    assert fit.values["gamma"] == pytest.approx(truth.gamma, rel=1e-6)
+    slow = fit_response(data, TRUTH.replace(gamma=0.15), ["n", "lam"])
+    assert "n is not determined" in slow.not_identifiable
 
 
 def test_pbar_is_profiled_over_the_integers_of_n_parity():

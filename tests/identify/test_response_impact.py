@@ -210,31 +210,6 @@ def test_a_sweep_follows_its_branch_until_it_ends():
     assert fit.values["gamma"] == pytest.approx(TRUTH.gamma, rel=1e-6)
 
 
-def test_the_wall_power_n_is_profiled_where_the_model_feels_it():
-    """Points of the continued corrected slow flow (whose clearance D(v) depends on n) made with
-    n = 20: fitted with n and gamma free from n = 50, n = 20 alone is consistent and gamma comes
-    back to 1e-6. By (46) with Newtonian restitution n enters only through C, like lam: with
-    both free it is not determined."""
-    import warnings
-
-    from slosh_bif.slowflow.flow import AsymptoticsWarning
-    from slosh_bif.slowflow.steady_states import frequency_response
-
-    truth = TRUTH.replace(n=20)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", AsymptoticsWarning)
-        response = frequency_response(truth, sigma_min=-4.0, sigma_max=4.0, model="corrected")
-    sigma = np.concatenate([b.p[b.stable] for b in response.branches])
-    A = np.concatenate([b.x[b.stable, 0] for b in response.branches])
-    picks = sorted({int(np.argmin(np.abs(sigma - s))) for s in np.linspace(-4.0, 4.0, 12)})
-    data = ResponseData(sigma[picks], A[picks], np.full(len(picks), 1e-3), (), "n = 20")
-    fit = fit_response(data, TRUTH.replace(gamma=0.15), ["n", "gamma"], model="corrected")
-    assert fit.values["n"] == 20 and fit.estimate["n"]["consistent_95"] == [20]
-    assert fit.values["gamma"] == pytest.approx(truth.gamma, rel=1e-6)
-    slow = fit_response(data, TRUTH.replace(gamma=0.15), ["n", "lam"])
-    assert "n is not determined" in slow.not_identifiable
-
-
 def test_an_up_sweep_of_8_stays_on_the_impact_free_orbit():
     """Fig. 13 set, sigma in [-6, -4.5]: (8)'s impact-free orbit (neutrally stable: the particle's
     relative mode is undamped) and its resonant orbit coexist. Points 1.5 times the impact-free
