@@ -95,12 +95,12 @@ def _row(case, seconds, reference, target, note, peak=np.nan):
     )
 
 
-_CHILD = (
-    "import resource, runpy, sys\n"
+_CHILD = (  # the peak at exit: the console entry runs the exit functions, then leaves at once
+    "import atexit, resource, runpy, sys\n"
+    "atexit.register(lambda: print('peak_rss_kb', resource.getrusage(resource.RUSAGE_SELF).ru_maxrss, "
+    "resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss, file=sys.stderr))\n"
     "sys.argv = ['slosh-bif', *sys.argv[1:]]\n"
-    "try:\n    runpy.run_module('slosh_bif.cli', run_name='__main__')\n"
-    "finally:\n    print('peak_rss_kb', resource.getrusage(resource.RUSAGE_SELF).ru_maxrss, "
-    "resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss, file=sys.stderr)\n"
+    "runpy.run_module('slosh_bif.cli', run_name='__main__')\n"
 )
 REGIMES = ["regimes", "--preset", "fig13", "--tmax", "60", "--workers", "2"]
 REGIME_GRIDS = (20, 100)

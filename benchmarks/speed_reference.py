@@ -92,12 +92,10 @@ def plot_family(*a, **k):
     marks.append(time.perf_counter()); r = plot(*a, **k); marks.append(time.perf_counter()); return r
 fam.continuation, out.plot_family = continuation, plot_family
 sys.argv = ['slosh-bif', *sys.argv[1:]]
-try:
-    cli.main()
-except SystemExit:
-    pass
-marks.append(time.perf_counter())
-print('stage_marks', t0, *marks, file=sys.stderr)
+def done():
+    print('stage_marks', t0, *marks, time.perf_counter(), file=sys.stderr)
+import atexit; atexit.register(done)
+cli.run()  # the console entry: its exit functions, then it leaves
 """
 
 

@@ -47,7 +47,6 @@ def family_from_args(args, params, lo, hi, param="sigma"):
     """The family of orbits ``shoot`` and ``compare`` trace: from --start's orbit, over [lo, hi] of
     ``param``."""
     from slosh_bif.orbits.families import SHOOTING_OPTIONS, trace_new_family
-    from slosh_bif.orbits.scan import scan_families
     from slosh_bif.orbits.settings import (
         BranchingSettings,
         ParameterRange,
@@ -67,6 +66,8 @@ def family_from_args(args, params, lo, hi, param="sigma"):
     shooting = ShootingSettings(segments=args.segments, rtol=rtol, atol=rtol * 1e-2, backend=args.backend)
     branching = BranchingSettings(switch=not args.no_switch, max_branches=args.max_branches)
     if args.start == "scan":
+        from slosh_bif.orbits.scan import scan_families
+
         settings = dict(
             params=params.as_dict(),
             param=param,

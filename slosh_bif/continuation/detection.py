@@ -17,6 +17,7 @@ from slosh_bif.continuation.branch import BRANCH_POINT, FOLD
 from slosh_bif.continuation.corrector import Point, correct, make_point
 from slosh_bif.continuation.options import ConvergenceError
 from slosh_bif.continuation.problem import capabilities
+from slosh_bif.roots import brent
 
 __all__ = ["locate", "special_between", "TEST_MEANING"]
 
@@ -44,12 +45,8 @@ def locate(problem, a: Point, h, which, opts, predict=None):
         seen[s] = make_point(problem, u, a.t)
         return seen[s]
 
-    from scipy import optimize  # here: a branch without special points never needs it (0.2 s to import)
-
     try:
-        s = optimize.brentq(
-            lambda s: point(s).tests[which], 0.0, h, xtol=opts.locate_tol, rtol=4 * np.finfo(float).eps
-        )
+        s = brent(lambda s: point(s).tests[which], 0.0, h, xtol=opts.locate_tol)
         return point(s), ""
     except ConvergenceError:
         if not seen:
