@@ -19,8 +19,19 @@ MIN_RTOL = 4 * 2.220446049250313e-16
 """The smallest relative tolerance accepted, four units of rounding (as scipy's brentq)."""
 
 
-def brent(f, a: float, b: float, *, xtol: float = 2e-12, rtol: float = MIN_RTOL, maxiter: int = 100) -> float:
-    """A root of ``f`` in [a, b], where f(a) and f(b) differ in sign (or one is zero).
+def brent(
+    f,
+    a: float,
+    b: float,
+    *,
+    xtol: float = 2e-12,
+    rtol: float = MIN_RTOL,
+    maxiter: int = 100,
+    fa: float | None = None,
+    fb: float | None = None,
+) -> float:
+    """A root of ``f`` in [a, b], where f(a) and f(b) differ in sign (or one is zero); ``fa``,
+    ``fb``: f(a) and f(b) where the caller has them (each evaluation may be a corrector solve).
 
     Each step takes inverse quadratic interpolation or the secant where it stays well inside the
     bracket and shrinks it fast enough, and bisection otherwise, so the bracket shrinks at worst
@@ -32,7 +43,8 @@ def brent(f, a: float, b: float, *, xtol: float = 2e-12, rtol: float = MIN_RTOL,
         raise ValueError(f"xtol must be positive; got {xtol}")
     if not rtol >= MIN_RTOL:
         raise ValueError(f"rtol must be at least {MIN_RTOL:.3g}; got {rtol}")
-    fa, fb = f(a), f(b)
+    fa = f(a) if fa is None else fa
+    fb = f(b) if fb is None else fb
     if fa == 0:
         return a
     if fb == 0:

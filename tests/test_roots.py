@@ -50,3 +50,15 @@ def test_brent_refuses_a_bracket_without_a_sign_change_and_bad_tolerances():
         brent(lambda x: x, -1.0, 1.0, rtol=1e-20)
     with pytest.raises(RuntimeError, match="did not converge in 3"):
         brent(lambda x: math.tanh(50 * (x - 0.1)), -1.0, 1.0, maxiter=3)
+
+
+def test_brent_takes_the_ends_values_it_is_given():
+    calls = []
+
+    def f(x):
+        calls.append(x)
+        return x**3 - 2
+
+    x = brent(f, 0.0, 3.0, xtol=1e-13, fa=-2.0, fb=25.0)
+    assert abs(x - 2 ** (1 / 3)) < 1e-12
+    assert 0.0 not in calls and 3.0 not in calls

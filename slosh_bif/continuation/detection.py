@@ -22,23 +22,23 @@ from slosh_bif.roots import brent
 __all__ = ["locate", "special_between", "TEST_MEANING"]
 
 
-def locate(problem, a: Point, h, which, opts, predict=None):
-    """Brent on the arclength s in (0, h) from point a for a zero of test function ``which``,
-    each trial point predicted as the step was (``predict(s)``, the engine's guess at arclength s;
-    along the tangent when not given), so that s = h gives the step's point.
+def locate(problem, a: Point, b: Point, h, which, opts, predict=None):
+    """Brent on the arclength s in (0, h) between point a and the step's point b for a zero of
+    test function ``which``, each trial point predicted as the step was (``predict(s)``, the
+    engine's guess at arclength s; along the tangent when not given), so that s = h gives b.
 
     Returns (point, note). Exactly at a branch point the corrector's matrix is singular, and
     Brent may step so close that the correction fails: then the best point found so far is
     returned, with a note of how far from the zero it may be.
     """
-    seen = {}
+    seen = {0.0: a, h: b}  # the ends, whose tests are known: Brent starts from them
     predict = predict or (lambda s: a.u + s * a.t)
 
     def point(s):
         guess = predict(s)
-        if seen:  # start from the nearest trial's point, moved along: the same hyperplane t.(u - guess) = 0
-            near = min(seen, key=lambda r: abs(r - s))
-            guess = guess + (seen[near].u - predict(near))
+        # start from the nearest trial's point (or end), moved along: the same hyperplane t.(u - guess) = 0
+        near = min(seen, key=lambda r: abs(r - s))
+        guess = guess + (seen[near].u - predict(near))
         u, _ = correct(problem, guess, a.t, opts, strict=True)
         if u is None:
             raise ConvergenceError("corrector failed while locating a special point")
@@ -46,15 +46,16 @@ def locate(problem, a: Point, h, which, opts, predict=None):
         return seen[s]
 
     try:
-        s = brent(lambda s: point(s).tests[which], 0.0, h, xtol=opts.locate_tol)
-        return point(s), ""
+        test = a.tests[which], b.tests[which]
+        s = brent(lambda s: point(s).tests[which], 0.0, h, xtol=opts.locate_tol, fa=test[0], fb=test[1])
+        return dataclasses.replace(seen[s]), ""  # a copy: an end is the branch's own point
     except ConvergenceError:
-        if not seen:
+        if len(seen) == 2:  # no trial converged
             raise
-        left = [s for s in seen if np.sign(seen[s].tests[which]) == np.sign(a.tests[which])] + [0.0]
-        right = [s for s in seen if s not in left] + [h]
+        left = [s for s in seen if np.sign(seen[s].tests[which]) == np.sign(a.tests[which])]
+        right = [s for s in seen if s not in left]
         gap = min(right) - max(left)
-        best = min(seen, key=lambda s: abs(seen[s].tests[which]))
+        best = min((s for s in seen if 0.0 < s < h), key=lambda s: abs(seen[s].tests[which]))
         return seen[best], f" (located to within arclength {gap:.2g}: the corrector fails closer in)"
 
 
@@ -78,7 +79,7 @@ def special_between(problem, a: Point, b: Point, h, opts, predict=None):
             and max(abs(a.tests[which]), abs(b.tests[which])) >= floor
         ):
             try:
-                q, note = locate(problem, a, h, which, opts, predict)
+                q, note = locate(problem, a, b, h, which, opts, predict)
             except (ConvergenceError, ValueError) as err:
                 if confirm is not None and which >= 2 and confirm(kind, b.u[:-1], b.u[-1]) is None:
                     continue  # what the problem says is none at the step's end (a sign flip of rounding)
