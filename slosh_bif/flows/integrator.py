@@ -270,21 +270,42 @@ def integrate_arcs(
 
 
 def integrate_grid(
-    params: Params, y0, taus, *, rtol: float = 1e-10, atol: float = 1e-12, backend: str = "auto", noise=None
+    params: Params,
+    y0,
+    taus,
+    *,
+    rtol: float = 1e-10,
+    atol: float = 1e-12,
+    backend: str = "auto",
+    noise=None,
+    directions=None,
 ):
     """States of (9) at the increasing times ``taus`` (the first is the start), shape (len(taus), 4).
 
-    ``noise`` adds the random forcing of (47) as in :func:`integrate`. Raises RuntimeError naming
-    the time where the integration failed.
+    ``noise`` adds the random forcing of (47) as in :func:`integrate`. ``directions``: two rows of
+    weights over ``REAL_FIELDS`` (eps, beta, gamma, sigma, Abar, lam, chi); the states are then
+    those of (9) with its variational equations, [y, Phi (row-major), dy/da, dy/db, int tr J]
+    (shape (len(taus), 29)) from Phi = I and zero sensitivities at the first time, dy/da the
+    derivative along the first row's direction in the parameters. Raises RuntimeError naming the
+    time where the integration failed.
     """
     taus = np.asarray(taus, dtype=float)
     if taus.ndim != 1 or len(taus) < 2 or not np.all(np.diff(taus) > 0):
         raise ValueError("taus must be at least two strictly increasing times")
-    out = np.empty((len(taus), 4))
-    out[0] = _check(params, y0, taus[0], taus[1], rtol, atol, 4)
+    y0 = _check(params, y0, taus[0], taus[1], rtol, atol, 4)
     _check_noise(noise, taus[0], taus[-1])
     which = "plain" if noise is None else "noisy"
     pars = _pars(params, noise)
+    if directions is not None:
+        if noise is not None:
+            raise ValueError("sensitivities need the periodic forcing: no noise with directions")
+        directions = np.asarray(directions, dtype=float)
+        if directions.shape != (2, len(REAL_FIELDS)) or not np.isfinite(directions).all():
+            raise ValueError(f"directions must be 2 x {len(REAL_FIELDS)} finite weights over {REAL_FIELDS}")
+        which, pars = "pair", np.concatenate([pars, directions.ravel()])
+        y0 = np.concatenate([y0, np.eye(4).ravel(), np.zeros(SHOOTING_SIZE - 20)])
+    out = np.empty((len(taus), len(y0)))
+    out[0] = y0
     if resolve_backend(backend) == "scipy":
         from scipy.integrate import solve_ivp
 

@@ -76,6 +76,15 @@ class ResponseData:
         r = float(self.ratio[i])
         return base.replace(sigma=float(self.sigma[i]), gamma=base.gamma * r, Abar=base.Abar * r**4)
 
+    def direction_at(self, i: int, name: str) -> dict:
+        """How point i's parameter set moves per unit of the fitted parameter ``name`` (weights over
+        the real parameters; the derivative of :meth:`params_at`): data in Hz scale gamma by the
+        point's ratio and Abar by its fourth power."""
+        if self.ratio is None or name not in ("gamma", "Abar"):
+            return {name: 1.0}
+        r = float(self.ratio[i])
+        return {name: r if name == "gamma" else r**4}
+
 
 def read_response_data(path, params: Params | None = None, site: Site | None = None) -> ResponseData:
     """The response points of a CSV file with a header holding ``sigma`` and ``A`` (optionally

@@ -121,6 +121,10 @@ class _Objective:
         # an orbit's A1 is Newton's, to ~1e-12: differences of scipy's default step (1.5e-8 relative)
         # would be noise for a parameter the response hardly feels (eps)
         self.diff_step = None if self.orbits is None else 1e-6
+        # (9)'s orbits carry their own parameter derivatives (the variational equations); the
+        # slow flows' states and (8)'s orbits are differenced
+        self.jacobian = self._jacobian if isinstance(self.orbits, OrbitResponse) else None
+        self._at = None  # the z the orbits were last moved to (None: the last call lost them)
         C = float(dissipation_at_unit_speed(base.lam, base.chi, base.n, base.pbar))
         a = base.pbar / (2 * (base.n + 1)) + 0.5
         ranges = {
@@ -149,13 +153,25 @@ class _Objective:
             self.orbits.restore(state)
 
     def __call__(self, z):
+        self._at = None
         try:
             if self.orbits is None:
                 return residuals(self.data, self.params(z), self.model)
             r = self.data.A - self.orbits.amplitudes(self.params(z))
+            self._at = np.array(z, dtype=float)
             return r / self.data.std if self.data.std is not None else r
         except ValueError:  # outside the admissible set, or an orbit of (9) lost: far off
             return np.full(len(self.data), 1e3 * (1.0 + float(np.abs(self.data.A).max())))
+
+    def _jacobian(self, z):
+        """d residuals / dz from (9)'s orbits at z (moved there first unless the last call was at
+        z); zero where the orbits are lost (the residual is then a constant)."""
+        if self._at is None or not np.array_equal(self._at, z):
+            self(z)
+        if self._at is None:
+            return np.zeros((len(self.data), len(self.names)))
+        J = -self.orbits.gradient(self.names)
+        return J / self.data.std[:, None] if self.data.std is not None else J
 
 
 def fit_response(

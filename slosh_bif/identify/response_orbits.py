@@ -26,6 +26,7 @@ from slosh_bif.continuation.corrector import newton_solve
 from slosh_bif.identify.response_model import impact_free, impact_free_state, response_curve
 from slosh_bif.model.params import Params
 from slosh_bif.orbits.families import trace_orbits
+from slosh_bif.orbits.harmonic_sensitivity import first_harmonic_gradient
 from slosh_bif.orbits.orbit_tools import orbit_measures
 from slosh_bif.orbits.settings import ParameterRange
 from slosh_bif.orbits.shooting import ShootingProblem
@@ -101,6 +102,17 @@ class OrbitResponse:
         self.x, self.stable = [f[0] for f in found], [f[2] for f in found]
         self.params = params
         return np.array([f[1] for f in found])
+
+    def gradient(self, names) -> np.ndarray:
+        """dA1/d(``names``) at each point, shape (points, len(names)), at the parameter set of the
+        last :meth:`amplitudes` call, the orbits moving with the parameters: from the variational
+        equations of (9) (:func:`~slosh_bif.orbits.harmonic_sensitivity.first_harmonic_gradient`),
+        not from differences of orbits."""
+        rows = []
+        for i, x in enumerate(self.x):
+            directions = [self.data.direction_at(i, name) for name in names]
+            rows.append(first_harmonic_gradient(self.data.params_at(self.params, i), x[:4], directions)[1])
+        return np.array(rows)
 
     def state(self):
         """What the next call starts from (the orbits and the set they are at), for :meth:`restore`."""

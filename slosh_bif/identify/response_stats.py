@@ -35,7 +35,8 @@ def seeded_starts(z0, rng, count, lower, upper) -> list:
 def least_squares(objective, z0, rng, starts=STARTS):
     """The best of ``starts`` least-squares runs within the objective's bounds, the first from z0,
     the others from z0 scaled by seeded log-normal factors; differences of relative step
-    ``objective.diff_step`` (None: scipy's, sqrt of the machine epsilon)."""
+    ``objective.diff_step`` (None: scipy's, sqrt of the machine epsilon), or the derivatives
+    ``objective.jacobian(z)`` where the objective has them."""
     best = None
     for start in seeded_starts(z0, rng, starts, objective.lower, objective.upper):
         run = optimize.least_squares(
@@ -50,6 +51,7 @@ def least_squares(objective, z0, rng, starts=STARTS):
             # 5e-3 in A per unit): scipy's default 1e-8 stops far from the least squares' minimum
             gtol=1e-15,
             diff_step=getattr(objective, "diff_step", None),
+            jac=getattr(objective, "jacobian", None) or "2-point",
         )
         if best is None or run.cost < best.cost:
             best = run
@@ -98,8 +100,10 @@ def _at_end(value, lower) -> float:
 
 
 def _jacobian(objective, z, rel=1e-6):
-    """Differences of the residuals in each parameter: central, or one-sided inward within a step
-    of the parameter's range."""
+    """The objective's own derivatives where it has them; else differences of the residuals in
+    each parameter: central, or one-sided inward within a step of the parameter's range."""
+    if getattr(objective, "jacobian", None) is not None:
+        return objective.jacobian(z)
     cols = []
     for k in range(len(z)):
         h = rel * max(abs(z[k]), 1e-6)
@@ -180,7 +184,13 @@ class _Held:
         self.objective, self.z, self.k, self.held = objective, np.array(z, dtype=float), k, held
         self.lower, self.upper = np.delete(objective.lower, k), np.delete(objective.upper, k)
         self.diff_step = getattr(objective, "diff_step", None)
+        self.jacobian = self._jacobian if getattr(objective, "jacobian", None) is not None else None
+
+    def _full(self, others):
+        return np.insert(np.asarray(others, dtype=float), self.k, self.held)
 
     def __call__(self, others):
-        z = np.insert(np.asarray(others, dtype=float), self.k, self.held)
-        return self.objective(z)
+        return self.objective(self._full(others))
+
+    def _jacobian(self, others):
+        return np.delete(self.objective.jacobian(self._full(others)), self.k, axis=1)

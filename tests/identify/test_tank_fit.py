@@ -45,6 +45,25 @@ def test_the_tanks_wall_comes_back_within_one_percent_without_noise(tank, tmp_pa
     assert fit.values["lam"] == pytest.approx(truth.lam, rel=1e-2)
 
 
+def test_the_orbit_fits_derivatives_match_central_differences_of_its_residuals(tank, tmp_path):
+    """The fit's Jacobian from (9)'s variational equations, each point's gamma and Abar scaled
+    to its frequency, against central differences of the residuals (orbits Newton solves again)."""
+    from slosh_bif.identify.response_fit import _Objective
+
+    folder, f, A = tank
+    data, truth = _data(folder, f, A, 1e-3, tmp_path / "exact.csv")
+    names = ("lam", "gamma", "Abar")
+    objective = _Objective(data, truth, names, "smooth")
+    z = np.array([truth.lam, truth.gamma, truth.Abar])
+    J = objective.jacobian(z)
+    for k in range(len(z)):
+        h = 1e-3 * z[k]  # the orbits are solved to 1e-10: smaller steps difference that noise
+        step = np.zeros(len(z))
+        step[k] = h
+        column = (objective(z + step) - objective(z - step)) / (2 * h)
+        assert J[:, k] == pytest.approx(column, rel=1e-5, abs=1e-5 * np.abs(column).max()), names[k]
+
+
 @pytest.mark.slow
 def test_coverage_over_40_noise_draws(tank, tmp_path):
     """1 % noise of the largest amplitude, std given: lam's profile interval (gamma given) misses
