@@ -151,6 +151,7 @@ def _shoot(args) -> int:
         write_branch_csv,
         write_families_csv,
     )
+    from slosh_bif.report.plot_process import PlotProcess
 
     params = params_of(args)
     if args.parameter == "Abar":
@@ -162,14 +163,14 @@ def _shoot(args) -> int:
     if args.model != "smooth":
         return _shoot_impact(args, params, lo, hi)
     args.out.mkdir(parents=True, exist_ok=True)
-    family = family_from_args(args, params, lo, hi, param=args.parameter)
-    csv_path, png_path = (
-        write_branch_csv(family, args.out / "branch.csv"),
-        plot_family(family, args.out / "branch.png"),
-    )
-    families_path = write_families_csv(family, args.out / "families.csv")
-    for k, ob in enumerate(family.branches):
-        ob.branch.save(args.out / f"branch{k}_{ob.name}.npz")
+    with PlotProcess() as plots:  # matplotlib imported beside the computation
+        family = family_from_args(args, params, lo, hi, param=args.parameter)
+        plots.submit(plot_family, family, args.out / "branch.png")
+        csv_path = write_branch_csv(family, args.out / "branch.csv")
+        families_path = write_families_csv(family, args.out / "families.csv")
+        for k, ob in enumerate(family.branches):
+            ob.branch.save(args.out / f"branch{k}_{ob.name}.npz")
+        png_path = plots.result()
     print(family.summary(detail=REPORTER.verbose))
     print(
         f"wrote {csv_path}, {families_path}, {png_path}"
@@ -195,6 +196,7 @@ def _shoot_impact(args, params, lo, hi) -> int:
         write_impact_csv,
     )
     from slosh_bif.orbits.settings import BranchingSettings
+    from slosh_bif.report.plot_process import PlotProcess
     from slosh_bif.studies.impact_chart import impact_family
 
     if args.start != "simulation":
@@ -214,33 +216,35 @@ def _shoot_impact(args, params, lo, hi) -> int:
     params.require_positive_stiffness()
     options = continuation_options(args, ContinuationOptions(step=0.05, step_max=0.3, tol=1e-10))
     args.out.mkdir(parents=True, exist_ok=True)
-    x0 = (
-        args.guess
-        if args.guess is not None
-        else settled_orbit(params, state0_of(args, params), periods=args.settle, variant=variant)
-    )
-    branching = BranchingSettings(switch=not args.no_switch, max_branches=args.max_branches)
-    family = impact_family(
-        params,
-        x0,
-        param=args.parameter,
-        p_range=(lo, hi),
-        branching=branching,
-        options=options,
-        say=progress,
-        variant=variant,
-    )
-    branches = [(nb.name, nb.branch, nb.symmetric) for nb in family]
-    rows = [
-        r for name, branch, half in branches for r in impact_rows(branch, params, symmetric=half, name=name)
-    ]
-    csv_path, png_path = (
-        write_impact_csv(rows, args.out / "branch.csv"),
-        plot_impact_branch(rows, params, args.out / "branch.png"),
-    )
-    for name, branch, _ in branches:
-        for k, piece in enumerate(branch.pieces):
-            piece.branch.save(args.out / f"{name}-piece{k}.npz", phase=piece.phase, impacts=piece.impacts)
+    with PlotProcess() as plots:  # matplotlib imported beside the computation
+        x0 = (
+            args.guess
+            if args.guess is not None
+            else settled_orbit(params, state0_of(args, params), periods=args.settle, variant=variant)
+        )
+        branching = BranchingSettings(switch=not args.no_switch, max_branches=args.max_branches)
+        family = impact_family(
+            params,
+            x0,
+            param=args.parameter,
+            p_range=(lo, hi),
+            branching=branching,
+            options=options,
+            say=progress,
+            variant=variant,
+        )
+        branches = [(nb.name, nb.branch, nb.symmetric) for nb in family]
+        rows = [
+            r
+            for name, branch, half in branches
+            for r in impact_rows(branch, params, symmetric=half, name=name)
+        ]
+        plots.submit(plot_impact_branch, rows, params, args.out / "branch.png")
+        csv_path = write_impact_csv(rows, args.out / "branch.csv")
+        for name, branch, _ in branches:
+            for k, piece in enumerate(branch.pieces):
+                piece.branch.save(args.out / f"{name}-piece{k}.npz", phase=piece.phase, impacts=piece.impacts)
+        png_path = plots.result()
     for name, branch, _ in branches:
         part = [r for r in rows if r["branch"] == name]
         kinds = [kind for r in part for kind in r["special"].split() if kind != "END"]
