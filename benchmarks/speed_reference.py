@@ -83,14 +83,14 @@ import sys, time
 t0 = time.perf_counter()
 marks = []
 import slosh_bif.cli as cli
-import slosh_bif.orbits.families as fam, slosh_bif.orbits.output as out
+import slosh_bif.orbits.families as fam, slosh_bif.report.plot_process as pp
 marks.append(time.perf_counter())
-trace, plot = fam.continuation, out.plot_family
+trace, result = fam.continuation, pp.PlotProcess.result
 def continuation(*a, **k):
     marks.append(time.perf_counter()); r = trace(*a, **k); marks.append(time.perf_counter()); return r
-def plot_family(*a, **k):
-    marks.append(time.perf_counter()); r = plot(*a, **k); marks.append(time.perf_counter()); return r
-fam.continuation, out.plot_family = continuation, plot_family
+def plot_result(self):  # the wait for the figure (drawn by a child that imported matplotlib meanwhile)
+    marks.append(time.perf_counter()); r = result(self); marks.append(time.perf_counter()); return r
+fam.continuation, pp.PlotProcess.result = continuation, plot_result
 sys.argv = ['slosh-bif', *sys.argv[1:]]
 def done():
     print('stage_marks', t0, *marks, time.perf_counter(), file=sys.stderr)
@@ -114,7 +114,9 @@ def run_child(code, arguments, timeout):
 
 def stage_profile(arguments, timeout: float = 900.0) -> dict:
     """Seconds per stage (:data:`STAGES`) of ``slosh-bif ARGUMENTS`` (a ``shoot`` of one family of
-    (9)) in a fresh interpreter; the continuations of all its branches are added up."""
+    (9)) in a fresh interpreter; the continuations of all its branches are added up. "plot" is
+    the wait for the figure once the files are written (a child forked at the start imports
+    matplotlib and draws it: see :mod:`slosh_bif.report.plot_process`)."""
     wall, done = run_child(_PROFILE, arguments, timeout)
     line = next((x for x in done.stderr.splitlines() if x.startswith("stage_marks")), None)
     if line is None:
