@@ -132,3 +132,15 @@ def test_speed_bench_times_the_command_as_a_user_runs_it():
     assert 0 < seconds < 120
     with pytest.raises(RuntimeError, match="slosh-bif info --preset nosuch failed"):
         run_cli(["info", "--preset", "nosuch"])
+
+
+def test_the_stage_profile_of_a_shoot_run_has_every_stage(tmp_path):
+    """The profile's marks come from the parent (the figure is drawn by a forked child): a short
+    branch's run gives every stage a time, and they add up to less than the whole process."""
+    from benchmarks.speed_reference import STAGES, stage_profile
+
+    arguments = ["shoot", "--preset", "fig10", "--no-switch", "--sigma-min", "2", "--sigma-max", "3"]
+    seconds = stage_profile([*arguments, "--out", str(tmp_path)])
+    assert set(seconds) == set(STAGES)
+    assert all(value >= 0 for key, value in seconds.items() if key != "interpreter and unmeasured")
+    assert seconds["continuation"] > 0 and seconds["plot"] > 0
