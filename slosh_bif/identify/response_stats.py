@@ -11,10 +11,21 @@ import math
 import numpy as np
 from scipy import optimize, stats
 
-__all__ = ["CHI2_95", "STARTS", "misfit_of", "seeded_starts", "least_squares", "wald", "profile"]
+__all__ = [
+    "CHI2_95",
+    "STARTS",
+    "ORBIT_SPREAD",
+    "misfit_of",
+    "seeded_starts",
+    "spread_starts",
+    "least_squares",
+    "wald",
+    "profile",
+]
 
 CHI2_95 = 3.841458820694124  # chi-square(1) 95 % quantile: the profile's threshold
 STARTS = 4  # seeded starts of the least squares (the base values and three spread about them)
+ORBIT_SPREAD = (1.0, 0.5, 2.0, 0.25)  # an orbit fit's starts: the base values scaled by these
 
 
 def misfit_of(r, scale_known: bool) -> float:
@@ -30,6 +41,13 @@ def seeded_starts(z0, rng, count, lower, upper) -> list:
         np.clip(z0 if k == 0 else z0 * np.exp(rng.normal(0.0, 0.5, size=len(z0))), *inside)
         for k in range(count)
     ]
+
+
+def spread_starts(z0, lower, upper, factors=ORBIT_SPREAD) -> list:
+    """z0 scaled by each of ``factors`` (the first 1), inside (lower, upper): starts far enough
+    apart to reach the other minima an orbit fit has (each start chooses its orbits afresh)."""
+    inside = (lower + 1e-12 * np.abs(lower), np.where(np.isfinite(upper), upper * (1 - 1e-9), np.inf))
+    return [np.clip(z0 * f, *inside) for f in factors]
 
 
 def least_squares(objective, z0, rng, starts=STARTS):

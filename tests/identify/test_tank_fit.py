@@ -64,6 +64,18 @@ def test_the_orbit_fits_derivatives_match_central_differences_of_its_residuals(t
         assert J[:, k] == pytest.approx(column, rel=1e-5, abs=1e-5 * np.abs(column).max()), names[k]
 
 
+def test_the_fit_by_8s_orbits_ends_at_one_minimum_from_starts_on_either_side(tmp_path):
+    """Which orbit each point follows is chosen where a start is: the fit by (8) of (9)'s points
+    has two minima (lam = 0.397, chi-square 109, and lam = 0, 276); starts spread by 1/2, 2 and
+    1/4 reach the better from a base on either side of it."""
+    assert example.main(["--out", str(tmp_path)]) == 0  # the worked example's points, 1 % noise
+    truth = read_parameter_file(tmp_path / "tank.toml").params
+    data = read_response_data(tmp_path / "measured.csv", truth, read_site(tmp_path / "tank.toml"))
+    ends = [fit_response(data, truth.replace(lam=lam), ["lam"], model="impact") for lam in (0.3, 0.6)]
+    assert ends[0].values["lam"] == pytest.approx(ends[1].values["lam"], rel=1e-6)
+    assert 0.3 < ends[0].values["lam"] < 0.5
+
+
 @pytest.mark.slow
 def test_coverage_over_40_noise_draws(tank, tmp_path):
     """1 % noise of the largest amplitude, std given: lam's profile interval (gamma given) misses
