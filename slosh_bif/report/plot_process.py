@@ -48,18 +48,28 @@ class PlotProcess:
 
     def submit(self, function, *args, **kwargs) -> None:
         """Send ``function(*args, **kwargs)`` to the child (keep it, to run in :meth:`result`,
-        where there is none); the caller goes on while it draws."""
+        where there is none, or where the call cannot be sent: it does not pickle, or the child
+        is gone); the caller goes on while it draws."""
+        self._call = (function, args, kwargs)
         if self._pid is None:
-            self._call = (function, args, kwargs)
             return
-        with os.fdopen(self._jobs, "wb") as jobs:
-            pickle.dump((function, args, kwargs), jobs, protocol=pickle.HIGHEST_PROTOCOL)
-        self._jobs = None
+        try:
+            job = pickle.dumps(self._call, protocol=pickle.HIGHEST_PROTOCOL)
+        except Exception:  # not picklable: drawn in this process
+            self.close()
+            return
+        fd, self._jobs = self._jobs, None
+        try:
+            with os.fdopen(fd, "wb") as jobs:
+                jobs.write(job)
+        except OSError:  # the child is gone (its import failed, say): drawn in this process
+            self.close()
 
     def result(self):
-        """The submitted call's value; its exception raised here as its own."""
+        """The submitted call's value; its exception raised here as its own. A child that ended
+        without an answer (killed, say) leaves the call to this process."""
+        function, args, kwargs = self._call
         if self._pid is None:
-            function, args, kwargs = self._call
             return function(*args, **kwargs)
         pid, self._pid = self._pid, None
         try:
@@ -68,7 +78,7 @@ class PlotProcess:
         finally:
             os.waitpid(pid, 0)
         if not answer:
-            raise RuntimeError("the plotting process ended without an answer")
+            return function(*args, **kwargs)
         ok, value = pickle.loads(answer)
         if not ok:
             raise value

@@ -1,6 +1,7 @@
 """The figure drawn by a forked process (report.plot_process): the call runs in the child, its
-value and its exception come back as its own, a child without a call is reaped, no fork where
-threads run, and ``shoot``'s figure is the same bytes as one drawn in the process."""
+value and its exception come back as its own, a child without a call is reaped, a call that
+cannot be sent or answered is made in the process, no fork where threads run, and ``shoot``'s
+figure is the same bytes as one drawn in the process."""
 
 import subprocess
 import sys
@@ -39,13 +40,21 @@ def test_the_call_runs_in_the_child_and_its_value_and_exception_come_back():
             os.waitpid(-1, os.WNOHANG)
         except ChildProcessError:
             print("reaped")
+        with PlotProcess() as plots:  # a call that does not pickle is made here
+            plots.submit(lambda: os.getpid())
+            print(plots.result() == os.getpid())
+        import signal, time
+        with PlotProcess() as plots:  # a child killed before its answer: the call is made here
+            plots.submit(time.sleep, 1.0)
+            os.kill(plots._pid, signal.SIGKILL)
+            print(plots.result() is None)
         threading.Thread(target=threading.Event().wait, args=(5,), daemon=True).start()
         with PlotProcess() as plots:  # a thread runs: no fork
             plots.submit(os.getpid)
             print(plots.result() == os.getpid())
         """
     )
-    assert out == ["True", "ValueError", "reaped", "True"]
+    assert out == ["True", "ValueError", "reaped", "True", "True", "True"]
 
 
 def test_shoots_figure_from_the_child_is_the_one_drawn_in_process(tmp_path):
