@@ -36,7 +36,7 @@ def misfit_of(r, scale_known: bool) -> float:
 
 def seeded_starts(z0, rng, count, lower, upper) -> list:
     """``count`` starts inside (lower, upper): z0, then z0 scaled by seeded log-normal factors."""
-    inside = (lower + 1e-12 * np.abs(lower), np.where(np.isfinite(upper), upper * (1 - 1e-9), np.inf))
+    inside = _inside(lower, upper)
     return [
         np.clip(z0 if k == 0 else z0 * np.exp(rng.normal(0.0, 0.5, size=len(z0))), *inside)
         for k in range(count)
@@ -46,8 +46,12 @@ def seeded_starts(z0, rng, count, lower, upper) -> list:
 def spread_starts(z0, lower, upper, factors=ORBIT_SPREAD) -> list:
     """z0 scaled by each of ``factors`` (the first 1), inside (lower, upper): starts far enough
     apart to reach the other minima an orbit fit has (each start chooses its orbits afresh)."""
-    inside = (lower + 1e-12 * np.abs(lower), np.where(np.isfinite(upper), upper * (1 - 1e-9), np.inf))
-    return [np.clip(z0 * f, *inside) for f in factors]
+    return [np.clip(z0 * f, *_inside(lower, upper)) for f in factors]
+
+
+def _inside(lower, upper):
+    """Bounds just inside (lower, upper), where a start may sit."""
+    return lower + 1e-12 * np.abs(lower), np.where(np.isfinite(upper), upper * (1 - 1e-9), np.inf)
 
 
 def least_squares(objective, z0, rng, starts=STARTS):
