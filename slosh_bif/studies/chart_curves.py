@@ -15,6 +15,7 @@ from slosh_bif.continuation.branch import polyline_distance
 from slosh_bif.orbits.codim2 import (
     BifurcationCurve,
     CurveSeed,
+    is_symmetric,
     repeats_early,
     trace_curve,
 )
@@ -92,14 +93,28 @@ def curve_starts(ob, params, box: dict, pitchforks=(), shooting: ShootingSetting
         if sp.kind == "LP" and repeats_early(ob.problem, sp.x):
             continue  # the parent's orbit at its period doubling, where the branch is born or ends: no fold
         sigma, value = (sp.p, getattr(params, second)) if param == "sigma" else (params.sigma, sp.p)
-        origin = (
-            f"{sp.kind} at sigma = {sigma:.6g}, {second} = {value:.6g} on the {ob.name} branch in {param}"
-        )
+        where = f"at sigma = {sigma:.6g}, {second} = {value:.6g} on the {ob.name} branch in {param}"
         arcs = shooting.replace(
             segments=segments // ob.problem.period_multiple
         )  # the branch's own arcs per forcing period
-        job = dict(params=params, seed=CurveSeed.on(ob, sp, origin), box=box, shooting=arcs)
-        yield CurveStart.with_job(sp.kind, float(sigma), float(value), origin, job)
+        seed = CurveSeed.on(ob, sp, f"{sp.kind} {where}")
+        if sp.kind == "LP" and is_symmetric(ob.problem, sp.x):
+            # The pair meets its symmetric parent (a family traced without it, or in another
+            # parameter): the parent's pitchfork, whose curve starts from the symmetric orbit.
+            seed = pitchfork_seed(
+                seed, f"BP (the turn of the pair where it meets its symmetric parent) {where}"
+            )
+        job = dict(params=params, seed=seed, box=box, shooting=arcs)
+        yield CurveStart.with_job(seed.kind, float(sigma), float(value), seed.origin, job)
+
+
+def pitchfork_seed(seed: CurveSeed, origin: str) -> CurveSeed:
+    """The BP seed at an asymmetric orbit that is symmetric to its location's accuracy: its states
+    made exactly symmetric (the mean of x(0) and -x(T/2) over the first half's arcs)."""
+    x = np.asarray(seed.x, dtype=float)
+    h = len(x) // 2
+    half = 0.5 * (x[:h] - x[h:])
+    return dataclasses.replace(seed, kind="BP", x=np.concatenate([half, -half]), origin=origin)
 
 
 def torus_starts(curves, params, box: dict, shooting: ShootingSettings = SHOOTING):

@@ -79,6 +79,41 @@ def test_a_period_two_branch_turning_where_it_meets_its_parent_gives_no_fold_cur
     )  # a 2pi problem has no parent to meet
 
 
+def test_an_asymmetric_branch_turning_at_its_symmetric_parent_starts_a_pitchfork_curve():
+    # A family traced without its symmetric parent (--no-switch from an asymmetric attractor, or
+    # a branch in Abar) sees the pair meet the parent as a turn, an LP whose fold system is
+    # singular (the tank example's chart failed to start 8 fold curves there). The orbit is
+    # symmetric to the turn's location: the start is the parent's pitchfork, from the orbit made
+    # exactly symmetric; a genuine fold of the pair stays a fold.
+    from types import SimpleNamespace
+
+    from slosh_bif.continuation import SpecialPoint
+    from slosh_bif.orbits import ShootingProblem
+    from slosh_bif.studies.chart_curves import is_symmetric
+
+    P = PRESET.params
+    problem = ShootingProblem(P, segments=4)
+    half = np.array([0.3, -0.1, 0.9, 0.2, -0.2, 0.4, -0.7, 0.1])
+    nearly = np.concatenate([half, -half]) + 1e-6 * np.arange(16)
+    for x, expected in ((nearly, "BP"), (np.concatenate([half, -half + 0.05]), "LP")):
+        assert is_symmetric(problem, x) == (expected == "BP")
+        special = (SpecialPoint("LP", 1, -1.0, x, (-1.1, -0.9), "", None),)
+        ob = SimpleNamespace(
+            branch=SimpleNamespace(special=special, param="sigma"),
+            problem=problem,
+            kind="asymmetric",
+            name="asymmetric",
+        )
+        (start,) = curve_starts(ob, P, {"sigma": (-2.0, 0.0), "Abar": (2.0, 4.0)})
+        seed = start.job["seed"]
+        assert start.kind == seed.kind == expected
+        if expected == "BP":
+            np.testing.assert_allclose(seed.x[8:], -seed.x[:8], rtol=0, atol=0)
+            np.testing.assert_allclose(seed.x, x, atol=2e-5)
+            assert start.origin.startswith("BP (the turn of the pair")
+    assert not is_symmetric(ShootingProblem(P, segments=4, period_multiple=2), nearly)
+
+
 def test_an_ns_curve_met_at_a_codim2_point_of_a_fold_curve_is_started_there_once():
     # A fold curve's LPNS point lying on no traced NS curve starts an NS curve from the orbit
     # there (its states without the curve's second parameter), at both parameters of the point;
@@ -110,3 +145,39 @@ def test_an_ns_curve_met_at_a_codim2_point_of_a_fold_curve_is_started_there_once
             return {"sigma": np.array([-0.2, 0.1]), "Abar": np.array([0.8, 0.8])}[name]
 
     assert list(torus_starts([fold, Traced()], P, box)) == []
+
+
+def test_the_pitchfork_curve_from_a_pairs_turn_meets_the_turn_of_a_one_parameter_branch():
+    # The tank example's set, whose attractor at sigma = 2 is an asymmetric orbit: its branch in
+    # sigma turns where the pair meets the symmetric parent (2.3456). The BP curve started there
+    # passes, at Abar = 2.9, through the turn of that Abar's own branch in sigma (an independent
+    # one-parameter run from its own simulation).
+    from pathlib import Path
+
+    from slosh_bif.model.parameter_file import read_parameter_file
+
+    tank = read_parameter_file(Path(__file__).parents[2] / "docs/identify/tank/tank.toml")
+    shooting = ShootingSettings(points_per_2pi=32)
+
+    def branch(P, lo, hi):
+        start = orbit_from_simulation(P.replace(sigma=2.0), tank.state0, settle=150)
+        family = trace_orbits(
+            start.params,
+            start.y0,
+            shooting=shooting,
+            branching=NO_SWITCHING,
+            interval=ParameterRange(lo=lo, hi=hi),
+        )
+        return family.branches[0]
+
+    ob = branch(tank.params, 1.8, 2.6)
+    assert ob.kind == "asymmetric"
+    box = {"sigma": (1.5, 3.5), "Abar": (2.5, 2.95)}
+    (start,) = curve_starts(ob, tank.params, box, shooting=shooting)
+    assert start.kind == "BP" and abs(start.sigma - 2.34564) < 1e-5
+    (curve,), status, failures = trace_curves([start], lambda message: None)
+    assert status == "complete" and failures == () and curve.status == "ok"
+    turns = [sp.p for sp in branch(tank.params.replace(Abar=2.9), 1.8, 2.8).branch.special if sp.kind == "LP"]
+    order = np.argsort(curve["Abar"])
+    on_curve = np.interp(2.9, curve["Abar"][order], curve["sigma"][order])
+    assert len(turns) == 1 and abs(turns[0] - on_curve) < 2e-5  # the curve read between its points
