@@ -244,7 +244,8 @@ def fit_response(
         objective = _Objective(data, at, continuous, model, say)
         z0 = np.array([getattr(at, name) for name in continuous], dtype=float)
         if continuous and objective.orbits is not None:
-            run, objective = _orbit_starts(objective, z0, rng, say)
+            extra = _slow_flow_start(data, at, continuous, rng, say)
+            run, objective = _orbit_starts(objective, z0, rng, say, extra)
         else:
             run = least_squares(objective, z0, rng) if continuous else None
         r = objective(run.x) if run is not None else objective(z0)
@@ -336,17 +337,40 @@ def fit_response(
     )
 
 
-def _orbit_starts(objective, z0, rng, say):
+def _slow_flow_start(data, at: Params, continuous, rng, say):
+    """The estimate of ``continuous`` by the slow flow (46) (eps, which does not enter it, held at
+    ``at``'s), a start for an orbit fit; None where it has nothing to fit or fails. (46), not the
+    corrected slow flow: the corrected one measures its wall by simulated contacts again at every
+    lam or chi tried (about a second each)."""
+    names = [name for name in continuous if name != "eps"]
+    if not names:
+        return None
+    slow = _Objective(data, at, names, "slowflow")
+    z0 = np.array([getattr(at, name) for name in names], dtype=float)
+    try:
+        run = least_squares(slow, z0, rng)
+    except ValueError as err:  # a slow flow without steady states near the data
+        say(f"no slow-flow start: {err}")
+        return None
+    fitted = slow.params(run.x)
+    say(f"the slow flow's estimate as a start: {', '.join(f'{n} = {getattr(fitted, n):.4g}' for n in names)}")
+    return np.array([getattr(fitted, name) for name in continuous], dtype=float)
+
+
+def _orbit_starts(objective, z0, rng, say, extra=None):
     """(run, objective) of the best least squares from the base values and the base scaled by
-    1/2, 2 and 1/4 (:data:`~.response_stats.ORBIT_SPREAD`), each with the orbits chosen afresh at
-    its own parameters (which orbit each point follows is chosen where the fit starts, and
-    different starts reach different minima: a seeded spread of a few tens of percent left the
-    tank's fit by (8) at lam = 0, chi-square 276, from 0.5, and at 0.397, chi-square 109, from
-    0.3): all orbits stable at the end first, then the least misfit. A start where an orbit cannot
-    be found is skipped."""
+    1/2, 2 and 1/4 (:data:`~.response_stats.ORBIT_SPREAD`), then from ``extra`` (the slow flow's
+    estimate) where given, each with the orbits chosen afresh at its own parameters (which orbit
+    each point follows is chosen where the fit starts, and different starts reach different
+    minima: a seeded spread of a few tens of percent left the tank's fit by (8) at lam = 0,
+    chi-square 276, from 0.5, and at 0.397, chi-square 109, from 0.3): all orbits stable at the end
+    first, then the least misfit. A start where an orbit cannot be found is skipped."""
     best = None
     family = getattr(objective.orbits, "family", None)  # (9)'s, traced at the base, serves every start
-    for k, start in enumerate(spread_starts(z0, objective.lower, objective.upper)):
+    starts = spread_starts(z0, objective.lower, objective.upper)
+    if extra is not None:
+        starts.append(spread_starts(extra, objective.lower, objective.upper, factors=(1.0,))[0])
+    for k, start in enumerate(starts):
         try:
             here = objective
             if k > 0:
