@@ -37,7 +37,7 @@ from slosh_bif.continuation.branch import (
 )
 from slosh_bif.model.params import Params
 from slosh_bif.orbits.orbit_branch import LIOUVILLE_TOL, OrbitBranch, OrbitFamily, images, unique_name
-from slosh_bif.orbits.orbit_tools import orbit_at, orbit_measures
+from slosh_bif.orbits.orbit_tools import is_symmetric, orbit_at, orbit_measures
 from slosh_bif.orbits.pitchforks import refine_pitchforks
 from slosh_bif.orbits.settings import (
     BRANCHING,
@@ -217,6 +217,32 @@ def _switch(parent: OrbitBranch, sp, param, opts, make_problem, say):
     return problem, new, name
 
 
+def _meets_parent(parent: OrbitBranch, sp) -> bool:
+    """Whether ``sp`` is a branch point of an asymmetric 2pi branch at a symmetric orbit: where the
+    pair meets its symmetric parent (the parent's pitchfork)."""
+    return sp.kind == BRANCH_POINT and is_symmetric(parent.problem, sp.x)
+
+
+def _symmetrized(sp):
+    """(x, p) of the branch point ``sp`` of a 2pi problem whose orbit is symmetric to its location's
+    accuracy, its states made exactly symmetric: x(T/2) = -x(0) (the mean of the two halves)."""
+    x = np.asarray(sp.x, dtype=float)
+    half = 0.5 * (x[: len(x) // 2] - x[len(x) // 2 :])
+    return np.append(np.concatenate([half, -half]), sp.p)
+
+
+def _symmetric_parent(sp, param, opts, make_problem, say):
+    """(problem, branch, "symmetric") of the symmetric orbits through the branch point ``sp`` where
+    an asymmetric pair meets its parent (a family started on the pair: the tank example's
+    attractor), traced both ways on the half-period map, where the pitchfork is a regular point."""
+    problem = make_problem(1, symmetric=True)
+    x = _symmetrized(sp)[: 4 * problem.segments]
+    branch = continuation(
+        problem, x, sp.p, param=param, options=opts, callback=_point_counter(say, "symmetric parent", param)
+    )
+    return problem, branch, "symmetric"
+
+
 def trace_orbits(
     params: Params,
     y0,
@@ -293,18 +319,32 @@ def trace_new_family(
         return OrbitFamily(params, param, family)
     switched = (BRANCH_POINT, PERIOD_DOUBLING) if branching.doublings else (BRANCH_POINT,)
     queue = [(family[0], s) for s in family[0].branch.special if s.kind in switched]
+    # A family started on an asymmetric orbit meets the symmetric parent first: its branch carries
+    # the response away from the pair's interval, before the pair's period doublings.
+    queue.sort(key=lambda item: not _meets_parent(*item))
     while queue and len(family) < branching.max_branches:
         parent, sp = queue.pop(0)
         origin = f"{sp.kind} at {param} = {sp.p:.6g} on the {parent.name} branch"
         if sp.kind == PERIOD_DOUBLING and 2 * parent.problem.period_multiple > MAX_PERIOD_MULTIPLE:
             say(f"not switched at {origin}: the cascade is followed up to period {MAX_PERIOD_MULTIPLE}")
             continue
+        parent_of_pair = _meets_parent(parent, sp)
+        u = _symmetrized(sp) if parent_of_pair else None
+        if parent_of_pair and any(
+            _on_branch(u, ob, 1e-5 * (1 + np.linalg.norm(u)))
+            for ob in [*known, *family]
+            if ob.kind == "symmetric"
+        ):
+            continue  # the pair meets its symmetric parent, traced already
         try:
-            problem, new, kind_name = _switch(parent, sp, param, opts, make_problem, say)
+            if parent_of_pair:
+                problem, new, kind_name = _symmetric_parent(sp, param, opts, make_problem, say)
+            else:
+                problem, new, kind_name = _switch(parent, sp, param, opts, make_problem, say)
         except (ConvergenceError, np.linalg.LinAlgError) as err:
             say(f"no branch switched at {origin}: {err}")
             continue
-        new, met = _cut_where_it_rejoins(new, problem, parent, queue)
+        new, met = (new, None) if parent_of_pair else _cut_where_it_rejoins(new, problem, parent, queue)
         if met is not None:
             say(
                 f"the new branch meets the {parent.name} branch again at its {met.kind} {param} = {met.p:.6g}"
@@ -323,8 +363,13 @@ def trace_new_family(
         )
         family.append(ob)
         say(f"{ob.name} ({origin}): {len(new)} points")
-        # Not the start (the parent's point) and not a cut end (where it met the parent again).
+        # Not the start (the parent's point) and not a cut end (where it met the parent again); a
+        # symmetric parent, traced both ways, not at its start.
         queue += [
-            (ob, s) for s in new.special if s.kind in switched and 1 < s.index < len(new) - (met is not None)
+            (ob, s)
+            for s in new.special
+            if s.kind in switched
+            and 1 < s.index < len(new) - (met is not None)
+            and not (parent_of_pair and abs(s.p - sp.p) <= 1e-6 * (1 + abs(sp.p)))
         ]
     return OrbitFamily(params, param, family)

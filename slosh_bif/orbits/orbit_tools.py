@@ -1,6 +1,8 @@
 """One periodic orbit of (9) at a time, without continuation: Newton on the shooting system from a
-guess (periodic_orbit, orbit_at) and the measures a branch records at each orbit (amplitudes,
-first harmonics, impact speeds: orbit_measures)."""
+guess (periodic_orbit, orbit_at), the measures a branch records at each orbit (amplitudes,
+first harmonics, impact speeds: orbit_measures), and the symmetry of an orbit read off its arcs'
+start states (y(tau + T/2) = -y(tau), as (9) under the forcing's half-period shift:
+half_period_gap, is_symmetric)."""
 
 from __future__ import annotations
 
@@ -12,6 +14,8 @@ from slosh_bif.orbits.period_map import PeriodicOrbit
 from slosh_bif.orbits.shooting import ShootingProblem
 
 __all__ = [
+    "half_period_gap",
+    "is_symmetric",
     "orbit_at",
     "orbit_measures",
     "periodic_orbit",
@@ -81,3 +85,23 @@ def orbit_at(problem: ShootingProblem, x, p, *, tol=1e-10, max_iter=20) -> Perio
         converged=run.converged,
         message=run.message,
     )
+
+
+def is_symmetric(problem: ShootingProblem, x, tol: float = 1e-3) -> bool:
+    """Whether the orbit x of a whole-period problem (an odd number of forcing periods in an even
+    number of equal arcs) is symmetric to ``tol``: half its period later the state is its
+    negative, as the forcing is. Where an asymmetric branch turns or has a branch point at such an
+    orbit, its pair meets the symmetric parent there (the parent's pitchfork)."""
+    if problem.period_multiple % 2 == 0:
+        return False
+    return half_period_gap(problem, x, -1.0) <= tol
+
+
+def half_period_gap(problem: ShootingProblem, x, sign: float) -> float:
+    """|x(T/2) - sign x(0)| over the orbit's arcs relative to 1 + |x| (inf where the arcs do not
+    split the period in halves)."""
+    m = problem.segments
+    if m % 2 or problem.symmetric:
+        return np.inf
+    states = np.asarray(x, dtype=float)[: 4 * m].reshape(m, 4)
+    return float(np.linalg.norm(states[m // 2 :] - sign * states[: m // 2]) / (1 + np.linalg.norm(states)))

@@ -15,10 +15,10 @@ from slosh_bif.continuation.branch import polyline_distance
 from slosh_bif.orbits.codim2 import (
     BifurcationCurve,
     CurveSeed,
-    is_symmetric,
     repeats_early,
     trace_curve,
 )
+from slosh_bif.orbits.orbit_tools import is_symmetric
 from slosh_bif.orbits.settings import SHOOTING, ShootingSettings
 
 __all__ = [

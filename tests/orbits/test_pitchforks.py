@@ -93,3 +93,34 @@ def test_no_pitchfork_off_the_walls_where_the_free_particle_makes_minus_one_doub
     for sp in pitchforks:
         mu = scipy_multipliers(PRESET.params.replace(sigma=6.0, Abar=float(sp.p)), sp.x[:4])
         assert np.min(np.abs(mu - 1)) < 1e-6
+
+
+def test_a_family_started_on_an_asymmetric_orbit_traces_its_symmetric_parent_both_ways():
+    # The tank example's attractor at sigma = 2 is asymmetric; its branch turns at 2.3456, where
+    # the pair meets the symmetric parent. The family switches there first (before the pair's
+    # period doublings) onto the parent, traced both ways on the half-period map: its pitchfork is
+    # the pair's turn, located on another problem, and past it the parent is the attractor that a
+    # simulation at sigma = 3.5 settles on.
+    from pathlib import Path
+
+    from slosh_bif.model.parameter_file import read_parameter_file
+    from slosh_bif.orbits import BranchingSettings
+
+    tank = read_parameter_file(Path(__file__).parents[2] / "docs/identify/tank/tank.toml")
+    start = orbit_from_simulation(tank.params.replace(sigma=2.0), tank.state0, settle=150)
+    family = trace_orbits(
+        start.params,
+        start.y0,
+        shooting=ShootingSettings(points_per_2pi=32),
+        branching=BranchingSettings(max_branches=2),
+        interval=ParameterRange(lo=1.5, hi=3.5),
+    )
+    pair, parent = family.branches
+    assert (pair.kind, parent.kind) == ("asymmetric", "symmetric") and parent.problem.symmetric
+    assert parent.branch.p.min() == 1.5 and parent.branch.p.max() == 3.5  # both ways, to the bounds
+    (turn,) = [sp.p for sp in pair.branch.special if sp.kind == "LP"]
+    (pitchfork,) = [sp.p for sp in parent.branch.special if sp.kind == "BP"]
+    assert abs(pitchfork - turn) < 1e-6
+    settled = orbit_from_simulation(tank.params.replace(sigma=3.5), tank.state0, settle=150)
+    end = parent.problem.full_states(parent.branch.x[np.argmax(parent.branch.p)])[:4]
+    np.testing.assert_allclose(end, settled.y0, atol=1e-7)

@@ -20,7 +20,6 @@ _WHERE = {
     "FlipCurveProblem": "multiplier_curves",
     "PitchforkCurveProblem": "multiplier_curves",
     "repeats_early": "multiplier_curves",
-    "is_symmetric": "multiplier_curves",
     "MEETS_PARENT": "multiplier_curves",
     "TorusCurveProblem": "torus",
     "ImpactCurveSeed": "impact_curves",

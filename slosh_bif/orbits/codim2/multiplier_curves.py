@@ -16,13 +16,13 @@ from __future__ import annotations
 import numpy as np
 
 from slosh_bif.orbits.codim2.minaug import MinAugCurveProblem
+from slosh_bif.orbits.orbit_tools import half_period_gap
 
 __all__ = [
     "FoldCurveProblem",
     "FlipCurveProblem",
     "PitchforkCurveProblem",
     "repeats_early",
-    "is_symmetric",
     "MEETS_PARENT",
 ]
 
@@ -49,28 +49,7 @@ def repeats_early(problem, x, tol: float = 1e-3) -> bool:
     of the parent."""
     if problem.period_multiple < 2 or problem.period_multiple % 2:
         return False
-    return _half_period_gap(problem, x, 1.0) <= tol
-
-
-def is_symmetric(problem, x, tol: float = 1e-3) -> bool:
-    """Whether the orbit x of a whole-period problem (an odd number of forcing periods in an even
-    number of equal arcs) is symmetric to ``tol``: half its period later the state is its negative,
-    as the forcing's. An asymmetric branch turns where its pair meets the symmetric parent; that
-    turn is the parent's symmetry-breaking pitchfork, where the fold system is singular (its
-    parameter derivatives lie in the orbit Jacobian's range), not a fold."""
-    if problem.period_multiple % 2 == 0:
-        return False
-    return _half_period_gap(problem, x, -1.0) <= tol
-
-
-def _half_period_gap(problem, x, sign: float) -> float:
-    """|x(T/2) - sign x(0)| over the orbit's arcs relative to 1 + |x| (inf where the arcs do not
-    split the period in halves)."""
-    m = problem.segments
-    if m % 2 or problem.symmetric:
-        return np.inf
-    states = np.asarray(x, dtype=float)[: 4 * m].reshape(m, 4)
-    return float(np.linalg.norm(states[m // 2 :] - sign * states[: m // 2]) / (1 + np.linalg.norm(states)))
+    return half_period_gap(problem, x, 1.0) <= tol
 
 
 class FoldCurveProblem(MinAugCurveProblem):
