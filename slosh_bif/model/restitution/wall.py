@@ -8,8 +8,9 @@ are functions of the impact speed v0 alone, so they are measured by integrating 
 (:func:`contact`: the unit particle of (10) entering at x = 0 with speed v0, to its turning point
 x = d and back out with speed kappa v0) at Chebyshev nodes in log v0 over the speeds a study
 needs, and kept as polynomial interpolants whose error is measured at the midpoints between the
-nodes and stated (:class:`WallLaw`). One law per (lam, chi, n, pbar) and speed range is computed
-once per process (:func:`wall_law`).
+nodes and stated (:class:`WallLaw`); a Newtonian wall's (pbar = 0) from one contact and the
+exact scaling below, its error measured at both ends of the range. One law per (lam, chi, n,
+pbar) and speed range is computed once per process (:func:`wall_law`).
 
 Exact checks that need no integration: without dissipation (lam = 0) kappa = 1 and d is the
 turning point of eq. (17), ((n+1) v0^2 / chi)^(1/(2n+2)); at pbar = 0 the wall's equation is
@@ -193,6 +194,8 @@ def wall_law(
     if not (isinstance(nodes, int) and 4 <= nodes <= 200):
         raise ValueError(f"nodes must be an integer in [4, 200]; got {nodes!r}")
     domain = [np.log(v_min), np.log(v_max)]
+    if pbar == 0:
+        return _newtonian_law(lam, chi, n, v_min, v_max)
     # Chebyshev points of the second kind (the ends included) and the midpoints between them.
     theta = np.pi * np.arange(nodes) / (nodes - 1)
     s = 0.5 * (domain[0] + domain[1]) - 0.5 * (domain[1] - domain[0]) * np.cos(theta)
@@ -223,4 +226,28 @@ def wall_law(
         kappa_error,
         depth_error,
         clearance_error,
+    )
+
+
+def _newtonian_law(lam, chi, n, v_min, v_max) -> WallLaw:
+    """The law of a Newtonian wall (pbar = 0) from one contact at unit speed and its exact
+    scaling (the module docstring): kappa constant, d and D growing like v0^(1/(n+1)). Its stated
+    errors are those of the scaled contact against direct contacts at both ends of the range."""
+    unit = contact(1.0, lam, chi, n, 0)
+    domain = [np.log(v_min), np.log(v_max)]
+    ends = np.array(domain)
+    kappa = np.polynomial.Chebyshev.fit(ends, [unit.kappa] * 2, 0, domain=domain)
+    depth = np.polynomial.Chebyshev.fit(ends, np.log(unit.depth) + ends / (n + 1), 1, domain=domain)
+    clearance = np.polynomial.Chebyshev.fit(ends, np.log(unit.clearance) + ends / (n + 1), 1, domain=domain)
+    check = [contact(float(np.exp(x)), lam, chi, n, 0) for x in ends]
+    errors = [
+        float(max(abs(f(x) - getattr(c, name)) for x, c in zip(ends, check)))
+        for f, name in (
+            (kappa, "kappa"),
+            (lambda x: np.exp(depth(x)), "depth"),
+            (lambda x: np.exp(clearance(x)), "clearance"),
+        )
+    ]
+    return WallLaw(
+        float(lam), float(chi), int(n), 0, float(v_min), float(v_max), kappa, depth, clearance, *errors
     )
