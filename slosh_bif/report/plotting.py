@@ -162,7 +162,9 @@ def place_labels(ax, items, *, apart=(18, 10)):
     and legends carry the rest)."""
     if not items:
         return
-    ax.figure.canvas.draw()  # the final limits, so that display positions are right
+    # the final (autoscaled) limits, so that display positions are right: reading them updates
+    # transData without drawing the figure (a whole draw per branch was most of a family's plot)
+    ax.get_xlim(), ax.get_ylim()
     placed = [
         tuple(ax.transData.transform(t.xy)) for t in ax.texts if hasattr(t, "xy")
     ]  # labels of earlier calls
