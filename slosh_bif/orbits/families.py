@@ -37,7 +37,7 @@ from slosh_bif.continuation.branch import (
 )
 from slosh_bif.model.params import Params
 from slosh_bif.orbits.orbit_branch import LIOUVILLE_TOL, OrbitBranch, OrbitFamily, images, unique_name
-from slosh_bif.orbits.orbit_tools import is_symmetric, orbit_at, orbit_measures
+from slosh_bif.orbits.orbit_tools import is_symmetric, orbit_at, orbit_measures, symmetrized
 from slosh_bif.orbits.pitchforks import refine_pitchforks
 from slosh_bif.orbits.settings import (
     BRANCHING,
@@ -225,10 +225,8 @@ def _meets_parent(parent: OrbitBranch, sp) -> bool:
 
 def _symmetrized(sp):
     """(x, p) of the branch point ``sp`` of a 2pi problem whose orbit is symmetric to its location's
-    accuracy, its states made exactly symmetric: x(T/2) = -x(0) (the mean of the two halves)."""
-    x = np.asarray(sp.x, dtype=float)
-    half = 0.5 * (x[: len(x) // 2] - x[len(x) // 2 :])
-    return np.append(np.concatenate([half, -half]), sp.p)
+    accuracy, its states made exactly symmetric (:func:`~.orbit_tools.symmetrized`)."""
+    return np.append(symmetrized(sp.x), sp.p)
 
 
 def _symmetric_parent(sp, param, opts, make_problem, say):

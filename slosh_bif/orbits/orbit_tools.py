@@ -2,7 +2,7 @@
 guess (periodic_orbit, orbit_at), the measures a branch records at each orbit (amplitudes,
 first harmonics, impact speeds: orbit_measures), and the symmetry of an orbit read off its arcs'
 start states (y(tau + T/2) = -y(tau), as (9) under the forcing's half-period shift:
-half_period_gap, is_symmetric)."""
+half_period_gap, is_symmetric, symmetrized)."""
 
 from __future__ import annotations
 
@@ -16,6 +16,7 @@ from slosh_bif.orbits.shooting import ShootingProblem
 __all__ = [
     "half_period_gap",
     "is_symmetric",
+    "symmetrized",
     "orbit_at",
     "orbit_measures",
     "periodic_orbit",
@@ -105,3 +106,12 @@ def half_period_gap(problem: ShootingProblem, x, sign: float) -> float:
         return np.inf
     states = np.asarray(x, dtype=float)[: 4 * m].reshape(m, 4)
     return float(np.linalg.norm(states[m // 2 :] - sign * states[: m // 2]) / (1 + np.linalg.norm(states)))
+
+
+def symmetrized(x) -> np.ndarray:
+    """The states x of a whole-period orbit at the starts of an even number of arcs made exactly
+    symmetric, x(T/2) = -x(0): the mean of the first half and the second half's negative (for an
+    orbit symmetric to its location's accuracy, where an asymmetric pair meets its parent)."""
+    x = np.asarray(x, dtype=float)
+    half = 0.5 * (x[: len(x) // 2] - x[len(x) // 2 :])
+    return np.concatenate([half, -half])

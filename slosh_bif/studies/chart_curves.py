@@ -18,7 +18,7 @@ from slosh_bif.orbits.codim2 import (
     repeats_early,
     trace_curve,
 )
-from slosh_bif.orbits.orbit_tools import is_symmetric
+from slosh_bif.orbits.orbit_tools import is_symmetric, symmetrized
 from slosh_bif.orbits.settings import SHOOTING, ShootingSettings
 
 __all__ = [
@@ -101,20 +101,10 @@ def curve_starts(ob, params, box: dict, pitchforks=(), shooting: ShootingSetting
         if sp.kind == "LP" and is_symmetric(ob.problem, sp.x):
             # The pair meets its symmetric parent (a family traced without it, or in another
             # parameter): the parent's pitchfork, whose curve starts from the symmetric orbit.
-            seed = pitchfork_seed(
-                seed, f"BP (the turn of the pair where it meets its symmetric parent) {where}"
-            )
+            origin = f"BP (the turn of the pair where it meets its symmetric parent) {where}"
+            seed = dataclasses.replace(seed, kind="BP", x=symmetrized(seed.x), origin=origin)
         job = dict(params=params, seed=seed, box=box, shooting=arcs)
         yield CurveStart.with_job(seed.kind, float(sigma), float(value), seed.origin, job)
-
-
-def pitchfork_seed(seed: CurveSeed, origin: str) -> CurveSeed:
-    """The BP seed at an asymmetric orbit that is symmetric to its location's accuracy: its states
-    made exactly symmetric (the mean of x(0) and -x(T/2) over the first half's arcs)."""
-    x = np.asarray(seed.x, dtype=float)
-    h = len(x) // 2
-    half = 0.5 * (x[:h] - x[h:])
-    return dataclasses.replace(seed, kind="BP", x=np.concatenate([half, -half]), origin=origin)
 
 
 def torus_starts(curves, params, box: dict, shooting: ShootingSettings = SHOOTING):

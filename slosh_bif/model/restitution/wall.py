@@ -193,9 +193,9 @@ def wall_law(
         raise ValueError(f"need 0 < v_min < v_max, both finite; got [{v_min}, {v_max}]")
     if not (isinstance(nodes, int) and 4 <= nodes <= 200):
         raise ValueError(f"nodes must be an integer in [4, 200]; got {nodes!r}")
-    domain = [np.log(v_min), np.log(v_max)]
     if pbar == 0:
         return _newtonian_law(lam, chi, n, v_min, v_max)
+    domain = [np.log(v_min), np.log(v_max)]
     # Chebyshev points of the second kind (the ends included) and the midpoints between them.
     theta = np.pi * np.arange(nodes) / (nodes - 1)
     s = 0.5 * (domain[0] + domain[1]) - 0.5 * (domain[1] - domain[0]) * np.cos(theta)
