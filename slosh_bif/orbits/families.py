@@ -370,4 +370,10 @@ def trace_new_family(
             and 1 < s.index < len(new) - (met is not None)
             and not (parent_of_pair and abs(s.p - sp.p) <= 1e-6 * (1 + abs(sp.p)))
         ]
+    if queue:  # the cap, not the family, ended the switching: say where it was not tried
+        left = ", ".join(f"{s.kind} {param} = {s.p:.6g} on {ob.name}" for ob, s in queue[:4])
+        say(
+            f"not switched at {len(queue)} more ({left}{', ...' if len(queue) > 4 else ''}): "
+            f"the family has its {branching.max_branches} branches (max_branches, --max-branches)"
+        )
     return OrbitFamily(params, param, family)

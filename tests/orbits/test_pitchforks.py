@@ -124,3 +124,25 @@ def test_a_family_started_on_an_asymmetric_orbit_traces_its_symmetric_parent_bot
     settled = orbit_from_simulation(tank.params.replace(sigma=3.5), tank.state0, settle=150)
     end = parent.problem.full_states(parent.branch.x[np.argmax(parent.branch.p)])[:4]
     np.testing.assert_allclose(end, settled.y0, atol=1e-7)
+
+
+def test_a_family_cut_by_its_branch_cap_says_where_it_did_not_switch():
+    from pathlib import Path
+
+    from slosh_bif.model.parameter_file import read_parameter_file
+    from slosh_bif.orbits import BranchingSettings
+
+    tank = read_parameter_file(Path(__file__).parents[2] / "docs/identify/tank/tank.toml")
+    start = orbit_from_simulation(tank.params.replace(sigma=2.0), tank.state0, settle=150)
+    said = []
+    family = trace_orbits(
+        start.params,
+        start.y0,
+        shooting=ShootingSettings(points_per_2pi=32),
+        branching=BranchingSettings(max_branches=1),
+        interval=ParameterRange(lo=1.5, hi=3.5),
+        progress=said.append,
+    )
+    assert len(family.branches) == 1
+    (cut,) = [m for m in said if m.startswith("not switched at")]
+    assert "BP sigma = 2.34564 on asymmetric" in cut and "--max-branches" in cut
