@@ -6,14 +6,17 @@ locates by Newton on the minimally augmented half-period condition. The two meth
 and scipy's full-period monodromy must have the multiplier +1 at both."""
 
 import dataclasses
+from pathlib import Path
 
 import numpy as np
 import pytest
 
 from slosh_bif import get_preset
 from slosh_bif.continuation import continuation
+from slosh_bif.model.parameter_file import read_parameter_file
 from slosh_bif.orbits import (
     NO_SWITCHING,
+    BranchingSettings,
     ShootingSettings,
     orbit_from_simulation,
     trace_orbits,
@@ -95,26 +98,31 @@ def test_no_pitchfork_off_the_walls_where_the_free_particle_makes_minus_one_doub
         assert np.min(np.abs(mu - 1)) < 1e-6
 
 
+TANK = Path(__file__).parents[2] / "docs/identify/tank/tank.toml"  # an asymmetric attractor at sigma = 2
+
+
+def _tank_family(max_branches, progress=None):
+    """The tank example's family from its attractor at sigma = 2 over [1.5, 3.5], and its preset."""
+    tank = read_parameter_file(TANK)
+    start = orbit_from_simulation(tank.params.replace(sigma=2.0), tank.state0, settle=150)
+    family = trace_orbits(
+        start.params,
+        start.y0,
+        shooting=ShootingSettings(points_per_2pi=32),
+        branching=BranchingSettings(max_branches=max_branches),
+        interval=ParameterRange(lo=1.5, hi=3.5),
+        progress=progress,
+    )
+    return family, tank
+
+
 def test_a_family_started_on_an_asymmetric_orbit_traces_its_symmetric_parent_both_ways():
     # The tank example's attractor at sigma = 2 is asymmetric; its branch turns at 2.3456, where
     # the pair meets the symmetric parent. The family switches there first (before the pair's
     # period doublings) onto the parent, traced both ways on the half-period map: its pitchfork is
     # the pair's turn, located on another problem, and past it the parent is the attractor that a
     # simulation at sigma = 3.5 settles on.
-    from pathlib import Path
-
-    from slosh_bif.model.parameter_file import read_parameter_file
-    from slosh_bif.orbits import BranchingSettings
-
-    tank = read_parameter_file(Path(__file__).parents[2] / "docs/identify/tank/tank.toml")
-    start = orbit_from_simulation(tank.params.replace(sigma=2.0), tank.state0, settle=150)
-    family = trace_orbits(
-        start.params,
-        start.y0,
-        shooting=ShootingSettings(points_per_2pi=32),
-        branching=BranchingSettings(max_branches=2),
-        interval=ParameterRange(lo=1.5, hi=3.5),
-    )
+    family, tank = _tank_family(max_branches=2)
     pair, parent = family.branches
     assert (pair.kind, parent.kind) == ("asymmetric", "symmetric") and parent.problem.symmetric
     assert parent.branch.p.min() == 1.5 and parent.branch.p.max() == 3.5  # both ways, to the bounds
@@ -127,22 +135,8 @@ def test_a_family_started_on_an_asymmetric_orbit_traces_its_symmetric_parent_bot
 
 
 def test_a_family_cut_by_its_branch_cap_says_where_it_did_not_switch():
-    from pathlib import Path
-
-    from slosh_bif.model.parameter_file import read_parameter_file
-    from slosh_bif.orbits import BranchingSettings
-
-    tank = read_parameter_file(Path(__file__).parents[2] / "docs/identify/tank/tank.toml")
-    start = orbit_from_simulation(tank.params.replace(sigma=2.0), tank.state0, settle=150)
     said = []
-    family = trace_orbits(
-        start.params,
-        start.y0,
-        shooting=ShootingSettings(points_per_2pi=32),
-        branching=BranchingSettings(max_branches=1),
-        interval=ParameterRange(lo=1.5, hi=3.5),
-        progress=said.append,
-    )
+    family, _ = _tank_family(max_branches=1, progress=said.append)
     assert len(family.branches) == 1
     (cut,) = [m for m in said if m.startswith("not switched at")]
     assert "BP sigma = 2.34564 on asymmetric" in cut and "--max-branches" in cut
