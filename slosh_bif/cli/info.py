@@ -1,11 +1,13 @@
-"""``slosh-bif info`` (a preset's parameters and restitution quantities, eqs. 21, 31, 36, 40) and
-``slosh-bif derive`` (regenerate or check the generated code)."""
+"""``slosh-bif info`` (a preset's parameters and restitution quantities, eqs. 21, 31, 36, 40),
+``slosh-bif derive`` (regenerate or check the generated code) and ``slosh-bif compile`` (build the
+integrator's loops of (9) ahead of time: :mod:`slosh_bif.flows.ahead_of_time`)."""
 
 from __future__ import annotations
 
 import importlib.util
 import json
 import sys
+import time
 from pathlib import Path
 
 from slosh_bif.cli.common import add_params_options, out_path, params_of, preset_of
@@ -83,6 +85,31 @@ def _derive(args) -> int:
     return module.main(["--check"] if args.check else [])
 
 
+def _compile(args) -> int:
+    from slosh_bif.flows import ahead_of_time
+
+    path = ahead_of_time.module_path()
+    if ahead_of_time.disabled():
+        print(
+            f"{ahead_of_time.DISABLE} turns the module built ahead of time off: unset it first",
+            file=sys.stderr,
+        )
+        return 2
+    if ahead_of_time.load() is not None and not args.force:
+        print(f"the loops of (9) are built ahead of time: {path}")
+        return 0
+    reason = ahead_of_time.failure(path)
+    if reason is not None:
+        print(f"the last build failed ({reason}); trying again", file=sys.stderr)
+    print(
+        "building the loops of (9) ahead of time (about 15 s; numba's pycc and a C compiler)", file=sys.stderr
+    )
+    start = time.perf_counter()
+    ahead_of_time.build(path)  # RuntimeError, reported by main, says what was missing
+    print(f"built {path} in {time.perf_counter() - start:.1f} s")
+    return 0
+
+
 def add_commands(sub) -> None:
     """Register this family's commands on the ``slosh-bif`` subparsers ``sub``."""
     info = sub.add_parser(
@@ -104,3 +131,11 @@ def add_commands(sub) -> None:
         "--check", action="store_true", help="exit 1 if the committed generated code is stale"
     )
     derive.set_defaults(run=_derive)
+
+    compile_ = sub.add_parser(
+        "compile",
+        help="build the integrator's compiled loops of (9) ahead of time, so that commands start without "
+        "importing numba (done in the background after the first command otherwise)",
+    )
+    compile_.add_argument("--force", action="store_true", help="build again even when built")
+    compile_.set_defaults(run=_compile)

@@ -6,8 +6,10 @@ kernels that the sympy derivation writes for (9) (``_generated/kernels.py``): (9
 everything shooting needs (variational equations, two parameter sensitivities, the Liouville
 integral; the (sigma, Abar) kernel or the pair kernel for any two parameters), and (9) with the
 random forcing of (47), the noise spline of :mod:`slosh_bif.flows.noise` added where cos(tau)
-enters. :mod:`slosh_bif.flows.integrator` is the interface; without numba these are the plain
-Python functions (never called: the scipy path runs instead).
+enters. :mod:`slosh_bif.flows.integrator` is the interface. numba compiles these loops just in
+time (with its on-disk cache), and :mod:`slosh_bif.flows.ahead_of_time` builds the same three
+into an extension module that loads without numba; without numba these are the plain Python
+functions (never called: the scipy path runs instead).
 """
 
 from __future__ import annotations
@@ -21,43 +23,15 @@ import numpy as np
 from slosh_bif.flows.compiled import HAVE_NUMBA, numba
 from slosh_bif.flows.compiled import jit as _jit
 from slosh_bif.model import powers as _powers
-from slosh_bif.model._generated import dop853_tableau as _dop
 from slosh_bif.model._generated import kernels as _kernels
 
-__all__ = [
-    "HAVE_NUMBA",
-    "TABLEAU",
-    "KERNELS",
-    "WHICH",
-    "MESSAGES",
-    "OK",
-    "dop853_loop",
-    "grid_loop",
-    "arcs_loop",
-]
+__all__ = ["HAVE_NUMBA", "KERNELS", "dop853_loop", "grid_loop", "arcs_loop"]
 
 if HAVE_NUMBA:  # before any kernel compiles: the kernels' int_power becomes repeated squaring here
 
     @numba.extending.overload(_powers.int_power)
     def _int_power_compiled(x, k):
         return _powers.int_power_by_squaring
-
-
-_STAGES = _dop.N_STAGES
-_A = np.array(_dop.A)
-_B = np.array(_dop.B)
-_C = np.array(_dop.C)
-_E3 = np.array(_dop.E3)
-_E5 = np.array(_dop.E5)
-
-# Status codes of the compiled loop.
-_OK, _MAX_STEPS, _TOO_SMALL, _NOT_FINITE = 0, 1, 2, 3
-_MESSAGES = {
-    _OK: "ok",
-    _MAX_STEPS: "step limit reached",
-    _TOO_SMALL: "step size fell below the rounding limit",
-    _NOT_FINITE: "the solution became non-finite",
-}
 
 
 def _forget_compilations_of_other_kernels(compiled):
@@ -142,7 +116,6 @@ _RAW = {
     "shooting": _kernels.smooth_shooting_kernel,
     "pair": _kernels.smooth_pair_kernel,
 }
-_WHICH = {"plain": 0, "shooting": 1, "noisy": 2, "pair": 3}
 _plain_kernel = _jit(_RAW["plain"], inline=True)
 _shooting_kernel = _jit(_RAW["shooting"], inline=True)
 _pair_kernel = _jit(_RAW["pair"], inline=True)
@@ -306,10 +279,31 @@ def _arcs_loop(which, taus, starts, pars, rtol, atol, max_steps, A, B, C, E3, E5
     return out, m, 0
 
 
+# The ahead-of-time module's entry points (slosh_bif.flows.ahead_of_time): each only calls its loop,
+# which numba compiles with the options above (error_model="numpy": a division by zero gives inf,
+# which the loop tests, where pycc's own options for an exported function would raise).
+def _ahead_dop853_loop(which, t0, t1, z0, pars, rtol, atol, h, max_steps, A, B, C, E3, E5):
+    return _dop853_loop(which, t0, t1, z0, pars, rtol, atol, h, max_steps, A, B, C, E3, E5)
+
+
+def _ahead_grid_loop(which, taus, z0, pars, rtol, atol, max_steps, A, B, C, E3, E5):
+    return _grid_loop(which, taus, z0, pars, rtol, atol, max_steps, A, B, C, E3, E5)
+
+
+def _ahead_arcs_loop(which, taus, starts, pars, rtol, atol, max_steps, A, B, C, E3, E5):
+    return _arcs_loop(which, taus, starts, pars, rtol, atol, max_steps, A, B, C, E3, E5)
+
+
+AHEAD_OF_TIME_ENTRIES = {
+    "dop853_loop": _ahead_dop853_loop,
+    "grid_loop": _ahead_grid_loop,
+    "arcs_loop": _ahead_arcs_loop,
+}
+
 if HAVE_NUMBA:
     _forget_compilations_of_other_kernels(_dop853_loop)
 
-# The interface of :mod:`slosh_bif.flows.integrator`.
-TABLEAU = (_A, _B, _C, _E3, _E5)
-KERNELS, WHICH, MESSAGES, OK = _RAW, _WHICH, _MESSAGES, _OK
+# The interface of :mod:`slosh_bif.flows.integrator` (its constants, the tableau that every loop
+# takes last and the status codes, are in :mod:`slosh_bif.flows.dop853_interface`).
+KERNELS = _RAW
 dop853_loop, grid_loop, arcs_loop = _dop853_loop, _grid_loop, _arcs_loop

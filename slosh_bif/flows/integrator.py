@@ -11,8 +11,10 @@ Why: one period of (9) at n = 50 takes thousands of steps (the wall term chi w^1
 explicit method's eyes), and a Python right-hand side called from scipy's stepper spends tens of
 microseconds a step in interpreter overhead. The compiled loop spends about a microsecond.
 
-``backend="auto"`` takes numba (a core dependency) when it imports and scipy otherwise;
-``"numba"`` and ``"scipy"`` force one. Both return the same :class:`Integration` record.
+``backend="auto"`` takes the compiled loops (numba, a core dependency: the module built ahead of
+time by :mod:`slosh_bif.flows.ahead_of_time` when it is there, which loads without importing
+numba, else numba's just-in-time compilation) and scipy without numba; ``"numba"`` and ``"scipy"``
+force one. Both return the same :class:`Integration` record.
 """
 
 from __future__ import annotations
@@ -22,17 +24,8 @@ import typing
 
 import numpy as np
 
-from slosh_bif.flows.dop853 import (
-    HAVE_NUMBA,
-    KERNELS,
-    MESSAGES,
-    OK,
-    TABLEAU,
-    WHICH,
-    arcs_loop,
-    dop853_loop,
-    grid_loop,
-)
+from slosh_bif.flows import ahead_of_time
+from slosh_bif.flows.dop853_interface import MESSAGES, OK, TABLEAU, WHICH
 from slosh_bif.flows.noise import BandLimitedNoise
 from slosh_bif.model.params import REAL_FIELDS, Params, real_pair
 
@@ -70,6 +63,15 @@ class Integration(typing.NamedTuple):
     message: str
 
 
+# The compiled loops: built ahead of time when they are (no numba to import), else numba's just in
+# time; None without numba.
+_LOOPS = ahead_of_time.load()
+if _LOOPS is None:
+    from slosh_bif.flows import dop853 as _dop853
+
+    _LOOPS = _dop853 if _dop853.HAVE_NUMBA else None
+HAVE_NUMBA = _LOOPS is not None
+
 BACKENDS = ("auto", "numba", "scipy")
 
 
@@ -89,7 +91,7 @@ def resolve_backend(backend: str) -> str:
 def _check(params, z0, tau0, tau1, rtol, atol, size):
     if not isinstance(params, Params):
         raise TypeError(f"params must be a slosh_bif.Params; got {type(params).__name__}")
-    z0 = np.asarray(z0, dtype=float)
+    z0 = np.ascontiguousarray(z0, dtype=float)  # the compiled loops take contiguous arrays
     # math.isfinite over the list, not np.isfinite: on 4 or 29 numbers numpy's ufunc and reduction
     # cost 3 us, a sixth of a whole period of (9) at n = 6 (the integration benchmark's unit).
     if z0.shape != (size,) or not all(map(math.isfinite, z0.tolist())):
@@ -138,6 +140,8 @@ def _check_noise(noise, tau0, tau1):
 
 def _scipy_rhs(which, pars):
     """The generated kernel as scipy's ``fun(t, y)`` (the fallback path: same equations)."""
+    from slosh_bif.flows.dop853 import KERNELS  # numba's too, for the kernels it compiles
+
     raw = KERNELS[which]
 
     def fun(tau, z):
@@ -182,7 +186,7 @@ def integrate(
         which, pair = "pair", real_pair(sensitivities, "sensitivities")
     pars = _pars(params, noise, pair)
     if resolve_backend(backend) == "numba":
-        z, steps, rejected, nfev, h, status = dop853_loop(
+        z, steps, rejected, nfev, h, status = _LOOPS.dop853_loop(
             WHICH[which],
             float(tau0),
             float(tau1),
@@ -229,14 +233,14 @@ def integrate_arcs(
     Phi = I and zero sensitivities) over [taus[k], taus[k + 1]]. Returns (ends (m, 29), arcs
     integrated); rows of the arcs after a failed one are NaN. The compiled backend runs all
     arcs in one call; otherwise :func:`integrate` arc by arc."""
-    starts = np.asarray(starts, dtype=float)
+    starts = np.ascontiguousarray(starts, dtype=float)
     m = len(starts)
     if resolve_backend(backend) == "numba" and np.isfinite(starts).all():
         pair = tuple(sensitivities) != DEFAULT_SENSITIVITIES
         pars = _pars(params, None, real_pair(sensitivities, "sensitivities") if pair else None)
-        ends, done, status = arcs_loop(
+        ends, done, status = _LOOPS.arcs_loop(
             WHICH["pair" if pair else "shooting"],
-            np.asarray(taus, dtype=float),
+            np.ascontiguousarray(taus, dtype=float),
             starts,
             pars,
             float(rtol),
@@ -289,7 +293,7 @@ def integrate_grid(
     derivative along the first row's direction in the parameters. Raises RuntimeError naming the
     time where the integration failed.
     """
-    taus = np.asarray(taus, dtype=float)
+    taus = np.ascontiguousarray(taus, dtype=float)
     if taus.ndim != 1 or len(taus) < 2 or not np.all(np.diff(taus) > 0):
         raise ValueError("taus must be at least two strictly increasing times")
     y0 = _check(params, y0, taus[0], taus[1], rtol, atol, 4)
@@ -322,7 +326,7 @@ def integrate_grid(
         if not sol.success:
             raise RuntimeError(f"integration of (9) failed near tau = {sol.t[-1]:.6g}: {sol.message}")
         return sol.y.T.copy()
-    states, reached, status = grid_loop(
+    states, reached, status = _LOOPS.grid_loop(
         WHICH[which], taus, out[0], pars, float(rtol), float(atol), 2_000_000, *TABLEAU
     )
     if status != OK:

@@ -20,7 +20,6 @@ from slosh_bif.flows.noise import MAX_NOISE_STD, band_limited_noise
 from slosh_bif.model.equations import SmoothModel
 from slosh_bif.model.params import Params
 from slosh_bif.simulation.settings import SIMULATION, Noise, SimulationSettings
-from slosh_bif.simulation.vibro_impact import simulate_impact
 
 __all__ = [
     "MODELS",
@@ -202,6 +201,7 @@ def _simulate_impact_in_chunks(params, y0, t0, tmax, sample_step, progress, star
     """(8) over [t0, tmax] in up to 20 pieces of at least 200 time units, so that progress can be
     reported; each piece starts from the previous one's end state (the flow is exact, so the pieces
     join seamlessly)."""
+    from slosh_bif.simulation.vibro_impact import simulate_impact  # numba's (8): not loaded for (9)
 
     edges = np.linspace(t0, tmax, max(2, min(21, int((tmax - t0) / 200) + 1)))
     parts = []

@@ -1,0 +1,44 @@
+"""What the compiled DOP853 loops of (9) take and return, without numba: the Butcher tableau, the
+kernel numbers of the switch (``WHICH``: (9), (9) with its variational equations for shooting,
+(9) with the random forcing of (47), the pair kernel for any two parameters), the status codes
+with their messages, and the loops' argument types. The loops themselves are compiled either
+just in time (:mod:`slosh_bif.flows.dop853`) or ahead of time (:mod:`slosh_bif.flows.ahead_of_time`)
+from the same source; :mod:`slosh_bif.flows.integrator` calls whichever is there with these.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from slosh_bif.model._generated import dop853_tableau as _dop
+
+__all__ = ["STAGES", "TABLEAU", "WHICH", "OK", "MESSAGES", "SIGNATURES"]
+
+STAGES = _dop.N_STAGES
+# A, B, C, E3, E5 (scipy's DOP853 coefficients, written by the derivation); every loop takes them last.
+TABLEAU = tuple(np.array(v) for v in (_dop.A, _dop.B, _dop.C, _dop.E3, _dop.E5))
+WHICH = {"plain": 0, "shooting": 1, "noisy": 2, "pair": 3}
+
+# Status codes of the loops.
+OK, MAX_STEPS, TOO_SMALL, NOT_FINITE = 0, 1, 2, 3
+MESSAGES = {
+    OK: "ok",
+    MAX_STEPS: "step limit reached",
+    TOO_SMALL: "step size fell below the rounding limit",
+    NOT_FINITE: "the solution became non-finite",
+}
+
+# numba type strings of the three loops (arrays C-contiguous: the integrator passes them so), for
+# the ahead-of-time build; the just-in-time path specialises on the same types when called.
+_TABLEAU_TYPES = "f8[:, ::1], f8[::1], f8[::1], f8[::1], f8[::1]"
+SIGNATURES = {
+    # (which, t0, t1, z0, pars, rtol, atol, h, max_steps, *tableau)
+    #   -> (end state, steps, rejected, nfev, next step, status)
+    "dop853_loop": "Tuple((f8[::1], i8, i8, i8, f8, i8))"
+    f"(i8, f8, f8, f8[::1], f8[::1], f8, f8, f8, i8, {_TABLEAU_TYPES})",
+    # (which, taus, z0, pars, rtol, atol, max_steps, *tableau) -> (states, times reached, status)
+    "grid_loop": f"Tuple((f8[:, ::1], i8, i8))(i8, f8[::1], f8[::1], f8[::1], f8, f8, i8, {_TABLEAU_TYPES})",
+    # (which, taus, starts, pars, rtol, atol, max_steps, *tableau) -> (ends, arcs done, status)
+    "arcs_loop": "Tuple((f8[:, ::1], i8, i8))"
+    f"(i8, f8[::1], f8[:, ::1], f8[::1], f8, f8, i8, {_TABLEAU_TYPES})",
+}
