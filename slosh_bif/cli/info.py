@@ -96,13 +96,13 @@ def _compile(args) -> int:
         )
         return 2
     if ahead_of_time.load() is not None and not args.force:
-        print(f"the loops of (9) are built ahead of time: {path}")
+        print(f"the compiled loops are built ahead of time: {path}")
         return 0
     reason = ahead_of_time.failure(path)
     if reason is not None:
         print(f"the last build failed ({reason}); trying again", file=sys.stderr)
     print(
-        "building the loops of (9) ahead of time (about 15 s; numba's pycc and a C compiler)", file=sys.stderr
+        "building the compiled loops ahead of time (5-30 s; numba's pycc and a C compiler)", file=sys.stderr
     )
     start = time.perf_counter()
     ahead_of_time.build(path)  # RuntimeError, reported by main, says what was missing

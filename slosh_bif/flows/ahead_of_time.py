@@ -1,18 +1,21 @@
-"""The compiled DOP853 loops of (9) built ahead of time: the three loops of
-:mod:`slosh_bif.flows.dop853` (with the generated kernels of (9), its variational equations and the
-random forcing of (47) inlined) compiled by numba's ``pycc`` into an extension module.
+"""The compiled loops built ahead of time: the three DOP853 loops of :mod:`slosh_bif.flows.dop853`
+(with the generated kernels of (9), its variational equations and the random forcing of (47)
+inlined) and the periodic QR sweep of :mod:`slosh_bif.flows.periodic_qr` (the Floquet
+multipliers' periodic Schur decomposition), compiled by numba's ``pycc`` into an extension module;
+:func:`compiled` hands out that module's functions, or numba's just-in-time ones where it is not
+built.
 
 Why: loading that module takes about a millisecond, where the just-in-time path first imports
 numba (0.2-0.3 s) and, at its first call even with numba's cache warm, builds numba's target
 context (0.25-0.45 s; it imports scipy.linalg). A command of (9) that needs nothing else of numba
 starts in a fraction of the time. The results are bitwise the same: one source, the same compiler
-(a test compares every kernel).
+(a test compares every entry).
 
 The module's name carries a digest of everything compiled into it (this file, the loops and their
-interface, the generated kernels and tableau, the integer power, numba's and numpy's versions, the
-interpreter's extension tag, the processor it is compiled for): a change anywhere gives a new
-name, so a stale module is never loaded.
-It is built once per machine, in about 15 s: by ``slosh-bif compile``, or in the background at low
+interface, the periodic QR, the generated kernels and tableau, the integer power, numba's and
+numpy's versions, the interpreter's extension tag, the processor it is compiled for): a change
+anywhere gives a new name, so a stale module is never loaded.
+It is built once per machine, in 5-30 s: by ``slosh-bif compile``, or in the background at low
 priority after a command ran the loops just in time. It lives beside numba's cache
 (``$NUMBA_CACHE_DIR/slosh_bif`` when that is set, else ``slosh_bif/flows/__pycache__`` when
 writable, else ``~/.cache/slosh_bif``). Building needs setuptools and a C compiler besides numba;
@@ -31,22 +34,25 @@ import subprocess
 import sys
 import tempfile
 import time
+import types
 import warnings
 from contextlib import redirect_stdout
 from pathlib import Path
 
 import numpy as np
 
-__all__ = ["DISABLE", "load", "build", "build_in_background", "module_path", "failure"]
+__all__ = ["DISABLE", "compiled", "load", "build", "build_in_background", "module_path", "failure"]
 
 DISABLE = "SLOSH_BIF_AHEAD_OF_TIME"  # "0" (or "off", "no", "false"): neither load nor build the module
-_PREFIX = "dop853_ahead_"
+_PREFIX = "slosh_bif_ahead_"
+_MODULES = ("dop853", "periodic_qr")  # slosh_bif.flows modules whose AHEAD_OF_TIME entries are built
 _STALE_LOCK_SECONDS = 900.0  # a build's lock older than this was left by a build that was killed
 _HERE = Path(__file__).resolve().parent
 _SOURCES = (
     _HERE / "ahead_of_time.py",
     _HERE / "dop853.py",
     _HERE / "dop853_interface.py",
+    _HERE / "periodic_qr.py",
     _HERE / "compiled.py",
     _HERE.parent / "model" / "powers.py",
     _HERE.parent / "model" / "_generated" / "kernels.py",
@@ -120,9 +126,12 @@ def failure(path=None):
         return None
 
 
+ENTRIES = ("dop853_loop", "grid_loop", "arcs_loop", "periodic_qr")
+
+
 def load(path=None):
-    """The built module (``dop853_loop``, ``grid_loop``, ``arcs_loop``), or None: not built for this
-    source, turned off, or it would not load."""
+    """The built module (its functions :data:`ENTRIES`), or None: not built for this source,
+    turned off, or it would not load."""
     if disabled():
         return None
     path = Path(path or module_path())
@@ -134,9 +143,28 @@ def load(path=None):
         spec.loader.exec_module(module)
     except (ImportError, OSError):
         return None
-    if not all(hasattr(module, name) for name in ("dop853_loop", "grid_loop", "arcs_loop")):
+    if not all(hasattr(module, name) for name in ENTRIES):
         return None
     return module
+
+
+_COMPILED = []  # the process's choice, made once
+
+
+def compiled():
+    """The compiled functions (:data:`ENTRIES`, as attributes): the module built ahead of time when
+    it is there for this source, else numba's just-in-time functions of the same source; None
+    without numba."""
+    if not _COMPILED:
+        module = load()
+        if module is None:
+            jit = [importlib.import_module(f"slosh_bif.flows.{name}") for name in _MODULES]
+            if jit[0].HAVE_NUMBA:
+                module = types.SimpleNamespace(
+                    **{entry: getattr(m, entry) for m in jit for entry in m.AHEAD_OF_TIME}
+                )
+        _COMPILED.append(module)
+    return _COMPILED[0]
 
 
 def build(path=None) -> Path:
@@ -151,16 +179,17 @@ def build(path=None) -> Path:
             from numba.pycc import CC
     except ImportError as err:
         raise RuntimeError(f"numba's ahead-of-time compiler (numba.pycc) is not available: {err}") from None
-    from slosh_bif.flows import dop853
-    from slosh_bif.flows.dop853_interface import SIGNATURES
+    entries = {}
+    for name in _MODULES:
+        entries.update(importlib.import_module(f"slosh_bif.flows.{name}").AHEAD_OF_TIME)
 
     with tempfile.TemporaryDirectory(dir=path.parent, prefix=".building-") as work:
         cc = CC(path.name.split(".")[0])
         cc.output_dir = work
         cc.verbose = False
         cc.target_cpu = "host"  # as numba's just-in-time code; the digest names the processor
-        for name, signature in SIGNATURES.items():
-            cc.export(name, signature)(dop853.AHEAD_OF_TIME_ENTRIES[name])
+        for name, (entry, signature) in entries.items():
+            cc.export(name, signature)(entry)
         try:
             with warnings.catch_warnings(), redirect_stdout(io.StringIO()):
                 warnings.simplefilter("ignore")

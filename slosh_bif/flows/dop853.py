@@ -294,10 +294,26 @@ def _ahead_arcs_loop(which, taus, starts, pars, rtol, atol, max_steps, A, B, C, 
     return _arcs_loop(which, taus, starts, pars, rtol, atol, max_steps, A, B, C, E3, E5)
 
 
-AHEAD_OF_TIME_ENTRIES = {
-    "dop853_loop": _ahead_dop853_loop,
-    "grid_loop": _ahead_grid_loop,
-    "arcs_loop": _ahead_arcs_loop,
+_TABLEAU_TYPES = "f8[:, ::1], f8[::1], f8[::1], f8[::1], f8[::1]"  # A, B, C, E3, E5, every loop's last
+# name -> (entry, numba signature; arrays C-contiguous, as the integrator passes them)
+AHEAD_OF_TIME = {
+    # (which, t0, t1, z0, pars, rtol, atol, h, max_steps, *tableau)
+    #   -> (end state, steps, rejected, nfev, next step, status)
+    "dop853_loop": (
+        _ahead_dop853_loop,
+        "Tuple((f8[::1], i8, i8, i8, f8, i8))"
+        f"(i8, f8, f8, f8[::1], f8[::1], f8, f8, f8, i8, {_TABLEAU_TYPES})",
+    ),
+    # (which, taus, z0, pars, rtol, atol, max_steps, *tableau) -> (states, times reached, status)
+    "grid_loop": (
+        _ahead_grid_loop,
+        f"Tuple((f8[:, ::1], i8, i8))(i8, f8[::1], f8[::1], f8[::1], f8, f8, i8, {_TABLEAU_TYPES})",
+    ),
+    # (which, taus, starts, pars, rtol, atol, max_steps, *tableau) -> (ends, arcs done, status)
+    "arcs_loop": (
+        _ahead_arcs_loop,
+        f"Tuple((f8[:, ::1], i8, i8))(i8, f8[::1], f8[:, ::1], f8[::1], f8, f8, i8, {_TABLEAU_TYPES})",
+    ),
 }
 
 if HAVE_NUMBA:

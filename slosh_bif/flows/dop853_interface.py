@@ -1,7 +1,7 @@
 """What the compiled DOP853 loops of (9) take and return, without numba: the Butcher tableau, the
 kernel numbers of the switch (``WHICH``: (9), (9) with its variational equations for shooting,
 (9) with the random forcing of (47), the pair kernel for any two parameters), the status codes
-with their messages, and the loops' argument types. The loops themselves are compiled either
+with their messages. The loops themselves are compiled either
 just in time (:mod:`slosh_bif.flows.dop853`) or ahead of time (:mod:`slosh_bif.flows.ahead_of_time`)
 from the same source; :mod:`slosh_bif.flows.integrator` calls whichever is there with these.
 """
@@ -12,7 +12,7 @@ import numpy as np
 
 from slosh_bif.model._generated import dop853_tableau as _dop
 
-__all__ = ["STAGES", "TABLEAU", "WHICH", "OK", "MESSAGES", "SIGNATURES"]
+__all__ = ["STAGES", "TABLEAU", "WHICH", "OK", "MESSAGES"]
 
 STAGES = _dop.N_STAGES
 # A, B, C, E3, E5 (scipy's DOP853 coefficients, written by the derivation); every loop takes them last.
@@ -26,19 +26,4 @@ MESSAGES = {
     MAX_STEPS: "step limit reached",
     TOO_SMALL: "step size fell below the rounding limit",
     NOT_FINITE: "the solution became non-finite",
-}
-
-# numba type strings of the three loops (arrays C-contiguous: the integrator passes them so), for
-# the ahead-of-time build; the just-in-time path specialises on the same types when called.
-_TABLEAU_TYPES = "f8[:, ::1], f8[::1], f8[::1], f8[::1], f8[::1]"
-SIGNATURES = {
-    # (which, t0, t1, z0, pars, rtol, atol, h, max_steps, *tableau)
-    #   -> (end state, steps, rejected, nfev, next step, status)
-    "dop853_loop": "Tuple((f8[::1], i8, i8, i8, f8, i8))"
-    f"(i8, f8, f8, f8[::1], f8[::1], f8, f8, f8, i8, {_TABLEAU_TYPES})",
-    # (which, taus, z0, pars, rtol, atol, max_steps, *tableau) -> (states, times reached, status)
-    "grid_loop": f"Tuple((f8[:, ::1], i8, i8))(i8, f8[::1], f8[::1], f8[::1], f8, f8, i8, {_TABLEAU_TYPES})",
-    # (which, taus, starts, pars, rtol, atol, max_steps, *tableau) -> (ends, arcs done, status)
-    "arcs_loop": "Tuple((f8[:, ::1], i8, i8))"
-    f"(i8, f8[::1], f8[:, ::1], f8[::1], f8, f8, i8, {_TABLEAU_TYPES})",
 }

@@ -65,11 +65,7 @@ class Integration(typing.NamedTuple):
 
 # The compiled loops: built ahead of time when they are (no numba to import), else numba's just in
 # time; None without numba.
-_LOOPS = ahead_of_time.load()
-if _LOOPS is None:
-    from slosh_bif.flows import dop853 as _dop853
-
-    _LOOPS = _dop853 if _dop853.HAVE_NUMBA else None
+_LOOPS = ahead_of_time.compiled()
 HAVE_NUMBA = _LOOPS is not None
 
 BACKENDS = ("auto", "numba", "scipy")

@@ -19,6 +19,7 @@ The Q_k are found by periodic orthogonal iteration (the QR sweep above, repeated
 the Schur vectors of the formed product ordered by decreasing modulus: those span the dominant
 invariant subspaces accurately even where the small eigenvalues of the formed product are wrong,
 so a few sweeps settle the decomposition; the sweep stops when U is block diagonal to rounding.
+The sweeps run compiled (:mod:`slosh_bif.flows.periodic_qr`) where numba is, in numpy otherwise.
 """
 
 from __future__ import annotations
@@ -26,6 +27,8 @@ from __future__ import annotations
 import dataclasses
 
 import numpy as np
+
+from slosh_bif.flows.ahead_of_time import compiled
 
 __all__ = ["PeriodicSchur", "periodic_schur", "floquet_multipliers"]
 
@@ -103,21 +106,32 @@ def _blocks(U, tol):
     return blocks
 
 
-def periodic_schur(mats, *, max_sweeps: int = 50, tol: float = 1e-14) -> PeriodicSchur:
+def periodic_schur(mats, *, max_sweeps: int = 50, tol: float = 1e-14, backend: str = "auto") -> PeriodicSchur:
     """The periodic Schur decomposition of the product of the square matrices ``mats`` (the last
-    factor leftmost; see the module docstring) and its eigenvalues, largest modulus first."""
-    mats = [np.asarray(Phi, dtype=float) for Phi in mats]
-    if not mats or any(
-        Phi.ndim != 2 or Phi.shape != mats[0].shape or Phi.shape[0] != Phi.shape[1] for Phi in mats
-    ):
+    factor leftmost; see the module docstring) and its eigenvalues, largest modulus first.
+    ``backend``: "auto" sweeps in compiled code where numba is, "numpy" in numpy (the reference)."""
+    if backend not in ("auto", "numpy"):
+        raise ValueError(f"backend must be 'auto' or 'numpy'; got {backend!r}")
+    try:
+        stacked = np.array([np.asarray(Phi, dtype=float) for Phi in mats], dtype=float)
+    except ValueError:  # matrices of different shapes
+        stacked = np.empty(0)
+    if stacked.ndim != 3 or stacked.shape[1] != stacked.shape[2] or not len(stacked):
         raise ValueError("mats must be a non-empty sequence of square matrices of one size")
-    n = mats[0].shape[0]
-    if not all(np.all(np.isfinite(Phi)) for Phi in mats):
+    mats = list(stacked)
+    n = stacked.shape[1]
+    if not np.isfinite(stacked).all():
         return PeriodicSchur(np.full(n, np.nan + 0j), [], [], np.full((n, n), np.nan), [(0, n)], 0, False)
     if len(mats) == 1:  # one factor: its Schur form is all there is
         mu = np.linalg.eigvals(mats[0])
         return PeriodicSchur(mu[np.argsort(-np.abs(mu), kind="stable")], [], [], np.eye(n), [(0, n)], 0, True)
     Q0 = _start_basis(mats)
+    loops = compiled() if backend == "auto" else None
+    if loops is not None:  # the same sweeps, compiled (numpy's overhead on 4 x 4 QRs dominated them)
+        Q, R, U, sweep, converged = loops.periodic_qr(
+            np.array(mats), np.ascontiguousarray(Q0), max_sweeps, tol
+        )
+        return _finish(list(Q), list(R), U, sweep, converged)
     converged, previous = False, None
     for sweep in range(1, max_sweeps + 1):
         Q, R = _sweep(mats, Q0)
@@ -139,13 +153,25 @@ def periodic_schur(mats, *, max_sweeps: int = 50, tol: float = 1e-14) -> Periodi
             break
         previous = outside
         Q0 = Q[-1]
+    return _finish(Q, R, U, sweep, converged)
+
+
+def _finish(Q, R, U, sweep, converged) -> PeriodicSchur:
+    """The multipliers from U's diagonal blocks times the R_k's."""
     blocks = _blocks(U, 1e-10)
+    diagonal = np.diagonal(np.asarray(R), axis1=1, axis2=2).T.tolist()  # R_k's diagonals, by row
     mu = []
     for a, b in blocks:
+        if b - a == 1:  # a real multiplier: U_aa times the R_k's entries, as the block loop multiplies
+            t = 1.0
+            for r in diagonal[a]:
+                t = r * t
+            mu.append(U[a, a] * t)
+            continue
         T = np.eye(b - a)
         for r in R:
             T = r[a:b, a:b] @ T
-        mu.extend(np.linalg.eigvals(U[a:b, a:b] @ T) if b - a > 1 else [U[a, a] * T[0, 0]])
+        mu.extend(np.linalg.eigvals(U[a:b, a:b] @ T))
     mu = np.asarray(mu, dtype=complex)
     return PeriodicSchur(mu[np.argsort(-np.abs(mu), kind="stable")], Q, R, U, blocks, sweep, converged)
 

@@ -55,14 +55,19 @@ def _rel(a, b):
     return np.max(np.abs(a - b) / np.abs(b))
 
 
+# "auto": the sweeps compiled (slosh_bif.flows.periodic_qr) where numba is; "numpy": numpy's QR
+BACKENDS = ["auto", "numpy"]
+
+
+@pytest.mark.parametrize("backend", BACKENDS)
 @pytest.mark.parametrize("m", [4, 8])
 @pytest.mark.parametrize("spread", [1e12, 1e14])
-def test_a_spread_beyond_1e12_defeats_the_formed_product_not_the_periodic_schur(m, spread):
+def test_a_spread_beyond_1e12_defeats_the_formed_product_not_the_periodic_schur(m, spread, backend):
     # The periodic Schur error is about eps times the spread of one arc, spread^(1/m): 1e-13 here
     # (with 2 arcs and a spread of 1e14 it is 2.5e-10); the formed product's is eps times the spread.
     mats = _product_with_known_spread(np.array([np.sqrt(spread), 3.0, 0.5, 1 / np.sqrt(spread)]), m)
     exact = _mpmath_eigenvalues(mats)
-    schur = periodic_schur(mats)
+    schur = periodic_schur(mats, backend=backend)
     assert schur.converged
     assert _rel(schur.multipliers, exact) < 1e-10
     assert _rel(_formed(mats), exact) > 1e-7  # the smallest multiplier is lost in the formed product
@@ -76,11 +81,12 @@ def test_floquet_multipliers_take_the_formed_product_only_where_it_is_accurate(s
     assert _rel(floquet_multipliers(mats), _mpmath_eigenvalues(mats)) < 1e-11
 
 
+@pytest.mark.parametrize("backend", BACKENDS)
 @pytest.mark.parametrize("m", [2, 4])
-def test_complex_pairs_stay_in_two_by_two_blocks(m):
+def test_complex_pairs_stay_in_two_by_two_blocks(m, backend):
     mats = _product_with_known_spread(np.array([1e5, 0.8, 0.8, 1e-7]), m, pair_angle=2.0)
     exact = _mpmath_eigenvalues(mats)
-    schur = periodic_schur(mats)
+    schur = periodic_schur(mats, backend=backend)
     assert (1, 3) in schur.blocks
     # the pair is matched as a set (conjugates can come in either order)
     np.testing.assert_allclose(
@@ -89,11 +95,29 @@ def test_complex_pairs_stay_in_two_by_two_blocks(m):
     assert _rel(schur.multipliers[[0, 3]], exact[[0, 3]]) < 1e-10
 
 
+@pytest.mark.parametrize("n", [4, 8])
+def test_the_compiled_householder_qr_is_numpys_with_a_positive_diagonal(n):
+    from slosh_bif.flows.periodic_qr import householder_qr
+
+    for scale in (1.0, 1e-8, 1e8):
+        A = scale * RNG.normal(size=(n, n))
+        Q, R = np.empty((n, n)), np.empty((n, n))
+        householder_qr(A, Q, R)
+        q, r = np.linalg.qr(A)
+        signs = np.where(np.diag(r) < 0, -1.0, 1.0)
+        np.testing.assert_allclose(Q, q * signs, atol=1e-13)
+        np.testing.assert_allclose(R, signs[:, None] * r, atol=1e-13 * scale)
+        assert np.all(np.diag(R) > 0) and np.all(np.tril(R, -1) == 0)
+        np.testing.assert_allclose(Q.T @ Q, np.eye(n), atol=1e-14)
+
+
 def test_non_finite_factors_give_nan_multipliers():
     mats = [np.eye(4), np.full((4, 4), np.nan)]
     assert np.all(np.isnan(periodic_schur(mats).multipliers))
     with pytest.raises(ValueError, match="square matrices"):
         periodic_schur([np.eye(4), np.eye(3)])
+    with pytest.raises(ValueError, match="backend"):
+        periodic_schur([np.eye(4), np.eye(4)], backend="lapack")
 
 
 @pytest.fixture(scope="module")

@@ -1,6 +1,6 @@
-"""The integrator's loops built ahead of time (slosh_bif.flows.ahead_of_time): bitwise the results of
-numba's just-in-time loops on every kernel, a run of (9) that imports no numba, and the rules that
-keep a stale, broken or unwanted module from loading."""
+"""The compiled loops built ahead of time (slosh_bif.flows.ahead_of_time): bitwise the results of
+numba's just-in-time loops on every kernel and of the periodic QR, a run of (9) that imports no
+numba, and the rules that keep a stale, broken or unwanted module from loading."""
 
 import os
 import subprocess
@@ -67,6 +67,19 @@ def test_the_module_built_ahead_of_time_gives_numbas_results_bitwise(built, n):
         np.testing.assert_array_equal(ours[0], theirs[0])
 
 
+def test_the_periodic_qr_built_ahead_of_time_is_numbas_bitwise(built):
+    from slosh_bif.flows import periodic_qr
+
+    rng = np.random.default_rng(7)
+    for m, n in ((4, 4), (16, 4), (3, 8)):
+        mats = np.ascontiguousarray(np.diag(np.logspace(2, -6, n)) @ rng.normal(size=(m, n, n)))
+        q0 = np.ascontiguousarray(np.linalg.qr(rng.normal(size=(n, n)))[0])
+        ours, theirs = built.periodic_qr(mats, q0, 50, 1e-14), periodic_qr.periodic_qr(mats, q0, 50, 1e-14)
+        assert ours[3:] == theirs[3:]
+        for a, b in zip(ours[:3], theirs[:3]):
+            np.testing.assert_array_equal(a, b)
+
+
 def test_a_shooting_run_with_the_built_module_imports_no_numba_and_writes_the_same_files(built, tmp_path):
     # The n = 6 branch over a short range, run by the command line as a user runs it, once on the
     # module built ahead of time and once with it turned off (numba's just-in-time loops).
@@ -113,7 +126,7 @@ def test_the_digest_follows_every_source(tmp_path):
 
 
 def test_a_missing_broken_or_unwanted_module_is_not_loaded(tmp_path, monkeypatch):
-    path = tmp_path / "dop853_ahead_0123.cpython-311-x86_64-linux-gnu.so"
+    path = tmp_path / "slosh_bif_ahead_0123.cpython-311-x86_64-linux-gnu.so"
     assert ahead_of_time.load(path) is None  # not built
     path.write_bytes(b"not a shared object")
     assert ahead_of_time.load(path) is None  # broken: the just-in-time path runs
