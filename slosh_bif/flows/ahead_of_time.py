@@ -168,9 +168,10 @@ def compiled():
 
 
 def build(path=None) -> Path:
-    """Compile the three loops into the module at ``path`` (default :func:`module_path`), replacing
-    it at once when done; returns the path. Raises RuntimeError saying what failed (numba's pycc,
-    setuptools or a C compiler missing, or the compiler's error)."""
+    """Compile the entries (:data:`ENTRIES`) into the module at ``path`` (default
+    :func:`module_path`), replacing it at once when done; returns the path. Raises RuntimeError
+    saying what failed (numba's pycc, setuptools or a C compiler missing, or the compiler's
+    error)."""
     path = Path(path or module_path())
     path.parent.mkdir(parents=True, exist_ok=True)
     try:
