@@ -172,4 +172,5 @@ def first_newton(arguments, timeout: float = 300.0) -> float:
     finally:
         child.kill()
         child.wait()
+        child.stderr.close()
     raise RuntimeError(f"slosh-bif {' '.join(arguments)} reached no Newton step: {''.join(lines)[-300:]}")

@@ -157,3 +157,10 @@ def test_compile_refuses_while_turned_off(monkeypatch, capsys):
     monkeypatch.setenv(ahead_of_time.DISABLE, "off")
     assert main(["compile"]) == 2
     assert ahead_of_time.DISABLE in capsys.readouterr().err
+
+
+def test_compile_says_where_the_built_module_is(built, capsys):
+    from slosh_bif.cli import main
+
+    assert main(["compile"]) == 0
+    assert str(ahead_of_time.module_path()) in capsys.readouterr().out
