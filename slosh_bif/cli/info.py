@@ -1,6 +1,6 @@
 """``slosh-bif info`` (a preset's parameters and restitution quantities, eqs. 21, 31, 36, 40),
 ``slosh-bif derive`` (regenerate or check the generated code) and ``slosh-bif compile`` (build the
-integrator's loops of (9) ahead of time: :mod:`slosh_bif.flows.ahead_of_time`)."""
+compiled loops ahead of time: :mod:`slosh_bif.flows.ahead_of_time`)."""
 
 from __future__ import annotations
 
@@ -134,8 +134,8 @@ def add_commands(sub) -> None:
 
     compile_ = sub.add_parser(
         "compile",
-        help="build the integrator's compiled loops of (9) ahead of time, so that commands start without "
-        "importing numba (done in the background after the first command otherwise)",
+        help="build the compiled loops (the integrator of (9), the periodic QR) ahead of time, so that "
+        "commands start without importing numba (done in the background after the first command otherwise)",
     )
     compile_.add_argument("--force", action="store_true", help="build again even when built")
     compile_.set_defaults(run=_compile)

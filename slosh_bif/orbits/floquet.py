@@ -128,9 +128,7 @@ def periodic_schur(mats, *, max_sweeps: int = 50, tol: float = 1e-14, backend: s
     Q0 = _start_basis(mats)
     loops = compiled() if backend == "auto" else None
     if loops is not None:  # the same sweeps, compiled (numpy's overhead on 4 x 4 QRs dominated them)
-        Q, R, U, sweep, converged = loops.periodic_qr(
-            np.array(mats), np.ascontiguousarray(Q0), max_sweeps, tol
-        )
+        Q, R, U, sweep, converged = loops.periodic_qr(stacked, np.ascontiguousarray(Q0), max_sweeps, tol)
         return _finish(list(Q), list(R), U, sweep, converged)
     converged, previous = False, None
     for sweep in range(1, max_sweeps + 1):
