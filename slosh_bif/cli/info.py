@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import importlib.util
 import json
+import os
 import sys
 import time
 from pathlib import Path
@@ -91,7 +92,8 @@ def _compile(args) -> int:
     path = ahead_of_time.module_path()
     if ahead_of_time.disabled():
         print(
-            f"{ahead_of_time.DISABLE} turns the module built ahead of time off: unset it first",
+            f"{ahead_of_time.DISABLE}={os.environ.get(ahead_of_time.DISABLE)} turns the module built ahead "
+            "of time off: unset it to build one",
             file=sys.stderr,
         )
         return 2
