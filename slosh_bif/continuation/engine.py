@@ -20,7 +20,8 @@ Special points are detected and located by :mod:`.detection`; the bordered corre
 two-dimensional null space of ``[F_x, F_p]`` that the old branch does not take.
 
 Each direction ends at a parameter bound (the end is computed on the bound), at the domain's
-edge, on closing a loop, at a located special point of one of the problem's ``terminal_kinds``,
+edge, on closing a loop, at a located special point of one of the problem's ``terminal_kinds`` (or
+one the caller's ``stop`` picks),
 after ``max_steps``, or when the step falls below ``step_min``.
 """
 
@@ -72,9 +73,11 @@ CREEP, CREEP_STEPS = 1e3, 50
 REFINEMENTS = 2
 
 
-def _run(problem, start: Point, opts, loop_guard: bool, callback=None):
+def _run(problem, start: Point, opts, loop_guard: bool, callback=None, stop=None):
     """One direction from ``start``: predict, correct, adapt the step, detect and locate special
-    points, until an end; returns (points, end reason)."""
+    points, until an end; returns (points, end reason). ``stop(kind, x, p, index)``: whether the
+    located special point about to take place ``index`` of the run ends it (as a terminal kind
+    does)."""
     points = [start]
     h = opts.step
     edge_hits = 0
@@ -131,7 +134,7 @@ def _run(problem, start: Point, opts, loop_guard: bool, callback=None):
             h *= 0.5 * opts.max_angle / angle + 0.25  # turned far too sharply: redo shorter
             continue
         found = special_between(problem, a, b, h, opts, predict)
-        end = next((i for i, q in enumerate(found) if q.kind in terminal and q.located), None)
+        end = next((i for i, q in enumerate(found) if _ends(q, terminal, stop, len(points) + i)), None)
         if end is not None:  # the curve ends at this point by nature: nothing beyond it is kept
             points.extend(found[: end + 1])
             points[-1].reason = TERMINAL
@@ -174,6 +177,11 @@ def _run(problem, start: Point, opts, loop_guard: bool, callback=None):
             # A closed curve has no end: the branch's message says it closed, no point is an END.
             return points, LOOP
         h = _next_step(h, iters, angle, opts)
+
+
+def _ends(q: Point, terminal, stop, index) -> bool:
+    """Whether the located special point q ends its direction: a terminal kind, or ``stop`` says so."""
+    return q.located and (q.kind in terminal or (stop is not None and stop(q.kind, q.u[:-1], q.u[-1], index)))
 
 
 def _finer(caps, refinements):
@@ -265,6 +273,7 @@ def switch_branch(
     along=None,
     step=None,
     callback=None,
+    stop=None,
 ) -> Branch:
     """The branch that crosses the old one at a located branch point, traced away from it.
 
@@ -274,6 +283,9 @@ def switch_branch(
     vector orthogonal to it. The first point is ``u_BP + step * t_new`` corrected on the
     hyperplane through it normal to t_new; the branch is traced forward from there (away from
     the branch point; the part behind it is, for a symmetry-breaking pitchfork, the mirror image).
+    ``stop(kind, x, p, index)``, if given, ends the branch at the first located special point
+    (at place ``index`` of the branch) for which it is true, as at a terminal kind: where the new
+    branch meets its parent again, say, beyond which it is the image of what it traced.
     Raises :class:`ConvergenceError` when no new branch is found.
     """
     if along is None:
@@ -290,16 +302,15 @@ def switch_branch(
     for _ in range(6):
         u_new, _ = correct(problem, u + h * t_new, t_new, opts)
         if u_new is not None and np.linalg.norm(u_new - u) > 0.25 * h:
-            return _trace(
-                problem, u_new, param, dataclasses.replace(opts, direction="forward"), t_new, callback
-            )
+            forward = dataclasses.replace(opts, direction="forward")
+            return _trace(problem, u_new, param, forward, t_new, callback, stop)
         h *= 0.5
     raise ConvergenceError(
         f"no new branch found at the branch point {param} = {p:.8g} (corrector failed or fell back)"
     )
 
 
-def _trace(problem, u0, param, opts, orient=None, callback=None) -> Branch:
+def _trace(problem, u0, param, opts, orient=None, callback=None, stop=None) -> Branch:
     runs = {}
     closed = False
     for forward in (True, False):
@@ -309,7 +320,7 @@ def _trace(problem, u0, param, opts, orient=None, callback=None) -> Branch:
         if runs:  # the same start as the other direction's: its stability is known
             first = next(iter(runs.values()))[0][0]
             start.eigenvalues, start.diagnostics = first.eigenvalues, first.diagnostics
-        runs[forward] = _run(problem, start, opts, loop_guard=True, callback=callback)
+        runs[forward] = _run(problem, start, opts, loop_guard=True, callback=callback, stop=stop)
         closed = runs[forward][1] == LOOP
     back, back_reason = runs.get(False, ([], None))
     ahead, ahead_reason = runs.get(True, ([], None))

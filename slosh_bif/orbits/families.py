@@ -41,6 +41,7 @@ from slosh_bif.orbits.orbit_tools import is_symmetric, orbit_at, orbit_measures,
 from slosh_bif.orbits.pitchforks import refine_pitchforks
 from slosh_bif.orbits.settings import (
     BRANCHING,
+    LOCATE_TOL,
     SHOOTING,
     BranchingSettings,
     ParameterRange,
@@ -56,7 +57,10 @@ __all__ = [
 
 # Shooting residuals carry the integration's rounding (~1e-13 at rtol 1e-10), so the corrector's
 # tolerance sits above it; steps are capped so that orbits change little from one point to the next.
-SHOOTING_OPTIONS = ContinuationOptions(step=0.05, step_max=0.3, tol=1e-9, max_steps=3000)
+# Special points located to LOCATE_TOL; the Fig. 10 scan's longest branch (period 4) takes 3,545 steps.
+SHOOTING_OPTIONS = ContinuationOptions(
+    step=0.05, step_max=0.3, tol=1e-9, max_steps=5000, locate_tol=LOCATE_TOL
+)
 
 
 def _measure(problem: ShootingProblem, branch: Branch, points_per_2pi: int, name: str = "") -> dict:
@@ -107,29 +111,44 @@ def _on_branch(u, ob: OrbitBranch, tol):
     )
 
 
-def _cut_where_it_rejoins(new: Branch, problem: ShootingProblem, parent: OrbitBranch, queue: list):
-    """Cut a switched branch at the first branch point (past its start) where it meets its parent
-    again. A branch joining two pitchforks of the symmetric branch continues past the second as
-    the mirror image of what it traced, and a period-2 branch joining two period doublings as
-    its own shift by 2pi: nothing new. The parent's point met there leaves the queue."""
+def _meeting_points(problem: ShootingProblem, parent: OrbitBranch):
+    """(point of ``parent``, its states in ``problem``) where a branch switched off the parent may
+    meet it again: its period doublings for a branch of twice its period, else its branch points."""
     doubled = problem.period_multiple == 2 * parent.problem.period_multiple
     kind = PERIOD_DOUBLING if doubled else BRANCH_POINT
-    meets = [
+    return [
         (q, np.tile(q.x, 2) if doubled else parent.problem.full_states(q.x))
         for q in parent.branch.special
         if q.kind == kind
     ]
+
+
+def _met(meeting, kind, x, p):
+    """The parent's point in ``meeting`` that a branch point (kind, x, p) of the new branch is, or None."""
+    if kind != BRANCH_POINT:
+        return None
+    for q, xq in meeting:
+        if (
+            len(xq) == len(x)
+            and abs(q.p - p) <= 1e-6 * (1 + abs(q.p))
+            and np.linalg.norm(xq - x) <= 1e-4 * (1 + np.linalg.norm(xq))
+        ):
+            return q
+    return None
+
+
+def _cut_where_it_rejoins(new: Branch, problem: ShootingProblem, parent: OrbitBranch, queue: list):
+    """Cut a switched branch at the first branch point (past its start) where it meets its parent
+    again. A branch joining two pitchforks of the symmetric branch continues past the second as
+    the mirror image of what it traced, and a period-2 branch joining two period doublings as
+    its own shift by 2pi: nothing new (:func:`_switch` stops the trace there). The parent's point
+    met there leaves the queue."""
+    meeting = _meeting_points(problem, parent)
     for sp in new.special:
-        if sp.kind != BRANCH_POINT or sp.index <= 1:
-            continue
-        for q, x in meets:
-            if (
-                len(x) == len(sp.x)
-                and abs(q.p - sp.p) <= 1e-6 * (1 + abs(q.p))
-                and np.linalg.norm(x - sp.x) <= 1e-4 * (1 + np.linalg.norm(x))
-            ):
-                queue[:] = [(ob, s) for ob, s in queue if s is not q]
-                return new.head(sp.index, f"meets the {parent.name} branch again at its {q.kind}"), q
+        q = _met(meeting, sp.kind, sp.x, sp.p) if sp.index > 1 else None
+        if q is not None:
+            queue[:] = [(ob, s) for ob, s in queue if s is not q]
+            return new.head(sp.index, f"meets the {parent.name} branch again at its {q.kind}"), q
     return new, None
 
 
@@ -206,6 +225,7 @@ def _switch(parent: OrbitBranch, sp, param, opts, make_problem, say):
         name = f"period-{multiple}"
     else:
         problem, x, name = parent.problem, sp.x, None
+    meeting = _meeting_points(problem, parent)
     new = switch_branch(
         problem,
         (x, sp.p),
@@ -213,6 +233,7 @@ def _switch(parent: OrbitBranch, sp, param, opts, make_problem, say):
         options=opts,
         along=along,
         callback=_point_counter(say, name or "new branch", param),
+        stop=lambda kind, x, p, index: index > 1 and _met(meeting, kind, x, p) is not None,
     )
     return problem, new, name
 

@@ -72,8 +72,10 @@ class OrbitBranch:
 
     @property
     def closed(self) -> bool:
-        """Whether the branch closed on itself (an isola, or a loop through its start)."""
-        return any(reason == Status.LOOP.value for _, reason in self.branch.ends)
+        """Whether the branch closed on itself (an isola, or a loop through its start), or ended
+        where it meets its parent again (beyond, the curve is the image of what it traced under
+        the symmetry, back to its start)."""
+        return any(reason in (Status.LOOP.value, Status.TERMINAL.value) for _, reason in self.branch.ends)
 
     def __getitem__(self, name: str) -> np.ndarray:
         """A column by name, as for a :class:`Branch`: a measure (``"A1"``, ``"max_abs_w"``, ...),

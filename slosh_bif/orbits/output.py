@@ -11,7 +11,8 @@ unique name.
 ``families.csv``: one row per branch, columns ``family, kind, sigma_min, sigma_max, closed,
 found_from, points, status``: ``family`` the unique name (as in ``branch.csv``), ``kind``
 symmetric, asymmetric, period-2, ...; the sigma range it covers; ``closed`` 1 when it closed on
-itself (an isola or a loop); ``found_from`` the start that found it or the point it was switched
+itself (an isola or a loop) or ended where it meets its parent again (the rest of its loop is
+the image of what it traced); ``found_from`` the start that found it or the point it was switched
 on at; ``status`` as in ``branch.csv``.
 """
 

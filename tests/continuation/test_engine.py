@@ -238,3 +238,68 @@ def test_a_stalled_direction_is_resumed_with_the_problems_finer_version():
     assert not np.any(
         (np.abs(stalled.p - 0.5) < 0.18) & (stalled.x[:, 0] > 0)
     )  # both directions stop at the stretch
+
+
+class LineWithTests(HalfLine):
+    """x - p = 0 everywhere, with its own tests: "PD" p - 1/2, and "NS" (p - 1/2)^2 - d^2, which is
+    positive at both ends of any step across p = 1/2 longer than 2d, and zero at 1/2 -+ d."""
+
+    test_kinds = ("PD", "NS")
+
+    def __init__(self, d):
+        self.d = d
+
+    def in_domain(self, x, p):
+        return True
+
+    def test_functions(self, x, p):
+        return (p - 0.5, (p - 0.5) ** 2 - self.d**2)
+
+
+def test_two_crossings_in_one_step_are_found_at_the_point_located_between_them():
+    """Steps of 0.1 pass p = 1/2 -+ 1e-4 at once (the NS test has one sign at both ends); the PD
+    located between them has the other sign, so both are located on either side of it."""
+    opts = ContinuationOptions(step=0.1, step_min=0.1, step_max=0.1, p_min=0.0, p_max=1.0)
+    branch = continuation(LineWithTests(1e-4), [0.03], 0.03, options=opts)
+    assert [s.kind for s in branch.special if s.kind != "END"] == ["NS", "PD", "NS"]
+    np.testing.assert_allclose([s.p for s in branch.special_of("NS")], [0.4999, 0.5001], atol=1e-12)
+    assert np.all(np.diff(branch.p) > 0)  # in the branch's order
+
+
+class RingOnLine:
+    """x (x^2 + (p - 1)^2 - 1) = 0: the line x = 0 and the circle of radius 1 about (0, 1), which
+    cross at the branch points p = 0 and p = 2 (where the circle turns back in p)."""
+
+    names = ("x",)
+
+    def residual(self, x, p):
+        return np.array([x[0] * (x[0] ** 2 + (p - 1) ** 2 - 1)])
+
+    def jacobian(self, x, p):
+        return np.array([[3 * x[0] ** 2 + (p - 1) ** 2 - 1]])
+
+    def dparam(self, x, p):
+        return np.array([2 * x[0] * (p - 1)])
+
+
+def test_stop_ends_a_switched_branch_at_the_special_point_it_picks():
+    """Switched onto the circle at p = 0, the branch meets the line again at p = 2; a stop at
+    branch points past the start ends it there, where without it the branch runs on around the
+    circle and closes."""
+    opts = ContinuationOptions(p_min=-0.5, p_max=3.0, step=0.05)
+    line = continuation(RingOnLine(), [0.0], -0.5, options=opts)
+    bp = line.special_of("BP")[0]
+    assert bp.p == pytest.approx(0.0, abs=1e-9)
+    asked = []
+
+    def stop(kind, x, p, index):
+        asked.append(kind)
+        return kind == "BP" and index > 1
+
+    cut = switch_branch(RingOnLine(), bp, options=opts, along=np.array([0.0, 1.0]), stop=stop)
+    full = switch_branch(RingOnLine(), bp, options=opts, along=np.array([0.0, 1.0]))
+    assert asked == ["BP"]
+    assert cut.special[-1].kind == "BP" and cut.p[-1] == pytest.approx(2.0, abs=1e-9)
+    assert cut.ends == (("forward", "terminal point"),) and cut.status == "ok"
+    assert len(full) > 1.5 * len(cut) and full.ends == (("forward", "closed loop"),)
+    np.testing.assert_array_equal(full.x[: len(cut) - 1], cut.x[:-1])  # the same steps up to the stop

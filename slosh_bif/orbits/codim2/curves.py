@@ -21,7 +21,7 @@ from slosh_bif.orbits.codim2.multiplier_curves import (
 from slosh_bif.orbits.codim2.torus import TorusCurveProblem
 from slosh_bif.orbits.floquet import floquet_multipliers
 from slosh_bif.orbits.orbit_tools import orbit_measures
-from slosh_bif.orbits.settings import SHOOTING, ShootingSettings
+from slosh_bif.orbits.settings import LOCATE_TOL, SHOOTING, ShootingSettings
 from slosh_bif.orbits.shooting import PARAMETERS, ShootingProblem
 
 __all__ = [
@@ -53,11 +53,18 @@ def curve_problem(
 
 
 # Like the one-parameter orbit branches (the corrector's tolerance above the integration's
-# rounding); a turn of a curve in p1 is no bifurcation, so folds and branch points of the
-# augmented system are not detected. Steps are capped at 0.25: longer ones leave more curves
-# stalled at singular points of their systems, and the chart no faster.
+# rounding, codimension-2 points located to the same arclength); a turn of a curve in p1 is no
+# bifurcation, so folds and branch points of the augmented system are not detected. Steps are
+# capped at 0.25: longer ones leave more curves stalled at singular points of their systems, and
+# the chart no faster.
 CURVE_OPTIONS = ContinuationOptions(
-    step=0.05, step_max=0.25, tol=1e-9, max_steps=2000, detect_folds=False, detect_branch_points=False
+    step=0.05,
+    step_max=0.25,
+    tol=1e-9,
+    max_steps=2000,
+    detect_folds=False,
+    detect_branch_points=False,
+    locate_tol=LOCATE_TOL,
 )
 
 CODIM2_KINDS = ("CP", "LPPD", "LPNS", "PDNS", "R1", "R2", "R3", "R4", "BPLP")
