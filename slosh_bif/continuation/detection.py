@@ -4,7 +4,9 @@ Test functions along the branch: the parameter component of the tangent, ``t_p``
 at a fold (LP); the determinant of the bordered matrix changes sign at a simple branch point
 (BP), and not at a fold; a problem's own ``test_functions`` add further kinds (PD, NS). Each is
 located by Brent's method on the arclength from the last point before the sign change, each
-evaluation a full corrector solve.
+evaluation a full corrector solve. A test with the same sign at both ends of a step is checked
+again at the points located inside it: two zeros in one step around another special point are
+found that way.
 """
 
 from __future__ import annotations
@@ -92,7 +94,7 @@ def special_between(problem, a: Point, b: Point, h, opts, predict=None):
             found += _special(problem, a, b, h, which, kind, opts, predict)
         else:
             quiet.append((which, kind, floor))
-    inner = sorted((s, q) for s, q in found if q.located and 0.0 < s < h)
+    inner = sorted(((s, q) for s, q in found if q.located and 0.0 < s < h), key=lambda item: item[0])
     for which, kind, floor in quiet if inner else ():
         parts = [(0.0, a), *inner, (h, b)]
         for lo, hi in zip(parts, parts[1:]):
