@@ -20,9 +20,9 @@ Special points are detected and located by :mod:`.detection`; the bordered corre
 two-dimensional null space of ``[F_x, F_p]`` that the old branch does not take.
 
 Each direction ends at a parameter bound (the end is computed on the bound), at the domain's
-edge, on closing a loop, at a located special point of one of the problem's ``terminal_kinds`` (or
-one the caller's ``stop`` picks),
-after ``max_steps``, or when the step falls below ``step_min``.
+edge, on closing a loop, at a located special point of one of the problem's ``terminal_kinds``
+(or one the caller's ``stop`` picks), after ``max_steps``, or when the step falls below
+``step_min``.
 """
 
 from __future__ import annotations
