@@ -25,6 +25,7 @@ from slosh_bif.orbits.families import SHOOTING_OPTIONS
 from slosh_bif.orbits.pitchforks import refine_pitchforks
 from slosh_bif.orbits.settings import ParameterRange
 from slosh_bif.orbits.shooting import ShootingProblem
+from slosh_bif.orbits.starts import start_orbit
 
 PRESET = get_preset("fig10")
 
@@ -140,3 +141,24 @@ def test_a_family_cut_by_its_branch_cap_says_where_it_did_not_switch():
     assert len(family.branches) == 1
     (cut,) = [m for m in said if m.startswith("not switched at")]
     assert "BP sigma = 2.34564 on asymmetric" in cut and "--max-branches" in cut
+
+
+def test_a_switched_branch_ends_where_it_meets_its_parent_again():
+    """The Fig. 10 asymmetric pair born at the pitchfork near sigma = -5.63 meets the symmetric
+    branch again at the one near -0.384: its trace stops there (beyond, it would be its own
+    mirror image back to the start), the end is that pitchfork, and the branch counts as closed."""
+    start = start_orbit(PRESET.params.replace(sigma=-6.0), PRESET.state0, (-6.0, 0.0))
+    family = trace_orbits(
+        start.params,
+        start.y0,
+        shooting=ShootingSettings(points_per_2pi=32),
+        branching=BranchingSettings(max_branches=2, doublings=False),
+        interval=ParameterRange(lo=-6.0, hi=0.0),
+    )
+    symmetric, pair = family.branches
+    assert (symmetric.kind, pair.kind) == ("symmetric", "asymmetric")
+    pitchforks = sorted(sp.p for sp in symmetric.branch.special if sp.kind == "BP")
+    end = pair.branch.special[-1]
+    assert pair.branch.ends == (("forward", "terminal point"),) and pair.closed
+    assert end.kind == "BP" and end.index == len(pair) - 1
+    assert min(abs(end.p - p) for p in pitchforks) < 1e-6 and pair.branch.p[0] < -5 < -1 < end.p
