@@ -54,13 +54,25 @@ def in_domain(problem, u):
 
 def top_rows(problem, u):
     """F_x and the n x (n+1) matrix [F_x, F_p] at u."""
+    J, M = _bordered(problem, u)
+    return J, M[:-1]
+
+
+def _bordered(problem, u):
+    """F_x at u and the (n+1) x (n+1) matrix [[F_x, F_p], [0]] whose last row is left for a tangent."""
     x, p = u[:-1], u[-1]
     J = problem.jacobian(x, p)
-    return J, np.column_stack([J, problem.dparam(x, p)])
+    n = len(x)
+    M = np.zeros((n + 1, n + 1), dtype=np.result_type(J, float))
+    M[:n, :n] = J
+    M[:n, n] = problem.dparam(x, p)
+    return J, M
 
 
 def bordered(problem, u, t):
-    return np.vstack([top_rows(problem, u)[1], t])
+    M = _bordered(problem, u)[1]
+    M[-1] = t
+    return M
 
 
 def solve(M, b):
@@ -73,13 +85,15 @@ def solve(M, b):
 
 def make_point(problem, u, t_prev, iterations=0, **extra):
     """A point at u with its unit tangent (oriented along t_prev) and test functions, from one F_x, F_p."""
-    J, top = top_rows(problem, u)
+    J, M = _bordered(problem, u)
     rhs = np.zeros(len(u))
     rhs[-1] = 1.0
-    t = solve(np.vstack([top, t_prev]), rhs)
+    M[-1] = t_prev
+    t = solve(M, rhs)
     t /= np.linalg.norm(t)
     t = t if t @ t_prev >= 0 else -t
-    tests = (t[-1], np.linalg.det(np.vstack([top, t]))) + capabilities(problem).tests(u[:-1], u[-1])
+    M[-1] = t
+    tests = (t[-1], np.linalg.det(M)) + capabilities(problem).tests(u[:-1], u[-1])
     return Point(u, t, iterations, tests=tests, jac=J, **extra)
 
 

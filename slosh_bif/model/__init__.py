@@ -5,29 +5,21 @@ Everything else in the package is built on this folder; it imports nothing from 
 ``_generated/`` is written by ``derivations/`` (never by hand).
 """
 
-from slosh_bif.model.equations import ImpactModel, SmoothModel
-from slosh_bif.model.manifold import ManifoldProjection, project_on_manifold
-from slosh_bif.model.params import FIELDS, Params
-from slosh_bif.model.presets import (
-    PRESETS,
-    Preset,
-    get_preset,
-    state_from_uv,
-    uv_from_state,
-)
-from slosh_bif.model.restitution.on_manifold import ManifoldLaw
+from slosh_bif.lazy import lazy_names
 
-__all__ = [
-    "Params",
-    "FIELDS",
-    "Preset",
-    "PRESETS",
-    "get_preset",
-    "state_from_uv",
-    "uv_from_state",
-    "SmoothModel",
-    "ImpactModel",
-    "ManifoldLaw",
-    "ManifoldProjection",
-    "project_on_manifold",
-]
+_WHERE = {
+    "Params": "params",
+    "FIELDS": "params",
+    "Preset": "presets",
+    "PRESETS": "presets",
+    "get_preset": "presets",
+    "state_from_uv": "presets",
+    "uv_from_state": "presets",
+    "SmoothModel": "equations",
+    "ImpactModel": "equations",
+    "ManifoldLaw": "restitution.on_manifold",
+    "ManifoldProjection": "manifold",
+    "project_on_manifold": "manifold",
+}
+__all__ = list(_WHERE)
+__getattr__, __dir__ = lazy_names(__name__, _WHERE)

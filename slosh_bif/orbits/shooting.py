@@ -271,11 +271,11 @@ class ShootingProblem:
         residual's own Jacobian (``wrap = -1`` for a symmetric problem)."""
         wrap = self.closing if wrap is None else wrap
         m = len(arcs.mats)
-        J = np.zeros((4 * m, 4 * m), dtype=complex if np.iscomplexobj(wrap) else float)
-        for k in range(m):
-            J[4 * k : 4 * k + 4, 4 * k : 4 * k + 4] = arcs.mats[k]
-            nxt = (k + 1) % m
-            J[4 * k : 4 * k + 4, 4 * nxt : 4 * nxt + 4] -= (wrap if nxt == 0 else 1.0) * np.eye(4)
+        J = np.zeros((4 * m, 4 * m), dtype=complex if isinstance(wrap, complex) else float)
+        blocks, k = J.reshape(m, 4, m, 4), np.arange(m - 1)
+        blocks[np.arange(m), :, np.arange(m), :] = arcs.mats
+        blocks[k, :, k + 1, :] -= np.eye(4)
+        blocks[m - 1, :, 0, :] -= wrap * np.eye(4)  # (one arc: Phi - wrap I)
         return J
 
     def period_jacobian(self, x, p):

@@ -35,9 +35,10 @@ def pyplot():
     return plt
 
 
-def save_figure(fig, path, *, dpi=130) -> Path:
-    """Lay out (unless the figure has its own layout engine), write and close ``fig``; returns the path."""
-    if fig.get_layout_engine() is None:
+def save_figure(fig, path, *, dpi=130, layout=True) -> Path:
+    """Lay out (unless the figure has its own layout engine, or ``layout`` is False: its caller
+    placed the axes), write and close ``fig``; returns the path."""
+    if layout and fig.get_layout_engine() is None:
         fig.tight_layout()
     with replaced_atomically(path) as tmp:
         fig.savefig(tmp, dpi=dpi)
