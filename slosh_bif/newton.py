@@ -154,8 +154,9 @@ def newton_loop(
         x = x + dx
         if not np.isfinite(x).all():
             return stop(False, k + 1, "Newton diverged (non-finite iterate)")
-        inside = admissible is None or admissible(x)
-        if criterion == "step" and step <= tol * (1.0 + _norm(x)) and inside:
+        if (
+            criterion == "step" and step <= tol * (1.0 + _norm(x)) and (admissible is None or admissible(x))
+        ):  # (the other rules check the new iterate at the top of the loop)
             return stop(True, k + 1, f"converged in {k + 1} Newton steps")
     return stop(
         False, max_iter, f"no convergence in {max_iter} Newton steps (last |F| = {np.linalg.norm(F):.3g})"
