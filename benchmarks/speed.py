@@ -7,9 +7,10 @@
   (:func:`~benchmarks.speed_reference.one_period_reference`: scipy's ``solve_ivp`` DOP853 at rtol
   1e-10 over one period of the Fig. 10 set at sigma = 3 from its attractor); target at most 0.18.
   The n = 6 set's branch from its symmetric orbit at sigma = -6 (``--set n=6 --set sigma=-6
-  --guess`` that orbit), against the n = 6 reference: at most 0.095. Both also against the
-  earlier reference (1,000 periods chained from the preset's state; target 0.3), which gives
-  smaller ratios.
+  --guess`` that orbit), against the n = 6 reference: at most 0.095. Every reference is the mean
+  of two measured right before and right after its case (:func:`_beside`). Both branches also
+  against the earlier reference (1,000 periods chained from the preset's state; target 0.3),
+  which gives smaller ratios.
 * **Whole studies** (not in ``--quick``): the Fig. 10 chart with switching (at most 22 times
   1,000 reference periods) and ``shoot --start scan`` (every family, at most 11 times).
 * **Start-up**: a ``shoot`` run from launch to its first Newton step (target < 0.3 s with numba's
@@ -125,6 +126,17 @@ def run_cli(arguments, timeout=900.0, workers=False):
     return (seconds, *peaks) if workers else (seconds, peaks[0])
 
 
+def _beside(n, work):
+    """(``work()``, 1,000 reference periods at this n: the mean of the reference measured right
+    before and right after the work, and a note of both). The machine's speed drifts over a
+    bench of twenty minutes (a whole study's processes slowed by half, the reference measured
+    at the start did not), and a ratio cancels it only against a reference taken beside it."""
+    before = 1000 * one_period_reference(n)
+    value = work()
+    after = 1000 * one_period_reference(n)
+    return value, 0.5 * (before + after), f"reference {before:.1f} ms a period before, {after:.1f} after"
+
+
 def _simulated(preset, model, repeats=3):
     """Best of ``repeats`` wall times of 100 forcing periods of one model, in this process."""
     simulate(
@@ -150,26 +162,28 @@ def speed_bench(*, quick: bool = False, progress=None) -> list:
             run_cli(["compile"], timeout=1800.0)
         except RuntimeError as err:  # no C compiler here, say: the just-in-time loops are measured
             say(f"speed: the loops could not be built ahead of time ({err})")
-        references = {n: 1000 * one_period_reference(n) for n in (50, 6)}
         for case, (extra, n, target) in CASES.items():
             say(f"speed: slosh-bif shoot, {case}")
             extra = extra()
             # a median of runs, as the reference is a median: one run of a second on a shared
             # machine moves by a tenth between runs
-            runs = [
-                run_cli([*SHOOT, *extra, "--out", os.path.join(tmp, "shoot")])
-                for _ in range(1 if quick else BRANCH_RUNS)
-            ]
+            runs, reference, taken = _beside(
+                n,
+                lambda: [
+                    run_cli([*SHOOT, *extra, "--out", os.path.join(tmp, "shoot")])
+                    for _ in range(1 if quick else BRANCH_RUNS)
+                ],
+            )
             seconds, peak = float(np.median([r[0] for r in runs])), max(r[1] for r in runs)
             rows.append(
                 _row(
                     f"shoot --no-switch, {case}",
                     seconds,
-                    references[n],
+                    reference,
                     target,
                     f"whole process (median of {len(runs)} runs) against 1,000 reference periods "
                     "(scipy DOP853 at rtol 1e-10, one "
-                    f"period of the Fig. 10 set at sigma = 3, n = {n}, from its attractor)",
+                    f"period of the Fig. 10 set at sigma = 3, n = {n}, from its attractor; {taken})",
                     peak,
                 )
             )
@@ -189,9 +203,18 @@ def speed_bench(*, quick: bool = False, progress=None) -> list:
         if not quick:
             for case, arguments, target in WHOLE_STUDIES:
                 say(f"speed: slosh-bif {' '.join(arguments)}")
-                seconds, peak = run_cli([*arguments, "--out", os.path.join(tmp, "study")], timeout=7200.0)
+                (seconds, peak), reference, taken = _beside(
+                    50, lambda: run_cli([*arguments, "--out", os.path.join(tmp, "study")], timeout=7200.0)
+                )
                 rows.append(
-                    _row(case, seconds, references[50], target, "whole process, times 1,000 periods", peak)
+                    _row(
+                        case,
+                        seconds,
+                        reference,
+                        target,
+                        f"whole process, times 1,000 periods ({taken})",
+                        peak,
+                    )
                 )
         say("speed: start-up to the first Newton step")
         start_up = min(first_newton([*SHOOT, *extra, "--out", tmp]) for _ in range(3))  # the n = 6 case's
