@@ -379,3 +379,31 @@ def test_arcs_from_a_newton_iterate_far_in_the_wall_fail_in_bounded_time():
     assert np.all(np.isnan(problem.residual(x, 1.0)))
     run = integrator.integrate(P, x[4:8], 0.0, np.pi / 2)
     assert not run.success and run.steps == 0
+
+
+@pytest.mark.parametrize("segments", [1, 2, 3, 4])
+def test_the_shooting_matrix_is_block_cyclic_with_the_closing_factor(segments):
+    """``jacobian_of``: Phi_k on the diagonal, -I to its right, ``-wrap I`` in the block that closes
+    the period (with one arc, Phi - wrap I), for the residual's own closing (+1, or -1 on the
+    half-period map) and the PD, NS and torus factors; built here block by block from that rule."""
+    from slosh_bif.orbits.shooting import Arcs
+
+    rng = np.random.default_rng(segments)
+    mats = rng.normal(size=(segments, 4, 4))
+    arcs = Arcs(np.zeros((segments, 4)), mats, np.zeros((segments, 4, 2)), 0.0, mats[0])
+    for symmetric in (False, True):
+        problem = ShootingProblem(get_preset("fig10").params, segments=segments, symmetric=symmetric)
+        for wrap in (None, 0.0, 1.0, -1.0, np.exp(0.3j)):
+            factor = problem.closing if wrap is None else wrap
+            expected = np.zeros(
+                (4 * segments, 4 * segments), dtype=complex if np.iscomplexobj(factor) else float
+            )
+            for k in range(segments):
+                expected[4 * k : 4 * k + 4, 4 * k : 4 * k + 4] += mats[k]
+                after = (k + 1) % segments
+                expected[4 * k : 4 * k + 4, 4 * after : 4 * after + 4] -= (
+                    factor if after == 0 else 1.0
+                ) * np.eye(4)
+            J = problem.jacobian_of(arcs, wrap)
+            assert J.dtype == expected.dtype
+            np.testing.assert_array_equal(J, expected)
