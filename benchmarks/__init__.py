@@ -2,7 +2,7 @@
 and speed ratios measured in one process (ratios, not seconds, are what carry over between
 machines). They run from a source checkout.
 
-* ``slosh-bif bench --out DIR`` (:func:`benchmarks.run.run`): the frequency-response question
+* ``python -m benchmarks --out DIR`` (:func:`benchmarks.run.run`): the frequency-response question
   (:mod:`benchmarks.frequency_response`), the integration question (:mod:`benchmarks.integration`),
   the cost of growth (:mod:`benchmarks.growth`) and the speed targets (:mod:`benchmarks.speed`),
   each written as a CSV and a chart (:mod:`benchmarks.output`);

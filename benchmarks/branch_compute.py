@@ -11,7 +11,7 @@ from threadpoolctl import threadpool_limits
 
 from slosh_bif.model.presets import get_preset
 from slosh_bif.orbits.families import SHOOTING_OPTIONS, trace_new_family
-from slosh_bif.orbits.impact_branches import settled_orbit, trace_impact_orbits
+from slosh_bif.orbits.impact.branches import settled_orbit, trace_impact_orbits
 from slosh_bif.orbits.settings import BranchingSettings, ParameterRange, ShootingSettings
 from slosh_bif.orbits.starts import start_orbit
 

@@ -17,7 +17,7 @@ from slosh_bif.simulation.direct import SimulationSettings, simulate
 from slosh_bif.slowflow.critical import critical_forcing
 from slosh_bif.slowflow.flow import SlowFlow
 from slosh_bif.slowflow.steady_states import frequency_response
-from slosh_bif.studies.chart_critical import critical_forcing_full
+from slosh_bif.studies.chart.critical import critical_forcing_full
 
 # Detunings of the frequency-response question: where (9) has a stable 2pi-orbit that a
 # simulation from the preset's initial state settles on (checked on every run).
@@ -68,7 +68,7 @@ def reference_orbits(preset: str, sigmas) -> list:
 
 
 def _critical_row(ref):
-    """Abar_b of (46) against Abar_c of (9) (:func:`~slosh_bif.studies.chart_critical.critical_forcing_full`:
+    """Abar_b of (46) against Abar_c of (9) (:func:`~slosh_bif.studies.chart.critical.critical_forcing_full`:
     the least forcing at which the boundary of stable period-1 orbits with wall contact lies, over
     every family at that sigma): the same question, "down to which forcing is there a resonant
     response?", asked of both models."""

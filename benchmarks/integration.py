@@ -9,7 +9,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 from benchmarks.timing import PERIOD, timed
-from slosh_bif.flows import integrator
+from slosh_bif.flows.smooth import integrator
 from slosh_bif.model.equations import SmoothModel
 from slosh_bif.model.presets import get_preset
 
@@ -24,7 +24,7 @@ def _integrators(params, y0, tau):
 
     def compiled(backend):
         def run(rtol):
-            r = integrator.integrate(params, y0, 0.0, tau, rtol=rtol, atol=rtol * 1e-2, backend=backend)
+            r = integrator.integrate(params, y0, (0.0, tau), rtol=rtol, atol=rtol * 1e-2, backend=backend)
             return r.z, r.nfev
 
         return run
@@ -68,7 +68,7 @@ def integration_bench(*, quick: bool = False, repeats: int = 3, progress=None):
     for preset in INTEGRATION_SETS:
         pre = get_preset(preset)
         params, y0 = pre.params, pre.state0
-        ref = integrator.integrate(params, y0, 0.0, PERIOD, rtol=1e-13, atol=1e-15).z
+        ref = integrator.integrate(params, y0, (0.0, PERIOD), rtol=1e-13, atol=1e-15).z
         for name, run in _integrators(params, y0, PERIOD).items():
             for rtol in rtols:
                 if ("Radau" in name or "BDF" in name) and rtol < IMPLICIT_LOOSEST:

@@ -120,7 +120,7 @@ def write_integration(rows, out) -> list:
 def write_frequency_response(rows, ref_rows, crit_rows, out) -> list:
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
-    # The column names of the first release (scripts read them); Abar_b_smooth_model is Abar_c of (9).
+    # Column names that scripts read; Abar_b_smooth_model is Abar_c of (9).
     crit_columns = [
         "preset",
         "sigma",

@@ -23,7 +23,7 @@ are what carry over between machines):
   against 1,000 scipy periods, start-up, the shooting start (the targets of the speed issue).
 
 :func:`run` writes each question's CSV and chart (:mod:`benchmarks.output`); the CLI is
-``slosh-bif bench --out DIR``.
+``python -m benchmarks --out DIR``.
 """
 
 from __future__ import annotations

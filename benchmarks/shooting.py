@@ -5,7 +5,7 @@
    against 1,000 one-period integrations of (9) by scipy's solve_ivp DOP853 at rtol = 1e-10,
    atol = 1e-12, measured in the same run (the bar is the ratio, not seconds).
 2. Work-precision of one period of (9) at n = 50 and n = 6 for every integrator (the integration
-   question of `slosh-bif bench`, :func:`benchmarks.integration.integration_bench`). Writes
+   question of `python -m benchmarks`, :func:`benchmarks.integration.integration_bench`). Writes
    OUT/integrators.png, integrators.csv and integrators_ratios.csv (OUT: results/charts by default).
 
 Run:  python -m benchmarks.shooting [--repeats 3] [--out results/charts]
@@ -24,7 +24,7 @@ from scipy.integrate import solve_ivp
 from benchmarks.run import run
 from slosh_bif import SmoothModel, get_preset
 from slosh_bif.continuation import continuation
-from slosh_bif.flows import integrator
+from slosh_bif.flows.smooth import integrator
 from slosh_bif.orbits.families import SHOOTING_OPTIONS
 from slosh_bif.orbits.orbit_tools import orbit_at
 from slosh_bif.orbits.shooting import ShootingProblem
@@ -86,7 +86,7 @@ def main():
     speed_target(args.repeats)
     for path in run(
         args.out, only=["integration"], repeats=args.repeats
-    ):  # the same chart as `slosh-bif bench`
+    ):  # the same chart as `python -m benchmarks`
         print(f"wrote {path}")
 
 

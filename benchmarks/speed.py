@@ -1,4 +1,5 @@
-"""The speed targets of the shooting issues, measured as ratios in one run (``slosh-bif bench --only speed``).
+"""The speed targets of the shooting issues, measured as ratios in one run
+(``python -m benchmarks --only speed``).
 
 * **Shooting branch, whole process**: ``slosh-bif shoot --preset fig10 --no-switch --sigma-min -6
   --sigma-max 8`` run as a user runs it (a fresh interpreter: imports, cached compilation, the

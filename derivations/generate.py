@@ -179,7 +179,8 @@ def _kernels_module() -> str:
     augmented = (("z", tuple(m.STATE) + tuple(phi) + tuple(s_sigma) + tuple(s_abar) + (sp.Symbol("trace"),)),)
     F = codegen.Function
     return codegen.render_kernels(
-        "Scalar kernels of the smooth model (9) for the compiled integrator (slosh_bif.flows.integrator).",
+        "Scalar kernels of the smooth model (9) for the compiled integrator "
+        "(slosh_bif.flows.smooth.integrator).",
         SCRIPT,
         [
             F(
@@ -253,7 +254,7 @@ def render_all() -> dict[Path, str]:
         GENERATED / "dop853_tableau.py": _tableau_module(),
         GENERATED / "impact_kernels.py": codegen.render_kernels(
             "The impact of the vibro-impact model (8): its reset and saltation matrix, for the compiled "
-            "flow (slosh_bif.flows.impact_flow).",
+            "flow (slosh_bif.flows.impact.flow).",
             SCRIPT,
             impact_reset.kernel_functions(codegen.Function),
         ),

@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from slosh_bif import get_preset
-from slosh_bif.flows.impact_flow import ImpactFlow
+from slosh_bif.flows.impact.flow import ImpactFlow
 
 STEP = 0.05
 

@@ -21,8 +21,8 @@ from slosh_bif.continuation import ContinuationOptions
 from slosh_bif.model.presets import get_preset
 from slosh_bif.orbits import NO_SWITCHING
 from slosh_bif.orbits.families import trace_orbits
-from slosh_bif.orbits.impact_branches import settled_orbit, trace_impact_orbits
-from slosh_bif.orbits.impact_output import impact_rows
+from slosh_bif.orbits.impact.branches import settled_orbit, trace_impact_orbits
+from slosh_bif.orbits.impact.output import impact_rows
 from slosh_bif.orbits.settings import ParameterRange
 from slosh_bif.orbits.starts import start_orbit
 from slosh_bif.report.tables import write_rows

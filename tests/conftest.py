@@ -11,7 +11,8 @@ import pytest
 from slosh_bif import SmoothModel
 from slosh_bif.orbits.shooting import period_map
 
-# The benchmarks (benchmarks/, beside the package) are importable in the tests as in `slosh-bif bench`.
+# The benchmarks (benchmarks/, beside the package, run as `python -m benchmarks` from the checkout)
+# are importable in the tests.
 ROOT = str(Path(__file__).resolve().parents[1])
 if ROOT not in sys.path:
     sys.path.insert(0, ROOT)

@@ -10,7 +10,6 @@ from benchmarks import frequency_response, timing
 from benchmarks import output as bench_output
 from benchmarks import run as bench
 from slosh_bif import get_preset
-from slosh_bif.cli import main
 
 
 def test_first_harmonic_of_a_closed_form_signal():
@@ -68,7 +67,9 @@ def _read(path):
 
 @pytest.mark.slow  # the whole bench (78 s); its parts have the fast tests above and below
 def test_bench_command_writes_every_chart_and_table(tmp_path, capsys):
-    assert main(["bench", "--out", str(tmp_path), "--quick"]) == 0
+    from benchmarks.__main__ import main as bench_main
+
+    assert bench_main(["--out", str(tmp_path), "--quick"]) == 0
     for name in ("integrators", "frequency_response", "growth"):
         assert (tmp_path / f"{name}.png").stat().st_size > 10_000
     integ = _read(tmp_path / "integrators.csv")

@@ -67,3 +67,14 @@ def test_the_readmes_quick_commands_work_as_printed(tmp_path, monkeypatch):
 @pytest.mark.slow
 def test_the_readmes_slow_commands_work_as_printed(tmp_path, monkeypatch):
     _run([c for c in readme_commands() if _is_slow(c[1])], tmp_path, monkeypatch)
+
+
+def test_the_tour_writes_only_under_results():
+    """Every file a README command writes lands under ``results/`` (ignored by git), never in the
+    tracked ``docs/`` or the repository's root."""
+    for command, _ in readme_commands():
+        argv = shlex.split(command)
+        for option in ("--out", "--write-params"):
+            if option in argv:
+                target = argv[argv.index(option) + 1]
+                assert target.startswith("results/"), f"{command} writes {target}"

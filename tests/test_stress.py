@@ -15,8 +15,8 @@ import pytest
 
 from slosh_bif import Params, SmoothModel, get_preset, simulate_impact
 from slosh_bif.continuation import ContinuationOptions, continuation
-from slosh_bif.flows import integrator
 from slosh_bif.flows.noise import band_limited_noise
+from slosh_bif.flows.smooth import integrator
 from slosh_bif.model.restitution import kappa, kappa_on_manifold
 from slosh_bif.orbits.orbit_tools import periodic_orbit
 from slosh_bif.simulation.direct import simulate
@@ -54,7 +54,7 @@ def test_explicit_integrator_through_a_hard_fast_impact_stays_accurate(n, speed)
     P = wall_params(n)
     y0 = np.array([0.0, 0.0, 0.99, speed])
     # Long enough for many wall-to-wall bounces at every speed of the grid.
-    run = bounded(integrator.integrate, P, y0, 0.0, 20.0 / speed, rtol=1e-10, atol=1e-12)
+    run = bounded(integrator.integrate, P, y0, (0.0, 20.0 / speed), rtol=1e-10, atol=1e-12)
     assert run.success, run.message
     model = SmoothModel(P)
     assert abs(model.energy(run.z) - model.energy(y0)) / model.energy(y0) < 1e-7
@@ -63,7 +63,7 @@ def test_explicit_integrator_through_a_hard_fast_impact_stays_accurate(n, speed)
 def test_explicit_integrator_out_of_steps_says_so():
     """Expect: with a step budget too small for the stiff wall, a flagged result
     ('step limit reached'), not a silently truncated state."""
-    run = bounded(integrator.integrate, wall_params(200), [0.0, 0.0, 0.99, 1e3], 0.0, 1.0, max_steps=200)
+    run = bounded(integrator.integrate, wall_params(200), [0.0, 0.0, 0.99, 1e3], (0.0, 1.0), max_steps=200)
     assert not run.success and run.message == "step limit reached" and run.steps == 200
 
 
@@ -71,7 +71,7 @@ def test_explicit_integrator_out_of_steps_says_so():
 def test_state_deep_inside_the_wall_overflows_cleanly(backend):
     """Expect: w = 3 at n = 500 makes chi w^1001 overflow; the integrator reports that it could
     not take a step instead of returning inf or NaN as a state."""
-    run = bounded(integrator.integrate, wall_params(500), [0.0, 0.0, 3.0, 0.0], 0.0, 1.0, backend=backend)
+    run = bounded(integrator.integrate, wall_params(500), [0.0, 0.0, 3.0, 0.0], (0.0, 1.0), backend=backend)
     assert not run.success
     assert "step" in run.message.lower() or "spacing" in run.message.lower()
     assert np.all(np.isfinite(run.z))  # the last good state, not garbage
@@ -204,7 +204,7 @@ def test_restitution_not_real_is_an_error_or_a_flagged_stop():
         lambda: get_preset("fig10").params.replace(sigma=float("inf")),
         lambda: simulate(get_preset("fig10").params, [0, 0, np.nan, 0], 10.0),
         lambda: simulate(get_preset("fig10").params, [0, 0, 0, 0], np.inf),
-        lambda: integrator.integrate(get_preset("fig10").params, [0, 0, 0, np.inf], 0, 1),
+        lambda: integrator.integrate(get_preset("fig10").params, [0, 0, 0, np.inf], (0, 1)),
         lambda: periodic_orbit(get_preset("fig10").params, [np.nan, 0, 0, 0]),
         lambda: band_limited_noise(np.nan, seed=0, duration=10.0),
         lambda: frequency_response(get_preset("fig10").params, sigma_min=-np.inf, sigma_max=1.0),

@@ -36,7 +36,6 @@ for _name in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS", "BLI
 
 from slosh_bif.cli import (  # noqa: E402 - after the environment is set
     answer,
-    bench,
     chart,
     identify,
     info,
@@ -57,7 +56,7 @@ def build_parser() -> argparse.ArgumentParser:
         "nonlinear liquid sloshing (Farid & Gendelman).",
     )
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
-    for family in (info, tank, slowflow, orbits, chart, studies, answer, bench, simulation, identify):
+    for family in (info, tank, slowflow, orbits, chart, studies, answer, simulation, identify):
         family.add_commands(sub)
     for each in sub.choices.values():
         talk = each.add_mutually_exclusive_group()
@@ -218,7 +217,9 @@ def run() -> None:
     status = main()
     sys.stdout.flush()
     sys.stderr.flush()
-    if "slosh_bif.flows.dop853" in sys.modules:  # the loops ran just in time: the next run needs no numba
+    if (
+        "slosh_bif.flows.smooth.dop853" in sys.modules
+    ):  # the loops ran just in time: the next run needs no numba
         from slosh_bif.flows.ahead_of_time import build_in_background
 
         build_in_background()

@@ -32,7 +32,7 @@ def _chart(args) -> int:
     from slosh_bif.orbits.settings import BranchingSettings, ShootingSettings
     from slosh_bif.report.files import Resume
     from slosh_bif.studies.chart import ChartSettings, bifurcation_chart, check_box
-    from slosh_bif.studies.chart_output import (
+    from slosh_bif.studies.chart.output import (
         chart_settings,
         curve_store,
         plot_chart,
@@ -97,7 +97,7 @@ def _chart(args) -> int:
     done, keep = curve_store(args.out / "curves", settings, resume=args.resume)
     say = throttled(progress, passes=lambda message: ": point " not in message)
     if impact:
-        from slosh_bif.studies.impact_chart import impact_chart
+        from slosh_bif.studies.chart.impact import impact_chart
 
         chart = impact_chart(
             params,

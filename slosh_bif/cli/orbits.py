@@ -188,16 +188,16 @@ def _shoot_impact(args, params, lo, hi) -> int:
     settles on (or --guess), across sections and grazings; a symmetric one on the half-period map,
     with the asymmetric branches born at its pitchforks (unless --no-switch)."""
     from slosh_bif.continuation import ContinuationOptions
-    from slosh_bif.orbits.impact_branches import settled_orbit
-    from slosh_bif.orbits.impact_orbits import VARIANT_NAMES
-    from slosh_bif.orbits.impact_output import (
+    from slosh_bif.orbits.impact.branches import settled_orbit
+    from slosh_bif.orbits.impact.output import (
         impact_rows,
         plot_impact_branch,
         write_impact_csv,
     )
+    from slosh_bif.orbits.impact.problem import VARIANT_NAMES
     from slosh_bif.orbits.settings import BranchingSettings
     from slosh_bif.report.plot_process import PlotProcess
-    from slosh_bif.studies.impact_chart import impact_family
+    from slosh_bif.studies.chart.impact import impact_family
 
     if args.start != "simulation":
         raise ValueError(

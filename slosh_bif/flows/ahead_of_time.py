@@ -1,4 +1,4 @@
-"""The compiled loops built ahead of time: the three DOP853 loops of :mod:`slosh_bif.flows.dop853`
+"""The compiled loops built ahead of time: the three DOP853 loops of :mod:`slosh_bif.flows.smooth.dop853`
 (with the generated kernels of (9), its variational equations and the random forcing of (47)
 inlined) and the periodic QR sweep of :mod:`slosh_bif.flows.periodic_qr` (the Floquet
 multipliers' periodic Schur decomposition), compiled by numba's ``pycc`` into an extension module;
@@ -45,13 +45,13 @@ __all__ = ["DISABLE", "compiled", "load", "build", "build_in_background", "modul
 
 DISABLE = "SLOSH_BIF_AHEAD_OF_TIME"  # "0" (or "off", "no", "false"): neither load nor build the module
 _PREFIX = "slosh_bif_ahead_"
-_MODULES = ("dop853", "periodic_qr")  # slosh_bif.flows modules whose AHEAD_OF_TIME entries are built
+_MODULES = ("smooth.dop853", "periodic_qr")  # slosh_bif.flows modules whose AHEAD_OF_TIME entries are built
 _STALE_LOCK_SECONDS = 900.0  # a build's lock older than this was left by a build that was killed
 _HERE = Path(__file__).resolve().parent
 _SOURCES = (
     _HERE / "ahead_of_time.py",
-    _HERE / "dop853.py",
-    _HERE / "dop853_interface.py",
+    _HERE / "smooth" / "dop853.py",
+    _HERE / "smooth" / "dop853_interface.py",
     _HERE / "periodic_qr.py",
     _HERE / "compiled.py",
     _HERE.parent / "model" / "powers.py",

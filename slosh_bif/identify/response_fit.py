@@ -67,7 +67,7 @@ from slosh_bif.slowflow.flow import AsymptoticsWarning
 
 REFINDS = 3  # times the orbits are chosen again at an estimate and the fit redone
 
-__all__ = ["RESPONSE_FREE", "fit_response", "residuals", "model_amplitudes"]
+__all__ = ["RESPONSE_FREE", "fit_response", "residuals", "model_amplitudes", "slow_flow_estimate"]
 
 RESPONSE_FREE = ("lam", "chi", "gamma", "Abar", "eps", "n", "pbar")  # eps: by the orbits only
 # the models where lam and chi enter only through C of (21)
@@ -244,7 +244,7 @@ def fit_response(
         objective = _Objective(data, at, continuous, model, say)
         z0 = np.array([getattr(at, name) for name in continuous], dtype=float)
         if continuous and objective.orbits is not None:
-            extra = _slow_flow_start(data, at, continuous, rng, say)
+            extra = slow_flow_estimate(data, at, continuous, rng, say)
             run, objective = _orbit_starts(objective, z0, rng, say, extra)
         else:
             run = least_squares(objective, z0, rng) if continuous else None
@@ -337,7 +337,7 @@ def fit_response(
     )
 
 
-def _slow_flow_start(data, at: Params, continuous, rng, say):
+def slow_flow_estimate(data, at: Params, continuous, rng, say):
     """The estimate of ``continuous`` by the slow flow (46) (eps, which does not enter it, held at
     ``at``'s), a start for an orbit fit; None where it has nothing to fit or fails. (46), not the
     corrected slow flow: the corrected one measures its wall by simulated contacts again at every

@@ -23,8 +23,8 @@ from slosh_bif.continuation.corrector import newton_solve
 from slosh_bif.identify.response_model import impact_free, impact_free_state, response_curve
 from slosh_bif.identify.response_orbits import LostOrbit
 from slosh_bif.model.params import Params
-from slosh_bif.orbits.impact_branches import quiet_section, settled_orbit
-from slosh_bif.orbits.impact_orbits import VARIANT_NAMES, ImpactOrbitProblem
+from slosh_bif.orbits.impact.branches import quiet_section, settled_orbit
+from slosh_bif.orbits.impact.problem import VARIANT_NAMES, ImpactOrbitProblem
 from slosh_bif.slowflow.flow import AsymptoticsWarning, SlowFlow
 
 __all__ = ["ImpactResponse", "first_harmonic_c1", "SETTLE", "FAR", "STEP"]

@@ -133,7 +133,7 @@ class Params:
 
         try:
             delta = dissipation_at_unit_speed(self.lam, self.chi, self.n, self.pbar)
-        except OverflowError:  # (n + 1)/chi to a huge power (pbar = 1e9 was a traceback): no real kappa
+        except OverflowError:  # (n + 1)/chi to a huge power (pbar = 1e9, say): no real kappa
             delta = math.inf
         if not delta < 1.0:
             kappa_sq = 1.0 - delta

@@ -2,7 +2,7 @@
 
 The generated kernels (``_generated/kernels.py``) spell every power with a symbolic exponent as
 ``int_power(w, 2*n + 1)``. In Python (the scipy fallback) it is ``w ** k``; the compiled
-integrator (:mod:`slosh_bif.flows.dop853`) gives numba its own implementation, repeated
+integrator (:mod:`slosh_bif.flows.smooth.dop853`) gives numba its own implementation, repeated
 squaring, because libm's ``pow`` sits on the critical path of every Runge-Kutta stage: at
 n = 6 and 50 squaring made a period of (9) 28-29 % faster. The two differ in rounding only: a
 squaring doubles the relative error it is given, so the result is within k roundings of the exact

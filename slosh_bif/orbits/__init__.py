@@ -1,10 +1,13 @@
-"""Periodic orbits of the smooth model (9): shooting with Floquet multipliers, families with
-branch switching, start orbits (from a simulation or from the slow flow), the scan for every
-family, and their output.
+"""Periodic orbits of the full models. The modules here are the smooth model (9)'s (multiple
+shooting, families with branch switching, start orbits from a simulation or the slow flow, the
+scan for every family, their output) and the machinery both models share (Floquet multipliers
+and what they say, settings, the curve problems of :mod:`.codim2`); the vibro-impact model (8)
+has its own folder, :mod:`~slosh_bif.orbits.impact`.
 
 Seams to the other wings (documented in ``docs/architecture.md`` and allowed by the import
-contract): :mod:`.shooting` integrates with :mod:`slosh_bif.flows.integrator`, and
-:mod:`.starts` takes start guesses from :mod:`slosh_bif.simulation` and :mod:`slosh_bif.slowflow`.
+contract): :mod:`~slosh_bif.orbits.shooting` integrates with
+:mod:`slosh_bif.flows.smooth.integrator`, and :mod:`~slosh_bif.orbits.starts` takes start guesses
+from :mod:`slosh_bif.simulation` and :mod:`slosh_bif.slowflow`.
 """
 
 from slosh_bif.lazy import lazy_names

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from slosh_bif.flows import integrator
+from slosh_bif.flows.smooth import integrator
 from slosh_bif.model.params import REAL_FIELDS, Params
 
 __all__ = ["first_harmonic_gradient", "POINTS"]

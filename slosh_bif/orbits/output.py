@@ -107,12 +107,7 @@ def plot_family(family: OrbitFamily, path, *, slow_flow=None, title=None) -> Pat
     """A1 against the parameter for every branch (stable solid, unstable dashed, special points
     marked), with the slow-flow curve in grey when given (``slow_flow``: a frequency response of
     (46), anything with ``branches``); the largest multiplier below."""
-    from slosh_bif.report.plotting import (
-        plot_branch,
-        pyplot,
-        save_figure,
-        special_legend,
-    )
+    from slosh_bif.report.plotting import branch_legend, drawn, plot_branch, pyplot, save_figure
 
     fig, (ax, axm) = pyplot().subplots(
         2, 1, figsize=(9, 8), sharex=True, gridspec_kw={"height_ratios": [3, 1.2]}
@@ -144,9 +139,7 @@ def plot_family(family: OrbitFamily, path, *, slow_flow=None, title=None) -> Pat
     # plain tick labels and Unicode symbols: mathtext's parser costs 0.4 s to build, a tenth of a
     # whole shooting run
     axm.yaxis.set_major_formatter(LogFormatter(labelOnlyBase=True))
-    ax.plot([], [], "k-", label="stable")
-    ax.plot([], [], "k--", label="unstable")
-    special_legend(ax)
+    branch_legend(ax, **drawn(ob.branch for ob in family.branches))
     axm.axhline(1, color="k", lw=0.8)
     axm.set_ylabel("max |multiplier|")
     axm.set_xlabel("\u03c3" if family.param == "sigma" else "\u0100")

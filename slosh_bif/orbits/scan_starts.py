@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 
 from slosh_bif.continuation import ConvergenceError
-from slosh_bif.flows.integrator import integrate_grid
+from slosh_bif.flows.smooth.integrator import integrate_grid
 from slosh_bif.model.equations import SmoothModel
 from slosh_bif.model.params import Params
 from slosh_bif.orbits.orbit_tools import orbit_at

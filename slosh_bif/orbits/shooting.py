@@ -19,7 +19,7 @@ A *symmetric* problem traces the orbits with y(tau + pi) = -y(tau) (model (9) is
 shift) as fixed points of the half-period map G(y) = -phi_pi(y): half the integration per Newton
 step, M = G^2, and the symmetry-breaking pitchfork, a degenerate multiplier +1 of M, is G's
 regular multiplier -1 (test ``det(I + G)``, located like a period doubling; G's +1 is an ordinary
-fold). Integration is by the compiled :mod:`slosh_bif.flows.integrator`. The Floquet multipliers
+fold). Integration is by the compiled :mod:`slosh_bif.flows.smooth.integrator`. The Floquet multipliers
 (eigenvalues of M, by :mod:`slosh_bif.orbits.floquet` from the arc matrices) carry Liouville's
 check: det M = ``exp(int_0^T tr J dtau)``, ``tr J = -eps gamma (1 + eps) - lam w^(2p)`` for (9).
 The scipy reference for any vector field is :mod:`slosh_bif.orbits.period_map`;
@@ -32,7 +32,7 @@ import dataclasses
 
 import numpy as np
 
-from slosh_bif.flows import integrator
+from slosh_bif.flows.smooth import integrator
 from slosh_bif.model.params import REAL_FIELDS, Params, real_pair
 from slosh_bif.orbits.floquet import floquet_multipliers
 from slosh_bif.orbits.multipliers import (

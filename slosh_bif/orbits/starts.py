@@ -14,7 +14,7 @@ import warnings
 import numpy as np
 
 from slosh_bif.continuation import ConvergenceError
-from slosh_bif.flows.integrator import integrate_grid
+from slosh_bif.flows.smooth.integrator import integrate_grid
 from slosh_bif.model.params import Params
 from slosh_bif.orbits.orbit_tools import orbit_at, orbit_measures
 from slosh_bif.orbits.shooting import PeriodicOrbit, ShootingProblem

@@ -18,6 +18,9 @@ __all__ = [
     "plot_projection",
     "plot_time_history",
     "plot_branch",
+    "branch_legend",
+    "drawn",
+    "mark_special",
     "stability_runs",
     "pyplot",
     "save_figure",
@@ -122,9 +125,12 @@ SPECIAL_NAMES = {
 }
 
 
-def special_legend(ax, kinds=("LP", "BP", "PD", "NS")):
-    """Legend entries for the special-point markers (when points are not annotated)."""
-    for kind in kinds:
+MERGE_POINTS = 5.0  # display points: markers of one kind nearer than this are drawn as one, counted
+
+
+def special_legend(ax, kinds):
+    """Legend entries for the special-point markers of ``kinds`` (in the markers' order)."""
+    for kind in (k for k in SPECIAL_MARKERS if k in kinds):
         marker, color = SPECIAL_MARKERS[kind]
         ax.plot(
             [],
@@ -137,8 +143,52 @@ def special_legend(ax, kinds=("LP", "BP", "PD", "NS")):
         )
 
 
+def branch_legend(ax, *, stable: bool, unstable: bool, kinds=()):
+    """Legend entries for what a figure of branches draws, and nothing else: "stable" (solid)
+    and "unstable" (dashed) where such runs are drawn, and the special points' kinds marked."""
+    if stable:
+        ax.plot([], [], "k-", label="stable")
+    if unstable:
+        ax.plot([], [], "k--", label="unstable")
+    special_legend(ax, kinds)
+
+
+def drawn(branches) -> dict:
+    """What :func:`plot_branch` draws of ``branches``, as :func:`branch_legend`'s keywords."""
+    branches = list(branches)
+    return {
+        "stable": any(np.any(b.stable) for b in branches if len(b)),
+        "unstable": any(not np.all(b.stable) for b in branches if len(b)),
+        "kinds": {s.kind for b in branches for s in b.special},
+    }
+
+
+def mark_special(ax, points, *, annotate=True, label_ends=True, ms=6):
+    """Markers of special points ``(x, y, kind)``: points of one kind closer than
+    :data:`MERGE_POINTS` on the axes are drawn as one marker whose label counts them ("NS ×3"),
+    so that a marker never hides another of its kind; labels placed without collisions."""
+    ax.get_xlim(), ax.get_ylim()  # the limits so far, so that display positions are right
+    groups = []  # [kind, u, v, x, y, count]
+    for x, y, kind in points:
+        u, v = ax.transData.transform((x, y))
+        for group in groups:
+            if group[0] == kind and abs(group[1] - u) < MERGE_POINTS and abs(group[2] - v) < MERGE_POINTS:
+                group[5] += 1
+                break
+        else:
+            groups.append([kind, u, v, x, y, 1])
+    labels = []
+    for kind, _, _, x, y, count in groups:
+        marker, color = SPECIAL_MARKERS[kind]
+        ax.plot(x, y, marker, color=color, ms=ms, mfc="none" if kind == "LP" else color)
+        if annotate and (kind != "END" or label_ends):
+            labels.append((x, y, kind if count == 1 else f"{kind} \u00d7{count}", color))
+    place_labels(ax, labels)
+
+
 def plot_branch(ax, branch, y, *, x=None, color="tab:blue", label=None, label_ends=True, annotate=True):
-    """A branch: stable runs solid, unstable dashed, special points marked and labelled.
+    """A branch: stable runs solid, unstable dashed, special points marked and labelled
+    (:func:`mark_special`).
 
     ``y`` (and optionally ``x``, default the continued parameter) are arrays along the branch.
     """
@@ -147,13 +197,8 @@ def plot_branch(ax, branch, y, *, x=None, color="tab:blue", label=None, label_en
         ax.plot(x[a : b + 1], y[a : b + 1], "-" if branch.stable[a] else "--", color=color, lw=1.4)
     if label is not None:  # the branch's legend entry in its colour, solid: dashes mean unstable only
         ax.plot([], [], "-", color=color, lw=1.4, label=label)
-    labels = []
-    for s in branch.special:
-        marker, mcolor = SPECIAL_MARKERS[s.kind]
-        ax.plot(x[s.index], y[s.index], marker, color=mcolor, ms=6, mfc="none" if s.kind == "LP" else mcolor)
-        if annotate and (s.kind != "END" or label_ends):
-            labels.append((x[s.index], y[s.index], s.kind, mcolor))
-    place_labels(ax, labels)
+    points = [(x[s.index], y[s.index], s.kind) for s in branch.special]
+    mark_special(ax, points, annotate=annotate, label_ends=label_ends)
     return ax
 
 
@@ -164,7 +209,7 @@ def place_labels(ax, items, *, apart=(18, 10)):
     if not items:
         return
     # the final (autoscaled) limits, so that display positions are right: reading them updates
-    # transData without drawing the figure (a whole draw per branch was most of a family's plot)
+    # transData without drawing the figure (a whole draw per branch would be most of a family's plot)
     ax.get_xlim(), ax.get_ylim()
     placed = [
         tuple(ax.transData.transform(t.xy)) for t in ax.texts if hasattr(t, "xy")

@@ -1,10 +1,11 @@
 """Direct simulation of the smooth model (9) and the vibro-impact model (8), with the noise of (47).
 
-:func:`simulate` is the entry point: (9) through the compiled DOP853 of :mod:`slosh_bif.flows.integrator`
-(optionally with the band-limited noise of :mod:`slosh_bif.flows.noise`), or (8) through the exact
-event-driven flow of :mod:`slosh_bif.simulation.vibro_impact`; both return a :class:`Simulation` with the
-impacts. :func:`integrate_smooth` keeps scipy's ``solve_ivp`` with the generated analytic Jacobian
-for the implicit methods (Radau, BDF, LSODA), which the integrator chart compares: the wall term
+:func:`simulate` is the entry point: (9) through the compiled DOP853 of
+:mod:`slosh_bif.flows.smooth.integrator` (optionally with the band-limited noise of
+:mod:`slosh_bif.flows.noise`), or (8) through the exact event-driven flow of
+:mod:`slosh_bif.simulation.vibro_impact`; both return a :class:`Simulation` with the impacts.
+:func:`integrate_smooth` keeps scipy's ``solve_ivp`` with the generated analytic Jacobian for the
+implicit methods (Radau, BDF, LSODA), which the integrator chart compares: the wall term
 ``chi w**(2n+1)`` makes (9) stiff during impacts at large n.
 """
 
@@ -15,8 +16,8 @@ import time
 
 import numpy as np
 
-from slosh_bif.flows import integrator
 from slosh_bif.flows.noise import MAX_NOISE_STD, band_limited_noise
+from slosh_bif.flows.smooth import integrator
 from slosh_bif.model.equations import SmoothModel
 from slosh_bif.model.params import Params
 from slosh_bif.simulation.settings import SIMULATION, Noise, SimulationSettings
@@ -257,7 +258,7 @@ def simulate(
     """Simulate from ``state0`` at ``t0`` to ``tmax`` and sample every ``sample_step``.
 
     ``settings.model="smooth"`` integrates (9) with the compiled DOP853 of
-    :mod:`slosh_bif.flows.integrator` (scipy's when numba is missing); ``"impact"`` runs the exact
+    :mod:`slosh_bif.flows.smooth.integrator` (scipy's when numba is missing); ``"impact"`` runs the exact
     flow of (8) (:func:`slosh_bif.simulation.vibro_impact.simulate_impact`: compiled, or the expm
     event loop with ``backend="scipy"``). ``noise`` with ``std > 0`` adds the band-limited noise of
     (47) (smooth model only, see :mod:`slosh_bif.flows.noise`) and then needs a seed.

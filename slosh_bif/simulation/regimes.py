@@ -310,7 +310,7 @@ def regime_map(
     (a resumed run), which are not simulated again; ``resume.keep((i, j), summary)`` is called as each
     point finishes (to store it on the way).
     """
-    from slosh_bif.flows.integrator import resolve_backend
+    from slosh_bif.flows.smooth.integrator import resolve_backend
 
     settings = settings.replace(
         backend=resolve_backend(settings.backend)

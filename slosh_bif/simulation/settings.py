@@ -18,7 +18,7 @@ __all__ = ["SimulationSettings", "SIMULATION", "Noise", "Workers", "LOCAL"]
 class SimulationSettings:
     """``model``: "smooth" (9) or "impact" (8); ``sample_step``: the spacing of the stored samples
     (at most 0.05 for (8)); ``rtol``, ``atol``: the integrator's tolerances on (9); ``backend``:
-    "auto", "numba" or "scipy" (:func:`~slosh_bif.flows.integrator.resolve_backend`)."""
+    "auto", "numba" or "scipy" (:func:`~slosh_bif.flows.smooth.integrator.resolve_backend`)."""
 
     model: str = "smooth"
     sample_step: float = 0.02

@@ -1,6 +1,6 @@
 """Event-driven simulation of the vibro-impact model (8) with the restitution law (2), (21).
 
-:func:`simulate_impact` runs the compiled exact flow of :mod:`slosh_bif.flows.impact_flow` (impacts
+:func:`simulate_impact` runs the compiled exact flow of :mod:`slosh_bif.flows.impact.flow` (impacts
 found with a certificate) by default, and with ``backend="scipy"`` the event loop below, its
 independent reference:
 
@@ -23,9 +23,9 @@ import functools
 
 import numpy as np
 
-from slosh_bif.flows.impact_band import inside_measured_wall
-from slosh_bif.flows.impact_flow import IMPACT_VARIANTS, ImpactFlow
-from slosh_bif.flows.integrator import resolve_backend
+from slosh_bif.flows.impact.band import inside_measured_wall
+from slosh_bif.flows.impact.flow import IMPACT_VARIANTS, ImpactFlow
+from slosh_bif.flows.smooth.integrator import resolve_backend
 from slosh_bif.model.equations import ImpactModel
 from slosh_bif.model.params import Params
 

@@ -49,7 +49,7 @@ def write_frc_csv(fr: FrequencyResponse, path) -> Path:
 
 
 def plot_frc(fr: FrequencyResponse, path, *, title=None) -> Path:
-    from slosh_bif.report.plotting import plot_branch, pyplot, save_figure
+    from slosh_bif.report.plotting import branch_legend, drawn, plot_branch, pyplot, save_figure
 
     fig, ax = pyplot().subplots(figsize=(8, 5.5))
     for k, branch in enumerate(fr.branches):
@@ -69,8 +69,7 @@ def plot_frc(fr: FrequencyResponse, path, *, title=None) -> Path:
         fontsize=8,
         color="0.4",
     )
-    ax.plot([], [], "k-", label="stable")
-    ax.plot([], [], "k--", label="unstable")
+    branch_legend(ax, **drawn(fr.branches))
     by_abar = bool(fr.branches) and fr.branches[0].param == "Abar"
     ax.set_xlabel(r"forcing $\bar A$" if by_abar else r"detuning $\sigma$")
     ax.set_ylabel(f"amplitude A of X (slow flow, {model_label(fr.model)})")

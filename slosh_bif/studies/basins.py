@@ -29,11 +29,11 @@ import math
 import numpy as np
 
 from slosh_bif.continuation import newton_solve
-from slosh_bif.flows import integrator
+from slosh_bif.flows.smooth import integrator
 from slosh_bif.model.params import Params
-from slosh_bif.orbits.impact_orbits import ImpactOrbitProblem
-from slosh_bif.orbits.impact_output import orbit_measures as impact_measures
-from slosh_bif.orbits.impact_switching import is_symmetric
+from slosh_bif.orbits.impact.output import orbit_measures as impact_measures
+from slosh_bif.orbits.impact.problem import ImpactOrbitProblem
+from slosh_bif.orbits.impact.switching import is_symmetric
 from slosh_bif.orbits.orbit_tools import orbit_at, orbit_measures
 from slosh_bif.orbits.shooting import ShootingProblem
 from slosh_bif.orbits.starts import START_TOL
@@ -134,7 +134,7 @@ class _Strobe:
         if self.model in VARIANTS:
             _, ys, _, code = self.flow.run(y, 0.0, PERIOD, stick_speed=1e-9, max_impacts=100_000)
             return (ys[:, -1], "") if code == 0 else (None, "sticking" if code == 1 else "failed")
-        run = integrator.integrate(self.params, y, 0.0, PERIOD, rtol=1e-9, atol=1e-11, backend=self.backend)
+        run = integrator.integrate(self.params, y, (0.0, PERIOD), rtol=1e-9, atol=1e-11, backend=self.backend)
         return (run.z, "") if run.success and np.all(np.isfinite(run.z)) else (None, "failed")
 
     def orbit(self, y):

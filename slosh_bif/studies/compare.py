@@ -5,7 +5,7 @@
 state against the first-harmonic amplitude A1 of the nearest orbit of the shooting branches,
 with the relative difference, and the same against the nearest stable orbit
 (``A1_stable_orbit``, ``stable_orbit_branch``, ``relative_difference_stable_orbit``). With the
-orbits of the vibro-impact model (8) (rows of :func:`~slosh_bif.orbits.impact_output.impact_rows`)
+orbits of the vibro-impact model (8) (rows of :func:`~slosh_bif.orbits.impact.output.impact_rows`)
 beside them: ``A1_impact``, the stable orbit of (8) nearest the slow-flow state,
 ``relative_difference_impact`` = |A1_impact - A| / A, the expansion's own error (the slow flow is
 derived from (8), with the same rigid wall and restitution law (21)), and ``wall_difference`` =
@@ -114,14 +114,14 @@ def compare_rows(family: OrbitFamily, fr: FrequencyResponse, sigmas, impact=None
 def impact_branch_rows(
     params, state0, sigma_min: float, sigma_max: float, *, settle: int, variant: str = "paper"
 ) -> list:
-    """Rows (:func:`~slosh_bif.orbits.impact_output.impact_rows`) of the branch of orbits of (8)
+    """Rows (:func:`~slosh_bif.orbits.impact.output.impact_rows`) of the branch of orbits of (8)
     (``variant="corrected"``: of the corrected impact model) through the orbit a ``settle``-period
     simulation from ``state0`` settles on at the set's sigma (as ``shoot --model impact``), over
     [sigma_min, sigma_max], at steps of at most 0.05 so that A1 read between points is within
     about 1e-4 of the orbit's (0.3 % at shoot's 0.3)."""
     from slosh_bif.continuation import ContinuationOptions
-    from slosh_bif.orbits.impact_branches import settled_orbit, trace_impact_orbits
-    from slosh_bif.orbits.impact_output import impact_rows
+    from slosh_bif.orbits.impact.branches import settled_orbit, trace_impact_orbits
+    from slosh_bif.orbits.impact.output import impact_rows
 
     x0 = settled_orbit(params, state0, periods=settle, variant=variant)
     result = trace_impact_orbits(
@@ -306,7 +306,7 @@ def compare_table(rows, *, agree: float = 0.05, impact_model: str = "paper") -> 
 def plot_compare(
     family: OrbitFamily, fr: FrequencyResponse, rows, path, impact=None, impact_model: str = "paper"
 ) -> Path:
-    from slosh_bif.orbits.impact_orbits import VARIANT_NAMES
+    from slosh_bif.orbits.impact.problem import VARIANT_NAMES
     from slosh_bif.report.plotting import pyplot, save_figure
 
     fig, (ax, axd) = pyplot().subplots(

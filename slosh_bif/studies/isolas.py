@@ -69,7 +69,7 @@ def missed_families(
     ``SETTLE_PERIODS`` periods, when it settles), and continued in sigma
     over the grid's range (no switching). An orbit whose A1 equals one already traced there (to
     1e-6) is not traced again; a start where Newton or the continuation fails is passed over:
-    the comparison then measures against the orbits that were found, as before."""
+    the comparison then measures against the orbits that were found."""
     if not (isinstance(tries, int) and tries >= 0):
         raise ValueError(f"tries must be an integer >= 0; got {tries!r}")
     if tries == 0:

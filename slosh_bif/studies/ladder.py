@@ -1,7 +1,7 @@
 """The lightest model that answers a question ("model no more than a scene needs").
 
 :func:`answer` takes a question, a parameter set and a tolerance, picks the cheapest model whose
-error, as measured by ``slosh-bif bench`` (``docs/bench``) and the regime map of ``docs/regimes_fig13``,
+error, as measured by ``python -m benchmarks`` (``docs/bench``) and the regime map of ``docs/regimes_fig13``,
 stays within the tolerance for those parameters, runs it and says which model it used, why, and
 its error estimate.
 
@@ -56,7 +56,7 @@ import numpy as np
 from slosh_bif.model.params import Params
 from slosh_bif.model.presets import CLASSIFY_TMAX, get_preset
 from slosh_bif.orbits.families import trace_orbits
-from slosh_bif.orbits.impact_branches import settled_orbit, trace_impact_orbits
+from slosh_bif.orbits.impact.branches import settled_orbit, trace_impact_orbits
 from slosh_bif.orbits.settings import NO_SWITCHING, ParameterRange
 from slosh_bif.orbits.starts import settle_and_shoot
 from slosh_bif.simulation.direct import simulate
@@ -64,7 +64,7 @@ from slosh_bif.simulation.regimes import classify
 from slosh_bif.slowflow.critical import critical_forcing
 from slosh_bif.slowflow.flow import AsymptoticsWarning, SlowFlow, asymptotics_concerns
 from slosh_bif.slowflow.steady_states import frequency_response
-from slosh_bif.studies.chart_critical import critical_forcing_full
+from slosh_bif.studies.chart.critical import critical_forcing_full
 
 __all__ = [
     "QUESTIONS",

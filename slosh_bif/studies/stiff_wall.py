@@ -7,7 +7,7 @@ stroboscopic maps from (9)'s state at tau = 0 (the same orbit, checked by the im
 the first-harmonic amplitudes A1 compared:
 
 * the corrected impact model is (9) with its wall replaced by the wall's own measured law
-  (:mod:`slosh_bif.flows.impact_band`): what separates it from (9) is only the contact's finite
+  (:mod:`slosh_bif.flows.impact.band`): what separates it from (9) is only the contact's finite
   duration, which must vanish as n grows;
 * (8) as the paper states it differs from the corrected model by its first-order coefficients
   (the expansion of (9)'s in eps, off by O(eps^2 sigma)), the restitution of (21) and the rigid
@@ -28,10 +28,10 @@ import dataclasses
 import numpy as np
 
 from slosh_bif.continuation.corrector import newton_solve
-from slosh_bif.flows.impact_flow import ImpactFlow
+from slosh_bif.flows.impact.flow import ImpactFlow
 from slosh_bif.model.params import Params
-from slosh_bif.orbits.impact_orbits import ImpactOrbitProblem
-from slosh_bif.orbits.impact_output import first_harmonic, orbit_measures
+from slosh_bif.orbits.impact.output import first_harmonic, orbit_measures
+from slosh_bif.orbits.impact.problem import ImpactOrbitProblem
 from slosh_bif.orbits.starts import settle_and_shoot
 
 __all__ = [

@@ -8,7 +8,7 @@ import time
 import pytest
 
 from slosh_bif.cli import main
-from slosh_bif.studies.chart_output import curve_store
+from slosh_bif.studies.chart.output import curve_store
 
 TANK = [
     "tank",

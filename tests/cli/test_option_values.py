@@ -24,12 +24,12 @@ def _started(*_args, **_kwargs):
 @pytest.fixture
 def no_work(monkeypatch):
     """The first step of each command's work raises _WorkStarted."""
-    import slosh_bif.flows.integrator as integrator
+    import slosh_bif.flows.smooth.integrator as integrator
     import slosh_bif.orbits.scan as scan
     import slosh_bif.orbits.starts as starts
     import slosh_bif.simulation.sweep as sweep
     import slosh_bif.slowflow.steady_states as steady_states
-    import slosh_bif.studies.chart as chart
+    import slosh_bif.studies.chart.smooth as chart
     import slosh_bif.studies.ladder as ladder
 
     monkeypatch.setattr(integrator, "integrate_grid", _started)  # simulate's integration
@@ -42,9 +42,6 @@ def no_work(monkeypatch):
     import slosh_bif.slowflow.critical as critical
 
     monkeypatch.setattr(critical, "critical_curve", _started)  # critical's continuation
-    import benchmarks.run as bench
-
-    monkeypatch.setattr(bench, "run", _started)  # bench's measurements
 
     monkeypatch.setattr(tank, "tank_model", _started)  # tank's conversion, after the inputs are checked
     for name in ("frequency_response", "forcing_response"):  # frc's continuation
@@ -367,7 +364,6 @@ INTEGER_CASES = {
         lambda v: not 1 <= v <= 256,
     ),
     "basins --workers": (["basins", "--preset", "fig10"], "--workers", lambda v: not 1 <= v <= 256),
-    "bench --repeats": (["bench"], "--repeats", lambda v: not 1 <= v <= 100),
     "tank --n": (
         ["tank", "--shape", "cylinder", "--radius", "5", *_TANK_REST],
         "--n",

@@ -12,7 +12,7 @@ from slosh_bif.continuation import (
     continuation,
 )
 from slosh_bif.continuation.problem import Domain, Edges, OwnTests, Stability
-from slosh_bif.orbits.impact_orbits import ImpactOrbitProblem
+from slosh_bif.orbits.impact.problem import ImpactOrbitProblem
 from slosh_bif.orbits.shooting import ShootingProblem
 from slosh_bif.slowflow.critical import FoldProblem
 from slosh_bif.slowflow.steady_states import SteadyStateProblem

@@ -275,16 +275,16 @@ def test_the_full_model_fit_gives_back_gamma_where_the_slow_flow_is_biased():
 def test_an_orbit_fit_also_starts_from_the_slow_flows_estimate():
     """The orbit fit's extra start is the estimate of the slow flow (46), eps held at the base's:
     the same as (46)'s own fit of the same data."""
-    from slosh_bif.identify.response_fit import _slow_flow_start
+    from slosh_bif.identify.response_fit import slow_flow_estimate
 
     sigma, A = _points(TRUTH, 7, 4.5, 6.0)
     data = ResponseData(sigma, A * 1.03, None, (), "points")  # off the slow flow's states
     base = TRUTH.replace(gamma=0.15, eps=0.05)
-    start = _slow_flow_start(data, base, ["gamma", "eps"], np.random.default_rng(0), print)
+    start = slow_flow_estimate(data, base, ["gamma", "eps"], np.random.default_rng(0), print)
     slow = fit_response(data, base, ["gamma"])
     assert start[0] == pytest.approx(slow.values["gamma"], rel=1e-6) and start[1] == 0.05
     assert abs(start[0] / TRUTH.gamma - 1) > 1e-3  # the points are not (46)'s own
-    assert _slow_flow_start(data, base, ["eps"], np.random.default_rng(0), print) is None
+    assert slow_flow_estimate(data, base, ["eps"], np.random.default_rng(0), print) is None
 
 
 @pytest.mark.slow

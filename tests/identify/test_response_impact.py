@@ -12,9 +12,9 @@ from slosh_bif.cli import main
 from slosh_bif.identify.response_data import ResponseData
 from slosh_bif.identify.response_fit import fit_response
 from slosh_bif.identify.response_impact import first_harmonic_c1
-from slosh_bif.orbits.impact_branches import settled_orbit, trace_impact_orbits
-from slosh_bif.orbits.impact_orbits import ImpactOrbitProblem
-from slosh_bif.orbits.impact_output import first_harmonic
+from slosh_bif.orbits.impact.branches import settled_orbit, trace_impact_orbits
+from slosh_bif.orbits.impact.output import first_harmonic
+from slosh_bif.orbits.impact.problem import ImpactOrbitProblem
 
 TRUTH = get_preset("fig10").params  # lam = 0.35, chi = 0.2, gamma = 0.2, pbar = 0, n = 50, Abar = 3
 

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from slosh_bif import get_preset
-from slosh_bif.flows.integrator import integrate_grid
+from slosh_bif.flows.smooth.integrator import integrate_grid
 from slosh_bif.orbits import BranchingSettings
 from slosh_bif.orbits.families import trace_orbits
 from slosh_bif.orbits.settings import ParameterRange

@@ -7,8 +7,8 @@ import pytest
 
 from slosh_bif import get_preset
 from slosh_bif.continuation import ContinuationOptions, continuation
-from slosh_bif.orbits.codim2 import ImpactCurveSeed, trace_impact_curve
-from slosh_bif.orbits.impact_orbits import ImpactOrbitProblem
+from slosh_bif.orbits.impact.curves import ImpactCurveSeed, trace_impact_curve
+from slosh_bif.orbits.impact.problem import ImpactOrbitProblem
 
 P = get_preset("fig13").params
 SECTION = 1.522176547202477  # the symmetric branch's section tau = phase (one impact per half period)
@@ -101,7 +101,7 @@ def test_a_pitchfork_curve_of_the_corrected_impact_model_meets_its_one_parameter
     its symmetric branch on the Fig. 13 set from sigma = 0.5 down locates its pitchfork; the BP curve
     from there, at two interior points, is where one-parameter branches of that model in sigma at
     the point's Abar locate their own pitchfork."""
-    from slosh_bif.orbits.impact_branches import settled_orbit, trace_impact_orbits
+    from slosh_bif.orbits.impact.branches import settled_orbit, trace_impact_orbits
 
     at = P.replace(sigma=0.5)
     x0 = settled_orbit(at, get_preset("fig13").state0, periods=300, variant="corrected")
@@ -136,8 +136,8 @@ def test_a_period_doubling_curve_of_period_4_orbits_meets_its_one_parameter_bran
     (sigma, Abar); at an interior point a one-parameter branch of period-4 orbits in sigma at that
     Abar locates its period doubling at the curve's sigma."""
     from slosh_bif import simulate_impact
-    from slosh_bif.orbits.impact_branches import trace_impact_orbits
-    from slosh_bif.orbits.impact_switching import doubled_branches
+    from slosh_bif.orbits.impact.branches import trace_impact_orbits
+    from slosh_bif.orbits.impact.switching import doubled_branches
 
     pre = get_preset("fig10")
     at = pre.params.replace(sigma=3.0)

@@ -9,11 +9,11 @@ import pytest
 from scipy.integrate import solve_ivp
 
 from slosh_bif import ImpactModel, get_preset, simulate_impact
-from slosh_bif.flows.integrator import HAVE_NUMBA
-from slosh_bif.orbits.codim2.impact_curves import ImpactCurveSeed, trace_grazing_curve
-from slosh_bif.orbits.codim2.impact_grazing import FREE, GrazingCurveProblem
-from slosh_bif.orbits.impact_branches import trace_impact_orbits
-from slosh_bif.orbits.impact_orbits import ImpactOrbitProblem
+from slosh_bif.flows.smooth.integrator import HAVE_NUMBA
+from slosh_bif.orbits.impact.branches import trace_impact_orbits
+from slosh_bif.orbits.impact.curves import ImpactCurveSeed, trace_grazing_curve
+from slosh_bif.orbits.impact.grazing import FREE, GrazingCurveProblem
+from slosh_bif.orbits.impact.problem import ImpactOrbitProblem
 
 pytestmark = pytest.mark.skipif(not HAVE_NUMBA, reason="the compiled flow needs numba")
 

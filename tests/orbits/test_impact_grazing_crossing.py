@@ -12,10 +12,10 @@ import pytest
 
 from slosh_bif import get_preset, simulate_impact
 from slosh_bif.continuation.corrector import newton_solve
-from slosh_bif.flows.integrator import HAVE_NUMBA
-from slosh_bif.orbits.impact_branches import settled_orbit, trace_impact_orbits
-from slosh_bif.orbits.impact_grazing_crossing import contact_at, on_section, unfold
-from slosh_bif.orbits.impact_orbits import ImpactOrbitProblem
+from slosh_bif.flows.smooth.integrator import HAVE_NUMBA
+from slosh_bif.orbits.impact.branches import settled_orbit, trace_impact_orbits
+from slosh_bif.orbits.impact.grazing_crossing import contact_at, on_section, unfold
+from slosh_bif.orbits.impact.problem import ImpactOrbitProblem
 
 pytestmark = pytest.mark.skipif(not HAVE_NUMBA, reason="the compiled flow needs numba")
 

@@ -10,10 +10,10 @@ from scipy.optimize import root
 
 from slosh_bif import ImpactModel, get_preset, simulate_impact
 from slosh_bif.continuation.corrector import newton
-from slosh_bif.flows.impact_flow import ImpactFlow
-from slosh_bif.flows.integrator import HAVE_NUMBA
-from slosh_bif.orbits.impact_branches import trace_impact_orbits
-from slosh_bif.orbits.impact_orbits import ImpactOrbitProblem
+from slosh_bif.flows.impact.flow import ImpactFlow
+from slosh_bif.flows.smooth.integrator import HAVE_NUMBA
+from slosh_bif.orbits.impact.branches import trace_impact_orbits
+from slosh_bif.orbits.impact.problem import ImpactOrbitProblem
 
 pytestmark = pytest.mark.skipif(not HAVE_NUMBA, reason="the compiled flow needs numba")
 
@@ -125,7 +125,7 @@ def test_a_period_doubling_of_8_gives_a_branch_of_twice_the_period():
     """Switching at the period doubling of the Fig. 10 set's asymmetric orbit (sigma ~ 2.2): the
     doubled branch passes through the doubling (its branch point there), and its orbits return
     after 4 pi but not after 2 pi under the reference flow (scipy's expm between impacts)."""
-    from slosh_bif.orbits.impact_switching import doubled_branches
+    from slosh_bif.orbits.impact.switching import doubled_branches
 
     params, x0 = _settled("fig10 sigma=3")
     parent = trace_impact_orbits(params, x0, p_min=1.0, p_max=3.2)
@@ -289,7 +289,7 @@ def test_an_asymmetric_start_finds_its_symmetric_parent_by_switching_at_its_bran
     has its pitchfork at the same sigma, 3.49970, and its orbits are symmetric under the reference
     flow (scipy's expm between impacts): y(tau + pi) = -y(tau)."""
     from slosh_bif.orbits.settings import BranchingSettings
-    from slosh_bif.studies.impact_chart import impact_family
+    from slosh_bif.studies.chart.impact import impact_family
 
     params, x0 = _settled("fig10 sigma=3")
     family = impact_family(

@@ -10,7 +10,7 @@ import pytest
 
 from slosh_bif import get_preset
 from slosh_bif.cli import main
-from slosh_bif.flows.integrator import integrate_grid
+from slosh_bif.flows.smooth.integrator import integrate_grid
 from slosh_bif.orbits import ShootingProblem, on_traced_branch, orbit_at, scan_families
 from slosh_bif.orbits.settings import ParameterRange
 

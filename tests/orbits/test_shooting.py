@@ -6,7 +6,7 @@ from scipy import linalg
 
 from slosh_bif import SmoothModel, get_preset
 from slosh_bif.continuation import ContinuationOptions, continuation
-from slosh_bif.flows import integrator
+from slosh_bif.flows.smooth import integrator
 from slosh_bif.orbits.orbit_tools import orbit_at, orbit_measures, periodic_orbit
 from slosh_bif.orbits.shooting import PARAMETERS, ShootingProblem, period_map, shoot
 
@@ -94,8 +94,8 @@ def test_compiled_integrator_takes_scipys_steps_and_agrees_with_it(preset):
     y0 = get_preset(preset).state0
     z0 = np.concatenate([y0, np.eye(4).ravel(), np.zeros(9)])
     for state, shooting in ((y0, False), (z0, True)):
-        fast = integrator.integrate(P, state, 0.0, 2 * np.pi, shooting=shooting, backend="numba")
-        slow = integrator.integrate(P, state, 0.0, 2 * np.pi, shooting=shooting, backend="scipy")
+        fast = integrator.integrate(P, state, (0.0, 2 * np.pi), shooting=shooting, backend="numba")
+        slow = integrator.integrate(P, state, (0.0, 2 * np.pi), shooting=shooting, backend="scipy")
         assert fast.success and slow.success
         assert abs(fast.steps - slow.steps) <= max(2, 0.02 * slow.steps), (fast.steps, slow.steps)
         np.testing.assert_allclose(fast.z, slow.z, rtol=1e-7, atol=1e-8)
@@ -105,9 +105,9 @@ def test_compiled_integrator_converges_to_a_tight_reference():
     """Error after one period falls with the tolerance (against rtol = 1e-13)."""
     P = get_preset("fig12").params
     y0 = get_preset("fig12").state0
-    ref = integrator.integrate(P, y0, 0.0, 2 * np.pi, rtol=1e-13, atol=1e-15).z
+    ref = integrator.integrate(P, y0, (0.0, 2 * np.pi), rtol=1e-13, atol=1e-15).z
     errors = [
-        np.max(np.abs(integrator.integrate(P, y0, 0.0, 2 * np.pi, rtol=r, atol=r * 1e-2).z - ref))
+        np.max(np.abs(integrator.integrate(P, y0, (0.0, 2 * np.pi), rtol=r, atol=r * 1e-2).z - ref))
         for r in (1e-6, 1e-8, 1e-10)
     ]
     assert errors[0] > errors[1] > errors[2] and errors[2] < 1e-8
@@ -116,11 +116,11 @@ def test_compiled_integrator_converges_to_a_tight_reference():
 def test_integrator_rejects_bad_input_before_work():
     P = get_preset("fig12").params
     with pytest.raises(ValueError, match="initial state must be 4 finite numbers"):
-        integrator.integrate(P, [0, 0, np.inf, 0], 0, 1)
+        integrator.integrate(P, [0, 0, np.inf, 0], (0, 1))
     with pytest.raises(ValueError, match="tau0 < tau1"):
-        integrator.integrate(P, [0, 0, 0, 0], 1, 0)
+        integrator.integrate(P, [0, 0, 0, 0], (1, 0))
     with pytest.raises(ValueError, match="backend must be"):
-        integrator.integrate(P, [0, 0, 0, 0], 0, 1, backend="rk4")
+        integrator.integrate(P, [0, 0, 0, 0], (0, 1), backend="rk4")
 
 
 def test_shooting_sensitivities_match_differences_in_sigma_and_abar():
@@ -377,7 +377,7 @@ def test_arcs_from_a_newton_iterate_far_in_the_wall_fail_in_bounded_time():
     x = np.concatenate([x, [197.8, 388.6, 1619.7, -3720.3, 380.4, -206.7, 788.8, -308.6]])
     problem = ShootingProblem(P, segments=4)
     assert np.all(np.isnan(problem.residual(x, 1.0)))
-    run = integrator.integrate(P, x[4:8], 0.0, np.pi / 2)
+    run = integrator.integrate(P, x[4:8], (0.0, np.pi / 2))
     assert not run.success and run.steps == 0
 
 

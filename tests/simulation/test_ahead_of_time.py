@@ -10,9 +10,9 @@ import numpy as np
 import pytest
 
 from slosh_bif.flows import ahead_of_time
-from slosh_bif.flows.dop853_interface import TABLEAU, WHICH
-from slosh_bif.flows.integrator import HAVE_NUMBA, _pars
 from slosh_bif.flows.noise import band_limited_noise
+from slosh_bif.flows.smooth.dop853_interface import TABLEAU, WHICH
+from slosh_bif.flows.smooth.integrator import HAVE_NUMBA, kernel_parameters
 from slosh_bif.model.presets import get_preset
 
 pytestmark = pytest.mark.skipif(not HAVE_NUMBA, reason="the compiled loops need numba")
@@ -34,18 +34,18 @@ def _cases():
     noise = band_limited_noise(0.3, seed=4, duration=2 * np.pi)
     y = np.array([0.6, 0.2, -0.5, -1.1])
     shooting = np.concatenate([y, np.eye(4).ravel(), np.zeros(9)])
-    pair = _pars(params, sensitivities=("gamma", "lam"))
+    pair = kernel_parameters(params, sensitivities=("gamma", "lam"))
     return [
-        ("plain", y, _pars(params)),
-        ("noisy", y, _pars(params, noise=noise)),
-        ("shooting", shooting, _pars(params)),
+        ("plain", y, kernel_parameters(params)),
+        ("noisy", y, kernel_parameters(params, noise=noise)),
+        ("shooting", shooting, kernel_parameters(params)),
         ("pair", shooting, pair),
     ]
 
 
 @pytest.mark.parametrize("n", [6, 50])
 def test_the_module_built_ahead_of_time_gives_numbas_results_bitwise(built, n):
-    from slosh_bif.flows import dop853  # the just-in-time loops, from the same source
+    from slosh_bif.flows.smooth import dop853  # the just-in-time loops, from the same source
 
     for which, z0, pars in _cases():
         pars = pars.copy()

@@ -7,7 +7,7 @@ from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
 from slosh_bif import ImpactModel, get_preset, simulate_impact
-from slosh_bif.flows.integrator import HAVE_NUMBA
+from slosh_bif.flows.smooth.integrator import HAVE_NUMBA
 
 pytestmark = pytest.mark.skipif(not HAVE_NUMBA, reason="the compiled flow needs numba")
 

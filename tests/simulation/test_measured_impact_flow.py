@@ -9,11 +9,11 @@ import pytest
 from scipy.integrate import solve_ivp
 
 from slosh_bif import get_preset, simulate_impact
-from slosh_bif.flows.impact_flow import ImpactFlow
-from slosh_bif.flows.integrator import HAVE_NUMBA
+from slosh_bif.flows.impact.flow import ImpactFlow
+from slosh_bif.flows.smooth.integrator import HAVE_NUMBA
 from slosh_bif.model.restitution.corrected import measured_wall
-from slosh_bif.orbits.impact_branches import settled_orbit
-from slosh_bif.orbits.impact_orbits import ImpactOrbitProblem
+from slosh_bif.orbits.impact.branches import settled_orbit
+from slosh_bif.orbits.impact.problem import ImpactOrbitProblem
 
 pytestmark = pytest.mark.skipif(not HAVE_NUMBA, reason="the compiled flow needs numba")
 

@@ -8,8 +8,8 @@ import pytest
 from scipy.integrate import solve_ivp
 
 from slosh_bif import ImpactModel, SmoothModel, get_preset, simulate_impact
-from slosh_bif.flows.integrator import integrate_grid
 from slosh_bif.flows.noise import band_limited_noise
+from slosh_bif.flows.smooth.integrator import integrate_grid
 from slosh_bif.orbits.orbit_tools import periodic_orbit
 from slosh_bif.simulation.direct import Noise, Simulation, SimulationSettings, simulate
 from slosh_bif.simulation.regimes import classify
@@ -388,7 +388,7 @@ def test_cached_machine_code_is_dropped_when_the_generated_kernels_change(tmp_pa
     import hashlib
     import types
 
-    from slosh_bif.flows import dop853
+    from slosh_bif.flows.smooth import dop853
     from slosh_bif.model import powers
     from slosh_bif.model._generated import kernels
 

@@ -12,7 +12,7 @@ from slosh_bif.orbits import (
     trace_orbits,
 )
 from slosh_bif.orbits.settings import ParameterRange
-from slosh_bif.studies.chart_curves import curve_starts, trace_curves
+from slosh_bif.studies.chart.curves import curve_starts, trace_curves
 
 PRESET = get_preset("fig10")
 
@@ -56,7 +56,7 @@ def test_a_period_two_branch_turning_where_it_meets_its_parent_gives_no_fold_cur
 
     from slosh_bif.continuation import SpecialPoint
     from slosh_bif.orbits import ShootingProblem
-    from slosh_bif.studies.chart_curves import repeats_early
+    from slosh_bif.studies.chart.curves import repeats_early
 
     P = PRESET.params
     problem = ShootingProblem(P, segments=4, period_multiple=2)
@@ -89,7 +89,7 @@ def test_an_asymmetric_branch_turning_at_its_symmetric_parent_starts_a_pitchfork
 
     from slosh_bif.continuation import SpecialPoint
     from slosh_bif.orbits import ShootingProblem
-    from slosh_bif.studies.chart_curves import is_symmetric
+    from slosh_bif.studies.chart.curves import is_symmetric
 
     P = PRESET.params
     problem = ShootingProblem(P, segments=4)
@@ -120,7 +120,7 @@ def test_an_ns_curve_met_at_a_codim2_point_of_a_fold_curve_is_started_there_once
     # one on a traced NS curve starts nothing.
     from types import SimpleNamespace
 
-    from slosh_bif.studies.chart_curves import torus_starts
+    from slosh_bif.studies.chart.curves import torus_starts
 
     P = PRESET.params
     states = np.arange(16.0)  # 4 arcs of one forcing period

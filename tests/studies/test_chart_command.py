@@ -14,7 +14,7 @@ from slosh_bif.cli import main
 from slosh_bif.slowflow.flow import SlowFlow
 from slosh_bif.slowflow.steady_states import abar_on_curve
 from slosh_bif.studies.chart import Chart, CurveFailure
-from slosh_bif.studies.chart_output import curve_rows
+from slosh_bif.studies.chart.output import curve_rows
 
 FIG10_NO_SWITCH = [
     "chart",

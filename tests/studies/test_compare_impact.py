@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from slosh_bif import get_preset
-from slosh_bif.orbits.impact_branches import settled_orbit, trace_impact_orbits
+from slosh_bif.orbits.impact.branches import settled_orbit, trace_impact_orbits
 from slosh_bif.simulation.vibro_impact import simulate_impact
 
 

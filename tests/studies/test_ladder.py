@@ -162,7 +162,7 @@ def test_the_impact_model_is_the_rung_between_the_slow_flows_and_shooting_on_9()
     model, reason, _ = model_choice("frequency-response", FIG10.replace(n=min(table) - 2), tol=tol)
     assert model == "shooting on (9)" and "not measured below" in reason
     # the answer itself: the orbits of (8) over the range, from the orbit a simulation settles on
-    from slosh_bif.orbits.impact_branches import ImpactBranch
+    from slosh_bif.orbits.impact.branches import ImpactBranch
 
     got = answer("frequency-response", FIG10.replace(sigma=5.0), tol=tol, sigma_min=4.5, sigma_max=5.5)
     assert got.model == IMPACT and isinstance(got.result, ImpactBranch)

@@ -4,7 +4,7 @@ model's (Newton on its exact flow) as n grows, and (8)'s first-order coefficient
 import pytest
 
 from slosh_bif import get_preset
-from slosh_bif.flows.integrator import HAVE_NUMBA
+from slosh_bif.flows.smooth.integrator import HAVE_NUMBA
 from slosh_bif.studies.stiff_wall import (
     convergence_rate,
     markdown_table,

@@ -1,4 +1,4 @@
-"""The impact of the vibro-impact model (8): its reset and saltation matrix, for the compiled flow (slosh_bif.flows.impact_flow).
+"""The impact of the vibro-impact model (8): its reset and saltation matrix, for the compiled flow (slosh_bif.flows.impact.flow).
 
 GENERATED CODE - DO NOT EDIT.
 Written by derivations/generate.py with sympy >=1.14,<1.15 (pinned in pyproject.toml: the printer's

@@ -1,4 +1,4 @@
-"""Scalar kernels of the smooth model (9) for the compiled integrator (slosh_bif.flows.integrator).
+"""Scalar kernels of the smooth model (9) for the compiled integrator (slosh_bif.flows.smooth.integrator).
 
 GENERATED CODE - DO NOT EDIT.
 Written by derivations/generate.py with sympy >=1.14,<1.15 (pinned in pyproject.toml: the printer's

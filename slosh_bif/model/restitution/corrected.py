@@ -1,4 +1,4 @@
-"""The corrected restitution law on S+: kappa(A) and the clearance D(A) from the measured wall (issue 20).
+"""The corrected restitution law on S+: kappa(A) and the clearance D(A) from the measured wall.
 
 The paper's slow flow takes kappa from eq. (21) (first order in the wall's dissipation) and the
 wall at |w| = 1. The smooth wall of (9)/(10) returns kappa_wall(v0), and the free flights in and

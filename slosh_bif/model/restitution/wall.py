@@ -1,4 +1,4 @@
-"""The smooth wall's own restitution kappa(v0) and turning point d(v0), measured once per wall (issue 20).
+"""The smooth wall's own restitution kappa(v0) and turning point d(v0), measured once per wall.
 
 Eq. (21) gives the restitution of the wall of eq. (10) to first order in its dissipation; at the
 paper's n = 6 sets it says 0.27 where the wall returns 0.63 (:mod:`slosh_bif.model.restitution.eq21`).

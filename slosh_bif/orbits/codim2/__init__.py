@@ -22,9 +22,6 @@ _WHERE = {
     "repeats_early": "multiplier_curves",
     "MEETS_PARENT": "multiplier_curves",
     "TorusCurveProblem": "torus",
-    "ImpactCurveSeed": "impact_curves",
-    "trace_impact_curve": "impact_curves",
-    "ImpactStrobe": "impact_strobe",
 }
 
 __all__ = list(_WHERE)

@@ -1,6 +1,6 @@
 """The minimally augmented system on the multiple-shooting residual of (9) (or on the
-stroboscopic map of (8), :mod:`.impact_strobe`), the base of every curve of orbit bifurcations in
-two parameters.
+stroboscopic map of (8), :mod:`slosh_bif.orbits.impact.strobe`), the base of every curve of orbit
+bifurcations in two parameters.
 
 Formulation
 -----------
@@ -49,7 +49,7 @@ class MinAugCurveProblem:
     ``segments``, ``period_multiple``, the tolerances, ``box`` and ``backend``; or another object
     with the same interface (names, ``arcs(x, params)`` with ends, arc matrices and the
     derivatives in (p1, p2), ``residual_of``, ``jacobian_of``, ``in_domain``; e.g. the
-    stroboscopic map of (8), :class:`~slosh_bif.orbits.codim2.impact_strobe.ImpactStrobe`).
+    stroboscopic map of (8), :class:`~slosh_bif.orbits.impact.strobe.ImpactStrobe`).
     ``p2_box`` bounds p2 (points outside are never evaluated); ``box`` bounds p1's corrector
     iterates as in :class:`ShootingProblem`. ``refresh_borders``: renew the bordering vectors
     from the null vectors at each accepted point (the default; without it they stay those of the

@@ -1,4 +1,4 @@
-"""Integration of the smooth model (9): DOP853 in a numba hot loop (:mod:`slosh_bif.flows.dop853`),
+"""Integration of the smooth model (9): DOP853 in a numba hot loop (:mod:`slosh_bif.flows.smooth.dop853`),
 scipy as the fallback.
 
 Both backends run the same method (DOP853 with scipy's error norm, step-size control and initial
@@ -25,8 +25,8 @@ import typing
 import numpy as np
 
 from slosh_bif.flows import ahead_of_time
-from slosh_bif.flows.dop853_interface import MESSAGES, OK, TABLEAU, WHICH
 from slosh_bif.flows.noise import BandLimitedNoise
+from slosh_bif.flows.smooth.dop853_interface import MESSAGES, OK, TABLEAU, WHICH
 from slosh_bif.model.params import REAL_FIELDS, Params, real_pair
 
 __all__ = [
@@ -38,6 +38,7 @@ __all__ = [
     "SHOOTING_SIZE",
     "resolve_backend",
     "DEFAULT_SENSITIVITIES",
+    "kernel_parameters",
 ]
 
 SHOOTING_SIZE = 29  # [y, Phi, dy/dp1, dy/dp2, int tr J]
@@ -102,7 +103,9 @@ def _check(params, z0, tau0, tau1, rtol, atol, size):
 _LAST_PARS = (None, None)  # (params, its vector): Params is immutable; sweeps call with one set many times
 
 
-def _pars(params: Params, noise=None, sensitivities=None):
+def kernel_parameters(params: Params, noise=None, sensitivities=None):
+    """The compiled loops' parameter vector: (eps, beta, gamma, sigma, Abar, lam, chi, n, p), then
+    the noise's table of (47) or the two sensitivity directions over ``REAL_FIELDS``."""
     global _LAST_PARS
     if noise is None and sensitivities is None and _LAST_PARS[0] is params:
         return _LAST_PARS[1]
@@ -136,7 +139,7 @@ def _check_noise(noise, tau0, tau1):
 
 def _scipy_rhs(which, pars):
     """The generated kernel as scipy's ``fun(t, y)`` (the fallback path: same equations)."""
-    from slosh_bif.flows.dop853 import KERNELS  # numba's too, for the kernels it compiles
+    from slosh_bif.flows.smooth.dop853 import KERNELS  # numba's too, for the kernels it compiles
 
     raw = KERNELS[which]
 
@@ -151,27 +154,26 @@ def _scipy_rhs(which, pars):
 def integrate(
     params: Params,
     z0,
-    tau0: float,
-    tau1: float,
+    span: tuple,
     *,
     shooting: bool = False,
     rtol: float = 1e-10,
     atol: float = 1e-12,
-    h0: float = 0.0,
     max_steps: int = 2_000_000,
     backend: str = "auto",
     noise=None,
     sensitivities: tuple = DEFAULT_SENSITIVITIES,
 ) -> Integration:
-    """Integrate (9) (``shooting=False``, z = y) or (9) with everything shooting needs from tau0 to tau1.
+    """Integrate (9) (``shooting=False``, z = y) or (9) with everything shooting needs over
+    ``span = (tau0, tau1)``, as scipy's ``solve_ivp`` takes it.
 
     With ``shooting=True`` z = [y, Phi (row-major), dy/dp1, dy/dp2, int tr J] for the two
-    parameters named by ``sensitivities`` (any two of ``REAL_FIELDS``). ``h0 > 0`` warm-starts the step size
-    (pass the previous call's ``h_next``); 0 lets the rule
-    choose. ``noise`` (a :class:`~slosh_bif.flows.noise.BandLimitedNoise`) adds the random forcing of
+    parameters named by ``sensitivities`` (any two of ``REAL_FIELDS``); the step rule chooses the
+    first step. ``noise`` (a :class:`~slosh_bif.flows.noise.BandLimitedNoise`) adds the random forcing of
     (47) (plain model only). Never raises on integration failure: ``success`` and ``message`` say
     what happened.
     """
+    tau0, tau1 = span
     if noise is not None and shooting:
         raise ValueError("shooting needs the periodic forcing: noise is only for plain integration")
     which = "shooting" if shooting else ("plain" if noise is None else "noisy")
@@ -180,7 +182,7 @@ def integrate(
     pair = None
     if shooting and tuple(sensitivities) != DEFAULT_SENSITIVITIES:
         which, pair = "pair", real_pair(sensitivities, "sensitivities")
-    pars = _pars(params, noise, pair)
+    pars = kernel_parameters(params, noise, pair)
     if resolve_backend(backend) == "numba":
         z, steps, rejected, nfev, h, status = _LOOPS.dop853_loop(
             WHICH[which],
@@ -190,7 +192,7 @@ def integrate(
             pars,
             float(rtol),
             float(atol),
-            float(h0),
+            0.0,  # the first step: the rule's choice
             int(max_steps),
             *TABLEAU,
         )
@@ -201,7 +203,7 @@ def integrate(
 
     fun = _scipy_rhs(which, pars)
     with np.errstate(over="ignore", invalid="ignore"):  # trial steps deep in the wall may overflow
-        sol = solve_ivp(fun, (tau0, tau1), z0, method="DOP853", rtol=rtol, atol=atol, first_step=h0 or None)
+        sol = solve_ivp(fun, (tau0, tau1), z0, method="DOP853", rtol=rtol, atol=atol)
     steps = len(sol.t) - 1
     return Integration(
         sol.y[:, -1].copy(),
@@ -233,7 +235,7 @@ def integrate_arcs(
     m = len(starts)
     if resolve_backend(backend) == "numba" and np.isfinite(starts).all():
         pair = tuple(sensitivities) != DEFAULT_SENSITIVITIES
-        pars = _pars(params, None, real_pair(sensitivities, "sensitivities") if pair else None)
+        pars = kernel_parameters(params, None, real_pair(sensitivities, "sensitivities") if pair else None)
         ends, done, status = _LOOPS.arcs_loop(
             WHICH["pair" if pair else "shooting"],
             np.ascontiguousarray(taus, dtype=float),
@@ -254,8 +256,7 @@ def integrate_arcs(
         run = integrate(
             params,
             z0,
-            taus[k],
-            taus[k + 1],
+            (taus[k], taus[k + 1]),
             shooting=True,
             rtol=rtol,
             atol=atol,
@@ -295,7 +296,7 @@ def integrate_grid(
     y0 = _check(params, y0, taus[0], taus[1], rtol, atol, 4)
     _check_noise(noise, taus[0], taus[-1])
     which = "plain" if noise is None else "noisy"
-    pars = _pars(params, noise)
+    pars = kernel_parameters(params, noise)
     if directions is not None:
         if noise is not None:
             raise ValueError("sensitivities need the periodic forcing: no noise with directions")

@@ -22,7 +22,7 @@ import numpy as np
 from slosh_bif.orbits.codim2 import CODIM2_KINDS, BifurcationCurve
 from slosh_bif.report.files import DAMAGE, damaged, read_store, write_text_atomically
 from slosh_bif.report.tables import write_rows
-from slosh_bif.studies.chart_critical import CRITICAL_COLUMNS, critical_rows, lowest_stable_boundary
+from slosh_bif.studies.chart.critical import CRITICAL_COLUMNS, critical_rows, lowest_stable_boundary
 
 __all__ = [
     "CURVE_COLUMNS",
@@ -263,7 +263,7 @@ def chart_settings(params, state0, sigma_range, abar_range, **options) -> dict:
 
 
 def curve_store(folder, settings: dict, *, resume: bool):
-    """(done, keep) for :func:`~slosh_bif.studies.chart.bifurcation_chart`: the curves stored in
+    """(done, keep) for :func:`~slosh_bif.studies.chart.smooth.bifurcation_chart`: the curves stored in
     ``folder`` by an earlier run with the same ``settings`` (resume; else none, and the folder's
     old curves are removed), and a callback that stores each new curve there as it finishes
     (``curve-<start>.npz``, written atomically). A one-line ValueError when resuming from a

@@ -1,7 +1,7 @@
 """Writing a branch of periodic orbits of the vibro-impact model (8) as CSV and PNG.
 
 ``branch.csv``: one row per point, pieces one after another
-(:mod:`slosh_bif.orbits.impact_branches`), columns ``sigma, Abar, A1, max_abs_X, impacts,
+(:mod:`slosh_bif.orbits.impact.branches`), columns ``sigma, Abar, A1, max_abs_X, impacts,
 min_impact_speed, stable, max_abs_multiplier, special, branch, piece, phase``: A1 is the
 first-harmonic amplitude of X at the forcing frequency, as for (9); ``impacts`` the impacts per
 period of the orbit on the piece (twice those of the half period on a symmetric branch, traced on
@@ -17,8 +17,8 @@ from pathlib import Path
 
 import numpy as np
 
-from slosh_bif.orbits.impact_branches import ImpactBranch
-from slosh_bif.orbits.impact_orbits import GRAZING, ImpactOrbitProblem
+from slosh_bif.orbits.impact.branches import ImpactBranch
+from slosh_bif.orbits.impact.problem import GRAZING, ImpactOrbitProblem
 from slosh_bif.report.tables import write_rows
 
 __all__ = [
@@ -116,10 +116,10 @@ def plot_impact_branch(rows, params, path, *, title=None) -> Path:
     impacts per period below."""
     from slosh_bif.report.plotting import (
         SPECIAL_MARKERS,
-        place_labels,
+        branch_legend,
+        mark_special,
         pyplot,
         save_figure,
-        special_legend,
         stability_runs,
     )
 
@@ -128,7 +128,7 @@ def plot_impact_branch(rows, params, path, *, title=None) -> Path:
     fig, (ax, axi) = pyplot().subplots(
         2, 1, figsize=(9, 7.5), sharex=True, gridspec_kw={"height_ratios": [3, 1]}
     )
-    labels = []
+    points = []
     names = list(dict.fromkeys(r["branch"] for r in rows))
     for name, k in sorted(
         {(r["branch"], r["piece"]) for r in rows}, key=lambda nk: (names.index(nk[0]), nk[1])
@@ -141,20 +141,17 @@ def plot_impact_branch(rows, params, path, *, title=None) -> Path:
         for a, b in stability_runs(stable):  # one line per run (one per segment cost seconds)
             ax.plot(p[a : b + 1], a1[a : b + 1], "-" if stable[a] else "--", color=color, lw=1.4)
         axi.plot(p, [r["impacts"] for r in part], color=color, lw=1.2)
-        for r in part:
-            for kind in r["special"].split():
-                if kind in SPECIAL_MARKERS and kind != "END":
-                    marker, color = SPECIAL_MARKERS[kind]
-                    ax.plot(
-                        r[param], r["A1"], marker, color=color, ms=7, mfc="none" if kind == "LP" else color
-                    )
-                    labels.append((r[param], r["A1"], kind, color))
-    place_labels(ax, labels)
+        points += [
+            (r[param], r["A1"], kind)
+            for r in part
+            for kind in r["special"].split()
+            if kind in SPECIAL_MARKERS and kind != "END"
+        ]
+    mark_special(ax, points, ms=7)
     for j, name in enumerate(names if len(names) > 1 else ()):
         ax.plot([], [], "-", color=f"C{j}", lw=3, label=name)
-    ax.plot([], [], "k-", label="stable")
-    ax.plot([], [], "k--", label="unstable")
-    special_legend(ax, kinds=("LP", "BP", "PD", "NS", "GR"))
+    stable = [bool(r["stable"]) for r in rows]
+    branch_legend(ax, stable=any(stable), unstable=not all(stable), kinds={k for _, _, k in points})
     ax.set_ylabel("A1: first-harmonic amplitude of X")
     axi.set_ylabel("impacts / period")
     axi.set_xlabel(r"$\sigma$" if param == "sigma" else r"$\bar A$")

@@ -8,7 +8,7 @@ grazing happens at |w| = D(v_min), as (8)'s at |w| = 1. Above v_max the law is n
 stops with a status.
 
 Every crossing of g starts inside the band ``lo <= |w|``, lo the least clearance over the measured
-speeds, so the certified search of :mod:`slosh_bif.flows.impact_flow` runs with the threshold lo
+speeds, so the certified search of :mod:`slosh_bif.flows.impact.flow` runs with the threshold lo
 instead of 1, and inside the band (:func:`band`) the flow steps by the propagator of a fixed
 dyadic level, testing g at each step's end; a crossing found is solved by bisection on the flow's
 Taylor series. A crossing that enters and leaves the wall within one step (a penetration below
@@ -22,7 +22,7 @@ import math
 import numpy as np
 
 from slosh_bif.flows.compiled import jit
-from slosh_bif.flows.impact_crossings import apply, carry, flow_taylor
+from slosh_bif.flows.impact.crossings import apply, carry, flow_taylor
 
 __all__ = ["BAND_LEVEL", "law", "wall_gap", "advance", "band", "law_arrays", "inside_measured_wall"]
 
@@ -80,9 +80,12 @@ def wall_gap(shape, stacked, z):
 
 
 @jit
-def advance(table, dtable, lengths, level, s, z, jac, phi, dp, tmp, zb):
+def advance(flights, level, s, z, variations, tmp, zb):
     """Advance z (and with ``jac`` the variations) by s < lengths[level - 1], as the binary
-    expansion of s over the levels from ``level`` on (exact to the finest level's length)."""
+    expansion of s over the levels from ``level`` on (exact to the finest level's length); the
+    records as in :func:`~slosh_bif.flows.impact.crossings.piece`."""
+    table, dtable, _, _, _, lengths, _, _ = flights
+    jac, phi, dp = variations
     for k in range(level, lengths.shape[0] - 1):
         if s >= lengths[k] * (1.0 - 1e-12):
             apply(table[k], z, zb)
@@ -93,10 +96,16 @@ def advance(table, dtable, lengths, level, s, z, jac, phi, dp, tmp, zb):
 
 
 @jit
-def band(table, dtable, K, taylor, lengths, shape, stacked, z, rest, jac, phi, dp, tmp, za, zb):
+def band(flights, wall, z, rest, work, variations):
     """March z through the band |w| >= lo for at most ``rest``: returns (code, elapsed) with code
     REACHED (``rest`` used up), LEFT (|w| < lo again) or HIT (z is the state at the wall, before
-    the reset; TOO_FAST when the impact speed is above v_max)."""
+    the reset; TOO_FAST when the impact speed is above v_max). ``wall = (shape, stacked)`` is the
+    measured law of :func:`law_arrays`; the other records as in
+    :func:`~slosh_bif.flows.impact.crossings.piece`."""
+    table, dtable, K, _, taylor, lengths, _, _ = flights
+    shape, stacked = wall
+    _, _, _, tmp, za, zb = work
+    jac, phi, dp = variations
     L = lengths[BAND_LEVEL]
     elapsed = 0.0
     lo = shape[4]
@@ -120,7 +129,7 @@ def band(table, dtable, K, taylor, lengths, shape, stacked, z, rest, jac, phi, d
                     a = m
                 else:
                     b = m
-            advance(table, dtable, lengths, BAND_LEVEL + 1, b, z, jac, phi, dp, tmp, zb)
+            advance(flights, BAND_LEVEL + 1, b, z, variations, tmp, zb)
             side = 1.0 if z[2] >= 0.0 else -1.0
             return (TOO_FAST if side * z[3] > shape[3] else HIT), elapsed + b
         if full:
@@ -128,7 +137,7 @@ def band(table, dtable, K, taylor, lengths, shape, stacked, z, rest, jac, phi, d
                 carry(table[BAND_LEVEL], dtable[BAND_LEVEL], z, phi, dp, tmp)
             z[:] = zb
         else:
-            advance(table, dtable, lengths, BAND_LEVEL + 1, step, z, jac, phi, dp, tmp, zb)
+            advance(flights, BAND_LEVEL + 1, step, z, variations, tmp, zb)
         elapsed += step
         if abs(z[2]) < lo:
             return LEFT, elapsed

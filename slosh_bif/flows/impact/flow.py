@@ -26,7 +26,7 @@ status rather than going on without a model: ``"kappa-not-real"`` where (21) giv
 ``"sticking"`` where the post-impact speed falls below ``stick_speed`` (impacts then accumulate at a
 point in time, beyond which (8) without a sticking phase is not defined), ``"max-impacts"``. The
 corrected impact model (``variant="corrected"``) puts the smooth wall's kappa_wall(v) at a wall that
-stands at |w| = D(v) (:mod:`slosh_bif.flows.impact_band`).
+stands at |w| = D(v) (:mod:`slosh_bif.flows.impact.band`).
 
 :func:`slosh_bif.simulation.vibro_impact.simulate_impact` is the entry point; its event loop on
 ``scipy.linalg.expm`` is the reference this flow is tested against.
@@ -40,9 +40,9 @@ import math
 import numpy as np
 
 from slosh_bif.flows.compiled import jit
-from slosh_bif.flows.impact_band import LEFT, REACHED, TOO_FAST, band, law, law_arrays
-from slosh_bif.flows.impact_crossings import LEVELS, apply, carry, max_abs, may_reach, piece, saltation
-from slosh_bif.flows.impact_propagators import (
+from slosh_bif.flows.impact.band import LEFT, REACHED, TOO_FAST, band, law, law_arrays
+from slosh_bif.flows.impact.crossings import LEVELS, apply, carry, max_abs, may_reach, piece, saltation
+from slosh_bif.flows.impact.propagators import (
     LINEAR_PARAMETERS,
     WALL_PARAMETERS,
     derivative_of_K,
@@ -65,37 +65,23 @@ _measured = jit(impact_measured_kernel, inline=True)
 
 
 @jit
-def _run(
-    table,
-    dtable,
-    K,
-    Kp,
-    taylor,
-    lengths,
-    growth,
-    row_norm,
-    kappa_c,
-    kappa_q,
-    dc,
-    shape,
-    stacked,
-    linear,
-    y0,
-    t0,
-    t1,
-    h,
-    stick_speed,
-    max_impacts,
-    capacity,
-    jac,
-    phi,
-    dp,
-):
+def _run(flights, restitution, wall, linear, span, limits, variations):
     """Samples every h from t0 to t1 (t1 last) with the impacts among them; see :class:`ImpactFlow`.
     Stops with code _FULL when more than ``capacity`` impacts would be stored. With ``jac``,
     ``phi`` (identity on entry) and ``dp`` (zero) end as d y(t1) / d y0 and d y(t1) / d param.
-    A non-empty ``stacked`` is the measured wall's law (:mod:`slosh_bif.flows.impact_band`; its
-    band's threshold ``shape[4]`` is the certified search's), else the wall is (21)'s at |w| = 1."""
+    A non-empty ``stacked`` is the measured wall's law (:mod:`slosh_bif.flows.impact.band`; its
+    band's threshold ``shape[4]`` is the certified search's), else the wall is (21)'s at |w| = 1.
+
+    The records: ``flights`` as in :func:`~slosh_bif.flows.impact.crossings.piece`;
+    ``restitution = (kappa_c, kappa_q, dc)`` of (21); ``wall = (shape, stacked)``; ``linear``, the
+    linear part's (eps, beta, gamma, sigma, Abar); ``span = (y0, t0, t1, h)``; ``limits =
+    (stick_speed, max_impacts, capacity)``; ``variations = (jac, phi, dp)``."""
+    table, dtable, _, _, _, lengths, growth, row_norm = flights
+    kappa_c, kappa_q, dc = restitution
+    shape, stacked = wall
+    y0, t0, t1, h = span
+    stick_speed, max_impacts, capacity = limits
+    jac, phi, dp = variations
     measured = stacked.shape[0] > 0
     c = shape[4] if measured else 1.0
     count = int(math.ceil((t1 - t0) / h - 1e-12))
@@ -110,6 +96,7 @@ def _run(
     za = np.empty(6)
     zb = np.empty(6)
     tmp = np.empty((4, 5))
+    work = (stack_z, stack_k, stack_s, tmp, za, zb)
     reset = np.empty(18)  # the saltation matrix (16), w'+ and its derivative in the loss
     pars = np.empty(9)  # (21)'s kernel: eps, beta, gamma, sigma, Abar, loss, q; the measured wall's:
     pars[:5] = linear  # eps, beta, gamma, sigma, Abar, side, kappa, kappa', D'
@@ -128,9 +115,7 @@ def _run(
             z[5] = math.sin(tau)
             side = 0
             if in_band:
-                code, s = band(
-                    table, dtable, K, taylor, lengths, shape, stacked, z, tb - tau, jac, phi, dp, tmp, za, zb
-                )
+                code, s = band(flights, wall, z, tb - tau, work, variations)
                 done += s
                 in_band = False
                 if code == REACHED:
@@ -159,29 +144,7 @@ def _run(
                         if rest < lengths[LEVELS] / h:
                             break
                         continue
-                    side, s = piece(
-                        table,
-                        dtable,
-                        K,
-                        Kp,
-                        taylor,
-                        lengths,
-                        growth,
-                        row_norm,
-                        z,
-                        k,
-                        zn,
-                        stack_z,
-                        stack_k,
-                        stack_s,
-                        jac,
-                        phi,
-                        dp,
-                        tmp,
-                        za,
-                        zb,
-                        c,
-                    )
+                    side, s = piece(flights, z, k, zn, work, variations, c)
                     z[:] = zn
                     if side != 0:
                         done += s
@@ -258,7 +221,7 @@ class ImpactFlow:
     ``variant``: ``"paper"``, (8) as the paper states it (first-order coefficients, kappa of (21),
     the wall at |w| = 1), or ``"corrected"``, the corrected impact model: (9) with its wall replaced
     by the wall's own measured law (flights on (9)'s exact linear part, kappa_wall(v) at the
-    clearance D(v): :mod:`slosh_bif.flows.impact_band`; no derivatives in the wall's lam, chi).
+    clearance D(v): :mod:`slosh_bif.flows.impact.band`; no derivatives in the wall's lam, chi).
     ``exact_flights`` (for :meth:`run` only) swaps the flights: (9)'s exact linear part for
     ``"paper"``, (8)'s first-order coefficients for ``"corrected"``.
     """
@@ -316,6 +279,17 @@ class ImpactFlow:
         self.grazing_level = 1.0 if self.wall is None else float(self.wall.clearance(self.wall.v_min))
         self.linear = np.array([P.eps, P.beta, P.gamma, P.sigma, P.Abar])
         self.kappa_c, self.kappa_q, self.dc = _restitution_constants(P.lam, P.chi, P.n, P.pbar, param)
+        # the flights' constants as one record, as the compiled kernels take them
+        self.flights = (
+            self.table,
+            self.dtable,
+            self.K,
+            self.Kp,
+            self.taylor,
+            self.lengths,
+            self.growth,
+            self.row_norm,
+        )
 
     @property
     def slowest_smooth_impact(self) -> float:
@@ -330,30 +304,13 @@ class ImpactFlow:
         while True:
             phi, dp = np.eye(4), np.zeros(4)
             times, states, impacts, rows, hits, code = _run(
-                self.table,
-                self.dtable,
-                self.K,
-                self.Kp,
-                self.taylor,
-                self.lengths,
-                self.growth,
-                self.row_norm,
-                self.kappa_c,
-                self.kappa_q,
-                self.dc,
-                self.shape,
-                self.stacked,
+                self.flights,
+                (self.kappa_c, self.kappa_q, self.dc),
+                (self.shape, self.stacked),
                 self.linear,
-                np.asarray(y0, dtype=float),
-                float(t0),
-                float(t1),
-                self.step,
-                float(stick_speed),
-                max_impacts,
-                capacity,
-                jac,
-                phi,
-                dp,
+                (np.asarray(y0, dtype=float), float(t0), float(t1), self.step),
+                (float(stick_speed), max_impacts, capacity),
+                (jac, phi, dp),
             )
             if code != _FULL:
                 return times[:rows], states[:rows].T, impacts[:hits], int(code), phi, dp

@@ -1,7 +1,7 @@
 """Periodic orbits of the vibro-impact model (8) with the restitution law (2), (21): fixed points of
 its stroboscopic map, for the continuation engine.
 
-The map is the exact flow of :mod:`slosh_bif.flows.impact_flow` over the forcing period 2 pi
+The map is the exact flow of :mod:`slosh_bif.flows.impact.flow` over the forcing period 2 pi
 (fixed period, no phase condition), or over pi followed by the mirror y -> -y for the symmetric
 orbits ``y(tau + pi) = -y(tau)`` (whose multiplier -1 is the symmetry-breaking pitchfork, as for
 (9)). Its Jacobian is the product of the flights' propagators and of the impacts' saltation
@@ -13,7 +13,7 @@ touches |w| = 1 with zero speed and the number of impacts per period changes (th
 smooth there), and an impact reaching the section tau = phase, where the state on the section
 jumps from before the impact to after it. Each edge is located exactly (Newton on the map with
 the edge's condition: a flight's turning point at the wall, or w = +-1 on the section);
-:mod:`slosh_bif.orbits.impact_branches` moves the section or crosses the grazing and goes on.
+:mod:`slosh_bif.orbits.impact.branches` moves the section or crosses the grazing and goes on.
 """
 
 from __future__ import annotations
@@ -25,8 +25,8 @@ from collections import OrderedDict
 import numpy as np
 from scipy import optimize
 
-from slosh_bif.flows.impact_band import inside_measured_wall
-from slosh_bif.flows.impact_flow import IMPACT_VARIANTS, LINEAR_PARAMETERS, WALL_PARAMETERS, ImpactFlow
+from slosh_bif.flows.impact.band import inside_measured_wall
+from slosh_bif.flows.impact.flow import IMPACT_VARIANTS, LINEAR_PARAMETERS, WALL_PARAMETERS, ImpactFlow
 from slosh_bif.model.params import Params
 from slosh_bif.orbits.multipliers import (
     TEST_FLOOR,
@@ -252,7 +252,7 @@ class ImpactOrbitProblem:
         found = self._grazing_from_flight(x, p) if nearest.kind == "flight" else None
         if found is not None:
             return found
-        from slosh_bif.orbits.impact_grazing_crossing import grazing_by_unfolding  # it builds on this module
+        from slosh_bif.orbits.impact.grazing_crossing import grazing_by_unfolding  # it builds on this module
 
         return grazing_by_unfolding(self, x, p)
 

@@ -22,12 +22,12 @@ from slosh_bif.orbits.settings import (
     StartSettings,
 )
 from slosh_bif.slowflow.critical import critical_curve, interp_min
-from slosh_bif.studies.chart import Chart
-from slosh_bif.studies.chart_curves import (
+from slosh_bif.studies.chart.curves import (
     curve_starts,
     pitchforks_of,
     trace_curves,
 )
+from slosh_bif.studies.chart.result import Chart
 
 __all__ = [
     "CRITICAL_COLUMNS",

@@ -1,6 +1,6 @@
 """Branches of periodic orbits of the vibro-impact model (8) across the edges of their problem.
 
-A continuation of :class:`~slosh_bif.orbits.impact_orbits.ImpactOrbitProblem` ends where an impact
+A continuation of :class:`~slosh_bif.orbits.impact.problem.ImpactOrbitProblem` ends where an impact
 reaches the map's section or where the orbit grazes the wall. :func:`trace_impact_orbits` goes on
 in pieces, each direction on its own:
 
@@ -8,7 +8,7 @@ in pieces, each direction on its own:
   same orbits in new coordinates) and the continuation resumes from the located edge point in the
   same direction of the parameter;
 * grazing (GR): the point is kept; the family on the other side (an impact more or fewer) is
-  found on the contact's own unfolding (:mod:`slosh_bif.orbits.impact_grazing_crossing`),
+  found on the contact's own unfolding (:mod:`slosh_bif.orbits.impact.grazing_crossing`),
   attracting or not, and the branch goes on from there in the direction that leads away from the
   grazing (back in the parameter where the grazing is a non-smooth fold). Where that fails (two
   contacts grazing at once, say), the map's iterates are tried for an attracting orbit beyond;
@@ -34,8 +34,8 @@ from slosh_bif.continuation import (
 from slosh_bif.continuation.branch import Kind, Status
 from slosh_bif.continuation.corrector import newton_solve
 from slosh_bif.model.params import Params
-from slosh_bif.orbits.impact_grazing_crossing import contact_at, cross_grazing
-from slosh_bif.orbits.impact_orbits import GRAZING, SECTION, VARIANT_NAMES, ImpactOrbitProblem
+from slosh_bif.orbits.impact.grazing_crossing import contact_at, cross_grazing
+from slosh_bif.orbits.impact.problem import GRAZING, SECTION, VARIANT_NAMES, ImpactOrbitProblem
 
 __all__ = [
     "ImpactPiece",
@@ -184,7 +184,7 @@ def trace_impact_orbits(
     """Continue the orbit of (8) through ``x0`` (its state at tau = 0, a fixed point of the map
     over ``period_multiple`` forcing periods at the value of ``param`` in ``params``) in both
     directions between ``p_min`` and ``p_max``; ``variant`` the impact model
-    (:class:`~slosh_bif.orbits.impact_orbits.ImpactOrbitProblem`)."""
+    (:class:`~slosh_bif.orbits.impact.problem.ImpactOrbitProblem`)."""
     opts = dataclasses.replace(
         options or ContinuationOptions(step=0.05, step_max=0.3, tol=1e-10), p_min=p_min, p_max=p_max
     )

@@ -6,7 +6,7 @@ It is one arc in the terms of multiple shooting: the map over the forcing period
 symmetric orbits, whose closing is the mirror y -> -y), from the section tau = ``phase``, with its
 Jacobian and its derivatives in both parameters exact (the flights' propagators and the impacts'
 saltation matrices, the derivative of kappa (21) in the impact speed included:
-:class:`~slosh_bif.orbits.impact_orbits.ImpactOrbitProblem`). The domain holds the number of
+:class:`~slosh_bif.orbits.impact.problem.ImpactOrbitProblem`). The domain holds the number of
 impacts per period fixed: where it changes (grazing) or an impact reaches the section, the map is
 not smooth, and a curve ends there at the domain's edge.
 """
@@ -18,7 +18,7 @@ from collections import OrderedDict
 import numpy as np
 
 from slosh_bif.model.params import Params, real_pair
-from slosh_bif.orbits.impact_orbits import SECTION, ImpactOrbitProblem
+from slosh_bif.orbits.impact.problem import SECTION, ImpactOrbitProblem
 from slosh_bif.orbits.shooting import Arcs
 
 __all__ = ["ImpactStrobe", "MIN_IMPACT_SPEED", "NEAR_GRAZING", "least_impact_speed"]
@@ -44,7 +44,7 @@ class ImpactStrobe:
     the interface of :class:`~slosh_bif.orbits.shooting.ShootingProblem` they use: one arc,
     ``sensitivities`` = (p1, p2). ``impacts``: the number of impacts over the map's time that
     the domain holds to (None: any); ``variant``: (8) as stated or the corrected impact model
-    (:class:`~slosh_bif.orbits.impact_orbits.ImpactOrbitProblem`)."""
+    (:class:`~slosh_bif.orbits.impact.problem.ImpactOrbitProblem`)."""
 
     branch_kind = "periodic orbits of (8)"
     names = ("X", "Xd", "w", "wd")

@@ -3,7 +3,7 @@
 Between impacts (8) is ``z' = K z`` on ``z = [X, X', w, w', cos tau, sin tau]``
 (:meth:`~slosh_bif.model.equations.ImpactModel.augmented`); its flow over L is ``expm(K L)``, and
 the derivative of that flow in a parameter of K is the lower-left block of
-``expm([[K, 0], [K_p, K]] L)``. :mod:`slosh_bif.flows.impact_flow` tabulates both for the
+``expm([[K, 0], [K_p, K]] L)``. :mod:`slosh_bif.flows.impact.flow` tabulates both for the
 sample step and its halvings.
 """
 

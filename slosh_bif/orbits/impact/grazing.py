@@ -1,6 +1,6 @@
 """Grazing curves of the vibro-impact model (8) in two parameters: where a periodic orbit's flight
 touches a wall |w| = 1 with zero speed, so that its number of impacts per period changes (eqs. 8,
-21; the GR points of :mod:`slosh_bif.orbits.impact_branches`, continued in a second parameter).
+21; the GR points of :mod:`slosh_bif.orbits.impact.branches`, continued in a second parameter).
 
 The section is put at the grazing point itself. There the state is ``y_g = [X, X', side, 0]`` at
 tau = t_g (side = +-1, the wall touched), so the grazing condition holds by construction, and the
@@ -16,7 +16,7 @@ parameter derivative), and the compiled flow with its impacts runs in between. T
 requires what makes this the orbit of (8): the free stretches stay inside the walls but at the
 grazing point itself, the particle leaves the wall inward (``side * w'' < 0`` there: where it
 vanishes the grazing degenerates, and the curve ends), and the other impacts keep their number and
-stay faster than :data:`~slosh_bif.orbits.codim2.impact_strobe.MIN_IMPACT_SPEED` (and, for the
+stay faster than :data:`~slosh_bif.orbits.impact.strobe.MIN_IMPACT_SPEED` (and, for the
 corrected impact model, than its measured law's least speed).
 
 Derivatives are exact as elsewhere for (8): the flights' propagators, the impacts' saltation
@@ -30,10 +30,10 @@ from collections import OrderedDict
 import numpy as np
 from scipy import linalg
 
-from slosh_bif.flows.impact_flow import IMPACT_VARIANTS, ImpactFlow
-from slosh_bif.flows.impact_propagators import WALL_PARAMETERS, derivative_of_K
+from slosh_bif.flows.impact.flow import IMPACT_VARIANTS, ImpactFlow
+from slosh_bif.flows.impact.propagators import WALL_PARAMETERS, derivative_of_K
 from slosh_bif.model.params import Params, real_pair
-from slosh_bif.orbits.codim2.impact_strobe import least_impact_speed
+from slosh_bif.orbits.impact.strobe import least_impact_speed
 
 __all__ = ["GrazingCurveProblem", "FREE", "DEGENERATE"]
 

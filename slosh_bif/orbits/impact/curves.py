@@ -1,13 +1,13 @@
 """Curves of orbit bifurcations of the vibro-impact model (8) in two parameters: the fold,
 period-doubling, pitchfork and Neimark-Sacker curve classes of (9) on the stroboscopic map of (8)
-(:class:`~slosh_bif.orbits.codim2.impact_strobe.ImpactStrobe`), with the map's exact Jacobian and
+(:class:`~slosh_bif.orbits.impact.strobe.ImpactStrobe`), with the map's exact Jacobian and
 parameter derivatives; the second derivatives that the minimally augmented system needs along
 the null vector are central differences of that exact Jacobian.
 
 A curve keeps the number of impacts per period of its start: where that changes (grazing) or an
 impact reaches the section tau = ``phase``, the map is not smooth and the curve ends at the
 domain's edge (its status says so). The grazing points themselves are continued as curves too
-(:func:`trace_grazing_curve`, on :class:`~slosh_bif.orbits.codim2.impact_grazing.GrazingCurveProblem`).
+(:func:`trace_grazing_curve`, on :class:`~slosh_bif.orbits.impact.grazing.GrazingCurveProblem`).
 """
 
 from __future__ import annotations
@@ -28,10 +28,10 @@ from slosh_bif.orbits.codim2.curves import (
     start_multipliers,
     start_params,
 )
-from slosh_bif.orbits.codim2.impact_grazing import FREE, GrazingCurveProblem
-from slosh_bif.orbits.codim2.impact_strobe import ImpactStrobe
-from slosh_bif.orbits.impact_orbits import VARIANT_NAMES, ImpactOrbitProblem
-from slosh_bif.orbits.impact_output import orbit_measures
+from slosh_bif.orbits.impact.grazing import FREE, GrazingCurveProblem
+from slosh_bif.orbits.impact.output import orbit_measures
+from slosh_bif.orbits.impact.problem import VARIANT_NAMES, ImpactOrbitProblem
+from slosh_bif.orbits.impact.strobe import ImpactStrobe
 
 __all__ = ["ImpactCurveSeed", "trace_impact_curve", "trace_grazing_curve"]
 
@@ -162,7 +162,7 @@ def trace_grazing_curve(
     branch of orbits of (8): ``seed.x`` the orbit's state on its section tau = ``seed.phase``
     there) over ``box`` as :func:`trace_impact_curve` does for the other kinds. The seed is first
     moved onto the grazing exactly (Newton at its p1 on
-    :class:`~slosh_bif.orbits.codim2.impact_grazing.GrazingCurveProblem`); a seed that is not
+    :class:`~slosh_bif.orbits.impact.grazing.GrazingCurveProblem`); a seed that is not
     within 1e-4 of a regular grazing (a branch's GR points are located to 1e-9; the margin is for
     seeds given otherwise) is refused with the reason."""
     if seed.kind != "GR":

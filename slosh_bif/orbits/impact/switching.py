@@ -31,8 +31,8 @@ import numpy as np
 from slosh_bif.continuation import ContinuationOptions, ConvergenceError, newton_solve, switch_branch
 from slosh_bif.continuation.branch import BRANCH_POINT, FOLD, PERIOD_DOUBLING
 from slosh_bif.model.params import Params
-from slosh_bif.orbits.impact_branches import ImpactBranch, trace_impact_orbits
-from slosh_bif.orbits.impact_orbits import ImpactOrbitProblem
+from slosh_bif.orbits.impact.branches import ImpactBranch, trace_impact_orbits
+from slosh_bif.orbits.impact.problem import ImpactOrbitProblem
 
 __all__ = ["is_symmetric", "asymmetric_branches", "doubled_branches", "symmetric_branch"]
 

@@ -30,7 +30,7 @@ import numpy as np
 from scipy import linalg
 
 from slosh_bif.continuation.corrector import newton_solve
-from slosh_bif.flows.impact_band import law
+from slosh_bif.flows.impact.band import law
 
 __all__ = [
     "Contact",

@@ -6,7 +6,7 @@ kernels that the sympy derivation writes for (9) (``_generated/kernels.py``): (9
 everything shooting needs (variational equations, two parameter sensitivities, the Liouville
 integral; the (sigma, Abar) kernel or the pair kernel for any two parameters), and (9) with the
 random forcing of (47), the noise spline of :mod:`slosh_bif.flows.noise` added where cos(tau)
-enters. :mod:`slosh_bif.flows.integrator` is the interface. numba compiles these loops just in
+enters. :mod:`slosh_bif.flows.smooth.integrator` is the interface. numba compiles these loops just in
 time (with its on-disk cache), and :mod:`slosh_bif.flows.ahead_of_time` builds the same three
 into an extension module that loads without numba; without numba these are the plain Python
 functions (never called: the scipy path runs instead).
@@ -37,8 +37,8 @@ if HAVE_NUMBA:  # before any kernel compiles: the kernels' int_power becomes rep
 def _forget_compilations_of_other_kernels(compiled):
     """Remove this module's cached machine code when the generated kernels (or the integer power
     they call) have changed since it was compiled: numba keys a cache on the contents of the
-    function's own file only, and the loops here contain the kernels (a regenerated kernels.py
-    ran the old equations, seen)."""
+    function's own file only, and the loops here contain the kernels (without this, a regenerated
+    kernels.py would run the stale equations)."""
     try:
         folder = Path(compiled._cache._impl.locator.get_cache_path())
     except AttributeError:  # a numba without these internals: nothing to do
@@ -319,7 +319,7 @@ AHEAD_OF_TIME = {
 if HAVE_NUMBA:
     _forget_compilations_of_other_kernels(_dop853_loop)
 
-# The interface of :mod:`slosh_bif.flows.integrator` (its constants, the tableau that every loop
-# takes last and the status codes, are in :mod:`slosh_bif.flows.dop853_interface`).
+# The interface of :mod:`slosh_bif.flows.smooth.integrator` (its constants, the tableau that every loop
+# takes last and the status codes, are in :mod:`slosh_bif.flows.smooth.dop853_interface`).
 KERNELS = _RAW
 dop853_loop, grid_loop, arcs_loop = _dop853_loop, _grid_loop, _arcs_loop

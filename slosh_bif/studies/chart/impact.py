@@ -1,14 +1,13 @@
 """The (sigma, Abar) chart of the vibro-impact model (8): the curves where its periodic orbits
 fold (LP), double their period (PD), lose stability to a torus (NS), break their symmetry (BP)
 or graze the wall (GR: the number of impacts per period changes),
-traced in two parameters (:func:`~slosh_bif.orbits.codim2.impact_curves.trace_impact_curve`) from
+traced in two parameters (:func:`~slosh_bif.orbits.impact.curves.trace_impact_curve`) from
 every special point of its branches in sigma (the branch a simulation of (8) settles on and, for a
 symmetric one, the asymmetric branches born at its pitchforks, and the cascade born at their
 period doublings, within six branches: each branch's curves are of orbits of its period), and the
-least forcing Abar_c at
-which (8) has a stable periodic orbit, read off them as for (9) (:mod:`slosh_bif.studies.chart`). The result
-is a
-:class:`~slosh_bif.studies.chart.Chart`, written and drawn by the chart's own output functions.
+least forcing Abar_c at which (8) has a stable periodic orbit, read off them as for (9)
+(:mod:`slosh_bif.studies.chart.smooth`). The result is a
+:class:`~slosh_bif.studies.chart.result.Chart`, written and drawn by the chart's own output functions.
 
 A curve keeps its start's number of impacts per period; it ends at the domain's edge where that
 changes (on a grazing curve) or an impact reaches the section of its start (the chart does not yet
@@ -25,12 +24,11 @@ import numpy as np
 
 from slosh_bif.continuation import ConvergenceError
 from slosh_bif.model.params import Params
-from slosh_bif.orbits.codim2 import ImpactCurveSeed, trace_impact_curve
-from slosh_bif.orbits.codim2.impact_curves import trace_grazing_curve
-from slosh_bif.orbits.codim2.impact_strobe import least_impact_speed
-from slosh_bif.orbits.impact_branches import settled_orbit, trace_impact_orbits
-from slosh_bif.orbits.impact_orbits import VARIANT_NAMES, ImpactOrbitProblem
-from slosh_bif.orbits.impact_switching import (
+from slosh_bif.orbits.impact.branches import settled_orbit, trace_impact_orbits
+from slosh_bif.orbits.impact.curves import ImpactCurveSeed, trace_grazing_curve, trace_impact_curve
+from slosh_bif.orbits.impact.problem import VARIANT_NAMES, ImpactOrbitProblem
+from slosh_bif.orbits.impact.strobe import least_impact_speed
+from slosh_bif.orbits.impact.switching import (
     asymmetric_branches,
     doubled_branches,
     is_symmetric,
@@ -39,15 +37,15 @@ from slosh_bif.orbits.impact_switching import (
 from slosh_bif.orbits.settings import BRANCHING, BranchingSettings
 from slosh_bif.orbits.shooting import MAX_PERIOD_MULTIPLE
 from slosh_bif.slowflow.critical import critical_curve
-from slosh_bif.studies.chart import Chart, ChartSettings, chart_workers, check_box
-from slosh_bif.studies.chart_curves import CurveStart, trace_curves
+from slosh_bif.studies.chart.curves import CurveStart, trace_curves
+from slosh_bif.studies.chart.result import Chart, ChartSettings, chart_workers, check_box
 
 __all__ = ["impact_chart", "impact_family", "impact_curve_starts", "ImpactFamily", "NamedImpactBranch"]
 
 
 @dataclasses.dataclass(frozen=True)
 class NamedImpactBranch:
-    """A branch of orbits of (8) in sigma (:class:`~slosh_bif.orbits.impact_branches.ImpactBranch`),
+    """A branch of orbits of (8) in sigma (:class:`~slosh_bif.orbits.impact.branches.ImpactBranch`),
     its name, and whether it was traced on the half-period map (symmetric orbits)."""
 
     name: str
@@ -290,7 +288,7 @@ def _parents_orbit(params, param, piece, sp, variant) -> bool:
 
 def _within_grazing_rule(params, param, named, piece, sp) -> bool:
     """Whether the orbit at ``sp`` has an impact slower than
-    :data:`~slosh_bif.orbits.codim2.impact_strobe.MIN_IMPACT_SPEED` (or, for the corrected impact
+    :data:`~slosh_bif.orbits.impact.strobe.MIN_IMPACT_SPEED` (or, for the corrected impact
     model, than its law's least speed): a point the curves count as their grazing edge (a fold
     within a few 1e-6 of a grazing, say)."""
     problem = ImpactOrbitProblem(

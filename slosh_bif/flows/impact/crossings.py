@@ -1,4 +1,4 @@
-"""Impacts of (8) found with a certificate (the paragraph of :mod:`slosh_bif.flows.impact_flow`):
+"""Impacts of (8) found with a certificate (the paragraph of :mod:`slosh_bif.flows.impact.flow`):
 an interval of a flight is free of the wall when both parabolas bounding w from its ends stay below
 it; an interval holding exactly one crossing is solved by Newton on the flow's Taylor series (the
 Jacobian carried to it by the same series); the saltation matrix of an impact (derived by sympy)
@@ -173,36 +173,22 @@ def carry_taylor(K, Kp, terms, za, s, phi, dp, tmp):
 
 
 @jit
-def piece(
-    table,
-    dtable,
-    K,
-    Kp,
-    taylor,
-    lengths,
-    growth,
-    row_norm,
-    z,
-    k0,
-    out,
-    stack_z,
-    stack_k,
-    stack_s,
-    jac,
-    phi,
-    dp,
-    tmp,
-    za,
-    zb,
-    c,
-):
+def piece(flights, z, k0, out, work, variations, c):
     """Advance ``z`` over one dyadic piece of length ``lengths[k0]``, or to the first crossing of
     ``|w| = c`` in it (c = 1: an impact of (8)); with ``jac``, carry the variations ``phi``
     (d y / d y0) and ``dp`` (d y / d param) along.
 
+    The records: ``flights = (table, dtable, K, Kp, taylor, lengths, growth, row_norm)``, the
+    flights' constants of one parameter set (:class:`~slosh_bif.flows.impact.flow.ImpactFlow`);
+    ``work = (stack_z, stack_k, stack_s, tmp, za, zb)``, scratch arrays; ``variations = (jac,
+    phi, dp)``.
+
     Returns ``(side, s)``: side 0 and s the piece's length when it is free (``out`` is the end
     state), or the wall hit (+1/-1) and its offset s (``out`` is the state there, before the reset).
     """
+    table, dtable, K, Kp, taylor, lengths, growth, row_norm = flights
+    stack_z, stack_k, stack_s, tmp, za, zb = work
+    jac, phi, dp = variations
     top = 0
     stack_k[0] = k0
     stack_s[0] = 0.0

@@ -1,0 +1,114 @@
+"""What a chart is and how it is made, for the charts of both full models: the result
+(:class:`Chart`: the curves of orbit bifurcations in (sigma, second parameter), the slow flow's
+critical forcing of (46) beside them, what stopped early), its settings, and the checks of a
+box and of the worker count that run before any work."""
+
+from __future__ import annotations
+
+import dataclasses
+import os
+
+from slosh_bif.model.params import Params
+from slosh_bif.orbits.shooting import PARAMETERS
+
+__all__ = ["Chart", "ChartSettings", "check_box", "chart_workers"]
+
+
+@dataclasses.dataclass(frozen=True)
+class Chart:
+    """The chart's pieces: the orbit family it started from, the curves, the slow flow's critical
+    curve (None where (46) has none in the range), whether every start was tried (``status``) and
+    the starts that gave no curve (``failures``, each with its reason)."""
+
+    params: Params
+    sigma_range: tuple
+    abar_range: tuple  # the range of ``second``
+    family: object
+    curves: list
+    slow_flow_critical: object
+    seconds: float
+    status: str = "complete"  # or why the curves stopped early ("interrupted (SIGINT) after ...")
+    second: str = "Abar"  # the chart's second parameter
+    failures: tuple = ()  # CurveFailure of each start that gave no curve
+    # the model whose orbits the curves are of: the smooth model (9) or the impact model (8)
+    orbits: str = "(9)"
+
+    @property
+    def incomplete(self) -> list:
+        """Why the chart is not the whole answer, one line each: curves cut short, starts that gave no
+        curve."""
+        cut = [
+            f"curve {k} ({c.kind} from {c.origin}): {c.status}"
+            for k, c in enumerate(self.curves)
+            if c.status != "ok"
+        ]
+        return cut + [f"no {f.kind} curve from {f.origin}: {f.reason}" for f in self.failures]
+
+
+@dataclasses.dataclass(frozen=True)
+class ChartSettings:
+    """How a chart finds its curves' starts and shares the work.
+
+    Attributes
+    ----------
+    settle : int
+        Forcing periods of the simulation from the initial state that finds the start orbit.
+    seeds : int
+        Orbits of the primary branch, at evenly spread values of sigma, each continued in the
+        second parameter (their folds and period doublings start curves too).
+    workers : int or None
+        Processes tracing curves side by side (None: every core); the result does not depend on it.
+    model : str
+        The slow flow whose least forcing of the upper branch is drawn beside the curves.
+    """
+
+    settle: int = 150
+    seeds: int = 7
+    workers: int | None = None
+    model: str = "slowflow"
+
+    def __post_init__(self):
+        for name, low in (("settle", 1), ("seeds", 0)):
+            value = getattr(self, name)
+            if not (isinstance(value, int) and value >= low):
+                raise ValueError(f"ChartSettings.{name} must be an integer >= {low}; got {value!r}")
+        chart_workers(self.workers)
+
+
+def check_box(params: Params, sigma_range, second_range, second: str = "Abar"):
+    """One line before any work unless ``second`` is a real field other than sigma, the box is
+    not empty, both ends of the second range are admissible values (Abar >= 0, eps > 0, a real
+    restitution coefficient, ...) and the parameter set lies inside the box."""
+    if second == "sigma" or second not in PARAMETERS:
+        raise ValueError(
+            "the chart's second parameter must be one of "
+            f"{', '.join(p for p in PARAMETERS if p != 'sigma')} (sigma is the first); got "
+            f"{second!r}"
+        )
+    (s0, s1), (a0, a1) = sigma_range, second_range
+    if not (s0 < s1 and a0 < a1):
+        raise ValueError(
+            f"empty box: sigma in [{s0}, {s1}], {second} in [{a0}, {a1}] (need sigma_min < "
+            f"sigma_max and {second}_min < {second}_max)"
+        )
+    for end in (a0, a1):
+        try:
+            params.replace(**{second: end})
+        except ValueError as err:
+            raise ValueError(
+                f"the box's {second} range [{a0:g}, {a1:g}] leaves the parameter's range: {err}"
+            ) from None
+    if not (s0 <= params.sigma <= s1 and a0 <= getattr(params, second) <= a1):
+        raise ValueError(
+            f"the start (sigma = {params.sigma:g}, {second} = {getattr(params, second):g}) lies "
+            "outside the box"
+        )
+
+
+def chart_workers(workers) -> int:
+    """The number of processes tracing curves: ``workers``, or every core for None."""
+    if workers is None:
+        return os.cpu_count() or 1
+    if not (isinstance(workers, int) and workers >= 1):
+        raise ValueError(f"workers must be an integer >= 1; got {workers!r}")
+    return workers
