@@ -33,3 +33,28 @@ def scipy_flow():
 def scipy_multipliers():
     """``scipy_multipliers(P, y0, period)`` -> the eigenvalues of scipy's monodromy."""
     return lambda P, y0, period=2 * np.pi: np.linalg.eigvals(_scipy_period_map(P, y0, period)[1])
+
+
+def _scipy_orbit_amplitudes(params, sigmas):
+    """A1 of the stable 2pi-orbits of (9) at ``sigmas``, each from the slow flow's state by Newton
+    on scipy's integration (the fit's orbits use the compiled one)."""
+    from slosh_bif.identify.response_model import response_curve
+    from slosh_bif.orbits.orbit_tools import orbit_measures
+    from slosh_bif.orbits.shooting import ShootingProblem
+    from slosh_bif.orbits.starts import orbit_from_slow_flow
+
+    curve, out = response_curve(params), []
+    for s in sigmas:
+        at = params.replace(sigma=float(s))
+        orbit = orbit_from_slow_flow(at, max(a for a, ok in curve.states_at(s) if ok), backend="scipy")
+        assert orbit.converged and orbit.stable
+        problem = ShootingProblem(at, segments=4, backend="scipy")
+        out.append(orbit_measures(problem, problem.initial_states(orbit.y0, s), s)["A1"])
+    return np.array(out)
+
+
+@pytest.fixture(scope="session")
+def scipy_orbit_amplitudes():
+    """``scipy_orbit_amplitudes(params, sigmas)`` -> A1 of the stable 2pi-orbits of (9) at ``sigmas``,
+    found on scipy's integration (not the fits' compiled path)."""
+    return _scipy_orbit_amplitudes

@@ -62,7 +62,7 @@ def _fit_response(args) -> int:
         fit,
         paths,
         f"{fit.points} response points, {by}: {misfit} {_sum_of_squares(fit):.4g}, rms residual "
-        f"{fit.rms:.3g}",
+        f"{fit.rms:.3g}" + _goodness_line(fit),
     )
 
 
@@ -88,25 +88,34 @@ def _fit_time_series(args) -> int:
 
 
 def _report(fit, paths, headline: str) -> int:
-    """Print the headline, the estimates and the files; 3 where the fit did not converge."""
+    """Print the headline, the estimates and the files; 3 where the fit did not converge or the
+    fitted model does not describe the data (said in one line, with the p-value)."""
     print(headline)
     _print_estimates(fit)
     print("wrote " + ", ".join(str(p) for p in paths))
+    status = 0
+    if not getattr(fit, "describes", True):
+        print(
+            f"slosh-bif fit: {fit.goodness.statement}; the intervals above are conditional on it",
+            file=sys.stderr,
+        )
+        status = 3
     if not fit.converged:
         print(
             f"slosh-bif fit: the fit did not converge ({fit.message}); its best point is written",
             file=sys.stderr,
         )
-        return 3
-    return 0
+        status = 3
+    return status
 
 
 def _print_estimates(fit) -> None:
+    level = "95 %" if getattr(fit, "describes", True) else "95 % if the model were right"
     for name, e in fit.estimate.items():
         if "wald_95" in e:
             profile = e.get("profile_95")
             print(
-                f"  {name} = {e['value']:.6g} +- {e['std']:.2g} (95 %: Wald [{e['wald_95'][0]:.6g}, "
+                f"  {name} = {e['value']:.6g} +- {e['std']:.2g} ({level}: Wald [{e['wald_95'][0]:.6g}, "
                 f"{e['wald_95'][1]:.6g}]"
                 + (f", profile [{_bound(profile[0])}, {_bound(profile[1])}])" if profile else ")")
             )
@@ -114,6 +123,16 @@ def _print_estimates(fit) -> None:
             print(f"  {name} = {e['value']} (consistent at 95 %: {e.get('consistent_95')})")
     if fit.not_identifiable:
         print(f"  not identifiable: {fit.not_identifiable}")
+
+
+def _goodness_line(fit) -> str:
+    """The fit's p-value beside the misfit (with the std given: chi-square's tail; else the
+    residuals' structure, with the estimated noise)."""
+    g = fit.goodness
+    if g is None:
+        return ""
+    noise = "" if fit.scale_known else f", estimated noise {g.noise:.3g}"
+    return f" (p = {g.p_value:.2g}{noise})"
 
 
 def _sum_of_squares(fit) -> float:

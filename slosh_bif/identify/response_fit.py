@@ -40,6 +40,8 @@ import warnings
 
 import numpy as np
 
+from slosh_bif.identify.assignment import UNEXPLAINED, pick, unexplained
+from slosh_bif.identify.goodness import goodness
 from slosh_bif.identify.response_data import ResponseData
 from slosh_bif.identify.response_impact import ImpactResponse
 from slosh_bif.identify.response_integers import INTEGERS, integer_estimates, integer_sets, start_at
@@ -83,25 +85,28 @@ def residuals(data: ResponseData, params: Params, model: str = "slowflow") -> np
 
 
 def model_amplitudes(data: ResponseData, params: Params, model: str = "slowflow") -> np.ndarray:
-    """The amplitude of the steady state each point is on: the stable states at its sigma are
-    those of (46) and the impact-free response where the particle stays inside the walls
-    (:func:`~.response_model.impact_free`). A point without a sweep direction takes the one
-    nearest its amplitude. The points of an up-sweep (down-sweep), taken by increasing
-    (decreasing) sigma, follow the state the sweep is on: the first the one nearest its amplitude,
-    each next the one nearest the last's model amplitude (the same branch while it lasts; where
-    it ends, the state the sweep jumps to), so that where the model jumps is fitted to where the
-    measurement did. Any steady state where none is stable; 0 where there is none."""
+    """The amplitude of the steady state each point is compared with: the candidates at its sigma
+    are the steady states of (46) and the impact-free response where the particle stays inside the
+    walls (:func:`~.response_model.impact_free`), and the point takes the stable one that explains
+    it best, its sweep's continuing one where that explains it nearly as well
+    (:func:`~.assignment.pick`). Any steady state where none is stable; 0 where there is none."""
+    states = steady_states(data, params, model)
+    out = np.empty(len(data))
+    for i, previous in data.sweep_order():
+        candidates = states[i] or [(0.0, True)]
+        k = pick(data, i, None if previous is None else out[previous], candidates)
+        out[i] = candidates[k][0]
+    return out
+
+
+def steady_states(data: ResponseData, params: Params, model: str = "slowflow") -> list:
+    """(A, stable) of every steady state of the slow flow ``model`` at each point's sigma, the
+    impact-free response among them where it stays inside the walls."""
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", AsymptoticsWarning)
         # data in Hz: each point's own gamma and Abar, so its own curve
         shared = response_curve(params, model) if data.ratio is None else None
-        states = [_states(data, params, model, i, shared) for i in range(len(data))]
-    out = np.empty(len(data))
-    for i, previous in data.sweep_order():
-        target = data.A[i] if previous is None else out[previous]
-        stable = [a for a, ok in states[i] if ok] or [a for a, _ in states[i]] or [0.0]
-        out[i] = min(stable, key=lambda a: abs(a - target))
-    return out
+        return [_states(data, params, model, i, shared) for i in range(len(data))]
 
 
 def _states(data: ResponseData, params: Params, model: str, i: int, shared) -> list:
@@ -258,13 +263,15 @@ def fit_response(
     fitted = objective.params(z)
     converged = run is None or run.status > 0
     message = run.message if run is not None else "no continuous parameter to fit"
+    candidates = None  # the orbits found at each point near the estimate (orbit models)
     if objective.orbits is not None:
         # the orbits each point follows were chosen at the start's parameters; chosen again at the
-        # estimate (stable first, then nearest), they may be others (the start's stable set or
+        # estimate (:func:`~.assignment.pick`), they may be others (the start's stable set or
         # nearest orbit differed): then the fit is redone from the estimate, up to REFINDS times
         for _ in range(REFINDS):
             objective(z)  # the followed orbits at the estimate
             fresh = _Objective(data, fitted, continuous, model, say)
+            candidates = fresh.orbits.candidates
             r_fresh = fresh(z)
             if all(objective.orbits.stable) and misfit_of(r_fresh, scale_known) >= misfit - 1e-9 * abs(
                 misfit
@@ -319,6 +326,32 @@ def fit_response(
         estimate.update(dissipation_estimates(fitted, estimate["lam"]))
     values = {name: float(getattr(fitted, name)) for name in continuous} | integer_values
     rms = math.sqrt(float(r @ r) / len(r))
+    fitted = fitted.replace(**integer_values)
+    if candidates is None:
+        candidates = steady_states(data, fitted, model)
+    fitted_count = len(continuous) + sum(name in INTEGERS for name in free)
+    verdict = goodness(data, r, fitted_count, MODEL_NAMES[model])
+    stable = [[float(a) for a, ok in c if ok] for c in candidates]
+    bad = unexplained(data, stable, None if scale_known else verdict.noise)
+    if bad:
+        note = _join(
+            note,
+            f"No stable response of {MODEL_NAMES[model]} at the estimate explains the points at sigma = "
+            f"{', '.join(f'{data.sigma[i]:.4g}' for i in bad)} (each farther than {UNEXPLAINED:g} standard "
+            "deviations from every stable response there, or none there).",
+        )
+    model_A = data.A - (r * data.std if scale_known else r)
+    assignment = [
+        {
+            "sigma": float(data.sigma[i]),
+            "A": float(data.A[i]),
+            "sweep": data.sweep[i] if data.sweep else "",
+            "model_A": float(model_A[i]),
+            "stable_candidates": stable[i],
+            "explained": i not in bad,
+        }
+        for i in range(len(data))
+    ]
     return ResponseFit(
         free,
         values,
@@ -334,6 +367,8 @@ def fit_response(
         profiles,
         scale_known,
         r,
+        verdict,
+        assignment,
     )
 
 

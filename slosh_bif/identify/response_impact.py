@@ -5,12 +5,13 @@ the slow flow (46) is the expansion's alone.
 
 At the first parameter set each point's orbit is the impact-free response where it keeps inside the
 walls, or the one a simulation of (8) settles on from the slow flow's motion (25), (29), (35) on its
-stable steady state of (46) nearest the point's amplitude (a sweep's point: nearest the A1 its last
-point took; then from the others, nearest first, while the orbit found is unstable or its A1 more
-than :data:`FAR` off); Newton on the stroboscopic map polishes it, and the map's section is moved to
-the middle of the orbit's longest flight, where an impact does not cross it for small parameter
-changes. At any later set each orbit is Newton's from the last, stable or not, and an orbit Newton
-loses is reported, never replaced silently by another (as :mod:`.response_orbits` for (9)).
+stable steady state of (46) nearest the point's amplitude (then from the others, nearest first,
+while the orbit found is unstable or its A1 more than :data:`FAR` off), the point taking the stable
+orbit found that explains it best (:func:`~.assignment.pick`); Newton on the stroboscopic map
+polishes it, and the map's section is moved to the middle of the orbit's longest flight, where an
+impact does not cross it for small parameter changes. At any later set each orbit is Newton's
+from the last, stable or not, and an orbit Newton loses is reported, never replaced silently by
+another (as :mod:`.response_orbits` for (9)).
 """
 
 from __future__ import annotations
@@ -20,6 +21,7 @@ import warnings
 import numpy as np
 
 from slosh_bif.continuation.corrector import newton_solve
+from slosh_bif.identify.assignment import pick
 from slosh_bif.identify.response_model import impact_free, impact_free_state, response_curve
 from slosh_bif.identify.response_orbits import LostOrbit
 from slosh_bif.model.params import Params
@@ -49,21 +51,24 @@ class ImpactResponse:
             curve = response_curve(params) if data.ratio is None else None
         self.phase, self.x, self.stable = [None] * len(data), [None] * len(data), [None] * len(data)
         self.data = data
+        self.candidates = [None] * len(data)  # (A1, stable) of every orbit found at each point
         chosen = np.empty(len(data))
-        for i, previous in data.sweep_order():  # a sweep's points follow its last orbit's A1
+        for i, previous in data.sweep_order():
             s, at = self.sigma[i], data.params_at(params, i)
-            A = data.A[i] if previous is None else chosen[previous]
+            A = float(data.A[i])
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore", AsymptoticsWarning)
                 states = (curve or response_curve(at)).states_at(float(s))  # data in Hz: the point's set
             states = sorted(states, key=lambda st: (not st[1], abs(st[0] - A)))
-            best = None
+            best, found_all = None, []
             # the impact-free response first where it keeps inside the walls: an orbit as it is
             free = [None] if impact_free(at)[1] < 1.0 else []
             for A0 in free + [A0 for A0, _ in states or [(float(A), False)]]:
                 found = self._orbit(at, 0.0, impact_free_state(at)) if A0 is None else self._settle(at, A0)
-                if found is not None and (best is None or _better(found, best, A)):
-                    best = found
+                if found is not None:
+                    found_all.append(found)
+                    if best is None or _better(found, best, A):
+                        best = found
                 if best is not None and best[3] and abs(best[2] - A) <= FAR * A:
                     break
             if best is None:
@@ -72,6 +77,11 @@ class ImpactResponse:
                     "slow flow's steady states there settle on none (the response of the impact model there "
                     "may not be periodic; leave the point out or fit by another model)"
                 )
+            # the stable orbit that explains the point best, its sweep's continuing one where that
+            # explains it nearly as well
+            self.candidates[i] = [(f[2], f[3]) for f in found_all]
+            k = pick(data, i, None if previous is None else chosen[previous], self.candidates[i])
+            best = found_all[k]
             self.phase[i], self.x[i], self.stable[i], chosen[i] = best[0], best[1], best[3], best[2]
 
     def _settle(self, at: Params, A0: float):

@@ -4,9 +4,10 @@ approximates), followed from one parameter set to the next.
 
 At the first parameter set the family of 2pi-orbits is traced over the data's sigma range from a
 start on the slow flow (:func:`~slosh_bif.orbits.families.trace_orbits`, with switching at its
-pitchforks and period doublings); each point takes the orbit whose A1 is nearest its amplitude, a
-stable one where there is one, by interpolation between the branch's points, corrected by Newton at
-the point's own sigma (a sweep's point: the one nearest the A1 its last point took). Where none of
+pitchforks and period doublings); the orbits found at each point's sigma (interpolated between the
+branch's points, corrected by Newton at the point's own sigma) are its candidates, and the point
+takes the stable one that explains it best (:func:`~.assignment.pick`: a sweep's continuing orbit
+where that explains it nearly as well). Where none of
 those is stable, and for data in Hz (each point its own gamma and Abar, so no one family), the
 orbits Newton finds from the slow flow's motion on each steady state of (46) at the point's own set
 are tried too. At any later parameter set each orbit is Newton's from the last one (through
@@ -23,6 +24,7 @@ import warnings
 import numpy as np
 
 from slosh_bif.continuation.corrector import newton_solve
+from slosh_bif.identify.assignment import pick
 from slosh_bif.identify.response_model import impact_free, impact_free_state, response_curve
 from slosh_bif.model.params import Params
 from slosh_bif.orbits.families import trace_orbits
@@ -66,11 +68,11 @@ class OrbitResponse:
             say(f"orbits of (9): from the slow flow's steady states at each of {len(self.sigma)} points")
         self.family = family  # (9)'s orbits over the data's sigma range at ``params``, or None
         self.x, self.stable = [None] * len(data), [None] * len(data)
+        self.candidates = [None] * len(data)  # (A1, stable) of every orbit found at each point
         chosen = np.empty(len(data))
         problems = self._problems(params)
-        for i, previous in data.sweep_order():  # a sweep's points follow its last orbit's A1
+        for i, previous in data.sweep_order():
             problem, s = problems[i], self.sigma[i]
-            A = data.A[i] if previous is None else chosen[previous]
             guesses = [y0 for _, y0 in _near(family, s)] if family is not None else []
             at = data.params_at(params, i)
             if impact_free(at)[1] < 1.0:  # the non-resonant response: the linear flight's, nearly
@@ -85,8 +87,11 @@ class OrbitResponse:
                 found = [f for f in found if f is not None]
             if not found:
                 raise LostOrbit(f"no 2pi-orbit of (9) found at sigma = {s:.6g} to follow")
-            best = min(found, key=lambda f: (not f[2], abs(f[1] - A)))  # stable first, then nearest
-            self.x[i], self.stable[i], chosen[i] = best[0], best[2], best[1]
+            self.candidates[i] = _distinct([(f[1], f[2]) for f in found])
+            # the stable orbit that explains the point best, its sweep's continuing one where that
+            # explains it nearly as well
+            k = pick(data, i, None if previous is None else chosen[previous], [(f[1], f[2]) for f in found])
+            self.x[i], self.stable[i], chosen[i] = found[k][0], found[k][2], found[k][1]
 
     def amplitudes(self, params: Params) -> np.ndarray:
         """A1 at each point's sigma for ``params``; :class:`LostOrbit` where an orbit is lost. The
@@ -160,6 +165,15 @@ def _orbit(problem: ShootingProblem, x, sigma):
     free = measures["max_abs_w"] < FREE_W
     stable = bool(problem.is_stable(mu)) or (free and float(np.max(np.abs(mu))) <= 1.0 + NEUTRAL)
     return run.x, measures["A1"], stable
+
+
+def _distinct(candidates, tol=1e-7) -> list:
+    """The (A1, stable) candidates with the orbits that several guesses reached listed once."""
+    out = []
+    for A1, stable in sorted(candidates):
+        if not out or abs(A1 - out[-1][0]) > tol * max(1.0, abs(A1)) or stable != out[-1][1]:
+            out.append((float(A1), bool(stable)))
+    return out
 
 
 def _slow_flow_guesses(data, params: Params, i: int) -> list:

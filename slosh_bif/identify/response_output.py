@@ -96,15 +96,41 @@ def _plot_fit(fit, data, fitted: Params, path) -> Path:
             yerr = data.std[pick] * unit if data.std is not None else None
             name = f"measured ({direction}-sweep)" if direction else "measured"
             top.errorbar(x[pick], data.A[pick] * unit, yerr=yerr, fmt=marker, ms=4, color="k", label=name)
+    _plot_assignment(top, fit, x, unit)
     top.set_ylabel("amplitude A" + units)
     top.legend(fontsize=8)
     free = ", ".join(f"{k} = {v:.4g}" for k, v in fit.values.items())
-    top.set_title(f"frequency response fitted by {MODEL_NAMES[fit.model]}: {free}", fontsize=9)
+    verdict = "" if fit.describes else "\nTHE FITTED MODEL DOES NOT DESCRIBE THESE DATA (p < 0.001)"
+    top.set_title(f"frequency response fitted by {MODEL_NAMES[fit.model]}: {free}{verdict}", fontsize=9)
     bottom.axhline(0.0, color="0.6", lw=0.8)
     bottom.plot(x, fit.residuals, "o", ms=3, color="k")
     bottom.set_xlabel(xlabel)
     bottom.set_ylabel("residual / std" if data.std is not None else "residual")
     return save_figure(fig, path)
+
+
+def _plot_assignment(ax, fit, x, unit):
+    """Each point's stable candidates (grey ticks) and the one it is compared with (a thin line
+    from the point to it); the points no stable response explains circled."""
+    if not fit.assignment:
+        return
+    ticks = [(x[i], a * unit) for i, row in enumerate(fit.assignment) for a in row["stable_candidates"]]
+    if ticks:
+        tx, ty = zip(*ticks)
+        ax.plot(tx, ty, "_", ms=10, mew=1.2, color="0.55", label="stable responses at each point")
+    for i, row in enumerate(fit.assignment):
+        ax.plot([x[i], x[i]], [row["A"] * unit, row["model_A"] * unit], "-", color="tab:red", lw=0.6)
+    bad = [i for i, row in enumerate(fit.assignment) if not row["explained"]]
+    if bad:
+        ax.plot(
+            [x[i] for i in bad],
+            [fit.assignment[i]["A"] * unit for i in bad],
+            "o",
+            ms=11,
+            mfc="none",
+            color="tab:red",
+            label="explained by no stable response",
+        )
 
 
 def _plot_curve(ax, curve, data):

@@ -8,6 +8,7 @@ import math
 
 import numpy as np
 
+from slosh_bif.identify.goodness import Goodness
 from slosh_bif.model.params import Params
 from slosh_bif.model.restitution import dissipation_at_unit_speed
 
@@ -46,6 +47,14 @@ class ResponseFit:
     profiles: dict
     scale_known: bool
     residuals: np.ndarray  # at the estimate, per point (divided by std when given)
+    goodness: Goodness | None = None  # whether the fitted model describes the data
+    assignment: list = dataclasses.field(default_factory=list)  # per point: what it is compared with
+
+    @property
+    def describes(self) -> bool:
+        """False where the fitted model does not describe the data (its intervals are then
+        conditional on a model that does not fit)."""
+        return self.goodness is None or self.goodness.describes
 
     def params(self, base: Params) -> Params:
         return base.replace(**self.values)
@@ -66,6 +75,11 @@ class ResponseFit:
             "message": self.message,
             "profiles": {k: [list(map(float, row)) for row in v] for k, v in self.profiles.items()},
             "residuals": self.residuals.tolist(),
+            "goodness_of_fit": None if self.goodness is None else self.goodness.as_dict(),
+            "intervals": "95 %"
+            if self.describes
+            else "95 %, conditional on a model that does not describe the data",
+            "assignment": self.assignment,
         }
 
 

@@ -261,5 +261,5 @@ def fit_time_series(
         profiles,
         scale_known,
         r,
-        forced,
+        forced=forced,
     )

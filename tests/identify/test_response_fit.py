@@ -239,30 +239,12 @@ def test_random_admissible_sets_are_given_back_a_point_at_the_peak_included():
         assert fit.values["gamma"] == pytest.approx(truth.gamma, rel=1e-6), changes
 
 
-def _orbits_by_scipy(params, sigmas):
-    """A1 of the stable 2pi-orbits of (9) at ``sigmas``, each from the slow flow's state by Newton
-    on scipy's integration (the fit's orbits use the compiled one)."""
-    from slosh_bif.identify.response_model import response_curve
-    from slosh_bif.orbits.orbit_tools import orbit_measures
-    from slosh_bif.orbits.shooting import ShootingProblem
-    from slosh_bif.orbits.starts import orbit_from_slow_flow
-
-    curve, out = response_curve(params), []
-    for s in sigmas:
-        at = params.replace(sigma=float(s))
-        orbit = orbit_from_slow_flow(at, max(a for a, ok in curve.states_at(s) if ok), backend="scipy")
-        assert orbit.converged and orbit.stable
-        problem = ShootingProblem(at, segments=4, backend="scipy")
-        out.append(orbit_measures(problem, problem.initial_states(orbit.y0, s), s)["A1"])
-    return np.array(out)
-
-
-def test_the_full_model_fit_gives_back_gamma_where_the_slow_flow_is_biased():
+def test_the_full_model_fit_gives_back_gamma_where_the_slow_flow_is_biased(scipy_orbit_amplitudes):
     """Stable orbits of (9) above the resonance (Fig. 10 set, sigma in [4.5, 6], by scipy): fitted by
     (9)'s own orbits (compiled) gamma comes back to 1e-6; fitted by (46) it is off by more than
     5 % (the slow flow's error, 5 % in A there, read as damping)."""
     sigma = np.linspace(4.5, 6.0, 7)
-    data = ResponseData(sigma, _orbits_by_scipy(TRUTH, sigma), None, (), "orbits of (9)")
+    data = ResponseData(sigma, scipy_orbit_amplitudes(TRUTH, sigma), None, (), "orbits of (9)")
     smooth = fit_response(data, TRUTH.replace(gamma=0.15), ["gamma"], model="smooth")
     assert smooth.converged and smooth.values["gamma"] == pytest.approx(TRUTH.gamma, rel=1e-6)
     slow = fit_response(data, TRUTH.replace(gamma=0.15), ["gamma"])

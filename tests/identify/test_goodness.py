@@ -1,0 +1,121 @@
+"""Whether a fitted model describes its data: the chi-square's tail against draws of the null, the
+runs test and the sweep test against their closed forms and draws, which point takes which
+response (the sweep label as evidence), and a deliberately wrong model said out loud."""
+
+import json
+import math
+
+import numpy as np
+import pytest
+
+from slosh_bif import get_preset
+from slosh_bif.identify.assignment import pick, unexplained
+from slosh_bif.identify.goodness import THRESHOLD, goodness, runs_test, sweep_test
+from slosh_bif.identify.response_data import ResponseData
+
+
+def _data(A, std=None, sweep=()):
+    A = np.asarray(A, dtype=float)
+    return ResponseData(np.linspace(0.0, 1.0, len(A)), A, std, sweep, "test")
+
+
+def test_the_chi_square_p_value_is_uniform_under_the_null_and_tiny_for_a_wrong_model():
+    """Residuals that are standard normal (the model right, the std right): p below 0.05 in about
+    5 % of 400 draws; residuals of 3 std everywhere: below the threshold, with the statement."""
+    rng = np.random.default_rng(3)
+    data = _data(np.ones(20), np.ones(20))
+    # nothing fitted to these residuals: 20 degrees of freedom
+    ps = [goodness(data, rng.normal(size=20), 0, "m").p_value for _ in range(400)]
+    assert 0.025 < np.mean(np.array(ps) < 0.05) < 0.08
+    wrong = goodness(data, np.full(20, 3.0), 2, "the model")
+    assert not wrong.describes and wrong.p_value < THRESHOLD
+    assert wrong.statement.startswith(
+        "the model as fitted does not describe these data: chi-square 180 for 18"
+    )
+
+
+def test_the_runs_test_matches_its_closed_form():
+    """Ten points, five of each sign: two runs are the fewest possible; the normal approximation
+    of the Wald-Wolfowitz test (mean 6, variance 20/9) gives Phi((2 - 6) / sqrt(20/9))."""
+    r = np.array([1.0] * 5 + [-1.0] * 5)
+    assert runs_test(r, [list(range(10))]) == pytest.approx(
+        0.5 * math.erfc(4 / math.sqrt(20 / 9) / math.sqrt(2))
+    )
+    alternating = np.array([1.0, -1.0] * 5)
+    assert runs_test(alternating, [list(range(10))]) > 0.99
+    # random signs: p below 0.05 in at most a few per cent of draws (the approximation is conservative)
+    rng = np.random.default_rng(5)
+    ps = [runs_test(rng.normal(size=30), [list(range(30))]) for _ in range(400)]
+    assert np.mean(np.array(ps) < 0.05) < 0.08
+
+
+def test_the_sweep_test_sees_one_sweep_compared_with_another_response():
+    """Up and down sweeps at the same ten sigmas: residuals of pure noise are consistent; a down
+    sweep shifted by a constant (compared with another response than the up-sweep) is not."""
+    rng = np.random.default_rng(7)
+    sweeps = ("up",) * 10 + ("down",) * 10
+    data = ResponseData(np.tile(np.linspace(1, 2, 10), 2), np.ones(20), None, sweeps, "sweeps")
+    assert sweep_test(data, rng.normal(0, 0.01, 20)) > THRESHOLD
+    shifted = np.concatenate([rng.normal(0, 0.01, 10), 0.2 + rng.normal(0, 0.01, 10)])
+    assert sweep_test(data, shifted) < THRESHOLD
+    verdict = goodness(data, shifted, 1, "the slow flow")
+    assert not verdict.describes and "the up- and the down-sweep differ" in verdict.statement
+
+
+def test_a_point_takes_the_response_that_explains_it_and_its_sweep_decides_only_a_near_tie():
+    candidates = [(1.0, True), (2.0, True), (1.6, False)]
+    data = _data([1.9, 1.45, 1.55], std=np.full(3, 0.1))
+    assert pick(data, 0, None, candidates) == 1  # nearest stable; the unstable 1.6 is no candidate
+    # the sweep's last amplitude 1.0: its continuing candidate 1.0 fits 1.45 within 2 std of 2.0's fit
+    assert pick(data, 1, 1.0, candidates) == 0
+    assert pick(data, 0, 1.0, candidates) == 1  # 1.9 is 9 std from 1.0: the label does not force it
+    assert pick(data, 2, None, [(1.6, False), (3.0, False)]) == 0  # none stable: all are candidates
+    assert unexplained(data, [[1.0], [1.5], []]) == [0, 2]  # 9 std off, 0.5 std, no stable response
+
+
+@pytest.fixture(scope="module")
+def biased_data(scipy_orbit_amplitudes):
+    """Stable orbits of (9) above the resonance (Fig. 10 set, sigma in [4.5, 6]) by scipy, where the
+    slow flow is 5 % off, with a std of 0.5 % of each amplitude."""
+    truth = get_preset("fig10").params
+    sigma = np.linspace(4.5, 6.0, 7)
+    A = scipy_orbit_amplitudes(truth, sigma)
+    return truth, ResponseData(sigma, A, 0.005 * A, (), "orbits of (9)")
+
+
+def test_a_wrong_model_is_said_not_to_describe_the_data(biased_data, tmp_path):
+    """The same orbits fitted by (9) describe the data (p near 1); fitted by the slow flow (46) the
+    misfit is stated with its chi-square and p-value, the fit's status is 3 and fit.json says
+    that the intervals are conditional."""
+    from slosh_bif.identify.response_fit import fit_response
+
+    truth, data = biased_data
+    right = fit_response(data, truth.replace(gamma=0.15), ["gamma"], model="smooth")
+    assert right.describes and right.goodness.p_value > 0.5
+    wrong = fit_response(data, truth.replace(gamma=0.15), ["gamma"])
+    assert not wrong.describes
+    assert "does not describe these data: chi-square" in wrong.goodness.statement
+    assert "6 degrees of freedom" in wrong.goodness.statement
+    record = wrong.as_dict()
+    assert record["goodness_of_fit"]["describes_the_data"] is False
+    assert "conditional" in record["intervals"] and len(record["assignment"]) == 7
+    json.dumps(record)  # it serialises
+
+
+def test_the_command_exits_3_and_says_why(biased_data, tmp_path, capsys):
+    from slosh_bif.cli import main
+
+    truth, data = biased_data
+    path = tmp_path / "orbits.csv"
+    rows = ["sigma,A,std"] + [
+        f"{s!r},{a!r},{d!r}" for s, a, d in zip(*map(np.ndarray.tolist, (data.sigma, data.A, data.std)))
+    ]
+    path.write_text("\n".join(rows) + "\n")
+    status = main(
+        ["fit", "--preset", "fig10", "--set", "gamma=0.15", "--data", str(path), "--free", "gamma"]
+        + ["--out", str(tmp_path / "fit"), "-q"]
+    )
+    out, err = capsys.readouterr()
+    assert status == 3
+    assert "does not describe these data: chi-square" in err and "conditional" in err
+    assert "95 % if the model were right" in out
