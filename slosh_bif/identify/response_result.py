@@ -49,6 +49,7 @@ class ResponseFit:
     residuals: np.ndarray  # at the estimate, per point (divided by std when given)
     goodness: Goodness | None = None  # whether the fitted model describes the data
     assignment: list = dataclasses.field(default_factory=list)  # per point: what it is compared with
+    minima: list = dataclasses.field(default_factory=list)  # the global search's best and runner-up
 
     @property
     def describes(self) -> bool:
@@ -80,6 +81,7 @@ class ResponseFit:
             if self.describes
             else "95 %, conditional on a model that does not describe the data",
             "assignment": self.assignment,
+            "minima": self.minima,
         }
 
 

@@ -18,6 +18,8 @@ __all__ = [
     "misfit_of",
     "seeded_starts",
     "spread_starts",
+    "search_starts",
+    "SEARCH",
     "least_squares",
     "wald",
     "profile",
@@ -47,6 +49,24 @@ def spread_starts(z0, lower, upper, factors=ORBIT_SPREAD) -> list:
     """z0 scaled by each of ``factors`` (the first 1), inside (lower, upper): starts far enough
     apart to reach the other minima an orbit fit has (each start chooses its orbits afresh)."""
     return [np.clip(z0 * f, *_inside(lower, upper)) for f in factors]
+
+
+SEARCH = 8  # seeded Latin-hypercube starts of the global search, beside the given ones
+SEARCH_SPAN = 4.0  # the search box: each start value divided and multiplied by this (log scale)
+
+
+def search_starts(z0, lower, upper, rng, count=SEARCH) -> list:
+    """``count`` seeded Latin-hypercube points (one in each of ``count`` strata of every
+    parameter, the strata paired at random) over the box [z0 / 4, 4 z0] in log scale, cut to the
+    parameters' ranges (lower, upper); a parameter at 0 spans [1/4, 4]."""
+    z0 = np.asarray(z0, dtype=float)
+    lo_in, hi_in = _inside(lower, upper)
+    base = np.where(np.abs(z0) > 0, np.abs(z0), 1.0)
+    lo = np.maximum(np.log(base / SEARCH_SPAN), np.log(np.maximum(lo_in, 1e-300)))
+    hi = np.minimum(np.log(base * SEARCH_SPAN), np.log(hi_in))
+    strata = np.column_stack([rng.permutation(count) for _ in z0]) if len(z0) else np.zeros((count, 0))
+    unit = (strata + rng.uniform(size=strata.shape)) / count
+    return [np.clip(np.exp(lo + u * (hi - lo)), lo_in, hi_in) for u in unit]
 
 
 def _inside(lower, upper):

@@ -48,12 +48,12 @@ def test_the_tanks_wall_comes_back_within_one_percent_without_noise(tank, tmp_pa
 def test_the_orbit_fits_derivatives_match_central_differences_of_its_residuals(tank, tmp_path):
     """The fit's Jacobian from (9)'s variational equations, each point's gamma and Abar scaled
     to its frequency, against central differences of the residuals (orbits Newton solves again)."""
-    from slosh_bif.identify.response_fit import _Objective
+    from slosh_bif.identify.response_objective import Objective
 
     folder, f, A = tank
     data, truth = _data(folder, f, A, 1e-3, tmp_path / "exact.csv")
     names = ("lam", "gamma", "Abar")
-    objective = _Objective(data, truth, names, "smooth")
+    objective = Objective(data, truth, names, "smooth")
     z = np.array([truth.lam, truth.gamma, truth.Abar])
     J = objective.jacobian(z)
     for k in range(len(z)):
