@@ -1,0 +1,55 @@
+"""A frequency response made outside the fit's code path: up- and down-sweeps of settled orbits of
+(9) at a parameter set that is no preset (eps 0.05, beta 0.3, gamma 0.3, lam 0.3, chi 0.2, n 20,
+Abar 2), integrated by scipy alone (``examples/sweep_response.py``), fitted back by (9)'s orbits
+from starts 50 % off in each free parameter."""
+
+import importlib.util
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from slosh_bif.identify.response_data import ResponseData
+from slosh_bif.identify.response_fit import fit_response
+
+_spec = importlib.util.spec_from_file_location(
+    "sweep_response", Path(__file__).parents[2] / "examples" / "sweep_response.py"
+)
+example = importlib.util.module_from_spec(_spec)
+_spec.loader.exec_module(example)
+TRUTH = example.TRUTH
+
+
+def _clean(sigmas=example.SIGMAS):
+    sigma, A, _, sweeps = example.response(sigmas=sigmas, noise=0.0)
+    return ResponseData(sigma, A, None, sweeps, "clean sweeps")
+
+
+@pytest.fixture(scope="module")
+def clean():
+    """Five sigmas a sweep (the example's ten in the slow test)."""
+    return _clean(np.linspace(1.6, 5.0, 5))
+
+
+@pytest.mark.slow  # the sweeps and two orbit fits with the global search (about 3 min)
+@pytest.mark.parametrize("factor", [0.5, 1.5])
+def test_clean_sweeps_give_the_truth_back_from_starts_half_off(factor):
+    clean = _clean()
+    start = TRUTH.replace(lam=factor * TRUTH.lam, gamma=factor * TRUTH.gamma)
+    fit = fit_response(clean, start, ["lam", "gamma"], model="smooth")
+    assert fit.describes and all(row["explained"] for row in fit.assignment)
+    assert fit.values["gamma"] == pytest.approx(TRUTH.gamma, rel=1e-2)
+    assert fit.values["lam"] == pytest.approx(TRUTH.lam, rel=1e-2)
+
+
+@pytest.mark.slow  # the sweeps by scipy and a fit by (9) (about 2 min)
+def test_both_sweeps_are_compared_with_the_same_orbits_where_they_measured_the_same(clean):
+    """The data's two sweeps landed on the same orbits: at the truth each point is compared with
+    an orbit within 1e-6 of it (one gamma-only fit by (9) from 0.2, the scipy data against the
+    compiled orbits), up and down alike."""
+    fit = fit_response(clean, TRUTH.replace(gamma=0.2), ["gamma"], model="smooth")
+    assert fit.values["gamma"] == pytest.approx(TRUTH.gamma, rel=1e-4)
+    model_A = np.array([row["model_A"] for row in fit.assignment])
+    assert np.max(np.abs(model_A - clean.A)) < 1e-5
+    up, down = model_A[: len(model_A) // 2], model_A[len(model_A) // 2 :]
+    assert np.max(np.abs(up - down)) < 1e-5
