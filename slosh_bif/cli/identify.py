@@ -45,18 +45,28 @@ def _fit_response(args) -> int:
     from slosh_bif.model.parameter_file import read_site
 
     model = args.model or "slowflow"
-    if model not in MODELS:
+    if model not in MODELS + ("auto",):
         raise ValueError(
             f"--model for a frequency response must be one of {', '.join(MODELS)} (the slow flows, the "
-            f"smooth model (9), the impact model (8) and the corrected impact model); got {model!r}"
+            f"smooth model (9), the impact model (8) and the corrected impact model) or auto (the "
+            f"lightest that describes the data); got {model!r}"
         )
     free = _free(args, RESPONSE_FREE, "a frequency response")
     base = params_of(args)
     site = read_site(args.params) if args.params is not None else None
     data = read_response_data(args.data, base, site)
-    fit = fit_response(data, base, free, model=model, seed=args.seed, progress=progress)
+    if model == "auto":
+        from slosh_bif.identify.response_ladder import fit_by_ladder
+
+        fit = fit_by_ladder(data, base, free, seed=args.seed, progress=progress)
+        for rung in fit.ladder:
+            print(
+                f"  {'used' if rung['used'] else 'passed over'}: {MODEL_NAMES[rung['model']]}: {rung['why']}"
+            )
+    else:
+        fit = fit_response(data, base, free, model=model, seed=args.seed, progress=progress)
     paths = write_response_fit(fit, data, base, args.out)
-    by = MODEL_NAMES[model]
+    by = MODEL_NAMES[fit.model]
     misfit = "chi-square" if fit.scale_known else "residual sum of squares"
     return _report(
         fit,
@@ -211,8 +221,9 @@ def add_commands(sub) -> None:
         default=None,
         help="for a frequency response: slowflow (default; eq. 46 with the law 21), corrected (the "
         "corrected slow flow, the wall's measured law), smooth (the stable orbits of the full model 9), "
-        "impact (the stable orbits of the vibro-impact model 8) or impact-corrected (of the corrected "
-        "impact model)",
+        "impact (the stable orbits of the vibro-impact model 8), impact-corrected (of the corrected "
+        "impact model) or auto (the lightest of slowflow, corrected, impact, smooth that describes the "
+        "data within its checked range, the others reported with why)",
     )
     fit.add_argument(
         "--record",

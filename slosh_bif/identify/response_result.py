@@ -50,6 +50,7 @@ class ResponseFit:
     goodness: Goodness | None = None  # whether the fitted model describes the data
     assignment: list = dataclasses.field(default_factory=list)  # per point: what it is compared with
     minima: list = dataclasses.field(default_factory=list)  # the global search's best and runner-up
+    ladder: list = dataclasses.field(default_factory=list)  # --model auto: every rung tried, and why
 
     @property
     def describes(self) -> bool:
@@ -82,7 +83,7 @@ class ResponseFit:
             else "95 %, conditional on a model that does not describe the data",
             "assignment": self.assignment,
             "minima": self.minima,
-        }
+        } | ({"ladder": self.ladder} if self.ladder else {})
 
 
 def dissipation_estimates(params: Params, lam: dict) -> dict:

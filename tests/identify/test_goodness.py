@@ -119,3 +119,26 @@ def test_the_command_exits_3_and_says_why(biased_data, tmp_path, capsys):
     assert status == 3
     assert "does not describe these data: chi-square" in err and "conditional" in err
     assert "95 % if the model were right" in out
+
+
+def test_the_ladder_passes_over_the_models_that_do_not_describe_the_data(biased_data):
+    """(9)'s orbits with a 0.5 % std: the slow flows do not describe them (their bias is 5 % in A
+    there), (9) does and is used; every rung is reported with its verdict."""
+    from slosh_bif.identify.response_ladder import fit_by_ladder
+
+    truth, data = biased_data
+    fit = fit_by_ladder(data, truth.replace(gamma=0.15), ["gamma"])
+    assert fit.model == "smooth" and fit.describes
+    assert fit.values["gamma"] == pytest.approx(truth.gamma, rel=1e-3)
+    rungs = {row["model"]: row for row in fit.ladder}
+    assert not rungs["slowflow"]["used"] and "does not describe" in rungs["slowflow"]["why"]
+    assert rungs["smooth"]["used"] and list(rungs)[-1] == "smooth"
+
+
+def test_a_sweep_of_one_point_is_warned_of():
+    from slosh_bif.identify.response_fit import SweepWarning, fit_response
+
+    truth = get_preset("fig10").params
+    data = ResponseData(np.array([4.5, 5.0, 5.5]), np.array([0.6, 0.5, 0.45]), None, ("up", "", ""), "one")
+    with pytest.warns(SweepWarning, match="the up-sweep has one point only"):
+        fit_response(data, truth, ["gamma"])
