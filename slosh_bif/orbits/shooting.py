@@ -303,6 +303,11 @@ class ShootingProblem:
         arcs = self._arcs(x, p)
         return arcs.monodromy, arcs.trace, arcs.mats
 
+    def liouville_trace(self, x, p) -> float:
+        """The integral of tr J along the problem's arcs (Liouville: their transition matrices'
+        determinants multiply to its exponential)."""
+        return float(self._monodromy_and_trace(x, p)[1])
+
     def eigenvalues(self, x, p):
         """The Floquet multipliers of the orbit (over its whole period), largest modulus first, by
         the periodic Schur decomposition of the arc matrices (:mod:`slosh_bif.orbits.floquet`),
