@@ -190,7 +190,7 @@ def fit_response(
     fitted = objective.params(z)
     converged = run is None or run.status > 0
     message = run.message if run is not None else "no continuous parameter to fit"
-    candidates = None  # the orbits found at each point near the estimate (orbit models)
+    found = None  # (A1, stable) of the orbits found at each point near the estimate (orbit models)
     if objective.orbits is not None:
         # the orbits each point follows were chosen at the start's parameters; chosen again at the
         # estimate (:func:`~.assignment.pick`), they may be others (the start's stable set or
@@ -198,7 +198,7 @@ def fit_response(
         for _ in range(REFINDS):
             objective(z)  # the followed orbits at the estimate
             fresh = Objective(data, fitted, continuous, model, say)
-            candidates = fresh.orbits.candidates
+            found = fresh.orbits.candidates
             r_fresh = fresh(z)
             if all(objective.orbits.stable) and misfit_of(r_fresh, scale_known) >= misfit - 1e-9 * abs(
                 misfit
@@ -261,11 +261,11 @@ def fit_response(
     values = {name: float(getattr(fitted, name)) for name in continuous} | integer_values
     rms = math.sqrt(float(r @ r) / len(r))
     fitted = fitted.replace(**integer_values)
-    if candidates is None:
-        candidates = steady_states(data, fitted, model)
+    if found is None:
+        found = steady_states(data, fitted, model)
     fitted_count = len(continuous) + sum(name in INTEGERS for name in free)
     verdict = goodness(data, r, fitted_count, MODEL_NAMES[model])
-    stable = [[float(a) for a, ok in c if ok] for c in candidates]
+    stable = [[float(a) for a, ok in c if ok] for c in found]
     bad = unexplained(data, stable, None if scale_known else verdict.noise)
     if bad:
         note = _join(
