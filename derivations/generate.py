@@ -52,8 +52,23 @@ def _models_module() -> str:
         block = M.row_join(impact_forcing)
         return sp.Matrix.vstack(*(block.diff(q) for q in linear))
 
+    dirs = tuple(tuple(sp.symbols(f"{name}0:4", real=True)) for name in ("a", "b", "c"))
     functions = [
         F("smooth_rhs", "Right-hand side of the smooth model (9); y = [X, X', w, w'].", state, full, smooth),
+        F(
+            "smooth_second",
+            "Second derivative of (9)'s right-hand side along a and b, f_yy[a, b] (the wall's terms).",
+            state + (("a", dirs[0]), ("b", dirs[1])),
+            full,
+            m.directional(smooth, dirs[0], dirs[1]),
+        ),
+        F(
+            "smooth_third",
+            "Third derivative of (9)'s right-hand side along a, b and c, f_yyy[a, b, c].",
+            state + (("a", dirs[0]), ("b", dirs[1]), ("c", dirs[2])),
+            full,
+            m.directional(smooth, *dirs),
+        ),
         F(
             "smooth_jac",
             "Jacobian d(rhs)/dy of the smooth model (9), shape (4, 4, ...).",

@@ -68,6 +68,26 @@ def jacobian(rhs):
     return rhs.jacobian(sp.Matrix(STATE)).applyfunc(guard_zero_power)
 
 
+def guard_negative_powers(expr):
+    """``w**(2p - k)`` as ``w**max(2p - k, 0)`` (k = 1, 2, 3): the second and third derivatives of
+    the wall's damping lam w' w^(2p) carry 2p (2p - 1) (2p - 2), which vanishes exactly where the
+    power would be negative, so the guarded form is finite at w = 0 and exact for every p >= 0."""
+    expr = sp.powsimp(sp.expand(expr), force=True)
+    return expr.replace(
+        lambda e: e.is_Pow and e.base == w and any(sp.simplify(e.exp - (2 * p - k)) == 0 for k in (1, 2, 3)),
+        lambda e: w ** sp.Max(e.exp, 0),
+    )
+
+
+def directional(rhs, *directions):
+    """The derivative of ``rhs`` in the state along each of ``directions`` in turn (vectors of
+    symbols): f_yy[a, b] for two, f_yyy[a, b, c] for three; the contraction, not the tensor."""
+    out = rhs
+    for direction in directions:
+        out = sum((out.diff(s) * d for s, d in zip(STATE, direction)), sp.zeros(*rhs.shape))
+    return out.applyfunc(guard_negative_powers)
+
+
 def smooth_energy():
     """Energy H of (9): conserved when gamma = lam = Abar = 0 (weights 1 and eps on the two rows)."""
     a, b, c, d = smooth_coefficients()

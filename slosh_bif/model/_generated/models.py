@@ -28,6 +28,43 @@ def smooth_rhs(tau, y, eps, beta, gamma, sigma, Abar, lam, chi, n, p):
     return out
 
 
+def smooth_second(tau, y, a, b, eps, beta, gamma, sigma, Abar, lam, chi, n, p):
+    """Second derivative of (9)'s right-hand side along a and b, f_yy[a, b] (the wall's terms)."""
+    X, Xd, w, wd = y
+    a0, a1, a2, a3 = a
+    b0, b1, b2, b3 = b
+    x0 = a2*b2
+    x1 = chi*w**(2*n - 1)*x0
+    x2 = lam*p*w**max(0, 2*p - 1)
+    x3 = w**max(0, 2*(p - 1))
+    shape = numpy.broadcast(X, Xd, w, wd, a0, a1, a2, a3, b0, b1, b2, b3, tau).shape
+    out = numpy.zeros((4,) + shape)
+    out[3] = 2*a2*b2*lam*p*wd*x3 - 2*a2*b3*x2 - 2*a3*b2*x2 - 4*lam*p**2*wd*x0*x3 - 4*n**2*x1 - 2*n*x1
+    return out
+
+
+def smooth_third(tau, y, a, b, c, eps, beta, gamma, sigma, Abar, lam, chi, n, p):
+    """Third derivative of (9)'s right-hand side along a, b and c, f_yyy[a, b, c]."""
+    X, Xd, w, wd = y
+    a0, a1, a2, a3 = a
+    b0, b1, b2, b3 = b
+    c0, c1, c2, c3 = c
+    x0 = w**(2*n - 2)
+    x1 = a2*b2
+    x2 = c2*x1
+    x3 = w**max(0, 2*(p - 1))
+    x4 = 2*p
+    x5 = w**max(0, x4 - 3)
+    x6 = lam*wd*x2*x5
+    x7 = p**2
+    x8 = 2*lam*x3*x7
+    x9 = c2*x8
+    shape = numpy.broadcast(X, Xd, w, wd, a0, a1, a2, a3, b0, b1, b2, b3, c0, c1, c2, c3, tau).shape
+    out = numpy.zeros((4,) + shape)
+    out[3] = 2*a2*b2*c2*chi*n*x0 + 12*a2*b2*c2*lam*wd*x5*x7 + 2*a2*b2*c3*lam*p*x3 + 2*a2*b3*c2*lam*p*x3 - 2*a2*b3*x9 + 2*a3*b2*c2*lam*p*x3 - 2*a3*b2*x9 - 2*c3*x1*x8 - 8*chi*n**3*x0*x2 - 8*p**3*x6 - 2*x4*x6
+    return out
+
+
 def smooth_jac(tau, y, eps, beta, gamma, sigma, Abar, lam, chi, n, p):
     """Jacobian d(rhs)/dy of the smooth model (9), shape (4, 4, ...)."""
     X, Xd, w, wd = y

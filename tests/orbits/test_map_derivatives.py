@@ -1,0 +1,98 @@
+"""The generated second and third derivatives of (9)'s right-hand side and the map's second and
+third derivatives from the higher-order variational equations, against central differences of
+the first-order ones (the generated Jacobian; scipy's monodromy by its own variational
+equations), at a wall with pbar != 0."""
+
+import numpy as np
+import pytest
+
+from slosh_bif import get_preset
+from slosh_bif.model._generated import models as gen
+from slosh_bif.orbits.map_derivatives import FlowDerivatives
+
+P = get_preset("fig10").params.replace(n=6, pbar=2, sigma=1.5, lam=0.1)  # lam w' w^(2p) with p = 4
+PARS = (P.eps, P.beta, P.gamma, P.sigma, P.Abar, P.lam, P.chi, P.n, P.p)
+RNG = np.random.default_rng(11)
+Y = np.array([0.3, -0.2, 0.93, 0.7])  # inside the wall's steep part
+A, B, C = (RNG.normal(size=4) for _ in range(3))
+
+
+def test_the_generated_second_and_third_derivatives_are_those_of_the_jacobian():
+    h = 1e-6
+    fd = (gen.smooth_jac(0.3, Y + h * B, *PARS) - gen.smooth_jac(0.3, Y - h * B, *PARS)) @ A / (2 * h)
+    exact = gen.smooth_second(0.3, Y, A, B, *PARS)
+    assert np.allclose(exact, fd, rtol=1e-6, atol=1e-6 * np.abs(fd).max())
+    assert np.allclose(exact, gen.smooth_second(0.3, Y, B, A, *PARS), rtol=1e-13)  # symmetric
+    fd3 = (
+        gen.smooth_second(0.3, Y + h * C, A, B, *PARS) - gen.smooth_second(0.3, Y - h * C, A, B, *PARS)
+    ) / (2 * h)
+    exact3 = gen.smooth_third(0.3, Y, A, B, C, *PARS)
+    assert np.allclose(exact3, fd3, rtol=1e-6, atol=1e-6 * np.abs(fd3).max())
+    # finite at w = 0, where w^(2p - k) would be 0^-k without the guard
+    assert np.all(np.isfinite(gen.smooth_third(0.0, np.zeros(4), A, B, C, *PARS)))
+
+
+@pytest.fixture(scope="module")
+def flow():
+    return FlowDerivatives(P, Y, 1.2)
+
+
+def test_the_maps_second_derivative_is_the_difference_of_scipys_monodromy(flow, scipy_flow):
+    h = 1e-5
+    plus = scipy_flow(P, Y + h * B, 1.2)[1]
+    minus = scipy_flow(P, Y - h * B, 1.2)[1]
+    fd = (plus - minus) @ A / (2 * h)
+    exact = flow.second(A, B)
+    assert np.allclose(exact, fd, rtol=1e-5, atol=1e-5 * np.abs(fd).max())
+    assert np.allclose(flow.jacobian(), scipy_flow(P, Y, 1.2)[1], rtol=1e-8, atol=1e-9)
+
+
+def test_the_maps_third_derivative_is_the_difference_of_its_second(flow):
+    h = 1e-4
+    plus = FlowDerivatives(P, Y + h * C, 1.2).second(A, B)
+    minus = FlowDerivatives(P, Y - h * C, 1.2).second(A, B)
+    fd = (plus - minus) / (2 * h)
+    exact = flow.third(A, B, C)
+    assert np.allclose(exact, fd, rtol=1e-5, atol=1e-5 * np.abs(fd).max())
+
+
+def test_complex_directions_follow_by_multilinearity(flow):
+    q = A + 1j * B
+    assert np.allclose(flow.second(q, np.conj(q)), flow.second(A, A) + flow.second(B, B), rtol=1e-12)
+    value = flow.third(q, q, np.conj(q))
+    assert np.allclose(value.real, flow.third(A, A, A) + flow.third(B, B, A), rtol=1e-10)
+
+
+@pytest.fixture(scope="module")
+def fig13_pitchforks():
+    """The Fig. 13 set's symmetric branch over sigma in [-2.5, 1] with the asymmetric pair switched
+    onto at its pitchforks (-2.034 and 0.374)."""
+    from slosh_bif.orbits.families import trace_orbits
+    from slosh_bif.orbits.settings import ParameterRange
+    from slosh_bif.orbits.starts import slow_flow_start
+
+    start = slow_flow_start(get_preset("fig13").params, -2.5, 1.0, segments=4)
+    return trace_orbits(start.params, start.y0, interval=ParameterRange(name="sigma", lo=-2.5, hi=1.0))
+
+
+@pytest.mark.slow  # the Fig. 13 family with its switched branches (about 20 s)
+def test_each_pitchforks_verdict_is_what_its_switched_branch_does(fig13_pitchforks):
+    """Soft: the asymmetric pair is born on the side where the symmetric orbit is unstable, and
+    stable; hard: on the side where it is stable, and unstable (the package's own switched branch,
+    found without the coefficient)."""
+    from slosh_bif.orbits.map_derivatives import criticality
+
+    symmetric, *others = fig13_pitchforks.branches
+    pair = next(ob for ob in others if ob.name == "asymmetric")
+    for sp in (s for s in symmetric.branch.special if s.kind == "BP"):
+        nf = criticality(symmetric.problem.params_at(sp.p), sp.x[:4], "BP", symmetric=True)
+        near = np.flatnonzero(np.abs(pair.branch.p - sp.p) < 0.02)
+        assert near.size, f"no asymmetric orbit near the BP at {sp.p}"
+        side = np.sign(np.median(pair.branch.p[near] - sp.p))
+        k = int(np.argmin(np.abs(symmetric.branch.p - (sp.p + 0.05 * side))))
+        parent_stable_there = bool(symmetric.branch.stable[k])
+        pair_stable = bool(np.all(pair.branch.stable[near]))
+        soft = not parent_stable_there and pair_stable
+        hard = parent_stable_there and not pair_stable
+        assert soft or hard
+        assert nf.verdict == ("soft" if soft else "hard"), (sp.p, nf.coefficient)
