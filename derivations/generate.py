@@ -192,6 +192,35 @@ def _kernels_module() -> str:
     )
     state = (("y", m.STATE),)
     augmented = (("z", tuple(m.STATE) + tuple(phi) + tuple(s_sigma) + tuple(s_abar) + (sp.Symbol("trace"),)),)
+    # the map's second and third derivatives along u, v, w (orbits/map_derivatives.py)
+    du, dv, dw, Wuv, Wuw, Wvw, Z = (
+        sp_matrix(sp.symbols(f"{name}0:4", real=True))
+        for name in ("du", "dv", "dw", "Wuv", "Wuw", "Wvw", "Z")
+    )
+    S = lambda a, b: m.directional(f, a, b)  # noqa: E731
+    third = sp_matrix(
+        list(f)
+        + list(J * du)
+        + list(J * dv)
+        + list(J * dw)
+        + list(J * Wuv + S(du, dv))
+        + list(J * Wuw + S(du, dw))
+        + list(J * Wvw + S(dv, dw))
+        + list(J * Z + S(du, Wvw) + S(dv, Wuw) + S(dw, Wuv) + m.directional(f, du, dv, dw))
+    )
+    variations = (
+        (
+            "z",
+            tuple(m.STATE)
+            + tuple(du)
+            + tuple(dv)
+            + tuple(dw)
+            + tuple(Wuv)
+            + tuple(Wuw)
+            + tuple(Wvw)
+            + tuple(Z),
+        ),
+    )
     F = codegen.Function
     return codegen.render_kernels(
         "Scalar kernels of the smooth model (9) for the compiled integrator "
@@ -220,6 +249,14 @@ def _kernels_module() -> str:
                 augmented,
                 m.PARAMS + tuple(slot_a) + tuple(slot_b),
                 pair,
+            ),
+            F(
+                "smooth_third_kernel",
+                "out = d/dtau [y, Phi u, Phi v, Phi w, D2[u, v], D2[u, w], D2[v, w], D3[u, v, w]] for (9), "
+                "32 components: the second- and third-order variational equations along u, v, w.",
+                variations,
+                m.PARAMS,
+                third,
             ),
         ],
     )

@@ -56,6 +56,14 @@ def test_the_maps_third_derivative_is_the_difference_of_its_second(flow):
     assert np.allclose(exact, fd, rtol=1e-5, atol=1e-5 * np.abs(fd).max())
 
 
+def test_the_compiled_path_and_scipys_agree(flow):
+    slow = FlowDerivatives(P, Y, 1.2, backend="scipy")
+    assert np.allclose(
+        flow.third(A, B, C), slow.third(A, B, C), rtol=1e-8, atol=1e-8 * np.abs(slow.third(A, B, C)).max()
+    )
+    assert np.allclose(flow.jacobian(), slow.jacobian(), rtol=1e-9, atol=1e-10)
+
+
 def test_complex_directions_follow_by_multilinearity(flow):
     q = A + 1j * B
     assert np.allclose(flow.second(q, np.conj(q)), flow.second(A, A) + flow.second(B, B), rtol=1e-12)

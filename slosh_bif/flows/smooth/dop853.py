@@ -115,10 +115,12 @@ _RAW = {
     "plain": _kernels.smooth_rhs_kernel,
     "shooting": _kernels.smooth_shooting_kernel,
     "pair": _kernels.smooth_pair_kernel,
+    "third": _kernels.smooth_third_kernel,
 }
 _plain_kernel = _jit(_RAW["plain"], inline=True)
 _shooting_kernel = _jit(_RAW["shooting"], inline=True)
 _pair_kernel = _jit(_RAW["pair"], inline=True)
+_third_kernel = _jit(_RAW["third"], inline=True)
 _noise_force = _jit(_noise_force)
 _RAW["noisy"] = _noisy_kernel_py
 _noisy_kernel = _jit(_noisy_kernel_py, inline=True)
@@ -134,6 +136,8 @@ def _kernel(which, tau, z, out, pars):
         _shooting_kernel(tau, z, out, pars)
     elif which == 3:
         _pair_kernel(tau, z, out, pars)
+    elif which == 4:
+        _third_kernel(tau, z, out, pars)
     else:
         _noisy_kernel(tau, z, out, pars)
 

@@ -39,6 +39,8 @@ __all__ = [
     "resolve_backend",
     "DEFAULT_SENSITIVITIES",
     "kernel_parameters",
+    "integrate_variations",
+    "VARIATIONS_SIZE",
 ]
 
 SHOOTING_SIZE = 29  # [y, Phi, dy/dp1, dy/dp2, int tr J]
@@ -268,6 +270,39 @@ def integrate_arcs(
             return ends, k + 1
         ends[k] = run.z
     return ends, m
+
+
+VARIATIONS_SIZE = 32  # [y, Phi u, Phi v, Phi w, D2[u, v], D2[u, w], D2[v, w], D3[u, v, w]]
+
+
+def integrate_variations(
+    params: Params, y0, t1: float, directions, *, rtol=1e-11, atol=1e-13, backend="auto"
+):
+    """The flow of (9) from ``y0`` at tau = 0 to ``t1`` with its derivatives in the initial state
+    along the three real ``directions`` (u, v, w): the end of [y, Phi u, Phi v, Phi w, D2 phi[u, v],
+    D2 phi[u, w], D2 phi[v, w], D3 phi[u, v, w]] (the second- and third-order variational
+    equations of the generated kernel). A one-line ValueError where the integration fails."""
+    z0 = np.zeros(VARIATIONS_SIZE)
+    z0[:4] = _check(params, y0, 0.0, t1, rtol, atol, 4)
+    for k, direction in enumerate(directions):
+        z0[4 + 4 * k : 8 + 4 * k] = np.asarray(direction, dtype=float)
+    pars = kernel_parameters(params)
+    if resolve_backend(backend) == "numba":
+        z, _, _, _, _, status = _LOOPS.dop853_loop(
+            WHICH["third"], 0.0, float(t1), z0, pars, float(rtol), float(atol), 0.0, 2_000_000, *TABLEAU
+        )
+        if status != OK:
+            raise ValueError(
+                f"the variational equations of (9) were not integrated to {t1:g}: {MESSAGES[status]}"
+            )
+        return z
+    from scipy.integrate import solve_ivp  # the fallback only
+
+    with np.errstate(over="ignore", invalid="ignore"):
+        run = solve_ivp(_scipy_rhs("third", pars), (0.0, t1), z0, method="DOP853", rtol=rtol, atol=atol)
+    if not run.success:
+        raise ValueError(f"the variational equations of (9) were not integrated to {t1:g}: {run.message}")
+    return run.y[:, -1].copy()
 
 
 def integrate_grid(
