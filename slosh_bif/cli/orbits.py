@@ -146,6 +146,7 @@ def family_from_args(args, params, lo, hi, param="sigma"):
 
 
 def _shoot(args) -> int:
+    from slosh_bif.orbits.criticality import describe, special_criticality
     from slosh_bif.orbits.output import (
         plot_family,
         write_branch_csv,
@@ -166,12 +167,18 @@ def _shoot(args) -> int:
     with PlotProcess() as plots:  # matplotlib imported beside the computation
         family = family_from_args(args, params, lo, hi, param=args.parameter)
         plots.submit(plot_family, family, args.out / "branch.png")
-        csv_path = write_branch_csv(family, args.out / "branch.csv")
+        verdicts = [special_criticality(ob) for ob in family.branches]
+        csv_path = write_branch_csv(family, args.out / "branch.csv", verdicts)
         families_path = write_families_csv(family, args.out / "families.csv")
         for k, ob in enumerate(family.branches):
             ob.branch.save(args.out / f"branch{k}_{ob.name}.npz")
         png_path = plots.result()
     print(family.summary(detail=REPORTER.verbose))
+    for ob, found in zip(family.branches, verdicts):
+        for k, nf in found.items():
+            sp = ob.branch.special[k]
+            if not isinstance(nf, str):
+                print(f"  {sp.kind} at {ob.branch.param} = {sp.p:.6g} on {ob.name}: {describe(sp.kind, nf)}")
     print(
         f"wrote {csv_path}, {families_path}, {png_path}"
         + (

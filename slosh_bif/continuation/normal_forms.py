@@ -18,7 +18,12 @@ Sect. 5.4 and 9.x; Kuznetsov & Meijer, Numerical Bifurcation Analysis of Maps), 
   ``d = Re(e^{-i theta} [<p, C(q,q,qbar)> + 2 <p, B(q, (I - A)^-1 B(q, qbar))>
   + <p, B(qbar, (e^{2 i theta} I - A)^-1 B(q, q))>]) / 2``, the normal form rho -> rho (1 + beta
   + d rho^2): the invariant circle has rho^2 = -beta / d, soft when d < 0. At the strong
-  resonances (theta = 2 pi / 3, pi / 2: 1:3, 1:4) the cubic normal form does not hold: named.
+  resonances (theta = 0, pi, 2 pi / 3, pi / 2: 1:1, 1:2, 1:3, 1:4) the cubic normal form does not
+  hold: named.
+
+Where a second multiplier lies on the unit circle too (within :data:`NEAR_CODIM2`) the point is
+near a codimension-2 point, where these coefficients blow up or change sign: the verdict is then
+"undetermined" with that reason, never a sign.
 """
 
 from __future__ import annotations
@@ -37,8 +42,9 @@ __all__ = [
     "DEGENERATE_TOL",
 ]
 
-RESONANCE_TOL = 1e-2  # theta within this of 2 pi / 3 or pi / 2: a strong resonance, named
+RESONANCE_TOL = 1e-2  # theta within this of 0, 2 pi / 3, pi / 2 or pi: a strong resonance, named
 DEGENERATE_TOL = 1e-12  # a coefficient this small against its terms' scale: degenerate (codim 2)
+NEAR_CODIM2 = 1e-3  # a second multiplier this near the unit circle: a codimension-2 point is near
 
 
 @dataclasses.dataclass(frozen=True)
@@ -74,6 +80,18 @@ def _eigenpair(A, target):
     return q, p, float(abs(values[k] - target))
 
 
+def _second_critical(values, critical) -> str:
+    """Why the normal form is not trusted: a multiplier other than the ``critical`` ones within
+    :data:`NEAR_CODIM2` of the unit circle ("" when there is none)."""
+    others = list(values)
+    for mu in critical:
+        others.pop(int(np.argmin(np.abs(np.asarray(others) - mu))))
+    near = [mu for mu in others if abs(abs(mu) - 1.0) < NEAR_CODIM2]
+    if not near:
+        return ""
+    return f"near a codimension-2 point: a second multiplier at {complex(near[0]):.6g} is on the unit circle"
+
+
 def _inner(p, v):
     return np.vdot(p, v)  # conj(p) . v
 
@@ -99,6 +117,7 @@ def fold_coefficient(A, B) -> NormalForm:
     status = (
         "ok" if abs(value) > DEGENERATE_TOL else "degenerate: the quadratic coefficient vanishes (a cusp)"
     )
+    status = _second_critical(np.linalg.eigvals(A), [1.0]) or status
     return NormalForm("LP", value, "jump" if status == "ok" else "undetermined", status, q, p)
 
 
@@ -114,6 +133,9 @@ def flip_coefficient(A, B, C) -> NormalForm:
     quadratic = 0.5 * _inner(p, B(q, h2))
     b = float(np.real(cubic + quadratic))
     verdict, status = _verdict("PD", b, abs(cubic) + abs(quadratic))
+    near = _second_critical(np.linalg.eigvals(A), [-1.0])
+    if near:
+        verdict, status = "undetermined", near
     return NormalForm("PD", b, verdict, status, q, p)
 
 
@@ -130,7 +152,7 @@ def neimark_sacker_coefficient(A, B, C) -> NormalForm:
     mu = min(pair, key=lambda v: abs(abs(v) - 1.0))
     theta = float(np.angle(mu))
     q, p, _ = _eigenpair(A, mu)
-    for resonance, name in ((2 * math.pi / 3, "1:3"), (math.pi / 2, "1:4")):
+    for resonance, name in ((0.0, "1:1"), (math.pi, "1:2"), (2 * math.pi / 3, "1:3"), (math.pi / 2, "1:4")):
         if abs(theta - resonance) < RESONANCE_TOL:
             return NormalForm("NS", math.nan, "undetermined", f"a strong resonance {name}", q, p)
     qb = np.conj(q)
@@ -140,4 +162,7 @@ def neimark_sacker_coefficient(A, B, C) -> NormalForm:
     terms = (_inner(p, C(q, q, qb)), 2.0 * _inner(p, B(q, h11)), _inner(p, B(qb, h20)))
     d = float(0.5 * np.real(np.conj(e) * sum(terms)))
     verdict, status = _verdict("NS", d, sum(abs(t) for t in terms))
+    near = _second_critical(values, [mu, np.conj(mu)])
+    if near:
+        verdict, status = "undetermined", near
     return NormalForm("NS", d, verdict, status, q, p)

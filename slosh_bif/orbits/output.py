@@ -2,7 +2,9 @@
 
 ``branch.csv``: one row per point in branch order, branches one after another, columns
 ``sigma, Abar, A1, max_abs_X, max_abs_w, stable, max_abs_multiplier, liouville_error,
-symmetry_defect, special, branch, status, flag``: ``status`` is the branch's (``ok``, or why it
+symmetry_defect, special, criticality, branch, status, flag``: ``criticality`` says at each LP,
+PD, NS and BP point whether the loss of stability there is soft or hard, with its normal-form
+coefficient (:mod:`slosh_bif.orbits.criticality`); ``status`` is the branch's (``ok``, or why it
 was cut short: ``step below minimum``, ``step limit``, ``time limit``), ``flag`` is ``liouville``
 where the point's Liouville check fails beyond :data:`~slosh_bif.orbits.families.LIOUVILLE_TOL`
 (its multipliers, hence its stability, are not reliable), else empty; ``branch`` is the branch's
@@ -20,6 +22,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from slosh_bif.orbits.criticality import describe
 from slosh_bif.orbits.orbit_branch import LIOUVILLE_TOL, OrbitFamily
 from slosh_bif.report.tables import write_rows
 
@@ -43,6 +46,7 @@ BRANCH_COLUMNS = (
     "liouville_error",
     "symmetry_defect",
     "special",
+    "criticality",
     "branch",
     "status",
     "flag",
@@ -51,10 +55,16 @@ BRANCH_COLUMNS = (
 FAMILY_COLUMNS = ("family", "kind", "sigma_min", "sigma_max", "closed", "found_from", "points", "status")
 
 
-def family_rows(family: OrbitFamily):
-    for ob in family.branches:
+def family_rows(family: OrbitFamily, verdicts=None):
+    """The rows of ``branch.csv``; ``verdicts`` per branch (:func:`~.criticality.special_criticality`
+    of each, None: not computed) fill the ``criticality`` column at the special points."""
+    for j, ob in enumerate(family.branches):
         b, m = ob.branch, ob.measures
         labels = b.special_labels()
+        phrases = {}
+        for k, nf in (verdicts[j] if verdicts is not None else {}).items():
+            sp = b.special[k]
+            phrases.setdefault(sp.index, []).append(f"{sp.kind} {describe(sp.kind, nf)}")
         for i in range(len(b)):
             sigma, Abar = (
                 (b.p[i], family.params.Abar) if b.param == "sigma" else (family.params.sigma, b.p[i])
@@ -75,14 +85,15 @@ def family_rows(family: OrbitFamily):
                 },
                 "stable": int(b.stable[i]),
                 "special": labels[i],
+                "criticality": "; ".join(phrases.get(i, [])),
                 "branch": ob.name,
                 "status": b.status,
                 "flag": "liouville" if m["liouville_error"][i] > LIOUVILLE_TOL else "",
             }
 
 
-def write_branch_csv(family: OrbitFamily, path) -> Path:
-    return write_rows(family_rows(family), BRANCH_COLUMNS, path)
+def write_branch_csv(family: OrbitFamily, path, verdicts=None) -> Path:
+    return write_rows(family_rows(family, verdicts), BRANCH_COLUMNS, path)
 
 
 def write_families_csv(family: OrbitFamily, path) -> Path:

@@ -99,3 +99,10 @@ def test_the_fold_coefficient_and_the_named_cases():
     )
     degenerate = flip_coefficient(np.array([[-1.0]]), lambda u, v: 0 * u, lambda u, v, w: 0 * u)
     assert degenerate.verdict == "undetermined" and "codimension-2" in degenerate.status
+
+
+def test_a_second_critical_multiplier_makes_the_verdict_undetermined():
+    """A flip with a second multiplier at 1 + 1e-4 (a fold-flip point near): no sign is given."""
+    A = np.diag([-1.0, 1.0 + 1e-4])
+    nf = flip_coefficient(A, lambda u, v: 0 * u, lambda u, v, w: 6 * u * v * w)
+    assert nf.verdict == "undetermined" and "codimension-2" in nf.status

@@ -104,3 +104,23 @@ def test_each_pitchforks_verdict_is_what_its_switched_branch_does(fig13_pitchfor
         hard = parent_stable_there and not pair_stable
         assert soft or hard
         assert nf.verdict == ("soft" if soft else "hard"), (sp.p, nf.coefficient)
+
+
+def test_shoot_writes_and_prints_each_points_verdict(tmp_path, capsys):
+    """The Fig. 13 set's symmetric branch: branch.csv's criticality column and shoot's lines give
+    the pitchfork at -2.034 soft and the one at 0.374 hard (what their switched branches do: the
+    slow test above)."""
+    import csv
+    import re
+
+    from slosh_bif.cli import main
+
+    argv = ["shoot", "--preset", "fig13", "--no-switch", "--sigma-min", "-3", "--sigma-max", "1"]
+    assert main([*argv, "--out", str(tmp_path)]) == 0
+    out = capsys.readouterr().out
+    assert "BP at sigma = -2.03387 on symmetric: soft (b = " in out
+    assert re.search(r"BP at sigma = 0\.3738\d* on symmetric: hard \(b = ", out)
+    with open(tmp_path / "branch.csv", newline="") as fh:
+        rows = [r for r in csv.DictReader(fh) if "BP" in r["special"]]
+    verdicts = {round(float(r["sigma"]), 2): r["criticality"] for r in rows}
+    assert verdicts[-2.03].startswith("BP soft") and verdicts[0.37].startswith("BP hard")
