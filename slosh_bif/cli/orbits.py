@@ -145,6 +145,9 @@ def family_from_args(args, params, lo, hi, param="sigma"):
     )
 
 
+MAX_VERDICT_LINES = 30  # more special points than this: their verdicts in branch.csv (and with -v)
+
+
 def _shoot(args) -> int:
     from slosh_bif.orbits.criticality import describe, special_criticality
     from slosh_bif.orbits.output import (
@@ -174,11 +177,22 @@ def _shoot(args) -> int:
             ob.branch.save(args.out / f"branch{k}_{ob.name}.npz")
         png_path = plots.result()
     print(family.summary(detail=REPORTER.verbose))
-    for ob, found in zip(family.branches, verdicts):
-        for k, nf in found.items():
-            sp = ob.branch.special[k]
-            if not isinstance(nf, str):
-                print(f"  {sp.kind} at {ob.branch.param} = {sp.p:.6g} on {ob.name}: {describe(sp.kind, nf)}")
+    lines = [
+        f"  {ob.branch.special[k].kind} at {ob.branch.param} = {ob.branch.special[k].p:.6g} on {ob.name}: "
+        + describe(ob.branch.special[k].kind, nf)
+        for ob, found in zip(family.branches, verdicts)
+        for k, nf in found.items()
+        if not isinstance(nf, str)
+    ]
+    if len(lines) <= MAX_VERDICT_LINES or REPORTER.verbose:
+        for line in lines:
+            print(line)
+    else:
+        soft, hard = (sum(f": {word}" in line for line in lines) for word in ("soft", "hard"))
+        print(
+            f"  {len(lines)} points judged ({soft} soft, {hard} hard): each in branch.csv's 'criticality' "
+            "column (-v lists them here)"
+        )
     print(
         f"wrote {csv_path}, {families_path}, {png_path}"
         + (
