@@ -145,11 +145,8 @@ def family_from_args(args, params, lo, hi, param="sigma"):
     )
 
 
-MAX_VERDICT_LINES = 30  # more special points than this: their verdicts in branch.csv (and with -v)
-
-
 def _shoot(args) -> int:
-    from slosh_bif.orbits.criticality import describe, special_criticality
+    from slosh_bif.orbits.criticality import special_criticality, verdict_lines
     from slosh_bif.orbits.output import (
         plot_family,
         write_branch_csv,
@@ -177,22 +174,8 @@ def _shoot(args) -> int:
             ob.branch.save(args.out / f"branch{k}_{ob.name}.npz")
         png_path = plots.result()
     print(family.summary(detail=REPORTER.verbose))
-    lines = [
-        f"  {ob.branch.special[k].kind} at {ob.branch.param} = {ob.branch.special[k].p:.6g} on {ob.name}: "
-        + describe(ob.branch.special[k].kind, nf)
-        for ob, found in zip(family.branches, verdicts)
-        for k, nf in found.items()
-        if not isinstance(nf, str)
-    ]
-    if len(lines) <= MAX_VERDICT_LINES or REPORTER.verbose:
-        for line in lines:
-            print(line)
-    else:
-        soft, hard = (sum(f": {word}" in line for line in lines) for word in ("soft", "hard"))
-        print(
-            f"  {len(lines)} points judged ({soft} soft, {hard} hard): each in branch.csv's 'criticality' "
-            "column (-v lists them here)"
-        )
+    for line in verdict_lines(family, verdicts, every=REPORTER.verbose):
+        print(line)
     print(
         f"wrote {csv_path}, {families_path}, {png_path}"
         + (

@@ -9,7 +9,9 @@ import math
 
 from slosh_bif.orbits.map_derivatives import criticality
 
-__all__ = ["KINDS", "special_criticality", "describe"]
+__all__ = ["KINDS", "MAX_LINES", "special_criticality", "describe", "verdict_lines"]
+
+MAX_LINES = 30  # more judged points than this (a scan): counted in one line, each in branch.csv
 
 KINDS = ("LP", "PD", "NS", "BP")
 _NAMES = {"LP": "a", "PD": "b", "NS": "d", "BP": "b"}
@@ -52,3 +54,22 @@ def describe(kind: str, nf) -> str:
     if nf.verdict == "soft":
         return f"soft ({value}): {born} is born stable where this orbit loses stability"
     return f"hard ({value}): {born} is born unstable on the stable side; the response jumps"
+
+
+def verdict_lines(family, verdicts, *, every: bool = False) -> list:
+    """What ``shoot`` prints: a line a judged point (``LP at sigma = S on NAME: ...``), or, past
+    :data:`MAX_LINES` points and unless ``every``, one line counting them."""
+    lines = [
+        f"  {ob.branch.special[k].kind} at {ob.branch.param} = {ob.branch.special[k].p:.6g} on {ob.name}: "
+        + describe(ob.branch.special[k].kind, nf)
+        for ob, found in zip(family.branches, verdicts)
+        for k, nf in found.items()
+        if not isinstance(nf, str)
+    ]
+    if len(lines) <= MAX_LINES or every:
+        return lines
+    soft, hard = (sum(f": {word}" in line for line in lines) for word in ("soft", "hard"))
+    return [
+        f"  {len(lines)} points judged ({soft} soft, {hard} hard): each in branch.csv's 'criticality' "
+        "column (-v lists them here)"
+    ]
