@@ -172,11 +172,8 @@ def fit_response(
             extra = slow_flow_estimate(data, at, continuous, rng, say)
             run, objective, minima = orbit_starts(objective, z0, rng, say, extra)
         elif continuous:
-            # the global search: the given start and seeded Latin-hypercube starts, each refined
-            starts = [z0] + search_starts(z0, objective.lower, objective.upper, rng)
-            runs = [least_squares(objective, start, rng, starts=1) for start in starts]
-            minima = [(misfit_of(each.fun, scale_known), each.x) for each in runs]
-            run = min(runs, key=lambda each: each.cost)
+            # several wall powers: a few starts each, the whole search at the best (below)
+            run, minima = _search(objective, z0, rng, scale_known, SEARCH if len(candidates) == 1 else 1)
         else:
             run = None
         r = objective(run.x) if run is not None else objective(z0)
@@ -185,6 +182,11 @@ def fit_response(
         raise ValueError(f"kappa (21) is not real at any n, pbar tried with lam = {base.lam:g}; free lam too")
     integers = min(results, key=lambda k: results[k][0])
     misfit, run, objective, r, minima = results[integers]
+    if len(results) > 1 and run is not None and objective.orbits is None:  # the whole search there
+        run, more = _search(objective, run.x, rng, scale_known, SEARCH)
+        minima, r = minima + more, objective(run.x)
+        misfit = misfit_of(r, scale_known)
+        results[integers] = (misfit, run, objective, r, minima)  # the integers' profile sees it too
     second = runner_up(minima, run.x if run is not None else None)
     z = run.x if run is not None else np.zeros(0)
     fitted = objective.params(z)
@@ -305,6 +307,15 @@ def fit_response(
         assignment,
         minima_record(continuous, misfit, z, second),
     )
+
+
+def _search(objective, z0, rng, scale_known, count):
+    """(best run, minima) of least squares from ``z0`` and ``count`` seeded Latin-hypercube starts."""
+    starts = [z0] + search_starts(z0, objective.lower, objective.upper, rng, count=count)
+    runs = [least_squares(objective, start, rng, starts=1) for start in starts]
+    return min(runs, key=lambda each: each.cost), [
+        (misfit_of(each.fun, scale_known), each.x) for each in runs
+    ]
 
 
 def _join(note: str, sentence: str) -> str:
