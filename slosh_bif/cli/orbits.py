@@ -146,7 +146,7 @@ def family_from_args(args, params, lo, hi, param="sigma"):
 
 
 def _shoot(args) -> int:
-    from slosh_bif.orbits.criticality import special_criticality, verdict_lines
+    from slosh_bif.orbits.criticality import npz_arrays, special_criticality, verdict_lines
     from slosh_bif.orbits.output import (
         plot_family,
         write_branch_csv,
@@ -170,8 +170,8 @@ def _shoot(args) -> int:
         verdicts = [special_criticality(ob) for ob in family.branches]
         csv_path = write_branch_csv(family, args.out / "branch.csv", verdicts)
         families_path = write_families_csv(family, args.out / "families.csv")
-        for k, ob in enumerate(family.branches):
-            ob.branch.save(args.out / f"branch{k}_{ob.name}.npz")
+        for k, (ob, found) in enumerate(zip(family.branches, verdicts)):
+            ob.branch.save(args.out / f"branch{k}_{ob.name}.npz", **npz_arrays(ob.branch, found))
         png_path = plots.result()
     print(family.summary(detail=REPORTER.verbose))
     for line in verdict_lines(family, verdicts, every=REPORTER.verbose):

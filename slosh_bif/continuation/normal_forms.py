@@ -38,6 +38,7 @@ __all__ = [
     "fold_coefficient",
     "flip_coefficient",
     "neimark_sacker_coefficient",
+    "growth_law",
     "RESONANCE_TOL",
     "DEGENERATE_TOL",
 ]
@@ -166,3 +167,16 @@ def neimark_sacker_coefficient(A, B, C) -> NormalForm:
     if near:
         verdict, status = "undetermined", near
     return NormalForm("NS", d, verdict, status, q, p)
+
+
+def growth_law(nf: NormalForm, slope: float):
+    """``(K, side)``: the bifurcating motion at a distance ``K |p - p0|^0.5`` from the fixed point
+    (the period-2 point xi along q, or the invariant circle's modulus rho, |q| = 1), on the side
+    ``sign(p - p0) == side``, from the coefficient and ``slope`` = d beta / dp, the rate at which
+    the critical multiplier leaves the unit circle (beta = -mu - 1 at a flip, |mu| - 1 at a
+    Neimark-Sacker point). (NaN, 0) for a fold (nothing is born), an undetermined point or a
+    multiplier that does not cross (slope 0)."""
+    if nf.kind == "LP" or nf.status != "ok" or not math.isfinite(slope) or slope == 0.0:
+        return math.nan, 0
+    ratio = slope / nf.coefficient if nf.kind == "PD" else -slope / nf.coefficient  # xi^2 = ratio (p - p0)
+    return math.sqrt(abs(ratio)), 1 if ratio > 0 else -1

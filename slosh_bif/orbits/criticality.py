@@ -1,24 +1,66 @@
 """Hard or soft: the normal-form coefficient of every LP, PD, NS and BP point of a family of
 periodic orbits of the smooth model (9) (:func:`~slosh_bif.orbits.map_derivatives.criticality`
-on the map over the orbit's period; a symmetric orbit's pitchfork on its half-period map), with
-the plain sentence a user reads beside each point."""
+on the map over the orbit's period; a symmetric orbit's pitchfork on its half-period map), the
+normal form's prediction of the motion born there (its size against the distance to the point,
+:func:`~slosh_bif.continuation.normal_forms.growth_law`, with the rate at which the critical
+multiplier crosses from :func:`~slosh_bif.orbits.map_derivatives.crossing_rate`), and the plain
+sentence a user reads beside each point."""
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
-from slosh_bif.orbits.map_derivatives import criticality
+import numpy as np
 
-__all__ = ["KINDS", "MAX_LINES", "special_criticality", "describe", "verdict_lines"]
+from slosh_bif.continuation.normal_forms import NormalForm, growth_law
+from slosh_bif.orbits.map_derivatives import criticality, crossing_rate
+
+__all__ = ["KINDS", "MAX_LINES", "Verdict", "special_criticality", "npz_arrays", "describe", "verdict_lines"]
 
 MAX_LINES = 30  # more judged points than this (a scan): counted in one line, each in branch.csv
 
 KINDS = ("LP", "PD", "NS", "BP")
 _NAMES = {"LP": "a", "PD": "b", "NS": "d", "BP": "b"}
+_STATE = ("X", "X'", "w", "w'")
+
+
+@dataclasses.dataclass(frozen=True)
+class Verdict:
+    """A special point's criticality: its ``nf`` (:class:`NormalForm`), where it is (``param``,
+    ``at``) and the motion born there: its state component ``component`` (the one the critical
+    eigenvector moves most: X, X', w or w') at tau = 0 differs from the parent orbit's by
+    ``growth |param - at|^0.5`` (for a torus: is modulated by up to that), on the side
+    ``sign(param - at) == side`` (NaN and 0 at a fold or where the point is undetermined)."""
+
+    kind: str
+    nf: NormalForm
+    param: str
+    at: float
+    growth: float
+    side: int
+    component: str = "w"
+
+    @property
+    def verdict(self) -> str:
+        return self.nf.verdict
+
+    @property
+    def coefficient(self) -> float:
+        return self.nf.coefficient
+
+
+def _tangent_rate(sp):
+    """d y0 / dp at the special point from the branch's unit tangent (None at a fold or where the
+    tangent is not known)."""
+    t = sp.tangent
+    if t is None or not np.all(np.isfinite(t)) or abs(t[-1]) < 1e-8:
+        return None
+    return t[:4] / t[-1]
 
 
 def special_criticality(ob) -> dict:
-    """``{index of the special point in ob.branch.special: NormalForm or a reason (str)}`` for the
+    """``{index of the special point in ob.branch.special: Verdict or a reason (str)}`` for the
     LP, PD, NS and BP points of the orbit branch ``ob`` (an OrbitBranch of (9))."""
     problem, out = ob.problem, {}
     period = 2 * math.pi * problem.period_multiple
@@ -29,31 +71,66 @@ def special_criticality(ob) -> dict:
             out[k] = "where the orbit meets its symmetric parent: see the parent's pitchfork"
             continue
         try:
-            out[k] = criticality(
+            nf = criticality(
                 problem.params_at(sp.p), sp.x[:4], sp.kind, period=period, symmetric=problem.symmetric
             )
         except ValueError as err:  # the variational equations could not be integrated
             out[k] = f"not computed: {err}"
+            continue
+        dy = _tangent_rate(sp)
+        slope = math.nan
+        if dy is not None and nf.status == "ok" and sp.kind != "LP":
+            slope = crossing_rate(problem.params_at, sp.p, sp.x[:4], dy, sp.kind, nf, period=period)
+        K, side = growth_law(nf, slope)
+        c = int(np.argmax(np.abs(nf.q)))
+        scale = 2.0 * abs(nf.q[c]) if sp.kind == "NS" else abs(nf.q[c])  # x = 2 Re(z q) on a circle
+        out[k] = Verdict(sp.kind, nf, ob.branch.param, float(sp.p), K * scale, side, _STATE[c])
     return out
 
 
-def describe(kind: str, nf) -> str:
-    """One phrase: ``soft (b = 4.57): a stable period-2 orbit grows beside it`` and the like."""
-    if isinstance(nf, str):
-        return nf
+def npz_arrays(branch, verdicts: dict) -> dict:
+    """The arrays a branch's ``.npz`` carries beside it (:meth:`Branch.save`'s extras), one entry a
+    special point: ``special_verdict`` (soft, hard, jump, undetermined, or '' where not judged),
+    ``special_coefficient``, ``special_growth`` and ``special_side`` (as in :class:`Verdict`; NaN,
+    0 where not given) and ``special_criticality``, the phrase of :func:`describe`."""
+    judged = [verdicts.get(k) for k in range(len(branch.special))]
+    real = [v if isinstance(v, Verdict) else None for v in judged]
+    return {
+        "special_verdict": np.array([v.verdict if v else "" for v in real], dtype=str),
+        "special_coefficient": np.array([v.coefficient if v else math.nan for v in real], dtype=float),
+        "special_growth": np.array([v.growth if v else math.nan for v in real], dtype=float),
+        "special_side": np.array([v.side if v else 0 for v in real], dtype=int),
+        "special_criticality": np.array(["" if v is None else describe(v) for v in judged], dtype=str),
+    }
+
+
+def describe(verdict) -> str:
+    """One phrase: ``soft (b = 4.57): the asymmetric pair is born stable where this orbit loses
+    stability (sigma > -2.034), w at tau = 0 shifted by +-0.627 |sigma + 2.034|^0.5`` and the like."""
+    if isinstance(verdict, str):
+        return verdict
+    nf, kind = verdict.nf, verdict.kind
     if nf.status != "ok":
         return f"undetermined: {nf.status}"
     value = f"{_NAMES[kind]} = {nf.coefficient:.3g}"
     if kind == "LP":
         return f"a jump ({value}): the branch folds back, with hysteresis"
-    born = {
-        "PD": "a period-2 orbit",
-        "NS": "an invariant torus (a modulated response)",
-        "BP": "the asymmetric pair",
+    born, change = {
+        "PD": ("a period-2 orbit", "alternating by"),
+        "NS": ("an invariant torus (a modulated response)", "modulated by up to"),
+        "BP": ("the asymmetric pair", "shifted by"),
     }[kind]
+    law = ""
+    if verdict.side:
+        name, at = verdict.param, verdict.at
+        distance = f"{name} - {at:.4g}" if at >= 0 else f"{name} + {-at:.4g}"
+        law = (
+            f" ({name} {'>' if verdict.side > 0 else '<'} {at:.4g}), {verdict.component} at tau = 0 {change} "
+            f"+-{verdict.growth:.3g} |{distance}|^0.5"
+        )
     if nf.verdict == "soft":
-        return f"soft ({value}): {born} is born stable where this orbit loses stability"
-    return f"hard ({value}): {born} is born unstable on the stable side; the response jumps"
+        return f"soft ({value}): {born} is born stable where this orbit loses stability{law}"
+    return f"hard ({value}): {born} is born unstable on the stable side{law}; the response jumps"
 
 
 def verdict_lines(family, verdicts, *, every: bool = False) -> list:
@@ -61,10 +138,10 @@ def verdict_lines(family, verdicts, *, every: bool = False) -> list:
     :data:`MAX_LINES` points and unless ``every``, one line counting them."""
     lines = [
         f"  {ob.branch.special[k].kind} at {ob.branch.param} = {ob.branch.special[k].p:.6g} on {ob.name}: "
-        + describe(ob.branch.special[k].kind, nf)
+        + describe(v)
         for ob, found in zip(family.branches, verdicts)
-        for k, nf in found.items()
-        if not isinstance(nf, str)
+        for k, v in found.items()
+        if not isinstance(v, str)
     ]
     if len(lines) <= MAX_LINES or every:
         return lines

@@ -28,7 +28,7 @@ from slosh_bif.continuation.normal_forms import flip_coefficient, fold_coefficie
 from slosh_bif.flows.smooth.integrator import integrate_variations
 from slosh_bif.model.params import Params
 
-__all__ = ["FlowDerivatives", "criticality", "RTOL", "ATOL"]
+__all__ = ["FlowDerivatives", "criticality", "crossing_rate", "RTOL", "ATOL"]
 
 RTOL, ATOL = 1e-11, 1e-13
 
@@ -94,16 +94,46 @@ def _multilinear(real_fn, args):
     return total if np.iscomplexobj(total) and np.any(np.imag(total)) else np.real(total)
 
 
+def _map_of(kind, period):
+    """(t1, sign) of the map a ``kind`` point is judged on: G = -phi_(period / 2) at a BP."""
+    return (period / 2, -1.0) if kind == "BP" else (period, 1.0)
+
+
+def crossing_rate(params_at, p0: float, y0, dy, kind: str, nf, *, period=2 * math.pi, h=1e-5) -> float:
+    """d beta / dp at the ``kind`` point ``nf`` (its q and adjoint p) of the orbit through ``y0`` at
+    the parameter value ``p0`` (``params_at(p)`` gives the set): beta = -mu - 1 at a flip (a PD, or
+    a BP as the flip of G), |mu| - 1 at a Neimark-Sacker point, with d mu / dp = <p, (D^2 phi[., dy]
+    + d_p D phi) q> along the branch (``dy`` = d y0 / dp, from its tangent; d_p D phi by a central
+    difference of the exact Jacobian in the parameter, step ``h`` relative)."""
+    t1, sign = _map_of(kind, period)
+    return _rate(params_at, p0, y0, dy, nf, t1, sign, h)
+
+
+def _rate(params_at, p0, y0, dy, nf, t1, sign, h) -> float:
+    step = h * max(1.0, abs(p0))
+    flow = FlowDerivatives(params_at(p0), y0, t1, sign=sign)
+    dA = (
+        FlowDerivatives(params_at(p0 + step), y0, t1, sign=sign).jacobian()
+        - FlowDerivatives(params_at(p0 - step), y0, t1, sign=sign).jacobian()
+    ) / (2 * step)
+    q, p = nf.q, nf.p
+    mu = np.vdot(p, flow.jacobian() @ q)
+    dmu = np.vdot(p, flow.second(q, np.asarray(dy, dtype=float)) + dA @ q)
+    if nf.kind == "PD":
+        return float(-dmu.real)
+    return float((np.conj(mu) * dmu).real / abs(mu))
+
+
 def criticality(params: Params, y0, kind: str, *, period: float = 2 * math.pi, symmetric: bool = False):
     """The :class:`~slosh_bif.continuation.normal_forms.NormalForm` of the orbit of (9) through
     ``y0`` (at tau = 0) at a ``kind`` point: LP, PD or NS of the map over ``period``; BP (a
     symmetric orbit's pitchfork) as the flip of the half-period map G = -phi_(period / 2)."""
+    if kind == "BP" and not symmetric:
+        raise ValueError("the pitchfork's coefficient is that of a symmetric orbit's half-period map")
+    t1, sign = _map_of(kind, period)
+    flow = FlowDerivatives(params, y0, t1, sign=sign)
     if kind == "BP":
-        if not symmetric:
-            raise ValueError("the pitchfork's coefficient is that of a symmetric orbit's half-period map")
-        flow = FlowDerivatives(params, y0, period / 2, sign=-1.0)
         return flip_coefficient(flow.jacobian(), flow.second, flow.third)
-    flow = FlowDerivatives(params, y0, period)
     A = flow.jacobian()
     if kind == "LP":
         return fold_coefficient(A, flow.second)

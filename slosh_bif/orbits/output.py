@@ -62,9 +62,9 @@ def family_rows(family: OrbitFamily, verdicts=None):
         b, m = ob.branch, ob.measures
         labels = b.special_labels()
         phrases = {}
-        for k, nf in (verdicts[j] if verdicts is not None else {}).items():
+        for k, v in (verdicts[j] if verdicts is not None else {}).items():
             sp = b.special[k]
-            phrases.setdefault(sp.index, []).append(f"{sp.kind} {describe(sp.kind, nf)}")
+            phrases.setdefault(sp.index, []).append(f"{sp.kind} {describe(v)}")
         for i in range(len(b)):
             sigma, Abar = (
                 (b.p[i], family.params.Abar) if b.param == "sigma" else (family.params.sigma, b.p[i])

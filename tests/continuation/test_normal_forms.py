@@ -11,6 +11,7 @@ import pytest
 from slosh_bif.continuation.normal_forms import (
     flip_coefficient,
     fold_coefficient,
+    growth_law,
     neimark_sacker_coefficient,
 )
 
@@ -41,6 +42,30 @@ def test_the_henon_flip_coefficient_is_its_closed_form_and_predicts_the_period_2
     x2 = (1 - b + math.sqrt(4 * a - 3 * (1 - b) ** 2)) / (2 * a)
     xi = np.vdot(nf.p, np.array([x2, b * ((1 - b) / a - x2) / 1.0]) - fixed).real
     assert xi**2 == pytest.approx(beta / nf.coefficient, rel=1e-2)  # to leading order in xi ~ 5e-3
+
+
+def test_the_growth_law_puts_the_henon_period_2_orbit_where_it_is():
+    """growth_law with d beta / da of the closed-form multiplier: the period-2 point lies
+    K (a - a_c)^0.5 from the fixed point (closed form) on the side a > a_c, within 1 %."""
+    b = 0.3
+    a_c = 0.75 * (1 - b) ** 2
+    _, A, B = _henon(a_c, b)
+    nf = flip_coefficient(A, B, ZERO3)
+
+    def beta(a):
+        return -min(np.linalg.eigvals(_henon(a, b)[1]).real) - 1.0
+
+    h = 1e-6
+    K, side = growth_law(nf, (beta(a_c + h) - beta(a_c - h)) / (2 * h))
+    assert side == 1
+    a = a_c * (1 + 1e-5)
+    fixed = _henon(a, b)[0]
+    x2 = (1 - b + math.sqrt(4 * a - 3 * (1 - b) ** 2)) / (2 * a)
+    distance = np.linalg.norm(np.array([x2, b * ((1 - b) / a - x2)]) - fixed)
+    assert distance == pytest.approx(K * math.sqrt(a - a_c), rel=1e-2)
+    assert growth_law(fold_coefficient(np.array([[1.0]]), lambda u, v: u * v), 1.0) == (math.nan, 0) or (
+        math.isnan(growth_law(fold_coefficient(np.array([[1.0]]), lambda u, v: u * v), 1.0)[0])
+    )
 
 
 def test_a_map_in_flip_normal_form_gives_its_coefficient_and_sign():

@@ -106,6 +106,45 @@ def test_each_pitchforks_verdict_is_what_its_switched_branch_does(fig13_pitchfor
         assert nf.verdict == ("soft" if soft else "hard"), (sp.p, nf.coefficient)
 
 
+@pytest.mark.slow  # shares the Fig. 13 family above
+def test_each_pitchforks_predicted_amplitude_is_its_switched_branchs(fig13_pitchforks):
+    """The asymmetric orbits the switching found (without the coefficient) lie where the normal form
+    puts them: the critical component at tau = 0 of the pair's two members (an orbit and its mirror
+    image) differs by 2 growth |sigma - S|^0.5, and each is that far from the symmetric orbit
+    (Newton at the same sigma), within 5 %, on the predicted side, where the unfolding parameter
+    beta (the half-period multiplier -(1 + beta)) is at most 0.1, a tenth of its natural scale
+    (sigma within 0.037 of the soft point, 0.0048 of the hard one, where the multiplier moves
+    eight times faster)."""
+    from slosh_bif.continuation.corrector import newton
+    from slosh_bif.orbits.criticality import special_criticality
+    from slosh_bif.orbits.map_derivatives import crossing_rate
+    from slosh_bif.orbits.orbit_branch import mirror
+
+    symmetric, *others = fig13_pitchforks.branches
+    pair = next(ob for ob in others if ob.name == "asymmetric")
+    verdicts = special_criticality(symmetric)
+    assert len(verdicts) == 2
+    for k, v in verdicts.items():
+        c = ("X", "X'", "w", "w'").index(v.component)
+        d = v.side * (pair.branch.p - v.at)
+        sp = symmetric.branch.special[k]
+        rate = crossing_rate(
+            symmetric.problem.params_at, sp.p, sp.x[:4], sp.tangent[:4] / sp.tangent[-1], "BP", v.nf
+        )
+        agree, apart = [], []
+        for i in np.flatnonzero((d > 1e-6) & (d * abs(rate) <= 0.1)):
+            predicted = v.growth * np.sqrt(d[i])
+            half = abs(pair.branch.x[i, c] - mirror(pair.problem, pair.branch.x[i])[c]) / 2
+            if half / predicted < 3:  # the piece of the family through this pitchfork
+                j = int(np.argmin(np.abs(symmetric.branch.p - pair.branch.p[i])))
+                xs = newton(symmetric.problem, symmetric.branch.x[j], pair.branch.p[i])
+                agree.append(half / predicted)
+                apart.append(abs(pair.branch.x[i, c] - xs[c]) / predicted)
+        assert len(agree) >= 2, (v.at, agree)
+        assert np.allclose(agree, 1.0, atol=0.05), (v.at, agree)
+        assert np.allclose(apart, 1.0, atol=0.05), (v.at, apart)
+
+
 def test_shoot_writes_and_prints_each_points_verdict(tmp_path, capsys):
     """The Fig. 13 set's symmetric branch: branch.csv's criticality column and shoot's lines give
     the pitchfork at -2.034 soft and the one at 0.374 hard (what their switched branches do: the
@@ -120,6 +159,9 @@ def test_shoot_writes_and_prints_each_points_verdict(tmp_path, capsys):
     out = capsys.readouterr().out
     assert "BP at sigma = -2.03387 on symmetric: soft (b = " in out
     assert re.search(r"BP at sigma = 0\.3738\d* on symmetric: hard \(b = ", out)
+    assert "(sigma > -2.034), w at tau = 0 shifted by +-" in out  # the pair on the unstable side
+    saved = np.load(tmp_path / "branch0_symmetric.npz")
+    assert sorted(v for v in saved["special_verdict"] if v) == ["hard", "soft"]
     with open(tmp_path / "branch.csv", newline="") as fh:
         rows = [r for r in csv.DictReader(fh) if "BP" in r["special"]]
     verdicts = {round(float(r["sigma"]), 2): r["criticality"] for r in rows}
