@@ -44,7 +44,7 @@ def _answer(args) -> int:
     elif args.question == "critical-forcing":
         value, kind = (r.Abar_b, r.kind) if hasattr(r, "Abar_b") else (r.Abar_c, r.bounded_by)
         print(
-            f"critical forcing at sigma = {params.sigma:g}: Abar = {value:.6g} ({kind})"
+            f"critical forcing at sigma = {params.sigma:g}: Abar = {value:.6g} ({kind}; {_crossing(r)})"
             if np.isfinite(value)
             else "no traced curve bounds stable orbits with wall contact for Abar in "
             f"[{r.chart.abar_range[0]:g}, {r.chart.abar_range[1]:g}]"
@@ -108,3 +108,15 @@ def add_commands(sub) -> None:
         help="output folder for answer.json (the choice, its reason and error estimate)",
     )
     ans.set_defaults(run=_answer)
+
+
+def _crossing(r) -> str:
+    """What crossing the critical forcing does: the slow flow's is a fold of (46) or the end of
+    its stable branch (a jump either way); the full model's as its normal form says."""
+    if hasattr(r, "Abar_b"):
+        return "crossing it is a jump: the stable steady state of (46) ends there"
+    return {
+        "jump": "crossing it is a jump: the stable orbit folds",
+        "soft": "crossing it is soft: a small new motion grows beside the orbit",
+        "hard": "crossing it is a jump: the new motion is born unstable",
+    }.get(r.loss, f"whether crossing it is a jump is {r.loss or 'not computed'}")

@@ -59,13 +59,14 @@ def _tangent_rate(sp):
     return t[:4] / t[-1]
 
 
-def special_criticality(ob) -> dict:
+def special_criticality(ob, *, only: int | None = None) -> dict:
     """``{index of the special point in ob.branch.special: Verdict or a reason (str)}`` for the
-    LP, PD, NS and BP points of the orbit branch ``ob`` (an OrbitBranch of (9))."""
+    LP, PD, NS and BP points of the orbit branch ``ob`` (an OrbitBranch of (9)); ``only``: that
+    one point."""
     problem, out = ob.problem, {}
     period = 2 * math.pi * problem.period_multiple
     for k, sp in enumerate(ob.branch.special):
-        if sp.kind not in KINDS:
+        if sp.kind not in KINDS or only not in (None, k):
             continue
         if sp.kind == "BP" and not problem.symmetric:
             out[k] = "where the orbit meets its symmetric parent: see the parent's pitchfork"

@@ -44,17 +44,43 @@ class FlowDerivatives:
     ):
         self.params, self.y0, self.t1, self.sign = params, np.asarray(y0, dtype=float), float(t1), sign
         self.rtol, self.atol, self.backend = rtol, atol, backend
-        self._cache = {}
+        self._seconds, self._thirds = {}, {}
 
     def _integrate(self, u, v, w):
-        """(D2 phi[u, v], D3 phi[u, v, w]) at t1 for real u, v, w."""
-        key = tuple(np.asarray(d, dtype=float).tobytes() for d in (u, v, w))
-        if key not in self._cache:
-            end = integrate_variations(
-                self.params, self.y0, self.t1, (u, v, w), rtol=self.rtol, atol=self.atol, backend=self.backend
+        """One integration in the real directions u, v, w: D2 phi[u, v], D2 phi[u, w],
+        D2 phi[v, w] and D3 phi[u, v, w], each kept under its directions in any order (the forms
+        are symmetric)."""
+        u, v, w = (np.asarray(d, dtype=float) for d in (u, v, w))
+        end = integrate_variations(
+            self.params, self.y0, self.t1, (u, v, w), rtol=self.rtol, atol=self.atol, backend=self.backend
+        )
+        for (a, b), lo in (((u, v), 16), ((u, w), 20), ((v, w), 24)):
+            self._seconds.setdefault(_key(a, b), end[lo : lo + 4])
+        self._thirds[_key(u, v, w)] = end[28:32]
+
+    def _cover(self, pairs):
+        """Integrate until D2 phi is known for every real pair in ``pairs``: each integration
+        (u, v, w) gives three pairs, w chosen among the directions asked for so that it covers the
+        most pairs still missing."""
+        missing = {_key(a, b): (a, b) for a, b in pairs if _key(a, b) not in self._seconds}
+        directions = {a.tobytes(): a for pair in missing.values() for a in pair}
+        while missing:
+            u, v = next(iter(missing.values()))
+            w = max(
+                directions.values(), key=lambda d: len({_key(u, v), _key(u, d), _key(v, d)} & missing.keys())
             )
-            self._cache[key] = (end[16:20], end[28:32])
-        return self._cache[key]
+            self._integrate(u, v, w)
+            missing = {k: pair for k, pair in missing.items() if k not in self._seconds}
+
+    def _second_real(self, u, v):
+        if _key(u, v) not in self._seconds:
+            self._cover([(u, v)])
+        return self._seconds[_key(u, v)]
+
+    def _third_real(self, u, v, w):
+        if _key(u, v, w) not in self._thirds:
+            self._integrate(u, v, w)
+        return self._thirds[_key(u, v, w)]
 
     def jacobian(self) -> np.ndarray:
         """d phi(t1) / d y0 (times ``sign``), from the same variational equations: three columns an
@@ -70,22 +96,40 @@ class FlowDerivatives:
         return self.sign * Phi
 
     def second(self, u, v):
-        """D^2 phi[u, v] (times ``sign``); complex u, v by bilinearity."""
-        return self.sign * _multilinear(lambda a, b: self._integrate(a, b, np.zeros(4))[0], (u, v))
+        """D^2 phi[u, v] (times ``sign``); complex u, v by bilinearity (the real pairs it needs
+        covered together, in as few integrations as they allow)."""
+        self._cover([(a, b) for a, _ in _parts(u) for b, _ in _parts(v)])
+        return self.sign * _multilinear(self._second_real, (u, v))
 
     def third(self, u, v, w):
         """D^3 phi[u, v, w] (times ``sign``); complex directions by trilinearity."""
-        return self.sign * _multilinear(lambda a, b, c: self._integrate(a, b, c)[1], (u, v, w))
+        return self.sign * _multilinear(self._third_real, (u, v, w))
+
+
+def _key(*directions):
+    """A symmetric multilinear form's cache key: its directions' bytes in sorted order."""
+    return tuple(sorted(np.asarray(d, dtype=float).tobytes() for d in directions))
+
+
+def _signed(v, factor):
+    """(v, factor) with v's first non-zero entry positive (the sign moved into the factor)."""
+    v = np.asarray(v, dtype=float)
+    nonzero = np.flatnonzero(v)
+    return (-v, -factor) if nonzero.size and v[nonzero[0]] < 0 else (v, factor)
+
+
+def _parts(a) -> list:
+    """[(real direction, factor)] of a vector: its real part, and its imaginary part with factor i."""
+    return [_signed(np.real(a), 1.0 + 0j)] + (
+        [_signed(np.imag(a), 1j)] if np.iscomplexobj(a) and np.any(np.imag(a)) else []
+    )
 
 
 def _multilinear(real_fn, args):
     """A real multilinear function of real vectors, evaluated at complex ones: each argument split
-    into its real and imaginary parts (the products of i's collected)."""
-    parts = [
-        [(np.real(a).astype(float), 1.0 + 0j)]
-        + ([(np.imag(a).astype(float), 1j)] if np.iscomplexobj(a) and np.any(np.imag(a)) else [])
-        for a in args
-    ]
+    into its real and imaginary parts (the products of i's collected), each part's sign moved
+    into its factor so that q and conj(q) ask for the same real directions."""
+    parts = [_parts(a) for a in args]
     total = 0.0 + 0j
     for combo in np.ndindex(*[len(p) for p in parts]):
         vectors = [parts[k][j][0] for k, j in enumerate(combo)]
@@ -124,21 +168,30 @@ def _rate(params_at, p0, y0, dy, nf, t1, sign, h) -> float:
     return float((np.conj(mu) * dmu).real / abs(mu))
 
 
-def criticality(params: Params, y0, kind: str, *, period: float = 2 * math.pi, symmetric: bool = False):
+def criticality(
+    params: Params,
+    y0,
+    kind: str,
+    *,
+    period: float = 2 * math.pi,
+    symmetric: bool = False,
+    rtol: float = RTOL,
+    jacobian=None,
+):
     """The :class:`~slosh_bif.continuation.normal_forms.NormalForm` of the orbit of (9) through
     ``y0`` (at tau = 0) at a ``kind`` point: LP, PD or NS of the map over ``period``; BP (a
-    symmetric orbit's pitchfork) as the flip of the half-period map G = -phi_(period / 2)."""
+    symmetric orbit's pitchfork) as the flip of the half-period map G = -phi_(period / 2). ``rtol``:
+    the variational equations' relative tolerance (``atol`` a hundredth of it); ``jacobian``: the
+    map's Jacobian where the caller has it (a curve's arcs), else integrated here."""
     if kind == "BP" and not symmetric:
         raise ValueError("the pitchfork's coefficient is that of a symmetric orbit's half-period map")
     t1, sign = _map_of(kind, period)
-    flow = FlowDerivatives(params, y0, t1, sign=sign)
-    if kind == "BP":
-        return flip_coefficient(flow.jacobian(), flow.second, flow.third)
-    A = flow.jacobian()
+    flow = FlowDerivatives(params, y0, t1, sign=sign, rtol=rtol, atol=rtol * 1e-2)
+    A = flow.jacobian() if jacobian is None else np.asarray(jacobian, dtype=float)
+    if kind in ("PD", "BP"):
+        return flip_coefficient(A, flow.second, flow.third)
     if kind == "LP":
         return fold_coefficient(A, flow.second)
-    if kind == "PD":
-        return flip_coefficient(A, flow.second, flow.third)
     if kind == "NS":
         return neimark_sacker_coefficient(A, flow.second, flow.third)
     raise ValueError(f"kind must be LP, PD, NS or BP; got {kind!r}")

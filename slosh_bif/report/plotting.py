@@ -202,23 +202,39 @@ def plot_branch(ax, branch, y, *, x=None, color="tab:blue", label=None, label_en
     return ax
 
 
-def place_labels(ax, items, *, apart=(18, 10)):
-    """Annotate each (x, y, text, color) of ``items`` beside its point, skipping a label that would
-    land within ``apart`` display points of one already on ``ax`` (its marker still shows; tables
-    and legends carry the rest)."""
+def place_labels(ax, items, *, apart=(18, 10), markers=(), sides=((4, 4),)):
+    """Annotate each (x, y, text, color) of ``items`` beside its point, on the first of ``sides``
+    (offsets in points) where the label lands at least ``apart`` display units from every label
+    already on ``ax`` and, when ``markers`` ((x, y) in data) are given, clear of the other
+    markers; a label with no free side is skipped (its marker still shows; tables and legends
+    carry the rest)."""
     if not items:
         return
     # the final (autoscaled) limits, so that display positions are right: reading them updates
     # transData without drawing the figure (a whole draw per branch would be most of a family's plot)
     ax.get_xlim(), ax.get_ylim()
-    placed = [
-        tuple(ax.transData.transform(t.xy)) for t in ax.texts if hasattr(t, "xy")
-    ]  # labels of earlier calls
+    scale = ax.figure.dpi / 72.0  # display units per point
+    placed = [tuple(ax.transData.transform(t.xy)) for t in ax.texts if hasattr(t, "xy")]  # earlier calls'
+    dots = [tuple(ax.transData.transform(m)) for m in markers]
     for x, y, text, color in items:
         u, v = ax.transData.transform((x, y))
-        if ax.bbox.contains(u, v) and all(abs(u - p) > apart[0] or abs(v - q) > apart[1] for p, q in placed):
-            ax.annotate(text, (x, y), textcoords="offset points", xytext=(4, 4), fontsize=8, color=color)
-            placed.append((u, v))
+        if not ax.bbox.contains(u, v):
+            continue
+        for dx, dy in sides:
+            # where the label sits, measured from the first side's place (the point itself there)
+            cu, cv = u + (dx - sides[0][0]) * scale, v + (dy - sides[0][1]) * scale
+            free = all(abs(cu - p) > apart[0] or abs(cv - q) > apart[1] for p, q in placed)
+            clear = all(
+                abs(cu + 6 * scale - p) > 9 * scale or abs(cv + 6 * scale - q) > 7 * scale
+                for p, q in dots
+                if (p, q) != (u, v)
+            )
+            if free and clear:
+                ax.annotate(
+                    text, (x, y), textcoords="offset points", xytext=(dx, dy), fontsize=8, color=color
+                )
+                placed.append((cu, cv))
+                break
 
 
 def cell_edges(v) -> np.ndarray:

@@ -145,6 +145,39 @@ def test_each_pitchforks_predicted_amplitude_is_its_switched_branchs(fig13_pitch
         assert np.allclose(apart, 1.0, atol=0.05), (v.at, apart)
 
 
+@pytest.mark.slow  # shares the Fig. 13 family above; two simulations of a few hundred periods
+def test_a_simulation_past_a_soft_pitchfork_settles_at_the_predicted_size_past_a_hard_one_leaves(
+    fig13_pitchforks,
+):
+    """Started beside the symmetric orbit on its unstable side: past the soft pitchfork (sigma =
+    S + 0.01) the motion settles where the normal form says (the critical component's shift
+    within 5 % of growth |sigma - S|^0.5); past the hard one (S - 0.003, where no small motion
+    exists) it leaves the neighbourhood (ten times that size)."""
+    from slosh_bif.continuation.corrector import newton
+    from slosh_bif.flows.smooth.integrator import integrate
+    from slosh_bif.orbits.criticality import special_criticality
+
+    symmetric = fig13_pitchforks.branches[0]
+    for v in special_criticality(symmetric).values():
+        delta = 0.01 if v.verdict == "soft" else 0.003
+        sigma = v.at + (v.side if v.verdict == "soft" else -v.side) * delta  # where the orbit is unstable
+        j = int(np.argmin(np.abs(symmetric.branch.p - sigma)))
+        xs = newton(symmetric.problem, symmetric.branch.x[j], sigma)[:4]
+        P = symmetric.problem.params_at(sigma)
+        y = xs + 1e-3 * np.real(v.nf.q)
+        c = ("X", "X'", "w", "w'").index(v.component)
+        size = v.growth * np.sqrt(delta)
+        shifts = []
+        for _ in range(600 if v.verdict == "soft" else 150):
+            y = integrate(P, y, (0.0, 2 * np.pi)).z
+            shifts.append(abs(y[c] - xs[c]))
+        if v.verdict == "soft":
+            assert np.ptp(shifts[-20:]) < 1e-3 * size, "not settled"
+            assert shifts[-1] == pytest.approx(size, rel=0.05), (v.at, shifts[-1], size)
+        else:
+            assert max(shifts) > 10 * size, (v.at, max(shifts), size)
+
+
 def test_shoot_writes_and_prints_each_points_verdict(tmp_path, capsys):
     """The Fig. 13 set's symmetric branch: branch.csv's criticality column and shoot's lines give
     the pitchfork at -2.034 soft and the one at 0.374 hard (what their switched branches do: the

@@ -58,6 +58,7 @@ def test_critical_forcing_of_the_full_model_is_where_simulation_loses_the_resona
     got = answer("critical-forcing", pre.params, tol=0.01)
     crit = got.result
     assert got.model.startswith("shooting") and crit.bounded_by in ("NS", "LP", "PD")
+    assert crit.loss in (("jump",) if crit.bounded_by == "LP" else ("soft", "hard", "undetermined"))
     Abar_c = crit.Abar_c
     # the branch with the special point that sets Abar_c, and its stable orbit just above it
     branch = next(
@@ -125,6 +126,7 @@ def test_answer_command_reports_model_reason_and_error(capsys, tmp_path):
     assert "outside its checked range" in captured.err
     value = float(captured.out.split("critical forcing at sigma = 1: Abar = ")[1].split()[0])
     assert value > 0.5
+    assert "crossing it is" in captured.out  # a jump or soft, as the point's normal form says
 
 
 def test_a_slow_time_response_that_leaves_the_manifold_hands_over_to_the_full_model():

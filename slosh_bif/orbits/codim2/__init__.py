@@ -15,6 +15,7 @@ _WHERE = {
     "CURVE_PROBLEMS": "curves",
     "CURVE_OPTIONS": "curves",
     "CODIM2_KINDS": "curves",
+    "curve_boundary": "curves",
     "MinAugCurveProblem": "minaug",
     "FoldCurveProblem": "multiplier_curves",
     "FlipCurveProblem": "multiplier_curves",

@@ -12,6 +12,7 @@ import numpy as np
 
 from slosh_bif.continuation import Branch, ContinuationOptions, continuation
 from slosh_bif.model.params import Params, real_pair
+from slosh_bif.orbits.codim2.coefficients import boundary, curve_coefficients
 from slosh_bif.orbits.codim2.minaug import MinAugCurveProblem
 from slosh_bif.orbits.codim2.multiplier_curves import (
     FlipCurveProblem,
@@ -32,6 +33,7 @@ __all__ = [
     "CURVE_PROBLEMS",
     "CURVE_OPTIONS",
     "CODIM2_KINDS",
+    "curve_boundary",
 ]
 
 CURVE_PROBLEMS = {
@@ -67,7 +69,7 @@ CURVE_OPTIONS = ContinuationOptions(
     locate_tol=LOCATE_TOL,
 )
 
-CODIM2_KINDS = ("CP", "LPPD", "LPNS", "PDNS", "R1", "R2", "R3", "R4", "BPLP")
+CODIM2_KINDS = ("CP", "LPPD", "LPNS", "PDNS", "R1", "R2", "R3", "R4", "BPLP", "GPD", "DBP", "CH")
 
 
 @dataclasses.dataclass(frozen=True)
@@ -157,6 +159,19 @@ class BifurcationCurve:
             meta["origin"],
             int(meta.get("period_multiple", 1)),
         )
+
+
+def curve_boundary(curve) -> tuple:
+    """(coefficient, boundary) per point of ``curve`` (:func:`.coefficients.boundary`): a fold is
+    a jump in either model (its coefficient NaN: its zero is the cusp CP, located by its own
+    test); NaN and '' where no coefficient was computed (the other curves of (8))."""
+    n = len(curve)
+    if curve.kind == "LP":
+        return np.full(n, np.nan), np.full(n, "jump", dtype="<U12")
+    if "coefficient" not in curve.measures:
+        return np.full(n, np.nan), np.full(n, "", dtype="<U12")
+    coefficient = curve.measures["coefficient"]
+    return coefficient, boundary(curve.kind, coefficient, curve.measures["judged"])
 
 
 @dataclasses.dataclass(frozen=True)
@@ -252,7 +267,8 @@ def trace_curve(
     )
     problem = curve_problem(at, kind, p1, p2, **setup)
     branch = continue_curve(problem, x, mu, at, box, options, callback)
-    measures = _measures(problem, branch, shooting.points_per_2pi)
+    branch, coefficients = curve_coefficients(problem, branch)
+    measures = {**_measures(problem, branch, shooting.points_per_2pi), **coefficients}
     return BifurcationCurve(kind, p1, p2, branch, measures, seed.origin, period_multiple)
 
 

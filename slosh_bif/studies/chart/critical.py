@@ -10,6 +10,8 @@ import time
 import numpy as np
 
 from slosh_bif.model.params import Params
+from slosh_bif.orbits.codim2 import curve_boundary
+from slosh_bif.orbits.criticality import special_criticality
 from slosh_bif.orbits.orbit_tools import orbit_measures
 from slosh_bif.orbits.scan import scan_families
 from slosh_bif.orbits.settings import (
@@ -39,18 +41,22 @@ __all__ = [
 
 
 SECOND_ON_CIRCLE = 1e-5  # a located codimension-2 point has its second multiplier this near the circle
-CRITICAL_COLUMNS = ("sigma", "Abar_b_slowflow", "Abar_c_full", "rel_diff", "bounded_by")
+CRITICAL_COLUMNS = ("sigma", "Abar_b_slowflow", "Abar_c_full", "rel_diff", "bounded_by", "loss")
 
 
 @dataclasses.dataclass(frozen=True)
 class FullCritical:
     """Abar_c of (9) at one sigma: NaN (and ``bounded_by`` empty) when no traced curve bounds
-    stable orbits with wall contact there inside the Abar range; ``chart`` is what it was read off."""
+    stable orbits with wall contact there inside the Abar range; ``loss`` how the stable response
+    is lost there (``jump`` at a fold, ``soft`` or ``hard`` by the normal-form coefficient of a
+    PD or NS point, ``undetermined`` near a codimension-2 point); ``chart`` is what it was read
+    off."""
 
     sigma: float
     Abar_c: float
     bounded_by: str
     chart: Chart
+    loss: str = ""
 
 
 def critical_forcing_full(
@@ -114,22 +120,29 @@ def critical_forcing_full(
     # points (2e-3 off at the Fig. 13 set's NS), so it counts only where it crosses sigma away
     # from every special point: a crossing of a family the scan did not reach.
     exact = [
-        (sp.p, sp.kind)
-        for ob in family.branches
+        (sp.p, sp.kind, k, j)
+        for k, ob in enumerate(family.branches)
         if ob.problem.period_multiple == 1
-        for sp in ob.branch.special
+        for j, sp in enumerate(ob.branch.special)
         if _bounds_stable_contact(ob, sp)
     ]
-    value, kind = min(exact, default=(np.nan, ""))
+    value, kind, k, j = min(exact, default=(np.nan, "", -1, -1))
+    loss = _point_loss(family.branches[k], j) if k >= 0 else ""
     for c in curves:
-        crossed = lowest_stable_boundary([c], sigma)[0]
+        crossed, _, crossed_loss = lowest_stable_boundary([c], sigma)
         if (
             np.isfinite(crossed)
             and not crossed >= value
-            and not any(k == c.kind and abs(a - crossed) <= 0.01 * a for a, k in exact)
+            and not any(kd == c.kind and abs(a - crossed) <= 0.01 * a for a, kd, _, _ in exact)
         ):
-            value, kind = crossed, c.kind
-    return FullCritical(float(sigma), float(value), kind, chart)
+            value, kind, loss = crossed, c.kind, crossed_loss
+    return FullCritical(float(sigma), float(value), kind, chart, loss)
+
+
+def _point_loss(ob, j) -> str:
+    """How the stable response is lost at special point j of the orbit branch ``ob``."""
+    found = special_criticality(ob, only=j).get(j)
+    return found.verdict if hasattr(found, "verdict") else "undetermined"
 
 
 _CRITICAL_COUNT = {"LP": 1, "BP": 1, "PD": 1, "NS": 2}
@@ -152,19 +165,38 @@ def _bounds_stable_contact(ob, sp) -> bool:
 
 
 def lowest_stable_boundary(curves, sigma):
-    """(Abar, kind) of the lowest point at sigma of the ``curves`` that bounds stable period-1
-    orbits with wall contact, by linear interpolation along each curve; (nan, "") when none.
+    """(Abar, kind, loss) of the lowest point at sigma of the ``curves`` that bounds stable
+    period-1 orbits with wall contact, by linear interpolation along each curve, and how stability
+    is lost there (the curve's ``boundary``: jump, soft, hard, undetermined; '' where not
+    computed); (nan, "", "") when none.
     Grazing curves of (8) are not read: there the number of impacts changes, not stability (on
     the Fig. 13 set the lowest is where the impact-free response first touches the walls)."""
-    best = (np.nan, "")
+    best = (np.nan, "", "")
     for c in curves:
         if c.period_multiple != 1 or c.kind == "GR":
             continue  # a period-2 branch's curves bound period-2 orbits; a grazing is no loss of stability
         good = _bounds_stable(c)
-        value = interp_min(c["sigma"], np.where(good, c["Abar"], np.nan), sigma)
+        v = np.where(good, c["Abar"], np.nan)
+        value = interp_min(c["sigma"], v, sigma)
         if value is not None and not value >= best[0]:
-            best = (value, c.kind)
+            best = (value, c.kind, _loss_at(c, v, sigma, value))
     return best
+
+
+def _loss_at(curve, v, sigma, value) -> str:
+    """The curve's ``boundary`` (:func:`~slosh_bif.orbits.codim2.curve_boundary`) where it
+    crosses sigma at ``value``: that of the nearer end of the crossing segment."""
+    s, kinds = curve["sigma"], curve_boundary(curve)[1]
+    for i in range(len(s) - 1):
+        if s[i] != s[i + 1] and min(s[i], s[i + 1]) <= sigma <= max(s[i], s[i + 1]):
+            t = (sigma - s[i]) / (s[i + 1] - s[i])
+            if (
+                np.isfinite(v[i])
+                and np.isfinite(v[i + 1])
+                and abs(v[i] + t * (v[i + 1] - v[i]) - value) < 1e-12
+            ):
+                return str(kinds[i] if t <= 0.5 else kinds[i + 1])
+    return ""
 
 
 def _bounds_stable(curve) -> np.ndarray:
@@ -220,13 +252,16 @@ def _slow_flow_critical_at(slow, sigma: float) -> float:
 
 
 def critical_rows(chart: Chart, points: int = 57):
-    """``critical.csv`` rows: on a sigma grid, Abar_b of (46), Abar_c of (9) and which curve kind sets it
-    (none for a chart whose second parameter is not Abar)."""
+    """``critical.csv`` rows: on a sigma grid, Abar_b of (46), Abar_c of (9), which curve kind sets it
+    and how the stable response is lost there (``loss``: jump, soft, hard, undetermined; '' where
+    no coefficient was computed); none for a chart whose second parameter is not Abar."""
     if chart.second != "Abar":
         return
     slow = chart.slow_flow_critical
     for sigma in np.linspace(*chart.sigma_range, points):
         b = _slow_flow_critical_at(slow, sigma)
-        c, kind = lowest_stable_boundary(chart.curves, sigma)
+        c, kind, loss = lowest_stable_boundary(chart.curves, sigma)
         rel = abs(c - b) / b if np.isfinite(b) and np.isfinite(c) and b > 0 else np.nan
-        yield dict(sigma=float(sigma), Abar_b_slowflow=b, Abar_c_full=c, rel_diff=rel, bounded_by=kind)
+        yield dict(
+            sigma=float(sigma), Abar_b_slowflow=b, Abar_c_full=c, rel_diff=rel, bounded_by=kind, loss=loss
+        )

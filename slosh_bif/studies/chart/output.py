@@ -19,7 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
-from slosh_bif.orbits.codim2 import CODIM2_KINDS, BifurcationCurve
+from slosh_bif.orbits.codim2 import CODIM2_KINDS, BifurcationCurve, curve_boundary
 from slosh_bif.report.files import DAMAGE, damaged, read_store, write_text_atomically
 from slosh_bif.report.tables import write_rows
 from slosh_bif.studies.chart.critical import CRITICAL_COLUMNS, critical_rows, lowest_stable_boundary
@@ -46,6 +46,8 @@ CURVE_COLUMNS = (
     "max_abs_w",
     "codim2",
     "bounds_stable",
+    "coefficient",
+    "boundary",
     "status",
     "origin",
 )
@@ -59,6 +61,7 @@ def curve_columns(second: str = "Abar") -> tuple:
 def curve_rows(chart):
     for k, c in enumerate(chart.curves):
         labels = c.branch.special_labels()
+        coefficient, kinds = curve_boundary(c)
         for i in range(len(c)):
             yield {
                 "curve": k,
@@ -69,6 +72,8 @@ def curve_rows(chart):
                 "max_abs_w": float(c["max_abs_w"][i]),
                 "codim2": labels[i] if labels[i] in CODIM2_KINDS else "",
                 "bounds_stable": int(c.branch.stable[i]),
+                "coefficient": float(coefficient[i]),
+                "boundary": kinds[i],
                 "status": c.status,
                 "origin": c.origin,
             }
@@ -84,6 +89,8 @@ def curve_rows(chart):
             "max_abs_w": np.nan,
             "codim2": "",
             "bounds_stable": "",
+            "coefficient": np.nan,
+            "boundary": "",
             "status": f"failed to start: {f.reason}",
             "origin": f.origin,
         }
@@ -122,7 +129,29 @@ def write_codim2_csv(chart, path) -> Path:
     )
 
 
-_COLORS = {"LP": "tab:red", "PD": "tab:blue", "NS": "tab:purple", "BP": "tab:orange", "GR": "tab:brown"}
+# one colour a kind (none of them the regime map's red, green or blue) and one line style a way of
+# losing stability: solid soft, dashed a jump (a hard PD, NS or BP, or a fold), dotted undetermined
+_COLORS = {"LP": "black", "PD": "tab:cyan", "NS": "tab:purple", "BP": "tab:orange", "GR": "tab:brown"}
+_KIND_NAMES = {
+    "LP": "LP (fold)",
+    "PD": "PD (period doubling)",
+    "NS": "NS (torus)",
+    "BP": "BP (symmetry breaking)",
+}
+_LOSS_STYLES = {
+    "soft": ("-", "solid: lost softly (a small new motion grows)"),
+    "jump": ((0, (5, 2)), "dashed: a jump (a fold, or a hard PD, NS or BP)"),
+    "undetermined": ((0, (1, 1.5)), "dotted: undetermined (near a codimension-2 point)"),
+}
+
+
+def _loss_style(kinds) -> np.ndarray:
+    """Each point's style key: hard and jump are both a jump; '' (no coefficient: (8)'s curves)
+    drawn solid as before."""
+    out = np.asarray(kinds, dtype="<U12").copy()
+    out[out == "hard"] = "jump"
+    out[out == ""] = "soft"
+    return out
 
 
 def _primary(chart) -> str:
@@ -131,44 +160,97 @@ def _primary(chart) -> str:
 
 
 def _draw(ax, chart, *, numbers: bool):
-    """The curves (the primary family's bold, the other families' faint; solid where they bound
-    stable orbits), the two critical forcings and the numbered codimension-2 points on ``ax``;
-    returns {legend label: handle} of what was drawn."""
+    """On ``ax``: the stable region's lower boundary Abar_c of the full model on top, styled by how
+    stability is lost along it; each curve where it bounds stable orbits in its kind's colour and
+    its loss's style (the primary family's bold, the other families' thin); where it does not,
+    faint; the slow flow's Abar_b; the codimension-2 points (numbered in the zoom, clear of each
+    other). Returns {legend label: handle} of what was drawn."""
+    from matplotlib.lines import Line2D
+
     from slosh_bif.report.plotting import place_labels
 
-    drawn = {}
+    drawn, kinds_drawn, styles_drawn = {}, [], set()
     primary = f"on the {_primary(chart)} branch"
     for c in chart.curves:
         main = primary in c.origin
         s, a, st = c["sigma"], c[chart.second], c.branch.stable
-        style = dict(color=_COLORS[c.kind], lw=1.8 if main else 0.8, alpha=1.0 if main else 0.45)
+        color = _COLORS[c.kind]
         if c.kind == "GR":  # where the number of impacts changes: one style, stable or not
-            (line,) = ax.plot(s, a, "-.", **{**style, "lw": 1.2})
-            drawn.setdefault("GR curve (grazing: the number of impacts changes)", line)
+            (line,) = ax.plot(s, a, "-.", color=color, lw=1.1, alpha=0.8)
+            drawn.setdefault("GR (grazing: the number of impacts changes)", line)
             continue
-        (line,) = ax.plot(s, np.where(st, a, np.nan), "-", **style)
-        if np.any(st):
-            drawn.setdefault(f"{c.kind} curve" + ("" if main else " (other families)"), line)
-        if np.any(~st):
-            (dotted,) = ax.plot(s, np.where(st, np.nan, a), ":", **{**style, "lw": style["lw"] * 0.7})
-            drawn.setdefault("curve not bounding stable orbits (dotted)", dotted)
-    slow = chart.slow_flow_critical
-    if slow is not None and len(slow.sigma):
-        (line,) = ax.plot(slow.sigma, slow.Abar_b, "k--", lw=1.6)
-        drawn[r"slow flow $\bar A_b$ " + ("(46)" if slow.model == "slowflow" else "(corrected)")] = line
-    if chart.second == "Abar":
-        grid = np.linspace(*chart.sigma_range, 401)
-        full = np.array([lowest_stable_boundary(chart.curves, sigma)[0] for sigma in grid])
-        if np.any(np.isfinite(full)):
-            (line,) = ax.plot(grid, full, "-", color="tab:green", lw=4, alpha=0.55, zorder=1)
-            drawn[rf"full model $\bar A_c$ {chart.orbits}: least stable periodic response"] = line
+        ax.plot(s, np.where(st, np.nan, a), "-", color=color, lw=0.6, alpha=0.18)
+        loss = _loss_style(curve_boundary(c)[1])
+        for key, (style, _) in _LOSS_STYLES.items():
+            mask = st & (loss == key)
+            if np.any(mask):
+                ax.plot(
+                    s,
+                    np.where(mask, a, np.nan),
+                    linestyle=style,
+                    color=color,
+                    lw=1.9 if main else 0.7,
+                    alpha=1.0 if main else 0.35,
+                )
+                styles_drawn.add(key)
+        if np.any(st) and c.kind not in kinds_drawn:
+            kinds_drawn.append(c.kind)
+    for kind in sorted(kinds_drawn, key=list(_KIND_NAMES).index):
+        drawn[_KIND_NAMES[kind]] = Line2D([], [], color=_COLORS[kind], lw=2)
+    for key, (style, label) in _LOSS_STYLES.items():
+        if key in styles_drawn:
+            drawn[label] = Line2D([], [], color="0.3", lw=1.6, linestyle=style)
+    drawn["faint: bounding unstable orbits (bold: the primary family)"] = Line2D(
+        [], [], color="0.5", lw=0.8, alpha=0.4
+    )
+    _draw_critical(ax, chart, drawn)
     rows = list(codim2_rows(chart))
     if rows:
-        (stars,) = ax.plot([r["sigma"] for r in rows], [r[chart.second] for r in rows], "k*", ms=7, zorder=5)
+        points = [(r["sigma"], r[chart.second]) for r in rows]
+        (stars,) = ax.plot(*zip(*points), "*", color="k", mec="w", mew=0.4, ms=7, zorder=6)
         drawn["codimension-2 point (numbered; codim2.csv)"] = stars
-        if numbers:  # a number that would overlap one already placed is left to codim2.csv
-            place_labels(ax, [(r["sigma"], r[chart.second], str(r["number"]), "k") for r in rows])
+        if numbers:  # a number with no free side is left to codim2.csv
+            place_labels(
+                ax,
+                [(x, y, str(r["number"]), "k") for (x, y), r in zip(points, rows)],
+                markers=points,
+                sides=((4, 4), (4, -11), (-16, 4), (-16, -11)),
+            )
     return drawn
+
+
+def _draw_critical(ax, chart, drawn):
+    """The two critical forcings: the slow flow's Abar_b (thin black dash-dot: a fold of (46), a
+    jump) and the full model's Abar_c, thick green, solid where it is lost softly, dashed where
+    by a jump."""
+    slow = chart.slow_flow_critical
+    if slow is not None and len(slow.sigma):
+        (line,) = ax.plot(slow.sigma, slow.Abar_b, "k-.", lw=1.3, zorder=5)
+        drawn[r"slow flow $\bar A_b$ " + ("(46)" if slow.model == "slowflow" else "(corrected)")] = line
+    if chart.second != "Abar":
+        return
+    grid = np.linspace(*chart.sigma_range, 401)
+    found = [lowest_stable_boundary(chart.curves, sigma) for sigma in grid]
+    full = np.array([f[0] for f in found])
+    if not np.any(np.isfinite(full)):
+        return
+    loss = _loss_style([f[2] for f in found])
+    label = rf"full model $\bar A_c$ {chart.orbits}: least forcing with a stable periodic response lost"
+    for key, (style, _) in _LOSS_STYLES.items():
+        mask = loss == key
+        # each stretch joined to its neighbours, so that a change of style leaves no gap
+        joined = mask | np.roll(mask, 1) & np.r_[False, np.ones(len(mask) - 1, bool)]
+        if np.any(mask):
+            (line,) = ax.plot(
+                grid,
+                np.where(joined, full, np.nan),
+                linestyle=style,
+                color="tab:green",
+                lw=3.2,
+                alpha=0.85,
+                zorder=4,
+            )
+            drawn.setdefault(label, line)
 
 
 def _zoom_box(chart):
@@ -192,10 +274,11 @@ def _zoom_box(chart):
 
 
 def plot_chart(chart, path, *, regimes=None) -> Path:
-    """The chart in full and, for a (sigma, Abar) chart, a zoom on the resonance region; the
-    primary family's curves bold and the other families' faint, the critical forcings of both
-    models, numbered codimension-2 points (their table in ``codim2.csv``), and the regime map
-    behind them when given."""
+    """The chart in full and, for a (sigma, Abar) chart, a zoom on the resonance region: the full
+    model's critical forcing on top, the curves in their kinds' colours and their losses' styles
+    (soft solid, a jump dashed; the primary family's bold, the other families' thin, stretches
+    bounding unstable orbits faint), the slow flow's critical forcing, numbered codimension-2
+    points (their table in ``codim2.csv``), and the regime map behind them when given."""
     from slosh_bif.report.plotting import pyplot, save_figure
 
     box = _zoom_box(chart) if chart.second == "Abar" else None
@@ -242,7 +325,7 @@ def plot_chart(chart, path, *, regimes=None) -> Path:
         regime_labels + list(drawn),
         fontsize=8,
         loc="lower center",
-        ncol=4,
+        ncol=3,
         frameon=False,
         bbox_to_anchor=(0.5, 0.0),
     )

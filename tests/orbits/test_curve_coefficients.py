@@ -1,0 +1,101 @@
+"""The normal-form coefficient along curves of orbit bifurcations of (9) against independent
+evaluations: at curve points, the coefficient of the same bifurcation found by one-parameter
+continuation at the point's second parameter (its own location, tangent and integrated Jacobian,
+not the curve's arcs); and a degenerate point (GPD) of a curve against one-parameter branches
+on either side of it, whose period doublings are soft on one side and hard on the other."""
+
+import numpy as np
+import pytest
+
+from slosh_bif import get_preset
+from slosh_bif.orbits import NO_SWITCHING, settle_and_shoot, trace_orbits
+from slosh_bif.orbits.codim2 import CurveSeed, curve_boundary, trace_curve
+from slosh_bif.orbits.codim2.coefficients import STRIDE, boundary
+from slosh_bif.orbits.criticality import special_criticality
+from slosh_bif.orbits.settings import ParameterRange
+
+PRESET = get_preset("fig10")
+
+
+def test_the_boundary_reads_the_coefficients_sign_by_kind():
+    b = np.array([0.5, -0.5, np.nan, 0.1])
+    judged = np.array([1, 1, 1, 0])
+    assert list(boundary("PD", b, judged)) == ["soft", "hard", "undetermined", "undetermined"]
+    assert list(boundary("BP", b, judged))[:2] == ["soft", "hard"]
+    assert list(boundary("NS", b, judged))[:2] == ["hard", "soft"]  # d < 0 is soft
+    assert set(boundary("LP", b, judged)) == {"jump"}
+
+
+@pytest.fixture(scope="module")
+def flip_curve():
+    """The period-doubling curve of (9) through the PD of the Fig. 10 set's asymmetric orbit at
+    sigma = -2.5358."""
+    P = PRESET.params.replace(sigma=-3.0)
+    orbit, _ = settle_and_shoot(P, PRESET.state0)
+    family = trace_orbits(P, orbit.y0, branching=NO_SWITCHING, interval=ParameterRange(lo=-3.0, hi=-2.3))
+    (pd,) = family.branches[0].branch.special_of("PD")
+    return P, trace_curve(P, CurveSeed("PD", pd.x, pd.p), box={"sigma": (-2.9, -2.2), "Abar": (2.7, 3.3)})
+
+
+def _one_parameter_verdict(P, x, sigma, abar, kind="PD"):
+    """The verdict of the ``kind`` point nearest sigma on the one-parameter branch in sigma at
+    Abar = abar, through the orbit x (states at tau = 0 first) from sigma - 0.02."""
+    at = P.replace(sigma=float(sigma) - 0.02, Abar=float(abar))
+    orbit, _ = settle_and_shoot(at, x[:4])
+    family = trace_orbits(
+        at,
+        orbit.y0,
+        branching=NO_SWITCHING,
+        interval=ParameterRange(lo=float(sigma) - 0.02, hi=float(sigma) + 0.02),
+    )
+    ob = family.branches[0]
+    found = special_criticality(ob)
+    k = min(found, key=lambda k: abs(ob.branch.special[k].p - sigma))
+    return ob.branch.special[k].p, found[k]
+
+
+def test_the_curves_coefficient_is_that_of_one_parameter_branches_at_its_points(flip_curve):
+    P, curve = flip_curve
+    coefficient, kinds = curve_boundary(curve)
+    assert len(curve) > 10 and np.all(np.isfinite(coefficient))
+    for i in (0, STRIDE * (len(curve) // (2 * STRIDE)), STRIDE * ((len(curve) - 1) // STRIDE)):
+        sigma, abar = curve["sigma"][i], curve["Abar"][i]
+        p, verdict = _one_parameter_verdict(P, curve.branch.x[i, :-1], sigma, abar)
+        assert p == pytest.approx(sigma, abs=1e-6)
+        assert verdict.coefficient == pytest.approx(coefficient[i], rel=1e-4)
+        assert verdict.verdict == kinds[i]
+
+
+@pytest.mark.slow  # the Fig. 13 family with its switched branches, a PD curve, four short branches
+def test_a_degenerate_flip_separates_soft_from_hard_period_doublings():
+    """The PD curve of the Fig. 13 set's asymmetric orbits through sigma = -1.252 has a GPD near
+    (-0.4165, 0.4507): one-parameter branches in sigma at the Abar of curve points a few steps to
+    either side find period doublings there, soft on one side and hard on the other, as the curve
+    says."""
+    from slosh_bif.orbits.starts import slow_flow_start
+
+    P = get_preset("fig13").params
+    start = slow_flow_start(P, -2.5, 1.0, segments=4)
+    family = trace_orbits(start.params, start.y0, interval=ParameterRange(name="sigma", lo=-2.5, hi=1.0))
+    pd = min(
+        (
+            sp
+            for ob in family.branches
+            if ob.name.startswith("asymmetric")
+            for sp in ob.branch.special_of("PD")
+        ),
+        key=lambda sp: abs(sp.p + 1.252),
+    )
+    assert pd.p == pytest.approx(-1.252, abs=1e-3)
+    curve = trace_curve(P, CurveSeed("PD", pd.x, pd.p), box={"sigma": (-1.4, 0.0), "Abar": (0.3, 1.1)})
+    gpd = [sp for sp in curve.branch.special if sp.kind == "GPD"]
+    assert gpd, [sp.kind for sp in curve.branch.special]
+    point = min(gpd, key=lambda sp: abs(sp.p + 0.4165))
+    assert point.p == pytest.approx(-0.4165, abs=2e-3)
+    j = point.index
+    kinds = curve_boundary(curve)[1]
+    sides = (j - STRIDE, j + 1 + STRIDE)
+    assert {kinds[i] for i in sides} == {"soft", "hard"}
+    for i in sides:
+        _, verdict = _one_parameter_verdict(P, curve.branch.x[i, :-1], curve["sigma"][i], curve["Abar"][i])
+        assert verdict.verdict == kinds[i], (i, verdict.coefficient)
