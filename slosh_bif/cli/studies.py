@@ -68,11 +68,25 @@ def _compare(args) -> int:
         write_compare_csv(rows, args.out / "compare.csv"),
         plot_compare(family, fr, rows, args.out / "compare.png", impact, impact_model=args.impact_model),
     )
-    table = compare_table(rows, impact_model=args.impact_model)
+    table = compare_table(rows, impact_model=args.impact_model) + "\n" + _losses(fr, family)
     write_text_atomically(args.out / "compare.txt", table + "\n")
     print(table)
     print(f"wrote {csv_path}, {png_path}, {args.out / 'compare.txt'}")
     return 0
+
+
+def _losses(fr, family) -> str:
+    """How each response loses stability: the slow flow's folds (a jump: the steady state of (46)
+    ends there) and each LP, PD, NS and BP of (9)'s family with its normal form's verdict."""
+    from slosh_bif.orbits.criticality import special_criticality, verdict_lines
+
+    folds = sorted(sp.p for b in fr.branches for sp in b.special if sp.kind == "LP")
+    lines = ["how stability is lost:"]
+    lines += [
+        f"  LP at sigma = {p:.6g} of the slow flow: a jump (a fold of the steady states)" for p in folds
+    ]
+    lines += verdict_lines(family, [special_criticality(ob) for ob in family.branches])
+    return "\n".join(lines)
 
 
 def _impact_branch_rows(args, params, lo, hi) -> list:

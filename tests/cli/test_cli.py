@@ -489,6 +489,7 @@ def test_compare_writes_csv_png_and_table(tmp_path, capsys):
     assert main(argv) == 0
     text = (out / "compare.txt").read_text()
     assert "sigma range" in text and (out / "compare.png").is_file() and (out / "compare.csv").is_file()
+    assert "how stability is lost:" in text
 
 
 def test_compare_from_the_slow_flow_reports_the_nearest_stable_orbit_too(tmp_path, capsys):
