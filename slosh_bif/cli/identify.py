@@ -93,7 +93,7 @@ def _fit_time_series(args) -> int:
         fit,
         paths,
         f"{fit.points} envelope points, {kind.split(' (')[0]} by the slow flow ({fit.model}): rms "
-        f"residual {fit.rms:.3g}",
+        f"residual {fit.rms:.3g}" + _goodness_line(fit),
     )
 
 

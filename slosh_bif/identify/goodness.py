@@ -4,9 +4,10 @@ With each point's standard deviation given, the residuals divided by it are stan
 the model is right, and the misfit is chi-square with N - k degrees of freedom (k fitted
 parameters): its upper tail probability is the fit's p-value. Without a std the scale is
 estimated from the same residuals, so their size says nothing; their structure does: the signs of
-the residuals along sigma (a Wald-Wolfowitz runs test within each sweep: a model that is wrong
-leaves long runs of one sign), and an up-sweep against a down-sweep at the same sigmas (a paired t
-test: both measured the same response, or the fit compares one of them with the wrong one). The
+the residuals along sigma (a Wald-Wolfowitz runs test within each sweep, along time for a record
+in time: a model that is wrong leaves long runs of one sign), and an up-sweep against a
+down-sweep at the same sigmas (a paired t test: both measured the same response, or the fit
+compares one of them with the wrong one). The
 tests' p-values are combined by Bonferroni's bound. Below :data:`THRESHOLD` the fit's intervals are
 conditional on a model that does not describe the data, and the fit says so.
 """
@@ -86,7 +87,10 @@ def sweep_test(data, r) -> float:
 
 
 def _groups(data) -> list:
-    """Each sweep's points (and the points without one) ordered by sigma."""
+    """Each sweep's points (and the points without one) ordered by sigma; a record in time (no
+    sigma): its points in time order."""
+    if not hasattr(data, "sigma"):
+        return [list(range(len(data)))]
     sweep = data.sweep or ("",) * len(data)
     return [
         sorted((k for k in range(len(data)) if sweep[k] == direction), key=lambda k: data.sigma[k])
@@ -106,15 +110,15 @@ def goodness(data, r, free: int, model_name: str) -> Goodness:
         tests = {"chi_square": p}
         detail = f"chi-square {rss:.4g} for {dof} degrees of freedom (p = {p:.2g})"
     else:
-        tests = {
-            "runs_of_one_sign": runs_test(r, _groups(data)),
-            "up_against_down_sweep": sweep_test(data, r),
-        }
+        tests = {"runs_of_one_sign": runs_test(r, _groups(data))}
+        if hasattr(data, "sweep"):
+            tests["up_against_down_sweep"] = sweep_test(data, r)
         p = min(1.0, len(tests) * min(tests.values()))
         parts = []
+        along = "sigma" if hasattr(data, "sigma") else "time"
         if tests["runs_of_one_sign"] < THRESHOLD:
-            parts.append(f"long runs of one sign along sigma (p = {tests['runs_of_one_sign']:.2g})")
-        if tests["up_against_down_sweep"] < THRESHOLD:
+            parts.append(f"long runs of one sign along {along} (p = {tests['runs_of_one_sign']:.2g})")
+        if tests.get("up_against_down_sweep", 1.0) < THRESHOLD:
             p_sweeps = tests["up_against_down_sweep"]
             parts.append(f"the up- and the down-sweep differ at equal sigmas (p = {p_sweeps:.2g})")
         detail = f"the residuals are structured: {'; '.join(parts)}; estimated noise {noise:.3g}"

@@ -26,6 +26,7 @@ from pathlib import Path
 import numpy as np
 
 from slosh_bif.identify.csv_table import number, read_header, read_table
+from slosh_bif.identify.goodness import goodness
 from slosh_bif.identify.response_model import impact_free
 from slosh_bif.identify.response_result import ResponseFit
 from slosh_bif.identify.response_stats import STARTS, least_squares, misfit_of, profile, wald
@@ -261,5 +262,6 @@ def fit_time_series(
         profiles,
         scale_known,
         r,
+        goodness=goodness(data, r, len(objective.names), f"the slow flow ({model})"),
         forced=forced,
     )

@@ -88,3 +88,28 @@ def test_a_forced_transient_gives_back_the_damping_and_its_start():
     assert (fit.values["psi0"] - 0.5 + np.pi) % (2 * np.pi) - np.pi == pytest.approx(0.0, abs=1e-6)
     with pytest.raises(ValueError, match="a forced record needs the forcing Abar > 0"):
         fit_time_series(data, at.replace(Abar=0.0), ["gamma"], forced=True)
+
+
+def _noisy(decay):
+    """The Radau decay with 1 % noise of known std (seeded)."""
+    rng = np.random.default_rng(5)
+    std = 0.01 * decay.A
+    return TimeRecord(decay.tau, decay.A + std * rng.standard_normal(len(decay.A)), std, "noisy")
+
+
+def test_a_decay_with_a_wrong_wall_held_is_said_not_to_fit(decay):
+    """1 % noise of known std on the Radau decay, fitted with lam held at 0.6 (the truth 0.35):
+    the fitted model does not describe the data, and the fit says so (naming the chi-square)."""
+    wrong = fit_time_series(_noisy(decay), TRUTH.replace(gamma=0.15, lam=0.6), ["gamma"])
+    assert not wrong.describes and "does not describe these data: chi-square" in wrong.goodness.statement
+
+
+@pytest.mark.slow  # two more fits with their profiles
+def test_a_decay_with_the_true_wall_fits_and_the_residuals_runs_catch_a_wrong_one(decay):
+    """With the true lam held the chi-square's p-value is unremarkable; without the std, the wrong
+    lam leaves long runs of one sign along time."""
+    noisy = _noisy(decay)
+    right = fit_time_series(noisy, TRUTH.replace(gamma=0.15), ["gamma"])
+    assert right.describes and right.goodness.p_value > 1e-3
+    blind = fit_time_series(TimeRecord(noisy.tau, noisy.A, None, "blind"), TRUTH.replace(lam=0.6), ["gamma"])
+    assert blind.goodness.tests["runs_of_one_sign"] < 0.05
