@@ -57,7 +57,7 @@ def curve_coefficients(problem, branch):
     """(branch with the coefficient's zeros added to its special points, {"coefficient": ...,
     "judged": ...}) for a traced curve of (9) (``problem`` its MinAugCurveProblem): the
     coefficient per point (interpolated in arclength between computed ones) and 1 where the
-    nearest computed point's normal form is valid. ``({}, branch)`` for kinds without one (LP) and
+    nearest computed point's normal form is valid. ``(branch, {})`` for kinds without one (LP) and
     for (8)'s curves."""
     kind = problem.kind
     if kind not in COEFFICIENT_KINDS or not isinstance(problem.orbits, ShootingProblem) or not len(branch):
