@@ -39,6 +39,8 @@ __all__ = ["add_commands"]
 
 
 def _compare(args) -> int:
+    from slosh_bif.cli.terminal import REPORTER
+    from slosh_bif.orbits.criticality import special_criticality
     from slosh_bif.slowflow.steady_states import frequency_response
     from slosh_bif.studies.compare import (
         compare_rows,
@@ -68,24 +70,29 @@ def _compare(args) -> int:
         write_compare_csv(rows, args.out / "compare.csv"),
         plot_compare(family, fr, rows, args.out / "compare.png", impact, impact_model=args.impact_model),
     )
-    table = compare_table(rows, impact_model=args.impact_model) + "\n" + _losses(fr, family)
-    write_text_atomically(args.out / "compare.txt", table + "\n")
-    print(table)
+    table = compare_table(rows, impact_model=args.impact_model)
+    verdicts = [special_criticality(ob) for ob in family.branches]
+    losses = [_losses(fr, family, verdicts, every=every) for every in (True, REPORTER.verbose)]
+    write_text_atomically(args.out / "compare.txt", table + "\n" + losses[0] + "\n")
+    print(table + "\n" + losses[1])
     print(f"wrote {csv_path}, {png_path}, {args.out / 'compare.txt'}")
     return 0
 
 
-def _losses(fr, family) -> str:
+def _losses(fr, family, verdicts, *, every: bool) -> str:
     """How each response loses stability: the slow flow's folds (a jump: the steady state of (46)
-    ends there) and each LP, PD, NS and BP of (9)'s family with its normal form's verdict."""
-    from slosh_bif.orbits.criticality import special_criticality, verdict_lines
+    ends there) and each LP, PD, NS and BP of (9)'s family with its normal form's verdict
+    (``verdicts``; past 30 of them one line counts them, unless ``every``)."""
+    from slosh_bif.orbits.criticality import verdict_lines
 
     folds = sorted(sp.p for b in fr.branches for sp in b.special if sp.kind == "LP")
     lines = ["how stability is lost:"]
     lines += [
         f"  LP at sigma = {p:.6g} of the slow flow: a jump (a fold of the steady states)" for p in folds
     ]
-    lines += verdict_lines(family, [special_criticality(ob) for ob in family.branches])
+    if not folds:
+        lines.append("  the slow flow's steady states have no fold in the range")
+    lines += verdict_lines(family, verdicts, every=every, where="compare.txt")
     return "\n".join(lines)
 
 

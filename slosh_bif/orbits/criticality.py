@@ -134,9 +134,11 @@ def describe(verdict) -> str:
     return f"hard ({value}): {born} is born unstable on the stable side{law}; the response jumps"
 
 
-def verdict_lines(family, verdicts, *, every: bool = False) -> list:
+def verdict_lines(
+    family, verdicts, *, every: bool = False, where: str = "branch.csv's 'criticality' column"
+) -> list:
     """What ``shoot`` prints: a line a judged point (``LP at sigma = S on NAME: ...``), or, past
-    :data:`MAX_LINES` points and unless ``every``, one line counting them."""
+    :data:`MAX_LINES` points and unless ``every``, one line counting them (each is ``where``)."""
     lines = [
         f"  {ob.branch.special[k].kind} at {ob.branch.param} = {ob.branch.special[k].p:.6g} on {ob.name}: "
         + describe(v)
@@ -148,6 +150,6 @@ def verdict_lines(family, verdicts, *, every: bool = False) -> list:
         return lines
     soft, hard = (sum(f": {word}" in line for line in lines) for word in ("soft", "hard"))
     return [
-        f"  {len(lines)} points judged ({soft} soft, {hard} hard): each in branch.csv's 'criticality' "
-        "column (-v lists them here)"
+        f"  {len(lines)} points judged ({soft} soft, {hard} hard, the rest jumps at folds or undetermined): "
+        f"each in {where} (-v lists them here)"
     ]
