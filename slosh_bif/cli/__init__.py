@@ -37,6 +37,7 @@ for _name in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS", "BLI
 from slosh_bif.cli import (  # noqa: E402 - after the environment is set
     answer,
     chart,
+    compare,
     identify,
     info,
     orbits,
@@ -56,7 +57,7 @@ def build_parser() -> argparse.ArgumentParser:
         "nonlinear liquid sloshing (Farid & Gendelman).",
     )
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
-    for family in (info, tank, slowflow, orbits, chart, studies, answer, simulation, identify):
+    for family in (info, tank, slowflow, orbits, chart, compare, studies, answer, simulation, identify):
         family.add_commands(sub)
     for each in sub.choices.values():
         talk = each.add_mutually_exclusive_group()

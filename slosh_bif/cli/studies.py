@@ -1,5 +1,5 @@
-"""``slosh-bif compare``, ``trust``, ``basins`` and ``figures``: the questions that combine the slow
-flow, the orbits and the simulations."""
+"""``slosh-bif trust``, ``basins`` and ``figures``: the questions that combine the slow flow, the
+orbits and the simulations over grids of sets and states (``compare``, one set's: :mod:`.compare`)."""
 
 from __future__ import annotations
 
@@ -7,6 +7,8 @@ import numpy as np
 
 from slosh_bif.cli.common import (
     MAX_GRID,
+    abar_range,
+    add_abar_range_options,
     add_backend_option,
     add_impact_model_option,
     add_model_option,
@@ -28,86 +30,9 @@ from slosh_bif.cli.common import (
     sweep_executor,
     throttled,
 )
-from slosh_bif.cli.orbits import (
-    add_shooting_options,
-    check_family_options,
-    family_from_args,
-)
 from slosh_bif.report.files import write_text_atomically
 
 __all__ = ["add_commands"]
-
-
-def _compare(args) -> int:
-    from slosh_bif.cli.terminal import REPORTER
-    from slosh_bif.orbits.criticality import special_criticality
-    from slosh_bif.slowflow.steady_states import frequency_response
-    from slosh_bif.studies.compare import (
-        compare_rows,
-        compare_table,
-        plot_compare,
-        write_compare_csv,
-    )
-
-    params = params_of(args)
-    lo, hi = sigma_range(args)
-    check_sigma_points(args)
-    check_family_options(args)
-    args.out.mkdir(parents=True, exist_ok=True)
-    check_impact_model(args)
-    if args.impact:
-        params.require_positive_stiffness()
-        if not lo <= params.sigma <= hi:
-            raise ValueError(
-                f"--impact starts (8)'s branch at the set's sigma = {params.sigma:g}, which must "
-                f"lie in [{lo:g}, {hi:g}]"
-            )
-    fr = frequency_response(params, sigma_min=lo, sigma_max=hi, model=args.model)
-    family = family_from_args(args, params, lo, hi)
-    impact = _impact_branch_rows(args, params, lo, hi) if args.impact else None
-    rows = list(compare_rows(family, fr, np.linspace(lo, hi, args.sigma_points), impact))
-    csv_path, png_path = (
-        write_compare_csv(rows, args.out / "compare.csv"),
-        plot_compare(family, fr, rows, args.out / "compare.png", impact, impact_model=args.impact_model),
-    )
-    table = compare_table(rows, impact_model=args.impact_model)
-    verdicts = [special_criticality(ob) for ob in family.branches]
-    losses = [_losses(fr, family, verdicts, every=every) for every in (True, REPORTER.verbose)]
-    write_text_atomically(args.out / "compare.txt", table + "\n" + losses[0] + "\n")
-    print(table + "\n" + losses[1])
-    print(f"wrote {csv_path}, {png_path}, {args.out / 'compare.txt'}")
-    return 0
-
-
-def _losses(fr, family, verdicts, *, every: bool) -> str:
-    """How each response loses stability: the slow flow's folds (a jump: the steady state of (46)
-    ends there) and each LP, PD, NS and BP of (9)'s family with its normal form's verdict
-    (``verdicts``; past 30 of them one line counts them, unless ``every``)."""
-    from slosh_bif.orbits.criticality import verdict_lines
-
-    folds = sorted(sp.p for b in fr.branches for sp in b.special if sp.kind == "LP")
-    lines = ["how stability is lost:"]
-    lines += [
-        f"  LP at sigma = {p:.6g} of the slow flow: a jump (a fold of the steady states)" for p in folds
-    ]
-    if not folds:
-        lines.append("  the slow flow's steady states have no fold in the range")
-    lines += verdict_lines(family, verdicts, every=every, where="compare.txt")
-    return "\n".join(lines)
-
-
-def _impact_branch_rows(args, params, lo, hi) -> list:
-    from slosh_bif.studies.compare import impact_branch_rows
-
-    progress(f"orbits of (8) from a {args.settle}-period simulation at sigma = {params.sigma:g}")
-    rows = impact_branch_rows(
-        params, state0_of(args, params), lo, hi, settle=args.settle, variant=args.impact_model
-    )
-    progress(
-        f"orbits of (8): {len(rows)} points over sigma in [{min(r['sigma'] for r in rows):.6g}, "
-        f"{max(r['sigma'] for r in rows):.6g}]"
-    )
-    return rows
 
 
 def _trust(args) -> int:
@@ -261,26 +186,75 @@ def _figures(args) -> int:
     return 0
 
 
+def _study(args) -> int:
+    from slosh_bif.studies.chart import ChartSettings, check_box
+    from slosh_bif.studies.design import design_study, parse_vary, plot_study, write_study_csv
+
+    name, values = parse_vary(args.vary)
+    params = params_of(args)
+    lo, hi = sigma_range(args)
+    a_lo, a_hi = abar_range(args, default=(0.2, 2 * params.Abar))
+    if args.seeds < 0:
+        raise ValueError(f"--seeds must be an integer >= 0; got {args.seeds}")
+    check_workers(args)
+    check_box(params, (lo, hi), (a_lo, a_hi), "Abar")
+    args.out.mkdir(parents=True, exist_ok=True)
+    study = design_study(
+        params,
+        state0_of(args, params),
+        name,
+        values,
+        sigma_range=(lo, hi),
+        abar_range=(a_lo, a_hi),
+        folder=args.out,
+        resume=args.resume,
+        settings=ChartSettings(seeds=args.seeds, workers=args.workers),
+        progress=throttled(progress, passes=lambda message: ": point " not in message),
+    )
+    paths = [write_study_csv(study, args.out / "study.csv"), plot_study(study, args.out / "study.png")]
+    for v in study.values:
+        print(f"{name} = {v.value:.6g}: {v.status}" + (f" ({v.reason})" if v.reason else ""))
+    print("wrote " + ", ".join(str(p) for p in paths))
+    for v in study.values:
+        if v.status not in ("complete", "not charted"):
+            raise stopped(v.status)
+    return 3 if any(v.chart is None for v in study.values) else 0
+
+
 def add_commands(sub) -> None:
     """Register this family's commands on the ``slosh-bif`` subparsers ``sub``."""
-    compare = sub.add_parser(
-        "compare", help="slow-flow curve (46) against the shooting branches of (9) over the same sigma range"
+    study = sub.add_parser(
+        "study",
+        help="a design study: one (sigma, Abar) chart of (9) per value of a third parameter, and how the "
+        "critical forcing and the way it is lost move with it",
+        epilog="exit status: 0 when every value was charted, 3 when a value was not (its reason in "
+        "study.csv), 2 for bad input, 130/143 when interrupted (--resume continues)",
     )
-    add_params_options(compare)
-    add_range_options(compare)
-    add_shooting_options(compare)
-    add_sigma_points_option(compare, default=141)
-    add_model_option(compare)
-    compare.add_argument(
-        "--impact",
-        action="store_true",
-        help="also the orbits of the vibro-impact model (8), from a simulation of (8) at the set's "
-        "sigma: the slow flow's error against (8) "
-        "(the expansion's) and (8)'s against (9) (its first-order coefficients and its wall) as "
-        "columns of their own",
+    add_params_options(study)
+    study.add_argument(
+        "--vary",
+        required=True,
+        metavar="NAME=LO:HI:COUNT",
+        help="the parameter and its values, e.g. beta=0.1:0.5:5",
     )
-    add_impact_model_option(compare)
-    compare.set_defaults(run=_compare)
+    study.add_argument(
+        "--sigma-min", type=float, default=None, help="lower end of the sigma range (default -6)"
+    )
+    study.add_argument(
+        "--sigma-max", type=float, default=None, help="upper end of the sigma range (default 8)"
+    )
+    add_abar_range_options(study)
+    study.add_argument(
+        "--seeds", type=int, default=7, help="primary-branch orbits continued in Abar per chart (default 7)"
+    )
+    study.add_argument("--workers", type=int, default=None, help="worker processes (default: one per core)")
+    study.add_argument(
+        "--resume", action="store_true", help="reuse the curves an interrupted run stored in --out"
+    )
+    study.add_argument(
+        "--out", type=out_path, required=True, help="folder for study.csv, study.png and the charts"
+    )
+    study.set_defaults(run=_study)
 
     trust = sub.add_parser(
         "trust", help="compare over a grid of eps, beta and n: where the slow flow (46) can be trusted"

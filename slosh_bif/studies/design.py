@@ -1,0 +1,198 @@
+"""A design study over a third parameter: one (sigma, Abar) chart of (9) per value of a parameter
+of the set (beta, gamma, eps, lam, chi, ...), and how the full model's critical forcing Abar_c
+(the lowest forcing with a stable periodic response lost, read off each chart's curves) and the
+way it is lost (a jump or soft: the normal-form coefficients along the curves) move with it,
+beside the slow flow's Abar_b of (46). Each value's curves are stored as the chart stores them,
+so that a study stopped part way resumes where it stopped."""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from pathlib import Path
+
+import numpy as np
+
+from slosh_bif.model.params import REAL_FIELDS, Params
+from slosh_bif.report.files import Resume
+from slosh_bif.report.tables import write_rows
+from slosh_bif.studies.chart.critical import critical_rows
+from slosh_bif.studies.chart.output import chart_settings, curve_store
+from slosh_bif.studies.chart.result import ChartSettings, check_box
+from slosh_bif.studies.chart.smooth import bifurcation_chart
+
+__all__ = [
+    "Study",
+    "StudyValue",
+    "parse_vary",
+    "design_study",
+    "STUDY_COLUMNS",
+    "write_study_csv",
+    "plot_study",
+]
+
+STUDY_COLUMNS = ("value", "sigma", "Abar_b_slowflow", "Abar_c_full", "bounded_by", "loss", "status")
+
+
+def parse_vary(text: str) -> tuple:
+    """(name, values) of ``NAME=LO:HI:COUNT``, or a one-line ValueError naming what is wrong."""
+    name, _, span = str(text).partition("=")
+    parts = span.split(":")
+    if not name or len(parts) != 3:
+        raise ValueError(f"--vary takes NAME=LO:HI:COUNT (e.g. beta=0.1:0.5:5); got {text!r}")
+    if name not in REAL_FIELDS or name in ("sigma", "Abar"):
+        allowed = ", ".join(f for f in REAL_FIELDS if f not in ("sigma", "Abar"))
+        raise ValueError(
+            f"--vary varies one of {allowed} (sigma and Abar are the chart's axes); got {name!r}"
+        )
+    try:
+        lo, hi, count = float(parts[0]), float(parts[1]), int(parts[2])
+    except ValueError:
+        raise ValueError(
+            f"--vary {name}=LO:HI:COUNT needs two numbers and an integer; got {span!r}"
+        ) from None
+    if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi and count >= 2):
+        raise ValueError(f"--vary {name}: need finite LO < HI and COUNT >= 2; got {lo:g}:{hi:g}:{count}")
+    return name, np.linspace(lo, hi, count)
+
+
+@dataclasses.dataclass(frozen=True)
+class StudyValue:
+    """One value of the study: its ``chart`` (None where it could not be charted, ``reason`` says
+    why) and its ``status`` (the chart's, or ``not charted``)."""
+
+    value: float
+    chart: object
+    status: str
+    reason: str = ""
+
+
+@dataclasses.dataclass(frozen=True)
+class Study:
+    """The charts of a study over ``name``: one :class:`StudyValue` per value, in order."""
+
+    name: str
+    values: tuple
+    sigma_range: tuple
+    abar_range: tuple
+
+    @property
+    def complete(self) -> bool:
+        return all(v.status == "complete" for v in self.values)
+
+
+def design_study(
+    params: Params,
+    state0,
+    name: str,
+    values,
+    *,
+    sigma_range: tuple,
+    abar_range: tuple,
+    folder,
+    resume: bool = False,
+    settings: ChartSettings = ChartSettings(),
+    progress=None,
+) -> Study:
+    """One chart of (9) per value of ``name`` over ``sigma_range`` x ``abar_range``, its curves
+    stored under ``folder/value-K/curves`` (``resume``: reused from an earlier run with the same
+    settings). A value whose set is not admissible (its parameter file's own check) is recorded
+    with the reason and skipped; a chart stopped part way (Ctrl-C) stops the study there."""
+    say = progress or (lambda message: None)
+    done = []
+    for k, value in enumerate(values):
+        try:
+            at = params.replace(**{name: float(value)})
+            check_box(at, sigma_range, abar_range, "Abar")
+        except ValueError as err:
+            done.append(StudyValue(float(value), None, "not charted", str(err)))
+            continue
+        say(f"{name} = {value:.6g}: chart {k + 1} of {len(values)}")
+        options = dict(switch=True, seeds=settings.seeds, backend="auto")
+        stored = chart_settings(at, state0, sigma_range, abar_range, **options)
+        store = curve_store(Path(folder) / f"value-{k:03d}" / "curves", stored, resume=resume)
+        chart = bifurcation_chart(
+            at,
+            state0,
+            box={"sigma": sigma_range, "Abar": abar_range},
+            settings=settings,
+            progress=lambda message, k=k: say(f"{name} = {values[k]:.6g}: {message}"),
+            resume=Resume(*store),
+        )
+        done.append(StudyValue(float(value), chart, chart.status))
+        if chart.status != "complete":
+            break
+    return Study(name, tuple(done), tuple(sigma_range), tuple(abar_range))
+
+
+def study_rows(study: Study, points: int = 57):
+    """Per value and sigma: Abar_b of (46), Abar_c of (9), the kind of curve that sets it and how
+    the response is lost there; a value that was not charted has one row with its reason."""
+    for v in study.values:
+        if v.chart is None:
+            yield dict(
+                value=v.value,
+                sigma=np.nan,
+                Abar_b_slowflow=np.nan,
+                Abar_c_full=np.nan,
+                bounded_by="",
+                loss="",
+                status=f"not charted: {v.reason}",
+            )
+            continue
+        for row in critical_rows(v.chart, points):
+            yield dict(value=v.value, **{k: row[k] for k in STUDY_COLUMNS[1:-1]}, status=v.status)
+
+
+def write_study_csv(study: Study, path) -> Path:
+    return write_rows(study_rows(study), STUDY_COLUMNS, path)
+
+
+def plot_study(study: Study, path) -> Path:
+    """Left: Abar_c(sigma) of (9) for each value (a colour a value; solid where the response is
+    lost softly, dashed where by a jump) and the slow flow's Abar_b (thin); right: against the
+    value, the least Abar_c over sigma and where it is."""
+    from slosh_bif.report.plotting import pyplot, save_figure
+
+    plt = pyplot()
+    fig, (left, right) = plt.subplots(1, 2, figsize=(12, 5), gridspec_kw={"width_ratios": [1.6, 1]})
+    charted = [v for v in study.values if v.chart is not None]
+    colours = plt.cm.viridis(np.linspace(0, 1, max(len(charted), 2)))
+    least = []
+    for v, colour in zip(charted, colours):
+        rows = list(critical_rows(v.chart, 201))
+        sigma = np.array([r["sigma"] for r in rows])
+        c = np.array([r["Abar_c_full"] for r in rows])
+        b = np.array([r["Abar_b_slowflow"] for r in rows])
+        jump = np.array([r["loss"] in ("jump", "hard") for r in rows])
+        left.plot(
+            sigma, np.where(~jump, c, np.nan), "-", color=colour, lw=2, label=f"{study.name} = {v.value:.4g}"
+        )
+        left.plot(sigma, np.where(jump, c, np.nan), "--", color=colour, lw=2)
+        left.plot(sigma, b, "-.", color=colour, lw=0.8)
+        k = int(np.nanargmin(c)) if np.any(np.isfinite(c)) else -1
+        least.append((v.value, c[k] if k >= 0 else np.nan, sigma[k] if k >= 0 else np.nan))
+    left.set_xlim(*study.sigma_range)
+    left.set_ylim(*study.abar_range)
+    left.set_xlabel(r"detuning $\sigma$")
+    left.set_ylabel(r"critical forcing $\bar A_c$ of (9)")
+    left.set_title("solid: lost softly; dashed: a jump; dash-dot: the slow flow's Abar_b (46)", fontsize=9)
+    left.legend(fontsize=8)
+    left.grid(alpha=0.3)
+    if least:
+        value, c, at = map(np.array, zip(*least))
+        right.plot(value, c, "o-", color="tab:green", label=r"least $\bar A_c$ over $\sigma$")
+        twin = right.twinx()
+        twin.plot(value, at, "s:", color="0.4", label=r"its $\sigma$")
+        twin.set_ylabel(r"$\sigma$ of the least $\bar A_c$")
+        right.legend(loc="upper left", fontsize=8)
+        twin.legend(loc="upper right", fontsize=8)
+    skipped = [v for v in study.values if v.chart is None]
+    right.set_xlabel(study.name)
+    right.set_ylabel(r"least $\bar A_c$")
+    right.set_title(
+        "the stable region's lowest point" + (f" ({len(skipped)} value(s) not charted)" if skipped else ""),
+        fontsize=9,
+    )
+    right.grid(alpha=0.3)
+    return save_figure(fig, path)
