@@ -1,5 +1,6 @@
-"""``slosh-bif trust``, ``basins`` and ``figures``: the questions that combine the slow flow, the
-orbits and the simulations over grids of sets and states (``compare``, one set's: :mod:`.compare`)."""
+"""``slosh-bif trust``, ``study``, ``basins`` and ``figures``: the questions that combine the slow
+flow, the orbits and the simulations over grids of sets, values and states (``compare``, one
+set's: :mod:`slosh_bif.cli.compare`)."""
 
 from __future__ import annotations
 
