@@ -49,6 +49,7 @@ from slosh_bif.identify.goodness import goodness
 from slosh_bif.identify.response_data import ResponseData
 from slosh_bif.identify.response_integers import INTEGERS, integer_estimates, integer_sets, start_at
 from slosh_bif.identify.response_objective import Objective, model_amplitudes, residuals, steady_states
+from slosh_bif.identify.response_orbits import LostOrbit
 from slosh_bif.identify.response_result import (
     MODEL_NAMES,
     MODELS,
@@ -199,7 +200,16 @@ def fit_response(
         # nearest orbit differed): then the fit is redone from the estimate, up to REFINDS times
         for _ in range(REFINDS):
             objective(z)  # the followed orbits at the estimate
-            fresh = Objective(data, fitted, continuous, model, say)
+            try:
+                fresh = Objective(data, fitted, continuous, model, say)
+            except LostOrbit as err:  # no fresh search finds orbits at the estimate: keep those followed
+                note = _join(
+                    note,
+                    f"Orbits searched afresh at the estimate were not found ({err}); the ones "
+                    "followed from the start are kept.",
+                )
+                found = objective.orbits.candidates
+                break
             found = fresh.orbits.candidates
             r_fresh = fresh(z)
             if all(objective.orbits.stable) and misfit_of(r_fresh, scale_known) >= misfit - 1e-9 * abs(
