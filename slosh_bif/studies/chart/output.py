@@ -142,15 +142,16 @@ _LOSS_STYLES = {
     "soft": ("-", "solid: lost softly (a small new motion grows)"),
     "jump": ((0, (5, 2)), "dashed: a jump (a fold, or a hard PD, NS or BP)"),
     "undetermined": ((0, (1, 1.5)), "dotted: undetermined (near a codimension-2 point)"),
+    "unknown": ("-", "solid on (8)'s PD, NS, BP curves: soft or hard not computed for the impact model"),
 }
 
 
 def _loss_style(kinds) -> np.ndarray:
-    """Each point's style key: hard and jump are both a jump; '' (no coefficient: (8)'s curves)
-    drawn solid as before."""
+    """Each point's style key: hard and jump are both a jump; '' (no coefficient: (8)'s PD and NS
+    curves) unknown."""
     out = np.asarray(kinds, dtype="<U12").copy()
     out[out == "hard"] = "jump"
-    out[out == ""] = "soft"
+    out[out == ""] = "unknown"
     return out
 
 
