@@ -150,8 +150,8 @@ def write_study_csv(study: Study, path) -> Path:
 
 def plot_study(study: Study, path) -> Path:
     """Left: Abar_c(sigma) of (9) for each value (a colour a value; solid where the response is
-    lost softly, dashed where by a jump) and the slow flow's Abar_b (thin); right: against the
-    value, the least Abar_c over sigma and where it is."""
+    lost softly, dashed where by a jump, dotted where undetermined) and the slow flow's Abar_b
+    (thin); right: against the value, the least Abar_c over sigma and where it is."""
     from slosh_bif.report.plotting import pyplot, save_figure
 
     plt = pyplot()
@@ -164,11 +164,11 @@ def plot_study(study: Study, path) -> Path:
         sigma = np.array([r["sigma"] for r in rows])
         c = np.array([r["Abar_c_full"] for r in rows])
         b = np.array([r["Abar_b_slowflow"] for r in rows])
-        jump = np.array([r["loss"] in ("jump", "hard") for r in rows])
-        left.plot(
-            sigma, np.where(~jump, c, np.nan), "-", color=colour, lw=2, label=f"{study.name} = {v.value:.4g}"
-        )
-        left.plot(sigma, np.where(jump, c, np.nan), "--", color=colour, lw=2)
+        loss = np.array([r["loss"] for r in rows])
+        for style, kinds in (("-", ("soft",)), ("--", ("jump", "hard")), (":", ("undetermined", ""))):
+            shown = np.isin(loss, kinds)
+            label = f"{study.name} = {v.value:.4g}" if style == "-" else None
+            left.plot(sigma, np.where(shown, c, np.nan), style, color=colour, lw=2, label=label)
         left.plot(sigma, b, "-.", color=colour, lw=0.8)
         k = int(np.nanargmin(c)) if np.any(np.isfinite(c)) else -1
         least.append((v.value, c[k] if k >= 0 else np.nan, sigma[k] if k >= 0 else np.nan))
@@ -176,7 +176,10 @@ def plot_study(study: Study, path) -> Path:
     left.set_ylim(*study.abar_range)
     left.set_xlabel(r"detuning $\sigma$")
     left.set_ylabel(r"critical forcing $\bar A_c$ of (9)")
-    left.set_title("solid: lost softly; dashed: a jump; dash-dot: the slow flow's Abar_b (46)", fontsize=9)
+    left.set_title(
+        "solid: lost softly; dashed: a jump; dotted: undetermined; dash-dot: the slow flow's Abar_b (46)",
+        fontsize=9,
+    )
     left.legend(fontsize=8)
     left.grid(alpha=0.3)
     if least:
