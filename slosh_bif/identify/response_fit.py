@@ -44,6 +44,7 @@ import warnings
 import numpy as np
 from scipy import stats
 
+from slosh_bif.continuation.options import ConvergenceError
 from slosh_bif.identify.assignment import UNEXPLAINED, unexplained
 from slosh_bif.identify.goodness import goodness
 from slosh_bif.identify.response_data import ResponseData
@@ -202,7 +203,7 @@ def fit_response(
             objective(z)  # the followed orbits at the estimate
             try:
                 fresh = Objective(data, fitted, continuous, model, say)
-            except LostOrbit as err:  # no fresh search finds orbits at the estimate: keep those followed
+            except (LostOrbit, ConvergenceError) as err:  # none found afresh: keep those followed
                 note = _join(
                     note,
                     f"Orbits searched afresh at the estimate were not found ({err}); the ones "
