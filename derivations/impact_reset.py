@@ -19,6 +19,12 @@ The kernel written from it takes the impact's energy loss L = c v**q as an input
 flow computes it to test for a real kappa first): dL/dv = q L / v, and dL/dc = L / c carries a
 wall parameter's derivative (lam, chi move c).
 
+The normal-form coefficients of an orbit's bifurcations need the map's second and third
+derivatives, and through the impact those of the reset in the velocity before it:
+:func:`reset_jet` gives ``w'+`` and its first three derivatives in ``w'-`` (dL/dw'- = q L / w'-
+for L = c v**q with v = side * w'-, and so on), for the jets that carry the map's derivatives
+through each impact (:mod:`slosh_bif.orbits.impact.map_derivatives`).
+
 The corrected impact model is (9) with its wall replaced by the wall's own measured law: it flies
 on (9)'s linear part (the exact coefficients, not (8)'s first-order ones), and impacts with the
 restitution kappa_wall(v) at the clearance ``|w| = D(v)`` of the equivalent rigid wall
@@ -58,6 +64,30 @@ def saltation():
     normal = sp.Matrix([[0, 0, side, 0]])  # grad (side * w - 1)
     S = _saltation_matrix(G, f_minus, f_plus, normal)
     return S, w_plus, sp.diff(w_plus, loss)
+
+
+def reset_jet():
+    """[w'+, d w'+/d w'-, d2, d3] at an impact of (8) with loss ``loss`` = L(v) = c v**q: the
+    derivatives of L in w'- written as q (q - 1) ... L / w'-**k (L is a power of v = side w'-), and
+    checked against the reset differentiated with L = c (side w'-)**q itself, on both walls."""
+    wd = m.STATE[3]
+    L = sp.Function("L")
+    w_plus = -sp.sqrt(1 - L(wd)) * wd
+    jet = []
+    for k in range(4):
+        expr = sp.diff(w_plus, wd, k)
+        for j in range(k, 0, -1):  # highest derivative first, so that lower ones are not mistaken
+            expr = expr.subs(sp.Derivative(L(wd), (wd, j)), sp.ff(q, j) * loss / wd**j)
+        jet.append(sp.factor_terms(sp.simplify(expr.subs(L(wd), loss))))
+    c, v = sp.symbols("c v", positive=True)
+    for wall in (1, -1):
+        direct = -sp.sqrt(1 - c * (wall * wd) ** q) * wd
+        at = {wd: wall * v, loss: c * v**q}
+        for k, expr in enumerate(jet):
+            gap = sp.simplify(sp.diff(direct, wd, k).subs(wd, wall * v) - expr.subs(at))
+            if gap != 0:
+                raise AssertionError(f"the reset's derivative {k} differs from its direct form: {gap}")
+    return sp.Matrix(jet)
 
 
 def measured_saltation():
@@ -106,8 +136,8 @@ def _check(S, G, f_minus, f_plus, normal):
 
 
 def kernel_functions(Function):
-    """The compiled flow's impact kernels: (21)'s, out = [S row-major (16), w'+, dw'+/dL], and the
-    measured wall's, out = [S row-major (16), w'+]."""
+    """The compiled flow's impact kernels: (21)'s, out = [S row-major (16), w'+, dw'+/dL], the
+    measured wall's, out = [S row-major (16), w'+], and (21)'s reset with its derivatives."""
     S, w_plus, dloss = saltation()
     measured, measured_w_plus = measured_saltation()
     outputs = sp.Matrix(list(S) + [w_plus, dloss])
@@ -131,5 +161,13 @@ def kernel_functions(Function):
             (("y", m.STATE),),
             (m.eps, m.beta, m.gamma, m.sigma, m.Abar, side, kappa, dkappa, dclear),
             sp.Matrix(list(measured) + [measured_w_plus]),
+        ),
+        Function(
+            "impact_reset_jet_kernel",
+            "out = [w'+, dw'+/dw'-, d2 w'+/dw'-2, d3 w'+/dw'-3] of an impact of (8) on either wall "
+            "(eqs. 2, 21); y is the state before it, pars = (loss, q).",
+            (("y", m.STATE),),
+            (loss, q),
+            reset_jet(),
         ),
     ]

@@ -59,17 +59,18 @@ def _compare(args) -> int:
     )
     table = compare_table(rows, impact_model=args.impact_model)
     verdicts = [special_criticality(ob) for ob in family.branches]
-    losses = [_losses(fr, family, verdicts, every=every) for every in (True, REPORTER.verbose)]
+    losses = [_losses(fr, family, verdicts, impact, every=every) for every in (True, REPORTER.verbose)]
     write_text_atomically(args.out / "compare.txt", table + "\n" + losses[0] + "\n")
     print(table + "\n" + losses[1])
     print(f"wrote {csv_path}, {png_path}, {args.out / 'compare.txt'}")
     return 0
 
 
-def _losses(fr, family, verdicts, *, every: bool) -> str:
+def _losses(fr, family, verdicts, impact, *, every: bool) -> str:
     """How each response loses stability: the slow flow's folds (a jump: the steady state of (46)
-    ends there) and each LP, PD, NS and BP of (9)'s family with its normal form's verdict
-    (``verdicts``; past 30 of them one line counts them, unless ``every``)."""
+    ends there), each LP, PD, NS and BP of (9)'s family with its normal form's verdict
+    (``verdicts``; past 30 of them one line counts them, unless ``every``) and those of (8)'s
+    branch (``impact``, its rows, or None)."""
     from slosh_bif.orbits.criticality import verdict_lines
 
     folds = sorted(sp.p for b in fr.branches for sp in b.special if sp.kind == "LP")
@@ -80,6 +81,11 @@ def _losses(fr, family, verdicts, *, every: bool) -> str:
     if not folds:
         lines.append("  the slow flow's steady states have no fold in the range")
     lines += verdict_lines(family, verdicts, every=every, where="compare.txt")
+    lines += [
+        f"  {r['special']} at sigma = {r['sigma']:.6g} of the impact model: {r['criticality']}"
+        for r in impact or ()
+        if r.get("criticality")
+    ]
     return "\n".join(lines)
 
 

@@ -192,6 +192,7 @@ def _shoot_impact(args, params, lo, hi) -> int:
     settles on (or --guess), across sections and grazings; a symmetric one on the half-period map,
     with the asymmetric branches born at its pitchforks (unless --no-switch)."""
     from slosh_bif.continuation import ContinuationOptions
+    from slosh_bif.orbits.criticality import describe, impact_criticality
     from slosh_bif.orbits.impact.branches import settled_orbit
     from slosh_bif.orbits.impact.output import (
         impact_rows,
@@ -238,10 +239,17 @@ def _shoot_impact(args, params, lo, hi) -> int:
             variant=variant,
         )
         branches = [(nb.name, nb.branch, nb.symmetric) for nb in family]
+        verdicts = {
+            name: impact_criticality(branch, params, symmetric=half) for name, branch, half in branches
+        }
+        phrases = {
+            name: [{k: describe(v) for k, v in found.items()} for found in per]
+            for name, per in verdicts.items()
+        }
         rows = [
             r
             for name, branch, half in branches
-            for r in impact_rows(branch, params, symmetric=half, name=name)
+            for r in impact_rows(branch, params, symmetric=half, name=name, criticality=phrases[name])
         ]
         plots.submit(plot_impact_branch, rows, params, args.out / "branch.png")
         csv_path = write_impact_csv(rows, args.out / "branch.csv")
@@ -264,6 +272,10 @@ def _shoot_impact(args, params, lo, hi) -> int:
         )
         for p_gr, _, _ in branch.grazing:
             print(f"  GR at {args.parameter} = {p_gr:.10g}")
+        for piece, found in zip(branch.pieces, verdicts[name]):
+            for k, verdict in found.items():
+                sp = piece.branch.special[k]
+                print(f"  {sp.kind} at {args.parameter} = {sp.p:.6g}: {describe(verdict)}")
         for end in branch.ends:
             progress(f"{name}: {end}")
     print(f"wrote {csv_path}, {png_path}")

@@ -4,7 +4,9 @@ on the map over the orbit's period; a symmetric orbit's pitchfork on its half-pe
 normal form's prediction of the motion born there (its size against the distance to the point,
 :func:`~slosh_bif.continuation.normal_forms.growth_law`, with the rate at which the critical
 multiplier crosses from :func:`~slosh_bif.orbits.map_derivatives.crossing_rate`), and the plain
-sentence a user reads beside each point."""
+sentence a user reads beside each point. The vibro-impact model (8) is judged the same way, on
+its map's derivatives through the impacts
+(:class:`~slosh_bif.orbits.impact.map_derivatives.ImpactMapDerivatives`)."""
 
 from __future__ import annotations
 
@@ -14,15 +16,26 @@ import math
 import numpy as np
 
 from slosh_bif.continuation.normal_forms import NormalForm, growth_law
-from slosh_bif.orbits.map_derivatives import criticality, crossing_rate
+from slosh_bif.orbits.map_derivatives import FlowDerivatives, criticality, crossing_rate
 
-__all__ = ["KINDS", "MAX_LINES", "Verdict", "special_criticality", "npz_arrays", "describe", "verdict_lines"]
+__all__ = [
+    "KINDS",
+    "MAX_LINES",
+    "Verdict",
+    "judge",
+    "special_criticality",
+    "impact_criticality",
+    "npz_arrays",
+    "describe",
+    "verdict_lines",
+]
 
 MAX_LINES = 30  # more judged points than this (a scan): counted in one line, each in branch.csv
 
 KINDS = ("LP", "PD", "NS", "BP")
 _NAMES = {"LP": "a", "PD": "b", "NS": "d", "BP": "b"}
 _STATE = ("X", "X'", "w", "w'")
+_AT_PARENT = "where the orbit meets its symmetric parent: see the parent's pitchfork"
 
 
 @dataclasses.dataclass(frozen=True)
@@ -59,33 +72,75 @@ def _tangent_rate(sp):
     return t[:4] / t[-1]
 
 
+def judge(problem, sp, param: str):
+    """The :class:`Verdict` of the special point ``sp`` (an LP, PD, NS or BP of a branch of
+    ``problem``'s orbits continued in ``param``), or the reason it is not computed (a str)."""
+    if sp.kind == "BP" and not problem.symmetric:
+        return _AT_PARENT
+    period = 2 * math.pi * problem.period_multiple
+    # (8)'s problem states its own (jets through its impacts); (9)'s variational equations
+    derivatives = getattr(problem, "map_derivatives", FlowDerivatives)
+    try:
+        nf = criticality(
+            problem.params_at(sp.p),
+            sp.x[:4],
+            sp.kind,
+            period=period,
+            symmetric=problem.symmetric,
+            derivatives=derivatives,
+        )
+    except ValueError as err:  # not integrated, or (8)'s map not smooth there
+        return f"not computed: {err}"
+    dy = _tangent_rate(sp)
+    slope = math.nan
+    if dy is not None and nf.status == "ok" and sp.kind != "LP":
+        slope = crossing_rate(
+            problem.params_at, sp.p, sp.x[:4], dy, sp.kind, nf, period=period, derivatives=derivatives
+        )
+    K, side = growth_law(nf, slope)
+    c = int(np.argmax(np.abs(nf.q)))
+    scale = 2.0 * abs(nf.q[c]) if sp.kind == "NS" else abs(nf.q[c])  # x = 2 Re(z q) on a circle
+    return Verdict(sp.kind, nf, param, float(sp.p), K * scale, side, _STATE[c])
+
+
+def _judged(problem, branch, only=None) -> dict:
+    """``{index in branch.special: judge(...)}`` over its LP, PD, NS and BP points; a fold that
+    sits at a BP of an asymmetric branch is the pair's turn through its symmetric parent (the
+    pitchfork seen from the pair), named so instead of judged as a fold."""
+    pitchforks = [sp.p for sp in branch.special if sp.kind == "BP"] if not problem.symmetric else []
+    out = {}
+    for k, sp in enumerate(branch.special):
+        if sp.kind not in KINDS or only not in (None, k):
+            continue
+        at_parent = sp.kind == "LP" and any(abs(sp.p - p) <= 1e-6 * (1 + abs(p)) for p in pitchforks)
+        out[k] = _AT_PARENT if at_parent else judge(problem, sp, branch.param)
+    return out
+
+
 def special_criticality(ob, *, only: int | None = None) -> dict:
     """``{index of the special point in ob.branch.special: Verdict or a reason (str)}`` for the
     LP, PD, NS and BP points of the orbit branch ``ob`` (an OrbitBranch of (9)); ``only``: that
     one point."""
-    problem, out = ob.problem, {}
-    period = 2 * math.pi * problem.period_multiple
-    for k, sp in enumerate(ob.branch.special):
-        if sp.kind not in KINDS or only not in (None, k):
-            continue
-        if sp.kind == "BP" and not problem.symmetric:
-            out[k] = "where the orbit meets its symmetric parent: see the parent's pitchfork"
-            continue
-        try:
-            nf = criticality(
-                problem.params_at(sp.p), sp.x[:4], sp.kind, period=period, symmetric=problem.symmetric
-            )
-        except ValueError as err:  # the variational equations could not be integrated
-            out[k] = f"not computed: {err}"
-            continue
-        dy = _tangent_rate(sp)
-        slope = math.nan
-        if dy is not None and nf.status == "ok" and sp.kind != "LP":
-            slope = crossing_rate(problem.params_at, sp.p, sp.x[:4], dy, sp.kind, nf, period=period)
-        K, side = growth_law(nf, slope)
-        c = int(np.argmax(np.abs(nf.q)))
-        scale = 2.0 * abs(nf.q[c]) if sp.kind == "NS" else abs(nf.q[c])  # x = 2 Re(z q) on a circle
-        out[k] = Verdict(sp.kind, nf, ob.branch.param, float(sp.p), K * scale, side, _STATE[c])
+    return _judged(ob.problem, ob.branch, only)
+
+
+def impact_criticality(branch, params, *, symmetric: bool = False) -> list:
+    """Per piece of the :class:`~slosh_bif.orbits.impact.branches.ImpactBranch` ``branch`` of (8)
+    (traced on the half-period map when ``symmetric``), ``{index in the piece's special points:
+    Verdict or a reason}`` as :func:`special_criticality` gives them for (9)."""
+    from slosh_bif.orbits.impact.problem import ImpactOrbitProblem  # numba only where (8) is judged
+
+    out = []
+    for piece in branch.pieces:
+        problem = ImpactOrbitProblem(
+            params,
+            piece.branch.param,
+            symmetric=symmetric,
+            phase=piece.phase,
+            period_multiple=piece.period_multiple,
+            variant=branch.variant,
+        )
+        out.append(_judged(problem, piece.branch))
     return out
 
 

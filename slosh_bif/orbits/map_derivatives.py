@@ -51,12 +51,17 @@ class FlowDerivatives:
         D2 phi[v, w] and D3 phi[u, v, w], each kept under its directions in any order (the forms
         are symmetric)."""
         u, v, w = (np.asarray(d, dtype=float) for d in (u, v, w))
-        end = integrate_variations(
-            self.params, self.y0, self.t1, (u, v, w), rtol=self.rtol, atol=self.atol, backend=self.backend
-        )
+        end = self._variations((u, v, w))
         for (a, b), lo in (((u, v), 16), ((u, w), 20), ((v, w), 24)):
             self._seconds.setdefault(_key(a, b), end[lo : lo + 4])
         self._thirds[_key(u, v, w)] = end[28:32]
+
+    def _variations(self, directions):
+        """[y(t1), Phi u, Phi v, Phi w, D2[u, v], D2[u, w], D2[v, w], D3[u, v, w]] (32 numbers) of
+        the flow in the real ``directions`` (u, v, w)."""
+        return integrate_variations(
+            self.params, self.y0, self.t1, directions, rtol=self.rtol, atol=self.atol, backend=self.backend
+        )
 
     def _cover(self, pairs):
         """Integrate until D2 phi is known for every real pair in ``pairs``: each integration
@@ -86,12 +91,7 @@ class FlowDerivatives:
         """d phi(t1) / d y0 (times ``sign``), from the same variational equations: three columns an
         integration."""
         eye, zero = np.eye(4), np.zeros(4)
-        runs = [
-            integrate_variations(
-                self.params, self.y0, self.t1, dirs, rtol=self.rtol, atol=self.atol, backend=self.backend
-            )
-            for dirs in ((eye[0], eye[1], eye[2]), (eye[3], zero, zero))
-        ]
+        runs = [self._variations(dirs) for dirs in ((eye[0], eye[1], eye[2]), (eye[3], zero, zero))]
         Phi = np.column_stack([runs[0][4:8], runs[0][8:12], runs[0][12:16], runs[1][4:8]])
         return self.sign * Phi
 
@@ -143,22 +143,21 @@ def _map_of(kind, period):
     return (period / 2, -1.0) if kind == "BP" else (period, 1.0)
 
 
-def crossing_rate(params_at, p0: float, y0, dy, kind: str, nf, *, period=2 * math.pi, h=1e-5) -> float:
+def crossing_rate(
+    params_at, p0: float, y0, dy, kind: str, nf, *, period=2 * math.pi, h=1e-5, derivatives=FlowDerivatives
+) -> float:
     """d beta / dp at the ``kind`` point ``nf`` (its q and adjoint p) of the orbit through ``y0`` at
     the parameter value ``p0`` (``params_at(p)`` gives the set): beta = -mu - 1 at a flip (a PD, or
     a BP as the flip of G), |mu| - 1 at a Neimark-Sacker point, with d mu / dp = <p, (D^2 phi[., dy]
     + d_p D phi) q> along the branch (``dy`` = d y0 / dp, from its tangent; d_p D phi by a central
-    difference of the exact Jacobian in the parameter, step ``h`` relative)."""
+    difference of the exact Jacobian in the parameter, step ``h`` relative). ``derivatives``: the
+    model's map derivatives (:class:`FlowDerivatives` for (9), or one with its signature)."""
     t1, sign = _map_of(kind, period)
-    return _rate(params_at, p0, y0, dy, nf, t1, sign, h)
-
-
-def _rate(params_at, p0, y0, dy, nf, t1, sign, h) -> float:
     step = h * max(1.0, abs(p0))
-    flow = FlowDerivatives(params_at(p0), y0, t1, sign=sign)
+    flow = derivatives(params_at(p0), y0, t1, sign=sign)
     dA = (
-        FlowDerivatives(params_at(p0 + step), y0, t1, sign=sign).jacobian()
-        - FlowDerivatives(params_at(p0 - step), y0, t1, sign=sign).jacobian()
+        derivatives(params_at(p0 + step), y0, t1, sign=sign).jacobian()
+        - derivatives(params_at(p0 - step), y0, t1, sign=sign).jacobian()
     ) / (2 * step)
     q, p = nf.q, nf.p
     mu = np.vdot(p, flow.jacobian() @ q)
@@ -177,16 +176,19 @@ def criticality(
     symmetric: bool = False,
     rtol: float = RTOL,
     jacobian=None,
+    derivatives=FlowDerivatives,
 ):
     """The :class:`~slosh_bif.continuation.normal_forms.NormalForm` of the orbit of (9) through
     ``y0`` (at tau = 0) at a ``kind`` point: LP, PD or NS of the map over ``period``; BP (a
     symmetric orbit's pitchfork) as the flip of the half-period map G = -phi_(period / 2). ``rtol``:
     the variational equations' relative tolerance (``atol`` a hundredth of it); ``jacobian``: the
-    map's Jacobian where the caller has it (a curve's arcs), else integrated here."""
+    map's Jacobian where the caller has it (a curve's arcs), else integrated here; ``derivatives``:
+    the class of the model's map derivatives (:class:`FlowDerivatives` for (9), or one with its
+    signature, such as (8)'s)."""
     if kind == "BP" and not symmetric:
         raise ValueError("the pitchfork's coefficient is that of a symmetric orbit's half-period map")
     t1, sign = _map_of(kind, period)
-    flow = FlowDerivatives(params, y0, t1, sign=sign, rtol=rtol, atol=rtol * 1e-2)
+    flow = derivatives(params, y0, t1, sign=sign, rtol=rtol, atol=rtol * 1e-2)
     A = flow.jacobian() if jacobian is None else np.asarray(jacobian, dtype=float)
     if kind in ("PD", "BP"):
         return flip_coefficient(A, flow.second, flow.third)

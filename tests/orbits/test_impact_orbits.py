@@ -192,7 +192,17 @@ def test_shoot_model_impact_traces_the_fig13_branch_with_its_pitchforks_and_toru
 
     mu = np.linalg.eigvals(_fd_jacobian(reference_map, x))
     assert np.sort(np.abs(mu))[-2:] == pytest.approx([1.0, 1.0], abs=1e-5)
-    assert "wrote" in capsys.readouterr().out
+    out = capsys.readouterr().out
+    assert "wrote" in out
+    # how each is crossed (the pitchforks' verdicts are checked against the switched branch in
+    # test_impact_criticality): printed and in branch.csv's criticality column
+    assert "BP at sigma = -2.00827: soft (b = " in out and "BP at sigma = 0.437172: hard (b = " in out
+    assert "NS at sigma = 3.51104: hard (d = " in out
+    assert sorted(r["criticality"].split(" ")[0] for r in rows if r["criticality"]) == [
+        "hard",
+        "hard",
+        "soft",
+    ]
     # where an impact reached the section the branch went on from a section moved along the orbit:
     # the new piece's first state is the old piece's last one carried there by the reference flow
     pieces = [np.load(tmp_path / f"symmetric-piece{k}.npz") for k in sorted({int(r["piece"]) for r in rows})]

@@ -134,3 +134,25 @@ def impact_measured_kernel(tau, y, out, pars):
     out[14] = -x35*(X*sigma*x46 + X*x24 + X*x43 + X - kappa*x17 - kappa*x22 + kappa*x29 + kappa*x3 - kappa*x33 + kappa*x6 + kappa*x9 + x1*x45 - x13*x40 - x17*x43 - x17 - x21*x36 - x21*x46 - x22*x43 - x22 + x24*x40 - x26 + x29*x43 + x29 + x3*x43 + x3 + x31*x45 - x33*x43 - x33 - x40*x8 + x40 - x41*x43 - x41 - x43*x44 + x43*x6 + x43*x9 - x44 + x6 + x9)
     out[15] = -x35*(x1*x47 + x11*x45 + x31*x47 + x39 + x45)
     out[16] = -x38
+
+
+def impact_reset_jet_kernel(tau, y, out, pars):
+    """out = [w'+, dw'+/dw'-, d2 w'+/dw'-2, d3 w'+/dw'-3] of an impact of (8) on either wall (eqs. 2, 21); y is the state before it, pars = (loss, q)."""
+    loss = pars[0]
+    q = pars[1]
+    X = y[0]
+    Xd = y[1]
+    w = y[2]
+    wd = y[3]
+    x0 = loss - 1
+    x1 = -x0
+    x2 = numpy.sqrt(x1)
+    x3 = x2**(-1.0)
+    x4 = loss*q
+    x5 = 2*loss
+    x6 = loss**2
+    x7 = q**2
+    out[0] = -wd*x2
+    out[1] = x3*(x0 + (1/2)*x4)
+    out[2] = -1/4*x4*(-2*q + x4 + x5 - 2)/(wd*x1**(3/2))
+    out[3] = (1/8)*x3*x4*(8*loss - x5*x7 + x6*x7 - 4*x6 + 4*x7 - 4)/(wd**2*(-x5 + x6 + 1))

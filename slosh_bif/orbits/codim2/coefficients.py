@@ -1,4 +1,4 @@
-"""The normal-form coefficient along a curve of orbit bifurcations of (9), and its zeros as
+"""The normal-form coefficient along a curve of orbit bifurcations of (9) or (8), and its zeros as
 codimension-2 points: the degenerate flip GPD on a PD curve (b = 0), the degenerate
 symmetry-breaking pitchfork DBP on a BP curve (the flip of the half-period map with b = 0) and
 the Chenciner point CH on an NS curve (the first Lyapunov coefficient d = 0); the curve's boundary
@@ -22,7 +22,7 @@ import dataclasses
 import numpy as np
 
 from slosh_bif.continuation import SpecialPoint
-from slosh_bif.orbits.map_derivatives import criticality
+from slosh_bif.orbits.map_derivatives import FlowDerivatives, criticality
 from slosh_bif.orbits.shooting import ShootingProblem
 
 __all__ = ["COEFFICIENT_KINDS", "DEGENERATE", "STRIDE", "CURVE_RTOL", "boundary", "curve_coefficients"]
@@ -53,21 +53,24 @@ def boundary(kind: str, coefficient, judged) -> np.ndarray:
     return out
 
 
-def curve_coefficients(problem, branch):
+def curve_coefficients(problem, branch, derivatives=None):
     """(branch with the coefficient's zeros added to its special points, {"coefficient": ...,
-    "judged": ...}) for a traced curve of (9) (``problem`` its MinAugCurveProblem): the
-    coefficient per point (interpolated in arclength between computed ones) and 1 where the
-    nearest computed point's normal form is valid. ``(branch, {})`` for kinds without one (LP) and
-    for (8)'s curves."""
+    "judged": ...}) for a traced curve (``problem`` its MinAugCurveProblem): the coefficient per
+    point (interpolated in arclength between computed ones) and 1 where the nearest computed
+    point's normal form is valid. ``derivatives``: the map derivatives of the curve's model
+    (:class:`FlowDerivatives` for (9)'s shooting, the default; (8)'s curves pass theirs).
+    ``(branch, {})`` for kinds without one (LP) and for a model without map derivatives."""
     kind = problem.kind
-    if kind not in COEFFICIENT_KINDS or not isinstance(problem.orbits, ShootingProblem) or not len(branch):
+    if derivatives is None and isinstance(problem.orbits, ShootingProblem):
+        derivatives = FlowDerivatives
+    if kind not in COEFFICIENT_KINDS or derivatives is None or not len(branch):
         return branch, {}
     n = len(branch)
     value, valid = np.full(n, np.nan), np.zeros(n)
 
     def at(i):
         if np.isnan(value[i]) and not valid[i] < 0:
-            nf = _normal_form(problem, branch.x[i], branch.p[i])
+            nf = _normal_form(problem, branch.x[i], branch.p[i], derivatives)
             value[i] = np.nan if nf is None else nf.coefficient
             valid[i] = 1.0 if nf is not None and nf.status == "ok" else -1.0
         return value[i]
@@ -114,9 +117,9 @@ def _zero(problem, branch, j, value) -> SpecialPoint:
     )
 
 
-def _normal_form(problem, x, p):
-    """The NormalForm of the curve point (x, p) of ``problem``, or None where the variational
-    equations cannot be integrated."""
+def _normal_form(problem, x, p, derivatives):
+    """The NormalForm of the curve point (x, p) of ``problem``, or None where the map's
+    derivatives cannot be computed there (not integrated; (8)'s map not smooth)."""
     s = problem.orbits
     try:
         return criticality(
@@ -126,6 +129,7 @@ def _normal_form(problem, x, p):
             period=2 * np.pi * s.period_multiple,
             symmetric=problem.symmetric,
             rtol=CURVE_RTOL,
+            derivatives=derivatives,
         )
     except ValueError:
         return None

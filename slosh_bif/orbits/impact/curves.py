@@ -13,12 +13,14 @@ domain's edge (its status says so). The grazing points themselves are continued 
 from __future__ import annotations
 
 import dataclasses
+import functools
 
 import numpy as np
 from scipy import linalg
 
 from slosh_bif.continuation import ContinuationOptions, continuation, newton_solve
 from slosh_bif.model.params import Params
+from slosh_bif.orbits.codim2.coefficients import curve_coefficients
 from slosh_bif.orbits.codim2.curves import (
     CURVE_PROBLEMS,
     BifurcationCurve,
@@ -29,6 +31,7 @@ from slosh_bif.orbits.codim2.curves import (
     start_params,
 )
 from slosh_bif.orbits.impact.grazing import FREE, GrazingCurveProblem
+from slosh_bif.orbits.impact.map_derivatives import ImpactMapDerivatives
 from slosh_bif.orbits.impact.output import orbit_measures
 from slosh_bif.orbits.impact.problem import VARIANT_NAMES, ImpactOrbitProblem
 from slosh_bif.orbits.impact.strobe import ImpactStrobe
@@ -114,8 +117,18 @@ def trace_impact_curve(
         )
     problem = curve_problem(at, kind, p1, p2, p2_box=(lo2, hi2), orbits=orbits)
     branch = continue_curve(problem, x, mu, at, box, options, callback)
+    coefficients = {}
+    if seed.variant == "paper":  # the normal form's coefficient along it (not for the measured wall)
+        derivatives = functools.partial(ImpactMapDerivatives, phase=seed.phase)
+        branch, coefficients = curve_coefficients(problem, branch, derivatives)
     return BifurcationCurve(
-        kind, p1, p2, branch, _measures(problem, branch), seed.origin, seed.period_multiple
+        kind,
+        p1,
+        p2,
+        branch,
+        {**_measures(problem, branch), **coefficients},
+        seed.origin,
+        seed.period_multiple,
     )
 
 

@@ -6,7 +6,8 @@ min_impact_speed, stable, max_abs_multiplier, special, branch, piece, phase``: A
 first-harmonic amplitude of X at the forcing frequency, as for (9); ``impacts`` the impacts per
 period of the orbit on the piece (twice those of the half period on a symmetric branch, traced on
 the half-period map; over 4 pi on a period-2 branch), ``phase`` its section; ``special`` the
-special point at that row (PD, NS, LP, BP, GR at a grazing end, END); ``branch`` its name
+special point at that row (PD, NS, LP, BP, GR at a grazing end, END), ``criticality`` how an LP,
+PD, NS or BP there is crossed (soft, hard, a jump; :mod:`slosh_bif.orbits.criticality`); ``branch`` its name
 (``symmetric``, ``asymmetric``, ``asymmetric-2``, ..., ``period-2`` (born at a period doubling),
 or ``primary`` when the start orbit is not symmetric).
 """
@@ -40,6 +41,7 @@ IMPACT_COLUMNS = (
     "stable",
     "max_abs_multiplier",
     "special",
+    "criticality",
     "branch",
     "piece",
     "phase",
@@ -76,12 +78,19 @@ def _labels(branch):
     return labels
 
 
-def impact_rows(result: ImpactBranch, params, symmetric: bool = False, name: str = "primary"):
+def impact_rows(
+    result: ImpactBranch, params, symmetric: bool = False, name: str = "primary", criticality=None
+):
     """One row per point of every piece of ``result`` (traced on the half-period map when
-    ``symmetric``), named ``name`` in the ``branch`` column."""
+    ``symmetric``), named ``name`` in the ``branch`` column; ``criticality``, per piece, ``{index
+    of a special point: its phrase}`` for the ``criticality`` column."""
     for k, piece in enumerate(result.pieces):
         b = piece.branch
         labels = _labels(b)
+        phrases = [""] * len(b)
+        for j, phrase in (criticality[k] if criticality else {}).items():
+            i = b.special[j].index
+            phrases[i] = f"{phrases[i]}; {phrase}" if phrases[i] else phrase
         problem = ImpactOrbitProblem(
             params,
             b.param,
@@ -101,6 +110,7 @@ def impact_rows(result: ImpactBranch, params, symmetric: bool = False, name: str
                 "stable": int(b.stable[i]),
                 "max_abs_multiplier": float(np.abs(b.eigenvalues[i]).max()),
                 "special": labels[i],
+                "criticality": phrases[i],
                 "branch": name,
                 "piece": k,
                 "phase": piece.phase,

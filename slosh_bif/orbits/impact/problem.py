@@ -28,6 +28,7 @@ from scipy import optimize
 from slosh_bif.flows.impact.band import inside_measured_wall
 from slosh_bif.flows.impact.flow import IMPACT_VARIANTS, LINEAR_PARAMETERS, WALL_PARAMETERS, ImpactFlow
 from slosh_bif.model.params import Params
+from slosh_bif.orbits.impact.map_derivatives import ImpactMapDerivatives
 from slosh_bif.orbits.multipliers import (
     TEST_FLOOR,
     describe_crossing,
@@ -165,6 +166,10 @@ class ImpactOrbitProblem:
             if len(self._flows) > _KEEP:
                 self._flows.popitem(last=False)
         return self._flows[key]
+
+    def map_derivatives(self, params, y0, t1, **kwargs):
+        """The map's derivatives on this section (:class:`.map_derivatives.ImpactMapDerivatives`)."""
+        return ImpactMapDerivatives(params, y0, t1, phase=self.phase, variant=self.variant, **kwargs)
 
     def evaluate(self, x, p) -> StrobeMap:
         """The map at (x, p), kept for the few calls that follow at the same point."""

@@ -1,0 +1,178 @@
+"""The criticality of the vibro-impact model's (8) orbit bifurcations against independent
+evaluations: the map's second and third derivatives (jets through the exact flights and impacts)
+against central differences of the compiled flow's saltation Jacobian and of the second
+derivative, the reset's generated derivatives against differences of the reset, and each
+pitchfork's verdict and size law against the asymmetric branch the package's switching finds
+without the coefficient."""
+
+import math
+
+import numpy as np
+import pytest
+
+from slosh_bif import get_preset, simulate_impact
+from slosh_bif.flows.impact.flow import ImpactFlow
+from slosh_bif.flows.smooth.integrator import HAVE_NUMBA
+from slosh_bif.model._generated.impact_kernels import impact_reset_jet_kernel
+from slosh_bif.orbits.impact.map_derivatives import ImpactMapDerivatives
+
+pytestmark = pytest.mark.skipif(not HAVE_NUMBA, reason="the compiled flow needs numba")
+
+SETS = {
+    "fig13 sigma=0.5": ("fig13", {"sigma": 0.5}),
+    "pbar=2 wall": ("fig10", {"sigma": 3.0, "n": 20, "pbar": 2, "lam": 0.2}),
+}
+
+
+@pytest.fixture(scope="module", params=list(SETS))
+def settled(request):
+    preset, changes = SETS[request.param]
+    p = get_preset(preset)
+    params = p.params.replace(**changes)
+    return params, simulate_impact(params, p.state0, (0.0, 300 * np.pi)).y[:, -1]
+
+
+@pytest.mark.parametrize("q", [0.0, 2 / 21, 0.7])
+@pytest.mark.parametrize("side", [1.0, -1.0])
+def test_the_resets_generated_derivatives_are_its_differences(q, side):
+    c, out = 0.3, np.empty(4)
+
+    def reset(wd):
+        impact_reset_jet_kernel(0.0, np.array([0.0, 0.0, side, wd]), out, (c * abs(wd) ** q, q))
+        return out.copy()
+
+    wd, h = 1.3 * side, 1e-4
+    jet = reset(wd)
+    assert jet[0] == pytest.approx(-math.sqrt(1 - c * 1.3**q) * wd, rel=1e-14)
+    for k in (1, 2, 3):
+        difference = (reset(wd + h)[k - 1] - reset(wd - h)[k - 1]) / (2 * h)
+        assert jet[k] == pytest.approx(difference, rel=1e-6, abs=1e-9), k
+
+
+@pytest.mark.parametrize("phase, t1, sign", [(0.0, 2 * np.pi, 1.0), (2.0, np.pi, -1.0)])
+def test_the_jets_first_and_second_derivatives_are_the_compiled_saltation_jacobian_and_its_differences(
+    settled, phase, t1, sign
+):
+    """Phi from the jets equals the compiled flow's product of propagators and saltation matrices,
+    and D^2 P[u, v] the central difference of that Jacobian along v (1e-6 relative); on the full
+    map and on the half-period map -phi_pi from another section."""
+    params, x = settled
+    flow = ImpactFlow(params)
+    if phase:  # the orbit's state on that section
+        x = flow.run(x, 0.0, phase, stick_speed=1e-9, max_impacts=100)[1][:, -1]
+    _, phi, _, impacts, code = flow.strobe(x, phase, t1)
+    assert code == 0 and len(impacts) >= 1
+    D = ImpactMapDerivatives(params, x, t1, sign=sign, phase=phase)
+    jets = np.column_stack([D.first(e) for e in np.eye(4)])
+    np.testing.assert_allclose(jets, sign * phi, rtol=0, atol=1e-12 * np.abs(phi).max())
+    u, v = np.random.default_rng(3).normal(size=(2, 4))
+    h = 1e-6
+    difference = (
+        sign * (flow.strobe(x + h * v, phase, t1)[1] - flow.strobe(x - h * v, phase, t1)[1]) @ u / (2 * h)
+    )
+    second = D.second(u, v)
+    assert np.abs(second - difference).max() < 1e-6 * np.abs(second).max()
+
+
+def test_the_third_derivative_is_the_difference_of_the_second(settled):
+    params, x = settled
+    u, v, w = np.random.default_rng(4).normal(size=(3, 4))
+    h = 1e-5
+
+    def second(y):
+        return ImpactMapDerivatives(params, y, 2 * np.pi).second(u, v)
+
+    third = ImpactMapDerivatives(params, x, 2 * np.pi).third(u, v, w)
+    difference = (second(x + h * w) - second(x - h * w)) / (2 * h)
+    assert np.abs(third - difference).max() < 1e-6 * np.abs(third).max()
+
+
+def test_a_grazing_impact_and_the_corrected_model_are_refused_with_the_reason():
+    params = get_preset("fig13").params
+    with pytest.raises(ValueError, match="grazes the wall"):
+        ImpactMapDerivatives(params, [0.0, 0.0, 1.0 - 1e-15, 5e-7], 2 * np.pi)
+    with pytest.raises(ValueError, match="corrected impact model"):
+        ImpactMapDerivatives(params, [0.0, 0.0, 0.5, 0.0], 2 * np.pi, variant="corrected")
+
+
+@pytest.fixture(scope="module")
+def fig13_impact_family():
+    """(8)'s orbits of the Fig. 13 set over sigma in [-2.5, 1]: the symmetric branch with its
+    pitchforks (-2.008 and 0.437) and the asymmetric branch switched onto there (about 2 s)."""
+    from slosh_bif.orbits.impact.branches import settled_orbit
+    from slosh_bif.orbits.settings import BranchingSettings
+    from slosh_bif.studies.chart.impact import impact_family
+
+    p = get_preset("fig13")
+    x0 = settled_orbit(p.params, p.state0, periods=200)
+    family = impact_family(
+        p.params, x0, param="sigma", p_range=(-2.5, 1.0), branching=BranchingSettings(doublings=False)
+    )
+    return p.params, family[0], next(nb for nb in family if nb.name == "asymmetric")
+
+
+def _on_section(params, x, p, phase, target):
+    """The state of the orbit of (8) through x on the section ``phase`` at the section ``target``."""
+    flow = ImpactFlow(params.replace(sigma=p))
+    later = (target - phase) % (2 * np.pi)
+    return flow.run(x, phase, phase + later, stick_speed=1e-9, max_impacts=100)[1][:, -1] if later else x
+
+
+def test_each_pitchforks_verdict_and_size_are_what_the_switched_asymmetric_branch_does(fig13_impact_family):
+    """Soft (-2.008): the asymmetric pair is born where the symmetric orbit is unstable, stable;
+    hard (0.437): where it is stable, unstable. Its two members (an orbit and its mirror image
+    -phi_pi) differ in the critical component on the pitchfork's section by 2 growth |sigma - S|^0.5
+    within 5 % where the unfolding parameter is at most 0.1 (the package's own switched branch,
+    found without the coefficient, its piece through the pitchfork)."""
+    from functools import partial
+
+    from slosh_bif.orbits.criticality import impact_criticality
+    from slosh_bif.orbits.map_derivatives import crossing_rate
+
+    params, symmetric, pair = fig13_impact_family
+    verdicts = impact_criticality(symmetric.branch, params, symmetric=True)
+    seen = {}
+    for piece, found in zip(symmetric.branch.pieces, verdicts):
+        for k, v in found.items():
+            sp = piece.branch.special[k]
+            seen[round(sp.p, 2)] = v.verdict
+            c = ("X", "X'", "w", "w'").index(v.component)
+            near = [
+                (float(pp), bool(stable), _on_section(params, x, pp, other.phase, piece.phase))
+                for other in pair.branch.pieces
+                if np.abs(other.branch.p - sp.p).min() < 1e-6  # the piece through this pitchfork
+                for pp, x, stable in zip(other.branch.p, other.branch.x, other.branch.stable)
+                if 1e-7 < v.side * (pp - sp.p) < 0.02
+            ]
+            assert near, f"no asymmetric orbit on the predicted side of the BP at {sp.p}"
+            parent_stable = [
+                bool(s)
+                for other in symmetric.branch.pieces
+                for pp, s in zip(other.branch.p, other.branch.stable)
+                if 1e-3 < v.side * (pp - sp.p) < 0.1
+            ]
+            assert (
+                parent_stable
+                and all(parent_stable) == (v.verdict == "hard")
+                and all(stable == (v.verdict == "soft") for _, stable, _ in near)
+            )
+            rate = crossing_rate(
+                lambda s: params.replace(sigma=s),
+                sp.p,
+                sp.x[:4],
+                sp.tangent[:4] / sp.tangent[-1],
+                "BP",
+                v.nf,
+                derivatives=partial(ImpactMapDerivatives, phase=piece.phase),
+            )
+            flow = ImpactFlow(params)
+            ratios = []
+            for pp, _, y in near:
+                if abs(pp - sp.p) * abs(rate) <= 0.1:
+                    flow = ImpactFlow(params.replace(sigma=pp))
+                    mirror = -flow.run(
+                        y, piece.phase, piece.phase + np.pi, stick_speed=1e-9, max_impacts=100
+                    )[1][:, -1]
+                    ratios.append(abs(y[c] - mirror[c]) / 2 / (v.growth * np.sqrt(abs(pp - sp.p))))
+            assert len(ratios) >= 2 and np.allclose(ratios, 1.0, atol=0.05), (sp.p, ratios)
+    assert seen == {-2.01: "soft", 0.44: "hard"}
