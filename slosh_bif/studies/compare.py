@@ -119,7 +119,7 @@ def impact_branch_rows(
         simulation from ``state0`` settles on at the set's sigma (as ``shoot --model impact``), over
         [sigma_min, sigma_max], at steps of at most 0.05 so that A1 read between points is within
         about 1e-4 of the orbit's (0.3 % at shoot's 0.3); the ``criticality`` column says how each LP,
-    PD, NS and BP of the paper's (8) is crossed."""
+    PD, NS and BP is crossed."""
     from slosh_bif.continuation import ContinuationOptions
     from slosh_bif.orbits.criticality import describe, impact_criticality
     from slosh_bif.orbits.impact.branches import settled_orbit, trace_impact_orbits
@@ -134,9 +134,7 @@ def impact_branch_rows(
         options=ContinuationOptions(step=0.02, step_max=0.05, tol=1e-10),
         variant=variant,
     )
-    phrases = None
-    if variant == "paper":  # (the corrected impact model's map has no second derivatives here)
-        phrases = [{k: describe(v) for k, v in found.items()} for found in impact_criticality(result, params)]
+    phrases = [{k: describe(v) for k, v in found.items()} for found in impact_criticality(result, params)]
     return list(impact_rows(result, params, criticality=phrases))
 
 

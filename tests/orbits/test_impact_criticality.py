@@ -1,7 +1,7 @@
-"""The criticality of the vibro-impact model's (8) orbit bifurcations against independent
-evaluations: the map's second and third derivatives (jets through the exact flights and impacts)
-against central differences of the compiled flow's saltation Jacobian and of the second
-derivative, the reset's generated derivatives against differences of the reset, and each
+"""The criticality of the orbit bifurcations of the vibro-impact model (8) and of the corrected
+impact model against independent evaluations: the map's second and third derivatives (jets
+through the exact flights and impacts) against central differences of the compiled flow's
+saltation Jacobian and of the second derivative, the reset's generated derivatives against differences of the reset, and each
 pitchfork's verdict and size law against the asymmetric branch the package's switching finds
 without the coefficient."""
 
@@ -49,20 +49,22 @@ def test_the_resets_generated_derivatives_are_its_differences(q, side):
         assert jet[k] == pytest.approx(difference, rel=1e-6, abs=1e-9), k
 
 
+@pytest.mark.parametrize("variant", ["paper", "corrected"])
 @pytest.mark.parametrize("phase, t1, sign", [(0.0, 2 * np.pi, 1.0), (2.0, np.pi, -1.0)])
 def test_the_jets_first_and_second_derivatives_are_the_compiled_saltation_jacobian_and_its_differences(
-    settled, phase, t1, sign
+    settled, phase, t1, sign, variant
 ):
     """Phi from the jets equals the compiled flow's product of propagators and saltation matrices,
     and D^2 P[u, v] the central difference of that Jacobian along v (1e-6 relative); on the full
-    map and on the half-period map -phi_pi from another section."""
+    map and on the half-period map -phi_pi from another section; for (8) and for the corrected
+    impact model (the wall's measured law: its flights from (8)'s orbit's state)."""
     params, x = settled
-    flow = ImpactFlow(params)
+    flow = ImpactFlow(params, variant=variant)
     if phase:  # the orbit's state on that section
         x = flow.run(x, 0.0, phase, stick_speed=1e-9, max_impacts=100)[1][:, -1]
     _, phi, _, impacts, code = flow.strobe(x, phase, t1)
     assert code == 0 and len(impacts) >= 1
-    D = ImpactMapDerivatives(params, x, t1, sign=sign, phase=phase)
+    D = ImpactMapDerivatives(params, x, t1, sign=sign, phase=phase, variant=variant)
     jets = np.column_stack([D.first(e) for e in np.eye(4)])
     np.testing.assert_allclose(jets, sign * phi, rtol=0, atol=1e-12 * np.abs(phi).max())
     u, v = np.random.default_rng(3).normal(size=(2, 4))
@@ -74,46 +76,58 @@ def test_the_jets_first_and_second_derivatives_are_the_compiled_saltation_jacobi
     assert np.abs(second - difference).max() < 1e-6 * np.abs(second).max()
 
 
-def test_the_third_derivative_is_the_difference_of_the_second(settled):
+@pytest.mark.parametrize("variant", ["paper", "corrected"])
+def test_the_third_derivative_is_the_difference_of_the_second(settled, variant):
     params, x = settled
     u, v, w = np.random.default_rng(4).normal(size=(3, 4))
     h = 1e-5
 
     def second(y):
-        return ImpactMapDerivatives(params, y, 2 * np.pi).second(u, v)
+        return ImpactMapDerivatives(params, y, 2 * np.pi, variant=variant).second(u, v)
 
-    third = ImpactMapDerivatives(params, x, 2 * np.pi).third(u, v, w)
+    third = ImpactMapDerivatives(params, x, 2 * np.pi, variant=variant).third(u, v, w)
     difference = (second(x + h * w) - second(x - h * w)) / (2 * h)
     assert np.abs(third - difference).max() < 1e-6 * np.abs(third).max()
 
 
-def test_a_grazing_impact_and_the_corrected_model_are_refused_with_the_reason():
+def test_a_grazing_impact_is_refused_with_the_reason():
     params = get_preset("fig13").params
     with pytest.raises(ValueError, match="grazes the wall"):
         ImpactMapDerivatives(params, [0.0, 0.0, 1.0 - 1e-15, 5e-7], 2 * np.pi)
-    with pytest.raises(ValueError, match="corrected impact model"):
-        ImpactMapDerivatives(params, [0.0, 0.0, 0.5, 0.0], 2 * np.pi, variant="corrected")
+    level = ImpactFlow(params, variant="corrected").grazing_level  # the wall at its least speed
+    with pytest.raises(ValueError, match="below the measured law's least speed"):
+        ImpactMapDerivatives(params, [0.0, 0.0, level - 1e-12, 0.01], 2 * np.pi, variant="corrected")
 
 
-@pytest.fixture(scope="module")
-def fig13_impact_family():
-    """(8)'s orbits of the Fig. 13 set over sigma in [-2.5, 1]: the symmetric branch with its
-    pitchforks (-2.008 and 0.437) and the asymmetric branch switched onto there (about 2 s)."""
+@pytest.fixture(scope="module", params=["paper", "corrected"])
+def fig13_impact_family(request):
+    """The Fig. 13 set's orbits over sigma in [-2.5, 1]: the symmetric branch with its pitchforks
+    and the asymmetric branches switched onto there; of (8) from its orbit at sigma = 1 (about
+    2 s), of the corrected impact model from its asymmetric orbit at sigma = -2 (3 s)."""
     from slosh_bif.orbits.impact.branches import settled_orbit
     from slosh_bif.orbits.settings import BranchingSettings
     from slosh_bif.studies.chart.impact import impact_family
 
+    variant = request.param
     p = get_preset("fig13")
-    x0 = settled_orbit(p.params, p.state0, periods=200)
+    params = p.params if variant == "paper" else p.params.replace(sigma=-2.0)
+    x0 = settled_orbit(params, p.state0, periods=200, variant=variant)
     family = impact_family(
-        p.params, x0, param="sigma", p_range=(-2.5, 1.0), branching=BranchingSettings(doublings=False)
+        params,
+        x0,
+        param="sigma",
+        p_range=(-2.5, 1.0),
+        branching=BranchingSettings(doublings=False),
+        variant=variant,
     )
-    return p.params, family[0], next(nb for nb in family if nb.name == "asymmetric")
+    symmetric = next(nb for nb in family if nb.symmetric)
+    pieces = [piece for nb in family if not nb.symmetric for piece in nb.branch.pieces]
+    return params, symmetric, pieces, variant
 
 
-def _on_section(params, x, p, phase, target):
+def _on_section(params, x, p, phase, target, variant):
     """The state of the orbit of (8) through x on the section ``phase`` at the section ``target``."""
-    flow = ImpactFlow(params.replace(sigma=p))
+    flow = ImpactFlow(params.replace(sigma=p), variant=variant)
     later = (target - phase) % (2 * np.pi)
     return flow.run(x, phase, phase + later, stick_speed=1e-9, max_impacts=100)[1][:, -1] if later else x
 
@@ -129,7 +143,7 @@ def test_each_pitchforks_verdict_and_size_are_what_the_switched_asymmetric_branc
     from slosh_bif.orbits.criticality import impact_criticality
     from slosh_bif.orbits.map_derivatives import crossing_rate
 
-    params, symmetric, pair = fig13_impact_family
+    params, symmetric, pair_pieces, variant = fig13_impact_family
     verdicts = impact_criticality(symmetric.branch, params, symmetric=True)
     seen = {}
     for piece, found in zip(symmetric.branch.pieces, verdicts):
@@ -138,8 +152,8 @@ def test_each_pitchforks_verdict_and_size_are_what_the_switched_asymmetric_branc
             seen[round(sp.p, 2)] = v.verdict
             c = ("X", "X'", "w", "w'").index(v.component)
             near = [
-                (float(pp), bool(stable), _on_section(params, x, pp, other.phase, piece.phase))
-                for other in pair.branch.pieces
+                (float(pp), bool(stable), _on_section(params, x, pp, other.phase, piece.phase, variant))
+                for other in pair_pieces
                 if np.abs(other.branch.p - sp.p).min() < 1e-6  # the piece through this pitchfork
                 for pp, x, stable in zip(other.branch.p, other.branch.x, other.branch.stable)
                 if 1e-7 < v.side * (pp - sp.p) < 0.02
@@ -163,16 +177,15 @@ def test_each_pitchforks_verdict_and_size_are_what_the_switched_asymmetric_branc
                 sp.tangent[:4] / sp.tangent[-1],
                 "BP",
                 v.nf,
-                derivatives=partial(ImpactMapDerivatives, phase=piece.phase),
+                derivatives=partial(ImpactMapDerivatives, phase=piece.phase, variant=variant),
             )
-            flow = ImpactFlow(params)
             ratios = []
             for pp, _, y in near:
                 if abs(pp - sp.p) * abs(rate) <= 0.1:
-                    flow = ImpactFlow(params.replace(sigma=pp))
+                    flow = ImpactFlow(params.replace(sigma=pp), variant=variant)
                     mirror = -flow.run(
                         y, piece.phase, piece.phase + np.pi, stick_speed=1e-9, max_impacts=100
                     )[1][:, -1]
                     ratios.append(abs(y[c] - mirror[c]) / 2 / (v.growth * np.sqrt(abs(pp - sp.p))))
             assert len(ratios) >= 2 and np.allclose(ratios, 1.0, atol=0.05), (sp.p, ratios)
-    assert seen == {-2.01: "soft", 0.44: "hard"}
+    assert seen == ({-2.01: "soft", 0.44: "hard"} if variant == "paper" else {-2.03: "soft", 0.37: "hard"})

@@ -117,10 +117,8 @@ def trace_impact_curve(
         )
     problem = curve_problem(at, kind, p1, p2, p2_box=(lo2, hi2), orbits=orbits)
     branch = continue_curve(problem, x, mu, at, box, options, callback)
-    coefficients = {}
-    if seed.variant == "paper":  # the normal form's coefficient along it (not for the measured wall)
-        derivatives = functools.partial(ImpactMapDerivatives, phase=seed.phase)
-        branch, coefficients = curve_coefficients(problem, branch, derivatives)
+    derivatives = functools.partial(ImpactMapDerivatives, phase=seed.phase, variant=seed.variant)
+    branch, coefficients = curve_coefficients(problem, branch, derivatives)  # the normal form's along it
     return BifurcationCurve(
         kind,
         p1,

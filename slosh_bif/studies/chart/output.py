@@ -142,7 +142,7 @@ _LOSS_STYLES = {
     "soft": ("-", "solid: lost softly (a small new motion grows)"),
     "jump": ((0, (5, 2)), "dashed: a jump (a fold, or a hard PD, NS or BP)"),
     "undetermined": ((0, (1, 1.5)), "dotted: undetermined (near a codimension-2 point)"),
-    "unknown": ("-", "solid on the corrected impact model's PD, NS, BP curves: soft or hard not computed"),
+    "unknown": ("-", "solid on a PD, NS or BP curve without its coefficient: soft or hard not computed"),
 }
 
 
