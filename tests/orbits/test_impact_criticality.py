@@ -1,9 +1,9 @@
 """The criticality of the orbit bifurcations of the vibro-impact model (8) and of the corrected
 impact model against independent evaluations: the map's second and third derivatives (jets
 through the exact flights and impacts) against central differences of the compiled flow's
-saltation Jacobian and of the second derivative, the reset's generated derivatives against differences of the reset, and each
-pitchfork's verdict and size law against the asymmetric branch the package's switching finds
-without the coefficient."""
+saltation Jacobian and of the second derivative, the reset's generated derivatives against
+differences of the reset, and each pitchfork's verdict and size law against the asymmetric
+branch the package's switching finds without the coefficient."""
 
 import math
 
