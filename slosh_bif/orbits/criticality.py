@@ -44,7 +44,8 @@ class Verdict:
     ``at``) and the motion born there: its state component ``component`` (the one the critical
     eigenvector moves most: X, X', w or w') at tau = 0 differs from the parent orbit's by
     ``growth |param - at|^0.5`` (for a torus: is modulated by up to that), on the side
-    ``sign(param - at) == side`` (NaN and 0 at a fold or where the point is undetermined)."""
+    ``sign(param - at) == side`` (NaN and 0 at a fold or where the point is undetermined); the
+    parent's period is ``multiple`` forcing periods."""
 
     kind: str
     nf: NormalForm
@@ -53,6 +54,7 @@ class Verdict:
     growth: float
     side: int
     component: str = "w"
+    multiple: int = 1  # the parent orbit's period in forcing periods (a PD doubles it)
 
     @property
     def verdict(self) -> str:
@@ -100,7 +102,7 @@ def judge(problem, sp, param: str):
     K, side = growth_law(nf, slope)
     c = int(np.argmax(np.abs(nf.q)))
     scale = 2.0 * abs(nf.q[c]) if sp.kind == "NS" else abs(nf.q[c])  # x = 2 Re(z q) on a circle
-    return Verdict(sp.kind, nf, param, float(sp.p), K * scale, side, _STATE[c])
+    return Verdict(sp.kind, nf, param, float(sp.p), K * scale, side, _STATE[c], problem.period_multiple)
 
 
 def _judged(problem, branch, only=None) -> dict:
@@ -172,7 +174,7 @@ def describe(verdict) -> str:
     if kind == "LP":
         return f"a jump ({value}): the branch folds back, with hysteresis"
     born, change = {
-        "PD": ("a period-2 orbit", "alternating by"),
+        "PD": (f"a period-{2 * verdict.multiple} orbit", "alternating by"),
         "NS": ("an invariant torus (a modulated response)", "modulated by up to"),
         "BP": ("the asymmetric pair", "shifted by"),
     }[kind]

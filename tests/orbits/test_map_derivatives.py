@@ -178,6 +178,97 @@ def test_a_simulation_past_a_soft_pitchfork_settles_at_the_predicted_size_past_a
             assert max(shifts) > 10 * size, (v.at, max(shifts), size)
 
 
+@pytest.mark.slow  # shares the Fig. 13 family above (its period-2 branches)
+def test_each_period_doublings_predicted_size_is_its_switched_period_2_branchs(fig13_pitchforks):
+    """The period-2 branches switched onto at the asymmetric branch's period doublings (-1.056 and
+    -1.252, both soft), found without the coefficient, are born on the predicted side, stable, and
+    their two iterates differ in the critical component at tau = 0 by 2 growth |sigma - S|^0.5
+    within 5 % at up to a tenth of the branch's natural scale from the point (the smaller of 1 /
+    |d beta / d sigma| and the distance to the next special point on the period-2 branch: a torus
+    point 0.016 from the second doubling bounds its neighbourhood)."""
+    from slosh_bif.flows.smooth.integrator import integrate
+    from slosh_bif.orbits.criticality import special_criticality
+    from slosh_bif.orbits.map_derivatives import crossing_rate
+
+    branches = {ob.name: ob for ob in fig13_pitchforks.branches}
+    asymmetric = branches["asymmetric"]
+    verdicts = special_criticality(asymmetric)
+    checked = 0
+    for ob in branches.values():
+        if not ob.origin.startswith("PD at") or "asymmetric" not in ob.origin:
+            continue
+        at = float(ob.origin.split("= ")[1].split(" ")[0])
+        k = min(
+            (k for k in verdicts if asymmetric.branch.special[k].kind == "PD"),
+            key=lambda k: abs(asymmetric.branch.special[k].p - at),
+        )
+        v, sp = verdicts[k], asymmetric.branch.special[k]
+        if abs(sp.p - at) > 1e-4 or v.nf.status != "ok" or sp.p > -1.0:
+            continue  # the two doublings below sigma = -1, away from the clusters near resonance
+        rate = crossing_rate(
+            asymmetric.problem.params_at, sp.p, sp.x[:4], sp.tangent[:4] / sp.tangent[-1], "PD", v.nf
+        )
+        others = [abs(o.p - sp.p) for o in ob.branch.special if abs(o.p - sp.p) > 1e-6 and o.kind != "END"]
+        scale = min([1 / abs(rate), *others])
+        c = ("X", "X'", "w", "w'").index(v.component)
+        ratios = []
+        for p, x, stable in zip(ob.branch.p, ob.branch.x, ob.branch.stable):
+            d = v.side * (p - sp.p)
+            if 1e-7 < d <= scale / 10:
+                image = integrate(ob.problem.params_at(p), x[:4], (0.0, 2 * np.pi)).z
+                ratios.append(abs(x[c] - image[c]) / 2 / (v.growth * np.sqrt(d)))
+                assert stable == (v.verdict == "soft"), (sp.p, p)
+        assert len(ratios) >= 2 and np.allclose(ratios, 1.0, atol=0.05), (sp.p, ratios)
+        assert not any(1e-7 < -v.side * (p - sp.p) < scale / 10 for p in ob.branch.p)  # not the other side
+        checked += 1
+    assert checked == 2
+
+
+@pytest.mark.slow  # shares the Fig. 13 family above; simulations of a few thousand periods (seconds)
+def test_past_a_soft_torus_point_a_simulation_settles_on_the_predicted_circle_past_a_hard_one_leaves(
+    fig13_pitchforks,
+):
+    """Neimark-Sacker points: past the soft one on the period-2 branch (sigma = -1.2357, d < 0) a
+    simulation started beside the unstable orbit settles on an invariant circle whose largest
+    excursion in the critical component is growth |sigma - S|^0.5 within 5 % (two distances, a
+    tenth of the 0.024 to the branch's next torus point and less); past the hard one on the
+    asymmetric branch (0.3464, d > 0) it leaves the neighbourhood (ten times that size)."""
+    from slosh_bif.continuation.corrector import newton
+    from slosh_bif.flows.smooth.integrator import integrate
+    from slosh_bif.orbits.criticality import special_criticality
+
+    branches = {ob.name: ob for ob in fig13_pitchforks.branches}
+    judged = []
+    for name, near in (("period-2-2", -1.2357), ("asymmetric", 0.3464)):
+        ob = branches[name]
+        k, v = next(
+            (k, v)
+            for k, v in special_criticality(ob).items()
+            if ob.branch.special[k].kind == "NS" and abs(ob.branch.special[k].p - near) < 1e-3
+        )
+        judged.append(v.verdict)
+        c = ("X", "X'", "w", "w'").index(v.component)
+        period = 2 * np.pi * ob.problem.period_multiple
+        for delta in (0.001, 0.002) if v.verdict == "soft" else (0.005,):
+            sigma = v.at + (v.side if v.verdict == "soft" else -v.side) * delta  # the orbit unstable
+            j = int(np.argmin(np.abs(ob.branch.p - sigma)))
+            xs = newton(ob.problem, ob.branch.x[j], sigma)[:4]
+            P = ob.problem.params_at(sigma)
+            y, excursions = xs + 1e-3 * np.real(v.nf.q), []
+            for _ in range(3000):
+                y = integrate(P, y, (0.0, period)).z
+                excursions.append(abs(y[c] - xs[c]))
+                if excursions[-1] > 1.0:
+                    break
+            size = v.growth * np.sqrt(delta)
+            if v.verdict == "soft":
+                assert max(excursions[-300:]) == pytest.approx(size, rel=0.05), (v.at, delta)
+                assert np.ptp([max(excursions[-600:-300]), max(excursions[-300:])]) < 1e-3 * size  # settled
+            else:
+                assert max(excursions) > 10 * size, (v.at, max(excursions), size)
+    assert judged == ["soft", "hard"]
+
+
 def test_shoot_writes_and_prints_each_points_verdict(tmp_path, capsys):
     """The Fig. 13 set's symmetric branch: branch.csv's criticality column and shoot's lines give
     the pitchfork at -2.034 soft and the one at 0.374 hard (what their switched branches do: the
