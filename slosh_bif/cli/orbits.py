@@ -192,7 +192,7 @@ def _shoot_impact(args, params, lo, hi) -> int:
     settles on (or --guess), across sections and grazings; a symmetric one on the half-period map,
     with the asymmetric branches born at its pitchforks (unless --no-switch)."""
     from slosh_bif.continuation import ContinuationOptions
-    from slosh_bif.orbits.criticality import describe, impact_criticality
+    from slosh_bif.orbits.criticality import describe, impact_criticality, npz_arrays
     from slosh_bif.orbits.impact.branches import settled_orbit
     from slosh_bif.orbits.impact.output import (
         impact_rows,
@@ -255,7 +255,12 @@ def _shoot_impact(args, params, lo, hi) -> int:
         csv_path = write_impact_csv(rows, args.out / "branch.csv")
         for name, branch, _ in branches:
             for k, piece in enumerate(branch.pieces):
-                piece.branch.save(args.out / f"{name}-piece{k}.npz", phase=piece.phase, impacts=piece.impacts)
+                piece.branch.save(
+                    args.out / f"{name}-piece{k}.npz",
+                    phase=piece.phase,
+                    impacts=piece.impacts,
+                    **npz_arrays(piece.branch, verdicts[name][k]),
+                )
         png_path = plots.result()
     for name, branch, _ in branches:
         part = [r for r in rows if r["branch"] == name]

@@ -198,11 +198,9 @@ def test_shoot_model_impact_traces_the_fig13_branch_with_its_pitchforks_and_toru
     # test_impact_criticality): printed and in branch.csv's criticality column
     assert "BP at sigma = -2.00827: soft (b = " in out and "BP at sigma = 0.437172: hard (b = " in out
     assert "NS at sigma = 3.51104: hard (d = " in out
-    assert sorted(r["criticality"].split(" ")[0] for r in rows if r["criticality"]) == [
-        "hard",
-        "hard",
-        "soft",
-    ]
+    verdicts = sorted(r["criticality"].split(" ")[0] for r in rows if r["criticality"])
+    saved = [np.load(path) for path in sorted(tmp_path.glob("symmetric-piece*.npz"))]
+    assert verdicts == sorted(v for s in saved for v in s["special_verdict"] if v) == ["hard", "hard", "soft"]
     # where an impact reached the section the branch went on from a section moved along the orbit:
     # the new piece's first state is the old piece's last one carried there by the reference flow
     pieces = [np.load(tmp_path / f"symmetric-piece{k}.npz") for k in sorted({int(r["piece"]) for r in rows})]
