@@ -162,9 +162,10 @@ def trace_curves(starts, say, workers: int = 1, done=None, keep=None, keep_parti
     earlier run
     (not traced again); ``keep(i, curve)`` is called as each curve finishes.
 
-    Curves are independent, so they run side by side; a start is not submitted when a finished
-    curve of its kind already passes through it, and a curve traced alongside one that covers it
-    is dropped at the end, so the result is the sequential one, whatever the timing.
+    Curves are independent, so they run side by side; a start is not submitted when a curve of its
+    kind that the sequential run keeps (from the starts before it, all finished) passes through
+    it, and a curve traced alongside one that covers it is dropped at the end, so the result is
+    the sequential one, whatever the timing.
     """
     traced = {
         i: c for i, c in (done or {}).items() if i < len(starts) and c.origin == starts[i].origin
@@ -217,16 +218,34 @@ def _trace_in_pool(starts, workers, covered, record, traced):
     from slosh_bif.simulation.sweep import WorkerPool
 
     pool = WorkerPool(workers)
+    resolved = set(traced)  # starts traced, failed or skipped
+
+    def settled_curves():
+        """The curves the sequential run would have kept from the starts before the first one
+        still running: only these may skip a start (a curve from a later start, or from one the
+        sequential run would skip, may not: the result must not depend on which finishes first)."""
+        kept = []
+        for k in range(len(starts)):
+            if k not in resolved:
+                break
+            if k in traced and not covered(k, kept):
+                kept.append(traced[k])
+        return kept
+
     try:
         pending, running = list(range(len(starts))), {}
         while pending or running:
             while pending and len(running) < workers:
                 i = pending.pop(0)
-                if not covered(i, traced.values()):
+                if covered(i, settled_curves()):
+                    resolved.add(i)
+                else:
                     running[pool.submit(_trace_job, starts[i].job)] = i
             finished, _ = wait(running, return_when=FIRST_COMPLETED)
             for future in finished:
-                record(running.pop(future), future.result())
+                i = running.pop(future)
+                record(i, future.result())
+                resolved.add(i)
     except BaseException:
         pool.stop()
         raise
