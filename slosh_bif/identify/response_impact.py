@@ -21,6 +21,7 @@ import warnings
 import numpy as np
 
 from slosh_bif.continuation.corrector import newton_solve
+from slosh_bif.flows.impact.flow import LINEAR_PARAMETERS, WALL_PARAMETERS, ImpactFlow
 from slosh_bif.identify.assignment import pick
 from slosh_bif.identify.response_model import impact_free, impact_free_state, response_curve
 from slosh_bif.identify.response_orbits import LostOrbit
@@ -29,7 +30,7 @@ from slosh_bif.orbits.impact.branches import quiet_section, settled_orbit
 from slosh_bif.orbits.impact.problem import VARIANT_NAMES, ImpactOrbitProblem
 from slosh_bif.slowflow.flow import AsymptoticsWarning, SlowFlow
 
-__all__ = ["ImpactResponse", "first_harmonic_c1", "SETTLE", "FAR", "STEP"]
+__all__ = ["ImpactResponse", "first_harmonic_c1", "first_harmonic_derivative", "SETTLE", "FAR", "STEP"]
 
 STEP = 0.02  # sample step of an orbit for A1: the corrected trapezoid's error ~ STEP**4 / 720
 SETTLE = 100  # forcing periods simulated before Newton (doubled up to three times while unsettled)
@@ -50,7 +51,7 @@ class ImpactResponse:
             warnings.simplefilter("ignore", AsymptoticsWarning)
             curve = response_curve(params) if data.ratio is None else None
         self.phase, self.x, self.stable = [None] * len(data), [None] * len(data), [None] * len(data)
-        self.data = data
+        self.data, self.params = data, params
         self.candidates = [None] * len(data)  # (A1, stable) of every orbit found at each point
         chosen = np.empty(len(data))
         for i, previous in data.sweep_order():
@@ -136,7 +137,54 @@ class ImpactResponse:
             where = ", ".join(f"{s:.4g}" for s in lost)
             raise LostOrbit(f"the orbits of {self.name} at sigma = {where} are lost at {params}")
         self.x, self.stable = [f[1] for f in found], [f[3] for f in found]
+        self.params = params
         return np.array([f[2] for f in found])
+
+    def differentiates(self, names) -> bool:
+        """Whether :meth:`gradient` has every name: the flights' parameters, and for (8) the wall's
+        lam and chi (the measured wall's law has no derivatives in its parameters)."""
+        allowed = LINEAR_PARAMETERS + (WALL_PARAMETERS if self.variant == "paper" else ())
+        return all(name in allowed for name in names)
+
+    def gradient(self, names) -> np.ndarray:
+        """dA1/d(``names``) at each point, shape (points, len(names)), at the parameter set of the
+        last :meth:`amplitudes` call, the orbits moving with the parameters: from the flow's own
+        sensitivities along each orbit (:func:`first_harmonic_derivative`), not from differences
+        of orbits."""
+        rows = []
+        for i, (phase, x) in enumerate(zip(self.phase, self.x)):
+            at = self.data.params_at(self.params, i)
+            row = []
+            for name in names:
+                ((param, weight),) = self.data.direction_at(i, name).items()
+                row.append(weight * first_harmonic_derivative(at, param, phase, x, self.variant))
+            rows.append(row)
+        return np.array(rows)
+
+
+def first_harmonic_derivative(params: Params, param: str, phase: float, x, variant: str = "paper") -> float:
+    """dA1/d``param`` of the 2pi-orbit through x on the section ``phase``, the orbit moving with
+    the parameter: x = P(x, p) gives (I - M) dx/dp = dP/dp (M the saltation monodromy), the state
+    along the orbit moves by Phi(t) dx/dp + s(t) (the flow's own sensitivities at every sample,
+    impacts included), and A1's quadrature is differentiated as it stands (linear in X, X')."""
+    flow = ImpactFlow(params, STEP, param=param, variant=variant)
+    t, y, phis, dps, _, code = flow.sensitivities(np.asarray(x, dtype=float), phase, 2 * np.pi)
+    if code != 0:
+        raise LostOrbit(f"the orbit at sigma = {params.sigma:.4g} ends early (code {code})")
+    dx = np.linalg.solve(np.eye(4) - phis[-1], dps[-1])
+    dy = phis @ dx + dps
+    c1, dc1 = _c1(t, y[0], y[1]), _c1(t, dy[:, 0], dy[:, 1])
+    return float((np.conj(c1) * dc1).real / abs(c1))
+
+
+def _c1(t, X, Xd) -> complex:
+    """The forcing frequency's Fourier coefficient of X (times 2) over the period sampled at t: the
+    trapezoid rule with its end correction on each interval (:func:`first_harmonic_c1`)."""
+    e = np.exp(-1j * t)
+    f, df = X * e, (Xd - 1j * X) * e
+    h = np.diff(t)
+    integral = np.sum(0.5 * h * (f[1:] + f[:-1]) + h * h / 12.0 * (df[:-1] - df[1:]))
+    return complex(integral / (0.5 * (t[-1] - t[0])))
 
 
 def first_harmonic_c1(t, X, Xd) -> float:
@@ -145,11 +193,7 @@ def first_harmonic_c1(t, X, Xd) -> float:
     fourth order where X is C1 (the vessel's speed does not jump at an impact of (8), its
     acceleration does, and the impacts are sample points), so that A1 is smooth to ~1e-10 in the
     parameters, as the least squares' differences need (a sampled trapezoid's 1e-5 is not)."""
-    e = np.exp(-1j * t)
-    f, df = X * e, (Xd - 1j * X) * e
-    h = np.diff(t)
-    integral = np.sum(0.5 * h * (f[1:] + f[:-1]) + h * h / 12.0 * (df[:-1] - df[1:]))
-    return float(abs(integral) / (0.5 * (t[-1] - t[0])))
+    return abs(_c1(t, X, Xd))
 
 
 def _better(found, best, A) -> bool:

@@ -78,9 +78,13 @@ class Objective:
         # an orbit's A1 is Newton's, to ~1e-12: differences of scipy's default step (1.5e-8 relative)
         # would be noise for a parameter the response hardly feels (eps)
         self.diff_step = None if self.orbits is None else 1e-6
-        # (9)'s orbits carry their own parameter derivatives (the variational equations); the
-        # slow flows' states and (8)'s orbits are differenced
-        self.jacobian = self._jacobian if isinstance(self.orbits, OrbitResponse) else None
+        # (9)'s orbits carry their own parameter derivatives (the variational equations), (8)'s
+        # theirs (the saltation sensitivities along each orbit, but in the measured wall's
+        # parameters); the slow flows' states are differenced
+        own = isinstance(self.orbits, OrbitResponse) or (
+            isinstance(self.orbits, ImpactResponse) and self.orbits.differentiates(self.names)
+        )
+        self.jacobian = self._jacobian if own else None
         self._at = None  # the z the orbits were last moved to (None: the last call lost them)
         C = float(dissipation_at_unit_speed(base.lam, base.chi, base.n, base.pbar))
         a = base.pbar / (2 * (base.n + 1)) + 0.5

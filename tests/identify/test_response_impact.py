@@ -235,3 +235,29 @@ def test_an_up_sweep_of_8_stays_on_the_impact_free_orbit_while_it_explains_the_p
     assert np.allclose(narrow.amplitudes(params)[1:], resonant[1:], rtol=1e-6)
     wide = ImpactResponse(ResponseData(sigma, A, np.abs(resonant - free), ("up",) * 4, "up"), params)
     assert np.allclose(wide.amplitudes(params), free, rtol=1e-6) and all(wide.stable)
+
+
+@pytest.mark.parametrize("variant", ["paper", "corrected"])
+def test_the_first_harmonics_own_derivatives_are_the_differences_of_newton_solved_orbits(
+    impact_points, variant
+):
+    """dA1/dq from the flow's sensitivities along each orbit (saltation matrices, no Newton) against
+    central differences of A1 of orbits Newton-solved at q +- h, at four points of the Fig. 10
+    branch, in a flight parameter (gamma, Abar, eps) and, for (8), a wall parameter (lam)."""
+    from slosh_bif.identify.response_impact import ImpactResponse
+
+    data = ResponseData(impact_points.sigma[::2], impact_points.A[::2], None, (), "four points")
+    response = ImpactResponse(data, TRUTH, variant=variant)
+    names = ["gamma", "Abar", "eps"] + (["lam"] if variant == "paper" else [])
+    assert response.differentiates(names) and response.differentiates(["lam"]) == (variant == "paper")
+    response.amplitudes(TRUTH)
+    gradient = response.gradient(names)
+    start = response.state()
+    for j, name in enumerate(names):
+        h = 1e-6 * getattr(TRUTH, name)
+        sides = []
+        for s in (1, -1):
+            response.restore(start)
+            sides.append(response.amplitudes(TRUTH.replace(**{name: getattr(TRUTH, name) + s * h})))
+        difference = (sides[0] - sides[1]) / (2 * h)
+        np.testing.assert_allclose(gradient[:, j], difference, rtol=1e-5, atol=1e-7, err_msg=name)

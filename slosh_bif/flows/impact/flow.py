@@ -65,7 +65,7 @@ _measured = jit(impact_measured_kernel, inline=True)
 
 
 @jit
-def _run(flights, restitution, wall, linear, span, limits, variations):
+def _run(flights, restitution, wall, linear, span, limits, variations, record):
     """Samples every h from t0 to t1 (t1 last) with the impacts among them; see :class:`ImpactFlow`.
     Stops with code _FULL when more than ``capacity`` impacts would be stored. With ``jac``,
     ``phi`` (identity on entry) and ``dp`` (zero) end as d y(t1) / d y0 and d y(t1) / d param.
@@ -75,7 +75,8 @@ def _run(flights, restitution, wall, linear, span, limits, variations):
     The records: ``flights`` as in :func:`~slosh_bif.flows.impact.crossings.piece`;
     ``restitution = (kappa_c, kappa_q, dc)`` of (21); ``wall = (shape, stacked)``; ``linear``, the
     linear part's (eps, beta, gamma, sigma, Abar); ``span = (y0, t0, t1, h)``; ``limits =
-    (stick_speed, max_impacts, capacity)``; ``variations = (jac, phi, dp)``."""
+    (stick_speed, max_impacts, capacity)``; ``variations = (jac, phi, dp)``; ``record`` (with
+    ``jac``): keep phi and dp at every stored row too (the orbit's sensitivities along it)."""
     table, dtable, _, _, _, lengths, growth, row_norm = flights
     kappa_c, kappa_q, dc = restitution
     shape, stacked = wall
@@ -87,6 +88,9 @@ def _run(flights, restitution, wall, linear, span, limits, variations):
     count = int(math.ceil((t1 - t0) / h - 1e-12))
     times = np.empty(count + 1 + capacity)
     states = np.empty((count + 1 + capacity, 4))
+    kept = count + 1 + capacity if record else 1
+    phis = np.empty((kept, 4, 4))
+    dps = np.empty((kept, 4))
     impacts = np.empty((capacity, 4))  # t, side, w'-, w'+
     stack_z = np.empty((2 * LEVELS + 4, 6))
     stack_k = np.empty(2 * LEVELS + 4, dtype=np.int64)
@@ -103,6 +107,9 @@ def _run(flights, restitution, wall, linear, span, limits, variations):
     z[:4] = y0
     times[0] = t0
     states[0] = y0
+    if record:
+        phis[0] = phi
+        dps[0] = dp
     rows, hits = 1, 0
     for j in range(count):
         ta = t0 + j * h
@@ -123,7 +130,7 @@ def _run(flights, restitution, wall, linear, span, limits, variations):
                 if code == LEFT:
                     continue
                 if code == TOO_FAST:
-                    return times, states, impacts, rows, hits, _TOO_FAST
+                    return times, states, impacts, rows, hits, _TOO_FAST, phis, dps
                 side = 1 if z[2] >= 0.0 else -1
             else:
                 rest = (tb - tau) / h  # in steps; taken as its binary expansion
@@ -157,7 +164,7 @@ def _run(flights, restitution, wall, linear, span, limits, variations):
                     in_band = True
                     continue
             if hits >= capacity:
-                return times, states, impacts, rows, hits, _FULL
+                return times, states, impacts, rows, hits, _FULL, phis, dps
             v_minus = z[3]
             speed = abs(v_minus)
             impacts[hits, 0] = ta + done
@@ -175,7 +182,7 @@ def _run(flights, restitution, wall, linear, span, limits, variations):
                     loss = kappa_c if kappa_q == 0.0 else (0.0 if kappa_q > 0.0 else math.inf)
                 if loss > 1.0:
                     impacts[hits, 3] = math.nan
-                    return times, states, impacts, rows, hits + 1, _KAPPA_NOT_REAL
+                    return times, states, impacts, rows, hits + 1, _KAPPA_NOT_REAL, phis, dps
                 pars[5], pars[6] = loss, kappa_q
                 _impact(ta + done, z, reset, pars)
                 z[2] = side  # exactly on the wall, so the next flight starts inside
@@ -188,15 +195,21 @@ def _run(flights, restitution, wall, linear, span, limits, variations):
             hits += 1
             times[rows] = ta + done
             states[rows] = z[:4]
+            if record:
+                phis[rows] = phi
+                dps[rows] = dp
             rows += 1
             if abs(z[3]) < stick_speed:
-                return times, states, impacts, rows, hits, _STICKING
+                return times, states, impacts, rows, hits, _STICKING, phis, dps
             if hits >= max_impacts:
-                return times, states, impacts, rows, hits, _MAX_IMPACTS
+                return times, states, impacts, rows, hits, _MAX_IMPACTS, phis, dps
         times[rows] = tb
         states[rows] = z[:4]
+        if record:
+            phis[rows] = phi
+            dps[rows] = dp
         rows += 1
-    return times, states, impacts, rows, hits, _FINISHED
+    return times, states, impacts, rows, hits, _FINISHED, phis, dps
 
 
 @functools.lru_cache(maxsize=32)
@@ -269,6 +282,7 @@ class ImpactFlow:
             self.taylor += 1
             term *= size / self.taylor
         self.variant = variant
+        self.recorded = None  # phi and dp at every row of the last run that kept them
         if variant == "corrected":
             self.wall = measured_wall(P.lam, P.chi, P.n, P.pbar)
             self.shape, self.stacked = law_arrays(self.wall)
@@ -298,12 +312,13 @@ class ImpactFlow:
         (below it the law is clamped)."""
         return 0.0 if self.wall is None else float(self.wall.v_min)
 
-    def _call(self, y0, t0, t1, stick_speed, max_impacts, capacity, jac):
+    def _call(self, y0, t0, t1, stick_speed, max_impacts, capacity, jac, record=False):
         """The compiled run from room for ``capacity`` impacts up, rerun with four times the room
-        while it fills (the same inputs give the same run); its arrays cut to what was stored."""
+        while it fills (the same inputs give the same run); its arrays cut to what was stored
+        (with ``record``, phi and dp at every row as well: ``self.recorded``)."""
         while True:
             phi, dp = np.eye(4), np.zeros(4)
-            times, states, impacts, rows, hits, code = _run(
+            times, states, impacts, rows, hits, code, phis, dps = _run(
                 self.flights,
                 (self.kappa_c, self.kappa_q, self.dc),
                 (self.shape, self.stacked),
@@ -311,8 +326,10 @@ class ImpactFlow:
                 (np.asarray(y0, dtype=float), float(t0), float(t1), self.step),
                 (float(stick_speed), max_impacts, capacity),
                 (jac, phi, dp),
+                record,
             )
             if code != _FULL:
+                self.recorded = (phis[:rows], dps[:rows]) if record else None
                 return times[:rows], states[:rows].T, impacts[:hits], int(code), phi, dp
             capacity = min(max_impacts, 4 * capacity)
 
@@ -323,6 +340,20 @@ class ImpactFlow:
         than the measured law's speeds)."""
         count = int(math.ceil((t1 - t0) / self.step - 1e-12))
         return self._call(y0, t0, t1, stick_speed, max_impacts, min(max_impacts, 2 * count + 64), False)[:4]
+
+    def sensitivities(self, y0, t0: float, period: float, *, max_impacts: int = 10_000):
+        """``(t, y, phis, dps, impacts, code)``: the run of :meth:`run` from y0 over ``period``
+        (samples every ``step`` and at the impacts, post-impact there) with, at every sample, the
+        state's derivatives with respect to y0 (``phis``, (N, 4, 4)) and to ``param`` (``dps``,
+        (N, 4)): what a quantity sampled along an orbit needs for its own derivatives."""
+        if self.exact_flights != (self.variant == "corrected"):
+            raise ValueError("a flow with the other variant's flights runs, but has no saltation matrices")
+        count = int(math.ceil(period / self.step - 1e-12))
+        t, y, impacts, code, _, _ = self._call(
+            y0, t0, t0 + period, 1e-9, max_impacts, min(max_impacts, 2 * count + 64), True, record=True
+        )
+        phis, dps = self.recorded
+        return t, y, phis, dps, impacts, code
 
     def strobe(self, y0, t0: float, period: float, *, stick_speed: float = 1e-9, max_impacts: int = 10_000):
         """``(y, phi, dp, impacts, code)``: the state at ``t0 + period``, its derivatives with respect
