@@ -115,11 +115,11 @@ def impact_branch_rows(
     params, state0, sigma_min: float, sigma_max: float, *, settle: int, variant: str = "paper"
 ) -> list:
     """Rows (:func:`~slosh_bif.orbits.impact.output.impact_rows`) of the branch of orbits of (8)
-        (``variant="corrected"``: of the corrected impact model) through the orbit a ``settle``-period
-        simulation from ``state0`` settles on at the set's sigma (as ``shoot --model impact``), over
-        [sigma_min, sigma_max], at steps of at most 0.05 so that A1 read between points is within
-        about 1e-4 of the orbit's (0.3 % at shoot's 0.3); the ``criticality`` column says how each LP,
-    PD, NS and BP is crossed."""
+    (``variant="corrected"``: of the corrected impact model) through the orbit a ``settle``-period
+    simulation from ``state0`` settles on at the set's sigma (as ``shoot --model impact``), over
+    [sigma_min, sigma_max], at steps of at most 0.05 so that A1 read between points is within
+    about 1e-4 of the orbit's (0.3 % at shoot's 0.3); the ``criticality`` column says how each
+    LP, PD, NS and BP is crossed."""
     from slosh_bif.continuation import ContinuationOptions
     from slosh_bif.orbits.criticality import Verdict, describe, impact_criticality
     from slosh_bif.orbits.impact.branches import settled_orbit, trace_impact_orbits
