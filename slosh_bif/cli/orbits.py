@@ -192,7 +192,7 @@ def _shoot_impact(args, params, lo, hi) -> int:
     settles on (or --guess), across sections and grazings; a symmetric one on the half-period map,
     with the asymmetric branches born at its pitchforks (unless --no-switch)."""
     from slosh_bif.continuation import ContinuationOptions
-    from slosh_bif.orbits.criticality import describe, impact_criticality, npz_arrays
+    from slosh_bif.orbits.criticality import describe, impact_criticality, npz_arrays, phrases
     from slosh_bif.orbits.impact.branches import settled_orbit
     from slosh_bif.orbits.impact.output import (
         impact_rows,
@@ -239,28 +239,22 @@ def _shoot_impact(args, params, lo, hi) -> int:
             variant=variant,
         )
         branches = [(nb.name, nb.branch, nb.symmetric) for nb in family]
-        verdicts = {
-            name: impact_criticality(branch, params, symmetric=half) for name, branch, half in branches
-        }
-        phrases = {
-            name: [{k: describe(v) for k, v in found.items()} for found in per]
-            for name, per in verdicts.items()
-        }
+        verdicts = {name: impact_criticality(b, params, symmetric=half) for name, b, half in branches}
         rows = [
             r
             for name, branch, half in branches
-            for r in impact_rows(branch, params, symmetric=half, name=name, criticality=phrases[name])
+            for r in impact_rows(
+                branch, params, symmetric=half, name=name, criticality=phrases(verdicts[name])
+            )
         ]
         plots.submit(plot_impact_branch, rows, params, args.out / "branch.png")
         csv_path = write_impact_csv(rows, args.out / "branch.csv")
         for name, branch, _ in branches:
             for k, piece in enumerate(branch.pieces):
-                piece.branch.save(
-                    args.out / f"{name}-piece{k}.npz",
-                    phase=piece.phase,
-                    impacts=piece.impacts,
-                    **npz_arrays(piece.branch, verdicts[name][k]),
+                extras = dict(
+                    phase=piece.phase, impacts=piece.impacts, **npz_arrays(piece.branch, verdicts[name][k])
                 )
+                piece.branch.save(args.out / f"{name}-piece{k}.npz", **extras)
         png_path = plots.result()
     for name, branch, _ in branches:
         part = [r for r in rows if r["branch"] == name]

@@ -25,6 +25,7 @@ __all__ = [
     "judge",
     "special_criticality",
     "impact_criticality",
+    "phrases",
     "npz_arrays",
     "describe",
     "verdict_lines",
@@ -144,6 +145,12 @@ def impact_criticality(branch, params, *, symmetric: bool = False) -> list:
         )
         out.append(_judged(problem, piece.branch))
     return out
+
+
+def phrases(per_piece, keep=None) -> list:
+    """Per piece, ``{index: describe(verdict)}`` of :func:`impact_criticality`'s result; ``keep``:
+    which verdicts or reasons to phrase (all by default)."""
+    return [{k: describe(v) for k, v in found.items() if keep is None or keep(v)} for found in per_piece]
 
 
 def npz_arrays(branch, verdicts: dict) -> dict:

@@ -121,7 +121,7 @@ def impact_branch_rows(
     about 1e-4 of the orbit's (0.3 % at shoot's 0.3); the ``criticality`` column says how each
     LP, PD, NS and BP is crossed."""
     from slosh_bif.continuation import ContinuationOptions
-    from slosh_bif.orbits.criticality import Verdict, describe, impact_criticality
+    from slosh_bif.orbits.criticality import Verdict, impact_criticality, phrases
     from slosh_bif.orbits.impact.branches import settled_orbit, trace_impact_orbits
     from slosh_bif.orbits.impact.output import impact_rows
 
@@ -136,11 +136,11 @@ def impact_branch_rows(
     )
     # verdicts and the reasons a point was not judged; the branch is traced on the whole-period map,
     # where a symmetric orbit's pitchfork is no meeting with a parent (its verdict needs the half map)
-    phrases = [
-        {k: describe(v) for k, v in found.items() if isinstance(v, Verdict) or v.startswith("not computed")}
-        for found in impact_criticality(result, params)
-    ]
-    return list(impact_rows(result, params, criticality=phrases))
+    judged = phrases(
+        impact_criticality(result, params),
+        keep=lambda v: isinstance(v, Verdict) or v.startswith("not computed"),
+    )
+    return list(impact_rows(result, params, criticality=judged))
 
 
 def impact_errors(rows) -> dict:
