@@ -54,12 +54,18 @@ from slosh_bif.model.params import Params
 from slosh_bif.model.restitution import dissipation_at_unit_speed
 from slosh_bif.model.restitution.corrected import measured_wall
 
-__all__ = ["IMPACT_VARIANTS", "LEVELS", "LINEAR_PARAMETERS", "WALL_PARAMETERS", "ImpactFlow"]
+__all__ = ["END_REASONS", "IMPACT_VARIANTS", "LEVELS", "LINEAR_PARAMETERS", "WALL_PARAMETERS", "ImpactFlow"]
 
 IMPACT_VARIANTS = ("paper", "corrected")
 
-# Codes of the compiled run.
+# Codes of the compiled run, and what a run that ended early met.
 _FINISHED, _STICKING, _KAPPA_NOT_REAL, _MAX_IMPACTS, _FULL, _TOO_FAST = 0, 1, 2, 3, 4, 5
+END_REASONS = {
+    _STICKING: "the particle sticks to the wall (impacts accumulate)",
+    _KAPPA_NOT_REAL: "kappa (eq. 21) is not real at an impact speed reached",
+    _MAX_IMPACTS: "more than 10,000 impacts",
+    _TOO_FAST: "an impact faster than the measured wall law's speeds",
+}
 _impact = jit(impact_saltation_kernel, inline=True)
 _measured = jit(impact_measured_kernel, inline=True)
 

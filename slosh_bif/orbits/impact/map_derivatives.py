@@ -37,7 +37,7 @@ import math
 import numpy as np
 from scipy.linalg import expm
 
-from slosh_bif.flows.impact.flow import ImpactFlow
+from slosh_bif.flows.impact.flow import END_REASONS, ImpactFlow
 from slosh_bif.model._generated.impact_kernels import impact_reset_jet_kernel
 from slosh_bif.model.params import Params
 from slosh_bif.orbits.map_derivatives import FlowDerivatives
@@ -45,12 +45,6 @@ from slosh_bif.orbits.map_derivatives import FlowDerivatives
 __all__ = ["ImpactMapDerivatives", "GRAZING_SPEED"]
 
 GRAZING_SPEED = 1e-6  # an impact slower than this grazes: its map's derivatives are not computed
-_CODES = {
-    1: "the particle sticks to the wall",
-    2: "kappa (eq. 21) is not real at an impact speed reached",
-    3: "more than 10,000 impacts",
-    5: "an impact faster than the measured wall law's speeds",
-}
 # a product's coefficient k collects a[i] b[k ^ i] over the subsets i of k's bits: as a matrix
 # acting on b's coefficients, row k holds a[k ^ j] where j is a subset of k
 _ROWS, _COLUMNS = np.meshgrid(np.arange(8), np.arange(8), indexing="ij")
@@ -131,7 +125,7 @@ class ImpactMapDerivatives(FlowDerivatives):
         self.phase = float(phase)
         _, self._phi, _, impacts, code = flow.strobe(self.y0, self.phase, self.t1)
         if code != 0:
-            raise ValueError(f"the map is not defined there: {_CODES.get(code, f'code {code}')}")
+            raise ValueError(f"the map is not defined there: {END_REASONS.get(code, f'code {code}')}")
         slowest = float(np.abs(impacts[:, 2]).min()) if len(impacts) else math.inf
         if slowest < max(GRAZING_SPEED, flow.slowest_smooth_impact):
             raise ValueError(

@@ -41,12 +41,6 @@ __all__ = ["ImpactOrbitProblem", "StrobeMap", "GrazingGap", "SECTION", "GRAZING"
 SECTION, GRAZING = "an impact on the section", "grazing (GR)"
 VARIANT_NAMES = {"paper": "(8)", "corrected": "the corrected impact model"}  # in messages and titles
 _KEEP = 8  # evaluations and flows kept: one corrector step and its finite-difference-free tangent
-_CODES = {
-    1: "the particle sticks to the wall (impacts accumulate)",
-    2: "kappa (eq. 21) is not real at an impact speed reached",
-    3: "more than 10,000 impacts a period",
-    5: "an impact faster than the measured wall law's speeds",
-}
 
 
 @dataclasses.dataclass(frozen=True)
