@@ -288,7 +288,6 @@ class ImpactFlow:
             self.taylor += 1
             term *= size / self.taylor
         self.variant = variant
-        self.recorded = None  # phi and dp at every row of the last run that kept them
         if variant == "corrected":
             self.wall = measured_wall(P.lam, P.chi, P.n, P.pbar)
             self.shape, self.stacked = law_arrays(self.wall)
@@ -321,7 +320,7 @@ class ImpactFlow:
     def _call(self, y0, t0, t1, stick_speed, max_impacts, capacity, jac, record=False):
         """The compiled run from room for ``capacity`` impacts up, rerun with four times the room
         while it fills (the same inputs give the same run); its arrays cut to what was stored
-        (with ``record``, phi and dp at every row as well: ``self.recorded``)."""
+        (the last two: phi and dp at every row, with ``record``; else None)."""
         while True:
             phi, dp = np.eye(4), np.zeros(4)
             times, states, impacts, rows, hits, code, phis, dps = _run(
@@ -335,8 +334,8 @@ class ImpactFlow:
                 record,
             )
             if code != _FULL:
-                self.recorded = (phis[:rows], dps[:rows]) if record else None
-                return times[:rows], states[:rows].T, impacts[:hits], int(code), phi, dp
+                kept = (phis[:rows], dps[:rows]) if record else (None, None)
+                return times[:rows], states[:rows].T, impacts[:hits], int(code), phi, dp, *kept
             capacity = min(max_impacts, 4 * capacity)
 
     def run(self, y0, t0: float, t1: float, *, stick_speed: float, max_impacts: int):
@@ -355,10 +354,9 @@ class ImpactFlow:
         if self.exact_flights != (self.variant == "corrected"):
             raise ValueError("a flow with the other variant's flights runs, but has no saltation matrices")
         count = int(math.ceil(period / self.step - 1e-12))
-        t, y, impacts, code, _, _ = self._call(
+        t, y, impacts, code, _, _, phis, dps = self._call(
             y0, t0, t0 + period, 1e-9, max_impacts, min(max_impacts, 2 * count + 64), True, record=True
         )
-        phis, dps = self.recorded
         return t, y, phis, dps, impacts, code
 
     def strobe(self, y0, t0: float, period: float, *, stick_speed: float = 1e-9, max_impacts: int = 10_000):
@@ -366,7 +364,7 @@ class ImpactFlow:
         to y0 (4 x 4) and to ``param`` (zero without one), the impacts and the end code of :meth:`run`."""
         if self.exact_flights != (self.variant == "corrected"):  # the other variant's flights
             raise ValueError("a flow with the other variant's flights runs, but has no saltation matrices")
-        _, states, impacts, code, phi, dp = self._call(
+        _, states, impacts, code, phi, dp, _, _ = self._call(
             y0, t0, t0 + period, stick_speed, max_impacts, min(max_impacts, 64), True
         )
         return states[:, -1].copy(), phi, dp, impacts, code
