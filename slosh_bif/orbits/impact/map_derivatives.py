@@ -89,6 +89,8 @@ def _law_table(law):
     """((off, scale), C): the window map of a :class:`WallLaw`'s series in s = log v and the
     coefficients, as columns, of kappa and log D and of their first three derivatives in s."""
     if id(law) not in _TABLES:
+        if len(_TABLES) >= 32:  # as many as the measured laws' own cache keeps
+            _TABLES.clear()
         series = [law.kappa_series.deriv(k) if k else law.kappa_series for k in range(4)]
         series += [law.clearance_series.deriv(k) if k else law.clearance_series for k in range(4)]
         table = np.zeros((max(len(c.coef) for c in series), 8))
