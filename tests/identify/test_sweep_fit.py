@@ -55,6 +55,22 @@ def test_both_sweeps_are_compared_with_the_same_orbits_where_they_measured_the_s
     assert np.max(np.abs(up - down)) < 1e-5
 
 
+@pytest.mark.slow  # the sweeps by scipy and a fit by (9) (about 3.5 min)
+def test_a_wrong_wall_power_held_fixed_is_said_where_the_misfit_cannot_show_it(clean):
+    """The data's wall has n = 20; fitted by (9) with n = 10 held, lam and gamma absorb the
+    difference (chi-square p = 0.18 at a stated 1 % std over ten points: no test of the residuals
+    can see it), but gamma is pushed to the end of its admissible range (0), which the fit says."""
+    data = ResponseData(clean.sigma, clean.A, np.full(len(clean.A), 0.01 * clean.A.max()), clean.sweep, "1 %")
+    fit = fit_response(data, TRUTH.replace(n=10), ["lam", "gamma"], model="smooth")
+    assert fit.values["gamma"] < 1e-6
+    assert (
+        "gamma = " in fit.not_identifiable
+        and "sits at the lower end of its admissible range" in fit.not_identifiable
+    )
+    right = fit_response(data, TRUTH, ["lam", "gamma"], model="smooth")
+    assert "admissible range" not in right.not_identifiable
+
+
 @pytest.mark.slow  # 40 fits by (9)'s orbits with the global search (about 30 min on 2 cores)
 def test_coverage_over_40_seeds_of_noise_on_scipys_sweeps():
     """The scipy sweeps (five sigmas a sweep) with 1 % noise of known std, 40 seeds, lam and gamma
