@@ -6,8 +6,9 @@ is soft on one side of such a point and hard on the other. A fold is a jump all 
 its own quadratic coefficient is the curve's cusp test (CP).
 
 The coefficients are those of :func:`~slosh_bif.orbits.map_derivatives.criticality` (Kuznetsov's
-normal forms of maps, the map's derivatives from the generated variational equations), computed
-after the curve is traced at every :data:`STRIDE`-th point and at both ends, and at every point
+normal forms of maps; the map's derivatives from the generated variational equations of (9) or
+the jets through (8)'s impacts), computed after the curve is traced at every :data:`STRIDE`-th
+point and at both ends, and at every point
 between two computed ones of opposite sign: between the pair of neighbours where it changes sign
 the zero is placed by linear interpolation (to about the curve's step, not to the 1e-9 of the
 test-function points), unless the coefficient grows towards the change instead of falling (a
@@ -42,7 +43,7 @@ def boundary(kind: str, coefficient, judged) -> np.ndarray:
     """Per curve point, how stability is lost there: ``jump`` on an LP curve (a fold always is),
     ``soft`` or ``hard`` by the sign of the coefficient (b > 0 soft at a PD or BP, d < 0 at an NS),
     ``undetermined`` where the point's normal form is not valid (near a codimension-2 point or a
-    strong resonance); '' where no coefficient was computed (the curves of (8))."""
+    strong resonance); '' where no coefficient was computed."""
     coefficient = np.asarray(coefficient, dtype=float)
     judged = np.asarray(judged, dtype=float) > 0
     if kind == "LP":

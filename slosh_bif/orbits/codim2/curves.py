@@ -164,7 +164,7 @@ class BifurcationCurve:
 def curve_boundary(curve) -> tuple:
     """(coefficient, boundary) per point of ``curve`` (:func:`.coefficients.boundary`): a fold is
     a jump in either model (its coefficient NaN: its zero is the cusp CP, located by its own
-    test); NaN and '' where no coefficient was computed (the other curves of (8))."""
+    test); NaN and '' where no coefficient was computed (a curve saved without it)."""
     n = len(curve)
     if curve.kind == "LP":
         return np.full(n, np.nan), np.full(n, "jump", dtype="<U12")

@@ -147,8 +147,8 @@ _LOSS_STYLES = {
 
 
 def _loss_style(kinds) -> np.ndarray:
-    """Each point's style key: hard and jump are both a jump; '' (no coefficient: (8)'s PD and NS
-    curves) unknown."""
+    """Each point's style key: hard and jump are both a jump; '' (no coefficient: a curve traced
+    without the map's derivatives, such as one from an earlier run) unknown."""
     out = np.asarray(kinds, dtype="<U12").copy()
     out[out == "hard"] = "jump"
     out[out == ""] = "unknown"
