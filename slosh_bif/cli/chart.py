@@ -13,6 +13,7 @@ from slosh_bif.cli.common import (
     add_abar_range_options,
     add_backend_option,
     add_params_options,
+    add_scheduler_option,
     add_tmax_option,
     check_workers,
     out_path,
@@ -21,6 +22,7 @@ from slosh_bif.cli.common import (
     sigma_range,
     state0_of,
     stopped,
+    sweep_executor,
     throttled,
 )
 from slosh_bif.model.params import REAL_FIELDS
@@ -29,6 +31,11 @@ __all__ = ["add_commands"]
 
 
 def _chart(args) -> int:
+    with sweep_executor(args) as executor:
+        return _chart_on(args, executor)
+
+
+def _chart_on(args, executor) -> int:
     from slosh_bif.orbits.settings import BranchingSettings, ShootingSettings
     from slosh_bif.report.files import Resume
     from slosh_bif.studies.chart import ChartSettings, bifurcation_chart, check_box
@@ -40,6 +47,7 @@ def _chart(args) -> int:
         write_critical_csv,
         write_curves_csv,
     )
+    from slosh_bif.studies.chart.tasks import scaling_line, write_tasks_csv
 
     params = params_of(args)
     lo, hi = sigma_range(args)
@@ -105,7 +113,7 @@ def _chart(args) -> int:
             sigma_range=(lo, hi),
             abar_range=(a_lo, a_hi),
             branching=BranchingSettings(switch=not args.no_switch),
-            settings=ChartSettings(seeds=args.seeds, workers=args.workers),
+            settings=ChartSettings(seeds=args.seeds, workers=args.workers, executor=executor),
             progress=say,
             variant="corrected" if args.model == "impact-corrected" else "paper",
         )
@@ -116,7 +124,9 @@ def _chart(args) -> int:
             box={"sigma": (lo, hi), args.second: (a_lo, a_hi)},
             shooting=ShootingSettings(backend=args.backend),
             branching=BranchingSettings(switch=not args.no_switch),
-            settings=ChartSettings(seeds=args.seeds, workers=args.workers, model=args.model),
+            settings=ChartSettings(
+                seeds=args.seeds, workers=args.workers, model=args.model, executor=executor
+            ),
             progress=say,
             resume=Resume(done, keep),
         )
@@ -132,7 +142,7 @@ def _chart(args) -> int:
             np.linspace(lo, hi, n),
             np.linspace(a_lo, a_hi, m),
             tmax=args.tmax,
-            workers=Workers(max_workers=args.workers),
+            workers=Workers(executor, args.workers),
             settings=SimulationSettings(
                 model="impact" if args.model == "impact" else "smooth", backend=args.backend
             ),
@@ -145,6 +155,7 @@ def _chart(args) -> int:
         paths.append(write_critical_csv(chart, args.out / "critical.csv"))
     paths.append(write_codim2_csv(chart, args.out / "codim2.csv"))
     paths.append(plot_chart(chart, args.out / "chart.png", regimes=regimes))
+    paths.append(write_tasks_csv(chart.tasks, args.out / "tasks.csv"))
     for k, c in enumerate(chart.curves):
         codim2 = ", ".join(f"{label} ({sigma:.5g}, {abar:.5g})" for label, sigma, abar in c.codim2_points())
         print(
@@ -152,6 +163,7 @@ def _chart(args) -> int:
             + (f"; {codim2}" if codim2 else "")
         )
     print(f"{len(chart.curves)} curves in {chart.seconds:.1f} s; wrote " + ", ".join(str(p) for p in paths))
+    print(scaling_line(chart.tasks))
     for status in (chart.status, regimes.status if regimes is not None else "complete"):
         if status != "complete":  # the files hold what was finished
             raise stopped(status)
@@ -232,8 +244,10 @@ def add_commands(sub) -> None:
         "--workers",
         type=int,
         default=None,
-        help="processes tracing curves (and the regime map) side by side (default: one per core)",
+        help="processes tracing curves (and the regime map) side by side (default: one per core); "
+        "with --scheduler, curves at once on the cluster (default: its threads)",
     )
+    add_scheduler_option(chart)
     chart.add_argument("--out", type=out_path, required=True, help="output folder (created if missing)")
     chart.add_argument(
         "--model",

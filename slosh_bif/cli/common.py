@@ -331,8 +331,8 @@ def add_scheduler_option(parser) -> None:
         "--scheduler",
         default=None,
         metavar="ADDRESS",
-        help="run the cells on an existing dask.distributed cluster at ADDRESS (e.g. tcp://host:8786; "
-        "needs the [dask] extra) instead of local processes",
+        help="run the work (cells, curves) on an existing dask.distributed cluster at ADDRESS (e.g. "
+        "tcp://host:8786; needs the [dask] extra) instead of local processes",
     )
 
 
@@ -355,7 +355,9 @@ def sweep_executor(args):
     except (OSError, TimeoutError) as err:
         raise ValueError(f"--scheduler {address}: no dask scheduler answers there ({err})") from None
     try:
-        yield client.get_executor()
+        from slosh_bif.simulation.sweep import ClusterExecutor
+
+        yield ClusterExecutor(client)
     finally:
         client.close()
 

@@ -15,7 +15,7 @@ from concurrent.futures import ProcessPoolExecutor, as_completed
 from slosh_bif.report.files import Resume
 from slosh_bif.simulation.settings import LOCAL, Workers
 
-__all__ = ["WorkerPool", "run_cells", "worker_setup"]
+__all__ = ["WorkerPool", "ClusterExecutor", "run_cells", "worker_setup"]
 
 
 def worker_setup(pids=None) -> None:
@@ -84,6 +84,20 @@ class WorkerPool:
                 os.kill(self._pids.get(), signal.SIGKILL)
             except ProcessLookupError:  # already ended
                 pass
+
+
+class ClusterExecutor:
+    """A dask cluster's executor (``distributed.Client.get_executor()``) with the cluster's thread
+    count when it was reached: how many tasks a caller that keeps a bounded number in flight (a
+    chart's curves, each skipped when an earlier one covers it) submits at once. A worker lost
+    mid-task is dask's to handle: the scheduler runs the task again on another."""
+
+    def __init__(self, client):
+        self.executor = client.get_executor()
+        self.threads = max(1, sum(client.nthreads().values()))
+
+    def submit(self, function, *arguments):
+        return self.executor.submit(function, *arguments)
 
 
 def run_cells(

@@ -7,6 +7,7 @@ periodic orbits of (9) (:mod:`slosh_bif.orbits.codim2`)."""
 from __future__ import annotations
 
 import dataclasses
+import time
 
 import numpy as np
 
@@ -20,6 +21,7 @@ from slosh_bif.orbits.codim2 import (
 )
 from slosh_bif.orbits.orbit_tools import is_symmetric, symmetrized
 from slosh_bif.orbits.settings import SHOOTING, ShootingSettings
+from slosh_bif.studies.chart.tasks import Task
 
 __all__ = [
     "CurveStart",
@@ -144,23 +146,38 @@ def pitchforks_of(family) -> list:
 
 
 def _trace_job(job):
-    """One curve (in a worker): (curve, None), or (None, why not)."""
+    """One curve (in a worker): (curve, None, seconds), or (None, why not, seconds); the seconds
+    are reported only (tasks.csv), never used."""
     arguments = dict(job)
     trace = arguments.pop("trace", trace_curve)
+    began = time.perf_counter()
     try:
-        return trace(**arguments), None
-    except (ConvergenceError, np.linalg.LinAlgError, ValueError) as err:
-        return None, str(err)
+        curve, err = trace(**arguments), None
+    except (ConvergenceError, np.linalg.LinAlgError, ValueError) as error:
+        curve, err = None, str(error)
+    return curve, err, time.perf_counter() - began
 
 
-def trace_curves(starts, say, workers: int = 1, done=None, keep=None, keep_partial: bool = True):
+def trace_curves(
+    starts,
+    say,
+    workers: int = 1,
+    done=None,
+    keep=None,
+    keep_partial: bool = True,
+    executor=None,
+    tasks: list | None = None,
+):
     """(curves, status, failures): the curve through each start that lies on no curve of its kind
     traced from an earlier start, in start order, on ``workers`` processes; interrupted, the curves
     finished by then and a status saying so; a :class:`CurveFailure` for each start whose curve
     could not be started (in start order). ``keep_partial=False``: an interruption is raised on
     (for a caller whose answer would be wrong from part of the curves). ``done``: {start index: curve} from an
     earlier run
-    (not traced again); ``keep(i, curve)`` is called as each curve finishes.
+    (not traced again); ``keep(i, curve)`` is called as each curve finishes. ``executor``: a
+    cluster's (:class:`~slosh_bif.simulation.sweep.ClusterExecutor`), ``workers`` curves at once
+    on it, instead of local processes. ``tasks``: a list that gets one :class:`Task` per curve
+    traced (its start, duration and size), in the order they finish.
 
     Curves are independent, so they run side by side; a start is not submitted when a curve of its
     kind that the sequential run keeps (from the starts before it, all finished) passes through
@@ -176,7 +193,11 @@ def trace_curves(starts, say, workers: int = 1, done=None, keep=None, keep_parti
         return any(c.kind == starts[i].kind and _on_curve(c, starts[i].sigma, starts[i].value) for c in among)
 
     def record(i, result):
-        curve, err = result
+        curve, err, seconds = result
+        if tasks is not None:
+            tasks.append(
+                Task(i, starts[i].kind, starts[i].origin, seconds, 0 if curve is None else len(curve))
+            )
         if curve is None:
             failed[i] = CurveFailure(
                 starts[i].kind, starts[i].sigma, starts[i].value, starts[i].origin, " ".join(err.split())
@@ -190,12 +211,12 @@ def trace_curves(starts, say, workers: int = 1, done=None, keep=None, keep_parti
 
     status = "complete"
     try:
-        if workers <= 1 or len(starts) <= 1:
+        if executor is None and (workers <= 1 or len(starts) <= 1):
             for i in range(len(starts)):
                 if not covered(i, traced.values()):
                     record(i, _trace_job(starts[i].job))
         else:
-            _trace_in_pool(starts, workers, covered, record, traced)
+            _trace_in_pool(starts, workers, covered, record, traced, executor)
     except KeyboardInterrupt as stop:  # keep what is traced; the caller marks the chart partial
         if not keep_partial:
             raise
@@ -212,12 +233,31 @@ def trace_curves(starts, say, workers: int = 1, done=None, keep=None, keep_parti
     return kept, status, failures
 
 
-def _trace_in_pool(starts, workers, covered, record, traced):
+class _OnCluster:
+    """A cluster's executor as a pool: stopping it cancels what has not finished (the cluster's
+    workers stay); closing it leaves the cluster as it is."""
+
+    def __init__(self, executor):
+        self.executor, self.futures = executor, []
+
+    def submit(self, function, *arguments):
+        self.futures.append(self.executor.submit(function, *arguments))
+        return self.futures[-1]
+
+    def stop(self) -> None:
+        for future in self.futures:
+            future.cancel()
+
+    def close(self) -> None:
+        pass
+
+
+def _trace_in_pool(starts, workers, covered, record, traced, executor=None):
     from concurrent.futures import FIRST_COMPLETED, wait
 
     from slosh_bif.simulation.sweep import WorkerPool
 
-    pool = WorkerPool(workers)
+    pool = WorkerPool(workers) if executor is None else _OnCluster(executor)
     resolved = set(traced)  # starts traced, failed or skipped
 
     def settled_curves():

@@ -38,7 +38,7 @@ from slosh_bif.orbits.settings import BRANCHING, BranchingSettings
 from slosh_bif.orbits.shooting import MAX_PERIOD_MULTIPLE
 from slosh_bif.slowflow.critical import critical_curve
 from slosh_bif.studies.chart.curves import CurveStart, trace_curves
-from slosh_bif.studies.chart.result import Chart, ChartSettings, chart_workers, check_box
+from slosh_bif.studies.chart.result import Chart, ChartSettings, check_box, where
 
 __all__ = ["impact_chart", "impact_family", "impact_curve_starts", "ImpactFamily", "NamedImpactBranch"]
 
@@ -112,12 +112,11 @@ def impact_chart(
         seed = _seed_in_abar(family[0], params, float(sigma), (a0, a1))
         if seed is not None:
             starts += list(impact_curve_starts(seed, seed.at, box))
-    workers = chart_workers(settings.workers)
-    say(
-        f"{len(starts)} special points of {VARIANT_NAMES[variant]} to start curves from, "
-        f"on {workers} process(es)"
+    tasks = []
+    say(f"{len(starts)} special points of {VARIANT_NAMES[variant]} to start curves from, {where(settings)}")
+    curves, status, failures = trace_curves(
+        starts, say, settings.slots, executor=settings.executor, tasks=tasks
     )
-    curves, status, failures = trace_curves(starts, say, workers)
     slow = None
     try:
         slow = critical_curve(params, s0, s1)
@@ -135,6 +134,7 @@ def impact_chart(
         "Abar",
         failures,
         orbits=VARIANT_NAMES[variant],
+        tasks=tuple(tasks),
     )
 
 

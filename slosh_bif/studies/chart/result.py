@@ -11,7 +11,7 @@ import os
 from slosh_bif.model.params import Params
 from slosh_bif.orbits.shooting import PARAMETERS
 
-__all__ = ["Chart", "ChartSettings", "check_box", "chart_workers"]
+__all__ = ["Chart", "ChartSettings", "check_box", "chart_workers", "where"]
 
 
 @dataclasses.dataclass(frozen=True)
@@ -32,6 +32,7 @@ class Chart:
     failures: tuple = ()  # CurveFailure of each start that gave no curve
     # the model whose orbits the curves are of: the smooth model (9) or the impact model (8)
     orbits: str = "(9)"
+    tasks: tuple = ()  # a Task per curve traced (start, seconds, points), in the order they finished
 
     @property
     def incomplete(self) -> list:
@@ -57,7 +58,8 @@ class ChartSettings:
         Orbits of the primary branch, at evenly spread values of sigma, each continued in the
         second parameter (their folds and period doublings start curves too).
     workers : int or None
-        Processes tracing curves side by side (None: every core); the result does not depend on it.
+        Processes tracing curves side by side (None: every core, or with ``executor`` the
+        cluster's threads); the result does not depend on it.
     model : str
         The slow flow whose least forcing of the upper branch is drawn beside the curves.
     """
@@ -66,6 +68,16 @@ class ChartSettings:
     seeds: int = 7
     workers: int | None = None
     model: str = "slowflow"
+    #: a cluster's ``concurrent.futures`` executor (:class:`~slosh_bif.simulation.sweep.ClusterExecutor`,
+    #: dask's): the curves are its tasks, ``workers`` of them at once; None: local processes
+    executor: object = None
+
+    @property
+    def slots(self) -> int:
+        """How many curves are traced at once."""
+        if self.workers is None and self.executor is not None:
+            return max(1, int(getattr(self.executor, "threads", 1)))
+        return chart_workers(self.workers)
 
     def __post_init__(self):
         for name, low in (("settle", 1), ("seeds", 0)):
@@ -112,3 +124,10 @@ def chart_workers(workers) -> int:
     if not (isinstance(workers, int) and workers >= 1):
         raise ValueError(f"workers must be an integer >= 1; got {workers!r}")
     return workers
+
+
+def where(settings: ChartSettings) -> str:
+    """Where the curves are traced, for the progress line."""
+    if settings.executor is not None:
+        return f"{settings.slots} at a time on the cluster"
+    return f"on {settings.slots} process(es)"

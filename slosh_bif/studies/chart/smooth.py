@@ -56,7 +56,7 @@ from slosh_bif.studies.chart.curves import (
     torus_starts,
     trace_curves,
 )
-from slosh_bif.studies.chart.result import Chart, ChartSettings, chart_workers, check_box
+from slosh_bif.studies.chart.result import Chart, ChartSettings, check_box, where
 
 __all__ = ["bifurcation_chart"]
 
@@ -92,7 +92,7 @@ def bifurcation_chart(
     (s0, s1), (a0, a1) = sigma_range, abar_range
     box = {"sigma": (s0, s1), second: (a0, a1)}
     settings = settings or ChartSettings()
-    workers = chart_workers(settings.workers)
+    workers, tasks = settings.slots, []
     resume = resume or Resume()
     say = progress or (lambda message: None)
     started = time.perf_counter()
@@ -136,14 +136,16 @@ def bifurcation_chart(
             say(f"no {second} branch at sigma = {at.sigma:.4g}: {err}")
             continue
         starts += curve_starts(down.branches[0], at, box, shooting=shooting)
-    say(f"{len(starts)} special points to start curves from, on {workers} process(es)")
+    say(f"{len(starts)} special points to start curves from, {where(settings)}")
     if resume.done:
         say(f"{len(resume.done)} curves from an earlier run")
-    curves, status, failures = trace_curves(starts, say, workers, resume.done, resume.keep)
+    curves, status, failures = trace_curves(
+        starts, say, workers, resume.done, resume.keep, executor=settings.executor, tasks=tasks
+    )
     met = list(torus_starts(curves, params, box, shooting)) if status == "complete" else []
     if met:  # one more round, not stored for a resume (it is found again from the curves)
         say(f"{len(met)} NS curves met by the fold and period-doubling curves, not yet traced")
-        tori, status, more = trace_curves(met, say, workers)
+        tori, status, more = trace_curves(met, say, workers, executor=settings.executor, tasks=tasks)
         curves, failures = curves + tori, failures + more
     slow = None
     if second == "Abar":
@@ -162,4 +164,5 @@ def bifurcation_chart(
         status,
         second,
         failures,
+        tasks=tuple(tasks),
     )

@@ -1,0 +1,63 @@
+"""A chart's curves as tasks: how long each took where it ran, written as ``tasks.csv``, and
+what that says of more workers. The projection schedules the recorded durations as the chart does
+(in start order, each curve to the first free worker; the family's trace and the seeds before
+them, which run in the calling process, left out): its time on P workers is at least the longest
+curve and at least the total over P, so beyond total / longest workers only splitting the longest
+curves would help. The durations are wall-clock times, reported and never used for a result."""
+
+from __future__ import annotations
+
+import dataclasses
+import heapq
+
+from slosh_bif.report.tables import write_rows
+
+__all__ = ["Task", "TASK_COLUMNS", "write_tasks_csv", "projected_seconds", "scaling_line"]
+
+TASK_COLUMNS = ("start", "kind", "origin", "seconds", "points")
+PROJECTED = (1, 2, 8, 32, 128)  # worker counts of the projection
+
+
+@dataclasses.dataclass(frozen=True)
+class Task:
+    """One curve's task: its start (index, kind, origin), its duration in seconds (in the process
+    that traced it) and its points (0: no curve)."""
+
+    start: int
+    kind: str
+    origin: str
+    seconds: float
+    points: int
+
+
+def write_tasks_csv(tasks, path):
+    """One row per task, in start order."""
+    rows = (
+        dataclasses.asdict(t) | {"seconds": f"{t.seconds:.3f}"} for t in sorted(tasks, key=lambda t: t.start)
+    )
+    return write_rows(rows, TASK_COLUMNS, path)
+
+
+def projected_seconds(tasks, workers: int) -> float:
+    """The curves' time on ``workers`` workers: the recorded durations in start order, each to
+    the worker that is free first."""
+    if workers < 1:
+        raise ValueError(f"workers must be >= 1; got {workers!r}")
+    free = [0.0] * min(workers, max(len(tasks), 1))
+    for task in sorted(tasks, key=lambda t: t.start):
+        heapq.heapreplace(free, free[0] + task.seconds)
+    return max(free)
+
+
+def scaling_line(tasks) -> str:
+    """One line: the work, the longest curve and the projected times on :data:`PROJECTED` workers."""
+    if not tasks:
+        return "no curve was traced"
+    total = sum(t.seconds for t in tasks)
+    longest = max(tasks, key=lambda t: t.seconds)
+    projected = ", ".join(f"{projected_seconds(tasks, p):.1f}" for p in PROJECTED)
+    return (
+        f"{len(tasks)} curve tasks, {total:.1f} s of work; the longest, {longest.seconds:.1f} s "
+        f"({longest.kind} from {longest.origin}), bounds any number of workers; projected on "
+        f"{', '.join(map(str, PROJECTED))} workers: {projected} s"
+    )

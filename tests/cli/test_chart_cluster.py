@@ -1,0 +1,121 @@
+"""A chart on a dask cluster started as processes, as a user starts one (``dask scheduler``,
+``dask worker``): the same files, byte for byte, as the local run, also when a worker is killed
+while it traces a curve (the scheduler runs its task again on the other worker); and the task
+durations it records."""
+
+import csv
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import distributed  # in the test extra
+import pytest
+
+import slosh_bif
+from slosh_bif.cli import main
+from slosh_bif.studies.chart import Task, projected_seconds
+
+CHART = [
+    "chart",
+    "--preset",
+    "fig10",
+    "--set",
+    "sigma=-1.2",
+    "--set",
+    "beta=0.1",
+    "--sigma-min",
+    "-2",
+    "--sigma-max",
+    "1.5",
+    "--second",
+    "beta",
+    "--second-min",
+    "0.05",
+    "--second-max",
+    "0.3",
+    "--no-switch",
+    "--seeds",
+    "3",
+]
+FILES = ("curves.csv", "codim2.csv")
+
+
+def _environment() -> dict:
+    """The workers import the package the test imports (a checkout or the installed one)."""
+    root = str(Path(slosh_bif.__file__).resolve().parents[1])
+    return os.environ | {"PYTHONPATH": os.pathsep.join(filter(None, (root, os.environ.get("PYTHONPATH"))))}
+
+
+def _wait_for(condition, seconds: float, what: str):
+    deadline = time.monotonic() + seconds
+    while time.monotonic() < deadline:
+        value = condition()
+        if value:
+            return value
+        time.sleep(0.05)
+    raise AssertionError(f"no {what} within {seconds} s")
+
+
+@pytest.fixture
+def cluster(tmp_path):
+    """A scheduler and two single-threaded workers (no nanny: a killed worker stays dead), each
+    its own process; all ended after the test."""
+    file = tmp_path / "scheduler.json"
+    env = _environment()
+    command = [sys.executable, "-m", "distributed.cli.dask_scheduler", "--port", "0", "--no-dashboard"]
+    processes = [
+        subprocess.Popen([*command, "--scheduler-file", str(file)], env=env, stderr=subprocess.DEVNULL)
+    ]
+    try:
+        _wait_for(file.exists, 60, "scheduler file")
+        address = _wait_for(lambda: json.loads(file.read_text() or "{}").get("address"), 60, "address")
+        worker = [sys.executable, "-m", "distributed.cli.dask_worker", address, "--nthreads", "1"]
+        worker += ["--no-nanny", "--no-dashboard"]
+        processes += [subprocess.Popen(worker, env=env, stderr=subprocess.DEVNULL) for _ in range(2)]
+        with distributed.Client(address, timeout=30) as client:
+            client.wait_for_workers(2, timeout=60)
+            yield address, client, {p.pid: p for p in processes[1:]}
+    finally:
+        for p in processes:
+            p.kill()
+            p.wait()
+
+
+def test_a_chart_on_a_cluster_of_processes_survives_a_killed_worker(tmp_path, cluster):
+    address, client, workers = cluster
+    run = subprocess.Popen(
+        [sys.executable, "-m", "slosh_bif", *CHART, "--scheduler", address, "--out", str(tmp_path / "dask")],
+        env=_environment(),
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    # the first worker seen tracing a curve is killed while it does
+    busy = _wait_for(lambda: [w for w, keys in client.processing().items() if keys], 120, "curve task")
+    pid = client.run(os.getpid, workers=busy[:1])[busy[0]]
+    workers[pid].send_signal(signal.SIGKILL)
+    out, err = run.communicate(timeout=300)
+    assert run.returncode == 0, err
+    assert len(client.scheduler_info()["workers"]) == 1  # the killed one is gone
+    assert main([*CHART, "--workers", "1", "--out", str(tmp_path / "local")]) == 0
+    for name in FILES:
+        assert (tmp_path / "dask" / name).read_text() == (tmp_path / "local" / name).read_text(), name
+    with open(tmp_path / "dask" / "tasks.csv", newline="") as f:
+        tasks = list(csv.DictReader(f))
+    curves = {int(row["curve"]) for row in csv.DictReader(open(tmp_path / "dask" / "curves.csv"))}
+    assert len(tasks) >= len(curves) and all(float(t["seconds"]) > 0 for t in tasks)
+    assert "projected on 1, 2, 8, 32, 128 workers" in out
+
+
+def test_the_projection_is_list_scheduling_in_start_order():
+    tasks = [Task(i, "LP", "x", s, 10) for i, s in enumerate((4.0, 1.0, 1.0, 1.0, 3.0))]
+    assert projected_seconds(tasks, 1) == pytest.approx(10.0)
+    # two workers: 4 | 1, 1, 1, then 3 to the second (free at 3): 6
+    assert projected_seconds(tasks, 2) == pytest.approx(6.0)
+    assert projected_seconds(tasks, 128) == pytest.approx(4.0)  # the longest bounds it
+    with pytest.raises(ValueError, match="workers must be >= 1"):
+        projected_seconds(tasks, 0)
