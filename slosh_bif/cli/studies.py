@@ -200,18 +200,19 @@ def _study(args) -> int:
     check_workers(args)
     check_box(params, (lo, hi), (a_lo, a_hi), "Abar")
     args.out.mkdir(parents=True, exist_ok=True)
-    study = design_study(
-        params,
-        state0_of(args, params),
-        name,
-        values,
-        sigma_range=(lo, hi),
-        abar_range=(a_lo, a_hi),
-        folder=args.out,
-        resume=args.resume,
-        settings=ChartSettings(seeds=args.seeds, workers=args.workers),
-        progress=throttled(progress, passes=lambda message: ": point " not in message),
-    )
+    with sweep_executor(args) as executor:
+        study = design_study(
+            params,
+            state0_of(args, params),
+            name,
+            values,
+            sigma_range=(lo, hi),
+            abar_range=(a_lo, a_hi),
+            folder=args.out,
+            resume=args.resume,
+            settings=ChartSettings(seeds=args.seeds, workers=args.workers, executor=executor),
+            progress=throttled(progress, passes=lambda message: ": point " not in message),
+        )
     paths = [write_study_csv(study, args.out / "study.csv"), plot_study(study, args.out / "study.png")]
     for v in study.values:
         print(f"{name} = {v.value:.6g}: {v.status}" + (f" ({v.reason})" if v.reason else ""))
@@ -248,7 +249,13 @@ def add_commands(sub) -> None:
     study.add_argument(
         "--seeds", type=int, default=7, help="primary-branch orbits continued in Abar per chart (default 7)"
     )
-    study.add_argument("--workers", type=int, default=None, help="worker processes (default: one per core)")
+    study.add_argument(
+        "--workers",
+        type=int,
+        default=None,
+        help="worker processes (default: one per core); with --scheduler, curves at once on the cluster",
+    )
+    add_scheduler_option(study)
     study.add_argument(
         "--resume", action="store_true", help="reuse the curves an interrupted run stored in --out"
     )

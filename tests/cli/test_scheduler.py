@@ -1,5 +1,5 @@
-"""Sweeps beyond one machine (issue 18): ``--scheduler ADDRESS`` runs a regime map or a basin map
-on an existing dask.distributed cluster; the result must equal the local run cell for cell. CI
+"""Work beyond one machine: ``--scheduler ADDRESS`` runs a regime map, a basin map or a design
+study's charts on an existing dask.distributed cluster; the result must equal the local run. CI
 runs it on a ``LocalCluster`` (the same code path as a remote cluster: a scheduler address)."""
 
 import distributed  # in the test extra
@@ -27,8 +27,13 @@ def scheduler():
             ["basins", "--preset", "fig10", "--set", "sigma=3", "--grid", "3", "3", "--tmax", "300"],
             "basins.csv",
         ),
+        (
+            ["study", "--preset", "fig10", "--set", "sigma=-1.2", "--vary", "beta=0:0.2:2", "--seeds", "0"]
+            + ["--sigma-min", "-1.6", "--sigma-max", "-1.2", "--abar-min", "2.6", "--abar-max", "3.4"],
+            "study.csv",
+        ),
     ],
-    ids=["regimes", "basins"],
+    ids=["regimes", "basins", "study"],
 )
 def test_a_sweep_on_a_dask_cluster_equals_the_local_one(tmp_path, scheduler, arguments, table):
     assert main([*arguments, "--scheduler", scheduler, "--out", str(tmp_path / "dask")]) == 0
