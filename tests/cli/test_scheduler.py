@@ -96,3 +96,13 @@ def test_a_service_that_is_not_a_scheduler_is_refused_in_seconds(tmp_path, capsy
         server.close()
     err = capsys.readouterr().err
     assert code == 2 and "is not a dask scheduler" in err and "Traceback" not in err
+
+
+@pytest.mark.parametrize(
+    "command", [["chart", "--preset", "fig10"], ["study", "--preset", "fig10", "--vary", "beta=0:0.2:2"]]
+)
+def test_a_chart_or_study_on_a_scheduler_that_does_not_answer_is_a_one_line_error(tmp_path, capsys, command):
+    code = main([*command, "--scheduler", "tcp://127.0.0.1:9", "--out", str(tmp_path)])
+    err = capsys.readouterr().err
+    assert code == 2 and "--scheduler tcp://127.0.0.1:9" in err and "Traceback" not in err
+    assert not any(tmp_path.iterdir())  # before any work
