@@ -1,4 +1,4 @@
-"""Independent references for the orbit and basin tests: scipy's DOP853 (``solve_ivp`` through
+"""Independent references and shared arguments for the tests: scipy's DOP853 (``solve_ivp`` through
 :func:`~slosh_bif.orbits.shooting.period_map`, not the compiled shooting path) integrates (9) and
 its variational equations, so a number the shooting code produced is checked by a second code."""
 
@@ -58,3 +58,31 @@ def scipy_orbit_amplitudes():
     """``scipy_orbit_amplitudes(params, sigmas)`` -> A1 of the stable 2pi-orbits of (9) at ``sigmas``,
     found on scipy's integration (not the fits' compiled path)."""
     return _scipy_orbit_amplitudes
+
+
+@pytest.fixture
+def beta_chart() -> list:
+    """A small chart in (sigma, beta) of the Fig. 10 set (12 curve starts, seconds): the arguments
+    of ``slosh-bif chart`` but ``--out``."""
+    return [
+        "chart",
+        "--preset",
+        "fig10",
+        "--set",
+        "sigma=-1.2",
+        "--set",
+        "beta=0.1",
+        "--sigma-min",
+        "-2",
+        "--sigma-max",
+        "1.5",
+        "--second",
+        "beta",
+        "--second-min",
+        "0.05",
+        "--second-max",
+        "0.3",
+        "--no-switch",
+        "--seeds",
+        "3",
+    ]

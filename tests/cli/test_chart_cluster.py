@@ -19,28 +19,6 @@ import slosh_bif
 from slosh_bif.cli import main
 from slosh_bif.studies.chart import Task, projected_seconds
 
-CHART = [
-    "chart",
-    "--preset",
-    "fig10",
-    "--set",
-    "sigma=-1.2",
-    "--set",
-    "beta=0.1",
-    "--sigma-min",
-    "-2",
-    "--sigma-max",
-    "1.5",
-    "--second",
-    "beta",
-    "--second-min",
-    "0.05",
-    "--second-max",
-    "0.3",
-    "--no-switch",
-    "--seeds",
-    "3",
-]
 FILES = ("curves.csv", "codim2.csv")
 
 
@@ -85,10 +63,19 @@ def cluster(tmp_path):
             p.wait()
 
 
-def test_a_chart_on_a_cluster_of_processes_survives_a_killed_worker(tmp_path, cluster):
+def test_a_chart_on_a_cluster_of_processes_survives_a_killed_worker(tmp_path, cluster, beta_chart):
     address, client, workers = cluster
     run = subprocess.Popen(
-        [sys.executable, "-m", "slosh_bif", *CHART, "--scheduler", address, "--out", str(tmp_path / "dask")],
+        [
+            sys.executable,
+            "-m",
+            "slosh_bif",
+            *beta_chart,
+            "--scheduler",
+            address,
+            "--out",
+            str(tmp_path / "dask"),
+        ],
         env=_environment(),
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
@@ -101,7 +88,7 @@ def test_a_chart_on_a_cluster_of_processes_survives_a_killed_worker(tmp_path, cl
     out, err = run.communicate(timeout=300)
     assert run.returncode == 0, err
     assert len(client.scheduler_info()["workers"]) == 1  # the killed one is gone
-    assert main([*CHART, "--workers", "1", "--out", str(tmp_path / "local")]) == 0
+    assert main([*beta_chart, "--workers", "1", "--out", str(tmp_path / "local")]) == 0
     for name in FILES:
         assert (tmp_path / "dask" / name).read_text() == (tmp_path / "local" / name).read_text(), name
     with open(tmp_path / "dask" / "tasks.csv", newline="") as f:

@@ -30,28 +30,6 @@ FIG10_NO_SWITCH = [
     "6",
     "--no-switch",
 ]
-BETA_CHART = [
-    "chart",
-    "--preset",
-    "fig10",
-    "--set",
-    "sigma=-1.2",
-    "--set",
-    "beta=0.1",
-    "--sigma-min",
-    "-2",
-    "--sigma-max",
-    "1.5",
-    "--second",
-    "beta",
-    "--second-min",
-    "0.05",
-    "--second-max",
-    "0.3",
-    "--no-switch",
-    "--seeds",
-    "3",
-]
 
 
 def _rows(path):
@@ -101,11 +79,11 @@ def test_a_start_without_a_curve_is_a_failure_row():
     assert chart.incomplete == ["no LP curve from LP at sigma = -0.5: Newton failed"]
 
 
-def test_the_curves_do_not_depend_on_workers_or_load(tmp_path):
-    assert main([*BETA_CHART, "--workers", "1", "--out", str(tmp_path / "one")]) == 0
+def test_the_curves_do_not_depend_on_workers_or_load(tmp_path, beta_chart):
+    assert main([*beta_chart, "--workers", "1", "--out", str(tmp_path / "one")]) == 0
     burners = [subprocess.Popen([sys.executable, "-c", "while True: pass"]) for _ in range(2)]
     try:
-        assert main([*BETA_CHART, "--workers", "2", "--out", str(tmp_path / "two")]) == 0
+        assert main([*beta_chart, "--workers", "2", "--out", str(tmp_path / "two")]) == 0
     finally:
         for b in burners:
             b.kill()
