@@ -53,6 +53,7 @@ def _expected_status(comment: str) -> int:
 
 def _run(commands, tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
+    (tmp_path / "docs").symlink_to(README.parent / "docs")  # the data files the commands read
     for command, comment in commands:
         argv = shlex.split(command)[1:]
         assert main(argv) == _expected_status(comment), (
