@@ -91,9 +91,11 @@ def test_a_chart_on_a_cluster_of_processes_survives_a_killed_worker(tmp_path, cl
     assert main([*beta_chart, "--workers", "1", "--out", str(tmp_path / "local")]) == 0
     for name in FILES:
         assert (tmp_path / "dask" / name).read_text() == (tmp_path / "local" / name).read_text(), name
-    with open(tmp_path / "dask" / "tasks.csv", newline="") as f:
-        tasks = list(csv.DictReader(f))
-    curves = {int(row["curve"]) for row in csv.DictReader(open(tmp_path / "dask" / "curves.csv"))}
+    tasks, rows = (
+        list(csv.DictReader((tmp_path / "dask" / name).read_text().splitlines()))
+        for name in ("tasks.csv", "curves.csv")
+    )
+    curves = {int(row["curve"]) for row in rows}
     assert len(tasks) >= len(curves) and all(float(t["seconds"]) > 0 for t in tasks)
     assert "projected on 1, 2, 8, 32, 128 workers" in out
 
