@@ -44,6 +44,7 @@ from slosh_bif.cli import (  # noqa: E402 - after the environment is set
     simulation,
     slowflow,
     studies,
+    study,
     tank,
 )
 
@@ -57,7 +58,19 @@ def build_parser() -> argparse.ArgumentParser:
         "nonlinear liquid sloshing (Farid & Gendelman).",
     )
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
-    for family in (info, tank, slowflow, orbits, chart, compare, studies, answer, simulation, identify):
+    for family in (
+        info,
+        tank,
+        slowflow,
+        orbits,
+        chart,
+        compare,
+        study,
+        studies,
+        answer,
+        simulation,
+        identify,
+    ):
         family.add_commands(sub)
     for each in sub.choices.values():
         talk = each.add_mutually_exclusive_group()

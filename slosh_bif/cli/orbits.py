@@ -3,7 +3,6 @@ bifurcations."""
 
 from __future__ import annotations
 
-import dataclasses
 import sys
 
 from slosh_bif.cli.common import (
@@ -13,6 +12,7 @@ from slosh_bif.cli.common import (
     add_continuation_options,
     add_params_options,
     add_range_options,
+    add_scheduler_option,
     continuation_options,
     floats,
     params_of,
@@ -47,14 +47,8 @@ def family_from_args(args, params, lo, hi, param="sigma"):
     """The family of orbits ``shoot`` and ``compare`` trace: from --start's orbit, over [lo, hi] of
     ``param``."""
     from slosh_bif.orbits.families import SHOOTING_OPTIONS, trace_new_family
-    from slosh_bif.orbits.settings import (
-        BranchingSettings,
-        ParameterRange,
-        ShootingSettings,
-        StartSettings,
-    )
+    from slosh_bif.orbits.settings import BranchingSettings, ParameterRange, ShootingSettings
     from slosh_bif.orbits.starts import slow_flow_start, start_orbit
-    from slosh_bif.report.files import Resume, pickle_store
 
     rtol = check_family_options(args)
     options = continuation_options(args, SHOOTING_OPTIONS)
@@ -66,43 +60,10 @@ def family_from_args(args, params, lo, hi, param="sigma"):
     shooting = ShootingSettings(segments=args.segments, rtol=rtol, atol=rtol * 1e-2, backend=args.backend)
     branching = BranchingSettings(switch=not args.no_switch, max_branches=args.max_branches)
     if args.start == "scan":
-        from slosh_bif.orbits.scan import scan_families
+        from slosh_bif.cli.scan import scan_from_args
 
-        settings = dict(
-            params=params.as_dict(),
-            param=param,
-            range=[lo, hi],
-            points=args.scan_points,
-            random=args.scan_random,
-            seed=args.seed,
-            settle=args.settle,
-            segments=args.segments,
-            switch=not args.no_switch,
-            max_branches=args.max_branches,
-            rtol=rtol,
-            backend=args.backend,
-            options=dataclasses.asdict(options),
-        )
-        done, keep = pickle_store(args.out / "scan.pickle", settings, resume=getattr(args, "resume", False))
-        if done is not None:
-            progress(
-                f"resuming: {done[0]} converged starts already dealt with, {len(done[1])} "
-                f"branch(es) traced, in {args.out / 'scan.pickle'}"
-            )
-        starts = StartSettings(
-            points=args.scan_points, settle=args.settle, random_starts=args.scan_random, seed=args.seed
-        )
-        return scan_families(
-            params,
-            state0_of(args, params),
-            starts=starts,
-            shooting=shooting,
-            branching=branching,
-            options=options,
-            progress=throttled(progress),
-            resume=Resume(done, keep),
-            interval=ParameterRange(name=param, lo=lo, hi=hi),
-        )
+        tracing = dict(shooting=shooting, branching=branching, options=options)
+        return scan_from_args(args, params, ParameterRange(name=param, lo=lo, hi=hi), rtol, tracing)
     if args.start == "slow-flow":
         start = slow_flow_start(params, lo, hi, segments=args.segments, backend=args.backend)
     else:
@@ -395,4 +356,13 @@ def add_commands(sub) -> None:
         help="with --start scan: reuse the families an interrupted scan stored in OUT/scan.pickle (same "
         "settings) and trace only the rest",
     )
+    shoot.add_argument(
+        "--workers",
+        type=int,
+        default=None,
+        help="with --start scan: worker processes for the starts and families (default 1: in this process); "
+        "with --scheduler, tasks at once on the cluster (default: its threads); the result is the same "
+        "with any number",
+    )
+    add_scheduler_option(shoot)
     shoot.set_defaults(run=_shoot)

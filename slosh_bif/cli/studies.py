@@ -1,6 +1,6 @@
-"""``slosh-bif trust``, ``study``, ``basins`` and ``figures``: the questions that combine the slow
+"""``slosh-bif trust``, ``basins`` and ``figures``: the questions that combine the slow
 flow, the orbits and the simulations over grids of sets, values and states (``compare``, one
-set's: :mod:`slosh_bif.cli.compare`)."""
+set's: :mod:`slosh_bif.cli.compare`; a design study: :mod:`slosh_bif.cli.study`)."""
 
 from __future__ import annotations
 
@@ -8,8 +8,6 @@ import numpy as np
 
 from slosh_bif.cli.common import (
     MAX_GRID,
-    abar_range,
-    add_abar_range_options,
     add_backend_option,
     add_impact_model_option,
     add_model_option,
@@ -26,7 +24,6 @@ from slosh_bif.cli.common import (
     params_of,
     progress,
     sigma_range,
-    state0_of,
     stopped,
     sweep_executor,
     throttled,
@@ -187,83 +184,8 @@ def _figures(args) -> int:
     return 0
 
 
-def _study(args) -> int:
-    from slosh_bif.studies.chart import ChartSettings, check_box
-    from slosh_bif.studies.design import design_study, parse_vary, plot_study, write_study_csv
-
-    name, values = parse_vary(args.vary)
-    params = params_of(args)
-    lo, hi = sigma_range(args)
-    a_lo, a_hi = abar_range(args, default=(0.2, 2 * params.Abar))
-    if args.seeds < 0:
-        raise ValueError(f"--seeds must be an integer >= 0; got {args.seeds}")
-    check_workers(args)
-    check_box(params, (lo, hi), (a_lo, a_hi), "Abar")
-    args.out.mkdir(parents=True, exist_ok=True)
-    with sweep_executor(args) as executor:
-        study = design_study(
-            params,
-            state0_of(args, params),
-            name,
-            values,
-            sigma_range=(lo, hi),
-            abar_range=(a_lo, a_hi),
-            folder=args.out,
-            resume=args.resume,
-            settings=ChartSettings(seeds=args.seeds, workers=args.workers, executor=executor),
-            progress=throttled(progress, passes=lambda message: ": point " not in message),
-        )
-    paths = [write_study_csv(study, args.out / "study.csv"), plot_study(study, args.out / "study.png")]
-    for v in study.values:
-        print(f"{name} = {v.value:.6g}: {v.status}" + (f" ({v.reason})" if v.reason else ""))
-    print("wrote " + ", ".join(str(p) for p in paths))
-    for v in study.values:
-        if v.status not in ("complete", "not charted"):
-            raise stopped(v.status)
-    return 3 if any(v.chart is None for v in study.values) else 0
-
-
 def add_commands(sub) -> None:
     """Register this family's commands on the ``slosh-bif`` subparsers ``sub``."""
-    study = sub.add_parser(
-        "study",
-        help="a design study: one (sigma, Abar) chart of (9) per value of a third parameter, and how the "
-        "critical forcing and the way it is lost move with it",
-        epilog="exit status: 0 when every value was charted, 3 when a value was not (its reason in "
-        "study.csv), 2 for bad input, 130/143 when interrupted (--resume continues)",
-    )
-    add_params_options(study)
-    study.add_argument(
-        "--vary",
-        required=True,
-        metavar="NAME=LO:HI:COUNT",
-        help="the parameter and its values, e.g. beta=0.1:0.5:5",
-    )
-    study.add_argument(
-        "--sigma-min", type=float, default=None, help="lower end of the sigma range (default -6)"
-    )
-    study.add_argument(
-        "--sigma-max", type=float, default=None, help="upper end of the sigma range (default 8)"
-    )
-    add_abar_range_options(study)
-    study.add_argument(
-        "--seeds", type=int, default=7, help="primary-branch orbits continued in Abar per chart (default 7)"
-    )
-    study.add_argument(
-        "--workers",
-        type=int,
-        default=None,
-        help="worker processes (default: one per core); with --scheduler, curves at once on the cluster",
-    )
-    add_scheduler_option(study)
-    study.add_argument(
-        "--resume", action="store_true", help="reuse the curves an interrupted run stored in --out"
-    )
-    study.add_argument(
-        "--out", type=out_path, required=True, help="folder for study.csv, study.png and the charts"
-    )
-    study.set_defaults(run=_study)
-
     trust = sub.add_parser(
         "trust", help="compare over a grid of eps, beta and n: where the slow flow (46) can be trusted"
     )

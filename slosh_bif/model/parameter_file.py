@@ -37,7 +37,14 @@ if sys.version_info >= (3, 11):
 else:  # pragma: no cover - Python 3.10
     import tomli as tomllib
 
-__all__ = ["read_parameter_file", "read_site", "render_parameter_file", "TANK_KEYS"]
+__all__ = [
+    "read_parameter_file",
+    "read_site",
+    "read_tank_table",
+    "tank_params",
+    "render_parameter_file",
+    "TANK_KEYS",
+]
 
 _TANK = tuple(f.name for f in dataclasses.fields(Tank))
 _SITE = tuple(f.name for f in dataclasses.fields(Site))
@@ -107,12 +114,25 @@ def _params_of(data, path) -> tuple[Params, str]:
                 "clearance",
             ),
         )
-        tank = Tank(**{k: v for k, v in table.items() if k in _TANK})
-        site = Site(**{k: v for k, v in table.items() if k in _SITE})
-        model = tank_model(tank, site, wall={k: v for k, v in table.items() if k in WALL_DEFAULTS})
-        return model.params, f"{tank.shape} tank converted by slosh_bif.model.tank"
+        return tank_params(table), f"{table['shape']} tank converted by slosh_bif.model.tank"
     except (TypeError, ValueError) as err:
         raise ValueError(f"{path}: {err}") from None
+
+
+def tank_params(table: dict) -> Params:
+    """The parameters of (9) of a [tank] table (tank, site and wall keys, SI units), converted by
+    :func:`~slosh_bif.model.tank.tank_model`; a one-line ValueError for a value out of range."""
+    tank = Tank(**{k: v for k, v in table.items() if k in _TANK})
+    site = Site(**{k: v for k, v in table.items() if k in _SITE})
+    return tank_model(tank, site, wall={k: v for k, v in table.items() if k in WALL_DEFAULTS}).params
+
+
+def read_tank_table(path) -> dict | None:
+    """The [tank] table of a parameter file (checked as :func:`read_parameter_file` checks it), or
+    None for a file of dimensionless [params]: what a study over a tank quantity varies."""
+    path = Path(path)
+    read_parameter_file(path)
+    return _load(path).get("tank")
 
 
 def read_parameter_file(path) -> Preset:

@@ -33,10 +33,10 @@ from slosh_bif.continuation.branch import (
     BRANCH_POINT,
     PERIOD_DOUBLING,
     Branch,
-    polyline_distance,
 )
 from slosh_bif.model.params import Params
-from slosh_bif.orbits.orbit_branch import LIOUVILLE_TOL, OrbitBranch, OrbitFamily, images, unique_name
+from slosh_bif.orbits.known import on_branch, on_known
+from slosh_bif.orbits.orbit_branch import LIOUVILLE_TOL, OrbitBranch, OrbitFamily, unique_name
 from slosh_bif.orbits.orbit_tools import is_symmetric, orbit_at, orbit_measures, symmetrized
 from slosh_bif.orbits.pitchforks import refine_pitchforks
 from slosh_bif.orbits.settings import (
@@ -95,20 +95,6 @@ def _tangent(branch: Branch, sp, regular: bool = False):
     lo, hi = max(sp.index - 1, 0), min(sp.index + 1, len(u) - 1)
     t = u[hi] - u[lo]
     return t / np.linalg.norm(t)
-
-
-def _on_branch(u, ob: OrbitBranch, tol):
-    """Whether the point u = (x, p) lies on a traced branch or on one of its images (mirror,
-    shift by 2pi)."""
-    b = ob.branch
-    copies = np.array([images(ob.problem, x) for x in b.x])  # (points, copies, states)
-    if ob.problem.symmetric:  # u is a point of a 2pi problem
-        copies = ob.problem.full_states(copies)
-    if len(u) != copies.shape[2] + 1:
-        return False
-    return any(
-        polyline_distance(np.column_stack([copies[:, k], b.p]), u) < tol for k in range(copies.shape[1])
-    )
 
 
 def _meeting_points(problem: ShootingProblem, parent: OrbitBranch):
@@ -304,10 +290,14 @@ def trace_new_family(
     options: ContinuationOptions | None,
     progress=None,
     found_from: str = "",
+    asked: list | None = None,
 ) -> OrbitFamily:
     """:func:`trace_orbits` beside the OrbitBranches ``known`` already traced (by other starts of
     a scan): a switched branch on one of them (or its mirror image) is not traced again, and
-    names stay unique among them. ``found_from`` describes the start."""
+    names stay unique among them. ``found_from`` describes the start. ``asked``: a list that gets
+    each question put to ``known`` (:func:`~slosh_bif.orbits.known.on_known`), so that a family
+    traced beside other starts can be checked against the branches known when its turn comes
+    (:func:`~slosh_bif.orbits.known.answers_hold`)."""
     param, p_min, p_max = interval.name, interval.lo, interval.hi
     _check(params, param, p_min, p_max)
     opts = dataclasses.replace(options or SHOOTING_OPTIONS, p_min=p_min, p_max=p_max)
@@ -349,10 +339,10 @@ def trace_new_family(
             continue
         parent_of_pair = _meets_parent(parent, sp)
         u = _symmetrized(sp) if parent_of_pair else None
-        if parent_of_pair and any(
-            _on_branch(u, ob, 1e-5 * (1 + np.linalg.norm(u)))
-            for ob in [*known, *family]
-            if ob.kind == "symmetric"
+        tol_u = 1e-5 * (1 + np.linalg.norm(u)) if parent_of_pair else 0.0
+        if parent_of_pair and (
+            on_known(u, tol_u, known, asked, kind="symmetric")
+            or any(on_branch(u, ob, tol_u) for ob in family if ob.kind == "symmetric")
         ):
             continue  # the pair meets its symmetric parent, traced already
         try:
@@ -369,7 +359,8 @@ def trace_new_family(
                 f"the new branch meets the {parent.name} branch again at its {met.kind} {param} = {met.p:.6g}"
             )
         first = np.append(new.x[min(1, len(new) - 1)], new.p[min(1, len(new) - 1)])
-        if any(_on_branch(first, ob, 1e-5 * (1 + np.linalg.norm(first))) for ob in [*known, *family]):
+        tol_first = 1e-5 * (1 + np.linalg.norm(first))
+        if on_known(first, tol_first, known, asked) or any(on_branch(first, ob, tol_first) for ob in family):
             say(f"the branch at {origin} is one already traced")
             continue
         measures = _measure(problem, new, points_per_2pi, kind_name or "switched")

@@ -23,6 +23,7 @@ __all__ = [
     "OrbitFamily",
     "images",
     "mirror",
+    "renamed",
     "unique_name",
 ]
 
@@ -136,6 +137,29 @@ def unique_name(kind: str, taken) -> str:
     while (name := kind if k == 1 else f"{kind}-{k}") in names:
         k += 1
     return name
+
+
+def renamed(branches, names: dict) -> list:
+    """The OrbitBranches ``branches`` (their names unique) renamed by ``names`` ({old: new}), with
+    the names inside their origins and ``found_from`` ("the NAME branch") rewritten to match."""
+    slot = {old: f"\0{k}\0" for k, old in enumerate(names)}  # two passes: a new name may be another's old one
+
+    def rewrite(text):
+        for old in sorted(names, key=len, reverse=True):
+            text = text.replace(f"the {old} branch", f"the {slot[old]} branch")
+        for old, new in names.items():
+            text = text.replace(slot[old], new)
+        return text
+
+    return [
+        dataclasses.replace(
+            ob,
+            name=names.get(ob.name, ob.name),
+            origin=rewrite(ob.origin),
+            found_from=rewrite(ob.found_from),
+        )
+        for ob in branches
+    ]
 
 
 def images(problem: ShootingProblem, x) -> list:

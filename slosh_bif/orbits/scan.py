@@ -23,8 +23,9 @@ import numpy as np
 from slosh_bif.continuation import ContinuationOptions, ConvergenceError, newton_solve
 from slosh_bif.model.params import Params
 from slosh_bif.orbits.families import SHOOTING_OPTIONS, trace_new_family
-from slosh_bif.orbits.orbit_branch import OrbitBranch, OrbitFamily, images, unique_name
-from slosh_bif.orbits.scan_starts import scan_starts
+from slosh_bif.orbits.orbit_branch import OrbitBranch, OrbitFamily, images, renamed, unique_name
+from slosh_bif.orbits.scan_pool import families_side_by_side, starts_side_by_side
+from slosh_bif.orbits.scan_starts import scan_starts, start_jobs
 from slosh_bif.orbits.settings import (
     BRANCHING,
     SHOOTING,
@@ -125,6 +126,7 @@ def scan_families(
     options: ContinuationOptions | None = None,
     progress=None,
     resume: Resume | None = None,
+    executor=None,
 ) -> OrbitFamily:
     """Every family of 2pi-orbits of (9) (and what branches off them) over ``interval`` (of sigma
     or Abar) that the starts of :func:`~slosh_bif.orbits.scan_starts.scan_starts`
@@ -138,31 +140,50 @@ def scan_families(
     ``done``, a ``(k, branches)`` of an earlier run with the same settings, skips the first k
     starts (they are found again, in the same order, but not traced), and whose ``keep(k,
     branches)`` is called after the k-th converged start is dealt with (its family traced, or
-    found known).
+    found known). ``executor``: a pool (``submit(function, *arguments)`` returning a future, and
+    ``threads``, the tasks it runs at once) on which the starts and the families run side by side
+    (:mod:`~slosh_bif.orbits.scan_pool`); the result is the sequential one.
     """
     param, p_min, p_max = interval.name, interval.lo, interval.hi
     say = progress or (lambda message: None)
     resume = resume or Resume()
     skip, branches = resume.done if resume.done is not None else (0, [])
-    branches, tried = list(branches), 0
-    for start in scan_starts(
-        params, state0, p_min, p_max, param=param, starts=starts, shooting=shooting, say=say
-    ):
-        tried += 1
-        if tried <= skip:
-            continue
-        _take(
-            start,
+    branches = list(branches)
+    tracing = dict(
+        interval=interval, shooting=shooting, branching=branching, options=options or SHOOTING_OPTIONS
+    )
+    found = dict(param=param, starts=starts, shooting=shooting)
+    if executor is None:
+        converged = scan_starts(params, state0, p_min, p_max, say=say, **found)
+    else:
+        converged = starts_side_by_side(start_jobs(params, state0, p_min, p_max, **found), executor, say)
+    tried = 0
+    if executor is None:
+        for start in converged:
+            tried += 1
+            if tried <= skip:
+                continue
+            if not _is_known(start, branches, say, param):
+                _add_family(_trace_here(start, branches, say, tracing, progress), branches, say, param)
+            if resume.keep is not None:
+                resume.keep(tried, branches)
+    else:
+        converged = list(converged)
+        tried = len(converged)
+        families_side_by_side(
+            converged,
             branches,
-            say,
-            interval=interval,
-            shooting=shooting,
-            branching=branching,
-            options=options or SHOOTING_OPTIONS,
-            progress=progress,
+            executor=executor,
+            first=skip,
+            tracing=tracing,
+            take=dict(
+                is_known=lambda start: _is_known(start, branches, say, param),
+                add=lambda family: _add_family(family, branches, say, param),
+                lies_on=lambda start: _is_known(start, branches, lambda message: None, param),
+                keep=resume.keep,
+                say=say,
+            ),
         )
-        if resume.keep is not None:
-            resume.keep(tried, branches)
     if not branches:
         raise ConvergenceError(
             f"no periodic orbit of (9) found from {tried} converged starts in {param} in [{p_min}, {p_max}]"
@@ -172,27 +193,35 @@ def scan_families(
     return OrbitFamily(params, param, _renamed(branches))
 
 
-def _take(start, branches: list, say, *, interval, **tracing) -> None:
-    """Deal with one converged start of the scan: trace its family unless it is known, and add
-    the family's new branches to ``branches`` (each curve once)."""
+def _is_known(start, branches: list, say, param: str) -> bool:
+    """Whether a converged start of the scan gives no new family: its orbit is not isolated, or
+    lies on a branch already traced."""
     if np.min(np.abs(start.orbit.multipliers - 1)) < _DEGENERATE:
         # beta = 0 and no wall contact: the particle floats freely, every offset is an orbit
         say(f"scan: the orbit found by {start.found_from} is not isolated (a multiplier at +1): skipped")
-        return
-    param = interval.name
+        return True
     known = on_traced_branch(start.params, start.y0, branches, param=param)
     if known is not None:
         say(f"scan: the orbit found by {start.found_from} lies on the {known.name} branch")
-        return
+        return True
+    return False
+
+
+def _trace_here(start, branches: list, say, tracing: dict, progress) -> OrbitFamily | None:
+    """The family of a new start, traced in this process beside ``branches``; None when it fails."""
     say(f"scan: a new family from {start.found_from}")
     try:
-        family = trace_new_family(
-            start.params, start.y0, branches, interval=interval, found_from=start.found_from, **tracing
+        return trace_new_family(
+            start.params, start.y0, branches, found_from=start.found_from, progress=progress, **tracing
         )
     except ConvergenceError as err:
         say(f"scan: no family traced from {start.found_from}: {err}")
-        return
-    for new in family.branches:
+        return None
+
+
+def _add_family(family: OrbitFamily | None, branches: list, say, param: str) -> None:
+    """Add the new branches of ``family`` to ``branches``, each curve once."""
+    for new in family.branches if family is not None else ():
         # A closed loop of asymmetric orbits can hold both mirror images, and a family traced
         # from a later start can hold an earlier one's switched piece: keep each curve once.
         holder = _covered(new, branches, param)
@@ -213,18 +242,4 @@ def _renamed(branches) -> list:
         names[ob.name] = unique_name(
             ob.kind, [dataclasses.replace(o, name=n) for o, n in zip(branches, names.values())]
         )
-    slot = {old: f"\0{k}\0" for k, old in enumerate(names)}  # two passes: a new name may be another's old one
-
-    def rewrite(text):
-        for old in sorted(names, key=len, reverse=True):
-            text = text.replace(f"the {old} branch", f"the {slot[old]} branch")
-        for old, new in names.items():
-            text = text.replace(slot[old], new)
-        return text
-
-    return [
-        dataclasses.replace(
-            ob, name=names[ob.name], origin=rewrite(ob.origin), found_from=rewrite(ob.found_from)
-        )
-        for ob in branches
-    ]
+    return renamed(branches, names)

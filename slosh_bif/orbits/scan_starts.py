@@ -20,6 +20,7 @@ from slosh_bif.slowflow.steady_states import forcing_response, frequency_respons
 __all__ = [
     "linear_response_state",
     "scan_starts",
+    "start_jobs",
 ]
 
 
@@ -79,20 +80,38 @@ def scan_starts(
     flow's motion itself on every
     steady state of (46) (stable and unstable, each at its own parameter value).
     """
+    say = say or (lambda message: None)
+    for function, arguments in start_jobs(
+        params, state0, p_min, p_max, param=param, starts=starts, shooting=shooting
+    ):
+        found, messages = function(*arguments)
+        for message in messages:
+            say(message)
+        yield from found
+
+
+def start_jobs(
+    params: Params,
+    state0,
+    p_min: float,
+    p_max: float,
+    *,
+    param: str = "sigma",
+    starts: StartSettings = STARTS,
+    shooting: ShootingSettings = SHOOTING,
+) -> list:
+    """The starts of :func:`scan_starts` as independent jobs ``(function, arguments)``, in its
+    order: ``function(*arguments)`` gives (the converged :class:`StartOrbit` list, the progress
+    messages). One job per value of the parameter (its simulations and Newton runs), one per
+    steady state of (46); the random states are drawn here, in the sequential order."""
     if param not in ("sigma", "Abar"):
         raise ValueError(f"param must be 'sigma' or 'Abar'; got {param!r}")
-    say = say or (lambda message: None)
-    points, settle, random_starts, seed = starts.points, starts.settle, starts.random_starts, starts.seed
-    segments, backend = shooting.segments, shooting.backend
-    rng = np.random.default_rng(seed)
-    grid = np.linspace(p_min, p_max, points + 2)[1:-1]
+    rng = np.random.default_rng(starts.seed)
+    grid = np.linspace(p_min, p_max, starts.points + 2)[1:-1]
     states = _steady_states_near(params, param, grid, p_min, p_max)
+    jobs = []
     for v in grid:
         at = params.replace(**{param: float(v)})
-        problem = ShootingProblem(
-            at, segments=segments, rtol=shooting.rtol, atol=shooting.atol, backend=backend
-        )
-        guesses = [(linear_response_state(at), "the impact-free linear response")]
         initial = [(np.asarray(state0, dtype=float), "the preset's initial state"), (np.zeros(4), "rest")]
         if at.Abar > 0:
             flow = SlowFlow(at)
@@ -102,36 +121,54 @@ def scan_starts(
                 if at_v == v and A > flow.A_min
             ]
         initial += [
-            (rng.uniform(-_RANDOM_BOX, _RANDOM_BOX), f"random state {k + 1} (seed {seed})")
-            for k in range(random_starts)
+            (rng.uniform(-_RANDOM_BOX, _RANDOM_BOX), f"random state {k + 1} (seed {starts.seed})")
+            for k in range(starts.random_starts)
         ]
-        for y, what in initial:
-            try:
-                guesses.append(
-                    (
-                        integrate_grid(at, y, [0.0, 2 * np.pi * settle], backend=backend)[-1],
-                        f"a {settle}-period simulation from {what}",
-                    )
-                )
-            except RuntimeError as err:
-                say(f"scan: simulation from {what} at {param} = {v:.4g} failed ({err})")
-        for y, what in guesses:
-            say(f"scan: Newton at {param} = {v:.4g} from {what}")
-            orbit = orbit_at(problem, problem.initial_states(y), at.sigma, tol=START_TOL)
-            if orbit.converged:
-                yield StartOrbit(at, orbit, f"Newton at {param} = {v:.6g} from {what}")
+        jobs.append((_starts_at, (at, param, float(v), initial, starts.settle, shooting)))
     for _, value, A, stable in states:
         at = params.replace(**{param: value})
-        if not A > SlowFlow(at).A_min:  # a state on the end of S+: (46)'s phase there is a root of rounding
-            continue
-        say(f"scan: Newton at {param} = {value:.4g} from the slow flow's motion on A = {A:.4g}")
-        orbit = orbit_from_slow_flow(
-            at, A, segments=segments, rtol=shooting.rtol, atol=shooting.atol, backend=backend
-        )
-        if orbit.converged:
-            yield StartOrbit(
-                at,
-                orbit,
-                f"Newton from the slow flow's motion on the {'stable' if stable else 'unstable'} "
-                f"steady state A = {A:.6g} of (46) at {param} = {value:.6g}",
+        if A > SlowFlow(at).A_min:  # a state on the end of S+: (46)'s phase there is a root of rounding
+            jobs.append((_start_from_slow_flow, (at, param, value, A, stable, shooting)))
+    return jobs
+
+
+def _starts_at(at: Params, param: str, v: float, initial, settle: int, shooting: ShootingSettings):
+    """The converged orbits at one value ``v`` of ``param``: Newton from the linear response and
+    from the end of a ``settle``-period simulation from each ``(state, what)`` of ``initial``."""
+    messages = []
+    problem = ShootingProblem(
+        at, segments=shooting.segments, rtol=shooting.rtol, atol=shooting.atol, backend=shooting.backend
+    )
+    guesses = [(linear_response_state(at), "the impact-free linear response")]
+    for y, what in initial:
+        try:
+            guesses.append(
+                (
+                    integrate_grid(at, y, [0.0, 2 * np.pi * settle], backend=shooting.backend)[-1],
+                    f"a {settle}-period simulation from {what}",
+                )
             )
+        except RuntimeError as err:
+            messages.append(f"scan: simulation from {what} at {param} = {v:.4g} failed ({err})")
+    found = []
+    for y, what in guesses:
+        messages.append(f"scan: Newton at {param} = {v:.4g} from {what}")
+        orbit = orbit_at(problem, problem.initial_states(y), at.sigma, tol=START_TOL)
+        if orbit.converged:
+            found.append(StartOrbit(at, orbit, f"Newton at {param} = {v:.6g} from {what}"))
+    return found, messages
+
+
+def _start_from_slow_flow(at: Params, param: str, value: float, A: float, stable: bool, shooting):
+    """The orbit from the slow flow's motion on the steady state A of (46) at ``value``."""
+    messages = [f"scan: Newton at {param} = {value:.4g} from the slow flow's motion on A = {A:.4g}"]
+    orbit = orbit_from_slow_flow(
+        at, A, segments=shooting.segments, rtol=shooting.rtol, atol=shooting.atol, backend=shooting.backend
+    )
+    if not orbit.converged:
+        return [], messages
+    found_from = (
+        f"Newton from the slow flow's motion on the {'stable' if stable else 'unstable'} "
+        f"steady state A = {A:.6g} of (46) at {param} = {value:.6g}"
+    )
+    return [StartOrbit(at, orbit, found_from)], messages

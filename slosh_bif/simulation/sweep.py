@@ -62,6 +62,7 @@ class WorkerPool:
         import multiprocessing
 
         self._pids = multiprocessing.get_context().SimpleQueue()
+        self.threads = max_workers or multiprocessing.cpu_count()  # tasks at once
         self.executor = ProcessPoolExecutor(
             max_workers=max_workers, initializer=worker_setup, initargs=(self._pids,)
         )

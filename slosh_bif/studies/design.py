@@ -13,6 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
+from slosh_bif.model.parameter_file import TANK_KEYS
 from slosh_bif.model.params import REAL_FIELDS, Params
 from slosh_bif.report.files import Resume
 from slosh_bif.report.tables import write_rows
@@ -34,16 +35,24 @@ __all__ = [
 STUDY_COLUMNS = ("value", "sigma", "Abar_b_slowflow", "Abar_c_full", "bounded_by", "loss", "status")
 
 
-def parse_vary(text: str) -> tuple:
-    """(name, values) of ``NAME=LO:HI:COUNT``, or a one-line ValueError naming what is wrong."""
+def parse_vary(text: str, tank: dict | None = None) -> tuple:
+    """(name, values) of ``NAME=LO:HI:COUNT``, or a one-line ValueError naming what is wrong.
+    NAME is a parameter of the set but sigma and Abar (the chart's axes), or, with the [tank]
+    table ``tank`` of a parameter file, a numeric quantity of that table (the fill ``depth``, ...)."""
     name, _, span = str(text).partition("=")
     parts = span.split(":")
     if not name or len(parts) != 3:
         raise ValueError(f"--vary takes NAME=LO:HI:COUNT (e.g. beta=0.1:0.5:5); got {text!r}")
-    if name not in REAL_FIELDS or name in ("sigma", "Abar"):
-        allowed = ", ".join(f for f in REAL_FIELDS if f not in ("sigma", "Abar"))
+    allowed = [f for f in REAL_FIELDS if f not in ("sigma", "Abar")]
+    if tank is not None:
+        allowed += [k for k in TANK_KEYS if k not in allowed and k != "shape"]
+    if name not in allowed:
+        where = (
+            "" if tank is not None else " (a tank's quantities, e.g. depth, with --params of a [tank] file)"
+        )
         raise ValueError(
-            f"--vary varies one of {allowed} (sigma and Abar are the chart's axes); got {name!r}"
+            f"--vary varies one of {', '.join(allowed)}{where}; sigma and Abar are the chart's axes; "
+            f"got {name!r}"
         )
     try:
         lo, hi, count = float(parts[0]), float(parts[1]), int(parts[2])
@@ -87,22 +96,25 @@ def design_study(
     name: str,
     values,
     *,
-    sigma_range: tuple,
-    abar_range: tuple,
+    box: dict,
     folder,
     resume: bool = False,
     settings: ChartSettings = ChartSettings(),
     progress=None,
+    at_value=None,
 ) -> Study:
-    """One chart of (9) per value of ``name`` over ``sigma_range`` x ``abar_range``, its curves
+    """One chart of (9) per value of ``name`` over ``box`` ({"sigma": range, "Abar": range}), its curves
     stored under ``folder/value-K/curves`` (``resume``: reused from an earlier run with the same
     settings). A value whose set is not admissible (its parameter file's own check) is recorded
-    with the reason and skipped; a chart stopped part way (Ctrl-C) stops the study there."""
+    with the reason and skipped; a chart stopped part way (Ctrl-C) stops the study there.
+    ``at_value(value)``: the parameter set at a value (a tank converted at its fill depth, say;
+    a ValueError where it has none), instead of ``params`` with ``name`` replaced."""
     say = progress or (lambda message: None)
+    sigma_range, abar_range = tuple(box["sigma"]), tuple(box["Abar"])
     done = []
     for k, value in enumerate(values):
         try:
-            at = params.replace(**{name: float(value)})
+            at = params.replace(**{name: float(value)}) if at_value is None else at_value(float(value))
             check_box(at, sigma_range, abar_range, "Abar")
         except ValueError as err:
             done.append(StudyValue(float(value), None, "not charted", str(err)))

@@ -4,66 +4,22 @@ while it traces a curve (the scheduler runs its task again on the other worker);
 durations it records."""
 
 import csv
-import json
 import os
 import signal
 import subprocess
 import sys
-import time
-from pathlib import Path
 
-import distributed  # in the test extra
 import pytest
 
-import slosh_bif
 from slosh_bif.cli import main
 from slosh_bif.studies.chart import Task, projected_seconds
 
 FILES = ("curves.csv", "codim2.csv")
 
 
-def _environment() -> dict:
-    """The workers import the package the test imports (a checkout or the installed one)."""
-    root = str(Path(slosh_bif.__file__).resolve().parents[1])
-    return os.environ | {"PYTHONPATH": os.pathsep.join(filter(None, (root, os.environ.get("PYTHONPATH"))))}
-
-
-def _wait_for(condition, seconds: float, what: str):
-    deadline = time.monotonic() + seconds
-    while time.monotonic() < deadline:
-        value = condition()
-        if value:
-            return value
-        time.sleep(0.05)
-    raise AssertionError(f"no {what} within {seconds} s")
-
-
-@pytest.fixture
-def cluster(tmp_path):
-    """A scheduler and two single-threaded workers (no nanny: a killed worker stays dead), each
-    its own process; all ended after the test."""
-    file = tmp_path / "scheduler.json"
-    env = _environment()
-    command = [sys.executable, "-m", "distributed.cli.dask_scheduler", "--port", "0", "--no-dashboard"]
-    processes = [
-        subprocess.Popen([*command, "--scheduler-file", str(file)], env=env, stderr=subprocess.DEVNULL)
-    ]
-    try:
-        _wait_for(file.exists, 60, "scheduler file")
-        address = _wait_for(lambda: json.loads(file.read_text() or "{}").get("address"), 60, "address")
-        worker = [sys.executable, "-m", "distributed.cli.dask_worker", address, "--nthreads", "1"]
-        worker += ["--no-nanny", "--no-dashboard"]
-        processes += [subprocess.Popen(worker, env=env, stderr=subprocess.DEVNULL) for _ in range(2)]
-        with distributed.Client(address, timeout=30) as client:
-            client.wait_for_workers(2, timeout=60)
-            yield address, client, {p.pid: p for p in processes[1:]}
-    finally:
-        for p in processes:
-            p.kill()
-            p.wait()
-
-
-def test_a_chart_on_a_cluster_of_processes_survives_a_killed_worker(tmp_path, cluster, beta_chart):
+def test_a_chart_on_a_cluster_of_processes_survives_a_killed_worker(
+    tmp_path, cluster, beta_chart, cluster_environment, wait_for
+):
     address, client, workers = cluster
     run = subprocess.Popen(
         [
@@ -76,13 +32,13 @@ def test_a_chart_on_a_cluster_of_processes_survives_a_killed_worker(tmp_path, cl
             "--out",
             str(tmp_path / "dask"),
         ],
-        env=_environment(),
+        env=cluster_environment,
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
         text=True,
     )
     # the first worker seen tracing a curve is killed while it does
-    busy = _wait_for(lambda: [w for w, keys in client.processing().items() if keys], 120, "curve task")
+    busy = wait_for(lambda: [w for w, keys in client.processing().items() if keys], 120, "curve task")
     pid = client.run(os.getpid, workers=busy[:1])[busy[0]]
     workers[pid].send_signal(signal.SIGKILL)
     out, err = run.communicate(timeout=300)

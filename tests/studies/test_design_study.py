@@ -54,3 +54,47 @@ def test_each_values_rows_are_its_own_charts_and_a_bad_value_is_recorded(tmp_pat
 def test_bad_requests_are_refused_in_one_line(text, message):
     with pytest.raises(ValueError, match=message):
         parse_vary(text)
+
+
+TANK = ["--shape", "cylinder", "--radius", "5", "--structure-mass", "2e6", "--structure-frequency", "0.8"]
+TANK += ["--excitation-frequency", "0.72", "--ground-acceleration", "0.5", "--clearance", "1"]
+TANK_BOX = ["--set", "sigma=-0.2", "--set", "Abar=2", "--sigma-min", "-0.6", "--sigma-max", "0"]
+TANK_BOX += ["--abar-min", "1.6", "--abar-max", "2.4", "--seeds", "0"]  # a fold curve at 4 m
+
+
+def test_a_study_over_a_tanks_fill_depth_charts_the_tank_converted_at_each_depth(tmp_path, capsys):
+    """Each depth's rows are those of a chart of the tank file written by ``slosh-bif tank`` at that
+    depth (the conversion done again, independently of the study); a depth above the tank's height
+    is recorded with the tank's own reason."""
+    files = {}
+    for depth in ("2", "4"):
+        files[depth] = tmp_path / f"tank-{depth}.toml"
+        assert main(["tank", *TANK, "--height", "5", "--depth", depth, "--out", str(files[depth])]) == 0
+    out = tmp_path / "study"
+    argv = ["study", "--params", str(files["2"]), "--vary", "depth=2:6:3", *TANK_BOX, "--out", str(out)]
+    assert main(argv) == 3  # 6 m does not fit a 5 m tank
+    rows = _rows(out / "study.csv")
+    assert {r["value"] for r in rows} == {"2", "4", "6"}
+    assert [r["status"] for r in rows if r["value"] == "6"] == [
+        "not charted: depth 6 m exceeds the tank's height 5 m"
+    ]
+    alone = tmp_path / "chart"
+    assert main(["chart", "--params", str(files["4"]), *TANK_BOX, "--no-switch", "--out", str(alone)]) == 0
+    single = _rows(alone / "critical.csv")
+    mine = [r for r in rows if r["value"] == "4"]
+    # the same curves to the corrector's tolerance (the study's orbit search starts from the first
+    # file's initial state, scaled with its eps)
+    assert [float(r["Abar_c_full"]) for r in mine] == pytest.approx(
+        [float(r["Abar_c_full"]) for r in single], rel=1e-8, nan_ok=True
+    )
+    assert "LP" in {r["bounded_by"] for r in mine}
+    assert any(
+        a["Abar_c_full"] != b["Abar_c_full"] for a, b in zip(mine, (r for r in rows if r["value"] == "2"))
+    )
+    capsys.readouterr()
+    # a tank's quantity needs a tank file
+    assert (
+        main(["study", "--preset", "fig10", "--vary", "depth=2:4:2", *TANK_BOX, "--out", str(tmp_path / "x")])
+        == 2
+    )
+    assert "with --params of a [tank] file" in capsys.readouterr().err
