@@ -7,7 +7,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from benchmarks.run import QUESTIONS, run
+from benchmarks.run import BASE, QUESTIONS, run
 from slosh_bif.cli.common import out_path, progress
 
 MAX_REPEATS = 100  # timing rounds per benchmark point: the median of 100 is as good as it gets
@@ -27,10 +27,17 @@ def main(argv=None) -> int:
     parser.add_argument(
         "--quick", action="store_true", help="fewer points and one round (a smoke test, not a measurement)"
     )
+    parser.add_argument(
+        "--base",
+        default=BASE,
+        metavar="COMMIT",
+        help=f"the commit 'against' measures this tree against (default {BASE})",
+    )
     args = parser.parse_args(argv)
     if not 1 <= args.repeats <= MAX_REPEATS:
         parser.error(f"--repeats takes an integer in [1, {MAX_REPEATS}]; got {args.repeats}")
-    for path in run(args.out, only=args.only, quick=args.quick, repeats=args.repeats, progress=progress):
+    chosen = dict(only=args.only, quick=args.quick, repeats=args.repeats, progress=progress, base=args.base)
+    for path in run(args.out, **chosen):
         print(path)
         if path.name == "integrators_ratios.csv":  # the headline numbers
             print(path.read_text().strip())

@@ -6,6 +6,7 @@ from pathlib import Path
 
 import numpy as np
 
+from benchmarks.against import AGAINST_COLUMNS
 from benchmarks.speed import SPEED_COLUMNS
 from slosh_bif.report.plotting import pyplot, save_figure
 from slosh_bif.report.tables import write_rows
@@ -219,6 +220,17 @@ def write_growth(rows, out) -> list:
     axes[2].set_title("regime map against grid size and workers")
     paths.append(save_figure(fig, out / "growth.png"))
     return paths
+
+
+def write_against(rows, out) -> list:
+    """``against.csv`` and one line per case on stdout: its time over the earlier commit's."""
+    for r in rows:
+        print(
+            f"against {r['base']}: {r['case']}: {r['seconds']:.2f} s against {r['base_seconds']:.2f} s, "
+            f"ratio {r['ratio']:.3f} (target <= {r['target']:g})"
+        )
+    Path(out).mkdir(parents=True, exist_ok=True)
+    return [write_rows(rows, AGAINST_COLUMNS, Path(out) / "against.csv")]
 
 
 def write_speed(rows, out) -> list:

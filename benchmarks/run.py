@@ -21,6 +21,8 @@ are what carry over between machines):
   time against grid size and number of worker processes.
 * **Speed** (:func:`~benchmarks.speed.speed_bench`): the shooting command as a whole process
   against 1,000 scipy periods, start-up, the shooting start (the targets of the speed issue).
+* **Against an earlier commit** (:func:`~benchmarks.against.against_bench`): branches, the chart and
+  the scan run by this tree and by an earlier commit's, alternating; the ratio of their times.
 
 :func:`run` writes each question's CSV and chart (:mod:`benchmarks.output`); the CLI is
 ``python -m benchmarks --out DIR``.
@@ -29,6 +31,7 @@ are what carry over between machines):
 from __future__ import annotations
 
 from benchmarks import output as bench_output
+from benchmarks.against import BASE, against_bench
 from benchmarks.frequency_response import frequency_response_bench
 from benchmarks.growth import growth_bench
 from benchmarks.integration import integration_bench
@@ -38,12 +41,13 @@ __all__ = ["QUESTIONS", "run"]
 
 # --- all of it ---------------------------------------------------------------------------------------
 
-QUESTIONS = ("frequency-response", "integration", "growth", "speed")
+QUESTIONS = ("frequency-response", "integration", "growth", "speed", "against")
 
 
-def run(out, *, only=None, quick: bool = False, repeats: int = 3, progress=None) -> list:
-    """Run the chosen questions (all by default) and write their CSVs and charts to ``out``."""
-    only = list(only or QUESTIONS)
+def run(out, *, only=None, quick: bool = False, repeats: int = 3, progress=None, base: str = BASE) -> list:
+    """Run the chosen questions (all but "against", an hour, by default) and write their CSVs and
+    charts to ``out``; ``base``: the commit "against" measures this tree against."""
+    only = list(only or QUESTIONS[:-1])
     unknown = [q for q in only if q not in QUESTIONS]
     if unknown:
         raise ValueError(f"unknown benchmark {unknown[0]!r}; choose from {', '.join(QUESTIONS)}")
@@ -64,4 +68,6 @@ def run(out, *, only=None, quick: bool = False, repeats: int = 3, progress=None)
         )
     if "speed" in only:
         written += bench_output.write_speed(speed_bench(quick=quick, progress=progress), out)
+    if "against" in only:
+        written += bench_output.write_against(against_bench(base=base, quick=quick, progress=progress), out)
     return written

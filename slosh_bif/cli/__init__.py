@@ -231,12 +231,6 @@ def run() -> None:
     status = main()
     sys.stdout.flush()
     sys.stderr.flush()
-    if (
-        "slosh_bif.flows.smooth.dop853" in sys.modules
-    ):  # the loops ran just in time: the next run needs no numba
-        from slosh_bif.flows.ahead_of_time import build_in_background
-
-        build_in_background()
     children = sys.modules.get("multiprocessing")
     watched = sys.getprofile() is not None or sys.gettrace() is not None
     if watched or threading.active_count() > 1 or (children is not None and children.active_children()):

@@ -1,12 +1,11 @@
 """``slosh-bif info`` (a preset's parameters and restitution quantities, eqs. 21, 31, 36, 40),
-``slosh-bif derive`` (regenerate or check the generated code) and ``slosh-bif compile`` (build the
-compiled loops ahead of time: :mod:`slosh_bif.flows.ahead_of_time`)."""
+``slosh-bif derive`` (regenerate or check the generated code) and ``slosh-bif compile`` (fill numba's
+cache with the compiled loops: :mod:`slosh_bif.flows.loops`)."""
 
 from __future__ import annotations
 
 import importlib.util
 import json
-import os
 import sys
 import time
 from pathlib import Path
@@ -87,28 +86,31 @@ def _derive(args) -> int:
 
 
 def _compile(args) -> int:
-    from slosh_bif.flows import ahead_of_time
+    """Fill numba's on-disk cache: one short call of every compiled loop of (9), of the periodic QR
+    and of the exact flow of (8), so that the first real command loads machine code instead of
+    compiling it (15-30 s once a machine and a source)."""
+    import numpy as np
 
-    path = ahead_of_time.module_path()
-    if ahead_of_time.disabled():
-        print(
-            f"{ahead_of_time.DISABLE}={os.environ.get(ahead_of_time.DISABLE)} turns the module built ahead "
-            "of time off: unset it to build one",
-            file=sys.stderr,
-        )
-        return 2
-    if ahead_of_time.load() is not None and not args.force:
-        print(f"the compiled loops are built ahead of time: {path}")
-        return 0
-    reason = ahead_of_time.failure(path)
-    if reason is not None:
-        print(f"the last build failed ({reason}); trying again", file=sys.stderr)
-    print(
-        "building the compiled loops ahead of time (5-30 s; numba's pycc and a C compiler)", file=sys.stderr
-    )
+    from slosh_bif.flows.loops import compiled
+    from slosh_bif.flows.smooth.integrator import integrate, integrate_arcs, integrate_grid
+    from slosh_bif.model.presets import get_preset
+    from slosh_bif.orbits.floquet import periodic_schur
+    from slosh_bif.simulation.direct import SimulationSettings, simulate
+
+    if compiled() is None:
+        raise RuntimeError("numba does not import here: the scipy paths run, with nothing to compile")
+    print("compiling the loops of (9) and (8) into numba's cache (15-30 s the first time)", file=sys.stderr)
     start = time.perf_counter()
-    ahead_of_time.build(path)  # RuntimeError, reported by main, says what was missing
-    print(f"built {path} in {time.perf_counter() - start:.1f} s")
+    preset = get_preset("fig10")
+    y0 = preset.state_for(preset.params)
+    taus = np.linspace(0.0, 0.2, 3)
+    integrate(preset.params, y0, (0.0, 0.1))
+    integrate_grid(preset.params, y0, taus)
+    integrate_arcs(preset.params, np.array([y0, y0]), taus)
+    periodic_schur([np.eye(4) * 2.0, np.eye(4)])
+    impact = get_preset("fig13")
+    simulate(impact.params, impact.state_for(impact.params), 1.0, settings=SimulationSettings(model="impact"))
+    print(f"compiled in {time.perf_counter() - start:.1f} s (numba's cache; later commands load it)")
     return 0
 
 
@@ -136,8 +138,7 @@ def add_commands(sub) -> None:
 
     compile_ = sub.add_parser(
         "compile",
-        help="build the compiled loops (the integrator of (9), the periodic QR) ahead of time, so that "
-        "commands start without importing numba (done in the background after the first command otherwise)",
+        help="compile the loops of (9) and (8) into numba's on-disk cache now (a first command does it "
+        "otherwise, 15-30 s once a machine)",
     )
-    compile_.add_argument("--force", action="store_true", help="build again even when built")
     compile_.set_defaults(run=_compile)

@@ -2,8 +2,8 @@
 (:mod:`~slosh_bif.flows.smooth`: the compiled DOP853 integrator of (9) and its variational
 equations, scipy's DOP853 the fallback; :mod:`~slosh_bif.flows.impact`: the exact flow of (8)
 between and across impacts) and what both use beside them (numba's presence, the band-limited
-noise of (47), the periodic QR of the Floquet multipliers, the loops built ahead of time).
-Simulations, shooting and the orbits of (8) all integrate through here."""
+noise of (47), the periodic QR of the Floquet multipliers, the compiled loops, loaded at the
+first integration). Simulations, shooting and the orbits of (8) all integrate through here."""
 
 import importlib
 

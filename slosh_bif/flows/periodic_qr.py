@@ -6,7 +6,7 @@ is block diagonal. numpy spends about 15 us of call overhead on each such factor
 branch of period-2 or period-4 orbits at n = 50 asks for hundreds of thousands of them: here they
 are Householder reflections in a numba loop (about 0.2 us each), with R's diagonal made positive,
 the normalisation under which the factorization is unique, so the result is numpy's to rounding.
-Built ahead of time with the integrator's loops (:mod:`slosh_bif.flows.ahead_of_time`).
+Loaded on first use with the integrator's loops (:mod:`slosh_bif.flows.loops`).
 """
 
 from __future__ import annotations
@@ -17,7 +17,7 @@ import numpy as np
 
 from slosh_bif.flows.compiled import jit
 
-__all__ = ["periodic_qr", "householder_qr", "AHEAD_OF_TIME"]
+__all__ = ["periodic_qr", "householder_qr"]
 
 
 @jit
@@ -138,15 +138,3 @@ def periodic_qr(mats, Q0, max_sweeps, tol):
         if sweep < max_sweeps:
             Q[0] = Q[m]
     return Q, R, U, sweeps, converged
-
-
-def _ahead_periodic_qr(mats, Q0, max_sweeps, tol):  # the ahead-of-time entry (as dop853's)
-    return periodic_qr(mats, Q0, max_sweeps, tol)
-
-
-AHEAD_OF_TIME = {
-    "periodic_qr": (
-        _ahead_periodic_qr,
-        "Tuple((f8[:, :, ::1], f8[:, :, ::1], f8[:, ::1], i8, b1))(f8[:, :, ::1], f8[:, ::1], i8, f8)",
-    )
-}

@@ -28,7 +28,7 @@ import dataclasses
 
 import numpy as np
 
-from slosh_bif.flows.ahead_of_time import compiled
+from slosh_bif.flows.loops import compiled
 
 __all__ = ["PeriodicSchur", "periodic_schur", "floquet_multipliers"]
 

@@ -7,9 +7,8 @@ everything shooting needs (variational equations, two parameter sensitivities, t
 integral; the (sigma, Abar) kernel or the pair kernel for any two parameters), and (9) with the
 random forcing of (47), the noise spline of :mod:`slosh_bif.flows.noise` added where cos(tau)
 enters. :mod:`slosh_bif.flows.smooth.integrator` is the interface. numba compiles these loops just in
-time (with its on-disk cache), and :mod:`slosh_bif.flows.ahead_of_time` builds the same three
-into an extension module that loads without numba; without numba these are the plain Python
-functions (never called: the scipy path runs instead).
+time (with its on-disk cache), loaded on first use by :mod:`slosh_bif.flows.loops`; without numba
+these are the plain Python functions (never called: the scipy path runs instead).
 """
 
 from __future__ import annotations
@@ -282,43 +281,6 @@ def _arcs_loop(which, taus, starts, pars, rtol, atol, max_steps, A, B, C, E3, E5
             out[k, i] = z[i]
     return out, m, 0
 
-
-# The ahead-of-time module's entry points (slosh_bif.flows.ahead_of_time): each only calls its loop,
-# which numba compiles with the options above (error_model="numpy": a division by zero gives inf,
-# which the loop tests, where pycc's own options for an exported function would raise).
-def _ahead_dop853_loop(which, t0, t1, z0, pars, rtol, atol, h, max_steps, A, B, C, E3, E5):
-    return _dop853_loop(which, t0, t1, z0, pars, rtol, atol, h, max_steps, A, B, C, E3, E5)
-
-
-def _ahead_grid_loop(which, taus, z0, pars, rtol, atol, max_steps, A, B, C, E3, E5):
-    return _grid_loop(which, taus, z0, pars, rtol, atol, max_steps, A, B, C, E3, E5)
-
-
-def _ahead_arcs_loop(which, taus, starts, pars, rtol, atol, max_steps, A, B, C, E3, E5):
-    return _arcs_loop(which, taus, starts, pars, rtol, atol, max_steps, A, B, C, E3, E5)
-
-
-_TABLEAU_TYPES = "f8[:, ::1], f8[::1], f8[::1], f8[::1], f8[::1]"  # A, B, C, E3, E5, every loop's last
-# name -> (entry, numba signature; arrays C-contiguous, as the integrator passes them)
-AHEAD_OF_TIME = {
-    # (which, t0, t1, z0, pars, rtol, atol, h, max_steps, *tableau)
-    #   -> (end state, steps, rejected, nfev, next step, status)
-    "dop853_loop": (
-        _ahead_dop853_loop,
-        "Tuple((f8[::1], i8, i8, i8, f8, i8))"
-        f"(i8, f8, f8, f8[::1], f8[::1], f8, f8, f8, i8, {_TABLEAU_TYPES})",
-    ),
-    # (which, taus, z0, pars, rtol, atol, max_steps, *tableau) -> (states, times reached, status)
-    "grid_loop": (
-        _ahead_grid_loop,
-        f"Tuple((f8[:, ::1], i8, i8))(i8, f8[::1], f8[::1], f8[::1], f8, f8, i8, {_TABLEAU_TYPES})",
-    ),
-    # (which, taus, starts, pars, rtol, atol, max_steps, *tableau) -> (ends, arcs done, status)
-    "arcs_loop": (
-        _ahead_arcs_loop,
-        f"Tuple((f8[:, ::1], i8, i8))(i8, f8[::1], f8[:, ::1], f8[::1], f8, f8, i8, {_TABLEAU_TYPES})",
-    ),
-}
 
 if HAVE_NUMBA:
     _forget_compilations_of_other_kernels(_dop853_loop)

@@ -2,9 +2,9 @@
 kernel numbers of the switch (``WHICH``: (9), (9) with its variational equations for shooting,
 (9) with the random forcing of (47), the pair kernel for any two parameters, the second- and
 third-order variational equations along three directions), the status codes
-with their messages. The loops themselves are compiled either
-just in time (:mod:`slosh_bif.flows.smooth.dop853`) or ahead of time (:mod:`slosh_bif.flows.ahead_of_time`)
-from the same source; :mod:`slosh_bif.flows.smooth.integrator` calls whichever is there with these.
+with their messages. The loops themselves (:mod:`slosh_bif.flows.smooth.dop853`) are compiled by numba
+and loaded at the first integration (:mod:`slosh_bif.flows.loops`); :mod:`slosh_bif.flows.smooth.integrator`
+calls them with these.
 """
 
 from __future__ import annotations

@@ -11,9 +11,8 @@ Why: one period of (9) at n = 50 takes thousands of steps (the wall term chi w^1
 explicit method's eyes), and a Python right-hand side called from scipy's stepper spends tens of
 microseconds a step in interpreter overhead. The compiled loop spends about a microsecond.
 
-``backend="auto"`` takes the compiled loops (numba, a core dependency: the module built ahead of
-time by :mod:`slosh_bif.flows.ahead_of_time` when it is there, which loads without importing
-numba, else numba's just-in-time compilation) and scipy without numba; ``"numba"`` and ``"scipy"``
+``backend="auto"`` takes the compiled loops (numba, a core dependency, imported at the first
+integration: :mod:`slosh_bif.flows.loops`) and scipy without numba; ``"numba"`` and ``"scipy"``
 force one. Both return the same :class:`Integration` record.
 """
 
@@ -24,13 +23,13 @@ import typing
 
 import numpy as np
 
-from slosh_bif.flows import ahead_of_time
+from slosh_bif.flows.loops import compiled
 from slosh_bif.flows.noise import BandLimitedNoise
 from slosh_bif.flows.smooth.dop853_interface import MESSAGES, OK, TABLEAU, WHICH
 from slosh_bif.model.params import REAL_FIELDS, Params, real_pair
 
 __all__ = [
-    "HAVE_NUMBA",
+    "HAVE_NUMBA",  # noqa: F822 - module __getattr__: it loads the compiled loops
     "Integration",
     "integrate",
     "integrate_grid",
@@ -66,10 +65,13 @@ class Integration(typing.NamedTuple):
     message: str
 
 
-# The compiled loops: built ahead of time when they are (no numba to import), else numba's just in
-# time; None without numba.
-_LOOPS = ahead_of_time.compiled()
-HAVE_NUMBA = _LOOPS is not None
+def __getattr__(name):
+    # HAVE_NUMBA, asked for, loads the compiled loops; the integrator itself loads them at its
+    # first integration (a command that never integrates never imports numba)
+    if name == "HAVE_NUMBA":
+        return compiled() is not None
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
 
 BACKENDS = ("auto", "numba", "scipy")
 
@@ -77,13 +79,13 @@ BACKENDS = ("auto", "numba", "scipy")
 def resolve_backend(backend: str) -> str:
     if backend not in BACKENDS:
         raise ValueError(f"backend must be 'auto', 'numba' or 'scipy'; got {backend!r}")
-    if backend == "numba" and not HAVE_NUMBA:
+    if backend == "numba" and compiled() is None:
         raise ValueError(
             "backend 'numba' needs numba, a dependency of slosh_bif that failed to import here: "
             "pip install numba (or use backend='scipy')"
         )
     if backend == "auto":
-        return "numba" if HAVE_NUMBA else "scipy"
+        return "numba" if compiled() is not None else "scipy"
     return backend
 
 
@@ -186,7 +188,7 @@ def integrate(
         which, pair = "pair", real_pair(sensitivities, "sensitivities")
     pars = kernel_parameters(params, noise, pair)
     if resolve_backend(backend) == "numba":
-        z, steps, rejected, nfev, h, status = _LOOPS.dop853_loop(
+        z, steps, rejected, nfev, h, status = compiled().dop853_loop(
             WHICH[which],
             float(tau0),
             float(tau1),
@@ -238,7 +240,7 @@ def integrate_arcs(
     if resolve_backend(backend) == "numba" and np.isfinite(starts).all():
         pair = tuple(sensitivities) != DEFAULT_SENSITIVITIES
         pars = kernel_parameters(params, None, real_pair(sensitivities, "sensitivities") if pair else None)
-        ends, done, status = _LOOPS.arcs_loop(
+        ends, done, status = compiled().arcs_loop(
             WHICH["pair" if pair else "shooting"],
             np.ascontiguousarray(taus, dtype=float),
             starts,
@@ -288,7 +290,7 @@ def integrate_variations(
         z0[4 + 4 * k : 8 + 4 * k] = np.asarray(direction, dtype=float)
     pars = kernel_parameters(params)
     if resolve_backend(backend) == "numba":
-        z, _, _, _, _, status = _LOOPS.dop853_loop(
+        z, _, _, _, _, status = compiled().dop853_loop(
             WHICH["third"], 0.0, float(t1), z0, pars, float(rtol), float(atol), 0.0, 2_000_000, *TABLEAU
         )
         if status != OK:
@@ -358,7 +360,7 @@ def integrate_grid(
         if not sol.success:
             raise RuntimeError(f"integration of (9) failed near tau = {sol.t[-1]:.6g}: {sol.message}")
         return sol.y.T.copy()
-    states, reached, status = _LOOPS.grid_loop(
+    states, reached, status = compiled().grid_loop(
         WHICH[which], taus, out[0], pars, float(rtol), float(atol), 2_000_000, *TABLEAU
     )
     if status != OK:

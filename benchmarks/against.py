@@ -1,0 +1,127 @@
+"""Speed against an earlier commit, measured side by side in one run
+(``python -m benchmarks --only against``; ``--base COMMIT``, default 8ec52f9, the commit the speed
+round 4 issue measures against).
+
+The earlier commit's tree is unpacked beside the working tree (``git archive``: the bench needs the
+repository's history) and each case is run as a whole process by both trees in turn, the order
+alternating from one round to the next (the machine's speed drifts over a bench of minutes); each
+side's median over the rounds is kept and the ratio printed. Both trees run in the same virtual
+environment, with their caches filled first (``slosh-bif compile`` in each: numba's cache here, the
+earlier tree's loops built ahead of time where it has them). No absolute target: the ratio is
+what carries over between machines.
+
+Cases: the Fig. 10 symmetric branch (n = 50) and the n = 6 branch from its symmetric orbit, the
+Fig. 10 chart with switching and the family scan (not in ``--quick``: about 7 and 12 minutes a
+run on one 2-core machine).
+"""
+
+from __future__ import annotations
+
+import io
+import os
+import statistics
+import subprocess
+import sys
+import tarfile
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+from benchmarks.speed import SHOOT, _n6_guess
+
+__all__ = ["against_bench", "AGAINST_COLUMNS", "BASE"]
+
+BASE = "8ec52f9"
+ROOT = Path(__file__).resolve().parents[1]
+AGAINST_COLUMNS = ("case", "base", "base_seconds", "seconds", "ratio", "target", "rounds", "note")
+CHART = ["chart", "--preset", "fig10", "--sigma-min", "-6", "--sigma-max", "8", "--abar-min", "0.2"]
+CHART += ["--abar-max", "6"]
+# case -> (its arguments, or a function giving them; rounds; in --quick; the target ratio)
+CASES = {
+    "Fig. 10 branch (n = 50)": (SHOOT, 5, True, 0.5),
+    "n = 6 branch from its symmetric orbit at sigma = -6": (lambda: [*SHOOT, *_n6_guess()], 5, True, 0.5),
+    "Fig. 10 chart with switching": (CHART, 1, False, 0.5),
+    "family scan (shoot --start scan)": (["shoot", "--preset", "fig10", "--start", "scan"], 1, False, 0.5),
+}
+# a tree's command line, as its console entry runs it (the interpreter's teardown skipped)
+_ENTRY = "import sys; sys.argv[0] = 'slosh-bif'; from slosh_bif.cli import run; run()"
+
+
+def unpack(commit: str, where: Path) -> Path:
+    """The tree of ``commit`` written under ``where``; a one-line error when git cannot give it."""
+    done = subprocess.run(
+        ["git", "-C", str(ROOT), "archive", "--format=tar", commit], capture_output=True, timeout=120
+    )
+    if done.returncode != 0:
+        reason = done.stderr.decode(errors="replace").strip().splitlines()[-1:] or ["no git"]
+        raise ValueError(f"--base {commit}: git cannot give that commit's tree here ({reason[0]})")
+    tree = Path(where) / f"slosh_bif-{commit}"
+    with tarfile.open(fileobj=io.BytesIO(done.stdout)) as archive:
+        archive.extractall(tree, filter="data")
+    return tree
+
+
+def timed_run(tree: Path, arguments, out: Path, timeout: float = 7200.0) -> float:
+    """Wall seconds of ``slosh-bif ARGUMENTS --out OUT`` run by the package of ``tree``."""
+    env = {**os.environ, "PYTHONPATH": str(tree), "PYTHONWARNINGS": "ignore"}
+    start = time.perf_counter()
+    done = subprocess.run(
+        [sys.executable, "-c", _ENTRY, *arguments, "--out", str(out), "-q"],
+        capture_output=True,
+        text=True,
+        env=env,
+        cwd=tree,
+        timeout=timeout,
+    )
+    seconds = time.perf_counter() - start
+    if done.returncode not in (0, 3):
+        reason = done.stderr.strip()[-300:]
+        raise RuntimeError(f"{tree.name}: slosh-bif {' '.join(arguments)} failed: {reason}")
+    return seconds
+
+
+def _prepare(tree: Path) -> None:
+    env = {**os.environ, "PYTHONPATH": str(tree), "PYTHONWARNINGS": "ignore"}
+    subprocess.run(
+        [sys.executable, "-c", _ENTRY, "compile"], capture_output=True, env=env, cwd=tree, timeout=1800
+    )
+
+
+def against_bench(*, base: str = BASE, quick: bool = False, progress=None) -> list:
+    """Rows of :data:`AGAINST_COLUMNS`, one a case: this tree's median time over that of ``base``."""
+    say = progress or (lambda message: None)
+    rows = []
+    with tempfile.TemporaryDirectory(prefix="slosh-bif-against-") as tmp:
+        trees = {"base": unpack(base, Path(tmp)), "this": ROOT}
+        for tree in trees.values():
+            _prepare(tree)
+        for case, (arguments, rounds, in_quick, target) in CASES.items():
+            if quick and not in_quick:
+                continue
+            arguments = arguments() if callable(arguments) else list(arguments)
+            rounds = 1 if quick else rounds
+            for side, tree in trees.items():  # a warm run each: caches and the page cache
+                if rounds > 1:
+                    timed_run(tree, arguments, Path(tmp) / f"warm-{side}")
+            seconds = {"base": [], "this": []}
+            for r in range(rounds):
+                order = ("base", "this") if r % 2 == 0 else ("this", "base")
+                for side in order:
+                    say(f"against {base}: {case}, round {r + 1} of {rounds}, {side}")
+                    seconds[side].append(timed_run(trees[side], arguments, Path(tmp) / f"{side}-{r}"))
+            mine, theirs = statistics.median(seconds["this"]), statistics.median(seconds["base"])
+            rows.append(
+                {
+                    "case": case,
+                    "base": base,
+                    "base_seconds": theirs,
+                    "seconds": mine,
+                    "ratio": mine / theirs if theirs > 0 else np.nan,
+                    "target": target,
+                    "rounds": rounds,
+                    "note": "whole processes, medians, alternating order",
+                }
+            )
+    return rows

@@ -1,0 +1,94 @@
+"""Start-up without an ahead-of-time compiler (slosh_bif.flows.loops): a command loads numba only
+when it integrates, no command leaves a process behind, and ``slosh-bif compile`` fills numba's
+cache so that a later command compiles nothing."""
+
+import os
+import subprocess
+import sys
+import uuid
+from pathlib import Path
+
+import pytest
+
+# the n = 6 symmetric orbit at sigma = -6 (the speed benchmark's case), over a short range
+GUESS = "0.63296198077934629,0.20595836024122491,-0.50665000005633232,-1.1117831464853676"
+SHORT_SHOOT = ["shoot", "--preset", "fig10", "--set", "n=6", "--set", "sigma=-6", "--guess", GUESS]
+SHORT_SHOOT += ["--no-switch", "--sigma-min", "-6", "--sigma-max", "-5", "-q"]
+
+# run a command as the console script does, then say whether numba was imported
+_RUN = (
+    "import sys\n"
+    "import slosh_bif.cli as cli\n"
+    "status = cli.main(sys.argv[1:])\n"
+    "print('numba loaded:', 'numba' in sys.modules, file=sys.stderr)\n"
+    "sys.exit(status)\n"
+)
+
+
+def _run(arguments, env=None):
+    run = subprocess.run(
+        [sys.executable, "-c", _RUN, *arguments],
+        capture_output=True,
+        text=True,
+        env={**os.environ, **(env or {})},
+        timeout=600,
+    )
+    assert run.returncode == 0, run.stderr[-800:]
+    return run.stderr
+
+
+def _processes_with(marker: str) -> list:
+    """The live processes whose environment carries ``marker`` (inherited by every child)."""
+    found = []
+    for entry in Path("/proc").iterdir():
+        if entry.name.isdigit() and entry.name != str(os.getpid()):
+            try:
+                if marker.encode() in (entry / "environ").read_bytes():
+                    found.append(entry.name)
+            except OSError:  # gone, or not ours to read
+                pass
+    return found
+
+
+@pytest.mark.parametrize(
+    "arguments",
+    [["info", "--preset", "fig10"], ["frc", "--preset", "fig10", "-q"]],
+    ids=["info", "frc"],
+)
+def test_a_command_that_does_not_integrate_never_imports_numba(arguments, tmp_path):
+    if arguments[0] == "frc":
+        arguments = [*arguments, "--out", str(tmp_path)]
+    assert "numba loaded: False" in _run(arguments)
+
+
+@pytest.mark.skipif(not Path("/proc/self/environ").exists(), reason="reads live processes from /proc")
+def test_a_shooting_run_loads_numba_and_leaves_no_process_behind(tmp_path):
+    marker = f"SLOSH_BIF_TEST_RUN={uuid.uuid4().hex}"
+    name, value = marker.split("=")
+    script = Path(sys.executable).with_name("slosh-bif")
+    command = [str(script)] if script.exists() else [sys.executable, "-m", "slosh_bif"]
+    run = subprocess.run(
+        [*command, *SHORT_SHOOT, "--out", str(tmp_path)],
+        capture_output=True,
+        text=True,
+        env={**os.environ, name: value},
+        timeout=600,
+    )
+    assert run.returncode == 0, run.stderr[-800:]
+    assert (tmp_path / "branch.csv").is_file()
+    assert _processes_with(marker) == []  # the figure's process and everything else have ended
+    assert "numba loaded: True" in _run([*SHORT_SHOOT, "--out", str(tmp_path / "again")])
+
+
+@pytest.mark.slow
+def test_compile_fills_numbas_cache_so_that_a_later_command_compiles_nothing(tmp_path):
+    cache = tmp_path / "cache"
+    _run(["compile"], env={"NUMBA_CACHE_DIR": str(cache)})
+    indexes = {path: path.stat().st_mtime_ns for path in cache.rglob("*.nbi")}
+    names = " ".join(str(path.relative_to(cache)) for path in indexes)
+    for loop in ("_dop853_loop", "_grid_loop", "_arcs_loop", "periodic_qr.periodic_qr", "flow._run"):
+        assert loop in names, loop
+    _run([*SHORT_SHOOT, "--out", str(tmp_path / "out")], env={"NUMBA_CACHE_DIR": str(cache)})
+    for path, mtime in indexes.items():  # an index is rewritten when its function compiles again
+        assert path.stat().st_mtime_ns == mtime, path.name
+    assert {path for path in cache.rglob("*.nbi")} == set(indexes)  # and nothing new compiled
