@@ -145,3 +145,12 @@ def test_the_stage_profile_of_a_shoot_run_has_every_stage(tmp_path):
     assert set(seconds) == set(STAGES)
     assert all(value >= 0 for key, value in seconds.items() if key != "interpreter and unmeasured")
     assert seconds["continuation"] > 0 and seconds["plot"] > 0
+
+
+def test_the_bench_against_an_earlier_commit_unpacks_its_tree_or_says_why_not(tmp_path):
+    from benchmarks import against
+
+    tree = against.unpack("HEAD", tmp_path)
+    assert (tree / "slosh_bif" / "cli" / "__init__.py").is_file() and (tree / "pyproject.toml").is_file()
+    with pytest.raises(ValueError, match="--base no-such-commit"):
+        against.unpack("no-such-commit", tmp_path)
