@@ -63,15 +63,18 @@ def unpack(commit: str, where: Path) -> Path:
     return tree
 
 
+def _env(tree: Path) -> dict:
+    return {**os.environ, "PYTHONPATH": str(tree), "PYTHONWARNINGS": "ignore"}
+
+
 def timed_run(tree: Path, arguments, out: Path, timeout: float = 7200.0) -> float:
     """Wall seconds of ``slosh-bif ARGUMENTS --out OUT`` run by the package of ``tree``."""
-    env = {**os.environ, "PYTHONPATH": str(tree), "PYTHONWARNINGS": "ignore"}
     start = time.perf_counter()
     done = subprocess.run(
         [sys.executable, "-c", _ENTRY, *arguments, "--out", str(out), "-q"],
         capture_output=True,
         text=True,
-        env=env,
+        env=_env(tree),
         cwd=tree,
         timeout=timeout,
     )
@@ -83,9 +86,8 @@ def timed_run(tree: Path, arguments, out: Path, timeout: float = 7200.0) -> floa
 
 
 def _prepare(tree: Path) -> None:
-    env = {**os.environ, "PYTHONPATH": str(tree), "PYTHONWARNINGS": "ignore"}
     subprocess.run(
-        [sys.executable, "-c", _ENTRY, "compile"], capture_output=True, env=env, cwd=tree, timeout=1800
+        [sys.executable, "-c", _ENTRY, "compile"], capture_output=True, env=_env(tree), cwd=tree, timeout=1800
     )
 
 
