@@ -19,6 +19,8 @@ def _fit(args) -> int:
         return _fit_response(args)
     if "v0" in columns and "v_out" in columns:
         return _fit_records(args)
+    if "tau" in columns and args.record == "steady":  # the reader names a missing X
+        return _fit_steady(args)
     if "tau" in columns and ("A" in columns or "X" in columns):
         return _fit_time_series(args)
     raise ValueError(
@@ -94,6 +96,27 @@ def _fit_time_series(args) -> int:
         paths,
         f"{fit.points} envelope points, {kind.split(' (')[0]} by the slow flow ({fit.model}): rms "
         f"residual {fit.rms:.3g}" + _goodness_line(fit),
+    )
+
+
+def _fit_steady(args) -> int:
+    from slosh_bif.identify.steady_fit import STEADY_FREE, fit_steady_record
+    from slosh_bif.identify.steady_output import write_steady_fit
+    from slosh_bif.identify.steady_record import read_steady_record
+
+    free = _free(args, STEADY_FREE, "a settled forced record")
+    base = params_of(args)
+    record = read_steady_record(args.data)
+    fit = fit_steady_record(
+        record, base, free, model=args.model or "smooth", seed=args.seed, progress=progress
+    )
+    paths = write_steady_fit(fit, record, base, args.out)
+    misfit = "chi-square" if fit.scale_known else "residual sum of squares"
+    return _report(
+        fit,
+        paths,
+        f"{fit.points} samples of a settled record, {fit.as_dict()['model'].split(' by ')[1]}: {misfit} "
+        f"{_sum_of_squares(fit):.4g}, rms residual {fit.rms:.3g}" + _goodness_line(fit),
     )
 
 
@@ -194,11 +217,12 @@ def add_commands(sub) -> None:
         "fit",
         help="identify the wall's (and vessel's) parameters from measurements, with intervals: a "
         "frequency response (by the slow flows or the orbits of 9 or 8), a free decay or forced record "
-        "(by the slow flow in time) or impact records (by eq. 21)",
+        "(by the slow flow in time, or settled by the orbits of 9 or 8) or impact records (by eq. 21)",
         epilog="data: a CSV with the columns sigma, A (the response's first-harmonic amplitude) and "
         "optionally std and sweep (up or down): a frequency response (or f_hz, A_m[, std_m, sweep] in "
         "Hz and metres with --params TANK_FILE); tau, A[, std] (the envelope) or tau, X (the vessel's "
-        "displacement): a free decay or, with --record forced, a forced record; or v0 (incoming "
+        "displacement): a free decay or, with --record forced, a forced transient, or with --record "
+        "steady (tau, X[, std]) a settled forced record; or v0 (incoming "
         "speed), v_out (outgoing speed) and optionally std: impact records",
     )
     add_params_options(fit)
@@ -212,9 +236,9 @@ def add_commands(sub) -> None:
         "--free",
         required=True,
         help="the parameters to fit, comma-separated: of lam, chi, gamma, Abar, eps (by the orbits), n, "
-        "pbar (profiled, by the slow flows) for a response; of lam, chi, gamma (and Abar, forced) for a "
-        "record in time; of lam, chi, pbar for impact records (lam and chi together: only their "
-        "combination is determined where the model has C of eq. 21 alone)",
+        "pbar (profiled, by the slow flows) for a response; of lam, chi, gamma (and Abar, forced; and "
+        "eps, settled) for a record in time; of lam, chi, pbar for impact records (lam and chi together: "
+        "only their combination is determined where the model has C of eq. 21 alone)",
     )
     fit.add_argument(
         "--model",
@@ -227,9 +251,11 @@ def add_commands(sub) -> None:
     )
     fit.add_argument(
         "--record",
-        choices=("decay", "forced"),
+        choices=("decay", "forced", "steady"),
         default="decay",
-        help="for a record in time (tau, A or tau, X): a free decay (default) or a forced record at the "
+        help="for a record in time (tau, A or tau, X): a free decay (default) or a forced transient, by "
+        "the slow flow (45), or steady: a settled forced record (tau, X[, std], tau the forcing's phase) "
+        "by the orbit of --model smooth (default; eq. 9), impact (8) or impact-corrected, at the "
         "parameter set's sigma and Abar",
     )
     fit.add_argument("--seed", type=int, default=0, help="seed of the fit's extra starts (default 0)")

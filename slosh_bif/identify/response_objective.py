@@ -19,7 +19,14 @@ from slosh_bif.model.params import Params
 from slosh_bif.model.restitution import dissipation_at_unit_speed
 from slosh_bif.slowflow.flow import AsymptoticsWarning
 
-__all__ = ["Objective", "residuals", "model_amplitudes", "steady_states", "orbit_response"]
+__all__ = [
+    "Objective",
+    "residuals",
+    "model_amplitudes",
+    "steady_states",
+    "orbit_response",
+    "admissible_ranges",
+]
 
 
 def residuals(data: ResponseData, params: Params, model: str = "slowflow") -> np.ndarray:
@@ -86,19 +93,7 @@ class Objective:
         )
         self.jacobian = self._jacobian if own else None
         self._at = None  # the z the orbits were last moved to (None: the last call lost them)
-        C = float(dissipation_at_unit_speed(base.lam, base.chi, base.n, base.pbar))
-        a = base.pbar / (2 * (base.n + 1)) + 0.5
-        ranges = {
-            "lam": (1e-9, base.lam / C * (1 - 1e-9) if C > 0 else np.inf),
-            "chi": (base.chi * C ** (1 / a) * (1 + 1e-9) if C > 0 else 1e-9, np.inf),
-            "gamma": (0.0, np.inf),
-            "Abar": (1e-9, np.inf),
-            # the vessel's stiffness 1 - eps sigma stays positive at every data point
-            "eps": (
-                1e-9,
-                1 / sigma_top * (1 - 1e-9) if (sigma_top := float(np.max(data.sigma))) > 0 else np.inf,
-            ),
-        }
+        ranges = admissible_ranges(base, float(np.max(data.sigma)))
         self.lower = np.array([ranges[n][0] for n in self.names])
         self.upper = np.array([ranges[n][1] for n in self.names])
 
@@ -133,6 +128,21 @@ class Objective:
             return np.zeros((len(self.data), len(self.names)))
         J = -self.orbits.gradient(self.names)
         return J / self.data.std[:, None] if self.data.std is not None else J
+
+
+def admissible_ranges(base: Params, sigma_top: float) -> dict:
+    """(lower, upper) of each continuous parameter about ``base``: kappa (21) real (C, the energy
+    fraction lost at unit speed, is linear in lam and goes as chi**-a), gamma >= 0, Abar > 0, and
+    eps > 0 with the vessel's stiffness 1 - eps sigma positive up to ``sigma_top``."""
+    C = float(dissipation_at_unit_speed(base.lam, base.chi, base.n, base.pbar))
+    a = base.pbar / (2 * (base.n + 1)) + 0.5
+    return {
+        "lam": (1e-9, base.lam / C * (1 - 1e-9) if C > 0 else np.inf),
+        "chi": (base.chi * C ** (1 / a) * (1 + 1e-9) if C > 0 else 1e-9, np.inf),
+        "gamma": (0.0, np.inf),
+        "Abar": (1e-9, np.inf),
+        "eps": (1e-9, 1 / sigma_top * (1 - 1e-9) if sigma_top > 0 else np.inf),
+    }
 
 
 def orbit_response(data, base: Params, model: str, progress, family=None):

@@ -10,7 +10,8 @@ takes the stable one that explains it best (:func:`~.assignment.pick`: a sweep's
 where that explains it nearly as well). Where none of
 those is stable, and for data in Hz (each point its own gamma and Abar, so no one family), the
 orbits Newton finds from the slow flow's motion on each steady state of (46) at the point's own set
-are tried too. At any later parameter set each orbit is Newton's from the last one (through
+are tried too, and where still none is stable the orbit a simulation of (9) settles on from those
+states or from rest. At any later parameter set each orbit is Newton's from the last one (through
 intermediate sets where Newton from the last misses; the least squares moves the parameters by small
 steps), stable or not (a fit started off the truth may pass parameter sets where the measured orbit
 is unstable); :attr:`OrbitResponse.stable` says which are stable at the last set, and an orbit
@@ -24,6 +25,7 @@ import warnings
 import numpy as np
 
 from slosh_bif.continuation.corrector import newton_solve
+from slosh_bif.continuation.options import ConvergenceError
 from slosh_bif.identify.assignment import pick
 from slosh_bif.identify.response_model import impact_free, impact_free_state, response_curve
 from slosh_bif.model.params import Params
@@ -32,14 +34,15 @@ from slosh_bif.orbits.harmonic_sensitivity import first_harmonic_gradient
 from slosh_bif.orbits.orbit_tools import orbit_measures
 from slosh_bif.orbits.settings import ParameterRange
 from slosh_bif.orbits.shooting import ShootingProblem
-from slosh_bif.orbits.starts import orbit_from_slow_flow, slow_flow_start
-from slosh_bif.slowflow.flow import AsymptoticsWarning
+from slosh_bif.orbits.starts import orbit_from_slow_flow, settle_and_shoot, slow_flow_start
+from slosh_bif.slowflow.flow import AsymptoticsWarning, SlowFlow
 
 __all__ = ["OrbitResponse", "LostOrbit"]
 
 SEGMENTS = 4  # arcs of each orbit's shooting problem
 NEUTRAL = 1e-8  # a multiplier this far outside the unit circle is on it (rounding)
 FREE_W = 0.9  # an orbit whose |w| stays below this does not touch the wall (chi w^(2n+1) ~ 0)
+SETTLE = 100  # forcing periods a settling simulation runs before each Newton
 SUBSTEPS = 8  # parameter sets between the last and the next where Newton from the last misses
 
 
@@ -60,10 +63,13 @@ class OrbitResponse:
             lo, hi = float(self.sigma.min()), float(self.sigma.max())
             pad = 0.05 * (hi - lo) + 0.05
             say(f"orbits of (9): the family over sigma in [{lo - pad:.4g}, {hi + pad:.4g}]")
-            start = slow_flow_start(params, lo - pad, hi + pad, segments=SEGMENTS)
-            family = trace_orbits(
-                start.params, start.y0, interval=ParameterRange(name="sigma", lo=lo - pad, hi=hi + pad)
-            )
+            try:
+                start = slow_flow_start(params, lo - pad, hi + pad, segments=SEGMENTS)
+                family = trace_orbits(
+                    start.params, start.y0, interval=ParameterRange(name="sigma", lo=lo - pad, hi=hi + pad)
+                )
+            except ConvergenceError as err:  # no start on the slow flow: each point's own search
+                say(f"orbits of (9): no family traced ({err}); each point searched on its own")
         elif family is None:
             say(f"orbits of (9): from the slow flow's steady states at each of {len(self.sigma)} points")
         self.family = family  # (9)'s orbits over the data's sigma range at ``params``, or None
@@ -85,6 +91,8 @@ class OrbitResponse:
                     for y0 in _slow_flow_guesses(data, params, i)
                 ]
                 found = [f for f in found if f is not None]
+            if not any(f[2] for f in found):  # none stable: where a simulation of (9) settles
+                found += _settled(data, params, i, problem)
             if not found:
                 raise LostOrbit(f"no 2pi-orbit of (9) found at sigma = {s:.6g} to follow")
             self.candidates[i] = _distinct([(f[1], f[2]) for f in found])
@@ -185,6 +193,30 @@ def _slow_flow_guesses(data, params: Params, i: int) -> list:
         states = sorted(response_curve(at).states_at(at.sigma), key=lambda st: abs(st[0] - data.A[i]))
         orbits = [orbit_from_slow_flow(at, A, segments=SEGMENTS) for A, _ in states]
     return [orbit.y0 for orbit in orbits if orbit.converged]
+
+
+def _settled(data, params: Params, i: int, problem: ShootingProblem) -> list:
+    """(x, A1, stable) of the stable orbit a simulation of (9) settles on (Newton tried after
+    SETTLE periods and every SETTLE more, up to four times) from the slow flow's motion on each
+    steady state of (46) at point i's set, the nearest its amplitude first, and from rest; the
+    first found, or nothing."""
+    at, s = data.params_at(params, i), float(data.sigma[i])
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", AsymptoticsWarning)
+        states = sorted(response_curve(at).states_at(at.sigma), key=lambda st: abs(st[0] - data.A[i]))
+        flow = SlowFlow(at)
+        starts = [flow.fast_state(A, float(flow.steady_phase(A)), np.array([0.0]))[0] for A, _ in states]
+    for y0 in starts + [np.zeros(4)]:
+        try:
+            orbit, A1 = settle_and_shoot(
+                at, y0, segments=SEGMENTS, first=SETTLE, every=SETTLE, most=4 * SETTLE
+            )
+        except (RuntimeError, ValueError):  # a simulation that fails, a start off the manifold
+            continue
+        found = _orbit(problem, problem.initial_states(orbit.y0), s) if np.isfinite(A1) else None
+        if found is not None and found[2]:
+            return [found]
+    return []
 
 
 def _near(family, sigma) -> list:

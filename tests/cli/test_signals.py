@@ -108,10 +108,11 @@ def test_a_stopped_map_keeps_what_it_did_and_leaves_no_worker(
     "grid, store, table, cells",
     [
         (
-            ["regimes", "--preset", "fig13", "--sigma-points", "5", "--abar-points", "5", "--tmax", "3000"],
+            # long enough (about 12 s on a fast machine) for the partial file (every 5 s) to hold a cell
+            ["regimes", "--preset", "fig13", "--sigma-points", "8", "--abar-points", "8", "--tmax", "3000"],
             "regimes.json",
             "regimes.csv",
-            25,
+            64,
         ),
         pytest.param(
             ["basins", "--preset", "fig10", "--set", "sigma=3", "--grid", "16", "16", "--tmax", "12000"],

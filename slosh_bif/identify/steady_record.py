@@ -1,0 +1,237 @@
+"""A settled forced record in time, the vessel's displacement X(tau) on a steady 2pi-orbit, and
+the orbit of the full model it is compared with: of the smooth model (9) or of the vibro-impact
+model (8) (or of the corrected impact model), sampled at the record's own times.
+
+Data: a CSV with ``tau`` and ``X`` (optionally ``std``), tau the forcing's phase of eq. (7) (the
+excitation Abar cos tau at tau = 0, as the models have it), strictly increasing, the record
+settled (a transient is fitted by the slow flow, :mod:`.time_series`). The orbit a record follows
+is chosen as a frequency response's point would be (:func:`~.response_objective.orbit_response`
+with the one point (sigma, A1), A1 the record's first harmonic): the stable orbit whose A1 explains
+it best. At any later parameter set the orbit is Newton's from the last one, through intermediate
+sets where Newton from the last misses, and a lost orbit is reported, never replaced.
+
+The samples' derivatives in the parameters come from the models' own sensitivities, not from
+differences of orbits. (9): the variational equations along the orbit, the start moving as
+(M - I) dy0/dq = -s(2pi) (M the monodromy, s the sensitivity at a fixed start). (8): the saltation
+sensitivities at every sample and impact (:meth:`~slosh_bif.flows.impact.flow.ImpactFlow.sensitivities`),
+the section's state moving as (I - M) dx/dq = dP/dq, and from the last sample before a record's
+time the flight's closed form expm(K s) (8 being linear between impacts) with its Frechet
+derivative in the flight's parameters.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from pathlib import Path
+
+import numpy as np
+from scipy import linalg
+
+from slosh_bif.flows.impact.flow import ImpactFlow
+from slosh_bif.flows.smooth import integrator
+from slosh_bif.identify.csv_table import number, read_table
+from slosh_bif.identify.response_data import ResponseData
+from slosh_bif.identify.response_impact import STEP
+from slosh_bif.identify.response_objective import orbit_response
+from slosh_bif.identify.response_orbits import LostOrbit
+from slosh_bif.model.params import REAL_FIELDS, Params
+
+__all__ = ["SteadyRecord", "read_steady_record", "RecordOrbit", "MIN_PHASES", "STEP_SIZE"]
+
+MIN_PHASES = 8  # distinct phases (mod 2pi) a record needs: the orbit's shape, not a few points
+STEP_SIZE = 0.05  # the largest relative move of a parameter between two sets an orbit is followed over
+MAX_STEPS = 40  # sets in between at most (a move from near 0 is relative to where it goes)
+TOL = 1e-10  # the integration's tolerance for (9)'s samples
+
+
+@dataclasses.dataclass(frozen=True)
+class SteadyRecord:
+    """A settled record: times ``tau`` (the forcing's phase), displacements ``X``, optional ``std``
+    of each, the file they came from."""
+
+    tau: np.ndarray
+    X: np.ndarray
+    std: np.ndarray | None = None
+    source: str = ""
+
+    def __len__(self) -> int:
+        return len(self.tau)
+
+    @property
+    def A(self) -> np.ndarray:
+        """The measured values (the name the fits' shared code reads)."""
+        return self.X
+
+    def first_harmonic(self) -> float:
+        """A1 of the record: the amplitude of the least-squares fit of c0 + a cos tau + b sin tau."""
+        basis = np.column_stack([np.ones(len(self)), np.cos(self.tau), np.sin(self.tau)])
+        (_, a, b), *_ = np.linalg.lstsq(basis, self.X, rcond=None)
+        return float(math.hypot(a, b))
+
+
+def read_steady_record(path) -> SteadyRecord:
+    """``tau, X[, std]``; one-line errors naming the file, line and column: tau strictly
+    increasing, at least :data:`MIN_PHASES` distinct phases modulo 2pi, std positive."""
+    path = Path(path)
+    columns, rows = read_table(path, ("tau", "X"), "a settled forced record", optional=("std",))
+    names = ("tau", "X") + (("std",) if "std" in columns else ())
+    values = {name: [] for name in names}
+    for k, row in enumerate(rows, start=2):
+        for name in names:
+            values[name].append(number(path, k, name, row[name], positive=name == "std"))
+    tau = np.array(values["tau"])
+    if len(tau) < 2 or np.any(np.diff(tau) <= 0):
+        raise ValueError(f"{path}: tau must increase strictly over the rows")
+    phases = np.unique(np.mod(np.round(np.mod(tau, 2 * np.pi), 9), round(2 * np.pi, 9)))  # 0 is 2pi
+    if len(phases) < MIN_PHASES:
+        raise ValueError(
+            f"{path}: {len(phases)} distinct phases of tau modulo 2pi; a settled record needs at least "
+            f"{MIN_PHASES} over the forcing period to show the orbit's shape"
+        )
+    std = np.array(values["std"]) if "std" in values else None
+    return SteadyRecord(tau, np.array(values["X"]), std, str(path))
+
+
+class RecordOrbit:
+    """The 2pi-orbit of ``model`` ("smooth": (9); "impact": (8); "impact-corrected") a settled
+    ``record`` follows, found at ``params`` and followed to any set near it (:meth:`samples`)."""
+
+    def __init__(self, record: SteadyRecord, params: Params, model: str = "smooth", progress=None):
+        if model not in ("smooth", "impact", "impact-corrected"):
+            raise ValueError(
+                f"a settled record is compared with an orbit model (smooth, impact); got {model!r}"
+            )
+        self.record, self.model = record, model
+        point = ResponseData(
+            np.array([params.sigma]), np.array([record.first_harmonic()]), source=record.source
+        )
+        self.orbits = orbit_response(point, params, model, progress)
+        self.phases = np.mod(record.tau, 2 * np.pi)
+
+    @property
+    def params(self) -> Params:
+        """The parameter set the orbit is at."""
+        return self.orbits.params
+
+    @property
+    def stable(self) -> bool:
+        return bool(self.orbits.stable[0])
+
+    @property
+    def candidates(self) -> list:
+        """(A1, stable) of every orbit found where the record's orbit was chosen."""
+        return list(self.orbits.candidates[0])
+
+    def differentiates(self, names) -> bool:
+        """Whether :meth:`gradient` has every name (the corrected impact model has no derivatives
+        in the wall's lam and chi)."""
+        if self.model == "smooth":
+            return all(name in REAL_FIELDS for name in names)
+        return self.orbits.differentiates(names)
+
+    def state(self):
+        return self.orbits.state(), self.orbits.params
+
+    def restore(self, state) -> None:
+        self.orbits.restore(state[0])
+        self.orbits.params = state[1]
+
+    def samples(self, params: Params) -> np.ndarray:
+        """X of the orbit at ``params`` at the record's times; :class:`LostOrbit` where it is lost."""
+        self._move(params)
+        return self.at_phases(self.phases)[0]
+
+    def gradient(self, names) -> np.ndarray:
+        """dX/d(``names``) at the record's times, shape (samples, len(names)), at the set of the
+        last :meth:`samples` call, the orbit moving with the parameters."""
+        return self.at_phases(self.phases, names)[1]
+
+    def at_phases(self, phases, names=()) -> tuple:
+        """(X, dX/d names) of the orbit at ``phases`` (any reals: taken modulo 2pi)."""
+        phases = np.mod(np.asarray(phases, dtype=float), 2 * np.pi)
+        if self.model == "smooth":
+            return _smooth_samples(self.orbits.params, self.orbits.x[0][:4], phases, names)
+        variant = "corrected" if self.model == "impact-corrected" else "paper"
+        return _impact_samples(
+            self.orbits.params, self.orbits.phase[0], self.orbits.x[0], phases, names, variant
+        )
+
+    def _move(self, params: Params) -> None:
+        """Follow the orbit to ``params``: Newton from the last set, else through sets in between
+        that move no parameter by more than STEP_SIZE of its larger end (at most MAX_STEPS of them); on
+        a loss the orbit stays."""
+        home = self.state()
+        last = self.orbits.params
+        try:
+            self.orbits.amplitudes(params)
+            return
+        except LostOrbit:
+            self.restore(home)
+        a, b = last.as_dict(), params.as_dict()
+        moved = {k: (a[k], b[k]) for k in REAL_FIELDS if a[k] != b[k]}
+        size = max((abs(v1 - v0) / max(abs(v0), abs(v1)) for v0, v1 in moved.values()), default=0.0)
+        steps = min(MAX_STEPS, max(2, math.ceil(size / STEP_SIZE)))
+        try:
+            for w in np.linspace(0.0, 1.0, steps + 1)[1:]:
+                self.orbits.amplitudes(
+                    last.replace(**{k: v0 + w * (v1 - v0) for k, (v0, v1) in moved.items()})
+                )
+        except LostOrbit:
+            self.restore(home)
+            raise
+
+
+def _grid(phases) -> tuple:
+    """(times from 0 to 2pi through every phase, each phase's index in them)."""
+    grid = np.unique(np.concatenate([[0.0, 2 * np.pi], phases]))
+    return grid, np.searchsorted(grid, phases)
+
+
+def _smooth_samples(params: Params, y0, phases, names) -> tuple:
+    """(X, dX) of (9)'s 2pi-orbit through y0 at ``phases``: one integration of (9) for X, one of
+    its variational equations per two names for dX."""
+    grid, index = _grid(phases)
+    X = integrator.integrate_grid(params, y0, grid, rtol=TOL, atol=TOL * 1e-2)[index, 0]
+    rows = [[1.0 if field == name else 0.0 for field in REAL_FIELDS] for name in names]
+    if len(rows) % 2:
+        rows.append([0.0] * len(REAL_FIELDS))  # the pair kernel takes two directions at a time
+    columns = []
+    for k in range(0, len(rows), 2):
+        z = integrator.integrate_grid(params, y0, grid, rtol=TOL, atol=TOL * 1e-2, directions=rows[k : k + 2])
+        Phi = z[:, 4:20].reshape(-1, 4, 4)
+        S = z[:, 20:28].reshape(-1, 2, 4).transpose(0, 2, 1)  # (time, component, direction)
+        lhs = Phi[-1] - np.eye(4)
+        if np.linalg.cond(lhs) > 1e12:
+            raise LostOrbit("the orbit's monodromy has a multiplier 1 (a fold): X has no derivative there")
+        dy0 = np.linalg.solve(lhs, -S[-1])
+        columns.append(Phi[index, 0, :] @ dy0 + S[index, 0, :])
+    dX = np.concatenate(columns, axis=1)[:, : len(names)] if columns else np.zeros((len(phases), 0))
+    return X, dX
+
+
+def _impact_samples(params: Params, section: float, x, phases, names, variant: str) -> tuple:
+    """(X, dX) of the impact model's 2pi-orbit through x on the section at phase ``section``, at
+    ``phases``: from the last sample (or impact) before each, the flight's closed form."""
+    times = section + np.mod(phases - section, 2 * np.pi)  # in [section, section + 2pi)
+    X, columns = None, []
+    for name in [None, *names]:
+        flow = ImpactFlow(params, STEP, param=name, variant=variant)
+        t, y, phis, dps, _, code = flow.sensitivities(np.asarray(x, dtype=float), section, 2 * np.pi)
+        if code != 0:
+            raise LostOrbit(f"the orbit at sigma = {params.sigma:.4g} ends early (code {code})")
+        last = np.searchsorted(t, times, side="right") - 1  # the post-impact row where an impact sits
+        z = np.vstack([y[:, last], np.cos(t[last]), np.sin(t[last])])  # (6, samples)
+        s = times - t[last]
+        if name is None:
+            X = np.array([(linalg.expm(flow.K * h) @ z[:, k])[0] for k, h in enumerate(s)])
+            continue
+        dx = np.linalg.solve(np.eye(4) - phis[-1], dps[-1])
+        dy = np.einsum("nij,j->ni", phis[last], dx) + dps[last]  # the state's move at each sample
+        column = np.empty(len(times))
+        for k, h in enumerate(s):
+            E, F = linalg.expm_frechet(flow.K * h, flow.Kp * h)
+            column[k] = E[0, :4] @ dy[k] + F[0] @ z[:, k]
+        columns.append(column)
+    dX = np.column_stack(columns) if columns else np.zeros((len(times), 0))
+    return X, dX

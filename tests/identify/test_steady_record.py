@@ -1,0 +1,162 @@
+"""A settled forced record fitted by the orbits of (9) and (8): the samples' derivatives against
+differences of Newton-solved orbits, clean records simulated independently (scipy's DOP853 on
+(9), the expm event loop on (8)) given back from parameters far off, a wrong wall power said not
+to fit, the command and its refusals."""
+
+import json
+import warnings
+
+import numpy as np
+import pytest
+from scipy.integrate import solve_ivp
+from scipy.linalg import expm
+
+from slosh_bif import get_preset
+from slosh_bif.cli import main
+from slosh_bif.flows.smooth.integrator import integrate_grid
+from slosh_bif.identify.steady_fit import fit_steady_record
+from slosh_bif.identify.steady_record import RecordOrbit, SteadyRecord, read_steady_record
+from slosh_bif.model.equations import ImpactModel, SmoothModel
+from slosh_bif.simulation.vibro_impact import simulate_impact
+from slosh_bif.slowflow.flow import AsymptoticsWarning
+
+SMOOTH = get_preset("fig10").params.replace(eps=0.04, beta=0.1, n=20, lam=0.4, gamma=0.25, sigma=-1.0)
+IMPACT = get_preset("fig10").params.replace(
+    eps=0.03, beta=0.2, n=30, lam=0.3, gamma=0.25, Abar=2.5, sigma=3.0
+)
+TAU = np.arange(96) * (2 * np.pi / 48)  # two forcing periods, 48 samples each
+
+
+@pytest.fixture(autouse=True)
+def _quiet():
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", AsymptoticsWarning)
+        yield
+
+
+@pytest.fixture(scope="module")
+def smooth_record():
+    """(9) settled from rest by the compiled integrator (600 periods), then sampled by scipy's
+    DOP853 at TAU (the fit's integrator is neither)."""
+    y = integrate_grid(SMOOTH, np.zeros(4), np.array([0.0, 600 * 2 * np.pi]), rtol=1e-11, atol=1e-13)[-1]
+    run = solve_ivp(SmoothModel(SMOOTH).rhs, (0.0, TAU[-1]), y, "DOP853", rtol=1e-12, atol=1e-13, t_eval=TAU)
+    return SteadyRecord(TAU, run.y[0], None, "dop853")
+
+
+@pytest.fixture(scope="module")
+def impact_record():
+    """(8) settled from rest by the compiled flow (600 periods), then two periods by the expm event
+    loop (scipy backend), X at TAU by the flight's expm from the loop's last sample before each."""
+    t0 = 600 * 2 * np.pi
+    y = simulate_impact(IMPACT, np.zeros(4), (0.0, t0), backend="numba").y[:, -1]
+    run = simulate_impact(IMPACT, y, (t0, t0 + 2 * np.pi * 2), backend="scipy")
+    K = ImpactModel(IMPACT).augmented()
+    X = []
+    for t in t0 + TAU:
+        k = np.searchsorted(run.t, t, side="right") - 1
+        z = np.concatenate([run.y[:, k], [np.cos(run.t[k]), np.sin(run.t[k])]])
+        X.append((expm(K * (t - run.t[k])) @ z)[0])
+    X = np.array(X)
+    assert np.abs(X[:48] - X[48:]).max() < 1e-6  # a 2pi-orbit: settled
+    return SteadyRecord(TAU, X, None, "expm")
+
+
+def _difference_check(record, params, model, names, tol):
+    orbit = RecordOrbit(record, params, model)
+    orbit.samples(params)
+    analytic = orbit.gradient(names)
+    for k, name in enumerate(names):
+        h = 1e-5 * getattr(params, name)
+        ends = []
+        for sign in (1, -1):
+            other = RecordOrbit(record, params, model)
+            ends.append(other.samples(params.replace(**{name: getattr(params, name) + sign * h})))
+        numeric = (ends[0] - ends[1]) / (2 * h)
+        assert np.abs(analytic[:, k] - numeric).max() <= tol * np.abs(numeric).max(), name
+
+
+def test_the_samples_derivatives_of_9_match_differences_of_orbits(smooth_record):
+    _difference_check(smooth_record, SMOOTH, "smooth", ["lam", "gamma", "eps", "Abar"], 1e-4)
+
+
+def test_the_samples_derivatives_of_8_match_differences_of_orbits(impact_record):
+    _difference_check(impact_record, IMPACT, "impact", ["lam", "chi", "eps"], 1e-4)
+
+
+def test_a_clean_record_of_9_gives_back_three_parameters_from_half_off(smooth_record):
+    start = SMOOTH.replace(lam=0.6, gamma=0.125, eps=0.06)
+    fit = fit_steady_record(smooth_record, start, ["lam", "gamma", "eps"])
+    assert fit.converged and fit.stable and fit.rms < 1e-7
+    for name in ("lam", "gamma", "eps"):
+        assert fit.values[name] == pytest.approx(getattr(SMOOTH, name), rel=1e-2), name
+
+
+def test_a_clean_record_of_8_gives_back_three_parameters(impact_record):
+    start = IMPACT.replace(lam=0.4, gamma=0.2, eps=0.035)
+    fit = fit_steady_record(impact_record, start, ["lam", "gamma", "eps"], model="impact")
+    assert fit.converged and fit.stable and fit.rms < 1e-4
+    for name in ("lam", "gamma", "eps"):
+        assert fit.values[name] == pytest.approx(getattr(IMPACT, name), rel=1e-2), name
+
+
+def _noisy(record, seed, level=0.01):
+    std = level * float(np.abs(record.X).max())
+    X = record.X + np.random.default_rng(seed).normal(0.0, std, size=len(record))
+    return SteadyRecord(record.tau, X, np.full(len(record), std), "noisy")
+
+
+def test_a_wrong_wall_power_is_said_not_to_fit(smooth_record):
+    """The record of n = 20 fitted with n = 50 held: the chi-square's p-value below 1e-3."""
+    fit = fit_steady_record(_noisy(smooth_record, 1), SMOOTH.replace(n=50), ["lam", "gamma"])
+    assert not fit.describes and "does not describe" in fit.goodness.statement
+
+
+def _write(path, record):
+    rows = "".join(
+        f"{float(t)!r},{float(x)!r},{float(s)!r}\n" for t, x, s in zip(record.tau, record.X, record.std)
+    )
+    path.write_text("tau,X,std\n" + rows)
+
+
+def test_slosh_bif_fit_a_settled_record_and_its_refusals(tmp_path, smooth_record, capsys):
+    data = tmp_path / "record.csv"
+    _write(data, _noisy(smooth_record, 0))
+    assert read_steady_record(data).first_harmonic() == pytest.approx(
+        smooth_record.first_harmonic(), rel=0.02
+    )
+    sets = [f"--set={k}={getattr(SMOOTH, k)}" for k in ("eps", "beta", "n", "lam", "sigma")]
+    args = ["fit", "--preset", "fig10", *sets, "--set=gamma=0.3", "--data", str(data), "--record", "steady"]
+    out = tmp_path / "fit"
+    assert main(args + ["--free", "gamma", "--out", str(out)]) == 0
+    record = json.loads((out / "fit.json").read_text())
+    gamma = record["estimate"]["gamma"]
+    assert gamma["profile_95"][0] < SMOOTH.gamma < gamma["profile_95"][1]
+    assert record["record"] == "steady" and record["orbit_stable"] and len(record["orbit"]["X"]) == 257
+    assert (out / "fit.png").is_file() and (out / "params.toml").is_file()
+    capsys.readouterr()
+    for extra, message in (
+        (["--free", "n"], "--free takes a comma-separated subset of lam, chi, gamma, Abar, eps"),
+        (["--free", "gamma", "--model", "slowflow"], "fitted by the orbits"),
+        (["--free", "gamma", "--set=Abar=0"], "needs the forcing Abar > 0"),
+    ):
+        assert main(args + extra + ["--out", str(tmp_path / "x")]) == 2
+        assert message in capsys.readouterr().err
+    short = [
+        "fit",
+        "--preset",
+        "fig10",
+        "--record",
+        "steady",
+        "--free",
+        "gamma",
+        "--out",
+        str(tmp_path / "y"),
+    ]
+    few = tmp_path / "few.csv"
+    few.write_text("tau,X\n" + "".join(f"{k * 2 * np.pi},{1.0 + k}\n" for k in range(12)))
+    assert main(short + ["--data", str(few)]) == 2
+    assert "1 distinct phases of tau modulo 2pi" in capsys.readouterr().err
+    envelope = tmp_path / "envelope.csv"
+    envelope.write_text("tau,A\n0,1\n1,2\n2,3\n")
+    assert main(short + ["--data", str(envelope)]) == 2
+    assert "missing X" in capsys.readouterr().err
