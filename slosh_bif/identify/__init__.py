@@ -9,6 +9,8 @@ measured data, with their uncertainty and what the data cannot tell.
   :mod:`.response_output`;
 * a free decay or a forced record in time, fitted by the slow flow (45):
   :mod:`.time_series` and its outputs :mod:`.time_series_output`;
+* a settled forced record, fitted sample by sample by the orbit of (9) or (8) it follows:
+  :mod:`.steady_record`, :mod:`.steady_fit` and its outputs :mod:`.steady_output`;
 * impact records (incoming and outgoing particle speeds) fitted by the restitution law (21):
   :mod:`.impact_records`, and their outputs :mod:`.output`.
 """
