@@ -6,13 +6,16 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from slosh_bif.cli.common import add_params_options, out_path, params_of, progress
+from slosh_bif.cli.common import MAX_WORKERS, add_params_options, out_path, params_of, progress
 
 __all__ = ["add_commands"]
 
 
 def _fit(args) -> int:
     from slosh_bif.identify.csv_table import read_header
+
+    if not 1 <= args.workers <= MAX_WORKERS:
+        raise ValueError(f"--workers takes an integer in [1, {MAX_WORKERS}]; got {args.workers}")
 
     columns = read_header(args.data)
     if ("sigma" in columns and "A" in columns) or ("f_hz" in columns and "A_m" in columns):
@@ -45,6 +48,7 @@ def _fit_response(args) -> int:
     from slosh_bif.identify.response_fit import MODEL_NAMES, MODELS, RESPONSE_FREE, fit_response
     from slosh_bif.identify.response_output import write_response_fit
     from slosh_bif.model.parameter_file import read_site
+    from slosh_bif.simulation.sweep import local_pool
 
     model = args.model or "slowflow"
     if model not in MODELS + ("auto",):
@@ -60,13 +64,15 @@ def _fit_response(args) -> int:
     if model == "auto":
         from slosh_bif.identify.response_ladder import fit_by_ladder
 
-        fit = fit_by_ladder(data, base, free, seed=args.seed, progress=progress)
+        with local_pool(args.workers) as pool:
+            fit = fit_by_ladder(data, base, free, seed=args.seed, progress=progress, pool=pool)
         for rung in fit.ladder:
             print(
                 f"  {'used' if rung['used'] else 'passed over'}: {MODEL_NAMES[rung['model']]}: {rung['why']}"
             )
     else:
-        fit = fit_response(data, base, free, model=model, seed=args.seed, progress=progress)
+        with local_pool(args.workers) as pool:
+            fit = fit_response(data, base, free, model=model, seed=args.seed, progress=progress, pool=pool)
     paths = write_response_fit(fit, data, base, args.out)
     by = MODEL_NAMES[fit.model]
     misfit = "chi-square" if fit.scale_known else "residual sum of squares"
@@ -259,5 +265,12 @@ def add_commands(sub) -> None:
         "parameter set's sigma and Abar",
     )
     fit.add_argument("--seed", type=int, default=0, help="seed of the fit's extra starts (default 0)")
+    fit.add_argument(
+        "--workers",
+        type=int,
+        default=1,
+        help="processes that run a frequency-response fit's starts by the orbits side by side (the same "
+        "result; default 1: one after another)",
+    )
     fit.add_argument("--out", type=out_path, required=True, help="output folder (created if missing)")
     fit.set_defaults(run=_fit)

@@ -68,16 +68,7 @@ def _pool(args):
                 cluster.threads = args.workers
             yield cluster
             return
-        workers = getattr(args, "workers", None) or 1
-        if workers <= 1:
-            yield None
-            return
-        from slosh_bif.simulation.sweep import WorkerPool
+        from slosh_bif.simulation.sweep import local_pool
 
-        pool = WorkerPool(workers)
-        try:
+        with local_pool(getattr(args, "workers", None) or 1) as pool:
             yield pool
-        except BaseException:
-            pool.stop()
-            raise
-        pool.close()

@@ -69,6 +69,7 @@ from slosh_bif.identify.response_search import (
 from slosh_bif.identify.response_stats import (
     SEARCH,
     least_squares,
+    lost_sentence,
     misfit_of,
     profile,
     search_starts,
@@ -99,11 +100,19 @@ CONTINUOUS = ("lam", "chi", "gamma", "Abar", "eps")
 
 
 def fit_response(
-    data: ResponseData, base: Params, free, *, model: str = "slowflow", seed: int = 0, progress=None
+    data: ResponseData,
+    base: Params,
+    free,
+    *,
+    model: str = "slowflow",
+    seed: int = 0,
+    progress=None,
+    pool=None,
 ) -> ResponseFit:
     """Fit ``free`` (a subset of :data:`RESPONSE_FREE`) to ``data``; the rest from ``base``.
     One-line ValueErrors for a name that cannot be fitted and for fewer points than parameters.
-    ``progress(message)`` is told of each stage (a fit per pbar, a profile per parameter)."""
+    ``progress(message)`` is told of each stage (a fit per pbar, a profile per parameter);
+    ``pool`` (an executor) runs an orbit fit's starts side by side, with the same result."""
     say = progress or (lambda message: None)
     free = tuple(dict.fromkeys(free))
     unknown = [f for f in free if f not in RESPONSE_FREE]
@@ -172,7 +181,7 @@ def fit_response(
         minima = []
         if continuous and objective.orbits is not None:
             extra = slow_flow_estimate(data, at, continuous, rng, say)
-            run, objective, minima = orbit_starts(objective, z0, rng, say, extra)
+            run, objective, minima = orbit_starts(objective, z0, rng, say, extra, pool)
         elif continuous:
             # several wall powers: a few starts each, the whole search at the best (below)
             run, minima = _search(objective, z0, rng, scale_known, SEARCH if len(candidates) == 1 else 1)
@@ -237,11 +246,17 @@ def fit_response(
             )
     if second is not None and second[0] - misfit <= float(stats.chi2.ppf(0.95, len(continuous))):
         where = ", ".join(f"{n} = {v:.4g}" for n, v in zip(continuous, second[1]))
-        note = _join(
-            note,
+        sentence = (
             f"A second minimum at {where} fits within the 95 % threshold of the best (misfit "
-            f"{second[0]:.4g} against {misfit:.4g}): the data do not decide between the two.",
+            f"{second[0]:.4g} against {misfit:.4g}): the data do not decide between the two."
         )
+        if second[0] < misfit:  # ranked below for its orbits: the one reason a lower misfit loses
+            sentence = (
+                f"A minimum at {where} with a lower misfit ({second[0]:.4g} against {misfit:.4g}) was "
+                "passed over: some of the orbits it follows are unstable, which a measured response "
+                "cannot be; the data alone do not decide between the two."
+            )
+        note = _join(note, sentence)
     estimate, correlation, identifiability = wald(objective, z, r, scale_known, len(data))
     if identifiability:
         note = _join(note, identifiability)
@@ -257,15 +272,18 @@ def fit_response(
     profiles = {}
     for k, name in enumerate(continuous):
         say(f"profile likelihood of {name}")
-        interval, rows = profile(objective, z, k, misfit, scale_known, estimate[name], rng)
+        interval, rows, lost = profile(objective, z, k, misfit, scale_known, estimate[name], rng)
         estimate[name]["profile_95"] = interval
         profiles[name] = rows
         if name == "lam" and interval[0] == 0.0:
             note = _join(
                 note, "lam's interval reaches 0: an elastic wall (kappa = 1) is consistent with the data."
             )
+        for sentence in lost_sentence(name, lost):
+            note = _join(note, sentence)
+        lost_sides = {"below" if side < 0 else "above" for side, _ in lost}
         for bound, side in zip(interval, ("below", "above")):
-            if bound is None:
+            if bound is None and side not in lost_sides:
                 reached = min(v for v, _ in rows) if side == "below" else max(v for v, _ in rows)
                 note = _join(
                     note,

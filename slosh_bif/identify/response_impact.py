@@ -10,8 +10,9 @@ while the orbit found is unstable or its A1 more than :data:`FAR` off), the poin
 orbit found that explains it best (:func:`~.assignment.pick`); Newton on the stroboscopic map
 polishes it, and the map's section is moved to the middle of the orbit's longest flight, where an
 impact does not cross it for small parameter changes. At any later set each orbit is Newton's
-from the last, stable or not, and an orbit Newton loses is reported, never replaced silently by
-another (as :mod:`.response_orbits` for (9)).
+from the last (through intermediate sets where Newton from the last misses), stable or not, and
+an orbit Newton loses is reported, never replaced silently by another (as
+:mod:`.response_orbits` for (9)).
 """
 
 from __future__ import annotations
@@ -24,7 +25,7 @@ from slosh_bif.continuation.corrector import newton_solve
 from slosh_bif.flows.impact.flow import LINEAR_PARAMETERS, WALL_PARAMETERS, ImpactFlow
 from slosh_bif.identify.assignment import pick
 from slosh_bif.identify.response_model import impact_free, impact_free_state, response_curve
-from slosh_bif.identify.response_orbits import LostOrbit
+from slosh_bif.identify.response_orbits import LostOrbit, intermediate_sets
 from slosh_bif.model.params import Params
 from slosh_bif.orbits.impact.branches import quiet_section, settled_orbit
 from slosh_bif.orbits.impact.problem import VARIANT_NAMES, ImpactOrbitProblem
@@ -120,10 +121,10 @@ class ImpactResponse:
 
     def state(self):
         """What the next call starts from (each orbit on its section), for :meth:`restore`."""
-        return list(self.x), list(self.stable)
+        return list(self.x), list(self.stable), self.params
 
     def restore(self, state) -> None:
-        self.x, self.stable = list(state[0]), list(state[1])
+        self.x, self.stable, self.params = list(state[0]), list(state[1]), state[2]
 
     def amplitudes(self, params: Params) -> np.ndarray:
         """A1 at each point's sigma for ``params``; :class:`LostOrbit` where an orbit is lost. The
@@ -132,6 +133,8 @@ class ImpactResponse:
             self._orbit(self.data.params_at(params, i), phase, x)
             for i, (phase, x) in enumerate(zip(self.phase, self.x))
         ]
+        for i in [i for i, f in enumerate(found) if f is None]:
+            found[i] = self._followed(i, params)
         lost = [s for f, s in zip(found, self.sigma) if f is None]
         if lost:
             where = ", ".join(f"{s:.4g}" for s in lost)
@@ -139,6 +142,17 @@ class ImpactResponse:
         self.x, self.stable = [f[1] for f in found], [f[3] for f in found]
         self.params = params
         return np.array([f[2] for f in found])
+
+    def _followed(self, i: int, params: Params):
+        """Point i's orbit at ``params`` followed from the last set's through the sets in between
+        (:func:`~.response_orbits.intermediate_sets`), or None."""
+        x, found = self.x[i], None
+        for at in intermediate_sets(self.params, params):
+            found = self._orbit(self.data.params_at(at, i), self.phase[i], x)
+            if found is None:
+                return None
+            x = found[1]
+        return found
 
     def differentiates(self, names) -> bool:
         """Whether :meth:`gradient` has every name: the flights' parameters, and for (8) the wall's

@@ -31,9 +31,10 @@ def _applies(model: str, free) -> str:
     return ""
 
 
-def fit_by_ladder(data, base, free, *, seed: int = 0, progress=None):
+def fit_by_ladder(data, base, free, *, seed: int = 0, progress=None, pool=None):
     """The fit by the lightest model of :data:`RUNGS` that describes ``data``, its ``ladder``
-    holding every rung tried with its verdict (the last rung's fit, flagged, where none does)."""
+    holding every rung tried with its verdict (the last rung's fit, flagged, where none does);
+    ``pool``: as for :func:`~.response_fit.fit_response`."""
     say = progress or (lambda message: None)
     rows, last = [], None
     for model in RUNGS:
@@ -45,7 +46,7 @@ def fit_by_ladder(data, base, free, *, seed: int = 0, progress=None):
         try:
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore", AsymptoticsWarning)
-                fit = fit_response(data, base, free, model=model, seed=seed, progress=progress)
+                fit = fit_response(data, base, free, model=model, seed=seed, progress=progress, pool=pool)
         except ValueError as err:  # no response to compare a point with, an orbit lost, ...
             rows.append({"model": model, "used": False, "why": str(err)})
             continue

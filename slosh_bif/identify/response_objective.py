@@ -93,6 +93,7 @@ class Objective:
         )
         self.jacobian = self._jacobian if own else None
         self._at = None  # the z the orbits were last moved to (None: the last call lost them)
+        self.lost = False  # whether the last call lost the orbits (or left the admissible set)
         ranges = admissible_ranges(base, float(np.max(data.sigma)))
         self.lower = np.array([ranges[n][0] for n in self.names])
         self.upper = np.array([ranges[n][1] for n in self.names])
@@ -109,7 +110,7 @@ class Objective:
             self.orbits.restore(state)
 
     def __call__(self, z):
-        self._at = None
+        self._at, self.lost = None, False
         try:
             if self.orbits is None:
                 return residuals(self.data, self.params(z), self.model)
@@ -117,6 +118,7 @@ class Objective:
             self._at = np.array(z, dtype=float)
             return r / self.data.std if self.data.std is not None else r
         except ValueError:  # outside the admissible set, or an orbit of (9) lost: far off
+            self.lost = self.orbits is not None
             return np.full(len(self.data), 1e3 * (1.0 + float(np.abs(self.data.A).max())))
 
     def _jacobian(self, z):

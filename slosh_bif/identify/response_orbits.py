@@ -37,7 +37,7 @@ from slosh_bif.orbits.shooting import ShootingProblem
 from slosh_bif.orbits.starts import orbit_from_slow_flow, settle_and_shoot, slow_flow_start
 from slosh_bif.slowflow.flow import AsymptoticsWarning, SlowFlow
 
-__all__ = ["OrbitResponse", "LostOrbit"]
+__all__ = ["OrbitResponse", "LostOrbit", "intermediate_sets"]
 
 SEGMENTS = 4  # arcs of each orbit's shooting problem
 NEUTRAL = 1e-8  # a multiplier this far outside the unit circle is on it (rounding)
@@ -137,11 +137,8 @@ class OrbitResponse:
     def _followed(self, i: int, params: Params):
         """Point i's orbit at ``params`` followed from the last set's through SUBSTEPS sets in
         between (the parameters that differ moved linearly), or None."""
-        last = self.params.as_dict()
-        moved = {k: v for k, v in params.as_dict().items() if v != last[k] and k not in ("n", "pbar")}
         x = self.x[i]
-        for w in np.linspace(0.0, 1.0, SUBSTEPS + 1)[1:]:
-            at = params.replace(**{k: last[k] + w * (v - last[k]) for k, v in moved.items()})
+        for at in intermediate_sets(self.params, params):
             problem = self._problems(at, only=i)
             found = _orbit(problem, x, self.sigma[i])
             if found is None:
@@ -159,6 +156,18 @@ class OrbitResponse:
         return [
             ShootingProblem(self.data.params_at(params, i), segments=SEGMENTS) for i in range(len(self.sigma))
         ]
+
+
+def intermediate_sets(last: Params, params: Params, count: int = SUBSTEPS) -> list:
+    """``count`` parameter sets from ``last`` (excluded) to ``params`` (included), the real
+    parameters that differ moved linearly: the steps an orbit is followed through where Newton
+    from the last set misses."""
+    a, b = last.as_dict(), params.as_dict()
+    moved = {k: v for k, v in b.items() if v != a[k] and k not in ("n", "pbar")}
+    return [
+        params.replace(**{k: a[k] + w * (v - a[k]) for k, v in moved.items()})
+        for w in np.linspace(0.0, 1.0, count + 1)[1:]
+    ]
 
 
 def _orbit(problem: ShootingProblem, x, sigma):

@@ -16,6 +16,7 @@ __all__ = [
     "ORBIT_SEARCH",
     "slow_flow_estimate",
     "orbit_starts",
+    "refine_start",
     "ranked_by_slow_flow",
     "runner_up",
     "minima_record",
@@ -45,16 +46,15 @@ def slow_flow_estimate(data, at: Params, continuous, rng, say):
 ORBIT_SEARCH = 2  # Latin-hypercube starts an orbit fit refines: the best by the slow flow's misfit
 
 
-def orbit_starts(objective, z0, rng, say, extra=None):
+def orbit_starts(objective, z0, rng, say, extra=None, pool=None):
     """(run, objective, minima) of the best least squares from the base values, from ``extra``
     (the slow flow's estimate) where given, and from the :data:`ORBIT_SEARCH` seeded
     Latin-hypercube starts (:func:`~.response_stats.search_starts`) that the slow flow (46) ranks
     best, each with the orbits chosen afresh at its own parameters (which orbit each point follows
     is chosen where the fit starts, and different starts reach different minima): all orbits
     stable at the end first, then the least misfit; ``minima`` the (misfit, z) of every run. A
-    start where an orbit cannot be found is skipped."""
-    best, minima = None, []
-    family = getattr(objective.orbits, "family", None)  # (9)'s, traced at the base, serves every start
+    start where an orbit cannot be found is skipped. ``pool`` (an executor: ``submit``): the starts
+    run side by side on it, with the same result as one after another (each run is deterministic)."""
     inside = spread_starts(z0, objective.lower, objective.upper, factors=(1.0,))
     starts = inside + (
         spread_starts(extra, objective.lower, objective.upper, factors=(1.0,)) if extra is not None else []
@@ -62,21 +62,40 @@ def orbit_starts(objective, z0, rng, say, extra=None):
     starts += ranked_by_slow_flow(objective, search_starts(z0, objective.lower, objective.upper, rng))[
         :ORBIT_SEARCH
     ]
-    for k, start in enumerate(starts):
-        try:
-            here = objective
-            if k > 0:
-                params = objective.params(start)
-                here = Objective(objective.data, params, objective.names, objective.model, say, family)
-        except LostOrbit:
+    if pool is None:
+        outcomes = [refine_start(objective, start, k > 0, say) for k, start in enumerate(starts)]
+    else:
+        say(f"{len(starts)} starts side by side")
+        futures = [pool.submit(refine_start, objective, start, k > 0) for k, start in enumerate(starts)]
+        outcomes = [future.result() for future in futures]
+    best, minima = None, []
+    for outcome in outcomes:
+        if outcome is None:
             continue
-        run = least_squares(here, start, rng, starts=1)
-        here(run.x)  # the orbits at the run's end
+        run, here = outcome
         minima.append((misfit_of(run.fun, objective.data.std is not None), run.x))
         key = (not all(here.orbits.stable), run.cost)
         if best is None or key < best[0]:
             best = (key, run, here)
     return best[1], best[2], minima
+
+
+def refine_start(objective, start, afresh: bool, say=None):
+    """(run, objective at the run's end) of the least squares from ``start``, the orbits chosen
+    afresh at the start's parameters where ``afresh`` ((9)'s family, traced at the base, serves
+    every start); None where no orbit is found there."""
+    here = objective
+    if afresh:
+        family = getattr(objective.orbits, "family", None)
+        try:
+            here = Objective(
+                objective.data, objective.params(start), objective.names, objective.model, say, family
+            )
+        except LostOrbit:
+            return None
+    run = least_squares(here, start, np.random.default_rng(0), starts=1)  # one start: no draw
+    here(run.x)  # the orbits at the run's end
+    return run, here
 
 
 def ranked_by_slow_flow(objective, starts) -> list:

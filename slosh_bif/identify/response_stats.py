@@ -23,6 +23,7 @@ __all__ = [
     "least_squares",
     "wald",
     "profile",
+    "lost_sentence",
 ]
 
 CHI2_95 = 3.841458820694124  # chi-square(1) 95 % quantile: the profile's threshold
@@ -167,21 +168,32 @@ def profile(objective, z, k, best, scale_known, estimate, rng):
     """The 95 % profile-likelihood interval of parameter k: held at values stepping away from the
     estimate (a fifth of its value or three quarters of its standard error, the smaller, growing
     by half each step), the others refitted (each from the last: the valley may curve), until the
-    misfit rises past 3.84, the crossing then located by Brent; (interval, rows of (value, rise)).
-    A side that reaches the parameter's range end first ends there (lam: 0, an elastic wall); one
-    that reaches neither in PROFILE_STEPS steps is None: the data do not bound it there."""
+    misfit rises past 3.84, the crossing then located by Brent; (interval, rows of (value, rise),
+    lost). A side that reaches the parameter's range end first ends there (lam: 0, an elastic
+    wall); one that reaches neither in PROFILE_STEPS steps is None: the data do not bound it there.
+    A side whose refit ends where the objective has lost its model (``objective.lost``: the orbits
+    it follows) is None too, and ``lost`` holds (side, held value) of it: no misfit was found there,
+    so no bound either."""
     others = [j for j in range(len(z)) if j != k]
 
     def rise_at(held, start):
         sub = _Held(objective, z, k, held)
         fit = least_squares(sub, start, rng, starts=1) if others else None
         r = sub(fit.x) if fit is not None else sub(np.zeros(0))
+        if getattr(objective, "lost", False):
+            return None, start
         rows.append((float(held), misfit_of(r, scale_known) - best))
         return rows[-1][1], (fit.x if fit is not None else start)
 
+    def excess(held, origin):
+        rise = rise_at(held, origin)[0]
+        if rise is None:  # lost inside the bracket: the chord instead
+            raise ValueError("the model is lost inside the bracket")
+        return rise - CHI2_95
+
     # at a range end (lam = 0) the value sets no scale: then a thousandth of the standard error
     first = max(min(0.75 * estimate["std"], 0.2 * abs(z[k])), 1e-3 * max(estimate["std"], abs(z[k]), 1e-6))
-    rows, bounds = [(float(z[k]), 0.0)], []
+    rows, bounds, lost = [(float(z[k]), 0.0)], [], []
     # an objective with a state (the orbits it follows) starts each side from the estimate's
     home = objective.save() if hasattr(objective, "save") else None
     for side, end in ((-1.0, objective.lower[k]), (1.0, objective.upper[k])):
@@ -194,17 +206,30 @@ def profile(objective, z, k, best, scale_known, estimate, rng):
             at_end = side * (held - end) >= 0
             held = end if at_end else held
             rise, start = rise_at(held, start)
+            if rise is None:
+                lost.append((side, float(held)))
+                break
             if rise >= CHI2_95:
-                found = _crossing(
-                    lambda h, origin=previous[2]: rise_at(h, origin)[0] - CHI2_95, previous, held, rise, z[k]
-                )
+                found = _crossing(lambda h, origin=previous[2]: excess(h, origin), previous, held, rise, z[k])
                 break
             if at_end:
                 found = _at_end(held, end) if side < 0 else held
                 break
             previous = (held, rise, start)
         bounds.append(None if found is None or not np.isfinite(found) else float(found))
-    return bounds, sorted(rows)
+    if home is not None:
+        objective.restore(home)
+    return bounds, sorted(rows), lost
+
+
+def lost_sentence(name: str, lost) -> list:
+    """What a profile's ``lost`` sides mean, one sentence each."""
+    return [
+        f"{name}'s profile stops at {name} = {held:.4g} ({'below' if side < 0 else 'above'} the estimate), "
+        "where the model's orbits followed from the estimate are lost: the 95 % bound on that side is "
+        "not known (reported as none)."
+        for side, held in lost
+    ]
 
 
 def _crossing(excess, previous, held, rise, scale) -> float:

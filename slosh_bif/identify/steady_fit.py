@@ -28,7 +28,14 @@ from slosh_bif.identify.response_objective import admissible_ranges
 from slosh_bif.identify.response_orbits import LostOrbit
 from slosh_bif.identify.response_result import MODEL_NAMES, ORBIT_MODELS, ResponseFit
 from slosh_bif.identify.response_search import minima_record, runner_up
-from slosh_bif.identify.response_stats import least_squares, misfit_of, profile, spread_starts, wald
+from slosh_bif.identify.response_stats import (
+    least_squares,
+    lost_sentence,
+    misfit_of,
+    profile,
+    spread_starts,
+    wald,
+)
 from slosh_bif.identify.steady_record import RecordOrbit, SteadyRecord
 from slosh_bif.model.params import Params
 from slosh_bif.slowflow.flow import AsymptoticsWarning
@@ -71,6 +78,7 @@ class _Objective:
         self.jacobian = self._jacobian if self.orbit.differentiates(self.names) else None
         self.lower, self.upper = _bounds(base, self.names)
         self._at = None  # the z the orbit was last moved to (None: the last call lost it)
+        self.lost = False  # whether the last call lost the orbit (or left the admissible set)
 
     def params(self, z) -> Params:
         return self.base.replace(**{n: float(v) for n, v in zip(self.names, z)})
@@ -82,12 +90,12 @@ class _Objective:
         self.orbit.restore(state)
 
     def __call__(self, z):
-        self._at = None
+        self._at, self.lost = None, True
         try:
             X = self.orbit.samples(self.params(z))
         except (ValueError, RuntimeError):  # outside the admissible set, or the orbit lost: far off
             return np.full(len(self.record), 1e3 * (1.0 + float(np.abs(self.record.X).max())))
-        self._at = np.array(z, dtype=float)
+        self._at, self.lost = np.array(z, dtype=float), False
         r = self.record.X - X
         return r / self.record.std if self.record.std is not None else r
 
@@ -206,11 +214,13 @@ def _result(record, free, names, model, note, best, minima, rng, say) -> SteadyF
     profiles = {}
     for k, name in enumerate(names):
         say(f"profile likelihood of {name}")
-        interval, rows = profile(objective, z, k, misfit, scale_known, estimate[name], rng)
+        interval, rows, lost = profile(objective, z, k, misfit, scale_known, estimate[name], rng)
         estimate[name]["profile_95"] = interval
         profiles[name] = rows
+        sentences += lost_sentence(name, lost)
+        lost_sides = {"lower" if side < 0 else "upper" for side, _ in lost}
         for bound, end, side in zip(interval, (objective.lower[k], objective.upper[k]), ("lower", "upper")):
-            if bound is None:
+            if bound is None and side not in lost_sides:
                 sentences.append(f"The record does not bound {name} on its {side} side.")
             elif np.isfinite(end) and end > 1e-9 and abs(bound - end) <= 1e-6 * abs(end):
                 sentences.append(

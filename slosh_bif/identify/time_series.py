@@ -243,7 +243,7 @@ def fit_time_series(
     for k, name in enumerate(objective.names):
         if name in NUISANCE:  # their Wald intervals only: the profiles cost as much again
             continue
-        interval, rows = profile(objective, run.x, k, misfit, scale_known, estimate[name], rng)
+        interval, rows, _ = profile(objective, run.x, k, misfit, scale_known, estimate[name], rng)
         estimate[name]["profile_95"] = interval
         profiles[name] = rows
     values = {n: float(v) for n, v in zip(objective.names, run.x)}

@@ -10,12 +10,13 @@ once, cancels what a cluster has not started, and returns what was done.
 
 from __future__ import annotations
 
+import contextlib
 from concurrent.futures import ProcessPoolExecutor, as_completed
 
 from slosh_bif.report.files import Resume
 from slosh_bif.simulation.settings import LOCAL, Workers
 
-__all__ = ["WorkerPool", "ClusterExecutor", "run_cells", "worker_setup"]
+__all__ = ["WorkerPool", "ClusterExecutor", "local_pool", "run_cells", "worker_setup"]
 
 
 def worker_setup(pids=None) -> None:
@@ -85,6 +86,22 @@ class WorkerPool:
                 os.kill(self._pids.get(), signal.SIGKILL)
             except ProcessLookupError:  # already ended
                 pass
+
+
+@contextlib.contextmanager
+def local_pool(workers: int):
+    """Local worker processes for ``workers`` above 1 (stopped at once when the block is left by an
+    exception: Ctrl-C, SIGTERM; else closed once their work is done), or None (this process)."""
+    if workers <= 1:
+        yield None
+        return
+    pool = WorkerPool(workers)
+    try:
+        yield pool
+    except BaseException:
+        pool.stop()
+        raise
+    pool.close()
 
 
 class ClusterExecutor:

@@ -3,6 +3,8 @@ harmonic's quadrature against an adaptive integral, recovery from points of (8)'
 (another code path: pseudo-arclength continuation, and A1 by the plain trapezoid on a 40 times
 finer sample), the slow flow's bias on the same data, and the refusals."""
 
+import json
+
 import numpy as np
 import pytest
 from scipy import integrate
@@ -94,6 +96,15 @@ def test_slosh_bif_fit_by_the_impact_model_and_its_refusals(tmp_path, capsys):
     )
     assert code == 0 and (out / "fit.json").exists() and (out / "fit.png").exists()
     assert "the orbits of the vibro-impact model (8)" in capsys.readouterr().out
+    # the starts side by side on two processes: the fit run one start after another
+    side = tmp_path / "side"
+    args = ["fit", "--preset", "fig10", "--data", str(data), "--free", "gamma", "--model", "impact"]
+    assert main(args + ["--workers", "2", "--out", str(side)]) == 0
+    one, two = (json.loads((folder / "fit.json").read_text()) for folder in (out, side))
+    assert two["estimate"] == one["estimate"] and two["minima"] == one["minima"]
+    capsys.readouterr()
+    assert main(args + ["--workers", "0", "--out", str(side)]) == 2
+    assert "--workers takes an integer in [1, 256]; got 0" in capsys.readouterr().err
     with pytest.raises(ValueError, match="n and pbar are profiled by the slow flows only"):
         fit_response(ResponseData(sigma, sigma, None, (), "x"), TRUTH, ["pbar", "gamma"], model="impact")
     with pytest.raises(ValueError, match="eps does not enter"):

@@ -24,7 +24,7 @@ SMOOTH = get_preset("fig10").params.replace(eps=0.04, beta=0.1, n=20, lam=0.4, g
 IMPACT = get_preset("fig10").params.replace(
     eps=0.03, beta=0.2, n=30, lam=0.3, gamma=0.25, Abar=2.5, sigma=3.0
 )
-TAU = np.arange(96) * (2 * np.pi / 48)  # two forcing periods, 48 samples each
+TAU = np.arange(144) * (2 * np.pi / 48)  # three forcing periods, 48 samples each
 
 
 @pytest.fixture(autouse=True)
@@ -45,11 +45,11 @@ def smooth_record():
 
 @pytest.fixture(scope="module")
 def impact_record():
-    """(8) settled from rest by the compiled flow (600 periods), then two periods by the expm event
+    """(8) settled from rest by the compiled flow (600 periods), then three periods by the expm event
     loop (scipy backend), X at TAU by the flight's expm from the loop's last sample before each."""
     t0 = 600 * 2 * np.pi
     y = simulate_impact(IMPACT, np.zeros(4), (0.0, t0), backend="numba").y[:, -1]
-    run = simulate_impact(IMPACT, y, (t0, t0 + 2 * np.pi * 2), backend="scipy")
+    run = simulate_impact(IMPACT, y, (t0, t0 + 2 * np.pi * 3), backend="scipy")
     K = ImpactModel(IMPACT).augmented()
     X = []
     for t in t0 + TAU:
@@ -57,7 +57,7 @@ def impact_record():
         z = np.concatenate([run.y[:, k], [np.cos(run.t[k]), np.sin(run.t[k])]])
         X.append((expm(K * (t - run.t[k])) @ z)[0])
     X = np.array(X)
-    assert np.abs(X[:48] - X[48:]).max() < 1e-6  # a 2pi-orbit: settled
+    assert np.abs(X[:96] - X[48:]).max() < 1e-6  # a 2pi-orbit: settled
     return SteadyRecord(TAU, X, None, "expm")
 
 
@@ -106,8 +106,9 @@ def _noisy(record, seed, level=0.01):
 
 
 def test_a_wrong_wall_power_is_said_not_to_fit(smooth_record):
-    """The record of n = 20 fitted with n = 50 held: the chi-square's p-value below 1e-3."""
-    fit = fit_steady_record(_noisy(smooth_record, 1), SMOOTH.replace(n=50), ["lam", "gamma"])
+    """The record of n = 20 with 1 % noise fitted with n = 50 held: lam and gamma absorb much of
+    it (lam 0.03, gamma 0.38), not all: the chi-square's p-value below 1e-3."""
+    fit = fit_steady_record(_noisy(smooth_record, 0), SMOOTH.replace(n=50), ["lam", "gamma"])
     assert not fit.describes and "does not describe" in fit.goodness.statement
 
 
