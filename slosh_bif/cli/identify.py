@@ -109,13 +109,15 @@ def _fit_steady(args) -> int:
     from slosh_bif.identify.steady_fit import STEADY_FREE, fit_steady_record
     from slosh_bif.identify.steady_output import write_steady_fit
     from slosh_bif.identify.steady_record import read_steady_record
+    from slosh_bif.simulation.sweep import local_pool
 
     free = _free(args, STEADY_FREE, "a settled forced record")
     base = params_of(args)
     record = read_steady_record(args.data)
-    fit = fit_steady_record(
-        record, base, free, model=args.model or "smooth", seed=args.seed, progress=progress
-    )
+    with local_pool(args.workers) as pool:
+        fit = fit_steady_record(
+            record, base, free, model=args.model or "smooth", seed=args.seed, progress=progress, pool=pool
+        )
     paths = write_steady_fit(fit, record, base, args.out)
     misfit = "chi-square" if fit.scale_known else "residual sum of squares"
     return _report(
@@ -269,8 +271,8 @@ def add_commands(sub) -> None:
         "--workers",
         type=int,
         default=1,
-        help="processes that run a frequency-response fit's starts by the orbits side by side (the same "
-        "result; default 1: one after another)",
+        help="processes that run an orbit fit's starts and profiles side by side (a frequency response or "
+        "a settled record; the same result; default 1: one after another)",
     )
     fit.add_argument("--out", type=out_path, required=True, help="output folder (created if missing)")
     fit.set_defaults(run=_fit)

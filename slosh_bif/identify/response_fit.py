@@ -71,7 +71,7 @@ from slosh_bif.identify.response_stats import (
     least_squares,
     lost_sentence,
     misfit_of,
-    profile,
+    profile_all,
     search_starts,
     wald,
 )
@@ -270,9 +270,10 @@ def fit_response(
                     "say) is not the data's; its Wald interval does not hold there.",
                 )
     profiles = {}
-    for k, name in enumerate(continuous):
-        say(f"profile likelihood of {name}")
-        interval, rows, lost = profile(objective, z, k, misfit, scale_known, estimate[name], rng)
+    outcomes = profile_all(
+        objective, z, list(enumerate(continuous)), misfit, scale_known, estimate, rng, pool=pool, say=say
+    )
+    for name, (interval, rows, lost) in zip(continuous, outcomes):
         estimate[name]["profile_95"] = interval
         profiles[name] = rows
         if name == "lam" and interval[0] == 0.0:

@@ -32,7 +32,7 @@ from slosh_bif.identify.response_stats import (
     least_squares,
     lost_sentence,
     misfit_of,
-    profile,
+    profile_all,
     spread_starts,
     wald,
 )
@@ -40,7 +40,7 @@ from slosh_bif.identify.steady_record import RecordOrbit, SteadyRecord
 from slosh_bif.model.params import Params
 from slosh_bif.slowflow.flow import AsymptoticsWarning
 
-__all__ = ["STEADY_FREE", "SPREAD", "SteadyFit", "fit_steady_record"]
+__all__ = ["STEADY_FREE", "SPREAD", "SteadyFit", "fit_steady_record", "refine_start"]
 
 STEADY_FREE = ("lam", "chi", "gamma", "Abar", "eps")
 SPREAD = (1.0, 0.6, 1.6)  # the starts: the given values scaled by these
@@ -118,10 +118,18 @@ def _bounds(base: Params, names) -> tuple:
 
 
 def fit_steady_record(
-    record: SteadyRecord, base: Params, free, *, model: str = "smooth", seed: int = 0, progress=None
+    record: SteadyRecord,
+    base: Params,
+    free,
+    *,
+    model: str = "smooth",
+    seed: int = 0,
+    progress=None,
+    pool=None,
 ) -> SteadyFit:
     """Fit ``free`` (of :data:`STEADY_FREE`) to a settled ``record`` at ``base``'s sigma and Abar
-    by the orbits of ``model`` (smooth, impact, impact-corrected); the rest from ``base``."""
+    by the orbits of ``model`` (smooth, impact, impact-corrected); the rest from ``base``.
+    ``pool`` (an executor): the starts and the profiles side by side, with the same result."""
     say = progress or (lambda message: None)
     free = tuple(dict.fromkeys(free))
     if not free or any(f not in STEADY_FREE for f in free):
@@ -154,21 +162,23 @@ def fit_steady_record(
     z0 = np.array([getattr(base, n) for n in names], dtype=float)
     lower, upper = _bounds(base, names)
     best, minima = None, []
+    starts = spread_starts(z0, lower, upper, factors=SPREAD)
+    say(f"{MODEL_NAMES[model]}: least squares from {'; '.join(_show(names, start) for start in starts)}")
+    if pool is None:
+        outcomes = [refine_start(record, base, names, model, start) for start in starts]
+    else:
+        futures = [pool.submit(refine_start, record, base, names, model, start) for start in starts]
+        outcomes = [future.result() for future in futures]
+    for outcome in outcomes:
+        if outcome is None:  # no orbit to follow from that start
+            continue
+        run, objective = outcome
+        minima.append((misfit_of(run.fun, scale_known), run.x))
+        key = (not objective.orbit.stable, run.cost)
+        if best is None or key < best[0]:
+            best = (key, run, objective)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", AsymptoticsWarning)
-        for start in spread_starts(z0, lower, upper, factors=SPREAD):
-            say(f"{MODEL_NAMES[model]}: least squares from {_show(names, start)}")
-            try:
-                objective = _Objective(record, base.replace(**dict(zip(names, start))), names, model)
-            except (LostOrbit, ValueError, RuntimeError) as err:
-                say(f"no orbit to follow there ({err}); start skipped")
-                continue
-            run = least_squares(objective, start, rng, starts=1)
-            objective(run.x)  # the orbit at the run's end
-            minima.append((misfit_of(run.fun, scale_known), run.x))
-            key = (not objective.orbit.stable, run.cost)
-            if best is None or key < best[0]:
-                best = (key, run, objective)
         if best is None:
             raise LostOrbit(
                 f"no 2pi-orbit of {MODEL_NAMES[model]} found to follow at sigma = {base.sigma:.6g} from "
@@ -188,11 +198,30 @@ def fit_steady_record(
             objective, run = fresh, least_squares(fresh, z, rng, starts=1)
             z, r = run.x, fresh(run.x)
             misfit = misfit_of(r, scale_known)
-        return _result(record, free, names, model, note, (run, objective, z, r, misfit), minima, rng, say)
+        return _result(
+            record, (free, names, model, note), (run, objective, z, r, misfit), minima, rng, (say, pool)
+        )
 
 
-def _result(record, free, names, model, note, best, minima, rng, say) -> SteadyFit:
-    """The estimate's statistics: Wald, profiles, the runner-up, goodness, the orbit."""
+def refine_start(record: SteadyRecord, base: Params, names, model: str, start):
+    """(run, objective at its end) of the least squares from ``start``, the orbit chosen afresh at
+    the start's parameters; None where no orbit is found there."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", AsymptoticsWarning)
+        try:
+            objective = _Objective(record, base.replace(**dict(zip(names, start))), names, model)
+        except (LostOrbit, ValueError, RuntimeError):
+            return None
+        run = least_squares(objective, start, np.random.default_rng(0), starts=1)  # one start: no draw
+        objective(run.x)  # the orbit at the run's end
+    return run, objective
+
+
+def _result(record, what, best, minima, rng, tell) -> SteadyFit:
+    """The estimate's statistics: Wald, profiles, the runner-up, goodness, the orbit (``what``: the
+    free names, those fitted, the model and the note so far; ``tell``: progress and pool)."""
+    free, names, model, note = what
+    say, pool = tell
     run, objective, z, r, misfit = best
     scale_known = record.std is not None
     sentences = [note] if note else []
@@ -212,9 +241,10 @@ def _result(record, free, names, model, note, best, minima, rng, say) -> SteadyF
     if rank_note:
         sentences.append(rank_note)
     profiles = {}
-    for k, name in enumerate(names):
-        say(f"profile likelihood of {name}")
-        interval, rows, lost = profile(objective, z, k, misfit, scale_known, estimate[name], rng)
+    outcomes = profile_all(
+        objective, z, list(enumerate(names)), misfit, scale_known, estimate, rng, pool=pool, say=say
+    )
+    for k, (name, (interval, rows, lost)) in enumerate(zip(names, outcomes)):
         estimate[name]["profile_95"] = interval
         profiles[name] = rows
         sentences += lost_sentence(name, lost)

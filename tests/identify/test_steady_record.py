@@ -134,6 +134,9 @@ def test_slosh_bif_fit_a_settled_record_and_its_refusals(tmp_path, smooth_record
     assert gamma["profile_95"][0] < SMOOTH.gamma < gamma["profile_95"][1]
     assert record["record"] == "steady" and record["orbit_stable"] and len(record["orbit"]["X"]) == 257
     assert (out / "fit.png").is_file() and (out / "params.toml").is_file()
+    side = tmp_path / "side"  # the starts and the profile on two processes: the same fit
+    assert main(args + ["--free", "gamma", "--workers", "2", "--out", str(side)]) == 0
+    assert json.loads((side / "fit.json").read_text())["estimate"] == record["estimate"]
     capsys.readouterr()
     for extra, message in (
         (["--free", "n"], "--free takes a comma-separated subset of lam, chi, gamma, Abar, eps"),
