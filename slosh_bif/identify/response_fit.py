@@ -72,6 +72,7 @@ from slosh_bif.identify.response_stats import (
     lost_sentence,
     misfit_of,
     profile_all,
+    range_end_sentences,
     search_starts,
     wald,
 )
@@ -260,15 +261,8 @@ def fit_response(
     estimate, correlation, identifiability = wald(objective, z, r, scale_known, len(data))
     if identifiability:
         note = _join(note, identifiability)
-    for k, name in enumerate(continuous):
-        for end, side in ((objective.lower[k], "lower"), (objective.upper[k], "upper")):
-            if name != "lam" and np.isfinite(end) and abs(z[k] - end) <= 1e-6 * (1.0 + abs(end)):
-                note = _join(
-                    note,
-                    f"{name} = {z[k]:.4g} sits at the {side} end of its admissible range: the data push "
-                    "it beyond what the model allows, a sign that a parameter held fixed (the wall's n, "
-                    "say) is not the data's; its Wald interval does not hold there.",
-                )
+    for sentence in range_end_sentences(objective, continuous, z):
+        note = _join(note, sentence)
     profiles = {}
     outcomes = profile_all(
         objective, z, list(enumerate(continuous)), misfit, scale_known, estimate, rng, pool=pool, say=say

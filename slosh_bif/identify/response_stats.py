@@ -25,6 +25,7 @@ __all__ = [
     "profile",
     "profile_all",
     "lost_sentence",
+    "range_end_sentences",
 ]
 
 CHI2_95 = 3.841458820694124  # chi-square(1) 95 % quantile: the profile's threshold
@@ -239,6 +240,26 @@ def profile_all(objective, z, which, best, scale_known, estimate, rng, *, pool=N
         pool.submit(profile, objective, z, k, best, scale_known, estimate[name], rng) for k, name in which
     ]
     return [future.result() for future in futures]
+
+
+def range_end_sentences(objective, names, z) -> list:
+    """A sentence for each estimate at an end of its admissible range (``objective.lower``,
+    ``upper``), but lam's lower end (an elastic wall, physical)."""
+    out = []
+    for k, name in enumerate(names):
+        for end, side in ((objective.lower[k], "lower"), (objective.upper[k], "upper")):
+            if (
+                (name, side) != ("lam", "lower")
+                and np.isfinite(end)
+                and abs(z[k] - end) <= 1e-6 * (1.0 + abs(end))
+            ):
+                out.append(
+                    f"{name} = {z[k]:.4g} sits at the {side} end of its admissible range: the data push "
+                    "it beyond what the model allows, a sign that a parameter held fixed (the wall's n, "
+                    "say) is not the data's, or (eps at 0: the slow flow's limit) that the data cannot "
+                    "tell it; no interval, Wald or profile, is to be trusted from an estimate there."
+                )
+    return out
 
 
 def lost_sentence(name: str, lost) -> list:

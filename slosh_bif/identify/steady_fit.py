@@ -33,6 +33,7 @@ from slosh_bif.identify.response_stats import (
     lost_sentence,
     misfit_of,
     profile_all,
+    range_end_sentences,
     spread_starts,
     wald,
 )
@@ -236,6 +237,7 @@ def _result(record, what, best, minima, rng, tell) -> SteadyFit:
             f"A second minimum at {_show(names, second[1])} fits within the 95 % threshold of the best "
             f"(misfit {second[0]:.4g} against {misfit:.4g}): the record does not decide between the two."
         )
+    sentences += range_end_sentences(objective, names, z)
     objective(z)
     estimate, correlation, rank_note = wald(objective, z, r, scale_known, len(record))
     if rank_note:
@@ -252,7 +254,9 @@ def _result(record, what, best, minima, rng, tell) -> SteadyFit:
         for bound, end, side in zip(interval, (objective.lower[k], objective.upper[k]), ("lower", "upper")):
             if bound is None and side not in lost_sides:
                 sentences.append(f"The record does not bound {name} on its {side} side.")
-            elif np.isfinite(end) and end > 1e-9 and abs(bound - end) <= 1e-6 * abs(end):
+            elif (
+                bound is not None and np.isfinite(end) and end > 1e-9 and abs(bound - end) <= 1e-6 * abs(end)
+            ):
                 sentences.append(
                     f"{name}'s profile reaches the {side} end of its admissible range ({end:.4g}) within "
                     "3.84: the record does not bound it there."
