@@ -3,12 +3,17 @@
 lam = 0.4, gamma = 0.25, sigma = -1, simulated by scipy's DOP853 on (9) (not the package's
 integrator) from rest until one period's map moves the state by less than 1e-9, then three
 forcing periods sampled 48 times each, with 1 % of the record's amplitude as Gaussian noise
-(seeded) and that std in a column.
+(seeded) and that std in a column. With ``--sigmas`` a record at each of several forcing
+frequencies, with a sigma column (the noise 1 % of the largest amplitude among them).
 
     python examples/steady_record.py --out docs/identify/steady/record.csv
     slosh-bif fit --preset fig10 --set eps=0.06 --set beta=0.1 --set n=20 --set lam=0.6 \
         --set gamma=0.15 --set sigma=-1 --data docs/identify/steady/record.csv --record steady \
         --free lam,gamma,eps --out docs/identify/steady/fit
+    python examples/steady_record.py --sigmas=-1,0.6 --out docs/identify/steady/two/record.csv
+    slosh-bif fit --preset fig10 --set eps=0.06 --set beta=0.1 --set n=20 --set lam=0.6 \
+        --set gamma=0.15 --data docs/identify/steady/two/record.csv --record steady \
+        --free lam,gamma,eps --out docs/identify/steady/two/fit
 """
 
 from __future__ import annotations
@@ -45,17 +50,29 @@ def settled_record(params, periods=PERIODS, samples=SAMPLES, most=2000):
 
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", type=Path, required=True, help="CSV to write (tau, X, std)")
+    parser.add_argument("--out", type=Path, required=True, help="CSV to write (tau, X, std[, sigma])")
     parser.add_argument("--seed", type=int, default=0, help="seed of the noise (default 0)")
+    parser.add_argument(
+        "--sigmas",
+        default=None,
+        help="comma-separated forcing frequencies: a record at each (default: -1 alone)",
+    )
     args = parser.parse_args(argv)
+    sigmas = [float(text) for text in args.sigmas.split(",")] if args.sigmas else [TRUTH["sigma"]]
     params = get_preset("fig10").params.replace(**TRUTH)
-    tau, X, settled = settled_record(params)
-    std = float(NOISE * np.abs(X).max())
-    noisy = X + np.random.default_rng(args.seed).normal(0.0, std, size=len(X))
+    records = [settled_record(params.replace(sigma=sigma)) for sigma in sigmas]
+    std = float(NOISE * max(np.abs(X).max() for _, X, _ in records))
+    rng = np.random.default_rng(args.seed)
+    column = len(sigmas) > 1 or args.sigmas is not None
+    rows = []
+    for sigma, (tau, X, settled) in zip(sigmas, records):
+        noisy = X + rng.normal(0.0, std, size=len(X))
+        tail = f",{sigma!r}" if column else ""
+        rows += [f"{float(t)!r},{float(x)!r},{std!r}{tail}\n" for t, x in zip(tau, noisy)]
+        print(f"sigma = {sigma:g}: {len(tau)} samples after {settled} periods")
     args.out.parent.mkdir(parents=True, exist_ok=True)
-    rows = "".join(f"{float(t)!r},{float(x)!r},{std!r}\n" for t, x in zip(tau, noisy))
-    args.out.write_text("tau,X,std\n" + rows)
-    print(f"wrote {args.out}: {len(tau)} samples after {settled} periods; truth {TRUTH}")
+    args.out.write_text("tau,X,std" + (",sigma" if column else "") + "\n" + "".join(rows))
+    print(f"wrote {args.out}; truth {TRUTH | {'sigma': sigmas}}")
     return 0
 
 

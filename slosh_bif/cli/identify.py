@@ -120,10 +120,13 @@ def _fit_steady(args) -> int:
         )
     paths = write_steady_fit(fit, record, base, args.out)
     misfit = "chi-square" if fit.scale_known else "residual sum of squares"
+    sigmas = [curve["sigma"] for curve in fit.orbits]
+    what = f"{len(sigmas)} settled records (sigma = {', '.join(f'{x:g}' for x in sigmas)})"
     return _report(
         fit,
         paths,
-        f"{fit.points} samples of a settled record, {fit.as_dict()['model'].split(' by ')[1]}: {misfit} "
+        f"{fit.points} samples of {what if len(sigmas) > 1 else 'a settled record'}, "
+        f"{fit.as_dict()['model'].split(' by ')[1]}: {misfit} "
         f"{_sum_of_squares(fit):.4g}, rms residual {fit.rms:.3g}" + _goodness_line(fit),
     )
 
@@ -230,7 +233,8 @@ def add_commands(sub) -> None:
         "optionally std and sweep (up or down): a frequency response (or f_hz, A_m[, std_m, sweep] in "
         "Hz and metres with --params TANK_FILE); tau, A[, std] (the envelope) or tau, X (the vessel's "
         "displacement): a free decay or, with --record forced, a forced transient, or with --record "
-        "steady (tau, X[, std]) a settled forced record; or v0 (incoming "
+        "steady (tau, X[, std, sigma]) a settled forced record (with sigma: one at each frequency, fitted "
+        "together); or v0 (incoming "
         "speed), v_out (outgoing speed) and optionally std: impact records",
     )
     add_params_options(fit)
@@ -264,7 +268,7 @@ def add_commands(sub) -> None:
         help="for a record in time (tau, A or tau, X): a free decay (default) or a forced transient, by "
         "the slow flow (45), or steady: a settled forced record (tau, X[, std], tau the forcing's phase) "
         "by the orbit of --model smooth (default; eq. 9), impact (8) or impact-corrected, at the "
-        "parameter set's sigma and Abar",
+        "parameter set's sigma (or the file's sigma column: records at several frequencies) and Abar",
     )
     fit.add_argument("--seed", type=int, default=0, help="seed of the fit's extra starts (default 0)")
     fit.add_argument(

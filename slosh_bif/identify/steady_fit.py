@@ -2,7 +2,8 @@
 2pi-orbit of the full model it follows: of the smooth model (9) or of the vibro-impact model (8)
 (:mod:`.steady_record`). Each sample is compared with the orbit at the sample's phase, so the
 record's whole shape speaks (the harmonics the impacts put in it), not its amplitude alone; eps
-enters, as it does the orbits of (9) and (8).
+enters, as it does the orbits of (9) and (8). Records at several forcing frequencies (a file with a
+sigma column) are fitted together, each sample by its own frequency's orbit.
 
 The least squares runs within the parameters' admissible ranges
 (:func:`~.response_objective.admissible_ranges`) from the given values and from them scaled by
@@ -37,7 +38,7 @@ from slosh_bif.identify.response_stats import (
     spread_starts,
     wald,
 )
-from slosh_bif.identify.steady_record import RecordOrbit, SteadyRecord
+from slosh_bif.identify.steady_record import RecordOrbits, SteadyRecord
 from slosh_bif.model.params import Params
 from slosh_bif.slowflow.flow import AsymptoticsWarning
 
@@ -51,11 +52,11 @@ CURVE = 256  # phases of the fitted orbit kept in fit.json
 
 @dataclasses.dataclass(frozen=True)
 class SteadyFit(ResponseFit):
-    """A fitted settled record: as a :class:`~.response_result.ResponseFit`, with the ``orbit``
-    at the estimate over one period (phases and X), whether it is ``stable`` and the
-    ``candidates`` (A1, stable) among which it was chosen."""
+    """A fitted settled record: as a :class:`~.response_result.ResponseFit`, with the ``orbits``
+    at the estimate over one period (each record's: sigma, phases, X, stable), whether all are
+    ``stable`` and the ``candidates`` (sigma, A1, stable) among which each was chosen."""
 
-    orbit: dict = dataclasses.field(default_factory=dict)
+    orbits: list = dataclasses.field(default_factory=list)
     stable: bool = True
     candidates: list = dataclasses.field(default_factory=list)
 
@@ -63,7 +64,7 @@ class SteadyFit(ResponseFit):
         return super().as_dict() | {
             "model": f"a settled forced record by {MODEL_NAMES[self.model]} (model {self.model!r})",
             "record": "steady",
-            "orbit": self.orbit,
+            "orbits": self.orbits,
             "orbit_stable": self.stable,
             "candidates": [list(c) for c in self.candidates],
         }
@@ -74,10 +75,10 @@ class _Objective:
 
     def __init__(self, record: SteadyRecord, base: Params, names, model: str, progress=None):
         self.record, self.base, self.names, self.model = record, base, tuple(names), model
-        self.orbit = RecordOrbit(record, base, model, progress)
+        self.orbit = RecordOrbits(record, base, model, progress)
         self.diff_step = 1e-6
         self.jacobian = self._jacobian if self.orbit.differentiates(self.names) else None
-        self.lower, self.upper = _bounds(base, self.names)
+        self.lower, self.upper = _bounds(base, self.names, max(self.orbit.sigmas))
         self._at = None  # the z the orbit was last moved to (None: the last call lost it)
         self.lost = False  # whether the last call lost the orbit (or left the admissible set)
 
@@ -113,8 +114,8 @@ class _Objective:
         return J / self.record.std[:, None] if self.record.std is not None else J
 
 
-def _bounds(base: Params, names) -> tuple:
-    ranges = admissible_ranges(base, base.sigma)
+def _bounds(base: Params, names, sigma_top: float) -> tuple:
+    ranges = admissible_ranges(base, sigma_top)
     return np.array([ranges[n][0] for n in names]), np.array([ranges[n][1] for n in names])
 
 
@@ -161,7 +162,7 @@ def fit_steady_record(
     scale_known = record.std is not None
     rng = np.random.default_rng(seed)
     z0 = np.array([getattr(base, n) for n in names], dtype=float)
-    lower, upper = _bounds(base, names)
+    lower, upper = _bounds(base, names, max(sigma for sigma, _ in record.parts(base.sigma)))
     best, minima = None, []
     starts = spread_starts(z0, lower, upper, factors=SPREAD)
     say(f"{MODEL_NAMES[model]}: least squares from {'; '.join(_show(names, start) for start in starts)}")
@@ -182,7 +183,7 @@ def fit_steady_record(
         warnings.simplefilter("ignore", AsymptoticsWarning)
         if best is None:
             raise LostOrbit(
-                f"no 2pi-orbit of {MODEL_NAMES[model]} found to follow at sigma = {base.sigma:.6g} from "
+                f"none of {MODEL_NAMES[model]} found to follow at {_at(record, base)} from "
                 "any start (the response there may not be periodic; fit by another model)"
             )
         _, run, objective = best
@@ -227,9 +228,10 @@ def _result(record, what, best, minima, rng, tell) -> SteadyFit:
     scale_known = record.std is not None
     sentences = [note] if note else []
     if not objective.orbit.stable:
+        where = ", ".join(f"{sigma:g}" for sigma in objective.orbit.unstable)
         sentences.append(
-            f"At the estimate the orbit of {MODEL_NAMES[model]} followed is unstable: a settled record "
-            "cannot be it."
+            f"At the estimate the orbit of {MODEL_NAMES[model]} followed at sigma = {where} is unstable: a "
+            "settled record cannot be it."
         )
     second = runner_up(minima, z)
     if second is not None and second[0] - misfit <= float(stats.chi2.ppf(0.95, len(names))):
@@ -262,8 +264,6 @@ def _result(record, what, best, minima, rng, tell) -> SteadyFit:
                     "3.84: the record does not bound it there."
                 )
     objective(z)  # the orbit back at the estimate
-    phases = np.linspace(0.0, 2 * np.pi, CURVE + 1)
-    curve = objective.orbit.at_phases(phases)[0]
     return SteadyFit(
         free,
         {n: float(v) for n, v in zip(names, z)},
@@ -281,7 +281,7 @@ def _result(record, what, best, minima, rng, tell) -> SteadyFit:
         r,
         goodness=_verdict(goodness(record, r, len(names), MODEL_NAMES[model]), objective.orbit.stable, model),
         minima=minima_record(names, misfit, z, second),
-        orbit={"phase": phases.tolist(), "X": curve.tolist()},
+        orbits=objective.orbit.curves(np.linspace(0.0, 2 * np.pi, CURVE + 1)),
         stable=objective.orbit.stable,
         candidates=objective.orbit.candidates,
     )
@@ -297,6 +297,11 @@ def _verdict(verdict, stable: bool, model: str):
         f"unstable (p = {verdict.p_value:.2g} for its misfit alone)"
     )
     return dataclasses.replace(verdict, describes=False, statement=statement)
+
+
+def _at(record: SteadyRecord, base: Params) -> str:
+    """Where the record was measured: its sigma, or each of its sigmas."""
+    return "sigma = " + ", ".join(f"{sigma:.6g}" for sigma, _ in record.parts(base.sigma))
 
 
 def _show(names, z) -> str:

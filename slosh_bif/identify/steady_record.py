@@ -4,7 +4,10 @@ model (8) (or of the corrected impact model), sampled at the record's own times.
 
 Data: a CSV with ``tau`` and ``X`` (optionally ``std``), tau the forcing's phase of eq. (7) (the
 excitation Abar cos tau at tau = 0, as the models have it), strictly increasing, the record
-settled (a transient is fitted by the slow flow, :mod:`.time_series`). The orbit a record follows
+settled (a transient is fitted by the slow flow, :mod:`.time_series`). With a ``sigma`` column the
+file holds a record at each of several forcing frequencies (the rows of one sigma, tau increasing
+within them), fitted together (:class:`RecordOrbits`): one frequency's record hardly separates the
+vessel's damping from the wall's, several do. The orbit a record follows
 is chosen as a frequency response's point would be (:func:`~.response_objective.orbit_response`
 with the one point (sigma, A1), A1 the record's first harmonic): the stable orbit whose A1 explains
 it best. At any later parameter set the orbit is Newton's from the last one, through intermediate
@@ -37,7 +40,7 @@ from slosh_bif.identify.response_objective import orbit_response
 from slosh_bif.identify.response_orbits import LostOrbit
 from slosh_bif.model.params import REAL_FIELDS, Params
 
-__all__ = ["SteadyRecord", "read_steady_record", "RecordOrbit", "MIN_PHASES", "STEP_SIZE"]
+__all__ = ["SteadyRecord", "read_steady_record", "RecordOrbit", "RecordOrbits", "MIN_PHASES", "STEP_SIZE"]
 
 MIN_PHASES = 8  # distinct phases (mod 2pi) a record needs: the orbit's shape, not a few points
 STEP_SIZE = 0.05  # the largest relative move of a parameter between two sets an orbit is followed over
@@ -48,12 +51,14 @@ TOL = 1e-10  # the integration's tolerance for (9)'s samples
 @dataclasses.dataclass(frozen=True)
 class SteadyRecord:
     """A settled record: times ``tau`` (the forcing's phase), displacements ``X``, optional ``std``
-    of each, the file they came from."""
+    of each, the file they came from, and where the file holds records at several forcing
+    frequencies, each sample's ``sigmas``."""
 
     tau: np.ndarray
     X: np.ndarray
     std: np.ndarray | None = None
     source: str = ""
+    sigmas: np.ndarray | None = None
 
     def __len__(self) -> int:
         return len(self.tau)
@@ -69,28 +74,45 @@ class SteadyRecord:
         (_, a, b), *_ = np.linalg.lstsq(basis, self.X, rcond=None)
         return float(math.hypot(a, b))
 
+    def parts(self, sigma: float) -> list:
+        """(sigma, rows) of each record: the one at ``sigma`` where the samples carry no sigma, else
+        one per sigma in the order the file has them."""
+        if self.sigmas is None:
+            return [(float(sigma), np.arange(len(self)))]
+        return [(s, np.flatnonzero(self.sigmas == s)) for s in dict.fromkeys(self.sigmas.tolist())]
+
+    def subset(self, rows) -> SteadyRecord:
+        """The record of the samples ``rows`` (one frequency's)."""
+        std = None if self.std is None else self.std[rows]
+        return SteadyRecord(self.tau[rows], self.X[rows], std, self.source)
+
 
 def read_steady_record(path) -> SteadyRecord:
-    """``tau, X[, std]``; one-line errors naming the file, line and column: tau strictly
-    increasing, at least :data:`MIN_PHASES` distinct phases modulo 2pi, std positive."""
+    """``tau, X[, std, sigma]``; one-line errors naming the file, line and column: tau strictly
+    increasing (within each sigma's rows), at least :data:`MIN_PHASES` distinct phases modulo 2pi
+    in each record, std positive."""
     path = Path(path)
-    columns, rows = read_table(path, ("tau", "X"), "a settled forced record", optional=("std",))
-    names = ("tau", "X") + (("std",) if "std" in columns else ())
+    columns, rows = read_table(path, ("tau", "X"), "a settled forced record", optional=("std", "sigma"))
+    names = ("tau", "X") + tuple(name for name in ("std", "sigma") if name in columns)
     values = {name: [] for name in names}
     for k, row in enumerate(rows, start=2):
         for name in names:
             values[name].append(number(path, k, name, row[name], positive=name == "std"))
-    tau = np.array(values["tau"])
-    if len(tau) < 2 or np.any(np.diff(tau) <= 0):
-        raise ValueError(f"{path}: tau must increase strictly over the rows")
-    phases = np.unique(np.mod(np.round(np.mod(tau, 2 * np.pi), 9), round(2 * np.pi, 9)))  # 0 is 2pi
-    if len(phases) < MIN_PHASES:
-        raise ValueError(
-            f"{path}: {len(phases)} distinct phases of tau modulo 2pi; a settled record needs at least "
-            f"{MIN_PHASES} over the forcing period to show the orbit's shape"
-        )
     std = np.array(values["std"]) if "std" in values else None
-    return SteadyRecord(tau, np.array(values["X"]), std, str(path))
+    sigmas = np.array(values["sigma"]) if "sigma" in values else None
+    record = SteadyRecord(np.array(values["tau"]), np.array(values["X"]), std, str(path), sigmas)
+    for sigma, part in record.parts(0.0):
+        where = f" at sigma = {sigma:g}" if sigmas is not None else ""
+        tau = record.tau[part]
+        if len(tau) < 2 or np.any(np.diff(tau) <= 0):
+            raise ValueError(f"{path}: tau must increase strictly over the rows{where}")
+        phases = np.unique(np.mod(np.round(np.mod(tau, 2 * np.pi), 9), round(2 * np.pi, 9)))  # 0 is 2pi
+        if len(phases) < MIN_PHASES:
+            raise ValueError(
+                f"{path}: {len(phases)} distinct phases of tau modulo 2pi{where}; a settled record needs "
+                f"at least {MIN_PHASES} over the forcing period to show the orbit's shape"
+            )
+    return record
 
 
 class RecordOrbit:
@@ -235,3 +257,80 @@ def _impact_samples(params: Params, section: float, x, phases, names, variant: s
         columns.append(column)
     dX = np.column_stack(columns) if columns else np.zeros((len(times), 0))
     return X, dX
+
+
+class RecordOrbits:
+    """The orbits of every record in ``record`` (one per sigma where the samples carry one, else the
+    one at ``params``'s sigma), each the :class:`RecordOrbit` its record follows, moved together:
+    :meth:`samples` and :meth:`gradient` over all samples in the file's order."""
+
+    def __init__(self, record: SteadyRecord, params: Params, model: str = "smooth", progress=None):
+        self.parts = record.parts(params.sigma)
+        self.size = len(record)
+        self.members = [
+            RecordOrbit(record.subset(rows), params.replace(sigma=sigma), model, progress)
+            for sigma, rows in self.parts
+        ]
+
+    @property
+    def sigmas(self) -> list:
+        return [sigma for sigma, _ in self.parts]
+
+    @property
+    def stable(self) -> bool:
+        return all(member.stable for member in self.members)
+
+    @property
+    def unstable(self) -> list:
+        """The sigmas whose record's orbit is unstable."""
+        return [sigma for sigma, member in zip(self.sigmas, self.members) if not member.stable]
+
+    @property
+    def candidates(self) -> list:
+        """(sigma, A1, stable) of every orbit found where each record's orbit was chosen."""
+        return [
+            (sigma, *candidate)
+            for sigma, member in zip(self.sigmas, self.members)
+            for candidate in member.candidates
+        ]
+
+    def differentiates(self, names) -> bool:
+        return all(member.differentiates(names) for member in self.members)
+
+    def state(self) -> list:
+        return [member.state() for member in self.members]
+
+    def restore(self, state) -> None:
+        for member, saved in zip(self.members, state):
+            member.restore(saved)
+
+    def samples(self, params: Params) -> np.ndarray:
+        """X of every record's orbit at ``params`` (each at its own sigma); :class:`LostOrbit` where
+        one is lost, every orbit left where it was."""
+        home, X = self.state(), np.empty(self.size)
+        try:
+            for (sigma, rows), member in zip(self.parts, self.members):
+                X[rows] = member.samples(params.replace(sigma=sigma))
+        except (ValueError, RuntimeError):  # lost, or outside the admissible set: none moved
+            self.restore(home)
+            raise
+        return X
+
+    def gradient(self, names) -> np.ndarray:
+        """dX/d(``names``) at every sample, at the set of the last :meth:`samples` call."""
+        G = np.empty((self.size, len(names)))
+        for (_, rows), member in zip(self.parts, self.members):
+            G[rows] = member.gradient(names)
+        return G
+
+    def curves(self, phases) -> list:
+        """Each record's orbit over ``phases``: {sigma, phase, X, stable}."""
+        return [
+            {
+                "sigma": sigma,
+                "phase": list(map(float, phases)),
+                "X": member.at_phases(phases)[0].tolist(),
+                "stable": member.stable,
+            }
+            for sigma, member in zip(self.sigmas, self.members)
+        ]

@@ -1,7 +1,7 @@
 """A settled forced record fitted by the orbits of (9) and (8): the samples' derivatives against
 differences of Newton-solved orbits, clean records simulated independently (scipy's DOP853 on
 (9), the expm event loop on (8)) given back from parameters far off, a wrong wall power said not
-to fit, the command and its refusals."""
+to fit, records at two frequencies fitted together, the command and its refusals."""
 
 import json
 import warnings
@@ -34,13 +34,31 @@ def _quiet():
         yield
 
 
-@pytest.fixture(scope="module")
-def smooth_record():
+def _settled_smooth(params):
     """(9) settled from rest by the compiled integrator (600 periods), then sampled by scipy's
     DOP853 at TAU (the fit's integrator is neither)."""
-    y = integrate_grid(SMOOTH, np.zeros(4), np.array([0.0, 600 * 2 * np.pi]), rtol=1e-11, atol=1e-13)[-1]
-    run = solve_ivp(SmoothModel(SMOOTH).rhs, (0.0, TAU[-1]), y, "DOP853", rtol=1e-12, atol=1e-13, t_eval=TAU)
+    y = integrate_grid(params, np.zeros(4), np.array([0.0, 600 * 2 * np.pi]), rtol=1e-11, atol=1e-13)[-1]
+    run = solve_ivp(SmoothModel(params).rhs, (0.0, TAU[-1]), y, "DOP853", rtol=1e-12, atol=1e-13, t_eval=TAU)
+    assert np.abs(run.y[0][:96] - run.y[0][48:]).max() < 1e-8  # a 2pi-orbit (most sigmas here modulate)
     return SteadyRecord(TAU, run.y[0], None, "dop853")
+
+
+@pytest.fixture(scope="module")
+def smooth_record():
+    return _settled_smooth(SMOOTH)
+
+
+@pytest.fixture(scope="module")
+def two_records(smooth_record):
+    """The record at sigma = -1 and another at sigma = 0.6, in one record with each sample's sigma."""
+    other = _settled_smooth(SMOOTH.replace(sigma=0.6))
+    return SteadyRecord(
+        np.tile(TAU, 2),
+        np.concatenate([smooth_record.X, other.X]),
+        None,
+        "two",
+        np.repeat([-1.0, 0.6], len(TAU)),
+    )
 
 
 @pytest.fixture(scope="module")
@@ -102,7 +120,33 @@ def test_a_clean_record_of_8_gives_back_three_parameters(impact_record):
 def _noisy(record, seed, level=0.01):
     std = level * float(np.abs(record.X).max())
     X = record.X + np.random.default_rng(seed).normal(0.0, std, size=len(record))
-    return SteadyRecord(record.tau, X, np.full(len(record), std), "noisy")
+    return SteadyRecord(record.tau, X, np.full(len(record), std), "noisy", record.sigmas)
+
+
+def test_records_at_two_frequencies_give_back_three_parameters_from_half_off(two_records):
+    start = SMOOTH.replace(lam=0.6, gamma=0.125, eps=0.06)
+    fit = fit_steady_record(two_records, start, ["lam", "gamma", "eps"])
+    assert fit.converged and fit.stable and fit.rms < 1e-7
+    assert [curve["sigma"] for curve in fit.orbits] == [-1.0, 0.6]
+    for name in ("lam", "gamma", "eps"):
+        assert fit.values[name] == pytest.approx(getattr(SMOOTH, name), rel=1e-2), name
+
+
+def test_a_second_frequency_separates_the_dampings_and_bounds_eps(smooth_record, two_records):
+    """With 1 % noise one frequency's record leaves lam within most of its admissible range and
+    eps unbounded below (lam and gamma correlated to -0.9999); with a second frequency the profiles
+    narrow by more than five times and hold the truth."""
+    start = SMOOTH.replace(lam=0.48, gamma=0.2, eps=0.048)
+    one = fit_steady_record(_noisy(smooth_record, 1), start, ["lam", "gamma", "eps"])
+    two = fit_steady_record(_noisy(two_records, 1), start, ["lam", "gamma", "eps"])
+    assert one.describes and two.describes
+    assert (one.estimate["eps"]["profile_95"][0] or 0.0) < 1e-3
+    assert abs(two.correlation[0][1]) < 0.99 < abs(one.correlation[0][1])
+    for name in ("lam", "gamma", "eps"):
+        lo, hi = two.estimate[name]["profile_95"]
+        wide = one.estimate[name]["profile_95"]
+        assert lo < getattr(SMOOTH, name) < hi, name
+        assert 5 * (hi - lo) < (wide[1] or np.inf) - (wide[0] or 0.0), name
 
 
 def test_a_wrong_wall_power_is_said_not_to_fit(smooth_record):
@@ -113,10 +157,32 @@ def test_a_wrong_wall_power_is_said_not_to_fit(smooth_record):
 
 
 def _write(path, record):
+    sigmas = record.sigmas if record.sigmas is not None else [None] * len(record)
     rows = "".join(
-        f"{float(t)!r},{float(x)!r},{float(s)!r}\n" for t, x, s in zip(record.tau, record.X, record.std)
+        f"{float(t)!r},{float(x)!r},{float(s)!r}" + (f",{float(g)!r}" if g is not None else "") + "\n"
+        for t, x, s, g in zip(record.tau, record.X, record.std, sigmas)
     )
-    path.write_text("tau,X,std\n" + rows)
+    path.write_text("tau,X,std" + (",sigma" if record.sigmas is not None else "") + "\n" + rows)
+
+
+def test_slosh_bif_fit_records_at_two_frequencies_from_one_file(tmp_path, two_records, capsys):
+    data = tmp_path / "records.csv"
+    _write(data, _noisy(two_records, 2))
+    read = read_steady_record(data)
+    assert [sigma for sigma, _ in read.parts(5.0)] == [-1.0, 0.6]
+    sets = [f"--set={k}={getattr(SMOOTH, k)}" for k in ("eps", "beta", "n", "lam")]
+    args = ["fit", "--preset", "fig10", *sets, "--set=gamma=0.3", "--data", str(data), "--record", "steady"]
+    assert main(args + ["--free", "gamma", "--out", str(tmp_path / "fit")]) == 0
+    assert "288 samples of 2 settled records (sigma = -1, 0.6)" in capsys.readouterr().out
+    record = json.loads((tmp_path / "fit" / "fit.json").read_text())
+    assert [curve["sigma"] for curve in record["orbits"]] == [-1.0, 0.6]
+    lo, hi = record["estimate"]["gamma"]["profile_95"]
+    assert lo < SMOOTH.gamma < hi
+    few = tmp_path / "few.csv"
+    rows = [f"{k * 0.3},1.0,{-1.0}" for k in range(20)] + [f"{k * 2 * np.pi},1.0,0.6" for k in range(12)]
+    few.write_text("tau,X,sigma\n" + "\n".join(rows) + "\n")
+    with pytest.raises(ValueError, match="1 distinct phases of tau modulo 2pi at sigma = 0.6"):
+        read_steady_record(few)
 
 
 def test_slosh_bif_fit_a_settled_record_and_its_refusals(tmp_path, smooth_record, capsys):
@@ -132,7 +198,7 @@ def test_slosh_bif_fit_a_settled_record_and_its_refusals(tmp_path, smooth_record
     record = json.loads((out / "fit.json").read_text())
     gamma = record["estimate"]["gamma"]
     assert gamma["profile_95"][0] < SMOOTH.gamma < gamma["profile_95"][1]
-    assert record["record"] == "steady" and record["orbit_stable"] and len(record["orbit"]["X"]) == 257
+    assert record["record"] == "steady" and record["orbit_stable"] and len(record["orbits"][0]["X"]) == 257
     assert (out / "fit.png").is_file() and (out / "params.toml").is_file()
     side = tmp_path / "side"  # the starts and the profile on two processes: the same fit
     assert main(args + ["--free", "gamma", "--workers", "2", "--out", str(side)]) == 0
