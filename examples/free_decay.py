@@ -6,6 +6,13 @@ X = 3 at rest with the particle in the middle, simulated by the exact flow of (8
     python examples/free_decay.py --out docs/identify/decay/fig10-decay.csv
     slosh-bif fit --preset fig10 --set lam=0.5 --set gamma=0.15 --data docs/identify/decay/fig10-decay.csv \
         --free lam,gamma --out docs/identify/decay/fit
+
+With ``--noise LEVEL`` Gaussian noise of LEVEL times the start's 3 is added (seeded by ``--seed``)
+and written as a std column; by the trajectory of (8) itself up to its horizon:
+
+    python examples/free_decay.py --tau 120 --noise 0.01 --out docs/identify/decay/noisy.csv
+    slosh-bif fit --preset fig10 --set lam=0.5 --set gamma=0.15 --data docs/identify/decay/noisy.csv \
+        --free lam,gamma --model impact --out docs/identify/decay/noisy-fit
 """
 
 from __future__ import annotations
@@ -25,6 +32,8 @@ def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--out", type=Path, required=True, help="CSV to write (tau, X)")
     parser.add_argument("--tau", type=float, default=400.0, help="length of the record (default 400)")
+    parser.add_argument("--noise", type=float, default=0.0, help="noise's std over the start's X (default 0)")
+    parser.add_argument("--seed", type=int, default=0, help="seed of the noise (default 0)")
     args = parser.parse_args(argv)
     params = get_preset("fig10").params.replace(Abar=0.0)
     t, y, impacts, code = ImpactFlow(params, STEP).run(
@@ -35,7 +44,14 @@ def main(argv=None) -> int:
     grid = np.arange(0.0, args.tau, STEP)
     X = np.interp(grid, t, y[0])  # the sample times with the impact instants, back on the grid
     args.out.parent.mkdir(parents=True, exist_ok=True)
-    args.out.write_text("tau,X\n" + "".join(f"{a:.6f},{b:.7g}\n" for a, b in zip(grid, X)))
+    if args.noise > 0:
+        std = args.noise * 3.0
+        noisy = X + np.random.default_rng(args.seed).normal(0.0, std, size=len(X))
+        args.out.write_text(
+            "tau,X,std\n" + "".join(f"{a:.6f},{b:.7g},{std:g}\n" for a, b in zip(grid, noisy))
+        )
+    else:
+        args.out.write_text("tau,X\n" + "".join(f"{a:.6f},{b:.7g}\n" for a, b in zip(grid, X)))
     print(f"wrote {args.out}: {len(grid)} samples, {len(impacts)} impacts; truth lam = 0.35, gamma = 0.2")
     return 0
 

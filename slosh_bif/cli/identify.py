@@ -87,6 +87,10 @@ def _fit_response(args) -> int:
 def _fit_time_series(args) -> int:
     from slosh_bif.identify.time_series import DECAY_FREE, FORCED_FREE, fit_time_series, read_time_record
     from slosh_bif.identify.time_series_output import write_time_series_fit
+    from slosh_bif.identify.transient_record import TRANSIENT_MODELS
+
+    if args.model in TRANSIENT_MODELS:
+        return _fit_transient(args)
 
     forced = args.record == "forced"
     kind = "a forced record (A0 and psi0 are fitted with them)" if forced else "a free decay (and A0)"
@@ -102,6 +106,33 @@ def _fit_time_series(args) -> int:
         paths,
         f"{fit.points} envelope points, {kind.split(' (')[0]} by the slow flow ({fit.model}): rms "
         f"residual {fit.rms:.3g}" + _goodness_line(fit),
+    )
+
+
+def _fit_transient(args) -> int:
+    from slosh_bif.identify.transient_fit import TRANSIENT_FREE, fit_transient
+    from slosh_bif.identify.transient_output import write_transient_fit
+    from slosh_bif.identify.transient_record import read_transient_record
+    from slosh_bif.simulation.sweep import local_pool
+
+    forced = args.record == "forced"
+    free = _free(
+        args, TRANSIENT_FREE, f"a {'forced transient' if forced else 'free decay'} by the full model"
+    )
+    base = params_of(args)
+    record = read_transient_record(args.data)
+    with local_pool(args.workers) as pool:
+        fit = fit_transient(
+            record, base, free, model=args.model, forced=forced, progress=progress, pool=pool, seed=args.seed
+        )
+    paths = write_transient_fit(fit, record, base, args.out)
+    misfit = "chi-square" if fit.scale_known else "residual sum of squares"
+    return _report(
+        fit,
+        paths,
+        f"{fit.points} of {len(record)} samples (to the horizon tau = {fit.horizon:.4g}), "
+        f"{fit.as_dict()['model'].split(' by ')[1]}: {misfit} {_sum_of_squares(fit):.4g}, rms residual "
+        f"{fit.rms:.3g}" + _goodness_line(fit),
     )
 
 
@@ -249,8 +280,9 @@ def add_commands(sub) -> None:
         required=True,
         help="the parameters to fit, comma-separated: of lam, chi, gamma, Abar, eps (by the orbits), n, "
         "pbar (profiled, by the slow flows) for a response; of lam, chi, gamma (and Abar, forced; and "
-        "eps, settled) for a record in time; of lam, chi, pbar for impact records (lam and chi together: "
-        "only their combination is determined where the model has C of eq. 21 alone)",
+        "eps, settled or by the trajectory of 9 or 8) for a record in time; of lam, chi, pbar for impact "
+        "records (lam and chi together: only their combination is determined where the model has C of "
+        "eq. 21 alone)",
     )
     fit.add_argument(
         "--model",
@@ -266,9 +298,11 @@ def add_commands(sub) -> None:
         choices=("decay", "forced", "steady"),
         default="decay",
         help="for a record in time (tau, A or tau, X): a free decay (default) or a forced transient, by "
-        "the slow flow (45), or steady: a settled forced record (tau, X[, std], tau the forcing's phase) "
-        "by the orbit of --model smooth (default; eq. 9), impact (8) or impact-corrected, at the "
-        "parameter set's sigma (or the file's sigma column: records at several frequencies) and Abar",
+        "the slow flow (45) (with --model smooth, impact or impact-corrected and tau, X[, std]: by the "
+        "trajectory of 9 or 8 from rest, up to the horizon the record is predictable to), or steady: a "
+        "settled forced record (tau, X[, std], tau the forcing's phase) by the orbit of --model smooth "
+        "(default; eq. 9), impact (8) or impact-corrected, at the parameter set's sigma (or the file's "
+        "sigma column: records at several frequencies) and Abar",
     )
     fit.add_argument("--seed", type=int, default=0, help="seed of the fit's extra starts (default 0)")
     fit.add_argument(

@@ -7,7 +7,9 @@ import csv
 import math
 from pathlib import Path
 
-__all__ = ["read_header", "read_table", "number"]
+import numpy as np
+
+__all__ = ["read_header", "read_table", "number", "read_columns"]
 
 
 def read_header(path) -> list:
@@ -51,3 +53,15 @@ def number(path, line: int, name: str, text, *, positive: bool) -> float:
         allowed = "a positive finite number" if positive else "a finite number"
         raise ValueError(f"{path}, line {line}: {name} must be {allowed}; got {text!r}")
     return value
+
+
+def read_columns(path, required, what: str, optional=()) -> dict:
+    """The ``required`` and present ``optional`` columns of ``path`` as float arrays (``std``
+    positive), through :func:`read_table` and :func:`number`: one-line errors naming the cell."""
+    columns, rows = read_table(path, required, what, optional=optional)
+    names = tuple(required) + tuple(name for name in optional if name in columns)
+    values = {name: [] for name in names}
+    for k, row in enumerate(rows, start=2):
+        for name in names:
+            values[name].append(number(path, k, name, row[name], positive=name == "std"))
+    return {name: np.array(column, dtype=float) for name, column in values.items()}

@@ -6,6 +6,7 @@ crossing located by Brent."""
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
@@ -26,6 +27,7 @@ __all__ = [
     "profile_all",
     "lost_sentence",
     "range_end_sentences",
+    "interval_statistics",
 ]
 
 CHI2_95 = 3.841458820694124  # chi-square(1) 95 % quantile: the profile's threshold
@@ -225,20 +227,20 @@ def profile(objective, z, k, best, scale_known, estimate, rng):
 
 
 def profile_all(objective, z, which, best, scale_known, estimate, rng, *, pool=None, say=None) -> list:
-    """:func:`profile` of each parameter ``which`` names ((index, name) pairs), one after another
-    or side by side on ``pool`` (an executor): the same result, as each profile starts from the
-    objective's state at the estimate and leaves it there."""
+    """:func:`profile` of each parameter ``which`` names ((index, name) pairs) (or the objective's
+    own ``profile`` method with the same arguments but the objective), one after another or side
+    by side on ``pool`` (an executor): the same result, as each profile starts from the objective's
+    state at the estimate and leaves it there."""
     say = say or (lambda message: None)
+    method = getattr(objective, "profile", None) or functools.partial(profile, objective)
     if pool is None:
         out = []
         for k, name in which:
             say(f"profile likelihood of {name}")
-            out.append(profile(objective, z, k, best, scale_known, estimate[name], rng))
+            out.append(method(z, k, best, scale_known, estimate[name], rng))
         return out
     say(f"profile likelihoods of {', '.join(name for _, name in which)} side by side")
-    futures = [
-        pool.submit(profile, objective, z, k, best, scale_known, estimate[name], rng) for k, name in which
-    ]
+    futures = [pool.submit(method, z, k, best, scale_known, estimate[name], rng) for k, name in which]
     return [future.result() for future in futures]
 
 
@@ -301,3 +303,37 @@ class _Held:
 
     def _jacobian(self, others):
         return np.delete(self.objective.jacobian(self._full(others)), self.k, axis=1)
+
+
+def interval_statistics(objective, z, r, scale_known, points, rng, profiled, *, pool=None, say=None) -> tuple:
+    """(estimate, correlation, profiles, sentences) of a record's fit at ``z`` (residuals ``r``,
+    ``points`` of them): Wald for every parameter, the profile of each of ``profiled`` (the first
+    names of ``objective.names``), and what the record cannot tell: an estimate at its range's end,
+    a rank-deficient Jacobian, a profile side that is lost, unbounded or stops at the range's end."""
+    names = objective.names
+    misfit = misfit_of(r, scale_known)
+    sentences = range_end_sentences(objective, profiled, z)
+    objective(z)
+    estimate, correlation, rank_note = wald(objective, z, r, scale_known, points)
+    if rank_note:
+        sentences.append(rank_note)
+    profiles = {}
+    outcomes = profile_all(
+        objective, z, list(enumerate(profiled)), misfit, scale_known, estimate, rng, pool=pool, say=say
+    )
+    for k, (name, (interval, rows, lost)) in enumerate(zip(names, outcomes)):
+        estimate[name]["profile_95"] = interval
+        profiles[name] = rows
+        sentences += lost_sentence(name, lost)
+        lost_sides = {"lower" if side < 0 else "upper" for side, _ in lost}
+        for bound, end, side in zip(interval, (objective.lower[k], objective.upper[k]), ("lower", "upper")):
+            if bound is None and side not in lost_sides:
+                sentences.append(f"The record does not bound {name} on its {side} side.")
+            elif (
+                bound is not None and np.isfinite(end) and end > 1e-9 and abs(bound - end) <= 1e-6 * abs(end)
+            ):
+                sentences.append(
+                    f"{name}'s profile reaches the {side} end of its admissible range ({end:.4g}) within "
+                    "3.84: the record does not bound it there."
+                )
+    return estimate, correlation, profiles, sentences

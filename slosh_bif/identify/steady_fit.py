@@ -29,15 +29,7 @@ from slosh_bif.identify.response_objective import admissible_ranges
 from slosh_bif.identify.response_orbits import LostOrbit
 from slosh_bif.identify.response_result import MODEL_NAMES, ORBIT_MODELS, ResponseFit
 from slosh_bif.identify.response_search import minima_record, runner_up
-from slosh_bif.identify.response_stats import (
-    least_squares,
-    lost_sentence,
-    misfit_of,
-    profile_all,
-    range_end_sentences,
-    spread_starts,
-    wald,
-)
+from slosh_bif.identify.response_stats import interval_statistics, least_squares, misfit_of, spread_starts
 from slosh_bif.identify.steady_record import RecordOrbits, SteadyRecord
 from slosh_bif.model.params import Params
 from slosh_bif.slowflow.flow import AsymptoticsWarning
@@ -239,30 +231,10 @@ def _result(record, what, best, minima, rng, tell) -> SteadyFit:
             f"A second minimum at {_show(names, second[1])} fits within the 95 % threshold of the best "
             f"(misfit {second[0]:.4g} against {misfit:.4g}): the record does not decide between the two."
         )
-    sentences += range_end_sentences(objective, names, z)
-    objective(z)
-    estimate, correlation, rank_note = wald(objective, z, r, scale_known, len(record))
-    if rank_note:
-        sentences.append(rank_note)
-    profiles = {}
-    outcomes = profile_all(
-        objective, z, list(enumerate(names)), misfit, scale_known, estimate, rng, pool=pool, say=say
+    estimate, correlation, profiles, said = interval_statistics(
+        objective, z, r, scale_known, len(record), rng, names, pool=pool, say=say
     )
-    for k, (name, (interval, rows, lost)) in enumerate(zip(names, outcomes)):
-        estimate[name]["profile_95"] = interval
-        profiles[name] = rows
-        sentences += lost_sentence(name, lost)
-        lost_sides = {"lower" if side < 0 else "upper" for side, _ in lost}
-        for bound, end, side in zip(interval, (objective.lower[k], objective.upper[k]), ("lower", "upper")):
-            if bound is None and side not in lost_sides:
-                sentences.append(f"The record does not bound {name} on its {side} side.")
-            elif (
-                bound is not None and np.isfinite(end) and end > 1e-9 and abs(bound - end) <= 1e-6 * abs(end)
-            ):
-                sentences.append(
-                    f"{name}'s profile reaches the {side} end of its admissible range ({end:.4g}) within "
-                    "3.84: the record does not bound it there."
-                )
+    sentences += said
     objective(z)  # the orbit back at the estimate
     return SteadyFit(
         free,

@@ -29,11 +29,11 @@ import math
 from pathlib import Path
 
 import numpy as np
-from scipy import linalg
 
 from slosh_bif.flows.impact.flow import ImpactFlow
 from slosh_bif.flows.smooth import integrator
-from slosh_bif.identify.csv_table import number, read_table
+from slosh_bif.identify.csv_table import read_columns
+from slosh_bif.identify.impact_samples import Flights
 from slosh_bif.identify.response_data import ResponseData
 from slosh_bif.identify.response_impact import STEP
 from slosh_bif.identify.response_objective import orbit_response
@@ -92,15 +92,9 @@ def read_steady_record(path) -> SteadyRecord:
     increasing (within each sigma's rows), at least :data:`MIN_PHASES` distinct phases modulo 2pi
     in each record, std positive."""
     path = Path(path)
-    columns, rows = read_table(path, ("tau", "X"), "a settled forced record", optional=("std", "sigma"))
-    names = ("tau", "X") + tuple(name for name in ("std", "sigma") if name in columns)
-    values = {name: [] for name in names}
-    for k, row in enumerate(rows, start=2):
-        for name in names:
-            values[name].append(number(path, k, name, row[name], positive=name == "std"))
-    std = np.array(values["std"]) if "std" in values else None
-    sigmas = np.array(values["sigma"]) if "sigma" in values else None
-    record = SteadyRecord(np.array(values["tau"]), np.array(values["X"]), std, str(path), sigmas)
+    values = read_columns(path, ("tau", "X"), "a settled forced record", optional=("std", "sigma"))
+    record = SteadyRecord(values["tau"], values["X"], values.get("std"), str(path), values.get("sigma"))
+    sigmas = record.sigmas
     for sigma, part in record.parts(0.0):
         where = f" at sigma = {sigma:g}" if sigmas is not None else ""
         tau = record.tau[part]
@@ -242,19 +236,12 @@ def _impact_samples(params: Params, section: float, x, phases, names, variant: s
         t, y, phis, dps, _, code = flow.sensitivities(np.asarray(x, dtype=float), section, 2 * np.pi)
         if code != 0:
             raise LostOrbit(f"the orbit at sigma = {params.sigma:.4g} ends early (code {code})")
-        last = np.searchsorted(t, times, side="right") - 1  # the post-impact row where an impact sits
-        z = np.vstack([y[:, last], np.cos(t[last]), np.sin(t[last])])  # (6, samples)
-        s = times - t[last]
+        at = Flights(flow, t, y, times)
         if name is None:
-            X = np.array([(linalg.expm(flow.K * h) @ z[:, k])[0] for k, h in enumerate(s)])
+            X = at.X()
             continue
         dx = np.linalg.solve(np.eye(4) - phis[-1], dps[-1])
-        dy = np.einsum("nij,j->ni", phis[last], dx) + dps[last]  # the state's move at each sample
-        column = np.empty(len(times))
-        for k, h in enumerate(s):
-            E, F = linalg.expm_frechet(flow.K * h, flow.Kp * h)
-            column[k] = E[0, :4] @ dy[k] + F[0] @ z[:, k]
-        columns.append(column)
+        columns.append(at.derivative(np.einsum("nij,j->ni", phis[at.last], dx) + dps[at.last]))
     dX = np.column_stack(columns) if columns else np.zeros((len(times), 0))
     return X, dX
 

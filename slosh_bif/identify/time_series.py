@@ -87,11 +87,22 @@ def read_time_record(path) -> TimeRecord:
     return TimeRecord(tau, np.array(values["A"]), std, str(path))
 
 
+SEPARATION = 0.6  # peaks of |X| kept at least this fraction of the record's half-period apart
+
+
 def envelope(tau, X) -> tuple:
-    """(times, heights) of the local maxima of |X|, each the vertex of the parabola through the
-    peak sample and its neighbours."""
+    """(times, heights) of the peaks of |X|, one a half-period (the highest local maximum within
+    :data:`SEPARATION` of the half-period of X's strongest frequency, so that noise's wiggles are
+    not taken for peaks), each the vertex of the parabola through the peak sample and its
+    neighbours."""
+    from scipy import signal
+
     y = np.abs(X)
-    k = np.flatnonzero((y[1:-1] > y[:-2]) & (y[1:-1] >= y[2:])) + 1
+    spectrum = np.abs(np.fft.rfft(X - np.mean(X)))
+    strongest = int(np.argmax(spectrum[1:])) + 1 if len(spectrum) > 1 else 1
+    half = len(X) / (2 * strongest)  # in samples
+    k, _ = signal.find_peaks(y, distance=max(1, int(SEPARATION * half)))
+    k = k[(k > 0) & (k < len(y) - 1)]
     a, b, c = y[k - 1], y[k], y[k + 1]
     curvature = a - 2 * b + c
     shift = np.where(curvature < 0, 0.5 * (a - c) / np.where(curvature < 0, curvature, 1.0), 0.0)

@@ -1,0 +1,85 @@
+"""The profile likelihood of one parameter scanned on a grid, for a misfit with valleys side by
+side (a transient's trajectory of (9) or (8), :mod:`.transient_fit`): held at the estimate plus
+multiples of half its Wald standard error, out to :data:`SCAN` of them and on while the rise stays
+within 3.84, the others refitted at each held value from where the linear fit at the estimate puts
+them (and, where that rises past 3.84, from the last held value's). A walk that stops at the first
+rise past 3.84 (:func:`~.response_stats.profile`) would report the first valley's width; the scan
+reports every held value within 3.84 of the best, across valleys, and a lower misfit where it
+finds one (a negative rise: the estimate was not the best minimum)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from slosh_bif.identify.response_stats import CHI2_95, least_squares, misfit_of
+
+__all__ = ["scanned_profile", "SCAN", "STEP", "MOST"]
+
+STEP = 0.5  # the grid's step, in Wald standard errors
+SCAN = 6.0  # the grid reaches at least this many standard errors either side
+MOST = 60  # held values on each side at most
+
+
+class _Held:
+    """The objective with parameter k held at ``held``: a function of the others."""
+
+    def __init__(self, objective, z, k, held):
+        self.objective, self.k, self.held = objective, k, held
+        others = [j for j in range(len(z)) if j != k]
+        self.lower, self.upper = objective.lower[others], objective.upper[others]
+        self.diff_step = getattr(objective, "diff_step", None)
+        self.jacobian = self._jacobian if getattr(objective, "jacobian", None) is not None else None
+
+    def full(self, y):
+        return np.insert(np.asarray(y, dtype=float), self.k, self.held)
+
+    def __call__(self, y):
+        return self.objective(self.full(y))
+
+    def _jacobian(self, y):
+        return np.delete(self.objective.jacobian(self.full(y)), self.k, axis=1)
+
+
+def scanned_profile(objective, z, k, best, scale_known, estimate, valley) -> tuple:
+    """(interval, rows of (held, rise), lost) of parameter k as :func:`~.response_stats.profile`
+    returns them, by the scan; ``valley(k, held)``: the others' start at each held value."""
+    sd = estimate["std"] if np.isfinite(estimate["std"]) and estimate["std"] > 0 else 0.05 * abs(z[k])
+    rows, bounds = [(float(z[k]), 0.0)], []
+    for side, end in ((-1.0, objective.lower[k]), (1.0, objective.upper[k])):
+        last_inside, crossing, previous = z[k], None, np.delete(np.asarray(z, dtype=float), k)
+        for m in range(1, MOST + 1):
+            held = z[k] + side * m * STEP * sd
+            at_end = side * (held - end) >= 0
+            held = float(end if at_end else held)
+            rise, previous = _refit(objective, z, k, held, (valley(k, held), previous), best, scale_known)
+            rows.append((held, rise))
+            if rise <= CHI2_95:
+                last_inside, crossing = held, None
+            elif crossing is None:
+                crossing = (held, rise)
+            if at_end or (crossing is not None and m * STEP >= SCAN and abs(held - last_inside) > STEP * sd):
+                break
+        if crossing is None:  # still within 3.84 where the scan ended: at the range's end, or unbounded
+            bounds.append(float(end) if side * (last_inside - end) >= 0 else None)
+        else:
+            inside_rise = min(r for h, r in rows if h == last_inside)
+            w = (CHI2_95 - inside_rise) / max(crossing[1] - inside_rise, 1e-300)
+            bounds.append(float(last_inside + w * (crossing[0] - last_inside)))
+    return bounds, sorted(rows), []
+
+
+def _refit(objective, z, k, held, starts, best, scale_known) -> tuple:
+    """(rise, others) at ``held``: from the first start, and from the second where the first's
+    rise passes 3.84."""
+    sub = _Held(objective, z, k, held)
+    rng = np.random.default_rng(0)
+    found = None
+    for start in starts:
+        start = np.clip(start, sub.lower, sub.upper)
+        run = least_squares(sub, start, rng, starts=1)
+        rise = misfit_of(sub(run.x), scale_known) - best
+        if found is None or rise < found[0]:
+            found = (rise, run.x)
+        if found[0] <= CHI2_95:
+            break
+    return found
