@@ -11,33 +11,13 @@ from __future__ import annotations
 
 import numpy as np
 
-from slosh_bif.identify.response_stats import CHI2_95, least_squares, misfit_of
+from slosh_bif.identify.response_stats import CHI2_95, HeldObjective, least_squares, misfit_of
 
 __all__ = ["scanned_profile", "SCAN", "STEP", "MOST"]
 
 STEP = 0.5  # the grid's step, in Wald standard errors
 SCAN = 6.0  # the grid reaches at least this many standard errors either side
 MOST = 60  # held values on each side at most
-
-
-class _Held:
-    """The objective with parameter k held at ``held``: a function of the others."""
-
-    def __init__(self, objective, z, k, held):
-        self.objective, self.k, self.held = objective, k, held
-        others = [j for j in range(len(z)) if j != k]
-        self.lower, self.upper = objective.lower[others], objective.upper[others]
-        self.diff_step = getattr(objective, "diff_step", None)
-        self.jacobian = self._jacobian if getattr(objective, "jacobian", None) is not None else None
-
-    def full(self, y):
-        return np.insert(np.asarray(y, dtype=float), self.k, self.held)
-
-    def __call__(self, y):
-        return self.objective(self.full(y))
-
-    def _jacobian(self, y):
-        return np.delete(self.objective.jacobian(self.full(y)), self.k, axis=1)
 
 
 def scanned_profile(objective, z, k, best, scale_known, estimate, valley) -> tuple:
@@ -71,7 +51,7 @@ def scanned_profile(objective, z, k, best, scale_known, estimate, valley) -> tup
 def _refit(objective, z, k, held, starts, best, scale_known) -> tuple:
     """(rise, others) at ``held``: from the first start, and from the second where the first's
     rise passes 3.84."""
-    sub = _Held(objective, z, k, held)
+    sub = HeldObjective(objective, z, k, held)
     rng = np.random.default_rng(0)
     found = None
     for start in starts:

@@ -28,6 +28,7 @@ __all__ = [
     "lost_sentence",
     "range_end_sentences",
     "interval_statistics",
+    "HeldObjective",
 ]
 
 CHI2_95 = 3.841458820694124  # chi-square(1) 95 % quantile: the profile's threshold
@@ -181,7 +182,7 @@ def profile(objective, z, k, best, scale_known, estimate, rng):
     others = [j for j in range(len(z)) if j != k]
 
     def rise_at(held, start):
-        sub = _Held(objective, z, k, held)
+        sub = HeldObjective(objective, z, k, held)
         fit = least_squares(sub, start, rng, starts=1) if others else None
         r = sub(fit.x) if fit is not None else sub(np.zeros(0))
         if getattr(objective, "lost", False):
@@ -286,7 +287,7 @@ def _crossing(excess, previous, held, rise, scale) -> float:
         return previous[0] + w * (held - previous[0])
 
 
-class _Held:
+class HeldObjective:
     """The residuals with parameter k held at ``held``, the others free (their bounds kept)."""
 
     def __init__(self, objective, z, k, held):
