@@ -13,11 +13,25 @@ import numpy as np
 
 from slosh_bif.identify.response_stats import CHI2_95, HeldObjective, least_squares, misfit_of
 
-__all__ = ["scanned_profile", "SCAN", "STEP", "MOST"]
+__all__ = ["scanned_profile", "LinearValley", "SCAN", "STEP", "MOST"]
 
 STEP = 0.5  # the grid's step, in Wald standard errors
 SCAN = 6.0  # the grid reaches at least this many standard errors either side
 MOST = 60  # held values on each side at most
+
+
+class LinearValley:
+    """``valley(k, held)``: the other parameters where the linear fit at ``z`` (covariance ``cov``)
+    puts them with parameter k held, within (lower, upper); an object, so that a profile sent to
+    another process takes it along."""
+
+    def __init__(self, z, cov, lower, upper):
+        self.z, self.cov, self.lower, self.upper = z, cov, lower, upper
+
+    def __call__(self, k, held):
+        others = [j for j in range(len(self.z)) if j != k]
+        move = self.cov[others, k] / self.cov[k, k] * (held - self.z[k])
+        return np.clip(self.z[others] + move, self.lower[others], self.upper[others])
 
 
 def scanned_profile(objective, z, k, best, scale_known, estimate, valley) -> tuple:

@@ -29,7 +29,7 @@ import math
 import numpy as np
 
 from slosh_bif.identify.goodness import THRESHOLD, goodness
-from slosh_bif.identify.profile_scan import scanned_profile
+from slosh_bif.identify.profile_scan import LinearValley, scanned_profile
 from slosh_bif.identify.response_objective import admissible_ranges
 from slosh_bif.identify.response_result import ResponseFit
 from slosh_bif.identify.response_stats import interval_statistics, misfit_of, wald
@@ -228,22 +228,14 @@ def _curvature(objective: _Objective, z, r) -> float:
     return float(worst)
 
 
-def _valley(objective: _Objective, z, r):
-    """(k, held) -> the other parameters where the linear fit at ``z`` puts them with parameter k
-    held: a profile's refits start there (the valley is too narrow to follow from the last)."""
+def _valley(objective: _Objective, z, r) -> LinearValley:
+    """Where the linear fit at ``z`` puts the other parameters with one held: a profile's refits
+    start there (the valley is too narrow to follow from the last)."""
     estimate, correlation, _ = wald(objective, z, r, objective.record.std is not None, len(r))
     sd = np.array([estimate[n]["std"] for n in objective.names])
-    cov = correlation * np.outer(sd, sd)
-
-    def start(k, held):
-        others = [j for j in range(len(z)) if j != k]
-        return np.clip(
-            z[others] + cov[others, k] / cov[k, k] * (held - z[k]),
-            objective.lower[others],
-            objective.upper[others],
-        )
-
-    return start
+    return LinearValley(
+        np.array(z, dtype=float), correlation * np.outer(sd, sd), objective.lower, objective.upper
+    )
 
 
 def _result(record, what, z, fitted, windows, tell) -> TransientFit:

@@ -155,6 +155,9 @@ def test_slosh_bif_fit_a_decay_by_the_full_model_and_its_refusals(tmp_path, smoo
     assert result["record"] == "decay" and result["horizon"] < 60.0
     assert len(result["trajectory"]["X"]) == len(record)
     assert (tmp_path / "fit" / "fit.png").is_file()
+    side = tmp_path / "side"  # the valley search and the profiles on two processes: the same fit
+    assert main(args + ["--free", "lam,gamma", "--workers", "2", "--out", str(side)]) == 0
+    assert json.loads((side / "fit.json").read_text())["estimate"] == result["estimate"]
     assert main(args + ["--free", "Abar", "--out", str(tmp_path / "x")]) == 2
     assert "--free takes one or more of lam, chi, gamma, eps" in capsys.readouterr().err
     envelope = tmp_path / "envelope.csv"
