@@ -159,8 +159,8 @@ def fit_transient(
     if model == "impact" and "lam" in names and "chi" in names:
         names.remove("chi")  # (21) has lam and chi through C alone
     search = np.random.default_rng(seed)
-    z = np.array([getattr(base, n) for n in names] + [float(record.X[0])])
-    fitted, windows, quadratic, valleys, tracked = None, [], False, [z], []
+    start = np.array([getattr(base, n) for n in names] + [float(record.X[0])])
+    fitted, windows, quadratic, valleys, tracked = None, [], False, [start], []
     ends = np.arange(record.tau[0] + window, record.tau[-1], window).tolist() + [float(record.tau[-1])]
     for end in ends:
         count = int(np.searchsorted(record.tau, end, side="right"))
@@ -184,7 +184,7 @@ def fit_transient(
         inside = [o.x for o in runs if not at_range_end(objective, o.x)]
         if end < ends[-1] and not inside:  # too short to say: the next from here
             continue
-        valleys, z = inside or [run.x], run.x
+        valleys = inside or [run.x]
         quadratic = quadratic or curvature <= QUADRATIC
         if rejected:  # the first window already: the misfit is said
             break
@@ -193,7 +193,7 @@ def fit_transient(
             f"{record.source or 'the record'}: too few samples in its first {window:g} time units"
         )
     say(f"{TRAJECTORY_NAMES[model]}: other valleys of the misfit up to tau = {fitted[4]:.4g}")
-    z, fitted, minima = best_valley(z, fitted, model, search, pool, tracked)
+    z, fitted, minima = best_valley(fitted[1].x, fitted, model, search, pool, tracked)
     return _result(record, (free, names, model, forced), z, fitted, windows, (say, pool, minima))
 
 
