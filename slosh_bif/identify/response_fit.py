@@ -58,6 +58,7 @@ from slosh_bif.identify.response_result import (
     SLOW_MODELS,
     ResponseFit,
     dissipation_estimates,
+    free_names,
 )
 from slosh_bif.identify.response_search import (
     ORBIT_SEARCH,
@@ -115,13 +116,7 @@ def fit_response(
     ``progress(message)`` is told of each stage (a fit per pbar, a profile per parameter);
     ``pool`` (an executor) runs an orbit fit's starts side by side, with the same result."""
     say = progress or (lambda message: None)
-    free = tuple(dict.fromkeys(free))
-    unknown = [f for f in free if f not in RESPONSE_FREE]
-    if unknown or not free:
-        raise ValueError(
-            f"--free takes one or more of {', '.join(RESPONSE_FREE)} for a frequency response; "
-            f"got {', '.join(free) or 'nothing'}"
-        )
+    free = free_names(free, RESPONSE_FREE, "a frequency response")
     if model not in MODELS:
         raise ValueError(f"model must be one of {', '.join(MODELS)}; got {model!r}")
     if "eps" in free and model in SLOW_MODELS:

@@ -12,7 +12,15 @@ from slosh_bif.identify.goodness import Goodness
 from slosh_bif.model.params import Params
 from slosh_bif.model.restitution import dissipation_at_unit_speed
 
-__all__ = ["SLOW_MODELS", "ORBIT_MODELS", "MODELS", "MODEL_NAMES", "ResponseFit", "dissipation_estimates"]
+__all__ = [
+    "SLOW_MODELS",
+    "ORBIT_MODELS",
+    "MODELS",
+    "MODEL_NAMES",
+    "ResponseFit",
+    "dissipation_estimates",
+    "free_names",
+]
 
 SLOW_MODELS = ("slowflow", "corrected")  # the slow flows (46)
 ORBIT_MODELS = ("smooth", "impact", "impact-corrected")  # the orbits of (9), (8), the corrected (8)
@@ -103,3 +111,28 @@ def dissipation_estimates(params: Params, lam: dict) -> dict:
             kappa[key] = [None if c is None else math.sqrt(max(1.0 - c, 0.0)) for c in bounds[::-1]]
     out["kappa_at_unit_speed"] = kappa
     return out
+
+
+def free_names(free, allowed, what: str) -> tuple:
+    """``free`` without repeats, each one of ``allowed``; else a one-line ValueError naming them and
+    ``what`` they are fitted to."""
+    free = tuple(dict.fromkeys(free))
+    if not free or any(f not in allowed for f in free):
+        raise ValueError(
+            f"--free takes one or more of {', '.join(allowed)} for {what}; got {', '.join(free) or 'nothing'}"
+        )
+    return free
+
+
+def chi_held(free, base: Params, who: str, through_c: bool) -> tuple:
+    """(names fitted, a sentence): where the model (``through_c``: it has the wall through C of
+    (21) alone) is asked for both lam and chi, chi is held at ``base``'s and lam fitted, said of
+    ``who``."""
+    names = list(free)
+    if not (through_c and "lam" in names and "chi" in names):
+        return names, ""
+    names.remove("chi")
+    return names, (
+        f"{who} with the law (21) depends on lam and chi only through C of (21): chi is held at "
+        f"{base.chi:g} and lam fitted."
+    )

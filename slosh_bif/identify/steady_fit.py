@@ -27,7 +27,7 @@ from scipy import stats
 from slosh_bif.identify.goodness import goodness
 from slosh_bif.identify.response_objective import admissible_ranges
 from slosh_bif.identify.response_orbits import LostOrbit
-from slosh_bif.identify.response_result import MODEL_NAMES, ORBIT_MODELS, ResponseFit
+from slosh_bif.identify.response_result import MODEL_NAMES, ORBIT_MODELS, ResponseFit, chi_held, free_names
 from slosh_bif.identify.response_search import minima_record, runner_up
 from slosh_bif.identify.response_stats import interval_statistics, least_squares, misfit_of, spread_starts
 from slosh_bif.identify.steady_record import RecordOrbits, SteadyRecord
@@ -125,12 +125,7 @@ def fit_steady_record(
     by the orbits of ``model`` (smooth, impact, impact-corrected); the rest from ``base``.
     ``pool`` (an executor): the starts and the profiles side by side, with the same result."""
     say = progress or (lambda message: None)
-    free = tuple(dict.fromkeys(free))
-    if not free or any(f not in STEADY_FREE for f in free):
-        raise ValueError(
-            f"--free takes one or more of {', '.join(STEADY_FREE)} for a settled record; got "
-            f"{', '.join(free) or 'nothing'}"
-        )
+    free = free_names(free, STEADY_FREE, "a settled record")
     if model not in ORBIT_MODELS:
         raise ValueError(
             f"a settled record is fitted by the orbits ({', '.join(ORBIT_MODELS)}); got {model!r}"
@@ -144,13 +139,7 @@ def fit_steady_record(
             f"{record.source or 'the record'}: {len(record)} samples for {len(free)} free parameters; "
             "the fit needs more samples than parameters"
         )
-    names, note = list(free), ""
-    if model == "impact" and "lam" in names and "chi" in names:
-        names.remove("chi")
-        note = (
-            "(8) with the law (21) depends on lam and chi only through C of (21): chi is held at "
-            f"{base.chi:g} and lam fitted."
-        )
+    names, note = chi_held(free, base, "(8)", model == "impact")
     scale_known = record.std is not None
     rng = np.random.default_rng(seed)
     z0 = np.array([getattr(base, n) for n in names], dtype=float)

@@ -28,7 +28,7 @@ import numpy as np
 from slosh_bif.identify.csv_table import number, read_header, read_table
 from slosh_bif.identify.goodness import goodness
 from slosh_bif.identify.response_model import impact_free
-from slosh_bif.identify.response_result import ResponseFit
+from slosh_bif.identify.response_result import ResponseFit, chi_held, free_names
 from slosh_bif.identify.response_stats import STARTS, least_squares, misfit_of, profile, wald
 from slosh_bif.model.equations import ImpactModel
 from slosh_bif.model.params import Params
@@ -209,12 +209,8 @@ def fit_time_series(
 ) -> TimeSeriesFit:
     """Fit ``free`` (of :data:`DECAY_FREE`, or :data:`FORCED_FREE` for a ``forced`` record at the
     set's sigma and Abar) with A0 (and psi0) to a record; the rest from ``base``."""
-    free = tuple(dict.fromkeys(free))
     allowed, kind = (FORCED_FREE, "a forced record") if forced else (DECAY_FREE, "a free decay")
-    if not free or any(f not in allowed for f in free):
-        raise ValueError(
-            f"--free takes one or more of {', '.join(allowed)} for {kind}; got {', '.join(free)}"
-        )
+    free = free_names(free, allowed, kind)
     if model not in ("slowflow", "corrected"):
         raise ValueError(f"{kind} is fitted by the slow flows (slowflow, corrected); got {model!r}")
     if forced and base.Abar <= 0:
@@ -227,13 +223,7 @@ def fit_time_series(
         )
     if progress is not None:
         progress(f"{kind}: {len(data)} envelope points; least squares and profiles (tens of seconds)")
-    names, note = list(free), ""
-    if model == "slowflow" and "lam" in names and "chi" in names:
-        names.remove("chi")
-        note = (
-            "The slow flow with the law (21) depends on lam and chi only through C of (21): chi is held "
-            f"at {base.chi:g} and lam fitted."
-        )
+    names, note = chi_held(free, base, "The slow flow", model == "slowflow")
     objective = _Objective(data, base, names, model, forced)
     rng = np.random.default_rng(seed)
     head = [getattr(base, n) for n in names] + [float(data.A[0])]

@@ -31,7 +31,7 @@ import numpy as np
 from slosh_bif.identify.goodness import THRESHOLD, goodness
 from slosh_bif.identify.profile_scan import LinearValley, scanned_profile
 from slosh_bif.identify.response_objective import admissible_ranges
-from slosh_bif.identify.response_result import ResponseFit
+from slosh_bif.identify.response_result import ResponseFit, chi_held, free_names
 from slosh_bif.identify.response_stats import interval_statistics, misfit_of, wald
 from slosh_bif.identify.transient_record import (
     TRAJECTORY_NAMES,
@@ -137,13 +137,8 @@ def fit_transient(
     from ``base`` (a free decay at Abar = 0; ``forced``: at the set's sigma and Abar). ``pool``:
     the search for other valleys and the profiles side by side; ``seed``: the search's starts."""
     say = progress or (lambda message: None)
-    free = tuple(dict.fromkeys(free))
     allowed = TRANSIENT_FREE if forced else tuple(n for n in TRANSIENT_FREE if n != "Abar")
-    if not free or any(f not in allowed for f in free):
-        raise ValueError(
-            f"--free takes one or more of {', '.join(allowed)} for a {'forced' if forced else 'decay'} "
-            f"record by the full model; got {', '.join(free) or 'nothing'}"
-        )
+    free = free_names(free, allowed, f"a {'forced' if forced else 'decay'} record by the full model")
     if model not in TRANSIENT_MODELS:
         raise ValueError(f"a record from rest is fitted by {', '.join(TRANSIENT_MODELS)}; got {model!r}")
     if forced and base.Abar <= 0:
@@ -155,9 +150,7 @@ def fit_transient(
             f"{record.source or 'the record'}: {len(record)} samples for {len(free)} free parameters and X0"
         )
     base = base if forced else base.replace(Abar=0.0)
-    names = list(free)
-    if model == "impact" and "lam" in names and "chi" in names:
-        names.remove("chi")  # (21) has lam and chi through C alone
+    names, note = chi_held(free, base, "(8)", model == "impact")
     search = np.random.default_rng(seed)
     start = np.array([getattr(base, n) for n in names] + [float(record.X[0])])
     fitted, windows, quadratic, valleys, tracked = None, [], False, [start], []
@@ -194,7 +187,7 @@ def fit_transient(
         )
     say(f"{TRAJECTORY_NAMES[model]}: other valleys of the misfit up to tau = {fitted[4]:.4g}")
     z, fitted, minima = best_valley(fitted[1].x, fitted, model, search, pool, tracked)
-    return _result(record, (free, names, model, forced), z, fitted, windows, (say, pool, minima))
+    return _result(record, (free, names, model, forced, note), z, fitted, windows, (say, pool, minima))
 
 
 def _curvature(objective: _Objective, z, r) -> float:
@@ -239,16 +232,11 @@ def _valley(objective: _Objective, z, r) -> LinearValley:
 
 
 def _result(record, what, z, fitted, windows, tell) -> TransientFit:
-    free, names, model, forced = what
+    free, names, model, forced, note = what
     say, pool, minima = tell
     objective, run, r, verdict, horizon = fitted
     scale_known = record.std is not None
-    sentences = []
-    if model == "impact" and "chi" in free and "chi" not in names:
-        sentences.append(
-            f"(8) with the law (21) depends on lam and chi only through C of (21): chi is held at "
-            f"{objective.base.chi:g} and lam fitted."
-        )
+    sentences = [note] if note else []
     beyond = len(record) - len(objective.record)
     if beyond:
         end, count, chi2, p_next, curvature = windows[-1]
