@@ -221,6 +221,27 @@ def _kernels_module() -> str:
             + tuple(Z),
         ),
     )
+    # the arcs' derivatives along a direction d of the start state (the curve problems' second
+    # derivatives, orbits/codim2/minaug.py): d' = J d, Psi = D Phi . d, r = D (dy/da, dy/db) . d
+    d = sp_matrix(sp.symbols("d0:4", real=True))
+    psi = sp_matrix(sp.symbols("psi0:16", real=True)).reshape(4, 4)
+    r_a, r_b = (sp_matrix(sp.symbols(f"{name}0:4", real=True)) for name in ("ra", "rb"))
+    H = m.directional(f, d).jacobian(sp.Matrix(m.STATE)).applyfunc(m.guard_negative_powers)  # f_yy[d, .]
+    along = sp_matrix(
+        list(pair)
+        + list(J * d)
+        + list(J * psi + H * phi)
+        + list(J * r_a + H * s_sigma + m.directional(forced[0], d))
+        + list(J * r_b + H * s_abar + m.directional(forced[1], d))
+    )
+    along_state = (("z", augmented[0][1] + tuple(d) + tuple(psi) + tuple(r_a) + tuple(r_b)),)
+    # the same 28 for the (sigma, Abar) pair of the dedicated shooting kernel (no weights to carry)
+    along_sigma_abar = sp_matrix(
+        list(J * d)
+        + list(J * psi + H * phi)
+        + list(J * r_a + H * s_sigma + m.directional(f.diff(m.sigma), d))
+        + list(J * r_b + H * s_abar + m.directional(f.diff(m.Abar), d))
+    )
     F = codegen.Function
     return codegen.render_kernels(
         "Scalar kernels of the smooth model (9) for the compiled integrator "
@@ -249,6 +270,32 @@ def _kernels_module() -> str:
                 augmented,
                 m.PARAMS + tuple(slot_a) + tuple(slot_b),
                 pair,
+            ),
+            F(
+                "smooth_along_kernel",
+                "out = d/dtau [y, Phi, dy/da, dy/db, int tr J, dy/dy0 . d, D Phi . d, D dy/da . d, "
+                "D dy/db . d] for (9), 57 components: the pair kernel's 29 and their derivatives along "
+                "the start state's direction d (the second-order variational equations; a and b as for "
+                "the pair kernel).",
+                along_state,
+                m.PARAMS + tuple(slot_a) + tuple(slot_b),
+                along,
+            ),
+            F(
+                "smooth_along_extra_kernel",
+                "out = the along kernel's components 29 to 56 alone (28): d/dtau [dy/dy0 . d, D Phi . d, "
+                "D dy/da . d, D dy/db . d], replayed on the steps of a recorded integration of the first 29.",
+                along_state,
+                m.PARAMS + tuple(slot_a) + tuple(slot_b),
+                sp_matrix(list(along)[29:]),
+            ),
+            F(
+                "smooth_along_sigma_abar_kernel",
+                "out = the along extra kernel's 28 components for the (sigma, Abar) pair of the "
+                "shooting kernel (a = sigma, b = Abar), replayed on the steps of its integration.",
+                along_state,
+                m.PARAMS,
+                along_sigma_abar,
             ),
             F(
                 "smooth_third_kernel",

@@ -92,7 +92,8 @@ def _compile(args) -> int:
     import numpy as np
 
     from slosh_bif.flows.loops import compiled
-    from slosh_bif.flows.smooth.integrator import integrate, integrate_arcs, integrate_grid
+    from slosh_bif.flows.smooth.arcs import Tape, integrate_arcs, replay_along
+    from slosh_bif.flows.smooth.integrator import integrate, integrate_grid
     from slosh_bif.model.presets import get_preset
     from slosh_bif.orbits.floquet import periodic_schur
     from slosh_bif.simulation.direct import SimulationSettings, simulate
@@ -107,6 +108,9 @@ def _compile(args) -> int:
     integrate(preset.params, y0, (0.0, 0.1))
     integrate_grid(preset.params, y0, taus)
     integrate_arcs(preset.params, np.array([y0, y0]), taus)
+    tape = Tape()
+    integrate_arcs(preset.params, np.array([y0, y0]), taus, tape=tape)
+    replay_along(tape, np.ones((2, 4)))
     periodic_schur([np.eye(4) * 2.0, np.eye(4)])
     impact = get_preset("fig13")
     simulate(impact.params, impact.state_for(impact.params), 1.0, settings=SimulationSettings(model="impact"))

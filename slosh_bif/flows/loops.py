@@ -1,7 +1,8 @@
 """The compiled loops, loaded on first use: the three DOP853 loops of
-:mod:`slosh_bif.flows.smooth.dop853` (with the generated kernels of (9), its variational equations
-and the random forcing of (47) inlined) and the periodic QR sweep of
-:mod:`slosh_bif.flows.periodic_qr` (the Floquet multipliers' periodic Schur decomposition).
+:mod:`slosh_bif.flows.smooth.dop853` and the two of :mod:`slosh_bif.flows.smooth.tape` (with the
+generated kernels of (9), its variational equations and the random forcing of (47) inlined) and
+the periodic QR sweep of :mod:`slosh_bif.flows.periodic_qr` (the Floquet multipliers' periodic
+Schur decomposition).
 
 Why lazily: importing numba costs 0.1-0.3 s and its first call, even with numba's on-disk cache
 warm, another 0.2-0.3 s (it builds its target context, which imports scipy.linalg). A command that
@@ -20,6 +21,7 @@ __all__ = ["compiled", "ENTRIES"]
 
 ENTRIES = {  # the module of slosh_bif.flows -> its loops
     "smooth.dop853": ("dop853_loop", "grid_loop", "arcs_loop"),
+    "smooth.tape": ("arcs_tape_loop", "replay_loop"),
     "periodic_qr": ("periodic_qr",),
 }
 _LOADED = []  # the process's loops, loaded once

@@ -33,6 +33,7 @@ import dataclasses
 import numpy as np
 
 from slosh_bif.flows.smooth import integrator
+from slosh_bif.flows.smooth.arcs import Tape
 from slosh_bif.model.params import REAL_FIELDS, Params, real_pair
 from slosh_bif.orbits.floquet import floquet_multipliers
 from slosh_bif.orbits.multipliers import (
@@ -42,6 +43,7 @@ from slosh_bif.orbits.multipliers import (
     multiplier_tests,
 )
 from slosh_bif.orbits.period_map import PeriodicOrbit, period_map, shoot
+from slosh_bif.orbits.shooting_arcs import Arcs, ShootingArcs
 
 __all__ = [
     "PeriodicOrbit",
@@ -56,23 +58,6 @@ __all__ = [
 PARAMETERS = REAL_FIELDS  # the parameters a problem can be continued in (n and pbar are integers)
 
 
-@dataclasses.dataclass(frozen=True)
-class Arcs:
-    """One integration of every arc of multiple shooting from one (x, params).
-
-    ends : (m, 4) arc end states;  mats : (m, 4, 4) arc matrices Phi_k;  sens : (m, 4, 2)
-    d(end)/d(the problem's ``sensitivities``, in order);  trace : the integral of tr J over the period
-    (Liouville);
-    monodromy : Phi_{m-1} ... Phi_0.
-    """
-
-    ends: np.ndarray
-    mats: np.ndarray
-    sens: np.ndarray
-    trace: float
-    monodromy: np.ndarray
-
-
 _STATE = ("X", "Xd", "w", "wd")
 
 
@@ -80,13 +65,8 @@ BACKENDS = integrator.BACKENDS  # the arcs' integrators ("auto": numba's when it
 # longest period traced, in units of 2pi: a period-doubling cascade is followed to period 8
 MAX_PERIOD_MULTIPLE = 8
 
-ARC_MAX_STEPS = 100_000
-"""Steps one shooting arc may take. An orbit of the presets takes a few hundred a period; a Newton
-iterate deep in the n = 50 wall shrinks the steps without bound. Past the limit the arc fails,
-the evaluation's residual is NaN, and the corrector halves its step."""
 
-
-class ShootingProblem:
+class ShootingProblem(ShootingArcs):
     """Periodic orbits of (9) with period ``period_multiple * 2 pi``, continued in ``param`` (any
     real parameter of :class:`Params`; sigma by default).
 
@@ -164,6 +144,8 @@ class ShootingProblem:
         self.names = tuple(f"{c}{k}" for k in range(segments) for c in _STATE)
         self.evaluations = 0  # arc integrations so far (cost accounting)
         self._cache: dict = {}  # the last few full arc results (each with its M, int tr J and arc matrices)
+        self._tape = None  # where the arcs' steps are kept, after record_steps()
+        self._taped = None  # the (x, params) key of the arcs whose steps the tape holds
         self._mu = None  # (key, multipliers) of the last point asked: its tests and stability share them
         self._at = None  # (p, params_at(p)) of the last p asked for
 
@@ -171,7 +153,7 @@ class ShootingProblem:
         """Pickled without the integration caches (a stored family would carry every arc of every
         point traced); they refill on demand."""
         state = dict(self.__dict__)
-        state.update(_cache={}, _mu=None, _at=None)
+        state.update(_cache={}, _tape=self._tape and Tape(), _taped=None, _mu=None, _at=None)
         return state
 
     def params_at(self, p: float) -> Params:
@@ -212,37 +194,6 @@ class ShootingProblem:
         return integrator.integrate_grid(
             params, y0, taus[:-1], rtol=self.rtol, atol=self.atol, backend=self.backend
         ).ravel()
-
-    def arcs(self, x, params: Params) -> "Arcs":
-        """Integrate every arc from x at ``params`` (any parameter set, not only ``params_at(p)``):
-        ends, arc matrices, the sensitivities in sigma and Abar, and the Liouville integral.
-        Cached on x and *all* parameters, so a caller that changes any parameter gets fresh arcs."""
-        key = (x.tobytes(), params)
-        hit = self._cache.get(key)
-        if hit is not None:
-            return hit
-        m = self.segments
-        z, done = integrator.integrate_arcs(
-            params,
-            x.reshape(m, 4),
-            self._taus,
-            rtol=self.rtol,
-            atol=self.atol,
-            backend=self.backend,
-            sensitivities=self.sensitivities,
-            max_steps=ARC_MAX_STEPS,
-        )
-        self.evaluations += done
-        mats = z[:, 4:20].reshape(m, 4, 4)
-        ends = z[:, :4] if np.isfinite(z).all() else np.full((m, 4), np.nan)  # a failed arc: no residual
-        M = mats[0]
-        for Phi in mats[1:]:
-            M = Phi @ M
-        result = Arcs(ends, mats, z[:, 20:28].reshape(m, 2, 4).transpose(0, 2, 1), float(z[:, 28].sum()), M)
-        if len(self._cache) > 8:
-            self._cache.clear()
-        self._cache[key] = result
-        return result
 
     def _arcs(self, x, p):
         return self.arcs(x, self.params_at(p))

@@ -93,7 +93,16 @@ def test_compile_fills_numbas_cache_so_that_a_later_command_compiles_nothing(tmp
     _run(["compile"], env={"NUMBA_CACHE_DIR": str(cache)})
     indexes = {path: path.stat().st_mtime_ns for path in cache.rglob("*.nbi")}
     names = " ".join(str(path.relative_to(cache)) for path in indexes)
-    for loop in ("_dop853_loop", "_grid_loop", "_arcs_loop", "periodic_qr.periodic_qr", "flow._run"):
+    loops = (
+        "_dop853_loop",
+        "_grid_loop",
+        "_arcs_loop",
+        "_arcs_tape_loop",
+        "_replay_loop",
+        "periodic_qr.periodic_qr",
+        "flow._run",
+    )
+    for loop in loops:
         assert loop in names, loop
     _run([*SHORT_SHOOT, "--out", str(tmp_path / "out")], env={"NUMBA_CACHE_DIR": str(cache)})
     for path, mtime in indexes.items():  # an index is rewritten when its function compiles again

@@ -407,3 +407,51 @@ def test_the_shooting_matrix_is_block_cyclic_with_the_closing_factor(segments):
             J = problem.jacobian_of(arcs, wrap)
             assert J.dtype == expected.dtype
             np.testing.assert_array_equal(J, expected)
+
+
+@pytest.mark.parametrize("backend", ["numba", "scipy"])
+@pytest.mark.parametrize("pair", [("sigma", "Abar"), ("beta", "lam")])
+def test_the_arcs_derivatives_along_a_direction_match_central_differences(backend, pair):
+    # The second-order variational equations (two arcs, the Fig. 10 wall n = 50; replayed on the
+    # kept steps on the compiled path, integrated with the arcs on scipy's) against central
+    # differences of the plain arcs at tighter tolerances; the arcs are the plain ones (to rounding:
+    # (sigma, Abar) has a dedicated kernel of its own, written otherwise).
+    P = get_preset("fig10").params
+    x = np.array([0.4, 0.1, 0.8, 0.9, -0.3, 0.2, -0.7, 0.5])
+    d = np.array([0.3, -0.2, 0.5, 0.1, 0.2, 0.4, -0.1, 0.3])
+
+    def problem(rtol):
+        return ShootingProblem(
+            P, pair[0], segments=2, rtol=rtol, atol=rtol / 100, backend=backend, sensitivities=pair
+        )
+
+    along = problem(1e-12)
+    arcs, Psi, R = along.arcs_along(x, P, d)
+    assert along.arcs(x, P) is arcs  # cached: the residual and Jacobian are these arcs'
+    plain = problem(1e-12).arcs(x, P)
+    for got, want in ((arcs.ends, plain.ends), (arcs.mats, plain.mats), (arcs.sens, plain.sens)):
+        np.testing.assert_allclose(got, want, rtol=1e-10, atol=1e-12)
+    h, fine = 1e-5, problem(1e-13)
+    ahead, behind = fine.arcs(x + h * d, P), fine.arcs(x - h * d, P)
+    np.testing.assert_allclose(Psi, (ahead.mats - behind.mats) / (2 * h), rtol=1e-5, atol=1e-6)
+    np.testing.assert_allclose(R, (ahead.sens - behind.sens) / (2 * h), rtol=1e-5, atol=1e-6)
+    assert np.max(np.abs(Psi)) > 1e-2 and np.max(np.abs(R)) > 1e-3  # the comparison says something
+
+
+def test_derivatives_replayed_on_kept_steps_are_those_of_one_integration_of_all_57():
+    # The replay on the tape against the compiled along kernel integrating all 57 components at
+    # once with the error norm of the first 29: the same steps but for the two kernels' rounding,
+    # which moves them by a little (so the ends agree to the integration's error, not to rounding);
+    # and the kept steps grow past a first guess too small for them.
+    from slosh_bif.flows.smooth.arcs import Tape, integrate_arcs, replay_along
+
+    P = get_preset("fig10").params
+    starts = np.array([[0.4, 0.1, 0.8, 0.9], [-0.3, 0.2, -0.7, 0.5]])
+    d = np.array([[0.3, -0.2, 0.5, 0.1], [0.2, 0.4, -0.1, 0.3]])
+    taus = np.array([0.0, np.pi, 2 * np.pi])
+    tape = Tape(rows_per_arc=4)
+    ends, done = integrate_arcs(P, starts, taus, sensitivities=("beta", "lam"), tape=tape)
+    assert done == 2 and tape.counts.min() > 4 and tape.rows.shape[1] >= tape.counts.max()
+    whole, _ = integrate_arcs(P, starts, taus, sensitivities=("beta", "lam"), directions=d)
+    np.testing.assert_allclose(ends, whole[:, :29], rtol=1e-10, atol=1e-12)  # two kernels' rounding
+    np.testing.assert_allclose(replay_along(tape, d), whole[:, 29:], rtol=1e-7, atol=1e-9)

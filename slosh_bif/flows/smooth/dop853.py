@@ -59,12 +59,23 @@ def _forget_compilations_of_other_kernels(compiled):
 
 
 @_jit
-def _rms(v, scale):
+def _rms(v, scale, count):
     total = 0.0
-    for i in range(v.shape[0]):
+    for i in range(count):
         r = v[i] / scale[i]
         total += r * r
-    return math.sqrt(total / v.shape[0])
+    return math.sqrt(total / count)
+
+
+_ALONG, _ALONG_EXTRA, _ALONG_SIGMA_ABAR, _SHOOTING_SIZE = 5, 6, 7, 29
+
+
+@_jit(inline=True)
+def _controlled(which, n):
+    """The components in the error norm: all, except for the along kernel, whose derivatives along a
+    direction ride on the steps its first 29 (the shooting system's) choose, so that these are the
+    very numbers of the pair kernel's integration whatever the direction."""
+    return _SHOOTING_SIZE if which == _ALONG else n
 
 
 @_jit
@@ -75,7 +86,21 @@ def _grid_loop(which, taus, z0, pars, rtol, atol, max_steps, A, B, C, E3, E5):
     h = 0.0
     for k in range(1, taus.shape[0]):
         z, steps, rejected, nfev, h, status = _dop853_loop(
-            which, taus[k - 1], taus[k], out[k - 1], pars, rtol, atol, h, max_steps, A, B, C, E3, E5
+            which,
+            taus[k - 1],
+            taus[k],
+            out[k - 1],
+            pars,
+            rtol,
+            atol,
+            h,
+            max_steps,
+            np.empty((0, 0)),
+            A,
+            B,
+            C,
+            E3,
+            E5,
         )
         if status != 0:
             return out, k, status
@@ -115,11 +140,17 @@ _RAW = {
     "shooting": _kernels.smooth_shooting_kernel,
     "pair": _kernels.smooth_pair_kernel,
     "third": _kernels.smooth_third_kernel,
+    "along": _kernels.smooth_along_kernel,
+    "along_extra": _kernels.smooth_along_extra_kernel,
+    "along_sigma_abar": _kernels.smooth_along_sigma_abar_kernel,
 }
 _plain_kernel = _jit(_RAW["plain"], inline=True)
 _shooting_kernel = _jit(_RAW["shooting"], inline=True)
 _pair_kernel = _jit(_RAW["pair"], inline=True)
 _third_kernel = _jit(_RAW["third"], inline=True)
+_along_kernel = _jit(_RAW["along"], inline=True)
+_along_extra_kernel = _jit(_RAW["along_extra"], inline=True)
+_along_sigma_abar_kernel = _jit(_RAW["along_sigma_abar"], inline=True)
 _noise_force = _jit(_noise_force)
 _RAW["noisy"] = _noisy_kernel_py
 _noisy_kernel = _jit(_noisy_kernel_py, inline=True)
@@ -137,14 +168,25 @@ def _kernel(which, tau, z, out, pars):
         _pair_kernel(tau, z, out, pars)
     elif which == 4:
         _third_kernel(tau, z, out, pars)
+    elif which == _ALONG:
+        _along_kernel(tau, z, out, pars)
+    elif which == _ALONG_EXTRA:
+        _along_extra_kernel(tau, z, out, pars)
+    elif which == _ALONG_SIGMA_ABAR:
+        _along_sigma_abar_kernel(tau, z, out, pars)
     else:
         _noisy_kernel(tau, z, out, pars)
 
 
 @_jit
-def _dop853_loop(which, t0, t1, z0, pars, rtol, atol, h, max_steps, A, B, C, E3, E5):
-    """The hot loop from t0 to t1: (end state, steps, rejected, nfev, next step, status)."""
+def _dop853_loop(which, t0, t1, z0, pars, rtol, atol, h, max_steps, tape, A, B, C, E3, E5):
+    """The hot loop from t0 to t1: (end state, steps, rejected, nfev, next step, status).
+
+    ``tape`` (rows, 2 + 13 n): accepted step k is written to row k while there are rows, as
+    [tau, h, the states its 13 stages were evaluated at], what :mod:`slosh_bif.flows.smooth.tape`
+    replays equations along (an empty one: nothing kept; a rejected trial's are overwritten)."""
     n = z0.shape[0]
+    nc = _controlled(which, n)
     K = np.empty((13, n))
     z = z0.copy()
     znew = np.empty(n)
@@ -156,8 +198,8 @@ def _dop853_loop(which, t0, t1, z0, pars, rtol, atol, h, max_steps, A, B, C, E3,
     if h <= 0.0:  # scipy's initial step (Hairer, Norsett & Wanner II.4) for an order-7 estimate
         for i in range(n):
             scale[i] = atol + abs(z[i]) * rtol
-        d0 = _rms(z, scale)
-        d1 = _rms(K[0], scale)
+        d0 = _rms(z, scale, nc)
+        d1 = _rms(K[0], scale, nc)
         h0 = 1e-6 if (d0 < 1e-5 or d1 < 1e-5) else 0.01 * d0 / d1
         h0 = min(h0, span)
         for i in range(n):
@@ -166,7 +208,7 @@ def _dop853_loop(which, t0, t1, z0, pars, rtol, atol, h, max_steps, A, B, C, E3,
         nfev += 1
         for i in range(n):
             znew[i] = K[1, i] - K[0, i]
-        d2 = _rms(znew, scale) / h0
+        d2 = _rms(znew, scale, nc) / h0
         if d1 <= 1e-15 and d2 <= 1e-15:
             h1 = max(1e-6, h0 * 1e-3)
         else:
@@ -190,6 +232,12 @@ def _dop853_loop(which, t0, t1, z0, pars, rtol, atol, h, max_steps, A, B, C, E3,
             if t_new > t1:
                 t_new = t1
             hh = t_new - t
+            keep = steps < tape.shape[0]
+            if keep:
+                tape[steps, 0] = t
+                tape[steps, 1] = hh
+                for i in range(n):
+                    tape[steps, 2 + i] = z[i]
             for s in range(1, 12):
                 # the shooting system: row by row of K, contiguous and vectorised, zeros skipped (40 %
                 # faster at 29 components; 20 % slower at 4)
@@ -209,17 +257,23 @@ def _dop853_loop(which, t0, t1, z0, pars, rtol, atol, h, max_steps, A, B, C, E3,
                         for j in range(s):
                             acc += A[s, j] * K[j, i]
                         tmp[i] = z[i] + hh * acc
+                if keep:
+                    for i in range(n):
+                        tape[steps, 2 + n * s + i] = tmp[i]
                 _kernel(which, t + C[s] * hh, tmp, K[s], pars)
             for i in range(n):
                 acc = 0.0
                 for j in range(12):
                     acc += B[j] * K[j, i]
                 znew[i] = z[i] + hh * acc
+            if keep:
+                for i in range(n):
+                    tape[steps, 2 + 12 * n + i] = znew[i]
             _kernel(which, t_new, znew, K[12], pars)
             nfev += 12
             err5 = 0.0
             err3 = 0.0
-            for i in range(n):
+            for i in range(nc):
                 sc = atol + max(abs(z[i]), abs(znew[i])) * rtol
                 e5 = 0.0
                 e3 = 0.0
@@ -233,7 +287,7 @@ def _dop853_loop(which, t0, t1, z0, pars, rtol, atol, h, max_steps, A, B, C, E3,
             if err5 == 0.0 and err3 == 0.0:
                 error = 0.0
             else:
-                error = abs(hh) * err5 / math.sqrt((err5 + 0.01 * err3) * n)
+                error = abs(hh) * err5 / math.sqrt((err5 + 0.01 * err3) * nc)
             if error < 1.0:  # NaN compares false: a non-finite trial step is rejected
                 factor = 10.0 if error == 0.0 else min(10.0, 0.9 * error ** (-1.0 / 8.0))
                 if step_rejected:
@@ -257,13 +311,14 @@ def _dop853_loop(which, t0, t1, z0, pars, rtol, atol, h, max_steps, A, B, C, E3,
 
 
 @_jit
-def _arcs_loop(which, taus, starts, pars, rtol, atol, max_steps, A, B, C, E3, E5):
+def _arcs_loop(which, taus, starts, directions, pars, rtol, atol, max_steps, A, B, C, E3, E5):
     """Every arc of multiple shooting in one call: arc k runs the shooting system from
-    [starts[k], I, 0, 0] over [taus[k], taus[k + 1]]. Returns (end states (m, 29), arcs done,
-    status of the first that failed or 0). One call instead of one per arc: the Python around
-    each call cost as much as a short arc at n = 6."""
+    [starts[k], I, 0, 0] over [taus[k], taus[k + 1]] (the along kernel from [starts[k], I, 0, 0, 0,
+    directions[k], 0, 0, 0]; ``directions`` is read by it alone). Returns (end states (m, 29 or
+    57), arcs done, status of the first that failed or 0). One call instead of one per arc: the
+    Python around each call cost as much as a short arc at n = 6."""
     m = starts.shape[0]
-    size = 29
+    size = 57 if which == _ALONG else _SHOOTING_SIZE
     out = np.full((m, size), np.nan)
     z0 = np.zeros(size)
     for k in range(m):
@@ -272,8 +327,24 @@ def _arcs_loop(which, taus, starts, pars, rtol, atol, max_steps, A, B, C, E3, E5
         for i in range(4):
             z0[i] = starts[k, i]
             z0[4 + 5 * i] = 1.0
+            if which == _ALONG:
+                z0[_SHOOTING_SIZE + i] = directions[k, i]
         z, steps, rejected, nfev, h, status = _dop853_loop(
-            which, taus[k], taus[k + 1], z0, pars, rtol, atol, 0.0, max_steps, A, B, C, E3, E5
+            which,
+            taus[k],
+            taus[k + 1],
+            z0,
+            pars,
+            rtol,
+            atol,
+            0.0,
+            max_steps,
+            np.empty((0, 0)),
+            A,
+            B,
+            C,
+            E3,
+            E5,
         )
         if status != 0:
             return out, k, status

@@ -1,7 +1,8 @@
 """What the compiled DOP853 loops of (9) take and return, without numba: the Butcher tableau, the
 kernel numbers of the switch (``WHICH``: (9), (9) with its variational equations for shooting,
 (9) with the random forcing of (47), the pair kernel for any two parameters, the second- and
-third-order variational equations along three directions), the status codes
+third-order variational equations along three directions, the pair kernel with its derivatives along
+a direction of the start state), the status codes
 with their messages. The loops themselves (:mod:`slosh_bif.flows.smooth.dop853`) are compiled by numba
 and loaded at the first integration (:mod:`slosh_bif.flows.loops`); :mod:`slosh_bif.flows.smooth.integrator`
 calls them with these.
@@ -18,7 +19,7 @@ __all__ = ["STAGES", "TABLEAU", "WHICH", "OK", "MESSAGES"]
 STAGES = _dop.N_STAGES
 # A, B, C, E3, E5 (scipy's DOP853 coefficients, written by the derivation); every loop takes them last.
 TABLEAU = tuple(np.array(v) for v in (_dop.A, _dop.B, _dop.C, _dop.E3, _dop.E5))
-WHICH = {"plain": 0, "shooting": 1, "noisy": 2, "pair": 3, "third": 4}
+WHICH = {"plain": 0, "shooting": 1, "noisy": 2, "pair": 3, "third": 4, "along": 5}
 
 # Status codes of the loops.
 OK, MAX_STEPS, TOO_SMALL, NOT_FINITE = 0, 1, 2, 3

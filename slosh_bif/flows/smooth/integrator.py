@@ -33,13 +33,13 @@ __all__ = [
     "Integration",
     "integrate",
     "integrate_grid",
-    "integrate_arcs",
     "SHOOTING_SIZE",
     "resolve_backend",
     "DEFAULT_SENSITIVITIES",
     "kernel_parameters",
     "integrate_variations",
     "VARIATIONS_SIZE",
+    "scipy_rhs",
 ]
 
 SHOOTING_SIZE = 29  # [y, Phi, dy/dp1, dy/dp2, int tr J]
@@ -141,7 +141,7 @@ def _check_noise(noise, tau0, tau1):
         )
 
 
-def _scipy_rhs(which, pars):
+def scipy_rhs(which, pars):
     """The generated kernel as scipy's ``fun(t, y)`` (the fallback path: same equations)."""
     from slosh_bif.flows.smooth.dop853 import KERNELS  # numba's too, for the kernels it compiles
 
@@ -198,6 +198,7 @@ def integrate(
             float(atol),
             0.0,  # the first step: the rule's choice
             int(max_steps),
+            np.empty((0, 0)),  # no tape
             *TABLEAU,
         )
         return Integration(
@@ -205,7 +206,7 @@ def integrate(
         )  # numba returns Python int and float
     from scipy.integrate import solve_ivp  # the fallback only: a third of a second to import
 
-    fun = _scipy_rhs(which, pars)
+    fun = scipy_rhs(which, pars)
     with np.errstate(over="ignore", invalid="ignore"):  # trial steps deep in the wall may overflow
         sol = solve_ivp(fun, (tau0, tau1), z0, method="DOP853", rtol=rtol, atol=atol)
     steps = len(sol.t) - 1
@@ -218,60 +219,6 @@ def integrate(
         bool(sol.success),
         "ok" if sol.success else sol.message,
     )
-
-
-def integrate_arcs(
-    params: Params,
-    starts,
-    taus,
-    *,
-    rtol: float = 1e-10,
-    atol: float = 1e-12,
-    backend: str = "auto",
-    sensitivities: tuple = DEFAULT_SENSITIVITIES,
-    max_steps: int = 2_000_000,
-):
-    """The shooting system over every arc of multiple shooting: arc k from ``starts[k]`` (with
-    Phi = I and zero sensitivities) over [taus[k], taus[k + 1]]. Returns (ends (m, 29), arcs
-    integrated); rows of the arcs after a failed one are NaN. The compiled backend runs all
-    arcs in one call; otherwise :func:`integrate` arc by arc."""
-    starts = np.ascontiguousarray(starts, dtype=float)
-    m = len(starts)
-    if resolve_backend(backend) == "numba" and np.isfinite(starts).all():
-        pair = tuple(sensitivities) != DEFAULT_SENSITIVITIES
-        pars = kernel_parameters(params, None, real_pair(sensitivities, "sensitivities") if pair else None)
-        ends, done, status = compiled().arcs_loop(
-            WHICH["pair" if pair else "shooting"],
-            np.ascontiguousarray(taus, dtype=float),
-            starts,
-            pars,
-            float(rtol),
-            float(atol),
-            int(max_steps),
-            *TABLEAU,
-        )
-        return ends, min(done + 1, m)
-    ends = np.full((m, SHOOTING_SIZE), np.nan)
-    z0 = np.concatenate([np.zeros(4), np.eye(4).ravel(), np.zeros(9)])
-    for k in range(m):
-        if not np.all(np.isfinite(starts[k])):
-            return ends, k
-        z0[:4] = starts[k]
-        run = integrate(
-            params,
-            z0,
-            (taus[k], taus[k + 1]),
-            shooting=True,
-            rtol=rtol,
-            atol=atol,
-            backend=backend,
-            sensitivities=sensitivities,
-            max_steps=max_steps,
-        )
-        if not (run.success and np.all(np.isfinite(run.z))):
-            return ends, k + 1
-        ends[k] = run.z
-    return ends, m
 
 
 VARIATIONS_SIZE = 32  # [y, Phi u, Phi v, Phi w, D2[u, v], D2[u, w], D2[v, w], D3[u, v, w]]
@@ -291,7 +238,17 @@ def integrate_variations(
     pars = kernel_parameters(params)
     if resolve_backend(backend) == "numba":
         z, _, _, _, _, status = compiled().dop853_loop(
-            WHICH["third"], 0.0, float(t1), z0, pars, float(rtol), float(atol), 0.0, 2_000_000, *TABLEAU
+            WHICH["third"],
+            0.0,
+            float(t1),
+            z0,
+            pars,
+            float(rtol),
+            float(atol),
+            0.0,
+            2_000_000,
+            np.empty((0, 0)),
+            *TABLEAU,
         )
         if status != OK:
             raise ValueError(
@@ -301,7 +258,7 @@ def integrate_variations(
     from scipy.integrate import solve_ivp  # the fallback only
 
     with np.errstate(over="ignore", invalid="ignore"):
-        run = solve_ivp(_scipy_rhs("third", pars), (0.0, t1), z0, method="DOP853", rtol=rtol, atol=atol)
+        run = solve_ivp(scipy_rhs("third", pars), (0.0, t1), z0, method="DOP853", rtol=rtol, atol=atol)
     if not run.success:
         raise ValueError(f"the variational equations of (9) were not integrated to {t1:g}: {run.message}")
     return run.y[:, -1].copy()
@@ -349,7 +306,7 @@ def integrate_grid(
 
         with np.errstate(over="ignore", invalid="ignore"):
             sol = solve_ivp(
-                _scipy_rhs(which, pars),
+                scipy_rhs(which, pars),
                 (taus[0], taus[-1]),
                 out[0],
                 method="DOP853",

@@ -15,11 +15,14 @@ scalar g(x; p1, p2) defined by
 vanishes exactly there, and the augmented system [F; g] = 0 in (x, p2), continued in p1 by the
 same pseudo-arclength engine, traces the curve. Its derivatives need second derivatives of the
 flow only along v: with w from the transposed system, dg/dz = -w^T d(J_mu v)/dz, and
-d(J_mu v)/dz . e = d/de [F_z(z + e v)]^T w, two extra integrations of the arcs from x +- h v
-(central differences): a Newton iteration integrates the arcs three times where a one-parameter
-branch integrates them once, and the system stays of size 4m + 1 (AUTO's and MatCont's standard extended
-systems would double
-it). The bordering vectors are renewed from v and w after every accepted point, as
+d(J_mu v)/dz . e = d/de [F_z(z + e v)]^T w: the arcs' derivatives along v, from the second-order
+variational equations of (9) replayed on the steps the arcs were integrated with
+(:meth:`~slosh_bif.orbits.shooting.ShootingProblem.arcs_along`; v is known only once the arcs
+are), so that a Newton iteration costs the arcs and 28 more components where central
+differences from x +- h v cost two more integrations of the arcs (and carried their rounding,
+rtol / h); for the stroboscopic map of (8), central differences of its exact Jacobian. The system
+stays of size 4m + 1 (AUTO's and MatCont's standard extended systems would double it). The
+bordering vectors are renewed from v and w after every accepted point, as
 BifurcationKit's MinAug problems do, so that the bordered matrix stays regular along the curve.
 
 The kinds of curve (fold, flip, pitchfork: :mod:`.multiplier_curves`; Neimark-Sacker:
@@ -102,6 +105,8 @@ class MinAugCurveProblem:
                 f"ones with derivatives in ({p1}, {p2})"
             )
         self.orbits = orbits
+        if hasattr(orbits, "record_steps"):  # g's derivatives replay on every evaluation's steps
+            orbits.record_steps()
         self.names = self.orbits.names + (p2,)
         self.branch_kind = f"{self.kind} curve of {orbits.branch_kind} in ({p1}, {p2})"
         self.p2_box = p2_box
@@ -236,13 +241,23 @@ class MinAugCurveProblem:
     def _along(self, y, P, direction):
         """(d J / d e, d F_p / d e) at the orbit states y + e ``direction``, e = 0.
 
-        Central differences: the wall's force grows like |w|^n, so the flow's third derivatives
-        are of order n^3 near contact, where forward differences would leave errors of order 0.1 %
-        in g's row (Fig. 10 set, n = 50) and Newton would creep. The step balances the O(h^2)
+        Exact where the orbit equations give the arcs' derivatives along a direction
+        (``arcs_along``: the second-order variational equations of (9)). Otherwise (the
+        stroboscopic map of (8)) central differences: the flow's third derivatives can be large
+        (the wall's force of (9) grows like |w|^n, with errors of order 0.1 % in g's row from
+        forward differences at n = 50, where Newton would creep); the step balances the O(h^2)
         truncation with the integration's rounding (rtol ~1e-10)."""
         size = np.linalg.norm(direction)
         if size == 0:
             return 0.0, 0.0
+        if hasattr(self.orbits, "arcs_along"):
+            _, Psi, R = self.orbits.arcs_along(y, P, direction)
+            m = len(Psi)
+            dJ = np.zeros((4 * m, 4 * m))
+            dJ.reshape(m, 4, m, 4)[np.arange(m), :, np.arange(m), :] = (
+                Psi  # the -I, -mu I blocks are constant
+            )
+            return dJ, R.reshape(len(y), -1)
         h = 1e-6 * (1 + np.linalg.norm(y)) / size
         ahead, behind = self.orbits.arcs(y + h * direction, P), self.orbits.arcs(y - h * direction, P)
         dJ = (self.orbits.jacobian_of(ahead) - self.orbits.jacobian_of(behind)) / (2 * h)
@@ -294,9 +309,10 @@ class MinAugCurveProblem:
     def refined(self):
         """This curve with the arcs integrated 100 times more tightly (rtol down to
         ``FINEST_RTOL``), its borders kept; None when it is there already. The engine resumes a
-        stalled direction with it: g's derivatives are central differences of the arcs, whose
-        rounding (rtol / h) can hide a nearly singular but regular stretch of the curve (past
-        the cusps of the Fig. 10 and Fig. 13 fold curves of asymmetric orbits)."""
+        stalled direction with it: the arcs' own error can hide a nearly singular but regular
+        stretch of the curve (with g's derivatives by central differences, whose rounding is
+        rtol / h, this was needed past the cusps of the Fig. 10 and Fig. 13 fold curves of
+        asymmetric orbits; with the exact ones it is not)."""
         s = self.orbits
         if not isinstance(s, ShootingProblem) or s.rtol <= self.FINEST_RTOL:  # an exact map has nothing finer
             return None
@@ -315,6 +331,7 @@ class MinAugCurveProblem:
             sensitivities=s.sensitivities,
         )
         finer._memo, finer._last_second, finer._multipliers = {}, None, {}
+        finer.orbits.record_steps()
         return finer
 
     def diagnostics(self, x, p) -> dict:

@@ -15,7 +15,8 @@ shooting residual, and kappa the unknowns (x, p2, kappa), continued in p1. For |
 first column vanishes only where the whole of G does (a real multiplier mu solves
 mu + 1/mu = 2 kappa only for |kappa| >= 1). dG = -W^T dA V with W from the transposed system;
 dA along a direction needs the arcs' second derivatives along the two chains of V's first
-column (four extra integrations, central differences as on the fold curves), and
+column (two replays of the second-order variational equations on the arcs' steps, as on the
+fold curves), and
 dG/dkappa = 2 W_u,last^T V_u,first in closed form.
 
 Unlike theta, kappa is a regular coordinate through the strong resonances 1:1 (R1, kappa = 1) and

@@ -1,0 +1,119 @@
+"""The shooting arcs of (9) integrated with their steps kept, and the second-order variational
+equations replayed on those steps once the direction they are wanted along is known.
+
+The curve problems of :mod:`slosh_bif.orbits.codim2` need, at each Newton iterate, the derivatives
+of the arc matrices Phi_k and of the sensitivities along the null vector v of the block-cyclic
+matrix J_mu: the second-order variational equations
+
+    d' = J d,   Psi' = J Psi + f_yy[d, Phi],   r' = J r + f_yy[d, s] + f_ya d     (d(0) = v_k)
+
+(the generated along kernel). v is known only after the arcs themselves: J_mu is made of them.
+So the arcs are integrated first with every accepted step kept (its time, size and the states of
+the 29 shooting components its 13 stages were evaluated at), and the 28 components above are
+then integrated on exactly those steps: each stage's shooting state read from the tape, the 28
+advanced by the same Runge-Kutta weights. The result is the along kernel's integration
+with its error norm over the first 29 (the derivatives ride on the orbit's steps) at the cost of
+the 28 alone, where a second integration of all 57 would repeat the orbit's 29.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from slosh_bif.flows.compiled import jit as _jit
+from slosh_bif.flows.smooth.dop853 import (
+    _ALONG_EXTRA,
+    _ALONG_SIGMA_ABAR,
+    _SHOOTING_SIZE,
+    _dop853_loop,
+    _kernel,
+)
+
+__all__ = ["arcs_tape_loop", "replay_loop", "EXTRA", "WIDTH"]
+
+EXTRA = 28  # the replayed components: d, D Phi . d, D dy/da . d, D dy/db . d
+WIDTH = 2 + 13 * _SHOOTING_SIZE  # a tape row: tau, h, the 13 stage states
+
+
+@_jit
+def _arcs_tape_loop(which, taus, starts, pars, rtol, atol, max_steps, tapes, A, B, C, E3, E5):
+    """The shooting arcs as :func:`~slosh_bif.flows.smooth.dop853.arcs_loop` integrates them, arc
+    k's first ``tapes.shape[1]`` accepted steps written to ``tapes[k]`` (the caller's buffer,
+    reused from call to call). Returns (ends (m, 29), arcs done, status, steps per arc); an arc of
+    more steps than the buffer holds is integrated to its end all the same, its tape then
+    incomplete (the caller makes room and integrates again)."""
+    m = starts.shape[0]
+    size = _SHOOTING_SIZE
+    out = np.full((m, size), np.nan)
+    counts = np.zeros(m, dtype=np.int64)
+    z0 = np.zeros(size)
+    for k in range(m):
+        for i in range(size):
+            z0[i] = 0.0
+        for i in range(4):
+            z0[i] = starts[k, i]
+            z0[4 + 5 * i] = 1.0
+        z, steps, rejected, nfev, h, status = _dop853_loop(
+            which, taus[k], taus[k + 1], z0, pars, rtol, atol, 0.0, max_steps, tapes[k], A, B, C, E3, E5
+        )
+        counts[k] = steps
+        if status != 0:
+            return out, k, status, counts
+        for i in range(size):
+            out[k, i] = z[i]
+    return out, m, 0, counts
+
+
+@_jit
+def _replay_loop(dedicated, tapes, counts, directions, pars, A, B, C):
+    """The 28 along components of every arc, from d = ``directions[k]`` (and zeros), on the steps
+    of ``tapes``: (m, 28) at the arcs' ends. ``dedicated``: the tape is the (sigma, Abar)
+    shooting kernel's (else the pair kernel's, its weights in ``pars``)."""
+    which = _ALONG_SIGMA_ABAR if dedicated else _ALONG_EXTRA
+    m = counts.shape[0]
+    n = _SHOOTING_SIZE
+    out = np.empty((m, EXTRA))
+    KE = np.empty((13, EXTRA))
+    stage = np.empty(n + EXTRA)
+    e = np.empty(EXTRA)
+    for k in range(m):
+        for i in range(EXTRA):
+            e[i] = 0.0
+        for i in range(4):
+            e[i] = directions[k, i]
+        tape = tapes[k]
+        for step in range(counts[k]):
+            row = tape[step]
+            t = row[0]
+            hh = row[1]
+            if step == 0:  # the first stage at the arc's start; later it is the last step's 13th
+                for i in range(n):
+                    stage[i] = row[2 + i]
+                for i in range(EXTRA):
+                    stage[n + i] = e[i]
+                _kernel(which, t, stage, KE[0], pars)
+            else:
+                for i in range(EXTRA):
+                    KE[0, i] = KE[12, i]
+            for s in range(1, 13):
+                weights = A[s] if s < 12 else B
+                for i in range(n):
+                    stage[i] = row[2 + n * s + i]
+                for i in range(EXTRA):
+                    stage[n + i] = 0.0
+                for j in range(s):
+                    a = weights[j]
+                    if a != 0.0:
+                        for i in range(EXTRA):
+                            stage[n + i] += a * KE[j, i]
+                for i in range(EXTRA):
+                    stage[n + i] = e[i] + hh * stage[n + i]
+                _kernel(which, t + (C[s] * hh if s < 12 else hh), stage, KE[s], pars)
+            for i in range(EXTRA):
+                e[i] = stage[n + i]  # the 12th combination, B's: the step's end
+        for i in range(EXTRA):
+            out[k, i] = e[i]
+    return out
+
+
+arcs_tape_loop, replay_loop = _arcs_tape_loop, _replay_loop
