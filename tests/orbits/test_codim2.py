@@ -209,6 +209,27 @@ def test_curve_points_are_special_points_of_one_parameter_branches_and_of_scipys
         assert np.min(np.abs(multipliers - mu)) < 1e-6
 
 
+@pytest.mark.parametrize("curve_fixture, kind", [("fold_curve", "LP"), ("flip_curve", "PD")])
+def test_a_curve_read_between_its_points_is_corrected_onto_a_one_parameter_runs_point(
+    curve_fixture, kind, request
+):
+    # Between two computed points, at a sigma of neither, the crossing corrected on the curve's
+    # system is the special point a one-parameter run in Abar at that sigma locates; the linear
+    # interpolation between the points is further off (the corrected value is no interpolation).
+    from slosh_bif.orbits.codim2 import corrected_at
+
+    P, curve = request.getfixturevalue(curve_fixture)
+    i = len(curve) // 3
+    sigma = 0.5 * (curve["sigma"][i] + curve["sigma"][i + 1])
+    corrected = corrected_at(curve, P, sigma, i)
+    assert corrected is not None
+    x = curve.branch.x[i, :-1]
+    exact = _special_in(P.replace(sigma=float(sigma), Abar=float(corrected)), kind, x, "Abar")
+    assert corrected == pytest.approx(exact, abs=1e-7)
+    interpolated = 0.5 * (curve["Abar"][i] + curve["Abar"][i + 1])
+    assert abs(interpolated - exact) > abs(corrected - exact)
+
+
 @pytest.fixture(scope="module")
 def beta_fold_curve():
     """A fold curve in (sigma, beta): the fold of the symmetric branch at beta = 0.1 (Abar = 3)."""

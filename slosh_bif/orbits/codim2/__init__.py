@@ -23,6 +23,7 @@ _WHERE = {
     "repeats_early": "multiplier_curves",
     "MEETS_PARENT": "multiplier_curves",
     "TorusCurveProblem": "torus",
+    "corrected_at": "crossing",
 }
 
 __all__ = list(_WHERE)

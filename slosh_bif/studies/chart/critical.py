@@ -10,7 +10,7 @@ import time
 import numpy as np
 
 from slosh_bif.model.params import Params
-from slosh_bif.orbits.codim2 import curve_boundary
+from slosh_bif.orbits.codim2 import corrected_at, curve_boundary
 from slosh_bif.orbits.criticality import special_criticality
 from slosh_bif.orbits.orbit_tools import orbit_measures
 from slosh_bif.orbits.scan import scan_families
@@ -23,7 +23,7 @@ from slosh_bif.orbits.settings import (
     ShootingSettings,
     StartSettings,
 )
-from slosh_bif.slowflow.critical import critical_curve, interp_min
+from slosh_bif.slowflow.critical import critical_curve
 from slosh_bif.studies.chart.curves import (
     curve_starts,
     pitchforks_of,
@@ -164,11 +164,13 @@ def _bounds_stable_contact(ob, sp) -> bool:
     return bool(np.all(np.abs(rest) < 1) and orbit_measures(ob.problem, sp.x, sp.p)["max_abs_w"] >= 1.0)
 
 
-def lowest_stable_boundary(curves, sigma):
+def lowest_stable_boundary(curves, sigma, params: Params | None = None):
     """(Abar, kind, loss) of the lowest point at sigma of the ``curves`` that bounds stable
-    period-1 orbits with wall contact, by linear interpolation along each curve, and how stability
-    is lost there (the curve's ``boundary``: jump, soft, hard, undetermined; '' where not
-    computed); (nan, "", "") when none.
+    period-1 orbits with wall contact, and how stability is lost there (the curve's ``boundary``:
+    jump, soft, hard, undetermined; '' where not computed); (nan, "", "") when none. Each curve is
+    read by linear interpolation between its points; with ``params`` (the chart's set), the
+    crossing of a curve of (9) is then corrected on the curve's own system at sigma
+    (:func:`~slosh_bif.orbits.codim2.corrected_at`; the interpolation kept where that fails).
     Grazing curves of (8) are not read: there the number of impacts changes, not stability (on
     the Fig. 13 set the lowest is where the impact-free response first touches the walls)."""
     best = (np.nan, "", "")
@@ -176,27 +178,32 @@ def lowest_stable_boundary(curves, sigma):
         if c.period_multiple != 1 or c.kind == "GR":
             continue  # a period-2 branch's curves bound period-2 orbits; a grazing is no loss of stability
         good = _bounds_stable(c)
-        v = np.where(good, c["Abar"], np.nan)
-        value = interp_min(c["sigma"], v, sigma)
-        if value is not None and not value >= best[0]:
-            best = (value, c.kind, _loss_at(c, v, sigma, value))
+        crossing = _lowest_crossing(c["sigma"], np.where(good, c["Abar"], np.nan), sigma)
+        if crossing is None:
+            continue
+        value, i, t = crossing
+        if params is not None:
+            corrected = corrected_at(c, params, sigma, i)
+            value = value if corrected is None else corrected
+        if not value >= best[0]:
+            kinds = curve_boundary(c)[1]
+            best = (value, c.kind, str(kinds[i] if t <= 0.5 else kinds[i + 1]))
     return best
 
 
-def _loss_at(curve, v, sigma, value) -> str:
-    """The curve's ``boundary`` (:func:`~slosh_bif.orbits.codim2.curve_boundary`) where it
-    crosses sigma at ``value``: that of the nearer end of the crossing segment."""
-    s, kinds = curve["sigma"], curve_boundary(curve)[1]
+def _lowest_crossing(s, v, at):
+    """(value, i, t) of the lowest linear interpolation of the curve (s, v) at s = at, over the
+    segment (i, i + 1) at fraction t (segments with a non-finite end skipped); None where no
+    segment spans ``at``."""
+    best = None
     for i in range(len(s) - 1):
-        if s[i] != s[i + 1] and min(s[i], s[i + 1]) <= sigma <= max(s[i], s[i + 1]):
-            t = (sigma - s[i]) / (s[i + 1] - s[i])
-            if (
-                np.isfinite(v[i])
-                and np.isfinite(v[i + 1])
-                and abs(v[i] + t * (v[i + 1] - v[i]) - value) < 1e-12
-            ):
-                return str(kinds[i] if t <= 0.5 else kinds[i + 1])
-    return ""
+        if s[i] != s[i + 1] and min(s[i], s[i + 1]) <= at <= max(s[i], s[i + 1]):
+            if np.isfinite(v[i]) and np.isfinite(v[i + 1]):
+                t = (at - s[i]) / (s[i + 1] - s[i])
+                value = v[i] + t * (v[i + 1] - v[i])
+                if best is None or value < best[0]:
+                    best = (float(value), i, float(t))
+    return best
 
 
 def _bounds_stable(curve) -> np.ndarray:
@@ -260,7 +267,7 @@ def critical_rows(chart: Chart, points: int = 57):
     slow = chart.slow_flow_critical
     for sigma in np.linspace(*chart.sigma_range, points):
         b = _slow_flow_critical_at(slow, sigma)
-        c, kind, loss = lowest_stable_boundary(chart.curves, sigma)
+        c, kind, loss = lowest_stable_boundary(chart.curves, sigma, chart.params)
         rel = abs(c - b) / b if np.isfinite(b) and np.isfinite(c) and b > 0 else np.nan
         yield dict(
             sigma=float(sigma), Abar_b_slowflow=b, Abar_c_full=c, rel_diff=rel, bounded_by=kind, loss=loss
