@@ -1,5 +1,5 @@
 """The compiled loops, loaded on first use: the three DOP853 loops of
-:mod:`slosh_bif.flows.smooth.dop853` and the two of :mod:`slosh_bif.flows.smooth.tape` (with the
+:mod:`slosh_bif.flows.smooth.dop853` and the replay of :mod:`slosh_bif.flows.smooth.tape` (with the
 generated kernels of (9), its variational equations and the random forcing of (47) inlined) and
 the periodic QR sweep of :mod:`slosh_bif.flows.periodic_qr` (the Floquet multipliers' periodic
 Schur decomposition).
@@ -21,7 +21,7 @@ __all__ = ["compiled", "ENTRIES"]
 
 ENTRIES = {  # the module of slosh_bif.flows -> its loops
     "smooth.dop853": ("dop853_loop", "grid_loop", "arcs_loop"),
-    "smooth.tape": ("arcs_tape_loop", "replay_loop"),
+    "smooth.tape": ("replay_loop",),
     "periodic_qr": ("periodic_qr",),
 }
 _LOADED = []  # the process's loops, loaded once

@@ -97,7 +97,6 @@ def test_compile_fills_numbas_cache_so_that_a_later_command_compiles_nothing(tmp
         "_dop853_loop",
         "_grid_loop",
         "_arcs_loop",
-        "_arcs_tape_loop",
         "_replay_loop",
         "periodic_qr.periodic_qr",
         "flow._run",

@@ -97,18 +97,7 @@ def integrate_arcs(
     if numba and tape is not None and not along:
         return _taped(tape, which, pars, starts, taus, rtol, atol, max_steps)
     if numba:
-        ends, done, status = compiled().arcs_loop(
-            WHICH[which],
-            np.ascontiguousarray(taus, dtype=float),
-            starts,
-            directions if along else starts,  # read by the along kernel alone
-            pars,
-            float(rtol),
-            float(atol),
-            int(max_steps),
-            *TABLEAU,
-        )
-        return ends, min(done + 1, m)
+        return _arcs(which, pars, starts, directions if along else starts, taus, rtol, atol, max_steps)[:2]
     ends = np.full((m, size), np.nan)
     for k in range(m):
         if not np.all(np.isfinite(starts[k])):
@@ -136,20 +125,38 @@ def integrate_arcs(
     return ends, m
 
 
+def _arcs(which, pars, starts, directions, taus, rtol, atol, max_steps, rows=None):
+    """The compiled arcs loop: (ends, arcs integrated, status, steps per arc), the steps kept in
+    ``rows`` (m, capacity, width) where given (``directions`` is read by the along kernel alone)."""
+    m = len(starts)
+    ends, done, status, counts = compiled().arcs_loop(
+        WHICH[which],
+        np.ascontiguousarray(taus, dtype=float),
+        starts,
+        directions,
+        pars,
+        float(rtol),
+        float(atol),
+        int(max_steps),
+        np.empty((m, 0, 1)) if rows is None else rows,
+        *TABLEAU,
+    )
+    return ends, min(done + 1, m), status, counts
+
+
 def _taped(tape: Tape, which, pars, starts, taus, rtol, atol, max_steps):
     """The arcs with their steps kept in ``tape``; integrated again with room for every step where
     an arc took more than the tape held."""
-    taus = np.ascontiguousarray(taus, dtype=float)
     m = len(starts)
     tape._room(m, 0)
     while True:
-        ends, done, status, counts = compiled().arcs_tape_loop(
-            WHICH[which], taus, starts, pars, float(rtol), float(atol), int(max_steps), tape.rows, *TABLEAU
+        ends, done, status, counts = _arcs(
+            which, pars, starts, starts, taus, rtol, atol, max_steps, tape.rows
         )
         if status != 0 or counts.max() <= tape.rows.shape[1]:
             tape.counts, tape.pars = (counts, pars) if status == 0 else (None, None)
             tape.dedicated = which == "shooting"
-            return ends, min(done + 1, m)
+            return ends, done
         tape._room(m, int(1.25 * counts.max()) + 16)
 
 

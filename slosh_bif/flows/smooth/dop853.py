@@ -311,15 +311,19 @@ def _dop853_loop(which, t0, t1, z0, pars, rtol, atol, h, max_steps, tape, A, B, 
 
 
 @_jit
-def _arcs_loop(which, taus, starts, directions, pars, rtol, atol, max_steps, A, B, C, E3, E5):
+def _arcs_loop(which, taus, starts, directions, pars, rtol, atol, max_steps, tapes, A, B, C, E3, E5):
     """Every arc of multiple shooting in one call: arc k runs the shooting system from
     [starts[k], I, 0, 0] over [taus[k], taus[k + 1]] (the along kernel from [starts[k], I, 0, 0, 0,
-    directions[k], 0, 0, 0]; ``directions`` is read by it alone). Returns (end states (m, 29 or
-    57), arcs done, status of the first that failed or 0). One call instead of one per arc: the
-    Python around each call cost as much as a short arc at n = 6."""
+    directions[k], 0, 0, 0]; ``directions`` is read by it alone), its first ``tapes.shape[1]``
+    accepted steps written to ``tapes[k]`` (the caller's buffer; none kept where it has no rows).
+    Returns (end states (m, 29 or 57), arcs done, status of the first that failed or 0, steps per
+    arc); an arc of more steps than the buffer holds is integrated to its end all the same, its
+    tape then incomplete. One call instead of one per arc: the Python around each call cost as
+    much as a short arc at n = 6."""
     m = starts.shape[0]
     size = 57 if which == _ALONG else _SHOOTING_SIZE
     out = np.full((m, size), np.nan)
+    counts = np.zeros(m, dtype=np.int64)
     z0 = np.zeros(size)
     for k in range(m):
         for i in range(size):
@@ -330,27 +334,14 @@ def _arcs_loop(which, taus, starts, directions, pars, rtol, atol, max_steps, A, 
             if which == _ALONG:
                 z0[_SHOOTING_SIZE + i] = directions[k, i]
         z, steps, rejected, nfev, h, status = _dop853_loop(
-            which,
-            taus[k],
-            taus[k + 1],
-            z0,
-            pars,
-            rtol,
-            atol,
-            0.0,
-            max_steps,
-            np.empty((0, 0)),
-            A,
-            B,
-            C,
-            E3,
-            E5,
+            which, taus[k], taus[k + 1], z0, pars, rtol, atol, 0.0, max_steps, tapes[k], A, B, C, E3, E5
         )
+        counts[k] = steps
         if status != 0:
-            return out, k, status
+            return out, k, status, counts
         for i in range(size):
             out[k, i] = z[i]
-    return out, m, 0
+    return out, m, 0, counts
 
 
 if HAVE_NUMBA:

@@ -1,5 +1,6 @@
-"""The shooting arcs of (9) integrated with their steps kept, and the second-order variational
-equations replayed on those steps once the direction they are wanted along is known.
+"""The second-order variational equations of (9) replayed on the kept steps of the shooting arcs
+(:func:`~slosh_bif.flows.smooth.dop853.arcs_loop` with a tape), once the direction they are wanted
+along is known.
 
 The curve problems of :mod:`slosh_bif.orbits.codim2` need, at each Newton iterate, the derivatives
 of the arc matrices Phi_k and of the sensitivities along the null vector v of the block-cyclic
@@ -25,43 +26,13 @@ from slosh_bif.flows.smooth.dop853 import (
     _ALONG_EXTRA,
     _ALONG_SIGMA_ABAR,
     _SHOOTING_SIZE,
-    _dop853_loop,
     _kernel,
 )
 
-__all__ = ["arcs_tape_loop", "replay_loop", "EXTRA", "WIDTH"]
+__all__ = ["replay_loop", "EXTRA", "WIDTH"]
 
 EXTRA = 28  # the replayed components: d, D Phi . d, D dy/da . d, D dy/db . d
 WIDTH = 2 + 13 * _SHOOTING_SIZE  # a tape row: tau, h, the 13 stage states
-
-
-@_jit
-def _arcs_tape_loop(which, taus, starts, pars, rtol, atol, max_steps, tapes, A, B, C, E3, E5):
-    """The shooting arcs as :func:`~slosh_bif.flows.smooth.dop853.arcs_loop` integrates them, arc
-    k's first ``tapes.shape[1]`` accepted steps written to ``tapes[k]`` (the caller's buffer,
-    reused from call to call). Returns (ends (m, 29), arcs done, status, steps per arc); an arc of
-    more steps than the buffer holds is integrated to its end all the same, its tape then
-    incomplete (the caller makes room and integrates again)."""
-    m = starts.shape[0]
-    size = _SHOOTING_SIZE
-    out = np.full((m, size), np.nan)
-    counts = np.zeros(m, dtype=np.int64)
-    z0 = np.zeros(size)
-    for k in range(m):
-        for i in range(size):
-            z0[i] = 0.0
-        for i in range(4):
-            z0[i] = starts[k, i]
-            z0[4 + 5 * i] = 1.0
-        z, steps, rejected, nfev, h, status = _dop853_loop(
-            which, taus[k], taus[k + 1], z0, pars, rtol, atol, 0.0, max_steps, tapes[k], A, B, C, E3, E5
-        )
-        counts[k] = steps
-        if status != 0:
-            return out, k, status, counts
-        for i in range(size):
-            out[k, i] = z[i]
-    return out, m, 0, counts
 
 
 @_jit
@@ -116,4 +87,4 @@ def _replay_loop(dedicated, tapes, counts, directions, pars, A, B, C):
     return out
 
 
-arcs_tape_loop, replay_loop = _arcs_tape_loop, _replay_loop
+replay_loop = _replay_loop
