@@ -19,7 +19,7 @@ d(J_mu v)/dz . e = d/de [F_z(z + e v)]^T w: the arcs' derivatives along v, from 
 variational equations of (9) replayed on the steps the arcs were integrated with
 (:meth:`~slosh_bif.orbits.shooting.ShootingProblem.arcs_along`; v is known only once the arcs
 are), so that a Newton iteration costs the arcs and 28 more components where central
-differences from x +- h v cost two more integrations of the arcs (and carried their rounding,
+differences from x +- h v cost two more integrations of the arcs (and carry their rounding,
 rtol / h); for the stroboscopic map of (8), central differences of its exact Jacobian. The system
 stays of size 4m + 1 (AUTO's and MatCont's standard extended systems would double it). The
 bordering vectors are renewed from v and w after every accepted point, as
@@ -254,9 +254,8 @@ class MinAugCurveProblem:
             _, Psi, R = self.orbits.arcs_along(y, P, direction)
             m = len(Psi)
             dJ = np.zeros((4 * m, 4 * m))
-            dJ.reshape(m, 4, m, 4)[np.arange(m), :, np.arange(m), :] = (
-                Psi  # the -I, -mu I blocks are constant
-            )
+            blocks = dJ.reshape(m, 4, m, 4)  # the diagonal: the -I, -mu I blocks are constant
+            blocks[np.arange(m), :, np.arange(m), :] = Psi
             return dJ, R.reshape(len(y), -1)
         h = 1e-6 * (1 + np.linalg.norm(y)) / size
         ahead, behind = self.orbits.arcs(y + h * direction, P), self.orbits.arcs(y - h * direction, P)
@@ -310,9 +309,9 @@ class MinAugCurveProblem:
         """This curve with the arcs integrated 100 times more tightly (rtol down to
         ``FINEST_RTOL``), its borders kept; None when it is there already. The engine resumes a
         stalled direction with it: the arcs' own error can hide a nearly singular but regular
-        stretch of the curve (with g's derivatives by central differences, whose rounding is
-        rtol / h, this was needed past the cusps of the Fig. 10 and Fig. 13 fold curves of
-        asymmetric orbits; with the exact ones it is not)."""
+        stretch of the curve (g's derivatives by central differences, whose rounding is rtol / h,
+        need it past the cusps of the Fig. 10 and Fig. 13 fold curves of asymmetric orbits; the
+        exact ones do not)."""
         s = self.orbits
         if not isinstance(s, ShootingProblem) or s.rtol <= self.FINEST_RTOL:  # an exact map has nothing finer
             return None
