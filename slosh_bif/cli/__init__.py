@@ -136,6 +136,17 @@ def _quiet_stdout() -> None:
         pass
 
 
+def _chained_interrupt(err: BaseException):
+    """The KeyboardInterrupt in ``err``'s chain of causes and contexts, or None."""
+    seen = set()
+    while err is not None and id(err) not in seen:
+        if isinstance(err, KeyboardInterrupt):
+            return err
+        seen.add(id(err))
+        err = err.__cause__ or err.__context__
+    return None
+
+
 def _interrupted(command: str, stop: KeyboardInterrupt) -> int:
     name = getattr(stop, "signal_name", "SIGINT")
     print(
@@ -193,11 +204,13 @@ def main(argv=None) -> int:
         except KeyboardInterrupt as stop:  # Ctrl-C or SIGTERM: workers are stopped where they run
             return _interrupted(args.command, stop)
         except SystemError as err:
-            # A signal that arrives inside compiled (numba) code surfaces as "returned a result
-            # with an exception set", the KeyboardInterrupt chained to it.
-            if not isinstance(err.__context__, KeyboardInterrupt):
+            # A signal that arrives inside compiled (numba) code, or while numba loads cached
+            # code, surfaces as "returned a result with an exception set", the KeyboardInterrupt
+            # chained to it (as its context or its cause).
+            stop = _chained_interrupt(err)
+            if stop is None:
                 raise
-            return _interrupted(args.command, err.__context__)
+            return _interrupted(args.command, stop)
         except ValueError as err:
             print(f"slosh-bif {args.command}: error: {err}", file=sys.stderr)
             return 2

@@ -249,3 +249,25 @@ def test_the_critical_forcing_of_the_full_model_stops_on_a_signal(signum, code):
     assert child.returncode == code, err
     assert time.monotonic() - sent < 10  # within 2 s of work, on a busy machine
     assert "Traceback" not in err
+
+
+def test_an_interrupt_inside_numbas_loading_ends_as_an_interrupt(monkeypatch, capsys):
+    # Ctrl-C while numba unpickles cached code for a compiled loop's first call surfaces as a
+    # SystemError (the loop's dispatcher) caused by a SystemError (numba's unpickler) caused by
+    # the KeyboardInterrupt (seen in CI on a cold cache): the command still ends with status 130.
+    from slosh_bif.cli import info, main
+
+    def interrupted_inside_numba(args):
+        try:
+            try:
+                raise KeyboardInterrupt
+            except KeyboardInterrupt as stop:
+                raise SystemError(
+                    "<function _numba_unpickle> returned a result with an exception set"
+                ) from stop
+        except SystemError as inner:
+            raise SystemError("CPUDispatcher(_arcs_loop) returned a result with an exception set") from inner
+
+    monkeypatch.setattr(info, "params_of", interrupted_inside_numba)
+    assert main(["info", "--preset", "fig10"]) == 130
+    assert "Traceback" not in capsys.readouterr().err
