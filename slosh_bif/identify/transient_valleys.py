@@ -72,7 +72,6 @@ def best_valley(z, fitted, model: str, rng, pool, tracked=()) -> tuple:
         z, run = best[1], best[2]
         r = objective(z)
         verdict = goodness(objective.record, r, k + 1, TRAJECTORY_NAMES[model])
-    objective(z)
     return z, (objective, run, r, verdict, end), [(m, x) for m, x, _ in minima]
 
 

@@ -18,7 +18,7 @@ import math
 import numpy as np
 
 from slosh_bif.flows.loops import compiled
-from slosh_bif.flows.smooth.dop853_interface import TABLEAU, WHICH
+from slosh_bif.flows.smooth.dop853_interface import ALONG_SIZE, EXTRA_SIZE, TABLEAU, TAPE_WIDTH, WHICH
 from slosh_bif.flows.smooth.integrator import (
     DEFAULT_SENSITIVITIES,
     SHOOTING_SIZE,
@@ -32,10 +32,6 @@ from slosh_bif.model.params import Params, real_pair
 
 __all__ = ["integrate_arcs", "replay_along", "Tape", "ALONG_SIZE", "EXTRA_SIZE"]
 
-ALONG_SIZE = 57  # the along kernel: [the shooting system's 29, d, D Phi . d, D dy/da . d, D dy/db . d]
-EXTRA_SIZE = ALONG_SIZE - SHOOTING_SIZE
-_WIDTH = 2 + 13 * SHOOTING_SIZE  # a tape row (flows/smooth/tape.py): tau, h, the 13 stage states
-
 
 class Tape:
     """Where the arcs' accepted steps are kept: a buffer reused from call to call (one a problem),
@@ -44,14 +40,14 @@ class Tape:
     last call failed and kept nothing usable)."""
 
     def __init__(self, rows_per_arc: int = 256):
-        self.rows = np.empty((0, max(int(rows_per_arc), 1), _WIDTH))
+        self.rows = np.empty((0, max(int(rows_per_arc), 1), TAPE_WIDTH))
         self.counts = None
         self.pars = None
         self.dedicated = False  # kept by the (sigma, Abar) shooting kernel (else the pair kernel)
 
     def _room(self, m: int, rows: int):
         if self.rows.shape[0] != m or self.rows.shape[1] < rows:
-            self.rows = np.empty((m, max(rows, self.rows.shape[1]), _WIDTH))
+            self.rows = np.empty((m, max(rows, self.rows.shape[1]), TAPE_WIDTH))
 
 
 def _kernel_choice(params, sensitivities, along):

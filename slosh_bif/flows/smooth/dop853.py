@@ -21,6 +21,7 @@ import numpy as np
 
 from slosh_bif.flows.compiled import HAVE_NUMBA, numba
 from slosh_bif.flows.compiled import jit as _jit
+from slosh_bif.flows.smooth.dop853_interface import ALONG_SIZE, SHOOTING_SIZE, WHICH
 from slosh_bif.model import powers as _powers
 from slosh_bif.model._generated import kernels as _kernels
 
@@ -67,7 +68,7 @@ def _rms(v, scale, count):
     return math.sqrt(total / count)
 
 
-_ALONG, _ALONG_EXTRA, _ALONG_SIGMA_ABAR, _SHOOTING_SIZE = 5, 6, 7, 29
+_ALONG, _ALONG_EXTRA, _ALONG_SIGMA_ABAR = WHICH["along"], WHICH["along_extra"], WHICH["along_sigma_abar"]
 
 
 @_jit(inline=True)
@@ -75,7 +76,7 @@ def _controlled(which, n):
     """The components in the error norm: all, except for the along kernel, whose derivatives along a
     direction ride on the steps its first 29 (the shooting system's) choose, so that these are the
     very numbers of the pair kernel's integration whatever the direction."""
-    return _SHOOTING_SIZE if which == _ALONG else n
+    return SHOOTING_SIZE if which == _ALONG else n
 
 
 @_jit
@@ -321,7 +322,7 @@ def _arcs_loop(which, taus, starts, directions, pars, rtol, atol, max_steps, tap
     tape then incomplete. One call instead of one per arc: the Python around each call cost as
     much as a short arc at n = 6."""
     m = starts.shape[0]
-    size = 57 if which == _ALONG else _SHOOTING_SIZE
+    size = ALONG_SIZE if which == _ALONG else SHOOTING_SIZE
     out = np.full((m, size), np.nan)
     counts = np.zeros(m, dtype=np.int64)
     z0 = np.zeros(size)
@@ -332,7 +333,7 @@ def _arcs_loop(which, taus, starts, directions, pars, rtol, atol, max_steps, tap
             z0[i] = starts[k, i]
             z0[4 + 5 * i] = 1.0
             if which == _ALONG:
-                z0[_SHOOTING_SIZE + i] = directions[k, i]
+                z0[SHOOTING_SIZE + i] = directions[k, i]
         z, steps, rejected, nfev, h, status = _dop853_loop(
             which, taus[k], taus[k + 1], z0, pars, rtol, atol, 0.0, max_steps, tapes[k], A, B, C, E3, E5
         )

@@ -14,12 +14,35 @@ import numpy as np
 
 from slosh_bif.model._generated import dop853_tableau as _dop
 
-__all__ = ["STAGES", "TABLEAU", "WHICH", "OK", "MESSAGES"]
+__all__ = [
+    "STAGES",
+    "TABLEAU",
+    "WHICH",
+    "OK",
+    "MESSAGES",
+    "SHOOTING_SIZE",
+    "ALONG_SIZE",
+    "EXTRA_SIZE",
+    "TAPE_WIDTH",
+]
 
 STAGES = _dop.N_STAGES
 # A, B, C, E3, E5 (scipy's DOP853 coefficients, written by the derivation); every loop takes them last.
 TABLEAU = tuple(np.array(v) for v in (_dop.A, _dop.B, _dop.C, _dop.E3, _dop.E5))
-WHICH = {"plain": 0, "shooting": 1, "noisy": 2, "pair": 3, "third": 4, "along": 5}
+WHICH = {
+    "plain": 0,
+    "shooting": 1,
+    "noisy": 2,
+    "pair": 3,
+    "third": 4,
+    "along": 5,
+    "along_extra": 6,
+    "along_sigma_abar": 7,
+}
+SHOOTING_SIZE = 29  # [y, Phi, dy/dp1, dy/dp2, int tr J]
+ALONG_SIZE = 57  # the along kernel: [the shooting system's 29, d, D Phi . d, D dy/da . d, D dy/db . d]
+EXTRA_SIZE = ALONG_SIZE - SHOOTING_SIZE  # what the along extra kernels give, replayed on kept steps
+TAPE_WIDTH = 2 + 13 * SHOOTING_SIZE  # a kept step: tau, h, the states its 13 stages were evaluated at
 
 # Status codes of the loops.
 OK, MAX_STEPS, TOO_SMALL, NOT_FINITE = 0, 1, 2, 3

@@ -25,7 +25,7 @@ import numpy as np
 
 from slosh_bif.flows.loops import compiled
 from slosh_bif.flows.noise import BandLimitedNoise
-from slosh_bif.flows.smooth.dop853_interface import MESSAGES, OK, TABLEAU, WHICH
+from slosh_bif.flows.smooth.dop853_interface import MESSAGES, OK, SHOOTING_SIZE, TABLEAU, WHICH
 from slosh_bif.model.params import REAL_FIELDS, Params, real_pair
 
 __all__ = [
@@ -42,7 +42,6 @@ __all__ = [
     "scipy_rhs",
 ]
 
-SHOOTING_SIZE = 29  # [y, Phi, dy/dp1, dy/dp2, int tr J]
 DEFAULT_SENSITIVITIES = ("sigma", "Abar")  # the dedicated kernel's pair; any other pair takes the pair kernel
 
 

@@ -22,17 +22,14 @@ from __future__ import annotations
 import numpy as np
 
 from slosh_bif.flows.compiled import jit as _jit
-from slosh_bif.flows.smooth.dop853 import (
-    _ALONG_EXTRA,
-    _ALONG_SIGMA_ABAR,
-    _SHOOTING_SIZE,
-    _kernel,
-)
+from slosh_bif.flows.smooth.dop853 import _kernel
+from slosh_bif.flows.smooth.dop853_interface import EXTRA_SIZE as EXTRA
+from slosh_bif.flows.smooth.dop853_interface import SHOOTING_SIZE, WHICH
 
-__all__ = ["replay_loop", "EXTRA", "WIDTH"]
+__all__ = ["replay_loop"]
 
-EXTRA = 28  # the replayed components: d, D Phi . d, D dy/da . d, D dy/db . d
-WIDTH = 2 + 13 * _SHOOTING_SIZE  # a tape row: tau, h, the 13 stage states
+# the kernel numbers as the compiled loop reads them (plain integers: a dict is no numba constant)
+_EXTRA_KERNEL, _SIGMA_ABAR_KERNEL = WHICH["along_extra"], WHICH["along_sigma_abar"]
 
 
 @_jit
@@ -40,9 +37,9 @@ def _replay_loop(dedicated, tapes, counts, directions, pars, A, B, C):
     """The 28 along components of every arc, from d = ``directions[k]`` (and zeros), on the steps
     of ``tapes``: (m, 28) at the arcs' ends. ``dedicated``: the tape is the (sigma, Abar)
     shooting kernel's (else the pair kernel's, its weights in ``pars``)."""
-    which = _ALONG_SIGMA_ABAR if dedicated else _ALONG_EXTRA
+    which = _SIGMA_ABAR_KERNEL if dedicated else _EXTRA_KERNEL
     m = counts.shape[0]
-    n = _SHOOTING_SIZE
+    n = SHOOTING_SIZE
     out = np.empty((m, EXTRA))
     KE = np.empty((13, EXTRA))
     stage = np.empty(n + EXTRA)
