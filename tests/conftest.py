@@ -86,3 +86,27 @@ def beta_chart() -> list:
         "--seeds",
         "3",
     ]
+
+
+@pytest.fixture
+def fold_chart() -> list:
+    """The smallest (sigma, Abar) chart: the fold of the Fig. 10 set's symmetric orbits near
+    sigma = -1.4 (one LP curve, seconds): the arguments of ``slosh-bif chart`` but ``--out``."""
+    return [
+        "chart",
+        "--preset",
+        "fig10",
+        "--set",
+        "sigma=-1.2",
+        "--sigma-min",
+        "-1.6",
+        "--sigma-max",
+        "-1.2",
+        "--abar-min",
+        "2.6",
+        "--abar-max",
+        "3.4",
+        "--no-switch",
+        "--seeds",
+        "0",
+    ]

@@ -36,9 +36,8 @@ def _chart(args) -> int:
 
 
 def _chart_on(args, executor) -> int:
-    from slosh_bif.orbits.settings import BranchingSettings, ShootingSettings
     from slosh_bif.report.files import Resume
-    from slosh_bif.studies.chart import ChartSettings, bifurcation_chart, check_box
+    from slosh_bif.studies.chart import check_box
     from slosh_bif.studies.chart.output import (
         chart_settings,
         curve_store,
@@ -104,52 +103,34 @@ def _chart_on(args, executor) -> int:
     settings = chart_settings(params, state0, (lo, hi), (a_lo, a_hi), **options)
     done, keep = curve_store(args.out / "curves", settings, resume=args.resume)
     say = throttled(progress, passes=lambda message: ": point " not in message)
-    if impact:
-        from slosh_bif.studies.chart.impact import impact_chart
-
-        chart = impact_chart(
-            params,
-            state0,
-            sigma_range=(lo, hi),
-            abar_range=(a_lo, a_hi),
-            branching=BranchingSettings(switch=not args.no_switch),
-            settings=ChartSettings(seeds=args.seeds, workers=args.workers, executor=executor),
-            progress=say,
-            variant="corrected" if args.model == "impact-corrected" else "paper",
-        )
-    else:
-        chart = bifurcation_chart(
-            params,
-            state0,
-            box={"sigma": (lo, hi), args.second: (a_lo, a_hi)},
-            shooting=ShootingSettings(backend=args.backend),
-            branching=BranchingSettings(switch=not args.no_switch),
-            settings=ChartSettings(
-                seeds=args.seeds, workers=args.workers, model=args.model, executor=executor
-            ),
-            progress=say,
-            resume=Resume(done, keep),
-        )
-    regimes = None
-    if args.regimes is not None and chart.status == "complete":
-        from slosh_bif.simulation.regimes import regime_map
-        from slosh_bif.simulation.settings import SimulationSettings, Workers
-
-        n, m = args.regimes
-        regimes = regime_map(
-            params,
-            state0,
-            np.linspace(lo, hi, n),
-            np.linspace(a_lo, a_hi, m),
-            tmax=args.tmax,
-            workers=Workers(executor, args.workers),
-            settings=SimulationSettings(
-                model="impact" if args.model == "impact" else "smooth", backend=args.backend
-            ),
-            progress=lambda done, total, report=throttled(progress, passes=lambda message: False): report(
-                f"regimes: {done} of {total}"
-            ),
-        )
+    shared = _shared_pool(args, executor)
+    own = shared is not None and shared is not executor  # local processes this command stops
+    executor = executor if shared is None else shared
+    box = (lo, hi, a_lo, a_hi)
+    try:
+        pending = _submit_regimes(args, params, state0, box, executor) if shared is not None else None
+        chart = _trace_chart(args, params, state0, box, executor, say, Resume(done, keep))
+        regimes = None
+        if args.regimes is not None and chart.status == "complete":
+            if pending is None:  # after the curves, on the map's own local processes
+                pending = _submit_regimes(args, params, state0, box, executor)
+            regimes = pending.result(
+                lambda done, total, report=throttled(progress, passes=lambda message: False): report(
+                    f"regimes: {done} of {total}"
+                )
+            )
+        elif pending is not None:
+            pending.cancel()
+    except BaseException:
+        if own:
+            shared.stop()
+        raise
+    if own:  # an interrupted map or chart leaves running tasks: stopped, not waited for
+        finished = chart.status == "complete" and (regimes is None or regimes.status == "complete")
+        if finished:
+            shared.close()
+        else:
+            shared.stop()
     paths = [write_curves_csv(chart, args.out / "curves.csv")]
     if args.second == "Abar":  # the critical forcing is a curve in (sigma, Abar)
         paths.append(write_critical_csv(chart, args.out / "critical.csv"))
@@ -177,6 +158,74 @@ def _chart_on(args, executor) -> int:
         )
         return 3
     return 0
+
+
+def _shared_pool(args, executor):
+    """The executor that the regime map and the curves share, so that the map's cells run while
+    this process traces the orbit family and fill the workers beside the curves: the cluster's,
+    or local processes (``--workers``, one per core by default); None without ``--regimes`` or
+    with one local worker (the map then runs after the curves, as before)."""
+    if args.regimes is None:
+        return None
+    if executor is not None:
+        return executor
+    from slosh_bif.simulation.sweep import WorkerPool
+    from slosh_bif.studies.chart.result import chart_workers
+
+    return WorkerPool(args.workers) if chart_workers(args.workers) > 1 else None
+
+
+def _submit_regimes(args, params, state0, box, executor):
+    """The ``--regimes`` map's cells submitted to ``executor`` (None: its own local processes)."""
+    from slosh_bif.simulation.regimes import submit_regime_map
+    from slosh_bif.simulation.settings import SimulationSettings, Workers
+
+    lo, hi, a_lo, a_hi = box
+    n, m = args.regimes
+    return submit_regime_map(
+        params,
+        state0,
+        np.linspace(lo, hi, n),
+        np.linspace(a_lo, a_hi, m),
+        tmax=args.tmax,
+        workers=Workers(executor, args.workers),
+        settings=SimulationSettings(
+            model="impact" if args.model == "impact" else "smooth", backend=args.backend
+        ),
+    )
+
+
+def _trace_chart(args, params, state0, box, executor, say, resume):
+    """The chart of (9) or of an impact model over ``box`` (lo, hi, a_lo, a_hi), the curves on
+    ``executor``."""
+    from slosh_bif.orbits.settings import BranchingSettings, ShootingSettings
+    from slosh_bif.studies.chart import ChartSettings, bifurcation_chart
+
+    lo, hi, a_lo, a_hi = box
+    branching = BranchingSettings(switch=not args.no_switch)
+    if args.model in ("impact", "impact-corrected"):
+        from slosh_bif.studies.chart.impact import impact_chart
+
+        return impact_chart(
+            params,
+            state0,
+            sigma_range=(lo, hi),
+            abar_range=(a_lo, a_hi),
+            branching=branching,
+            settings=ChartSettings(seeds=args.seeds, workers=args.workers, executor=executor),
+            progress=say,
+            variant="corrected" if args.model == "impact-corrected" else "paper",
+        )
+    return bifurcation_chart(
+        params,
+        state0,
+        box={"sigma": (lo, hi), args.second: (a_lo, a_hi)},
+        shooting=ShootingSettings(backend=args.backend),
+        branching=branching,
+        settings=ChartSettings(seeds=args.seeds, workers=args.workers, model=args.model, executor=executor),
+        progress=say,
+        resume=resume,
+    )
 
 
 def add_commands(sub) -> None:

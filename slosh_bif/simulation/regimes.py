@@ -46,7 +46,7 @@ from slosh_bif.model.restitution.on_manifold import ManifoldLaw
 from slosh_bif.report.files import Resume
 from slosh_bif.simulation.direct import MAX_SAMPLES, simulate
 from slosh_bif.simulation.settings import LOCAL, SIMULATION, SimulationSettings, Workers
-from slosh_bif.simulation.sweep import run_cells
+from slosh_bif.simulation.sweep import submit_cells
 
 __all__ = [
     "REGIMES",
@@ -55,6 +55,8 @@ __all__ = [
     "classify",
     "RegimeMap",
     "regime_map",
+    "submit_regime_map",
+    "PendingRegimeMap",
     "check_run_length",
 ]
 
@@ -310,6 +312,35 @@ def regime_map(
     (a resumed run), which are not simulated again; ``resume.keep((i, j), summary)`` is called as each
     point finishes (to store it on the way).
     """
+    pending = submit_regime_map(
+        params,
+        state0,
+        sigmas,
+        abars,
+        tmax=tmax,
+        transient=transient,
+        settings=settings,
+        workers=workers,
+        resume=resume,
+    )
+    return pending.result(progress)
+
+
+def submit_regime_map(
+    params: Params,
+    state0,
+    sigmas,
+    abars,
+    *,
+    tmax: float = CLASSIFY_TMAX,
+    transient: float | None = None,
+    settings: SimulationSettings = SIMULATION,
+    workers: Workers = LOCAL,
+    resume: Resume | None = None,
+) -> PendingRegimeMap:
+    """The cells of :func:`regime_map` checked and submitted now, collected by the returned
+    object's ``result(progress)`` (or dropped by its ``cancel()``): the executor can run them
+    beside other work meanwhile (a chart's curves)."""
     from slosh_bif.flows.smooth.integrator import resolve_backend
 
     settings = settings.replace(
@@ -334,17 +365,31 @@ def regime_map(
     done = {key: s for key, s in (resume.done or {}).items() if key in jobs and s.regime != "not computed"}
     state0 = np.asarray(state0, dtype=float)
     arguments = {key: (p, state0, tmax, transient, settings) for key, p in jobs.items()}
-    results, status = run_cells(
-        _classify_point,
-        arguments,
-        workers=workers,
-        resume=dataclasses.replace(resume, done=done),
-        progress=progress,
+    cells = submit_cells(
+        _classify_point, arguments, workers=workers, resume=dataclasses.replace(resume, done=done)
     )
-    regime = np.empty((abars.size, sigmas.size), dtype=object)
-    summaries = [[None] * sigmas.size for _ in abars]
-    for i, j in jobs:
-        summary = results.get((i, j)) or RegimeSummary.not_computed(status, transient)
-        regime[i, j] = summary.regime
-        summaries[i][j] = summary
-    return RegimeMap(params, sigmas, abars, regime, summaries, float(tmax), settings.model, status)
+    return PendingRegimeMap(cells, (params, sigmas, abars, float(tmax), transient, settings.model))
+
+
+class PendingRegimeMap:
+    """A regime map whose cells are submitted (:func:`submit_regime_map`)."""
+
+    def __init__(self, cells, grid):
+        self.cells, self.grid = cells, grid
+
+    def result(self, progress=None) -> RegimeMap:
+        """The map once every cell is classified or an interruption stopped them (``status``)."""
+        params, sigmas, abars, tmax, transient, model = self.grid
+        results, status = self.cells.collect(progress)
+        regime = np.empty((abars.size, sigmas.size), dtype=object)
+        summaries = [[None] * sigmas.size for _ in abars]
+        for i in range(abars.size):
+            for j in range(sigmas.size):
+                summary = results.get((i, j)) or RegimeSummary.not_computed(status, transient)
+                regime[i, j] = summary.regime
+                summaries[i][j] = summary
+        return RegimeMap(params, sigmas, abars, regime, summaries, tmax, model, status)
+
+    def cancel(self) -> None:
+        """Drop the cells not finished (local workers stopped, a cluster's tasks cancelled)."""
+        self.cells.cancel()

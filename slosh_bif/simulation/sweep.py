@@ -16,7 +16,15 @@ from concurrent.futures import ProcessPoolExecutor, as_completed
 from slosh_bif.report.files import Resume
 from slosh_bif.simulation.settings import LOCAL, Workers
 
-__all__ = ["WorkerPool", "ClusterExecutor", "local_pool", "run_cells", "worker_setup"]
+__all__ = [
+    "WorkerPool",
+    "ClusterExecutor",
+    "PendingCells",
+    "local_pool",
+    "run_cells",
+    "submit_cells",
+    "worker_setup",
+]
 
 
 def worker_setup(pids=None) -> None:
@@ -58,6 +66,8 @@ class WorkerPool:
     """Local worker processes (``max_workers``, one per core by default) that can be stopped at
     once: a ``ProcessPoolExecutor`` whose workers announce their process ids, since a simulation in
     a worker cannot be interrupted any other way than by killing it."""
+
+    place = "local processes"  # where its tasks run, for progress lines
 
     def __init__(self, max_workers: int | None = None):
         import multiprocessing
@@ -110,6 +120,8 @@ class ClusterExecutor:
     chart's curves, each skipped when an earlier one covers it) submits at once. A worker lost
     mid-task is dask's to handle: the scheduler runs the task again on another."""
 
+    place = "the cluster"
+
     def __init__(self, client):
         self.executor = client.get_executor()
         self.threads = max(1, sum(client.nthreads().values()))
@@ -134,34 +146,64 @@ def run_cells(
     "interrupted (SIGNAL) after k of n points". ``progress(count, total)`` and
     ``resume.keep(key, result)`` are called as cells finish, in the order they finish.
     """
-    resume = resume or Resume()
-    on_result = resume.keep
-    results = dict(resume.done or {})
-    total = len(jobs) if total is None else total
-    todo = {key: arguments for key, arguments in jobs.items() if key not in results}
-    own = workers.executor is None
-    local = WorkerPool(workers.max_workers) if own else None
-    pool = local.executor if own else workers.executor
-    status, futures = "complete", {}
-    try:
-        futures = {pool.submit(function, *arguments): key for key, arguments in todo.items()}
-        for count, future in enumerate(as_completed(futures), len(results) + 1):
-            key = futures[future]
-            results[key] = future.result()
-            if on_result is not None:
-                on_result(key, results[key])
-            if progress is not None:
-                progress(count, total)
-    except KeyboardInterrupt as stop:
-        status = (
-            f"interrupted ({getattr(stop, 'signal_name', 'SIGINT')}) after {len(results)} of {total} points"
-        )
-        if own:
-            local.stop()
+    return submit_cells(function, jobs, workers=workers, resume=resume, total=total).collect(progress)
+
+
+def submit_cells(
+    function, jobs: dict, *, workers: Workers = LOCAL, resume: Resume | None = None, total: int | None = None
+):
+    """The cells of :func:`run_cells` submitted now and collected later (:class:`PendingCells`),
+    so that other work can share the executor meanwhile (a chart's curves beside its regime map)."""
+    return PendingCells(function, jobs, workers, resume or Resume(), total)
+
+
+class PendingCells:
+    """Cells submitted to their executor: :meth:`collect` waits for them (as :func:`run_cells`
+    does), :meth:`cancel` drops them (local workers stopped at once, a cluster's unstarted tasks
+    cancelled)."""
+
+    def __init__(self, function, jobs: dict, workers: Workers, resume: Resume, total: int | None):
+        self.keep = resume.keep
+        self.results = dict(resume.done or {})
+        self.total = len(jobs) if total is None else total
+        todo = {key: arguments for key, arguments in jobs.items() if key not in self.results}
+        self.local = WorkerPool(workers.max_workers) if workers.executor is None else None
+        pool = self.local.executor if self.local is not None else workers.executor
+        self.futures = {}
+        try:
+            for key, arguments in todo.items():
+                self.futures[pool.submit(function, *arguments)] = key
+        except BaseException:
+            self.cancel()
+            raise
+
+    def collect(self, progress=None):
+        """``(results, status)`` as :func:`run_cells` returns them, once every cell has finished
+        or an interruption stopped them."""
+        status = "complete"
+        try:
+            for count, future in enumerate(as_completed(self.futures), len(self.results) + 1):
+                key = self.futures[future]
+                self.results[key] = future.result()
+                if self.keep is not None:
+                    self.keep(key, self.results[key])
+                if progress is not None:
+                    progress(count, self.total)
+        except KeyboardInterrupt as stop:
+            status = (
+                f"interrupted ({getattr(stop, 'signal_name', 'SIGINT')}) after {len(self.results)} of "
+                f"{self.total} points"
+            )
+            self.cancel()
+        finally:
+            if self.local is not None and status == "complete":
+                self.local.close()
+        return self.results, status
+
+    def cancel(self) -> None:
+        """Stop the cells that have not finished: the local workers killed, a cluster's tasks cancelled."""
+        if self.local is not None:
+            self.local.stop()
         else:
-            for future in futures:
+            for future in self.futures:
                 future.cancel()
-    finally:
-        if own and status == "complete":
-            local.close()
-    return results, status

@@ -344,28 +344,9 @@ def test_shoot_flags_orbits_that_fail_the_liouville_check(tmp_path, capsys):
     assert capsys.readouterr().err.count("fail Liouville's check") == 1
 
 
-def test_chart_writes_curves_critical_and_png_and_checks_its_box(tmp_path, capsys):
+def test_chart_writes_curves_critical_and_png_and_checks_its_box(tmp_path, capsys, fold_chart):
     out = tmp_path / "chart"
-    argv = [
-        "chart",
-        "--preset",
-        "fig10",
-        "--set",
-        "sigma=-1.2",
-        "--sigma-min",
-        "-1.6",
-        "--sigma-max",
-        "-1.2",
-        "--abar-min",
-        "2.6",
-        "--abar-max",
-        "3.4",
-        "--no-switch",
-        "--seeds",
-        "0",
-        "--out",
-        str(out),
-    ]
+    argv = [*fold_chart, "--out", str(out)]
     assert main(argv) == 0
     curves = list(csv.DictReader(open(out / "curves.csv")))
     assert set(curves[0]) >= {"curve", "kind", "sigma", "Abar", "A1", "max_abs_w", "codim2", "status"}

@@ -218,6 +218,18 @@ def test_a_stopped_chart_keeps_its_finished_curves_and_leaves_no_worker(tmp_path
     )  # the finished curves (one of two duplicates dropped), complete
 
 
+@pytest.mark.skipif(not os.path.exists("/proc/self/task"), reason="reads worker processes from Linux's /proc")
+def test_a_chart_stopped_while_its_regime_map_runs_beside_the_family_leaves_no_worker(tmp_path):
+    # the map's cells start on the shared pool before the orbit family is traced in this process:
+    # a Ctrl-C then (no curve yet) kills the pool's workers and exits 130
+    out = tmp_path / "chart"
+    arguments = [*CHART, "--regimes", "6", "6", "--tmax", "3000"]
+    returncode, err, elapsed, workers = _stop_while_running(arguments, signal.SIGINT, out, wait=1.0)
+    assert returncode == 130, err
+    assert elapsed < 10 and len(workers) == 2 and not any(_alive(w) for w in workers)
+    assert "Traceback" not in err and not (out / "curves.csv").exists()
+
+
 @pytest.mark.parametrize("signum, code", [(signal.SIGINT, 130), (signal.SIGTERM, 143)])
 def test_the_critical_forcing_of_the_full_model_stops_on_a_signal(signum, code):
     """``answer critical-forcing`` traces curves in process (as the bench's critical-forcing step

@@ -92,3 +92,36 @@ def test_the_curves_do_not_depend_on_workers_or_load(tmp_path, beta_chart):
     rows = _rows(one)
     # every start gives its curve, the fold curves included (they were lost once, silently)
     assert {r["status"] for r in rows} == {"ok"} and {"LP", "NS", "BP"} <= {r["kind"] for r in rows}
+
+
+REGIMES = ["--regimes", "3", "2", "--tmax", "60"]
+
+
+def test_a_regime_map_shares_the_workers_with_the_curves_and_changes_no_file(
+    tmp_path, monkeypatch, fold_chart
+):
+    """On two workers the --regimes map's cells are submitted before the first curve (they run
+    while this process traces the orbit family) to the same two processes; every file, the
+    picture with the map included, is the one-worker run's, byte for byte."""
+    from slosh_bif.simulation import sweep
+
+    submitted, pools = [], []
+
+    class Recording(sweep.WorkerPool):
+        def __init__(self, max_workers=None):
+            super().__init__(max_workers)
+            pools.append(self)
+
+        def submit(self, function, *arguments):
+            submitted.append(function.__name__)
+            return super().submit(function, *arguments)
+
+    monkeypatch.setattr(sweep, "WorkerPool", Recording)
+    assert main([*fold_chart, *REGIMES, "--workers", "1", "--out", str(tmp_path / "one")]) == 0
+    assert [p.threads for p in pools] == [1]  # the map's own process, after the curves
+    assert main([*fold_chart, *REGIMES, "--workers", "2", "--out", str(tmp_path / "two")]) == 0
+    assert [p.threads for p in pools] == [1, 2]  # one pool of two, shared by the map and the curves
+    cells = [name for name in submitted if "classify" in name]
+    assert len(cells) == 6 and submitted[:6] == cells and len(submitted) > 6  # the map first, then curves
+    for name in ("curves.csv", "critical.csv", "codim2.csv", "chart.png"):
+        assert (tmp_path / "one" / name).read_bytes() == (tmp_path / "two" / name).read_bytes(), name

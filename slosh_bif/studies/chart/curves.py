@@ -276,7 +276,7 @@ def _trace_in_pool(starts, workers, covered, record, traced, executor=None):
         pending, running = list(range(len(starts))), {}
         while pending or running:
             while pending and len(running) < workers:
-                i = pending.pop(0)
+                i = pending.pop(_next_start(pending, [starts[k].kind for k in running.values()], starts))
                 if covered(i, settled_curves()):
                     resolved.add(i)
                 else:
@@ -290,3 +290,11 @@ def _trace_in_pool(starts, workers, covered, record, traced, executor=None):
         pool.stop()
         raise
     pool.close()
+
+
+def _next_start(pending, running_kinds, starts) -> int:
+    """Where in ``pending`` the next start to trace is: the first whose kind no running curve has
+    (only a curve of its kind can cover a start, so its trace is not wasted on a duplicate of
+    one still running: on the Fig. 13 chart 17 of 56 curve tasks were), else the first. The
+    order of tracing changes nothing kept: that is decided in start order at the end."""
+    return next((n for n, i in enumerate(pending) if starts[i].kind not in running_kinds), 0)

@@ -129,5 +129,5 @@ def chart_workers(workers) -> int:
 def where(settings: ChartSettings) -> str:
     """Where the curves are traced, for the progress line."""
     if settings.executor is not None:
-        return f"{settings.slots} at a time on the cluster"
+        return f"{settings.slots} at a time on {getattr(settings.executor, 'place', 'the cluster')}"
     return f"on {settings.slots} process(es)"
