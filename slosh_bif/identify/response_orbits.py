@@ -26,6 +26,7 @@ import numpy as np
 
 from slosh_bif.continuation.corrector import newton_solve
 from slosh_bif.continuation.options import ConvergenceError
+from slosh_bif.flows.smooth.integrator import integrate_grid
 from slosh_bif.identify.assignment import pick
 from slosh_bif.identify.response_model import impact_free, impact_free_state, response_curve
 from slosh_bif.model.params import Params
@@ -43,6 +44,8 @@ SEGMENTS = 4  # arcs of each orbit's shooting problem
 NEUTRAL = 1e-8  # a multiplier this far outside the unit circle is on it (rounding)
 FREE_W = 0.9  # an orbit whose |w| stays below this does not touch the wall (chi w^(2n+1) ~ 0)
 SETTLE = 100  # forcing periods a settling simulation runs before each Newton
+SETTLE_MOST = 2000  # forcing periods a settled record's simulation from rest runs at most
+SETTLED = 1e-7  # the state a period apart agrees this well (relative) when it has settled
 SUBSTEPS = 8  # parameter sets between the last and the next where Newton from the last misses
 
 
@@ -75,6 +78,7 @@ class OrbitResponse:
         self.family = family  # (9)'s orbits over the data's sigma range at ``params``, or None
         self.x, self.stable = [None] * len(data), [None] * len(data)
         self.candidates = [None] * len(data)  # (A1, stable) of every orbit found at each point
+        self.found = [None] * len(data)  # (x, A1, stable) of every orbit found at each point
         chosen = np.empty(len(data))
         problems = self._problems(params)
         for i, previous in data.sweep_order():
@@ -95,7 +99,7 @@ class OrbitResponse:
                 found += _settled(data, params, i, problem)
             if not found:
                 raise LostOrbit(f"no 2pi-orbit of (9) found at sigma = {s:.6g} to follow")
-            self.candidates[i] = _distinct([(f[1], f[2]) for f in found])
+            self.candidates[i], self.found[i] = _distinct([(f[1], f[2]) for f in found]), found
             # the stable orbit that explains the point best, its sweep's continuing one where that
             # explains it nearly as well
             k = pick(data, i, None if previous is None else chosen[previous], [(f[1], f[2]) for f in found])
@@ -145,6 +149,28 @@ class OrbitResponse:
                 return None
             x = found[0]
         return found
+
+    def settled_from_rest(self, i: int) -> list:
+        """[(x, A1, stable)] of the orbit a simulation of (9) from rest settles on at point i's set
+        (the one the last call left): Newton only once the state a period apart agrees to
+        :data:`SETTLED` (a state near one stable orbit can lie in the basin of another, and Newton
+        from it find the first), or [] where it settles on no stable orbit within
+        :data:`SETTLE_MOST` periods."""
+        at, s = self.data.params_at(self.params, i), float(self.sigma[i])
+        y = np.zeros(4)
+        period = 2 * np.pi
+        for _ in range(SETTLE_MOST // SETTLE):
+            ends = integrate_grid(
+                at, y, np.array([0.0, (SETTLE - 1) * period, SETTLE * period]), rtol=1e-10, atol=1e-12
+            )
+            y = ends[-1]
+            if not np.all(np.isfinite(y)):
+                return []
+            if np.max(np.abs(ends[-1] - ends[-2])) <= SETTLED * (1.0 + np.max(np.abs(y))):
+                problem = self._problems(self.params, only=i)
+                found = _orbit(problem, problem.initial_states(y), s)
+                return [found] if found is not None and found[2] else []
+        return []
 
     def _problems(self, params: Params, only: int | None = None):
         """Each point's shooting problem: one for all but data in Hz, whose points each have their
@@ -216,16 +242,21 @@ def _settled(data, params: Params, i: int, problem: ShootingProblem) -> list:
         flow = SlowFlow(at)
         starts = [flow.fast_state(A, float(flow.steady_phase(A)), np.array([0.0]))[0] for A, _ in states]
     for y0 in starts + [np.zeros(4)]:
-        try:
-            orbit, A1 = settle_and_shoot(
-                at, y0, segments=SEGMENTS, first=SETTLE, every=SETTLE, most=4 * SETTLE
-            )
-        except (RuntimeError, ValueError):  # a simulation that fails, a start off the manifold
-            continue
-        found = _orbit(problem, problem.initial_states(orbit.y0), s) if np.isfinite(A1) else None
-        if found is not None and found[2]:
-            return [found]
+        found = _settle_from(at, y0, problem, s)
+        if found:
+            return found
     return []
+
+
+def _settle_from(at: Params, y0, problem: ShootingProblem, s: float) -> list:
+    """[(x, A1, stable)] of the stable orbit a simulation of (9) at ``at`` settles on from ``y0``
+    (Newton tried after SETTLE periods and every SETTLE more, up to four times), or []."""
+    try:
+        orbit, A1 = settle_and_shoot(at, y0, segments=SEGMENTS, first=SETTLE, every=SETTLE, most=4 * SETTLE)
+    except (RuntimeError, ValueError):  # a simulation that fails, a start off the manifold
+        return []
+    found = _orbit(problem, problem.initial_states(orbit.y0), s) if np.isfinite(A1) else None
+    return [found] if found is not None and found[2] else []
 
 
 def _near(family, sigma) -> list:
