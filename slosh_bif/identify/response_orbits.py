@@ -160,9 +160,12 @@ class OrbitResponse:
         y = np.zeros(4)
         period = 2 * np.pi
         for _ in range(SETTLE_MOST // SETTLE):
-            ends = integrate_grid(
-                at, y, np.array([0.0, (SETTLE - 1) * period, SETTLE * period]), rtol=1e-10, atol=1e-12
-            )
+            try:
+                ends = integrate_grid(
+                    at, y, np.array([0.0, (SETTLE - 1) * period, SETTLE * period]), rtol=1e-10, atol=1e-12
+                )
+            except (RuntimeError, ValueError):  # an integration that fails: no orbit from rest
+                return []
             y = ends[-1]
             if not np.all(np.isfinite(y)):
                 return []
