@@ -288,42 +288,15 @@ def check_run_length(tmax: float, transient: float | None = None, sample_step: f
     return transient
 
 
-def regime_map(
-    params: Params,
-    state0,
-    sigmas,
-    abars,
-    *,
-    tmax: float = CLASSIFY_TMAX,
-    transient: float | None = None,
-    settings: SimulationSettings = SIMULATION,
-    workers: Workers = LOCAL,
-    resume: Resume | None = None,
-    progress=None,
-) -> RegimeMap:
-    """Simulate and classify every (sigma, Abar) of the grid from ``state0``.
-
-    ``settings``: the model and its integrator (:class:`~slosh_bif.simulation.settings.SimulationSettings`).
-    The points run on ``workers`` (:class:`~slosh_bif.simulation.settings.Workers`: a Dask
-    cluster's executor, or local processes). ``progress(done, total)`` is called as points finish.
+def regime_map(params: Params, state0, sigmas, abars, *, progress=None, **options) -> RegimeMap:
+    """Simulate and classify every (sigma, Abar) of the grid from ``state0``: the cells of
+    :func:`submit_regime_map` (``options``: its ``tmax``, ``transient``, ``settings``, ``workers``,
+    ``resume``), waited for. ``progress(done, total)`` is called as points finish.
     Interrupted (KeyboardInterrupt, or SIGTERM turned into one by the CLI), it kills its own
     workers at once and returns what it has: ``status`` says why it stopped, the points it did not
-    reach are ``"not computed"``. ``resume.done``: {(i, j): RegimeSummary} of points already classified
-    (a resumed run), which are not simulated again; ``resume.keep((i, j), summary)`` is called as each
-    point finishes (to store it on the way).
+    reach are ``"not computed"``.
     """
-    pending = submit_regime_map(
-        params,
-        state0,
-        sigmas,
-        abars,
-        tmax=tmax,
-        transient=transient,
-        settings=settings,
-        workers=workers,
-        resume=resume,
-    )
-    return pending.result(progress)
+    return submit_regime_map(params, state0, sigmas, abars, **options).result(progress)
 
 
 def submit_regime_map(
@@ -340,7 +313,13 @@ def submit_regime_map(
 ) -> PendingRegimeMap:
     """The cells of :func:`regime_map` checked and submitted now, collected by the returned
     object's ``result(progress)`` (or dropped by its ``cancel()``): the executor can run them
-    beside other work meanwhile (a chart's curves)."""
+    beside other work meanwhile (a chart's curves).
+
+    ``settings``: the model and its integrator (:class:`~slosh_bif.simulation.settings.SimulationSettings`).
+    The points run on ``workers`` (:class:`~slosh_bif.simulation.settings.Workers`: a Dask
+    cluster's executor, or local processes). ``resume.done``: {(i, j): RegimeSummary} of points
+    already classified (a resumed run), which are not simulated again; ``resume.keep((i, j),
+    summary)`` is called as each point finishes (to store it on the way)."""
     from slosh_bif.flows.smooth.integrator import resolve_backend
 
     settings = settings.replace(
