@@ -25,7 +25,7 @@ from slosh_bif.continuation.corrector import newton_solve
 from slosh_bif.flows.impact.flow import LINEAR_PARAMETERS, WALL_PARAMETERS, ImpactFlow
 from slosh_bif.identify.assignment import pick
 from slosh_bif.identify.response_model import impact_free, impact_free_state, response_curve
-from slosh_bif.identify.response_orbits import LostOrbit, intermediate_sets
+from slosh_bif.identify.response_orbits import SETTLE_MOST, SETTLED, LostOrbit, intermediate_sets
 from slosh_bif.model.params import Params
 from slosh_bif.orbits.impact.branches import quiet_section, settled_orbit
 from slosh_bif.orbits.impact.problem import VARIANT_NAMES, ImpactOrbitProblem
@@ -54,6 +54,7 @@ class ImpactResponse:
         self.phase, self.x, self.stable = [None] * len(data), [None] * len(data), [None] * len(data)
         self.data, self.params = data, params
         self.candidates = [None] * len(data)  # (A1, stable) of every orbit found at each point
+        self.found = [None] * len(data)  # (phase, x, A1, stable) of every orbit found at each point
         chosen = np.empty(len(data))
         for i, previous in data.sweep_order():
             s, at = self.sigma[i], data.params_at(params, i)
@@ -81,7 +82,7 @@ class ImpactResponse:
                 )
             # the stable orbit that explains the point best, its sweep's continuing one where that
             # explains it nearly as well
-            self.candidates[i] = [(f[2], f[3]) for f in found_all]
+            self.candidates[i], self.found[i] = [(f[2], f[3]) for f in found_all], found_all
             k = pick(data, i, None if previous is None else chosen[previous], self.candidates[i])
             best = found_all[k]
             self.phase[i], self.x[i], self.stable[i], chosen[i] = best[0], best[1], best[3], best[2]
@@ -104,6 +105,29 @@ class ImpactResponse:
         problem = ImpactOrbitProblem(at, variant=self.variant)
         phase, x = quiet_section(problem, x, at.sigma)
         return self._orbit(at, phase, x)
+
+    def settled_from_rest(self, i: int) -> list:
+        """[(phase, x, A1, stable)] of the orbit a simulation from rest settles on at point i's set
+        (the one the last call left): Newton only once the strobe a period apart agrees to
+        :data:`~.response_orbits.SETTLED`, or [] where it settles on no stable orbit within
+        :data:`~.response_orbits.SETTLE_MOST` periods (as :mod:`.response_orbits` for (9))."""
+        at = self.data.params_at(self.params, i)
+        problem = ImpactOrbitProblem(at, variant=self.variant)
+        flow, y = problem.flow_at(at.sigma), np.zeros(4)
+        for _ in range(SETTLE_MOST // SETTLE):
+            ends = []
+            for periods in (SETTLE - 1, 1):
+                _, states, _, code = flow.run(
+                    y, 0.0, 2 * np.pi * periods, stick_speed=1e-9, max_impacts=10**7
+                )
+                if code != 0:  # sticks, or leaves the measured law: no orbit from rest
+                    return []
+                y = states[:, -1]
+                ends.append(y)
+            if np.max(np.abs(ends[1] - ends[0])) <= SETTLED * (1.0 + np.max(np.abs(y))):
+                found = self._orbit(at, *quiet_section(problem, y, at.sigma))
+                return [found] if found is not None and found[3] else []
+        return []
 
     def _orbit(self, params: Params, phase: float, x):
         """(phase, x, A1, stable) of the orbit Newton finds from x on the section at ``phase``."""

@@ -126,8 +126,7 @@ class RecordOrbit:
         )
         self.orbits = orbit_response(point, params, model, progress)
         self.phases = np.mod(record.tau, 2 * np.pi)
-        if model == "smooth":
-            self._choose_by_shape()
+        self._choose_by_shape()
 
     @property
     def params(self) -> Params:
@@ -167,35 +166,37 @@ class RecordOrbit:
         last :meth:`samples` call, the orbit moving with the parameters."""
         return self.at_phases(self.phases, names)[1]
 
-    def at_phases(self, phases, names=()) -> tuple:
-        """(X, dX/d names) of the orbit at ``phases`` (any reals: taken modulo 2pi)."""
+    def at_phases(self, phases, names=(), orbit=None) -> tuple:
+        """(X, dX/d names) of the orbit (``orbit``: another found at the same set, as the orbit
+        response lists it) at ``phases`` (any reals: taken modulo 2pi)."""
         phases = np.mod(np.asarray(phases, dtype=float), 2 * np.pi)
         if self.model == "smooth":
-            return _smooth_samples(self.orbits.params, self.orbits.x[0][:4], phases, names)
+            x = self.orbits.x[0] if orbit is None else orbit[0]
+            return _smooth_samples(self.orbits.params, x[:4], phases, names)
         variant = "corrected" if self.model == "impact-corrected" else "paper"
-        return _impact_samples(
-            self.orbits.params, self.orbits.phase[0], self.orbits.x[0], phases, names, variant
-        )
+        section, x = (self.orbits.phase[0], self.orbits.x[0]) if orbit is None else orbit[:2]
+        return _impact_samples(self.orbits.params, section, x, phases, names, variant)
 
     def _choose_by_shape(self) -> None:
         """The orbit the record follows, among every stable one found at its sigma and the one a
-        simulation of (9) from rest settles on: the one whose samples explain the whole record
-        best, not its first harmonic alone (at sigma = 0.5 of a set with n = 20 two stable
-        orbits have the same A1 to 1e-8, the particle moving differently, the vessel's motion
-        differing by 4e-3)."""
-        found = [f for f in self.orbits.found[0] + self.orbits.settled_from_rest(0) if f[2]]
+        simulation from rest settles on: the one whose samples explain the whole record best, not
+        its first harmonic alone (at sigma = 0.5 of a set with n = 20 two stable orbits of (9)
+        have the same A1 to 1e-8, the particle moving differently, the vessel's motion differing
+        by 4e-3)."""
+        found = [f for f in self.orbits.found[0] + self.orbits.settled_from_rest(0) if f[-1]]
         if not found:
             return
         scale = self.record.std if self.record.std is not None else 1.0
-        params = self.orbits.params
 
         def misfit(f):
-            return float(
-                np.sum(((self.record.X - _smooth_samples(params, f[0][:4], self.phases, ())[0]) / scale) ** 2)
-            )
+            return float(np.sum(((self.record.X - self.at_phases(self.phases, (), f)[0]) / scale) ** 2))
 
         best = min(found, key=misfit)
-        self.orbits.x[0], self.orbits.stable[0] = best[0], True
+        if self.model == "smooth":
+            self.orbits.x[0] = best[0]
+        else:
+            self.orbits.phase[0], self.orbits.x[0] = best[0], best[1]
+        self.orbits.stable[0] = True
 
     def _move(self, params: Params) -> None:
         """Follow the orbit to ``params``: Newton from the last set, else through sets in between
