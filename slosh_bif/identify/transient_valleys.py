@@ -86,8 +86,8 @@ def span_valleys(estimate, names, z, minima, best: float) -> list:
         return [
             f"The misfit of a trajectory has narrow valleys side by side: the search about the estimate "
             f"({len(minima) - 1} starts) found none other within 3.84, but one it did not reach may fit as "
-            "well, so these intervals are those of the valley found (over 40 noisy copies of a decay "
-            "about 4 in 5 held the truth: docs/findings/identify.md)."
+            "well, so these intervals are those of the valley found (over 80 noisy copies of a decay "
+            "about 5 in 6 held the truth: docs/findings/identify.md)."
         ]
     for k, name in enumerate(names):
         for key in ("wald_95", "profile_95"):
