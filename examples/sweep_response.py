@@ -8,7 +8,7 @@ measured A (eq. 25).
     python examples/sweep_response.py --out results/sweep.csv [--noise 0.01] [--seed 1]
 
 writes ``sigma, A, std, sweep`` (std the noise's size when it is not 0) and prints the truth.
-The identify page's example (``docs/identify/sweep-response.csv``) is this script's default run.
+The identify page's example (``docs/identify/sweep/response.csv``) is this script's default run.
 """
 
 from __future__ import annotations

@@ -68,7 +68,8 @@ def _fit_response(args) -> int:
             fit = fit_by_ladder(data, base, free, seed=args.seed, progress=progress, pool=pool)
         for rung in fit.ladder:
             print(
-                f"  {'used' if rung['used'] else 'passed over'}: {MODEL_NAMES[rung['model']]}: {rung['why']}"
+                f"  {'used' if rung['used'] else 'checked' if rung.get('checked') else 'passed over'}: "
+                f"{MODEL_NAMES[rung['model']]}: {rung['why']}"
             )
     else:
         with local_pool(args.workers) as pool:

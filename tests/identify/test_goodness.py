@@ -135,6 +135,21 @@ def test_the_ladder_passes_over_the_models_that_do_not_describe_the_data(biased_
     assert rungs["smooth"]["used"] and list(rungs)[-1] == "smooth"
 
 
+def test_a_slow_flows_estimate_is_run_through_the_model_it_expands(biased_data):
+    """The corrected slow flow expands (9): (9)'s responses at the truth describe (9)'s own orbits,
+    at gamma 0.6 (three times the truth: above the resonance the response hardly feels gamma)
+    they do not."""
+    from slosh_bif.identify.response_ladder import EXPANDS, unheld_by_expansion
+
+    truth, data = biased_data
+    assert EXPANDS["corrected"] == "smooth"
+    assert unheld_by_expansion(data, truth, "corrected", 1) == ""
+    said = unheld_by_expansion(data, truth.replace(gamma=0.6), "corrected", 1)
+    assert said.startswith(
+        "at its estimate the model it expands (the orbits of the smooth model (9)) does not"
+    )
+
+
 def test_a_sweep_of_one_point_is_warned_of():
     from slosh_bif.identify.response_fit import SweepWarning, fit_response
 

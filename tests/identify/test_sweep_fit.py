@@ -93,3 +93,25 @@ def test_coverage_over_40_seeds_of_noise_on_scipys_sweeps():
             )
             misses[name] += not (lo <= getattr(TRUTH, name) <= hi)
     assert max(misses.values()) <= 5, misses
+
+
+@pytest.mark.slow  # the noisy sweeps by scipy and four fits, two by orbits (about 1.5 min)
+def test_the_ladder_says_when_two_models_describe_the_data_with_different_parameters():
+    """The example's noisy sweeps (seed 1) by ``--model auto``: (46) is passed over for its wall,
+    the corrected slow flow because (9), which it expands, has no 2pi-orbit at its estimate; (8)
+    describes the data with gamma about 0.54 and is used, and (9), fitted as a check, describes
+    them too with gamma about 0.28: the fit says the data do not tell the two apart, and (9)'s
+    interval holds the truth."""
+    from slosh_bif.identify.response_ladder import fit_by_ladder
+
+    sigma, A, std, sweeps = example.response()
+    data = ResponseData(sigma, A, std, sweeps, "noisy sweeps")
+    fit = fit_by_ladder(data, TRUTH.replace(lam=0.39, gamma=0.24), ["lam", "gamma"])
+    rungs = {row["model"]: row for row in fit.ladder}
+    assert "outside its checked range" in rungs["slowflow"]["why"]
+    assert "the model it expands" in rungs["corrected"]["why"]
+    assert fit.model == "impact" and rungs["impact"]["used"]
+    assert rungs["smooth"]["checked"] and "do not tell the two models apart" in fit.not_identifiable
+    lo, hi = fit.estimate["gamma"]["profile_95"]
+    assert not lo <= TRUTH.gamma <= hi  # (8)'s gamma: the other wall's
+    assert abs(rungs["smooth"]["values"]["gamma"] - TRUTH.gamma) < 0.05
