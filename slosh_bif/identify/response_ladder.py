@@ -41,12 +41,13 @@ def _applies(model: str, free) -> str:
 
 def fit_by_ladder(data, base, free, *, seed: int = 0, progress=None, pool=None):
     """The fit by the lightest model of :data:`RUNGS` that describes ``data``, its ``ladder``
-    holding every rung tried with its verdict (the last rung's fit, flagged, where none does), and
-    the heaviest rung fitted as a check where a lighter one is used (:func:`_against_heaviest`);
+    holding every rung tried with its verdict, and the heaviest rung fitted as a check where a
+    lighter one is used (:func:`_against_heaviest`); where none is believed, the lightest whose fit
+    describes the data with why it is doubted, else the last rung's fit, flagged;
     ``pool``: as for :func:`~.response_fit.fit_response`."""
     say = progress or (lambda message: None)
     fitting = {"seed": seed, "progress": progress, "pool": pool}
-    rows, last = [], None
+    rows, last, doubted = [], None, None
     for model in RUNGS:
         fit, why = _rung(data, base, free, model, say, fitting)
         if fit is None:
@@ -58,9 +59,18 @@ def fit_by_ladder(data, base, free, *, seed: int = 0, progress=None, pool=None):
             rows.append({"model": model, "used": True, "why": f"describes the data (p = {p:.2g})"})
             return _against_heaviest(data, base, free, dataclasses.replace(fit, ladder=rows), say, fitting)
         rows.append({"model": model, "used": False, "why": why, "p_value": p, "values": fit.values})
+        if doubted is None and fit.describes:
+            doubted = (fit, why)
     if last is None:
         raise ValueError("no model of the ladder could fit these data: " + "; ".join(r["why"] for r in rows))
-    return dataclasses.replace(last, ladder=rows)
+    if doubted is None:
+        return dataclasses.replace(last, ladder=rows)
+    # no rung believed, but a slow flow describes the data: its fit, with why it is doubted
+    fit, why = doubted
+    said = f"No model of the ladder is believed; {MODEL_NAMES[fit.model]} is reported: it {why}."
+    return dataclasses.replace(
+        fit, ladder=rows, not_identifiable=" ".join(filter(None, [said, fit.not_identifiable]))
+    )
 
 
 def _rung(data, base, free, model: str, say, fitting) -> tuple:
