@@ -17,6 +17,7 @@ A family traced ahead for a start that turns out to lie on a known branch is dro
 from __future__ import annotations
 
 import dataclasses
+import time
 from concurrent.futures import FIRST_COMPLETED, wait
 
 import numpy as np
@@ -27,7 +28,9 @@ from slosh_bif.orbits.known import answers_hold
 from slosh_bif.orbits.orbit_branch import OrbitFamily, images, renamed, unique_name
 from slosh_bif.orbits.shooting import ShootingProblem
 
-__all__ = ["starts_side_by_side", "families_side_by_side", "family_task", "named_as_sequential"]
+__all__ = ["starts_side_by_side", "families_side_by_side", "family_task", "named_as_sequential", "HEARTBEAT"]
+
+HEARTBEAT = 15.0  # seconds between the lines saying that the family awaited is still being traced
 
 
 def starts_side_by_side(jobs, executor, say) -> list:
@@ -93,7 +96,9 @@ def families_side_by_side(starts: list, branches: list, *, executor, first: int,
 
     ``take``: the scan's steps, run here in order: ``is_known(start)`` (says why, if so),
     ``lies_on(start)`` (the same question, silent), ``add(family)`` (into ``branches``),
-    ``keep(k, branches)`` (or None) after the k-th start, and ``say``.
+    ``keep(k, branches)`` (or None) after the k-th start, and ``say``. While the family whose turn
+    it is runs on a worker, a line every :data:`HEARTBEAT` seconds says so (its own progress lines
+    come when it is done, in the sequential order).
     """
     say, keep = take["say"], take["keep"]
     slots = max(1, int(getattr(executor, "threads", 1)))
@@ -126,9 +131,16 @@ def families_side_by_side(starts: list, branches: list, *, executor, first: int,
                 if future is None:
                     send(k)
                     future = ahead.pop(k)
+                began = said = time.monotonic()
                 while not future.done():
                     top_up()
-                    wait([future, *ahead.values(), *dropped], return_when=FIRST_COMPLETED)
+                    wait([future, *ahead.values(), *dropped], timeout=HEARTBEAT, return_when=FIRST_COMPLETED)
+                    if not future.done() and time.monotonic() - said >= HEARTBEAT:
+                        said = time.monotonic()
+                        say(
+                            f"scan: the family from {starts[k].found_from} is being traced on a worker "
+                            f"({said - began:.0f} s; {len(ahead)} more traced ahead)"
+                        )
                 family, err, messages, asked = future.result()
                 if answers_hold(asked, branches):
                     break

@@ -73,11 +73,15 @@ class _Threads(ThreadPoolExecutor):
     threads = 2
 
 
-def test_the_side_by_side_scan_gives_the_sequential_branches():
+def test_the_side_by_side_scan_gives_the_sequential_branches(monkeypatch):
+    """The API's scan on a thread pool gives the sequential branches, and while the family whose
+    turn it is runs on a worker a line every HEARTBEAT seconds says so."""
     from slosh_bif import get_preset
+    from slosh_bif.orbits import scan_pool
     from slosh_bif.orbits.scan import scan_families
     from slosh_bif.orbits.settings import BranchingSettings, ParameterRange, StartSettings
 
+    monkeypatch.setattr(scan_pool, "HEARTBEAT", 0.2)
     preset = get_preset("fig10")
     settings = dict(
         interval=ParameterRange(lo=0.6, hi=1.5),
@@ -86,7 +90,11 @@ def test_the_side_by_side_scan_gives_the_sequential_branches():
     )
     alone = scan_families(preset.params, preset.state_for(preset.params), **settings)
     with _Threads(2) as pool:
-        beside = scan_families(preset.params, preset.state_for(preset.params), executor=pool, **settings)
+        said = []
+        beside = scan_families(
+            preset.params, preset.state_for(preset.params), executor=pool, progress=said.append, **settings
+        )
+    assert any("is being traced on a worker (" in line for line in said)
     assert len(alone.branches) >= 2
     assert [(ob.name, ob.origin, ob.found_from) for ob in beside.branches] == [
         (ob.name, ob.origin, ob.found_from) for ob in alone.branches
