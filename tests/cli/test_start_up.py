@@ -1,6 +1,6 @@
 """Start-up without an ahead-of-time compiler (slosh_bif.flows.loops): a command loads numba only
 when it integrates, no command leaves a process behind, and ``slosh-bif compile`` fills numba's
-cache so that a later command compiles nothing."""
+cache (and the package's bytecode) so that a later command compiles nothing."""
 
 import os
 import subprocess
@@ -103,6 +103,11 @@ def test_compile_fills_numbas_cache_so_that_a_later_command_compiles_nothing(tmp
     )
     for loop in loops:
         assert loop in names, loop
+    import importlib.util
+
+    import slosh_bif.orbits.shooting as module  # and the bytecode a command would otherwise compile
+
+    assert Path(importlib.util.cache_from_source(module.__file__)).is_file()
     _run([*SHORT_SHOOT, "--out", str(tmp_path / "out")], env={"NUMBA_CACHE_DIR": str(cache)})
     for path, mtime in indexes.items():  # an index is rewritten when its function compiles again
         assert path.stat().st_mtime_ns == mtime, path.name
