@@ -360,8 +360,7 @@ def add_commands(sub) -> None:
         "--workers",
         type=int,
         default=None,
-        help="with --start scan: worker processes for the starts and families (default: one per core; 1 runs "
-        "the scan in this process); "
+        help="with --start scan: worker processes for the starts and families (default 1: in this process); "
         "with --scheduler, tasks at once on the cluster (default: its threads); the result is the same "
         "with any number",
     )

@@ -6,11 +6,10 @@ from __future__ import annotations
 
 import contextlib
 import dataclasses
-import os
 
 from slosh_bif.cli.common import check_workers, progress, state0_of, sweep_executor, throttled
 
-__all__ = ["scan_from_args", "scan_workers"]
+__all__ = ["scan_from_args"]
 
 
 def scan_from_args(args, params, interval, rtol: float, tracing: dict):
@@ -61,8 +60,8 @@ def scan_from_args(args, params, interval, rtol: float, tracing: dict):
 
 @contextlib.contextmanager
 def _pool(args):
-    """The cluster's executor (``--scheduler``), local worker processes (``--workers`` above 1, one
-    per core by default), or None (this process)."""
+    """The cluster's executor (``--scheduler``), local worker processes (``--workers`` above 1),
+    or None (this process)."""
     with sweep_executor(args) as cluster:
         if cluster is not None:
             if getattr(args, "workers", None) is not None:
@@ -71,10 +70,5 @@ def _pool(args):
             return
         from slosh_bif.simulation.sweep import local_pool
 
-        with local_pool(scan_workers(getattr(args, "workers", None))) as pool:
+        with local_pool(getattr(args, "workers", None) or 1) as pool:
             yield pool
-
-
-def scan_workers(workers) -> int:
-    """Local processes of a scan: ``workers``, or one per core for None (as a chart's curves)."""
-    return workers if workers is not None else (os.cpu_count() or 1)
