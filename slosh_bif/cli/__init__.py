@@ -158,12 +158,11 @@ def _interrupted(command: str, stop: KeyboardInterrupt) -> int:
 
 
 def main(argv=None) -> int:
-    import signal
     import warnings
 
     from threadpoolctl import threadpool_limits
 
-    from slosh_bif.cli.common import Terminated
+    from slosh_bif.cli.exits import stop_signals
     from slosh_bif.cli.terminal import REPORTER
 
     parser = build_parser()
@@ -183,14 +182,7 @@ def main(argv=None) -> int:
                 file=sys.stderr,
             )
 
-    def on_sigterm(_signum, _frame):
-        raise Terminated("stopped")
-
-    try:
-        previous = signal.signal(signal.SIGTERM, on_sigterm)
-    except ValueError:  # not the main thread: signals stay as they are
-        previous = None
-    with warnings.catch_warnings():
+    with stop_signals(), warnings.catch_warnings():
         warnings.showwarning = show
         warnings.simplefilter("always")  # every warning reaches show(), which prints each message once
         try:
@@ -225,8 +217,6 @@ def main(argv=None) -> int:
             return 1
         finally:
             REPORTER.close()
-            if previous is not None:
-                signal.signal(signal.SIGTERM, previous)
 
 
 def run() -> None:
@@ -236,10 +226,13 @@ def run() -> None:
     numba, scipy and matplotlib one by one, about 0.4 s) changes nothing a user sees, so the exit
     functions run and the process ends without it. Where a thread or a child process is still
     alive, or a profiler or tracer watches (cProfile, coverage: they write at the interpreter's
-    exit), the ordinary exit is taken.
+    exit), the ordinary exit is taken, for at most
+    :data:`~slosh_bif.cli.exits.EXIT_WAIT` seconds.
     """
     import atexit
     import threading
+
+    from slosh_bif.cli.exits import EXIT_WAIT, leave_within
 
     status = main()
     sys.stdout.flush()
@@ -247,6 +240,7 @@ def run() -> None:
     children = sys.modules.get("multiprocessing")
     watched = sys.getprofile() is not None or sys.gettrace() is not None
     if watched or threading.active_count() > 1 or (children is not None and children.active_children()):
+        leave_within(EXIT_WAIT, status, "the exit")
         sys.exit(status)
     atexit._run_exitfuncs()  # what an ordinary exit runs first (loggers, temporary folders)
     sys.stdout.flush()

@@ -112,3 +112,39 @@ def test_compile_fills_numbas_cache_so_that_a_later_command_compiles_nothing(tmp
     for path, mtime in indexes.items():  # an index is rewritten when its function compiles again
         assert path.stat().st_mtime_ns == mtime, path.name
     assert {path for path in cache.rglob("*.nbi")} == set(indexes)  # and nothing new compiled
+
+
+def test_an_exit_held_by_a_thread_that_never_ends_is_bounded():
+    # a stand-in for a process pool's manager thread deadlocked on a killed worker
+    code = (
+        "import threading\n"
+        "import slosh_bif.cli as cli\n"
+        "import slosh_bif.cli.exits as exits\n"
+        "exits.EXIT_WAIT = 1.0\n"
+        "never = threading.Event()\n"
+        "def main(argv=None):\n"
+        "    threading.Thread(target=never.wait).start()\n"
+        "    return 3\n"
+        "cli.main = main\n"
+        "cli.run()\n"
+    )
+    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert run.returncode == 3, run.stderr[-800:]
+    assert "the exit waited 1 s for a thread or child process; leaving without it" in run.stderr
+
+
+def test_a_stop_that_never_ends_is_bounded():
+    # SIGTERM, then a stop path that hangs (a pool's shutdown waiting on a lock, say)
+    code = (
+        "import os, signal, threading, time\n"
+        "from slosh_bif.cli.exits import stop_signals\n"
+        "with stop_signals(wait=1.0):\n"
+        "    try:\n"
+        "        os.kill(os.getpid(), signal.SIGTERM)\n"
+        "        time.sleep(60)\n"
+        "    except KeyboardInterrupt:\n"
+        "        threading.Event().wait()\n"
+    )
+    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert run.returncode == 143, run.stderr[-800:]
+    assert "the stop waited 1 s for a thread or child process; leaving without it" in run.stderr
