@@ -37,6 +37,7 @@ def _chart(args) -> int:
 
 def _chart_on(args, executor) -> int:
     from slosh_bif.report.files import Resume
+    from slosh_bif.report.tasks import scaling_line, write_tasks_csv
     from slosh_bif.studies.chart import check_box
     from slosh_bif.studies.chart.output import (
         chart_settings,
@@ -46,7 +47,6 @@ def _chart_on(args, executor) -> int:
         write_critical_csv,
         write_curves_csv,
     )
-    from slosh_bif.studies.chart.tasks import scaling_line, write_tasks_csv
 
     params = params_of(args)
     lo, hi = sigma_range(args)

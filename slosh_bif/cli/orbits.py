@@ -114,6 +114,7 @@ def _shoot(args) -> int:
         write_families_csv,
     )
     from slosh_bif.report.plot_process import PlotProcess
+    from slosh_bif.report.tasks import scaling_line, write_tasks_csv
 
     params = params_of(args)
     if args.parameter == "Abar":
@@ -133,18 +134,22 @@ def _shoot(args) -> int:
         families_path = write_families_csv(family, args.out / "families.csv")
         for k, (ob, found) in enumerate(zip(family.branches, verdicts)):
             ob.branch.save(args.out / f"branch{k}_{ob.name}.npz", **npz_arrays(ob.branch, found))
+        tasks_path = write_tasks_csv(family.tasks, args.out / "tasks.csv") if family.tasks else None
         png_path = plots.result()
     print(family.summary(detail=REPORTER.verbose))
     for line in verdict_lines(family, verdicts, every=REPORTER.verbose):
         print(line)
     print(
         f"wrote {csv_path}, {families_path}, {png_path}"
+        + (f", {tasks_path}" if tasks_path else "")
         + (
             ""
             if REPORTER.verbose
             else " (each special point in branch.csv's 'special' column; -v lists them here)"
         )
     )
+    if family.tasks:
+        print(scaling_line(family.tasks, "scan"))
     return _family_status(family)
 
 

@@ -97,9 +97,14 @@ class OrbitBranch:
 
 @dataclasses.dataclass(frozen=True)
 class OrbitFamily:
+    """Branches of orbits continued in ``param`` at ``params``; ``tasks``: what a family scan ran
+    to find them (:class:`~slosh_bif.report.tasks.Task`, each start job and family traced, with
+    its duration), empty for a family traced from one start."""
+
     params: Params
     param: str
     branches: list
+    tasks: tuple = ()
 
     @property
     def complete(self) -> bool:

@@ -25,7 +25,7 @@ from slosh_bif.model.params import Params
 from slosh_bif.orbits.families import SHOOTING_OPTIONS, trace_new_family
 from slosh_bif.orbits.orbit_branch import OrbitBranch, OrbitFamily, images, renamed, unique_name
 from slosh_bif.orbits.scan_pool import families_side_by_side, starts_side_by_side
-from slosh_bif.orbits.scan_starts import scan_starts, start_jobs
+from slosh_bif.orbits.scan_starts import scan_starts, start_jobs, timed
 from slosh_bif.orbits.settings import (
     BRANCHING,
     SHOOTING,
@@ -37,6 +37,7 @@ from slosh_bif.orbits.settings import (
 )
 from slosh_bif.orbits.starts import START_TOL
 from slosh_bif.report.files import Resume
+from slosh_bif.report.tasks import Task
 
 __all__ = ["scan_families", "on_traced_branch"]
 
@@ -135,7 +136,9 @@ def scan_families(
     ``starts``: where starts are sought; ``shooting``, ``branching`` and ``options`` as for
     :func:`~slosh_bif.orbits.families.trace_orbits` (``branching.max_branches`` bounds the
     branches of each family, the primary one included). Returns one :class:`OrbitFamily` holding
-    every branch; each branch's ``found_from`` says which start found it. Raises
+    every branch; each branch's ``found_from`` says which start found it, and its ``tasks`` each
+    start job and family traced here, with its duration (not those of a resumed run's skipped
+    starts). Raises
     :class:`ConvergenceError` when no start converges. ``resume``: a :class:`Resume` whose
     ``done``, a ``(k, branches)`` of an earlier run with the same settings, skips the first k
     starts (they are found again, in the same order, but not traced), and whose ``keep(k,
@@ -153,10 +156,17 @@ def scan_families(
         interval=interval, shooting=shooting, branching=branching, options=options or SHOOTING_OPTIONS
     )
     found = dict(param=param, starts=starts, shooting=shooting)
+    tasks = []  # each start job and family traced: its duration (reported, never used)
+
+    def record(start, family, seconds):
+        points = sum(len(ob) for ob in family.branches) if family is not None else 0
+        tasks.append(Task(len(tasks), "family", start.found_from, seconds, points))
+
     if executor is None:
-        converged = scan_starts(params, state0, p_min, p_max, say=say, **found)
+        converged = scan_starts(params, state0, p_min, p_max, say=say, tasks=tasks, **found)
     else:
-        converged = starts_side_by_side(start_jobs(params, state0, p_min, p_max, **found), executor, say)
+        jobs = start_jobs(params, state0, p_min, p_max, **found)
+        converged = starts_side_by_side(jobs, executor, say, tasks)
     tried = 0
     if executor is None:
         for start in converged:
@@ -164,7 +174,9 @@ def scan_families(
             if tried <= skip:
                 continue
             if not _is_known(start, branches, say, param):
-                _add_family(_trace_here(start, branches, say, tracing, progress), branches, say, param)
+                family, seconds = timed(_trace_here, start, branches, say, tracing, progress)
+                record(start, family, seconds)
+                _add_family(family, branches, say, param)
             if resume.keep is not None:
                 resume.keep(tried, branches)
     else:
@@ -182,6 +194,7 @@ def scan_families(
                 lies_on=lambda start: _is_known(start, branches, lambda message: None, param),
                 keep=resume.keep,
                 say=say,
+                record=lambda k, family, seconds: record(converged[k], family, seconds),
             ),
         )
     if not branches:
@@ -190,7 +203,7 @@ def scan_families(
             if tried
             else f"no start converged to a periodic orbit of (9) in {param} in [{p_min}, {p_max}]"
         )
-    return OrbitFamily(params, param, _renamed(branches))
+    return OrbitFamily(params, param, _renamed(branches), tasks=tuple(tasks))
 
 
 def _is_known(start, branches: list, say, param: str) -> bool:

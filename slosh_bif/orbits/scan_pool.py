@@ -26,20 +26,25 @@ from slosh_bif.continuation import ConvergenceError
 from slosh_bif.orbits.families import trace_new_family
 from slosh_bif.orbits.known import answers_hold
 from slosh_bif.orbits.orbit_branch import OrbitFamily, images, renamed, unique_name
+from slosh_bif.orbits.scan_starts import timed
 from slosh_bif.orbits.shooting import ShootingProblem
+from slosh_bif.report.tasks import Task
 
 __all__ = ["starts_side_by_side", "families_side_by_side", "family_task", "named_as_sequential", "HEARTBEAT"]
 
 HEARTBEAT = 15.0  # seconds between the lines saying that the family awaited is still being traced
 
 
-def starts_side_by_side(jobs, executor, say) -> list:
-    """The converged starts of ``jobs`` (``(function, arguments)`` from
-    :func:`~slosh_bif.orbits.scan_starts.start_jobs`), run on ``executor`` and read in order."""
-    futures = [executor.submit(function, *arguments) for function, arguments in jobs]
+def starts_side_by_side(jobs, executor, say, tasks: list | None = None) -> list:
+    """The converged starts of ``jobs`` (``(function, arguments, label)`` from
+    :func:`~slosh_bif.orbits.scan_starts.start_jobs`), run on ``executor`` and read in order;
+    ``tasks`` gets a :class:`~slosh_bif.report.tasks.Task` for each."""
+    futures = [executor.submit(timed, function, *arguments) for function, arguments, _ in jobs]
     converged = []
-    for future in futures:
-        found, messages = future.result()
+    for future, (_, _, label) in zip(futures, jobs):
+        (found, messages), seconds = future.result()
+        if tasks is not None:
+            tasks.append(Task(len(tasks), "start", label, seconds, len(found)))
         for message in messages:
             say(message)
         converged += found
@@ -47,8 +52,9 @@ def starts_side_by_side(jobs, executor, say) -> list:
 
 
 def family_task(start, known, tracing: dict):
-    """(family or None, why not, progress messages, questions asked of ``known``) of one start,
-    traced beside the branches ``known`` (in a worker)."""
+    """(family or None, why not, progress messages, questions asked of ``known``, seconds) of one
+    start, traced beside the branches ``known`` (in a worker); the seconds are reported only."""
+    began = time.perf_counter()
     messages, asked = [], []
     try:
         family, err = (
@@ -65,7 +71,7 @@ def family_task(start, known, tracing: dict):
         )
     except ConvergenceError as error:
         family, err = None, str(error)
-    return family, err, messages, asked
+    return family, err, messages, asked, time.perf_counter() - began
 
 
 def named_as_sequential(family: OrbitFamily, known) -> OrbitFamily:
@@ -96,9 +102,10 @@ def families_side_by_side(starts: list, branches: list, *, executor, first: int,
 
     ``take``: the scan's steps, run here in order: ``is_known(start)`` (says why, if so),
     ``lies_on(start)`` (the same question, silent), ``add(family)`` (into ``branches``),
-    ``keep(k, branches)`` (or None) after the k-th start, and ``say``. While the family whose turn
-    it is runs on a worker, a line every :data:`HEARTBEAT` seconds says so (its own progress lines
-    come when it is done, in the sequential order).
+    ``keep(k, branches)`` (or None) after the k-th start, ``say``, and ``record(k, family,
+    seconds)`` for each family traced (its result read: a family traced again is recorded
+    twice). While the family whose turn it is runs on a worker, a line every :data:`HEARTBEAT`
+    seconds says so (its own progress lines come when it is done, in the sequential order).
     """
     say, keep = take["say"], take["keep"]
     slots = max(1, int(getattr(executor, "threads", 1)))
@@ -141,7 +148,8 @@ def families_side_by_side(starts: list, branches: list, *, executor, first: int,
                             f"scan: the family from {starts[k].found_from} is being traced on a worker "
                             f"({said - began:.0f} s; {len(ahead)} more traced ahead)"
                         )
-                family, err, messages, asked = future.result()
+                family, err, messages, asked, seconds = future.result()
+                take["record"](k, family, seconds)
                 if answers_hold(asked, branches):
                     break
                 say(f"scan: the family from {starts[k].found_from} met branches traced since: traced again")

@@ -4,6 +4,8 @@ simulating (9) and refined by shooting."""
 
 from __future__ import annotations
 
+import time
+
 import numpy as np
 
 from slosh_bif.continuation import ConvergenceError
@@ -14,6 +16,7 @@ from slosh_bif.orbits.orbit_tools import orbit_at
 from slosh_bif.orbits.settings import SHOOTING, STARTS, ShootingSettings, StartSettings
 from slosh_bif.orbits.shooting import ShootingProblem
 from slosh_bif.orbits.starts import START_TOL, StartOrbit, orbit_from_slow_flow
+from slosh_bif.report.tasks import Task
 from slosh_bif.slowflow.flow import SlowFlow
 from slosh_bif.slowflow.steady_states import forcing_response, frequency_response
 
@@ -21,6 +24,7 @@ __all__ = [
     "linear_response_state",
     "scan_starts",
     "start_jobs",
+    "timed",
 ]
 
 
@@ -67,10 +71,12 @@ def scan_starts(
     starts: StartSettings = STARTS,
     shooting: ShootingSettings = SHOOTING,
     say=None,
+    tasks: list | None = None,
 ):
     """Converged 2pi-orbits of (9) from many starts over [p_min, p_max] of ``param`` (sigma or
     Abar), one :class:`StartOrbit` per start that converges (duplicates included: the caller
-    keeps the new).
+    keeps the new). ``tasks``: a list that gets one :class:`~slosh_bif.report.tasks.Task` per job
+    of :func:`start_jobs` (its duration and the orbits it converged to).
 
     With ``starts`` (:class:`StartSettings`), at ``starts.points`` evenly spread values of the
     parameter: Newton from the impact-free linear response, and from the last strobe state of a
@@ -81,13 +87,21 @@ def scan_starts(
     steady state of (46) (stable and unstable, each at its own parameter value).
     """
     say = say or (lambda message: None)
-    for function, arguments in start_jobs(
-        params, state0, p_min, p_max, param=param, starts=starts, shooting=shooting
-    ):
-        found, messages = function(*arguments)
+    jobs = start_jobs(params, state0, p_min, p_max, param=param, starts=starts, shooting=shooting)
+    for function, arguments, label in jobs:
+        (found, messages), seconds = timed(function, *arguments)
+        if tasks is not None:
+            tasks.append(Task(len(tasks), "start", label, seconds, len(found)))
         for message in messages:
             say(message)
         yield from found
+
+
+def timed(function, *arguments):
+    """(``function(*arguments)``, the seconds it took): a task's result with its duration, which
+    is reported (``tasks.csv``) and never used."""
+    began = time.perf_counter()
+    return function(*arguments), time.perf_counter() - began
 
 
 def start_jobs(
@@ -100,10 +114,11 @@ def start_jobs(
     starts: StartSettings = STARTS,
     shooting: ShootingSettings = SHOOTING,
 ) -> list:
-    """The starts of :func:`scan_starts` as independent jobs ``(function, arguments)``, in its
-    order: ``function(*arguments)`` gives (the converged :class:`StartOrbit` list, the progress
-    messages). One job per value of the parameter (its simulations and Newton runs), one per
-    steady state of (46); the random states are drawn here, in the sequential order."""
+    """The starts of :func:`scan_starts` as independent jobs ``(function, arguments, label)``, in
+    its order: ``function(*arguments)`` gives (the converged :class:`StartOrbit` list, the progress
+    messages); ``label`` says where the job looks. One job per value of the parameter (its
+    simulations and Newton runs), one per steady state of (46); the random states are drawn here,
+    in the sequential order."""
     if param not in ("sigma", "Abar"):
         raise ValueError(f"param must be 'sigma' or 'Abar'; got {param!r}")
     rng = np.random.default_rng(starts.seed)
@@ -124,11 +139,13 @@ def start_jobs(
             (rng.uniform(-_RANDOM_BOX, _RANDOM_BOX), f"random state {k + 1} (seed {starts.seed})")
             for k in range(starts.random_starts)
         ]
-        jobs.append((_starts_at, (at, param, float(v), initial, starts.settle, shooting)))
+        label = f"the starts at {param} = {v:.6g}"
+        jobs.append((_starts_at, (at, param, float(v), initial, starts.settle, shooting), label))
     for _, value, A, stable in states:
         at = params.replace(**{param: value})
         if A > SlowFlow(at).A_min:  # a state on the end of S+: (46)'s phase there is a root of rounding
-            jobs.append((_start_from_slow_flow, (at, param, value, A, stable, shooting)))
+            label = f"the slow flow's motion on A = {A:.6g} at {param} = {value:.6g}"
+            jobs.append((_start_from_slow_flow, (at, param, value, A, stable, shooting), label))
     return jobs
 
 

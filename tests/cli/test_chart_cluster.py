@@ -12,7 +12,7 @@ import sys
 import pytest
 
 from slosh_bif.cli import main
-from slosh_bif.studies.chart import Task, projected_seconds
+from slosh_bif.report.tasks import Task, projected_seconds
 
 FILES = ("curves.csv", "codim2.csv")
 

@@ -101,3 +101,10 @@ def test_the_side_by_side_scan_gives_the_sequential_branches(monkeypatch):
     ]
     for a, b in zip(alone.branches, beside.branches):
         assert np.array_equal(a.branch.x, b.branch.x) and np.array_equal(a.branch.p, b.branch.p)
+    # both record the same tasks (each start job, each family traced), in the order they were dealt with
+    assert sorted((t.kind, t.origin, t.points) for t in beside.tasks) == sorted(
+        (t.kind, t.origin, t.points) for t in alone.tasks
+    )
+    assert {t.kind for t in alone.tasks} == {"start", "family"}
+    assert [t.start for t in alone.tasks] == list(range(len(alone.tasks)))
+    assert all(t.seconds > 0 for t in alone.tasks + beside.tasks)

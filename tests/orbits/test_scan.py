@@ -82,3 +82,10 @@ def test_shoot_scan_writes_families_csv_with_unique_names(tmp_path, capsys):
     with open(out / "branch.csv", newline="") as fh:
         assert {r["branch"] for r in csv.DictReader(fh)} == set(names)
     assert all(f["found_from"] for f in families)
+    with open(out / "tasks.csv", newline="") as fh:  # what the scan ran, each with its duration
+        tasks = list(csv.DictReader(fh))
+    assert {t["kind"] for t in tasks} == {"start", "family"}
+    started = {f["found_from"] for f in families if f["found_from"].startswith("Newton")}  # not switched
+    assert started and started <= {t["origin"] for t in tasks if t["kind"] == "family"}
+    assert all(float(t["seconds"]) > 0 for t in tasks)
+    assert "scan tasks" in capsys.readouterr().out

@@ -21,8 +21,6 @@ _WHERE = {
     "critical_forcing_full": "critical",
     "FullCritical": "critical",
     "plot_chart": "output",
-    "Task": "tasks",
-    "projected_seconds": "tasks",
 }
 
 __all__ = sorted(_WHERE)

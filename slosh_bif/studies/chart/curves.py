@@ -21,7 +21,7 @@ from slosh_bif.orbits.codim2 import (
 )
 from slosh_bif.orbits.orbit_tools import is_symmetric, symmetrized
 from slosh_bif.orbits.settings import SHOOTING, ShootingSettings
-from slosh_bif.studies.chart.tasks import Task
+from slosh_bif.report.tasks import Task
 
 __all__ = [
     "CurveStart",

@@ -1,9 +1,10 @@
-"""A chart's curves as tasks: how long each took where it ran, written as ``tasks.csv``, and
-what that says of more workers. The projection schedules the recorded durations as the chart does
-(in start order, each curve to the first free worker; the family's trace and the seeds before
-them, which run in the calling process, left out): its time on P workers is at least the longest
-curve and at least the total over P, so beyond total / longest workers only splitting the longest
-curves would help. The durations are wall-clock times, reported and never used for a result."""
+"""A distributed run's tasks (a chart's curves, a family scan's starts and families): how long each
+took where it ran, written as ``tasks.csv``, and what that says of more workers. The projection
+schedules the recorded durations as the run does (in start order, each task to the first free
+worker; the work the calling process does alone, such as a chart's family and seeds, left out):
+its time on P workers is at least the longest task and at least the total over P, so beyond total
+/ longest workers only splitting the longest tasks would help. The durations are wall-clock
+times, reported and never used for a result."""
 
 from __future__ import annotations
 
@@ -20,8 +21,9 @@ PROJECTED = (1, 2, 8, 32, 128)  # worker counts of the projection
 
 @dataclasses.dataclass(frozen=True)
 class Task:
-    """One curve's task: its start (index, kind, origin), its duration in seconds (in the process
-    that traced it) and its points (0: no curve)."""
+    """One task: its start (index, kind, origin), its duration in seconds (in the process that ran
+    it) and its points (a curve's or a family's; a scan's start: the orbits it converged to; 0:
+    none)."""
 
     start: int
     kind: str
@@ -49,15 +51,16 @@ def projected_seconds(tasks, workers: int) -> float:
     return max(free)
 
 
-def scaling_line(tasks) -> str:
-    """One line: the work, the longest curve and the projected times on :data:`PROJECTED` workers."""
+def scaling_line(tasks, what: str = "curve") -> str:
+    """One line: the work, the longest task and the projected times on :data:`PROJECTED` workers
+    (``what``: the tasks' name, "curve" for a chart's)."""
     if not tasks:
-        return "no curve was traced"
+        return f"no {what} task was run"
     total = sum(t.seconds for t in tasks)
     longest = max(tasks, key=lambda t: t.seconds)
     projected = ", ".join(f"{projected_seconds(tasks, p):.1f}" for p in PROJECTED)
     return (
-        f"{len(tasks)} curve tasks, {total:.1f} s of work; the longest, {longest.seconds:.1f} s "
+        f"{len(tasks)} {what} tasks, {total:.1f} s of work; the longest, {longest.seconds:.1f} s "
         f"({longest.kind} from {longest.origin}), bounds any number of workers; projected on "
         f"{', '.join(map(str, PROJECTED))} workers: {projected} s"
     )
