@@ -114,37 +114,33 @@ def test_compile_fills_numbas_cache_so_that_a_later_command_compiles_nothing(tmp
     assert {path for path in cache.rglob("*.nbi")} == set(indexes)  # and nothing new compiled
 
 
-def test_an_exit_held_by_a_thread_that_never_ends_is_bounded():
-    # a stand-in for a process pool's manager thread deadlocked on a killed worker
-    code = (
-        "import threading\n"
-        "import slosh_bif.cli as cli\n"
-        "import slosh_bif.cli.exits as exits\n"
-        "exits.EXIT_WAIT = 1.0\n"
-        "never = threading.Event()\n"
-        "def main(argv=None):\n"
-        "    threading.Thread(target=never.wait).start()\n"
-        "    return 3\n"
-        "cli.main = main\n"
-        "cli.run()\n"
-    )
-    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
-    assert run.returncode == 3, run.stderr[-800:]
-    assert "the exit waited 1 s for a thread or child process; leaving without it" in run.stderr
+# a stand-in for a process pool's manager thread deadlocked on a killed worker, holding the exit
+HELD_EXIT = """
+import threading
+import slosh_bif.cli as cli
+import slosh_bif.cli.exits as exits
+exits.EXIT_WAIT = 1.0
+def main(argv=None):
+    threading.Thread(target=threading.Event().wait).start()
+    return 3
+cli.main = main
+cli.run()
+"""
+# SIGTERM, then a stop path that hangs (a pool's shutdown waiting on a lock, say)
+HELD_STOP = """
+import os, signal, threading, time
+from slosh_bif.cli.exits import stop_signals
+with stop_signals(wait=1.0):
+    try:
+        os.kill(os.getpid(), signal.SIGTERM)
+        time.sleep(60)
+    except KeyboardInterrupt:
+        threading.Event().wait()
+"""
 
 
-def test_a_stop_that_never_ends_is_bounded():
-    # SIGTERM, then a stop path that hangs (a pool's shutdown waiting on a lock, say)
-    code = (
-        "import os, signal, threading, time\n"
-        "from slosh_bif.cli.exits import stop_signals\n"
-        "with stop_signals(wait=1.0):\n"
-        "    try:\n"
-        "        os.kill(os.getpid(), signal.SIGTERM)\n"
-        "        time.sleep(60)\n"
-        "    except KeyboardInterrupt:\n"
-        "        threading.Event().wait()\n"
-    )
+@pytest.mark.parametrize("code, status, after", [(HELD_EXIT, 3, "exit"), (HELD_STOP, 143, "stop")])
+def test_an_exit_or_a_stop_held_by_a_thread_that_never_ends_is_bounded(code, status, after):
     run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
-    assert run.returncode == 143, run.stderr[-800:]
-    assert "the stop waited 1 s for a thread or child process; leaving without it" in run.stderr
+    assert run.returncode == status, run.stderr[-800:]
+    assert f"the {after} waited 1 s for a thread or child process; leaving without it" in run.stderr
