@@ -25,7 +25,7 @@ from slosh_bif.model.params import Params
 from slosh_bif.orbits.families import SHOOTING_OPTIONS, trace_new_family
 from slosh_bif.orbits.orbit_branch import OrbitBranch, OrbitFamily, images, renamed, unique_name
 from slosh_bif.orbits.scan_pool import families_side_by_side, starts_side_by_side
-from slosh_bif.orbits.scan_starts import scan_starts, start_jobs, timed
+from slosh_bif.orbits.scan_starts import scan_starts, start_jobs
 from slosh_bif.orbits.settings import (
     BRANCHING,
     SHOOTING,
@@ -37,7 +37,7 @@ from slosh_bif.orbits.settings import (
 )
 from slosh_bif.orbits.starts import START_TOL
 from slosh_bif.report.files import Resume
-from slosh_bif.report.tasks import Task
+from slosh_bif.report.tasks import Task, timed
 
 __all__ = ["scan_families", "on_traced_branch"]
 

@@ -26,9 +26,8 @@ from slosh_bif.continuation import ConvergenceError
 from slosh_bif.orbits.families import trace_new_family
 from slosh_bif.orbits.known import answers_hold
 from slosh_bif.orbits.orbit_branch import OrbitFamily, images, renamed, unique_name
-from slosh_bif.orbits.scan_starts import timed
 from slosh_bif.orbits.shooting import ShootingProblem
-from slosh_bif.report.tasks import Task
+from slosh_bif.report.tasks import Task, timed
 
 __all__ = ["starts_side_by_side", "families_side_by_side", "family_task", "named_as_sequential", "HEARTBEAT"]
 

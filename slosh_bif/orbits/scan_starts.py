@@ -4,8 +4,6 @@ simulating (9) and refined by shooting."""
 
 from __future__ import annotations
 
-import time
-
 import numpy as np
 
 from slosh_bif.continuation import ConvergenceError
@@ -16,7 +14,7 @@ from slosh_bif.orbits.orbit_tools import orbit_at
 from slosh_bif.orbits.settings import SHOOTING, STARTS, ShootingSettings, StartSettings
 from slosh_bif.orbits.shooting import ShootingProblem
 from slosh_bif.orbits.starts import START_TOL, StartOrbit, orbit_from_slow_flow
-from slosh_bif.report.tasks import Task
+from slosh_bif.report.tasks import Task, timed
 from slosh_bif.slowflow.flow import SlowFlow
 from slosh_bif.slowflow.steady_states import forcing_response, frequency_response
 
@@ -24,7 +22,6 @@ __all__ = [
     "linear_response_state",
     "scan_starts",
     "start_jobs",
-    "timed",
 ]
 
 
@@ -95,13 +92,6 @@ def scan_starts(
         for message in messages:
             say(message)
         yield from found
-
-
-def timed(function, *arguments):
-    """(``function(*arguments)``, the seconds it took): a task's result with its duration, which
-    is reported (``tasks.csv``) and never used."""
-    began = time.perf_counter()
-    return function(*arguments), time.perf_counter() - began
 
 
 def start_jobs(

@@ -10,10 +10,11 @@ from __future__ import annotations
 
 import dataclasses
 import heapq
+import time
 
 from slosh_bif.report.tables import write_rows
 
-__all__ = ["Task", "TASK_COLUMNS", "write_tasks_csv", "projected_seconds", "scaling_line"]
+__all__ = ["Task", "TASK_COLUMNS", "timed", "write_tasks_csv", "projected_seconds", "scaling_line"]
 
 TASK_COLUMNS = ("start", "kind", "origin", "seconds", "points")
 PROJECTED = (1, 2, 8, 32, 128)  # worker counts of the projection
@@ -32,6 +33,13 @@ class Task:
     points: int
 
 
+def timed(function, *arguments):
+    """(``function(*arguments)``, the seconds it took): a task's result with its duration (run
+    where the task runs, a worker say, so that the seconds are its own)."""
+    began = time.perf_counter()
+    return function(*arguments), time.perf_counter() - began
+
+
 def write_tasks_csv(tasks, path):
     """One row per task, in start order."""
     rows = (
@@ -41,7 +49,7 @@ def write_tasks_csv(tasks, path):
 
 
 def projected_seconds(tasks, workers: int) -> float:
-    """The curves' time on ``workers`` workers: the recorded durations in start order, each to
+    """The tasks' time on ``workers`` workers: the recorded durations in start order, each to
     the worker that is free first."""
     if workers < 1:
         raise ValueError(f"workers must be >= 1; got {workers!r}")
