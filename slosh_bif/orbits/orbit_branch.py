@@ -104,7 +104,7 @@ class OrbitFamily:
     params: Params
     param: str
     branches: list
-    tasks: tuple = ()
+    tasks: tuple = dataclasses.field(default=(), compare=False)  # timings: no part of the result's identity
 
     @property
     def complete(self) -> bool:
