@@ -21,17 +21,36 @@ def _started(*_args, **_kwargs):
     raise _WorkStarted
 
 
+class _NoFigure:
+    """In place of shoot's figure process (forked before the work starts: a quarter of a second
+    a run, which is all an option check costs otherwise)."""
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *_exc):
+        return False
+
+    def submit(self, *_args, **_kwargs):
+        pass
+
+    def result(self):
+        return None
+
+
 @pytest.fixture
 def no_work(monkeypatch):
     """The first step of each command's work raises _WorkStarted."""
     import slosh_bif.flows.smooth.integrator as integrator
     import slosh_bif.orbits.scan as scan
     import slosh_bif.orbits.starts as starts
+    import slosh_bif.report.plot_process as plot_process
     import slosh_bif.simulation.sweep as sweep
     import slosh_bif.slowflow.steady_states as steady_states
     import slosh_bif.studies.chart.smooth as chart
     import slosh_bif.studies.ladder as ladder
 
+    monkeypatch.setattr(plot_process, "PlotProcess", _NoFigure)
     monkeypatch.setattr(integrator, "integrate_grid", _started)  # simulate's integration
     monkeypatch.setattr(sweep, "ProcessPoolExecutor", _started)  # the pools of regimes, basins and trust
     monkeypatch.setattr(chart, "start_orbit", _started)  # the chart's first orbit
