@@ -18,7 +18,9 @@ amplitude A1, max |X|, max |w|, largest multiplier and Liouville check.
 
 from __future__ import annotations
 
+import copy
 import dataclasses
+import functools
 import warnings
 
 import numpy as np
@@ -27,7 +29,6 @@ from slosh_bif.continuation import (
     ContinuationOptions,
     ConvergenceError,
     continuation,
-    switch_branch,
 )
 from slosh_bif.continuation.branch import (
     BRANCH_POINT,
@@ -37,7 +38,7 @@ from slosh_bif.continuation.branch import (
 from slosh_bif.model.params import Params
 from slosh_bif.orbits.known import on_branch, on_known
 from slosh_bif.orbits.orbit_branch import LIOUVILLE_TOL, OrbitBranch, OrbitFamily, unique_name
-from slosh_bif.orbits.orbit_tools import is_symmetric, orbit_at, orbit_measures, symmetrized
+from slosh_bif.orbits.orbit_tools import orbit_at, orbit_measures
 from slosh_bif.orbits.pitchforks import refine_pitchforks
 from slosh_bif.orbits.settings import (
     BRANCHING,
@@ -48,6 +49,15 @@ from slosh_bif.orbits.settings import (
     ShootingSettings,
 )
 from slosh_bif.orbits.shooting import MAX_PERIOD_MULTIPLE, PARAMETERS, ShootingProblem
+from slosh_bif.orbits.switch_ahead import SwitchesAhead, threads
+from slosh_bif.orbits.switching import (
+    cut_where_it_rejoins,
+    meets_parent,
+    point_counter,
+    switched_branch,
+    symmetric_parent,
+    symmetrized_point,
+)
 
 __all__ = [
     "trace_orbits",
@@ -63,13 +73,31 @@ SHOOTING_OPTIONS = ContinuationOptions(
 )
 
 
-def _measure(problem: ShootingProblem, branch: Branch, points_per_2pi: int, name: str = "") -> dict:
-    rows = [orbit_measures(problem, x, p, points_per_2pi=points_per_2pi) for x, p in zip(branch.x, branch.p)]
+def _orbit_rows(problem: ShootingProblem, branch: Branch, points_per_2pi: int, check=None) -> list:
+    """Each orbit's measures along ``branch`` (``check()`` before each orbit, if given: a trace
+    ahead that is abandoned stops here)."""
+    rows = []
+    for x, p in zip(branch.x, branch.p):
+        if check is not None:
+            check()
+        rows.append(orbit_measures(problem, x, p, points_per_2pi=points_per_2pi))
+    return rows
+
+
+def _measures(problem: ShootingProblem, branch: Branch, points_per_2pi: int, rows=None) -> dict:
+    """The branch's per-point measures (its orbits', from ``rows`` where given), multipliers and
+    Liouville check."""
+    rows = rows or _orbit_rows(problem, branch, points_per_2pi)
     out = {key: np.array([r[key] for r in rows]) for key in rows[0]}
     out["max_abs_multiplier"] = np.max(np.abs(branch.eigenvalues), axis=1)
     out["liouville_error"] = branch.diagnostics.get("liouville_error")
     if out["liouville_error"] is None:  # a branch saved without its diagnostics: from the arcs again
         out["liouville_error"] = np.array([problem.liouville_error(x, p) for x, p in zip(branch.x, branch.p)])
+    return out
+
+
+def _checked(out: dict, name: str) -> dict:
+    """``out`` (:func:`_measures`), after a warning if orbits fail Liouville's check."""
     bad = out["liouville_error"] > LIOUVILLE_TOL
     if np.any(bad):
         warnings.warn(
@@ -83,59 +111,43 @@ def _measure(problem: ShootingProblem, branch: Branch, points_per_2pi: int, name
     return out
 
 
-def _tangent(branch: Branch, sp, regular: bool = False):
-    """The branch's unit tangent at a special point: the one the engine kept at a regular point
-    (a period doubling), else the secant of its neighbours. At a branch point the null space of
-    [F_x, F_p] is two-dimensional, so the tangent computed there is not the branch's (with it,
-    switching on the Fig. 10 family returned onto the symmetric branch). On the half-period map
-    a pitchfork is a regular point, and its tangent is the branch's."""
-    if sp.tangent is not None and (sp.kind != BRANCH_POINT or regular):
-        return np.asarray(sp.tangent, dtype=float)
-    u = np.column_stack([branch.x, branch.p])
-    lo, hi = max(sp.index - 1, 0), min(sp.index + 1, len(u) - 1)
-    t = u[hi] - u[lo]
-    return t / np.linalg.norm(t)
+def _switch_job(parent: OrbitBranch, sp, param, opts, make_problem, points_per_2pi):
+    """``run(say, trace)`` (:class:`~slosh_bif.orbits.switch_ahead.SwitchesAhead`): (problem,
+    branch, name or None, its orbits' measures or None) switched onto at ``sp`` of ``parent`` (at the
+    pitchfork of an asymmetric pair, its symmetric parent). Run ahead (``trace`` given), it
+    traces on problems of its own and measures the branch's orbits too; in its turn, the family
+    measures what it keeps."""
+
+    def run(say, trace):
+        if meets_parent(parent, sp):
+            problem, new, name = symmetric_parent(sp, param, opts, make_problem, say)
+        else:
+            problem, new, name = switched_branch(
+                parent, sp, param, opts, make_problem, say, own_problem=trace is not None
+            )
+        if trace is None:
+            return problem, new, name, None
+        return problem, new, name, _orbit_rows(copy.copy(problem), new, points_per_2pi, trace.check)
+
+    return run
 
 
-def _meeting_points(problem: ShootingProblem, parent: OrbitBranch):
-    """(point of ``parent``, its states in ``problem``) where a branch switched off the parent may
-    meet it again: its period doublings for a branch of twice its period, else its branch points."""
-    doubled = problem.period_multiple == 2 * parent.problem.period_multiple
-    kind = PERIOD_DOUBLING if doubled else BRANCH_POINT
-    return [
-        (q, np.tile(q.x, 2) if doubled else parent.problem.full_states(q.x))
-        for q in parent.branch.special
-        if q.kind == kind
-    ]
+def _too_long(parent: OrbitBranch, sp) -> bool:
+    """Whether switching at ``sp`` would pass the longest period followed."""
+    return sp.kind == PERIOD_DOUBLING and 2 * parent.problem.period_multiple > MAX_PERIOD_MULTIPLE
 
 
-def _met(meeting, kind, x, p):
-    """The parent's point in ``meeting`` that a branch point (kind, x, p) of the new branch is, or None."""
-    if kind != BRANCH_POINT:
-        return None
-    for q, xq in meeting:
-        if (
-            len(xq) == len(x)
-            and abs(q.p - p) <= 1e-6 * (1 + abs(q.p))
-            and np.linalg.norm(xq - x) <= 1e-4 * (1 + np.linalg.norm(xq))
-        ):
-            return q
-    return None
-
-
-def _cut_where_it_rejoins(new: Branch, problem: ShootingProblem, parent: OrbitBranch, queue: list):
-    """Cut a switched branch at the first branch point (past its start) where it meets its parent
-    again. A branch joining two pitchforks of the symmetric branch continues past the second as
-    the mirror image of what it traced, and a period-2 branch joining two period doublings as
-    its own shift by 2pi: nothing new (:func:`_switch` stops the trace there). The parent's point
-    met there leaves the queue."""
-    meeting = _meeting_points(problem, parent)
-    for sp in new.special:
-        q = _met(meeting, sp.kind, sp.x, sp.p) if sp.index > 1 else None
-        if q is not None:
-            queue[:] = [(ob, s) for ob, s in queue if s is not q]
-            return new.head(sp.index, f"meets the {parent.name} branch again at its {q.kind}"), q
-    return new, None
+def _ahead_order(current, queue) -> list:
+    """The switches of ``queue`` worth tracing ahead while ``current`` is traced, likeliest first.
+    A branch switched at a point of its parent most often meets the parent again at the parent's
+    next point of that kind (an asymmetric pair between two pitchforks, a period-2 branch between
+    two period doublings), which then leaves the queue: such presumed partners come last."""
+    open_, first, last = set(), [], []
+    for ob, s in [current, *queue]:
+        pair = (ob.name, s.kind)
+        (last if pair in open_ else first).append((ob, s))
+        open_ ^= {pair}
+    return [(ob, s) for ob, s in first[1:] + last if not _too_long(ob, s)]
 
 
 def _check(params, param, p_min, p_max):
@@ -146,17 +158,6 @@ def _check(params, param, p_min, p_max):
     p0 = getattr(params, param)
     if not p_min <= p0 <= p_max:
         raise ValueError(f"{param} = {p0} of the start orbit lies outside [{p_min}, {p_max}]")
-
-
-def _point_counter(say, name, param):
-    """A continuation callback that reports each accepted point of the branch ``name``."""
-    count = [0]
-
-    def callback(p, x):
-        count[0] += 1
-        say(f"{name}: point {count[0]}, {param} = {p:.5f}")
-
-    return callback
 
 
 def _primary(
@@ -177,7 +178,7 @@ def _primary(
         problem = make_problem(1, symmetric=True)
         x0 = x0[: 4 * problem.segments]
     branch = continuation(
-        problem, x0, p0, param=param, options=opts, callback=_point_counter(say, name, param)
+        problem, x0, p0, param=param, options=opts, callback=point_counter(say, name, param)
     )
     if symmetric and not problem.symmetric:
         branch = refine_pitchforks(problem, branch)
@@ -186,66 +187,10 @@ def _primary(
         name,
         problem,
         branch,
-        _measure(problem, branch, points_per_2pi, name),
+        _checked(_measures(problem, branch, points_per_2pi), name),
         kind=kind,
         found_from=found_from,
     )
-
-
-def _switch(parent: OrbitBranch, sp, param, opts, make_problem, say):
-    """(problem, branch, name or None) switched onto at the special point ``sp`` of ``parent``:
-    at a period doubling the 4pi problem (on which the PD is a branch point), at a pitchfork of
-    the half-period map the 2pi problem (where it is a branch point), else the parent's."""
-    along = _tangent(parent.branch, sp, regular=parent.problem.symmetric)
-    if parent.problem.symmetric:
-        problem = make_problem(1)
-        x, along = (
-            parent.problem.full_states(sp.x),
-            np.append(parent.problem.full_states(along[:-1]), along[-1]),
-        )
-        name = None
-    elif sp.kind == PERIOD_DOUBLING:
-        multiple = 2 * parent.problem.period_multiple
-        problem = make_problem(multiple)
-        x, along = np.tile(sp.x, 2), np.append(np.tile(along[:-1], 2), along[-1])
-        name = f"period-{multiple}"
-    else:
-        problem, x, name = parent.problem, sp.x, None
-    meeting = _meeting_points(problem, parent)
-    new = switch_branch(
-        problem,
-        (x, sp.p),
-        param=param,
-        options=opts,
-        along=along,
-        callback=_point_counter(say, name or "new branch", param),
-        stop=lambda kind, x, p, index: index > 1 and _met(meeting, kind, x, p) is not None,
-    )
-    return problem, new, name
-
-
-def _meets_parent(parent: OrbitBranch, sp) -> bool:
-    """Whether ``sp`` is a branch point of an asymmetric 2pi branch at a symmetric orbit: where the
-    pair meets its symmetric parent (the parent's pitchfork)."""
-    return sp.kind == BRANCH_POINT and is_symmetric(parent.problem, sp.x)
-
-
-def _symmetrized(sp):
-    """(x, p) of the branch point ``sp`` of a 2pi problem whose orbit is symmetric to its location's
-    accuracy, its states made exactly symmetric (:func:`~.orbit_tools.symmetrized`)."""
-    return np.append(symmetrized(sp.x), sp.p)
-
-
-def _symmetric_parent(sp, param, opts, make_problem, say):
-    """(problem, branch, "symmetric") of the symmetric orbits through the branch point ``sp`` where
-    an asymmetric pair meets its parent (a family started on the pair: the tank example's
-    attractor), traced both ways on the half-period map, where the pitchfork is a regular point."""
-    problem = make_problem(1, symmetric=True)
-    x = _symmetrized(sp)[: 4 * problem.segments]
-    branch = continuation(
-        problem, x, sp.p, param=param, options=opts, callback=_point_counter(say, "symmetric parent", param)
-    )
-    return problem, branch, "symmetric"
 
 
 def trace_orbits(
@@ -330,58 +275,66 @@ def trace_new_family(
     queue = [(family[0], s) for s in family[0].branch.special if s.kind in switched]
     # A family started on an asymmetric orbit meets the symmetric parent first: its branch carries
     # the response away from the pair's interval, before the pair's period doublings.
-    queue.sort(key=lambda item: not _meets_parent(*item))
-    while queue and len(family) < branching.max_branches:
-        parent, sp = queue.pop(0)
-        origin = f"{sp.kind} at {param} = {sp.p:.6g} on the {parent.name} branch"
-        if sp.kind == PERIOD_DOUBLING and 2 * parent.problem.period_multiple > MAX_PERIOD_MULTIPLE:
-            say(f"not switched at {origin}: the cascade is followed up to period {MAX_PERIOD_MULTIPLE}")
-            continue
-        parent_of_pair = _meets_parent(parent, sp)
-        u = _symmetrized(sp) if parent_of_pair else None
-        tol_u = 1e-5 * (1 + np.linalg.norm(u)) if parent_of_pair else 0.0
-        if parent_of_pair and (
-            on_known(u, tol_u, known, asked, kind="symmetric")
-            or any(on_branch(u, ob, tol_u) for ob in family if ob.kind == "symmetric")
-        ):
-            continue  # the pair meets its symmetric parent, traced already
-        try:
-            if parent_of_pair:
-                problem, new, kind_name = _symmetric_parent(sp, param, opts, make_problem, say)
-            else:
-                problem, new, kind_name = _switch(parent, sp, param, opts, make_problem, say)
-        except (ConvergenceError, np.linalg.LinAlgError) as err:
-            say(f"no branch switched at {origin}: {err}")
-            continue
-        new, met = (new, None) if parent_of_pair else _cut_where_it_rejoins(new, problem, parent, queue)
-        if met is not None:
-            say(
-                f"the new branch meets the {parent.name} branch again at its {met.kind} {param} = {met.p:.6g}"
+    queue.sort(key=lambda item: not meets_parent(*item))
+    job = functools.partial(
+        _switch_job, param=param, opts=opts, make_problem=make_problem, points_per_2pi=points_per_2pi
+    )
+    with SwitchesAhead(threads() if family[0].problem.backend == "numba" else 1, say) as switches:
+        while queue and len(family) < branching.max_branches:
+            parent, sp = queue.pop(0)
+            origin = f"{sp.kind} at {param} = {sp.p:.6g} on the {parent.name} branch"
+            if _too_long(parent, sp):
+                say(f"not switched at {origin}: the cascade is followed up to period {MAX_PERIOD_MULTIPLE}")
+                continue
+            parent_of_pair = meets_parent(parent, sp)
+            u = symmetrized_point(sp) if parent_of_pair else None
+            tol_u = 1e-5 * (1 + np.linalg.norm(u)) if parent_of_pair else 0.0
+            if parent_of_pair and (
+                on_known(u, tol_u, known, asked, kind="symmetric")
+                or any(on_branch(u, ob, tol_u) for ob in family if ob.kind == "symmetric")
+            ):
+                continue  # the pair meets its symmetric parent, traced already
+            upcoming = [((ob.name, s.index), job(ob, s)) for ob, s in _ahead_order((parent, sp), queue)]
+            try:
+                problem, new, kind_name, rows = switches.take(
+                    (parent.name, sp.index), job(parent, sp), upcoming
+                )
+            except (ConvergenceError, np.linalg.LinAlgError) as err:
+                say(f"no branch switched at {origin}: {err}")
+                continue
+            new, met = (new, None) if parent_of_pair else cut_where_it_rejoins(new, problem, parent, queue)
+            if met is not None:
+                say(
+                    f"the new branch meets the {parent.name} branch again at its {met.kind} "
+                    f"{param} = {met.p:.6g}"
+                )
+            first = np.append(new.x[min(1, len(new) - 1)], new.p[min(1, len(new) - 1)])
+            tol_first = 1e-5 * (1 + np.linalg.norm(first))
+            if on_known(first, tol_first, known, asked) or any(
+                on_branch(first, ob, tol_first) for ob in family
+            ):
+                say(f"the branch at {origin} is one already traced")
+                continue
+            rows = rows and rows[: len(new)]  # measured ahead, before a cut
+            measures = _checked(_measures(problem, new, points_per_2pi, rows), kind_name or "switched")
+            if kind_name is None:
+                kind_name = "symmetric" if np.median(measures["symmetry_defect"]) < 1e-6 else "asymmetric"
+                if kind_name == "symmetric":
+                    new = refine_pitchforks(problem, new)
+            ob = OrbitBranch(
+                unique_name(kind_name, [*known, *family]), problem, new, measures, origin, kind=kind_name
             )
-        first = np.append(new.x[min(1, len(new) - 1)], new.p[min(1, len(new) - 1)])
-        tol_first = 1e-5 * (1 + np.linalg.norm(first))
-        if on_known(first, tol_first, known, asked) or any(on_branch(first, ob, tol_first) for ob in family):
-            say(f"the branch at {origin} is one already traced")
-            continue
-        measures = _measure(problem, new, points_per_2pi, kind_name or "switched")
-        if kind_name is None:
-            kind_name = "symmetric" if np.median(measures["symmetry_defect"]) < 1e-6 else "asymmetric"
-            if kind_name == "symmetric":
-                new = refine_pitchforks(problem, new)
-        ob = OrbitBranch(
-            unique_name(kind_name, [*known, *family]), problem, new, measures, origin, kind=kind_name
-        )
-        family.append(ob)
-        say(f"{ob.name} ({origin}): {len(new)} points")
-        # Not the start (the parent's point) and not a cut end (where it met the parent again); a
-        # symmetric parent, traced both ways, not at its start.
-        queue += [
-            (ob, s)
-            for s in new.special
-            if s.kind in switched
-            and 1 < s.index < len(new) - (met is not None)
-            and not (parent_of_pair and abs(s.p - sp.p) <= 1e-6 * (1 + abs(sp.p)))
-        ]
+            family.append(ob)
+            say(f"{ob.name} ({origin}): {len(new)} points")
+            # Not the start (the parent's point) and not a cut end (where it met the parent again); a
+            # symmetric parent, traced both ways, not at its start.
+            queue += [
+                (ob, s)
+                for s in new.special
+                if s.kind in switched
+                and 1 < s.index < len(new) - (met is not None)
+                and not (parent_of_pair and abs(s.p - sp.p) <= 1e-6 * (1 + abs(sp.p)))
+            ]
     if queue:  # the cap, not the family, ended the switching: say where it was not tried
         left = ", ".join(f"{s.kind} {param} = {s.p:.6g} on {ob.name}" for ob, s in queue[:4])
         say(

@@ -110,8 +110,9 @@ def kernel_parameters(params: Params, noise=None, sensitivities=None):
     """The compiled loops' parameter vector: (eps, beta, gamma, sigma, Abar, lam, chi, n, p), then
     the noise's table of (47) or the two sensitivity directions over ``REAL_FIELDS``."""
     global _LAST_PARS
-    if noise is None and sensitivities is None and _LAST_PARS[0] is params:
-        return _LAST_PARS[1]
+    last = _LAST_PARS  # one read: threads tracing side by side replace it
+    if noise is None and sensitivities is None and last[0] is params:
+        return last[1]
     q = params
     pars = np.array([q.eps, q.beta, q.gamma, q.sigma, q.Abar, q.lam, q.chi, q.n, q.p], dtype=float)
     if sensitivities is not None:  # the pair kernel's two directions: unit vectors over REAL_FIELDS
