@@ -27,7 +27,7 @@ __all__ = ["add_commands"]
 
 def _compare(args) -> int:
     from slosh_bif.cli.terminal import REPORTER
-    from slosh_bif.orbits.criticality import special_criticality
+    from slosh_bif.orbits.criticality import family_criticality
     from slosh_bif.slowflow.steady_states import frequency_response
     from slosh_bif.studies.compare import (
         compare_rows,
@@ -58,7 +58,7 @@ def _compare(args) -> int:
         plot_compare(family, fr, rows, args.out / "compare.png", impact, impact_model=args.impact_model),
     )
     table = compare_table(rows, impact_model=args.impact_model)
-    verdicts = [special_criticality(ob) for ob in family.branches]
+    verdicts = family_criticality(family.branches)
     losses = [_losses(fr, family, verdicts, impact, every=every) for every in (True, REPORTER.verbose)]
     write_text_atomically(args.out / "compare.txt", table + "\n" + losses[0] + "\n")
     print(table + "\n" + losses[1])

@@ -107,7 +107,7 @@ def family_from_args(args, params, lo, hi, param="sigma"):
 
 
 def _shoot(args) -> int:
-    from slosh_bif.orbits.criticality import npz_arrays, special_criticality, verdict_lines
+    from slosh_bif.orbits.criticality import family_criticality, npz_arrays, verdict_lines
     from slosh_bif.orbits.output import (
         plot_family,
         write_branch_csv,
@@ -129,7 +129,7 @@ def _shoot(args) -> int:
     with PlotProcess() as plots:  # matplotlib imported beside the computation
         family = family_from_args(args, params, lo, hi, param=args.parameter)
         plots.submit(plot_family, family, args.out / "branch.png")
-        verdicts = [special_criticality(ob) for ob in family.branches]
+        verdicts = family_criticality(family.branches)
         csv_path = write_branch_csv(family, args.out / "branch.csv", verdicts)
         families_path = write_families_csv(family, args.out / "families.csv")
         for k, (ob, found) in enumerate(zip(family.branches, verdicts)):

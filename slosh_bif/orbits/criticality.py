@@ -10,13 +10,16 @@ its map's derivatives through the impacts
 
 from __future__ import annotations
 
+import copy
 import dataclasses
 import math
+from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
 from slosh_bif.continuation.normal_forms import NormalForm, growth_law
 from slosh_bif.orbits.map_derivatives import FlowDerivatives, criticality, crossing_rate
+from slosh_bif.orbits.switch_ahead import threads
 
 __all__ = [
     "KINDS",
@@ -24,6 +27,7 @@ __all__ = [
     "Verdict",
     "judge",
     "special_criticality",
+    "family_criticality",
     "impact_criticality",
     "phrases",
     "npz_arrays",
@@ -106,18 +110,18 @@ def judge(problem, sp, param: str):
     return Verdict(sp.kind, nf, param, float(sp.p), K * scale, side, _STATE[c], problem.period_multiple)
 
 
-def _judged(problem, branch, only=None) -> dict:
-    """``{index in branch.special: judge(...)}`` over its LP, PD, NS and BP points; a fold that
-    sits at a BP of an asymmetric branch is the pair's turn through its symmetric parent (the
-    pitchfork seen from the pair), named so instead of judged as a fold."""
+def _plan(problem, branch, only=None) -> list:
+    """``(index in branch.special, point to judge or None)`` over its LP, PD, NS and BP points; None:
+    a fold that sits at a BP of an asymmetric branch, the pair's turn through its symmetric parent
+    (the pitchfork seen from the pair), named so instead of judged as a fold."""
     pitchforks = [sp.p for sp in branch.special if sp.kind == "BP"] if not problem.symmetric else []
-    out = {}
+    plan = []
     for k, sp in enumerate(branch.special):
         if sp.kind not in KINDS or only not in (None, k):
             continue
         at_parent = sp.kind == "LP" and any(abs(sp.p - p) <= 1e-6 * (1 + abs(p)) for p in pitchforks)
-        out[k] = _AT_PARENT if at_parent else judge(problem, sp, branch.param)
-    return out
+        plan.append((k, None if at_parent else sp))
+    return plan
 
 
 def special_criticality(ob, *, only: int | None = None) -> dict:
@@ -125,6 +129,27 @@ def special_criticality(ob, *, only: int | None = None) -> dict:
     LP, PD, NS and BP points of the orbit branch ``ob`` (an OrbitBranch of (9)); ``only``: that
     one point."""
     return _judged(ob.problem, ob.branch, only)
+
+
+def _judged(problem, branch, only=None) -> dict:
+    plan = _plan(problem, branch, only)
+    return {k: _AT_PARENT if sp is None else judge(problem, sp, branch.param) for k, sp in plan}
+
+
+def family_criticality(branches) -> list:
+    """:func:`special_criticality` of each orbit branch of ``branches``, the points judged side by
+    side in threads (:func:`~slosh_bif.orbits.switch_ahead.threads`; the variational equations'
+    integrations release the GIL), each on its own copy of its problem (whose caches are
+    per-object): the verdicts of one point at a time."""
+    plans = [_plan(ob.problem, ob.branch) for ob in branches]
+    jobs = [(ob.problem, sp, ob.branch.param) for ob, plan in zip(branches, plans) for _, sp in plan if sp]
+    count = min(threads(), len(jobs))
+    if count > 1:
+        with ThreadPoolExecutor(max_workers=count, thread_name_prefix="criticality") as pool:
+            found = iter(list(pool.map(lambda job: judge(copy.copy(job[0]), *job[1:]), jobs)))
+    else:
+        found = iter([judge(*job) for job in jobs])
+    return [{k: _AT_PARENT if sp is None else next(found) for k, sp in plan} for plan in plans]
 
 
 def impact_criticality(branch, params, *, symmetric: bool = False) -> list:

@@ -1,5 +1,6 @@
-"""A family's switches traced ahead in threads: the family is the one traced a switch at a time,
-and the queue's mechanics (order, progress lines, abandoned traces, errors) hold for any runs."""
+"""A family's work side by side in threads: its switches traced ahead (the family is the one
+traced a switch at a time; the queue's mechanics, order, progress lines, abandoned traces and
+errors, hold for any runs) and its special points judged (the verdicts of one at a time)."""
 
 import threading
 
@@ -8,10 +9,17 @@ import pytest
 
 from slosh_bif import get_preset
 from slosh_bif.orbits import BranchingSettings
+from slosh_bif.orbits.criticality import describe, family_criticality, special_criticality
 from slosh_bif.orbits.families import trace_orbits
 from slosh_bif.orbits.settings import ParameterRange
 from slosh_bif.orbits.starts import settle_and_shoot
 from slosh_bif.orbits.switch_ahead import SwitchesAhead, switch_threads, threads
+
+
+@pytest.fixture(scope="module")
+def families():
+    """The family of :func:`_family` traced a switch at a time and two at once."""
+    return _family(1), _family(2)
 
 
 def _family(count):
@@ -32,9 +40,8 @@ def _family(count):
     return family, said
 
 
-def test_a_family_traced_with_its_switches_side_by_side_is_the_one_traced_a_switch_at_a_time():
-    one, said_one = _family(1)
-    two, said_two = _family(2)
+def test_a_family_traced_with_its_switches_side_by_side_is_the_one_traced_a_switch_at_a_time(families):
+    (one, said_one), (two, said_two) = families
     assert [ob.name for ob in one.branches] == ["asymmetric", "period-2", "period-2-2"]
     assert [ob.name for ob in two.branches] == [ob.name for ob in one.branches]
     for a, b in zip(one.branches, two.branches):
@@ -51,6 +58,21 @@ def test_a_family_traced_with_its_switches_side_by_side_is_the_one_traced_a_swit
     ahead = [m for m in said_two if m.startswith("switches traced ahead")]
     assert ahead and not ahead[0].startswith("switches traced ahead in threads: 0")
     assert [m for m in said_two if m not in ahead] == said_one
+
+
+def test_a_family_judged_in_threads_gets_the_verdicts_of_one_point_at_a_time(families):
+    (one, _), (two, _) = families
+    alone = [special_criticality(ob) for ob in one.branches]
+    with switch_threads(2):
+        side_by_side = family_criticality(two.branches)
+    assert sum(len(found) for found in alone) >= 3
+    for a, b in zip(alone, side_by_side):
+        assert list(a) == list(b)
+        for k in a:
+            assert describe(a[k]) == describe(b[k])
+            if not isinstance(a[k], str):
+                numbers = [[v.coefficient, v.growth, v.side] for v in (a[k], b[k])]
+                assert np.array_equal(*numbers, equal_nan=True)
 
 
 def _runs(log, gate=None, fail=None):
