@@ -210,7 +210,9 @@ def trace_orbits(
     followed beyond the first (``NO_SWITCHING``: the first alone); ``options``: the
     continuation's step control (:data:`SHOOTING_OPTIONS` by default). ``progress(message)`` is
     called as the work goes on (one call per accepted point and per branch). Period doublings are
-    followed up to period 8. Raises :class:`ConvergenceError` when no orbit is found near y0.
+    followed up to period 8. The next switches are traced ahead in threads
+    (:mod:`~slosh_bif.orbits.switch_ahead`); the family does not depend on how many. Raises
+    :class:`ConvergenceError` when no orbit is found near y0.
     """
     return trace_new_family(
         params,

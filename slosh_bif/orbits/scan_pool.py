@@ -16,6 +16,7 @@ A family traced ahead for a start that turns out to lie on a known branch is dro
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import time
 from concurrent.futures import FIRST_COMPLETED, wait
@@ -27,6 +28,7 @@ from slosh_bif.orbits.families import trace_new_family
 from slosh_bif.orbits.known import answers_hold
 from slosh_bif.orbits.orbit_branch import OrbitFamily, images, renamed, unique_name
 from slosh_bif.orbits.shooting import ShootingProblem
+from slosh_bif.orbits.switch_ahead import switch_threads, threads
 from slosh_bif.report.tasks import Task, timed
 
 __all__ = ["starts_side_by_side", "families_side_by_side", "family_task", "named_as_sequential", "HEARTBEAT"]
@@ -50,14 +52,16 @@ def starts_side_by_side(jobs, executor, say, tasks: list | None = None) -> list:
     return converged
 
 
-def family_task(start, known, tracing: dict):
+def family_task(start, known, tracing: dict, share: int | None = None):
     """(family or None, why not, progress messages, questions asked of ``known``, seconds) of one
-    start, traced beside the branches ``known`` (in a worker); the seconds are reported only."""
+    start, traced beside the branches ``known`` (in a worker); the seconds are reported only.
+    ``share``: threads its switches may use (:func:`~slosh_bif.orbits.switch_ahead.switch_threads`;
+    the worker's default where None)."""
     began = time.perf_counter()
     messages, asked = [], []
     try:
-        family, err = (
-            trace_new_family(
+        with switch_threads(share) if share else contextlib.nullcontext():
+            family = trace_new_family(
                 start.params,
                 start.y0,
                 known,
@@ -65,9 +69,8 @@ def family_task(start, known, tracing: dict):
                 progress=messages.append,
                 asked=asked,
                 **tracing,
-            ),
-            None,
-        )
+            )
+        err = None
     except ConvergenceError as error:
         family, err = None, str(error)
     return family, err, messages, asked, time.perf_counter() - began
@@ -108,12 +111,14 @@ def families_side_by_side(starts: list, branches: list, *, executor, first: int,
     """
     say, keep = take["say"], take["keep"]
     slots = max(1, int(getattr(executor, "threads", 1)))
+    # Local processes share this machine's cores: a family's switches get its share of them.
+    share = max(1, threads() // slots) if getattr(executor, "place", "") == "local processes" else None
     segments = tracing["shooting"].segments
     ahead, dropped, considered = {}, [], first  # start index -> future; futures no longer wanted
     current = first
 
     def send(j):
-        ahead[j] = executor.submit(family_task, starts[j], list(branches), tracing)
+        ahead[j] = executor.submit(family_task, starts[j], list(branches), tracing, share)
 
     def top_up():
         nonlocal considered
