@@ -142,7 +142,8 @@ def family_criticality(branches) -> list:
     integrations release the GIL), each on its own copy of its problem (whose caches are
     per-object): the verdicts of one point at a time."""
     plans = [_plan(ob.problem, ob.branch) for ob in branches]
-    jobs = [(ob.problem, sp, ob.branch.param) for ob, plan in zip(branches, plans) for _, sp in plan if sp]
+    jobs = [(ob.problem, sp, ob.branch.param) for ob, plan in zip(branches, plans) for _, sp in plan]
+    jobs = [job for job in jobs if job[1] is not None]
     count = min(threads(), len(jobs))
     if count > 1:
         with ThreadPoolExecutor(max_workers=count, thread_name_prefix="criticality") as pool:
