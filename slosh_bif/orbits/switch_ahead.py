@@ -88,21 +88,27 @@ class SwitchesAhead:
     """The switches of one family, each run once: :meth:`take` returns a switch's result in turn.
 
     ``count`` traces at once (1: each in this thread when its turn comes, nothing ahead); ``say``
-    gets every progress line in the queue's order. Use as a context manager: leaving the block
-    abandons the traces not taken."""
+    gets every progress line in the queue's order. A trace ahead that ends frees its thread for the
+    next switch of the queue at once, not at the next turn. Use as a context manager: leaving the
+    block abandons the traces not taken."""
 
     def __init__(self, count: int, say):
         self.count, self.say = count, say
         self.ahead: dict = {}  # key -> _Trace
+        self.upcoming: list = []  # (key, run) of the switches after the one whose turn it is
         self.started = self.unused = 0  # traces started ahead; of them abandoned
+        self.lock = threading.RLock()  # self.ahead changes here and when a trace ahead ends
+        self.closed = False
         self.pool = ThreadPoolExecutor(max_workers=count, thread_name_prefix="switch") if count > 1 else None
 
     def __enter__(self):
         return self
 
     def __exit__(self, kind, error, trace):
-        for key in list(self.ahead):
-            self._abandon(key)
+        with self.lock:
+            self.closed = True
+            for key in list(self.ahead):
+                self._abandon(key)
         if self.pool is not None:
             self.pool.shutdown(wait=kind is None, cancel_futures=True)
         if kind is None and self.started:
@@ -116,27 +122,39 @@ class SwitchesAhead:
     def take(self, key, run, upcoming=()):
         """The result of ``run(say, trace)`` for the switch ``key``, whose turn it is (its
         progress lines said in order; its exception raised here). ``upcoming``: ``(key, run)`` of
-        the switches that may come next, in the queue's order; the first of them are started in
+        the switches that may come next, in the queue's order; the first of them are traced in
         the idle threads, and traces ahead that are no longer among them are abandoned. ``run``
         gets ``trace`` None when it runs here in its turn, else the trace ahead it runs for (its
         ``check()`` raises :class:`Abandoned` once it is not needed)."""
-        wanted = {k for k, _ in upcoming}
-        for k in [k for k in self.ahead if k not in wanted and k != key]:
-            self._abandon(k)
-        traced = self.ahead.pop(key, None)
-        if self.pool is not None:
-            for k, r in upcoming:
-                if len(self.ahead) >= self.count - 1:
-                    break
-                if k != key and k not in self.ahead:
-                    self.ahead[k] = self._start(r)
+        with self.lock:
+            wanted = {k for k, _ in upcoming}
+            for k in [k for k in self.ahead if k not in wanted and k != key]:
+                self._abandon(k)
+            traced = self.ahead.pop(key, None)
+            self.upcoming = [(k, r) for k, r in upcoming if k != key]
+            self._fill()
         if traced is None:
             return run(self.say, None)
         traced.go_live(self.say)
         return traced.future.result()
 
-    def _start(self, run) -> _Trace:
+    def _fill(self) -> None:
+        """Start the first upcoming switches not started while fewer than ``count - 1`` traces
+        ahead run (the switch whose turn it is takes the last thread)."""
+        for k, r in self.upcoming:
+            if self.pool is None or self.closed:
+                return
+            if sum(not traced.future.done() for traced in self.ahead.values()) >= self.count - 1:
+                return
+            if k not in self.ahead:
+                self._start(k, r)
+
+    def _refill(self, _future) -> None:
+        with self.lock:
+            self._fill()
+
+    def _start(self, key, run) -> None:
         self.started += 1
-        traced = _Trace()
+        traced = self.ahead[key] = _Trace()
         traced.future = self.pool.submit(run, traced.say, traced)
-        return traced
+        traced.future.add_done_callback(self._refill)  # at once if it is done already

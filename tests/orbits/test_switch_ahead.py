@@ -113,6 +113,25 @@ def test_switches_come_in_turn_with_their_lines_in_order_and_run_once():
     assert said[-1].startswith("switches traced ahead in threads:")
 
 
+def test_a_trace_ahead_that_ends_makes_way_for_the_next_while_the_turn_runs():
+    c_started = threading.Event()
+
+    def make(key):
+        def run(say, trace):
+            if key == "c":
+                c_started.set()
+            if key == "a":  # the turn runs here until c, second in line, has been started ahead
+                assert c_started.wait(5), "c was not started when b, ahead of it, ended"
+            return key
+
+        return run
+
+    with SwitchesAhead(2, lambda message: None) as switches:
+        assert switches.take("a", make("a"), [("b", make("b")), ("c", make("c"))]) == "a"
+        assert switches.take("b", make("b"), [("c", make("c"))]) == "b"
+        assert switches.take("c", make("c")) == "c"
+
+
 def test_one_thread_runs_each_switch_in_its_turn_here():
     said, log = [], []
     make = _runs(log)
