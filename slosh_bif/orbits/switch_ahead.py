@@ -11,7 +11,8 @@ and is abandoned at its next point once the family no longer needs it (the point
 or the family has its branches).
 
 How many traces run at once is an execution setting, not part of a result:
-:func:`switch_threads` sets it for a block (the usable cores by default).
+:func:`switch_threads` sets it for a block (the usable cores by default; a scan's local worker
+processes take their share of the cores).
 """
 
 from __future__ import annotations
@@ -40,8 +41,9 @@ def switch_threads(count: int):
 
 
 def threads() -> int:
-    """Switches of a family traced at once here: as :func:`switch_threads` set, else one per usable
-    core."""
+    """Threads a family's work takes here (its switches traced at once, its special points judged
+    at once: :func:`~slosh_bif.orbits.criticality.family_criticality`): as :func:`switch_threads`
+    set, else one per usable core."""
     count = _THREADS.get()
     if count is not None:
         return count
