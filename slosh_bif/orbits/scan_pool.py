@@ -57,7 +57,11 @@ def family_task(start, known, tracing: dict, share: int | None = None):
     start, traced beside the branches ``known`` (in a worker); the seconds are reported only.
     ``share``: threads its switches may use (:func:`~slosh_bif.orbits.switch_ahead.switch_threads`;
     the worker's default where None)."""
-    began = time.perf_counter()
+    traced, seconds = timed(_family, start, known, tracing, share)
+    return (*traced, seconds)
+
+
+def _family(start, known, tracing: dict, share):
     messages, asked = [], []
     try:
         with switch_threads(share) if share else contextlib.nullcontext():
@@ -70,10 +74,9 @@ def family_task(start, known, tracing: dict, share: int | None = None):
                 asked=asked,
                 **tracing,
             )
-        err = None
     except ConvergenceError as error:
-        family, err = None, str(error)
-    return family, err, messages, asked, time.perf_counter() - began
+        return None, str(error), messages, asked
+    return family, None, messages, asked
 
 
 def named_as_sequential(family: OrbitFamily, known) -> OrbitFamily:
