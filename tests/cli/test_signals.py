@@ -107,12 +107,13 @@ def test_a_stopped_map_keeps_what_it_did_and_leaves_no_worker(
 @pytest.mark.parametrize(
     "grid, store, table, cells",
     [
-        (
+        pytest.param(
             # long enough (about 12 s on a fast machine) for the partial file (every 5 s) to hold a cell
             ["regimes", "--preset", "fig13", "--sigma-points", "8", "--abar-points", "8", "--tmax", "3000"],
             "regimes.json",
             "regimes.csv",
             64,
+            marks=pytest.mark.slow,  # the default run resumes from a partial store without a signal (next test)
         ),
         pytest.param(
             ["basins", "--preset", "fig10", "--set", "sigma=3", "--grid", "16", "16", "--tmax", "12000"],
@@ -150,6 +151,29 @@ def test_an_interrupted_map_resumed_equals_an_uninterrupted_one(tmp_path, capsys
     # other settings: refused in one line, before any work
     assert main([*grid[:-1], "2000", "--resume", "--out", str(tmp_path / "a")]) == 2
     assert "tmax differ" in capsys.readouterr().err
+
+
+def test_a_map_resumed_from_a_partial_store_equals_an_uninterrupted_one(tmp_path, capsys):
+    """What an interrupted run leaves (``regimes.partial.json``, part of the cells), taken from a
+    real run's store: ``--resume`` simulates only the rest, and the files equal an uninterrupted
+    run's."""
+    import json
+
+    from slosh_bif.cli import main
+
+    grid = ["regimes", "--preset", "fig13", "--sigma-points", "4", "--abar-points", "3", "--tmax", "1500"]
+    assert main([*grid, "--workers", "2", "--out", str(tmp_path / "b")]) == 0
+    store = json.loads((tmp_path / "b" / "regimes.json").read_text())
+    kept = dict(list(store["cells"].items())[::2])  # every other cell, as a stop part way leaves them
+    (tmp_path / "a").mkdir()
+    (tmp_path / "a" / "regimes.partial.json").write_text(
+        json.dumps({**store, "status": "running", "cells": kept}) + "\n"
+    )
+    capsys.readouterr()
+    assert main([*grid, "--workers", "2", "--resume", "--out", str(tmp_path / "a")]) == 0
+    assert f"resuming: {len(kept)} of 12" in capsys.readouterr().err
+    assert not (tmp_path / "a" / "regimes.partial.json").exists()
+    assert (tmp_path / "a" / "regimes.csv").read_text() == (tmp_path / "b" / "regimes.csv").read_text()
 
 
 @pytest.mark.slow  # resume after a stop: the regimes case of the next test covers it in the default run
