@@ -113,7 +113,7 @@ def test_a_stopped_map_keeps_what_it_did_and_leaves_no_worker(
             "regimes.json",
             "regimes.csv",
             64,
-            marks=pytest.mark.slow,  # the default run resumes from a partial store without a signal (next test)
+            marks=pytest.mark.slow,  # the default run resumes from a partial store, no signal (below)
         ),
         pytest.param(
             ["basins", "--preset", "fig10", "--set", "sigma=3", "--grid", "16", "16", "--tmax", "12000"],

@@ -193,17 +193,18 @@ def lowest_stable_boundary(curves, sigma, params: Params | None = None):
 
 def _lowest_crossing(s, v, at):
     """(value, i, t) of the lowest linear interpolation of the curve (s, v) at s = at, over the
-    segment (i, i + 1) at fraction t (segments with a non-finite end skipped); None where no
-    segment spans ``at``."""
-    best = None
-    for i in range(len(s) - 1):
-        if s[i] != s[i + 1] and min(s[i], s[i + 1]) <= at <= max(s[i], s[i + 1]):
-            if np.isfinite(v[i]) and np.isfinite(v[i + 1]):
-                t = (at - s[i]) / (s[i + 1] - s[i])
-                value = v[i] + t * (v[i + 1] - v[i])
-                if best is None or value < best[0]:
-                    best = (float(value), i, float(t))
-    return best
+    segment (i, i + 1) at fraction t (segments with a non-finite end skipped; of equal values the
+    first segment's); None where no segment spans ``at``."""
+    s, v = np.asarray(s, dtype=float), np.asarray(v, dtype=float)
+    a, b, va, vb = s[:-1], s[1:], v[:-1], v[1:]
+    spans = (a != b) & (np.minimum(a, b) <= at) & (at <= np.maximum(a, b))
+    (i,) = np.nonzero(spans & np.isfinite(va) & np.isfinite(vb))
+    if not len(i):
+        return None
+    t = (at - a[i]) / (b[i] - a[i])
+    values = va[i] + t * (vb[i] - va[i])
+    k = int(np.argmin(values))
+    return float(values[k]), int(i[k]), float(t[k])
 
 
 def _bounds_stable(curve) -> np.ndarray:
