@@ -52,6 +52,7 @@ from slosh_bif.orbits.shooting import MAX_PERIOD_MULTIPLE, PARAMETERS, ShootingP
 from slosh_bif.orbits.switch_ahead import SwitchesAhead, threads
 from slosh_bif.orbits.switching import (
     cut_where_it_rejoins,
+    image_of_settled,
     meets_parent,
     point_counter,
     switched_branch,
@@ -281,6 +282,7 @@ def trace_new_family(
     job = functools.partial(
         _switch_job, param=param, opts=opts, make_problem=make_problem, points_per_2pi=points_per_2pi
     )
+    settled = []  # (branch, point) switched at or met again
     with SwitchesAhead(threads() if family[0].problem.backend == "numba" else 1, say) as switches:
         while queue and len(family) < branching.max_branches:
             parent, sp = queue.pop(0)
@@ -288,6 +290,14 @@ def trace_new_family(
             if _too_long(parent, sp):
                 say(f"not switched at {origin}: the cascade is followed up to period {MAX_PERIOD_MULTIPLE}")
                 continue
+            twin = image_of_settled(parent, sp, settled)
+            if twin is not None:
+                say(
+                    f"not switched at {origin}: its orbit is an image of the one at {twin[1].kind} "
+                    f"{param} = {twin[1].p:.6g} on the {twin[0].name} branch (switched at or met already)"
+                )
+                continue
+            settled.append((parent, sp))
             parent_of_pair = meets_parent(parent, sp)
             u = symmetrized_point(sp) if parent_of_pair else None
             tol_u = 1e-5 * (1 + np.linalg.norm(u)) if parent_of_pair else 0.0
@@ -296,7 +306,8 @@ def trace_new_family(
                 or any(on_branch(u, ob, tol_u) for ob in family if ob.kind == "symmetric")
             ):
                 continue  # the pair meets its symmetric parent, traced already
-            upcoming = [((ob.name, s.index), job(ob, s)) for ob, s in _ahead_order((parent, sp), queue)]
+            fresh = [item for item in queue if image_of_settled(*item, settled) is None]
+            upcoming = [((ob.name, s.index), job(ob, s)) for ob, s in _ahead_order((parent, sp), fresh)]
             try:
                 problem, new, kind_name, rows = switches.take(
                     (parent.name, sp.index), job(parent, sp), upcoming
@@ -306,6 +317,7 @@ def trace_new_family(
                 continue
             new, met = (new, None) if parent_of_pair else cut_where_it_rejoins(new, problem, parent, queue)
             if met is not None:
+                settled.append((parent, met))
                 say(
                     f"the new branch meets the {parent.name} branch again at its {met.kind} "
                     f"{param} = {met.p:.6g}"

@@ -13,7 +13,7 @@ import numpy as np
 
 from slosh_bif.continuation import continuation, switch_branch
 from slosh_bif.continuation.branch import BRANCH_POINT, PERIOD_DOUBLING, Branch
-from slosh_bif.orbits.orbit_branch import OrbitBranch
+from slosh_bif.orbits.orbit_branch import OrbitBranch, images
 from slosh_bif.orbits.orbit_tools import is_symmetric, symmetrized
 from slosh_bif.orbits.shooting import ShootingProblem
 
@@ -22,6 +22,7 @@ __all__ = [
     "meeting_points",
     "met_at",
     "cut_where_it_rejoins",
+    "image_of_settled",
     "point_counter",
     "switched_branch",
     "meets_parent",
@@ -83,6 +84,33 @@ def cut_where_it_rejoins(new: Branch, problem: ShootingProblem, parent: OrbitBra
             queue[:] = [(ob, s) for ob, s in queue if s is not q]
             return new.head(sp.index, f"meets the {parent.name} branch again at its {q.kind}"), q
     return new, None
+
+
+def image_of_settled(parent: OrbitBranch, sp, settled):
+    """The ``(branch, point)`` of ``settled`` (the points a family switched at or met again) whose
+    orbit is that of the special point ``sp`` of ``parent`` or an image of it under the symmetries
+    of (9) (:func:`~slosh_bif.orbits.orbit_branch.images`), of the same kind at the same parameter;
+    None if none. A branch traced as a closed loop through both members of a mirror pair meets each
+    of its period doublings twice, once on each member, and the pitchfork where the pair meets its
+    symmetric parent is a branch point of both: by the symmetry the branch born at the second of
+    such points is (an image of) the one born at the first, nothing new."""
+    x = _whole_period(parent, sp.x)
+    tol = 1e-4 * (1 + np.linalg.norm(x))
+    for ob, q in settled:
+        if (q.kind, ob.problem.period_multiple) != (sp.kind, parent.problem.period_multiple) or abs(
+            q.p - sp.p
+        ) > 1e-6 * (1 + abs(q.p)):
+            continue
+        copies = [_whole_period(ob, q.x)] if ob.problem.symmetric else images(ob.problem, q.x)
+        if any(len(c) == len(x) and np.linalg.norm(c - x) <= tol for c in copies):
+            return ob, q
+    return None
+
+
+def _whole_period(ob: OrbitBranch, x):
+    """The arc states of a point of ``ob`` over the whole period (a symmetric branch's from its
+    half period's)."""
+    return ob.problem.full_states(x) if ob.problem.symmetric else np.asarray(x, dtype=float)
 
 
 def point_counter(say, name, param):

@@ -176,7 +176,7 @@ def test_a_map_resumed_from_a_partial_store_equals_an_uninterrupted_one(tmp_path
     assert (tmp_path / "a" / "regimes.csv").read_text() == (tmp_path / "b" / "regimes.csv").read_text()
 
 
-@pytest.mark.slow  # resume after a stop: the regimes case of the next test covers it in the default run
+@pytest.mark.slow  # resuming from a partial store: the test above covers it in the default run
 def test_a_killed_map_resumes_from_the_cells_stored_on_the_way(tmp_path, capsys):
     """SIGKILL (no handler runs): the partial store written every few seconds as cells finish is
     what a resumed run reuses, and the folder's previous complete results are untouched."""
