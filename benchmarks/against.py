@@ -13,7 +13,10 @@ what carries over between machines.
 
 Cases: the Fig. 10 symmetric branch (n = 50) and the n = 6 branch from its symmetric orbit, the
 Fig. 10 chart with switching and the family scan (not in ``--quick``: about 7 and 12 minutes a
-run on one 2-core machine).
+run on one 2-core machine). The scan is not the same work on both sides from the commit on which a
+family stopped switching at the mirror twins of points it has dealt with (the speed page): 8ec52f9
+traces nine distinct branches in two families and four duplicates, later trees six distinct ones
+in one family, so its ratio says what the command costs, not what the same branches cost.
 """
 
 from __future__ import annotations
