@@ -97,7 +97,9 @@ def test_each_pitchforks_verdict_is_what_its_switched_branch_does(fig13_pitchfor
         near = np.flatnonzero(np.abs(pair.branch.p - sp.p) < 0.02)
         assert near.size, f"no asymmetric orbit near the BP at {sp.p}"
         side = np.sign(np.median(pair.branch.p[near] - sp.p))
-        k = int(np.argmin(np.abs(symmetric.branch.p - (sp.p + 0.05 * side))))
+        # the parent's first point on the pair's side (the half-period map's branch steps 0.2 in sigma)
+        beyond = np.flatnonzero((symmetric.branch.p - sp.p) * side > 1e-6)
+        k = int(beyond[np.argmin(np.abs(symmetric.branch.p[beyond] - sp.p))])
         parent_stable_there = bool(symmetric.branch.stable[k])
         pair_stable = bool(np.all(pair.branch.stable[near]))
         soft = not parent_stable_there and pair_stable
@@ -230,9 +232,12 @@ def test_past_a_soft_torus_point_a_simulation_settles_on_the_predicted_circle_pa
 ):
     """Neimark-Sacker points: past the soft one on the period-2 branch (sigma = -1.2357, d < 0) a
     simulation started beside the unstable orbit settles on an invariant circle whose largest
-    excursion in the critical component is growth |sigma - S|^0.5 within 5 % (two distances, a
-    tenth of the 0.024 to the branch's next torus point and less); past the hard one on the
-    asymmetric branch (0.3464, d > 0) it leaves the neighbourhood (ten times that size)."""
+    excursion in the critical component is growth |sigma - S|^0.5 to leading order: measured at two
+    distances (a fiftieth and a twenty-fifth of the 0.024 to the branch's next torus point) the
+    ratio to the prediction is 1 + c |sigma - S|^0.5 (the next order, about 4 and 6 % there),
+    nearer 1 at the nearer one, and its value extrapolated to the point is 1 within 2 %; past the
+    hard one on the asymmetric branch (0.3464, d > 0) it leaves the neighbourhood (ten times that
+    size)."""
     from slosh_bif.continuation.corrector import newton
     from slosh_bif.flows.smooth.integrator import integrate
     from slosh_bif.orbits.criticality import special_criticality
@@ -249,23 +254,28 @@ def test_past_a_soft_torus_point_a_simulation_settles_on_the_predicted_circle_pa
         judged.append(v.verdict)
         c = ("X", "X'", "w", "w'").index(v.component)
         period = 2 * np.pi * ob.problem.period_multiple
-        for delta in (0.001, 0.002) if v.verdict == "soft" else (0.005,):
+        ratios = []
+        for delta in (0.0005, 0.001) if v.verdict == "soft" else (0.005,):
             sigma = v.at + (v.side if v.verdict == "soft" else -v.side) * delta  # the orbit unstable
             j = int(np.argmin(np.abs(ob.branch.p - sigma)))
             xs = newton(ob.problem, ob.branch.x[j], sigma)[:4]
             P = ob.problem.params_at(sigma)
             y, excursions = xs + 1e-3 * np.real(v.nf.q), []
-            for _ in range(3000):
+            for _ in range(6000):  # the circle is reached at a rate of order delta
                 y = integrate(P, y, (0.0, period)).z
                 excursions.append(abs(y[c] - xs[c]))
                 if excursions[-1] > 1.0:
                     break
             size = v.growth * np.sqrt(delta)
             if v.verdict == "soft":
-                assert max(excursions[-300:]) == pytest.approx(size, rel=0.05), (v.at, delta)
                 assert np.ptp([max(excursions[-600:-300]), max(excursions[-300:])]) < 1e-3 * size  # settled
+                ratios.append(max(excursions[-300:]) / size)
             else:
                 assert max(excursions) > 10 * size, (v.at, max(excursions), size)
+        if ratios:
+            (r1, r2), (s1, s2) = ratios, np.sqrt([0.0005, 0.001])
+            assert abs(r1 - 1) < abs(r2 - 1) < 0.1, ratios
+            assert r1 - (r2 - r1) / (s2 - s1) * s1 == pytest.approx(1.0, abs=0.02), ratios
     assert judged == ["soft", "hard"]
 
 
