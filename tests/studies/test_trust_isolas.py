@@ -1,8 +1,9 @@
 """The trust map measures a slow flow against every family of (9) it can find: a family on an isola
 (the Fig. 13 set at n = 6: stable impacting orbits at sigma in [-2, -1], apart from the branch
-continued from the start) made the corrected slow flow look 55 % off where the orbits it describes
-are 7-20 % away. Checked against what does not use the search: a simulation of (9) that settles on
-a stable orbit from the slow flow's state, whose amplitude must lie on a family found."""
+continued from a start that misses it) made the corrected slow flow look 55 % off where the
+orbits it describes are 7-20 % away. Checked against what does not use the search: a simulation
+of (9) that settles on a stable orbit from the slow flow's state, whose amplitude must lie on a
+family found."""
 
 import warnings
 
@@ -39,24 +40,31 @@ def test_the_isola_a_simulation_settles_on_is_among_the_families_found():
             first=0,
         )
     assert orbit.converged and orbit.stable
+    # Without the search the map measures the flow against the start's family alone, and what it
+    # says depends on where that start lands (55 % off from a start at sigma = 2.57, 21 % from the
+    # one at -0.25 it takes now); with the search, the orbits the flow describes (18-19 % from either).
     primary = trust_point(P, branching=NO_SWITCHING, model="corrected", isola_tries=0)
     searched = trust_point(P, branching=NO_SWITCHING, model="corrected")
-    assert (
-        searched.branches > primary.branches and searched.median_difference < 0.5 * primary.median_difference
-    )
+    assert searched.branches > primary.branches
+    assert searched.median_difference <= primary.median_difference and searched.median_difference < 0.25
     # the same orbit on a family the search added (A1 to the continuation's interpolation)
     from slosh_bif.orbits.families import trace_orbits
     from slosh_bif.orbits.settings import ParameterRange
     from slosh_bif.orbits.starts import slow_flow_start
 
-    start = slow_flow_start(P, -6, 8, response=frequency_response(P, sigma_min=-6, sigma_max=8))
-    family = trace_orbits(
-        start.params, start.y0, branching=NO_SWITCHING, interval=ParameterRange(lo=-6, hi=8)
-    )
-    assert not any(
-        abs(a - A1) < 1e-3 * A1 for a, _, _ in orbits_at(family.branches, float(b.p[i]))
-    )  # the start's family misses it
-    found = missed_families(P, fr, family, np.linspace(-6, 8, 141), model="corrected")
+    # a start whose family misses it (of the paper's flow's first two starts, at sigma = -0.25 and
+    # 2.23, the first lands on the isola itself)
+    paper = frequency_response(P, sigma_min=-6, sigma_max=8)
+    families = []
+    for skip in (0, 1):
+        start = slow_flow_start(P, -6, 8, response=paper, skip=skip)
+        families.append(
+            trace_orbits(start.params, start.y0, branching=NO_SWITCHING, interval=ParameterRange(lo=-6, hi=8))
+        )
+    at = float(b.p[i])
+    missing = [f for f in families if not any(abs(a - A1) < 1e-3 * A1 for a, *_ in orbits_at(f.branches, at))]
+    assert missing
+    found = missed_families(P, fr, missing[0], np.linspace(-6, 8, 141), model="corrected")
     assert any(abs(a - A1) < 1e-3 * A1 and stable for a, stable, _ in orbits_at(found, float(b.p[i])))
 
 
