@@ -94,23 +94,17 @@ def image_of_settled(parent: OrbitBranch, sp, settled):
     of its period doublings twice, once on each member, and the pitchfork where the pair meets its
     symmetric parent is a branch point of both: by the symmetry the branch born at the second of
     such points is (an image of) the one born at the first, nothing new."""
-    x = _whole_period(parent, sp.x)
+    x = parent.problem.full_states(sp.x)  # a symmetric branch's half period made whole
     tol = 1e-4 * (1 + np.linalg.norm(x))
     for ob, q in settled:
         if (q.kind, ob.problem.period_multiple) != (sp.kind, parent.problem.period_multiple) or abs(
             q.p - sp.p
         ) > 1e-6 * (1 + abs(q.p)):
             continue
-        copies = [_whole_period(ob, q.x)] if ob.problem.symmetric else images(ob.problem, q.x)
+        copies = [ob.problem.full_states(c) for c in images(ob.problem, q.x)]
         if any(len(c) == len(x) and np.linalg.norm(c - x) <= tol for c in copies):
             return ob, q
     return None
-
-
-def _whole_period(ob: OrbitBranch, x):
-    """The arc states of a point of ``ob`` over the whole period (a symmetric branch's from its
-    half period's)."""
-    return ob.problem.full_states(x) if ob.problem.symmetric else np.asarray(x, dtype=float)
 
 
 def point_counter(say, name, param):
