@@ -1,8 +1,9 @@
 """The normal-form coefficient along curves of orbit bifurcations of (9) against independent
 evaluations: at curve points, the coefficient of the same bifurcation found by one-parameter
 continuation at the point's second parameter (its own location, tangent and integrated Jacobian,
-not the curve's arcs); and a degenerate point (GPD) of a curve against one-parameter branches
-on either side of it, whose period doublings are soft on one side and hard on the other."""
+not the curve's arcs); a degenerate point (GPD) of a curve against one-parameter branches
+on either side of it, whose period doublings are soft on one side and hard on the other; and the
+degenerate pitchforks of a curve against the coefficient integrated a hundred times more tightly."""
 
 import numpy as np
 import pytest
@@ -12,7 +13,9 @@ from slosh_bif.orbits import NO_SWITCHING, settle_and_shoot, trace_orbits
 from slosh_bif.orbits.codim2 import CurveSeed, curve_boundary, trace_curve
 from slosh_bif.orbits.codim2.coefficients import STRIDE, boundary
 from slosh_bif.orbits.criticality import special_criticality
+from slosh_bif.orbits.map_derivatives import criticality
 from slosh_bif.orbits.settings import ParameterRange
+from slosh_bif.orbits.starts import start_orbit
 
 PRESET = get_preset("fig10")
 
@@ -64,6 +67,50 @@ def test_the_curves_coefficient_is_that_of_one_parameter_branches_at_its_points(
         assert p == pytest.approx(sigma, abs=1e-6)
         assert verdict.coefficient == pytest.approx(coefficient[i], rel=1e-4)
         assert verdict.verdict == kinds[i]
+
+
+@pytest.fixture(scope="module")
+def pitchfork_curve():
+    """The BP curve of the Fig. 10 set through its symmetric orbit's pitchfork at sigma = -5.629,
+    over the Fig. 10 chart's box: its coefficient b is a small difference of large terms where it
+    passes sigma = 1.6-2.5 (b ~ 1e-3-1e-2, n = 50)."""
+    P = PRESET.params
+    start = start_orbit(P, PRESET.state0, (-6.0, -5.0))
+    family = trace_orbits(
+        start.params, start.y0, branching=NO_SWITCHING, interval=ParameterRange(lo=-6.0, hi=-5.0)
+    )
+    ob = family.branches[0]
+    (bp,) = ob.branch.special_of("BP")
+    return P, trace_curve(P, CurveSeed.on(ob, bp, "BP"), box={"sigma": (-6.0, 8.0), "Abar": (0.2, 6.0)})
+
+
+def _refined(P, curve, x, p):
+    """The curve point's pitchfork coefficient integrated at rtol 1e-13 (the curve's at 1e-11)."""
+    at = P.replace(sigma=float(p), Abar=float(x[-1]))
+    return criticality(at, x[:4], "BP", symmetric=True, rtol=1e-13).coefficient
+
+
+def test_a_curves_degenerate_pitchforks_hold_under_refinement(pitchfork_curve):
+    """Every DBP is a zero of b: its bracketing curve points have b of opposite signs integrated
+    100 times more tightly, and b at the located point is small against them; and where b is
+    small (sigma 1.6-2.5) the curve's b has the sign of the refined one at every third point (at
+    the earlier tolerance, 1e-9, it changed sign four times there: spurious DBPs, a hard stretch)."""
+    P, curve = pitchfork_curve
+    b = curve.branch
+    coefficient, kinds = curve_boundary(curve)
+    dbp = [sp for sp in b.special if sp.kind == "DBP"]
+    assert dbp, [sp.kind for sp in b.special]
+    for sp in dbp:
+        ends = [_refined(P, curve, b.x[i], b.p[i]) for i in (sp.index, sp.index + 1)]
+        assert ends[0] * ends[1] < 0, (sp.p, ends)
+        assert abs(_refined(P, curve, sp.x, sp.p)) < 1e-3 * max(map(abs, ends)), sp.message
+        assert "located on the curve" in sp.message
+    small = np.flatnonzero((b.p >= 1.6) & (b.p <= 2.5))[::STRIDE]
+    assert len(small) >= 3
+    for i in small:
+        refined = _refined(P, curve, b.x[i], b.p[i])
+        assert np.sign(coefficient[i]) == np.sign(refined), (b.p[i], coefficient[i], refined)
+        assert kinds[i] == "soft"
 
 
 @pytest.mark.slow  # the Fig. 13 family with its switched branches, a PD curve, four short branches

@@ -8,13 +8,20 @@ its own quadratic coefficient is the curve's cusp test (CP).
 The coefficients are those of :func:`~slosh_bif.orbits.map_derivatives.criticality` (Kuznetsov's
 normal forms of maps; the map's derivatives from the generated variational equations of (9) or
 the jets through (8)'s impacts), computed after the curve is traced at every :data:`STRIDE`-th
-point and at both ends, and at every point
-between two computed ones of opposite sign: between the pair of neighbours where it changes sign
-the zero is placed by linear interpolation (to about the curve's step, not to the 1e-9 of the
-test-function points), unless the coefficient grows towards the change instead of falling (a
-pole, where a second multiplier reaches the unit circle: LPPD, PDNS, R1-R4). Points between
-computed ones carry the interpolated coefficient. Evaluating it at every point, as a test
-function, would cost half as much again as the curve itself."""
+point, at both ends, beside the curve's own codimension-2 points, and at every point between two
+computed ones of opposite sign. Where it changes sign between a pair of neighbours, both are
+evaluated again ten times more tightly (:data:`CONFIRM_RTOL`): a change that does not hold was
+the integration's error (the coefficient is a small difference of large terms where the wall is
+stiff). A change that holds is located on the curve: points of the curve on planes across the
+chord between the two (each a corrector solve) where the coefficient is evaluated, the plane moved
+by regula falsi (Illinois) until the bracket is below :data:`ZERO_TOL` in arclength or the
+coefficient below its own accuracy; linear interpolation between the two (to about the curve's
+step) only where that fails, and the point's message says which. No zero is placed where the
+coefficient grows towards the change instead of falling (a pole, where a second multiplier
+reaches the unit circle: LPPD, PDNS, R1-R4, BPLP); a zero closer to such a point than the curve's
+next point is not seen. Points between computed ones carry the interpolated coefficient.
+Evaluating it at every point, as a test function, would cost half as much again as the curve
+itself."""
 
 from __future__ import annotations
 
@@ -22,14 +29,30 @@ import dataclasses
 
 import numpy as np
 
-from slosh_bif.continuation import SpecialPoint
+from slosh_bif.continuation import ContinuationOptions, SpecialPoint
+from slosh_bif.continuation.corrector import correct
 from slosh_bif.orbits.map_derivatives import FlowDerivatives, criticality
 from slosh_bif.orbits.shooting import ShootingProblem
 
-__all__ = ["COEFFICIENT_KINDS", "DEGENERATE", "STRIDE", "CURVE_RTOL", "boundary", "curve_coefficients"]
+__all__ = [
+    "COEFFICIENT_KINDS",
+    "DEGENERATE",
+    "STRIDE",
+    "CURVE_RTOL",
+    "CONFIRM_RTOL",
+    "ZERO_TOL",
+    "boundary",
+    "curve_coefficients",
+]
 
 STRIDE = 3  # the coefficient at every third point of a curve (and wherever it changes sign)
-CURVE_RTOL = 1e-9  # the variational equations' tolerance on a curve: the coefficient to about 1e-7
+# The variational equations' tolerance on a curve, that of a branch's verdicts: at 1e-9 the Fig. 10
+# pitchfork curve's coefficient (n = 50, sigma 1.7-2.0, b ~ 0.003-0.02) came out with the wrong sign
+# (-0.33 where it is +0.020), at 1e-11 within 10 % of its limit under refinement.
+CURVE_RTOL = 1e-11
+CONFIRM_RTOL = 1e-12  # a sign change's two ends evaluated again, and its zero located, at this
+ZERO_TOL = 1e-8  # a located zero's bracket in arclength
+_ZERO_ITERATIONS = 16
 COEFFICIENT_KINDS = {"PD": "GPD", "BP": "DBP", "NS": "CH"}
 _EITHER_SIDE = "soft on one side, hard on the other"
 DEGENERATE = {
@@ -76,7 +99,10 @@ def curve_coefficients(problem, branch, derivatives=None):
             valid[i] = 1.0 if nf is not None and nf.status == "ok" else -1.0
         return value[i]
 
-    computed = sorted(set(range(0, n, STRIDE)) | {n - 1})
+    # also beside the curve's own codimension-2 points: a pole there (a second multiplier on the
+    # unit circle) and a zero just past it change the sign twice between two strided points
+    beside = {i for sp in branch.special if sp.kind != "END" for i in range(sp.index - 1, sp.index + 3)}
+    computed = sorted(set(range(0, n, STRIDE)) | {n - 1} | {i for i in beside if 0 <= i < n})
     for i in computed:
         at(i)
     zeros = []
@@ -85,13 +111,14 @@ def curve_coefficients(problem, branch, derivatives=None):
             continue
         for i in range(lo + 1, hi):
             at(i)
-        j = next((i for i in range(lo, hi) if value[i] * value[i + 1] < 0), None)
-        if j is None:  # a point between could not be evaluated: the change is not placed
-            continue
-        outer = [abs(at(i)) for i in (j - 1, j + 2) if 0 <= i < n]
-        if outer and max(abs(value[j]), abs(value[j + 1])) > max(outer):
-            continue  # grows towards the change: a pole
-        zeros.append(_zero(problem, branch, j, value))
+        for j in range(lo, hi):  # a point between that could not be evaluated places no change
+            if not value[j] * value[j + 1] < 0:
+                continue
+            outer = [abs(at(i)) for i in (j - 1, j + 2) if 0 <= i < n]
+            if outer and max(abs(value[j]), abs(value[j + 1])) > max(outer):
+                continue  # grows towards the change: a pole
+            if _confirmed(problem, branch, j, value, derivatives):
+                zeros.append(_zero(problem, branch, j, value, derivatives))
     done = np.isfinite(value)
     s = branch.arclength
     out = {
@@ -102,23 +129,82 @@ def curve_coefficients(problem, branch, derivatives=None):
     return dataclasses.replace(branch, special=tuple(special)), out
 
 
-def _zero(problem, branch, j, value) -> SpecialPoint:
-    """The coefficient's zero between curve points j and j + 1, by linear interpolation."""
-    t = value[j] / (value[j] - value[j + 1])
-    x = (1 - t) * branch.x[j] + t * branch.x[j + 1]
-    p = (1 - t) * branch.p[j] + t * branch.p[j + 1]
+def _confirmed(problem, branch, j, value, derivatives) -> bool:
+    """Whether the sign change between points j and j + 1 holds with the coefficient integrated
+    :data:`CONFIRM_RTOL` tightly; their values are replaced by those (a change that does not hold
+    was the integration's error, and the points' verdicts then follow the better values)."""
+    for i in (j, j + 1):
+        nf = _normal_form(problem, branch.x[i], branch.p[i], derivatives, CONFIRM_RTOL)
+        if nf is not None and np.isfinite(nf.coefficient):
+            value[i] = nf.coefficient
+    return bool(value[j] * value[j + 1] < 0)
+
+
+def _zero(problem, branch, j, value, derivatives) -> SpecialPoint:
+    """The coefficient's zero between curve points j and j + 1: located on the curve, or by linear
+    interpolation where that fails (the message says which)."""
     label = COEFFICIENT_KINDS[problem.kind]
+    located = _located(problem, branch, j, value, derivatives)
+    if located is None:
+        t = value[j] / (value[j] - value[j + 1])
+        u = (1 - t) * np.append(branch.x[j], branch.p[j]) + t * np.append(branch.x[j + 1], branch.p[j + 1])
+        how = "by linear interpolation (not located on the curve)"
+    else:
+        u, width = located
+        how = f"located on the curve to {width:.1g} in arclength"
     return SpecialPoint(
         label,
         j,
-        float(p),
-        x,
+        float(u[-1]),
+        u[:-1],
         (float(branch.p[j]), float(branch.p[j + 1])),
-        f"{DEGENERATE[label]}; between curve points {j} and {j + 1}, by linear interpolation",
+        f"{DEGENERATE[label]}; between curve points {j} and {j + 1}, {how}",
     )
 
 
-def _normal_form(problem, x, p, derivatives):
+def _located(problem, branch, j, value, derivatives):
+    """(u, bracket width in arclength) of the zero between points j and j + 1 by regula falsi
+    (Illinois) over the planes across their chord, each point corrected onto the curve: the
+    bracket's end with the smaller coefficient, the bracket's width its precision (the
+    coefficient's own error, not the iterations, may bound it); None where a corrector or a
+    coefficient fails."""
+    ends = np.array([np.append(branch.x[i], branch.p[i]) for i in (j, j + 1)])
+    chord = float(np.linalg.norm(ends[1] - ends[0]))
+    try:
+        options = ContinuationOptions(**branch.options)
+    except (TypeError, ValueError):
+        return None
+    if chord == 0:
+        return None
+    normal = (ends[1] - ends[0]) / chord
+    # each end: [t along the chord, coefficient, its weight for regula falsi, point]
+    low, high = [0.0, value[j], value[j], ends[0]], [1.0, value[j + 1], value[j + 1], ends[1]]
+    floor = 1e-7 * max(abs(value[j]), abs(value[j + 1]))  # the coefficient's accuracy at best
+    problem.init_borders(branch.x[j], branch.p[j])
+    kept = None
+    for _ in range(_ZERO_ITERATIONS):
+        t = (low[0] * high[2] - high[0] * low[2]) / (high[2] - low[2])
+        u, _ = correct(problem, (1 - t) * ends[0] + t * ends[1], normal, options, strict=True)
+        if u is None:
+            return None
+        nf = _normal_form(problem, u[:-1], u[-1], derivatives, CONFIRM_RTOL)
+        if nf is None or not np.isfinite(nf.coefficient):
+            return None
+        c = nf.coefficient
+        if abs(c) <= floor:
+            return u, floor * chord / abs(value[j + 1] - value[j])  # its accuracy over its slope
+        near, far = (low, high) if (c > 0) == (low[1] > 0) else (high, low)
+        near[:] = [t, c, c, u]
+        if kept is near:  # the same end moved twice: the other's weight halved (Illinois)
+            far[2] /= 2
+        kept = near
+        if (high[0] - low[0]) * chord <= ZERO_TOL:
+            break
+    best = low if abs(low[1]) <= abs(high[1]) else high
+    return best[3], (high[0] - low[0]) * chord
+
+
+def _normal_form(problem, x, p, derivatives, rtol=None):
     """The NormalForm of the curve point (x, p) of ``problem``, or None where the map's
     derivatives cannot be computed there (not integrated; (8)'s map not smooth)."""
     s = problem.orbits
@@ -129,7 +215,7 @@ def _normal_form(problem, x, p, derivatives):
             problem.kind,
             period=2 * np.pi * s.period_multiple,
             symmetric=problem.symmetric,
-            rtol=CURVE_RTOL,
+            rtol=CURVE_RTOL if rtol is None else rtol,
             derivatives=derivatives,
         )
     except ValueError:
