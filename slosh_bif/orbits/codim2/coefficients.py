@@ -6,22 +6,22 @@ is soft on one side of such a point and hard on the other. A fold is a jump all 
 its own quadratic coefficient is the curve's cusp test (CP).
 
 The coefficients are those of :func:`~slosh_bif.orbits.map_derivatives.criticality` (Kuznetsov's
-normal forms of maps; the map's derivatives from the generated variational equations of (9) or
-the jets through (8)'s impacts), computed after the curve is traced at every :data:`STRIDE`-th
-point, at both ends, beside the curve's own codimension-2 points, and at every point between two
-computed ones of opposite sign. Where it changes sign between a pair of neighbours, both are
-evaluated again ten times more tightly (:data:`CONFIRM_RTOL`): a change that does not hold was
-the integration's error (the coefficient is a small difference of large terms where the wall is
-stiff). A change that holds is located on the curve: points of the curve on planes across the
-chord between the two (each a corrector solve) where the coefficient is evaluated, the plane moved
-by regula falsi (Illinois) until the bracket is below :data:`ZERO_TOL` in arclength or the
-coefficient below its own accuracy; linear interpolation between the two (to about the curve's
-step) only where that fails, and the point's message says which. No zero is placed where the
-coefficient grows towards the change instead of falling (a pole, where a second multiplier
-reaches the unit circle: LPPD, PDNS, R1-R4, BPLP); a zero closer to such a point than the curve's
-next point is not seen. Points between computed ones carry the interpolated coefficient.
-Evaluating it at every point, as a test function, would cost half as much again as the curve
-itself."""
+normal forms of maps; the map's derivatives from the generated variational equations of (9) or the
+jets through (8)'s impacts), computed after the curve is traced at every :data:`STRIDE`-th point,
+at both ends, beside the curve's own codimension-2 points, and at every point between two computed
+ones of opposite sign. Each is integrated at two tolerances and kept where the two agree
+(:func:`_settled`): the coefficient is a small difference of large terms where the wall is stiff,
+and its sign at one tolerance can be the integration's error; a point where it does not settle is
+undetermined and places no zero. A change of sign between two settled neighbours is located on the
+curve: points of the curve on planes across the chord between the two (each a corrector solve)
+where the coefficient is evaluated, the plane moved by regula falsi (Illinois) until the bracket
+is below :data:`ZERO_TOL` in arclength or the coefficient below its own accuracy; linear
+interpolation between the two (to about the curve's step) only where that fails, and the point's
+message says which. No zero is placed where the coefficient grows towards the change instead of
+falling (a pole, where a second multiplier reaches the unit circle: LPPD, PDNS, R1-R4, BPLP); a
+zero closer to such a point than the curve's next point is not seen. Points between computed ones
+carry the interpolated coefficient. Evaluating it at every point, as a test function, cost half as
+much again as the curve itself at one tolerance (1e-9)."""
 
 from __future__ import annotations
 
@@ -39,7 +39,9 @@ __all__ = [
     "DEGENERATE",
     "STRIDE",
     "CURVE_RTOL",
-    "CONFIRM_RTOL",
+    "COARSE_RTOL",
+    "FINE_RTOL",
+    "SETTLED",
     "ZERO_TOL",
     "boundary",
     "curve_coefficients",
@@ -50,7 +52,9 @@ STRIDE = 3  # the coefficient at every third point of a curve (and wherever it c
 # pitchfork curve's coefficient (n = 50, sigma 1.7-2.0, b ~ 0.003-0.02) came out with the wrong sign
 # (-0.33 where it is +0.020), at 1e-11 within 10 % of its limit under refinement.
 CURVE_RTOL = 1e-11
-CONFIRM_RTOL = 1e-12  # a sign change's two ends evaluated again, and its zero located, at this
+COARSE_RTOL = 1e-9  # the estimate of its error: the coefficient at this tolerance too
+FINE_RTOL = 1e-12  # where the coefficient has not settled at CURVE_RTOL; zeros are located at it
+SETTLED = 0.25  # two tolerances' coefficients this close (relative): its sign is no integration error
 ZERO_TOL = 1e-8  # a located zero's bracket in arclength
 _ZERO_ITERATIONS = 16
 COEFFICIENT_KINDS = {"PD": "GPD", "BP": "DBP", "NS": "CH"}
@@ -90,13 +94,13 @@ def curve_coefficients(problem, branch, derivatives=None):
     if kind not in COEFFICIENT_KINDS or derivatives is None or not len(branch):
         return branch, {}
     n = len(branch)
-    value, valid = np.full(n, np.nan), np.zeros(n)
+    value, valid, settled = np.full(n, np.nan), np.zeros(n), np.ones(n, dtype=bool)
 
     def at(i):
         if np.isnan(value[i]) and not valid[i] < 0:
-            nf = _normal_form(problem, branch.x[i], branch.p[i], derivatives)
+            nf, settled[i] = _settled(problem, branch.x[i], branch.p[i], derivatives)
             value[i] = np.nan if nf is None else nf.coefficient
-            valid[i] = 1.0 if nf is not None and nf.status == "ok" else -1.0
+            valid[i] = 1.0 if nf is not None and nf.status == "ok" and settled[i] else -1.0
         return value[i]
 
     # also beside the curve's own codimension-2 points: a pole there (a second multiplier on the
@@ -111,14 +115,13 @@ def curve_coefficients(problem, branch, derivatives=None):
             continue
         for i in range(lo + 1, hi):
             at(i)
-        for j in range(lo, hi):  # a point between that could not be evaluated places no change
-            if not value[j] * value[j + 1] < 0:
+        for j in range(lo, hi):  # no change placed at a point not evaluated or not settled
+            if not (value[j] * value[j + 1] < 0 and settled[j] and settled[j + 1]):
                 continue
             outer = [abs(at(i)) for i in (j - 1, j + 2) if 0 <= i < n]
             if outer and max(abs(value[j]), abs(value[j + 1])) > max(outer):
                 continue  # grows towards the change: a pole
-            if _confirmed(problem, branch, j, value, derivatives):
-                zeros.append(_zero(problem, branch, j, value, derivatives))
+            zeros.append(_zero(problem, branch, j, value, derivatives))
     done = np.isfinite(value)
     s = branch.arclength
     out = {
@@ -129,15 +132,25 @@ def curve_coefficients(problem, branch, derivatives=None):
     return dataclasses.replace(branch, special=tuple(special)), out
 
 
-def _confirmed(problem, branch, j, value, derivatives) -> bool:
-    """Whether the sign change between points j and j + 1 holds with the coefficient integrated
-    :data:`CONFIRM_RTOL` tightly; their values are replaced by those (a change that does not hold
-    was the integration's error, and the points' verdicts then follow the better values)."""
-    for i in (j, j + 1):
-        nf = _normal_form(problem, branch.x[i], branch.p[i], derivatives, CONFIRM_RTOL)
-        if nf is not None and np.isfinite(nf.coefficient):
-            value[i] = nf.coefficient
-    return bool(value[j] * value[j + 1] < 0)
+def _settled(problem, x, p, derivatives):
+    """(NormalForm or None, whether its coefficient has settled): integrated at
+    :data:`COARSE_RTOL` and :data:`CURVE_RTOL`, the latter kept where the two agree within
+    :data:`SETTLED`; else integrated at :data:`FINE_RTOL`, kept, and settled where that agrees
+    with the one at CURVE_RTOL. Exact map derivatives ((8)'s jets) are evaluated once."""
+    if getattr(derivatives, "exact", False):
+        return _normal_form(problem, x, p, derivatives), True
+    coarse = _normal_form(problem, x, p, derivatives, COARSE_RTOL)
+    nf = _normal_form(problem, x, p, derivatives)
+    if nf is None or coarse is None or _agree(coarse.coefficient, nf.coefficient):
+        return nf, True
+    fine = _normal_form(problem, x, p, derivatives, FINE_RTOL)
+    if fine is None:
+        return nf, False
+    return fine, _agree(nf.coefficient, fine.coefficient)
+
+
+def _agree(rough, better) -> bool:
+    return bool(abs(rough - better) <= SETTLED * abs(better))
 
 
 def _zero(problem, branch, j, value, derivatives) -> SpecialPoint:
@@ -187,7 +200,7 @@ def _located(problem, branch, j, value, derivatives):
         u, _ = correct(problem, (1 - t) * ends[0] + t * ends[1], normal, options, strict=True)
         if u is None:
             return None
-        nf = _normal_form(problem, u[:-1], u[-1], derivatives, CONFIRM_RTOL)
+        nf = _normal_form(problem, u[:-1], u[-1], derivatives, FINE_RTOL)
         if nf is None or not np.isfinite(nf.coefficient):
             return None
         c = nf.coefficient

@@ -110,6 +110,8 @@ class ImpactMapDerivatives(FlowDerivatives):
     least measured speed, where its law is clamped) or not defined (the run ends early), with
     the reason."""
 
+    exact = True
+
     def __init__(
         self,
         params: Params,
