@@ -5,15 +5,17 @@ not the curve's arcs); a degenerate point (GPD) of a curve against one-parameter
 on either side of it, whose period doublings are soft on one side and hard on the other; and the
 degenerate pitchforks of a curve against the coefficient integrated a hundred times more tightly."""
 
+import dataclasses
+
 import numpy as np
 import pytest
 
 from slosh_bif import get_preset
 from slosh_bif.orbits import NO_SWITCHING, settle_and_shoot, trace_orbits
-from slosh_bif.orbits.codim2 import CurveSeed, curve_boundary, trace_curve
-from slosh_bif.orbits.codim2.coefficients import STRIDE, boundary
+from slosh_bif.orbits.codim2 import CurveSeed, curve_boundary, curve_problem, trace_curve
+from slosh_bif.orbits.codim2.coefficients import STRIDE, boundary, curve_coefficients
 from slosh_bif.orbits.criticality import special_criticality
-from slosh_bif.orbits.map_derivatives import criticality
+from slosh_bif.orbits.map_derivatives import FlowDerivatives, criticality
 from slosh_bif.orbits.settings import ParameterRange
 from slosh_bif.orbits.starts import start_orbit
 
@@ -111,6 +113,30 @@ def test_a_curves_degenerate_pitchforks_hold_under_refinement(pitchfork_curve):
         refined = _refined(P, curve, b.x[i], b.p[i])
         assert np.sign(coefficient[i]) == np.sign(refined), (b.p[i], coefficient[i], refined)
         assert kinds[i] == "soft"
+
+
+class _Unsettled(FlowDerivatives):
+    """(9)'s map derivatives with third derivatives off by a factor 1 + 1e12 rtol: a coefficient
+    that moves by more than itself from each tolerance to the next (x1001, x11, x2 at 1e-9, 1e-11
+    and 1e-12), as an integration's error does where the coefficient is a small difference."""
+
+    def third(self, u, v, w):
+        return (1 + 1e12 * self.rtol) * super().third(u, v, w)
+
+
+def test_a_coefficient_that_does_not_settle_under_refinement_is_undetermined(pitchfork_curve):
+    """The same curve with map derivatives whose coefficient changes with the tolerance: every
+    computed point is undetermined, and no DBP is placed (the true ones included: their sign is
+    not known from such derivatives)."""
+    P, curve = pitchfork_curve
+    b = curve.branch
+    problem = curve_problem(P, "BP", "sigma", "Abar", segments=len(b.x[0][:-1]) // 4)
+    branch = dataclasses.replace(b, special=tuple(sp for sp in b.special if sp.kind != "DBP"))
+    noisy, measures = curve_coefficients(problem, branch, _Unsettled)
+    assert not [sp for sp in noisy.special if sp.kind == "DBP"]
+    computed = np.arange(0, len(branch), STRIDE)
+    assert np.all(measures["judged"][computed] == 0)
+    assert set(boundary("BP", measures["coefficient"], measures["judged"])) == {"undetermined"}
 
 
 @pytest.mark.slow  # the Fig. 13 family with its switched branches, a PD curve, four short branches
