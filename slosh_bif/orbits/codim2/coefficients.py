@@ -139,9 +139,11 @@ def _settled(problem, x, p, derivatives):
     with the one at CURVE_RTOL. Exact map derivatives ((8)'s jets) are evaluated once."""
     if getattr(derivatives, "exact", False):
         return _normal_form(problem, x, p, derivatives), True
-    coarse = _normal_form(problem, x, p, derivatives, COARSE_RTOL)
     nf = _normal_form(problem, x, p, derivatives)
-    if nf is None or coarse is None or _agree(coarse.coefficient, nf.coefficient):
+    if nf is None:
+        return None, True
+    coarse = _normal_form(problem, x, p, derivatives, COARSE_RTOL)
+    if coarse is not None and _agree(coarse.coefficient, nf.coefficient):
         return nf, True
     fine = _normal_form(problem, x, p, derivatives, FINE_RTOL)
     if fine is None:
