@@ -70,7 +70,8 @@ def boundary(kind: str, coefficient, judged) -> np.ndarray:
     """Per curve point, how stability is lost there: ``jump`` on an LP curve (a fold always is),
     ``soft`` or ``hard`` by the sign of the coefficient (b > 0 soft at a PD or BP, d < 0 at an NS),
     ``undetermined`` where the point's normal form is not valid (near a codimension-2 point or a
-    strong resonance); '' where no coefficient was computed."""
+    strong resonance) or its coefficient did not settle under refinement; '' where no coefficient
+    was computed."""
     coefficient = np.asarray(coefficient, dtype=float)
     judged = np.asarray(judged, dtype=float) > 0
     if kind == "LP":

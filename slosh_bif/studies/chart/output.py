@@ -141,7 +141,7 @@ _KIND_NAMES = {
 _LOSS_STYLES = {
     "soft": ("-", "solid: lost softly (a small new motion grows)"),
     "jump": ((0, (5, 2)), "dashed: a jump (a fold, or a hard PD, NS or BP)"),
-    "undetermined": ((0, (1, 1.5)), "dotted: undetermined (near a codimension-2 point)"),
+    "undetermined": ((0, (1, 1.5)), "dotted: undetermined (near a codimension-2 point, or unsettled)"),
     "unknown": ("-", "solid on a PD, NS or BP curve without its coefficient: soft or hard not computed"),
 }
 
