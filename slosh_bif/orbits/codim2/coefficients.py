@@ -31,7 +31,7 @@ import numpy as np
 
 from slosh_bif.continuation import ContinuationOptions, SpecialPoint
 from slosh_bif.continuation.corrector import correct
-from slosh_bif.orbits.map_derivatives import FlowDerivatives, criticality
+from slosh_bif.orbits.map_derivatives import RTOL, FlowDerivatives, criticality
 from slosh_bif.orbits.shooting import ShootingProblem
 
 __all__ = [
@@ -51,7 +51,7 @@ STRIDE = 3  # the coefficient at every third point of a curve (and wherever it c
 # The variational equations' tolerance on a curve, that of a branch's verdicts: at 1e-9 the Fig. 10
 # pitchfork curve's coefficient (n = 50, sigma 1.7-2.0, b ~ 0.003-0.02) came out with the wrong sign
 # (-0.33 where it is +0.020), at 1e-11 within 10 % of its limit under refinement.
-CURVE_RTOL = 1e-11
+CURVE_RTOL = RTOL
 COARSE_RTOL = 1e-9  # the estimate of its error: the coefficient at this tolerance too
 FINE_RTOL = 1e-12  # where the coefficient has not settled at CURVE_RTOL; zeros are located at it
 SETTLED = 0.25  # two tolerances' coefficients this close (relative): its sign is no integration error
@@ -220,7 +220,7 @@ def _located(problem, branch, j, value, derivatives):
     return best[3], (high[0] - low[0]) * chord
 
 
-def _normal_form(problem, x, p, derivatives, rtol=None):
+def _normal_form(problem, x, p, derivatives, rtol=CURVE_RTOL):
     """The NormalForm of the curve point (x, p) of ``problem``, or None where the map's
     derivatives cannot be computed there (not integrated; (8)'s map not smooth)."""
     s = problem.orbits
@@ -231,7 +231,7 @@ def _normal_form(problem, x, p, derivatives, rtol=None):
             problem.kind,
             period=2 * np.pi * s.period_multiple,
             symmetric=problem.symmetric,
-            rtol=CURVE_RTOL if rtol is None else rtol,
+            rtol=rtol,
             derivatives=derivatives,
         )
     except ValueError:
