@@ -18,7 +18,14 @@ from concurrent.futures import ThreadPoolExecutor
 import numpy as np
 
 from slosh_bif.continuation.normal_forms import NormalForm, growth_law
-from slosh_bif.orbits.map_derivatives import FlowDerivatives, criticality, crossing_rate
+from slosh_bif.orbits.map_derivatives import (
+    FINE_RTOL,
+    RTOL,
+    FlowDerivatives,
+    criticality,
+    crossing_rate,
+    settle,
+)
 from slosh_bif.orbits.switch_ahead import threads
 
 __all__ = [
@@ -87,17 +94,24 @@ def judge(problem, sp, param: str):
     period = 2 * math.pi * problem.period_multiple
     # (8)'s problem states its own (jets through its impacts); (9)'s variational equations
     derivatives = getattr(problem, "map_derivatives", FlowDerivatives)
-    try:
-        nf = criticality(
+
+    def at(rtol):
+        return criticality(
             problem.params_at(sp.p),
             sp.x[:4],
             sp.kind,
             period=period,
             symmetric=problem.symmetric,
+            rtol=rtol,
             derivatives=derivatives,
         )
+
+    try:
+        nf = at(RTOL)
     except ValueError as err:  # not integrated, or (8)'s map not smooth there
         return f"not computed: {err}"
+    if nf.status == "ok" and sp.kind != "LP" and not getattr(derivatives, "exact", False):
+        nf = _settled(nf, at)
     dy = _tangent_rate(sp)
     slope = math.nan
     if dy is not None and nf.status == "ok" and sp.kind != "LP":
@@ -108,6 +122,27 @@ def judge(problem, sp, param: str):
     c = int(np.argmax(np.abs(nf.q)))
     scale = 2.0 * abs(nf.q[c]) if sp.kind == "NS" else abs(nf.q[c])  # x = 2 Re(z q) on a circle
     return Verdict(sp.kind, nf, param, float(sp.p), K * scale, side, _STATE[c], problem.period_multiple)
+
+
+def _settled(nf, at):
+    """``nf`` (at :data:`~slosh_bif.orbits.map_derivatives.RTOL`), or the one at FINE_RTOL where
+    the coefficient needed it (:func:`~slosh_bif.orbits.map_derivatives.settle`), undetermined where
+    it has not settled: its sign is not known from the integrations."""
+
+    def quiet(rtol):
+        try:
+            return at(rtol)
+        except ValueError:
+            return None
+
+    found, settled = settle(quiet, nf)
+    if settled:
+        return found
+    status = (
+        f"the coefficient has not settled under refinement ({_NAMES[nf.kind]} = {nf.coefficient:.3g} "
+        f"at rtol {RTOL:g}, {found.coefficient:.3g} at {FINE_RTOL:g})"
+    )
+    return dataclasses.replace(found, verdict="undetermined", status=status)
 
 
 def _plan(problem, branch, only=None) -> list:

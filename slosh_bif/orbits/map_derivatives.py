@@ -28,9 +28,22 @@ from slosh_bif.continuation.normal_forms import flip_coefficient, fold_coefficie
 from slosh_bif.flows.smooth.integrator import SHOOTING_SIZE, integrate, integrate_variations
 from slosh_bif.model.params import Params
 
-__all__ = ["FlowDerivatives", "criticality", "crossing_rate", "RTOL", "ATOL"]
+__all__ = [
+    "FlowDerivatives",
+    "criticality",
+    "crossing_rate",
+    "settle",
+    "RTOL",
+    "ATOL",
+    "COARSE_RTOL",
+    "FINE_RTOL",
+    "SETTLED",
+]
 
 RTOL, ATOL = 1e-11, 1e-13
+COARSE_RTOL = 1e-9  # the estimate of a coefficient's error: the coefficient at this tolerance too
+FINE_RTOL = 1e-12  # where a coefficient has not settled at RTOL
+SETTLED = 0.25  # two tolerances' coefficients this close (relative): its sign is no integration error
 
 
 class FlowDerivatives:
@@ -212,3 +225,25 @@ def criticality(
     if kind == "NS":
         return neimark_sacker_coefficient(A, flow.second, flow.third)
     raise ValueError(f"kind must be LP, PD, NS or BP; got {kind!r}")
+
+
+def settle(evaluate, nf):
+    """(NormalForm or None, whether its coefficient has settled) from ``nf = evaluate(RTOL)``:
+    ``evaluate(rtol)`` is the normal form with the map's derivatives integrated at ``rtol`` (None
+    where they cannot be). ``nf`` is kept where the one at :data:`COARSE_RTOL` agrees with it
+    within :data:`SETTLED`; else the one at :data:`FINE_RTOL` is kept, settled where it agrees with
+    ``nf``. Where the map's derivatives are stiff (a high-power wall) the coefficient is a small
+    difference of large terms, and its sign at one tolerance can be the integration's error."""
+    if nf is None:
+        return None, True
+    coarse = evaluate(COARSE_RTOL)
+    if coarse is not None and _agree(coarse.coefficient, nf.coefficient):
+        return nf, True
+    fine = evaluate(FINE_RTOL)
+    if fine is None:
+        return nf, False
+    return fine, _agree(nf.coefficient, fine.coefficient)
+
+
+def _agree(rough, better) -> bool:
+    return bool(abs(rough - better) <= SETTLED * abs(better))

@@ -5,7 +5,9 @@ not the curve's arcs); a degenerate point (GPD) of a curve against one-parameter
 on either side of it, whose period doublings are soft on one side and hard on the other; and the
 degenerate pitchforks of a curve against the coefficient integrated a hundred times more tightly."""
 
+import copy
 import dataclasses
+import math
 
 import numpy as np
 import pytest
@@ -32,13 +34,19 @@ def test_the_boundary_reads_the_coefficients_sign_by_kind():
 
 
 @pytest.fixture(scope="module")
-def flip_curve():
-    """The period-doubling curve of (9) through the PD of the Fig. 10 set's asymmetric orbit at
-    sigma = -2.5358."""
+def flip_branch():
+    """The Fig. 10 set's asymmetric orbits over sigma in [-3, -2.3], with a PD at sigma = -2.5358."""
     P = PRESET.params.replace(sigma=-3.0)
     orbit, _ = settle_and_shoot(P, PRESET.state0)
     family = trace_orbits(P, orbit.y0, branching=NO_SWITCHING, interval=ParameterRange(lo=-3.0, hi=-2.3))
-    (pd,) = family.branches[0].branch.special_of("PD")
+    return P, family.branches[0]
+
+
+@pytest.fixture(scope="module")
+def flip_curve(flip_branch):
+    """The period-doubling curve of (9) through that PD."""
+    P, ob = flip_branch
+    (pd,) = ob.branch.special_of("PD")
     return P, trace_curve(P, CurveSeed("PD", pd.x, pd.p), box={"sigma": (-2.9, -2.2), "Abar": (2.7, 3.3)})
 
 
@@ -137,6 +145,26 @@ def test_a_coefficient_that_does_not_settle_under_refinement_is_undetermined(pit
     computed = np.arange(0, len(branch), STRIDE)
     assert np.all(measures["judged"][computed] == 0)
     assert set(boundary("BP", measures["coefficient"], measures["judged"])) == {"undetermined"}
+
+
+def test_a_branch_points_verdict_is_undetermined_where_its_coefficient_does_not_settle(flip_branch):
+    """The PD's verdict with (9)'s derivatives is soft or hard, its coefficient that at rtol 1e-11
+    within the agreement asked of a settled one; with derivatives whose coefficient moves with the
+    tolerance it is undetermined, and says so."""
+    _, ob = flip_branch
+    (k,) = [k for k, sp in enumerate(ob.branch.special) if sp.kind == "PD"]
+    sp = ob.branch.special[k]
+    plain = special_criticality(ob, only=k)[k]
+    direct = criticality(ob.problem.params_at(sp.p), sp.x[:4], "PD", rtol=1e-11)
+    assert plain.verdict in ("soft", "hard") and plain.coefficient == pytest.approx(
+        direct.coefficient, rel=0.25
+    )
+    problem = copy.copy(ob.problem)
+    problem.map_derivatives = _Unsettled  # the duck-typed hook (8)'s problems state theirs by
+    noisy = dataclasses.replace(ob, problem=problem)
+    verdict = special_criticality(noisy, only=k)[k]
+    assert verdict.verdict == "undetermined"
+    assert "not settled under refinement" in verdict.nf.status and math.isnan(verdict.growth)
 
 
 @pytest.mark.slow  # the Fig. 13 family with its switched branches, a PD curve, four short branches

@@ -7,8 +7,9 @@ import numpy as np
 import pytest
 
 from slosh_bif import get_preset
+from slosh_bif.continuation.normal_forms import NormalForm
 from slosh_bif.model._generated import models as gen
-from slosh_bif.orbits.map_derivatives import FlowDerivatives
+from slosh_bif.orbits.map_derivatives import COARSE_RTOL, FINE_RTOL, RTOL, FlowDerivatives, settle
 
 P = get_preset("fig10").params.replace(n=6, pbar=2, sigma=1.5, lam=0.1)  # lam w' w^(2p) with p = 4
 PARS = (P.eps, P.beta, P.gamma, P.sigma, P.Abar, P.lam, P.chi, P.n, P.p)
@@ -30,6 +31,37 @@ def test_the_generated_second_and_third_derivatives_are_those_of_the_jacobian():
     assert np.allclose(exact3, fd3, rtol=1e-6, atol=1e-6 * np.abs(fd3).max())
     # finite at w = 0, where w^(2p - k) would be 0^-k without the guard
     assert np.all(np.isfinite(gen.smooth_third(0.0, np.zeros(4), A, B, C, *PARS)))
+
+
+def _coefficients(values):
+    """An ``evaluate(rtol)`` whose normal form has the coefficient ``values[rtol]`` (None: not
+    computable at that tolerance), and the tolerances it was asked for."""
+    asked = []
+
+    def evaluate(rtol):
+        asked.append(rtol)
+        value = values[rtol]
+        return None if value is None else NormalForm("PD", value, "soft", "ok", np.ones(4), np.ones(4))
+
+    return evaluate, asked
+
+
+@pytest.mark.parametrize(
+    "coarse, fine, kept, settled, asked",
+    [
+        (1.1, 5.0, 1.0, True, [COARSE_RTOL]),  # within a quarter: the first integration stands
+        (-0.3, 1.05, 1.05, True, [COARSE_RTOL, FINE_RTOL]),  # refined, and the finer one kept
+        (None, 1.05, 1.05, True, [COARSE_RTOL, FINE_RTOL]),  # not computable coarsely: refined
+        (-0.3, -0.9, -0.9, False, [COARSE_RTOL, FINE_RTOL]),  # the sign moves with the tolerance
+        (-0.3, None, 1.0, False, [COARSE_RTOL, FINE_RTOL]),
+    ],
+)
+def test_a_coefficient_is_kept_where_a_second_tolerance_agrees_with_it(coarse, fine, kept, settled, asked):
+    evaluate, seen = _coefficients({COARSE_RTOL: coarse, RTOL: 1.0, FINE_RTOL: fine})
+    nf, ok = settle(evaluate, evaluate(RTOL))
+    assert (nf.coefficient, ok) == (kept, settled)
+    assert seen[1:] == asked
+    assert settle(evaluate, None) == (None, True)
 
 
 @pytest.fixture(scope="module")

@@ -31,7 +31,15 @@ import numpy as np
 
 from slosh_bif.continuation import ContinuationOptions, SpecialPoint
 from slosh_bif.continuation.corrector import correct
-from slosh_bif.orbits.map_derivatives import RTOL, FlowDerivatives, criticality
+from slosh_bif.orbits.map_derivatives import (
+    COARSE_RTOL,
+    FINE_RTOL,
+    RTOL,
+    SETTLED,
+    FlowDerivatives,
+    criticality,
+    settle,
+)
 from slosh_bif.orbits.shooting import ShootingProblem
 
 __all__ = [
@@ -51,10 +59,7 @@ STRIDE = 3  # the coefficient at every third point of a curve (and wherever it c
 # The variational equations' tolerance on a curve, that of a branch's verdicts: at 1e-9 the Fig. 10
 # pitchfork curve's coefficient (n = 50, sigma 1.7-2.0, b ~ 0.003-0.02) came out with the wrong sign
 # (-0.33 where it is +0.020), at 1e-11 within 10 % of its limit under refinement.
-CURVE_RTOL = RTOL
-COARSE_RTOL = 1e-9  # the estimate of its error: the coefficient at this tolerance too
-FINE_RTOL = 1e-12  # where the coefficient has not settled at CURVE_RTOL; zeros are located at it
-SETTLED = 0.25  # two tolerances' coefficients this close (relative): its sign is no integration error
+CURVE_RTOL = RTOL  # zeros are located at FINE_RTOL
 ZERO_TOL = 1e-8  # a located zero's bracket in arclength
 _ZERO_ITERATIONS = 16
 COEFFICIENT_KINDS = {"PD": "GPD", "BP": "DBP", "NS": "CH"}
@@ -134,26 +139,13 @@ def curve_coefficients(problem, branch, derivatives=None):
 
 
 def _settled(problem, x, p, derivatives):
-    """(NormalForm or None, whether its coefficient has settled): integrated at
-    :data:`COARSE_RTOL` and :data:`CURVE_RTOL`, the latter kept where the two agree within
-    :data:`SETTLED`; else integrated at :data:`FINE_RTOL`, kept, and settled where that agrees
-    with the one at CURVE_RTOL. Exact map derivatives ((8)'s jets) are evaluated once."""
-    if getattr(derivatives, "exact", False):
-        return _normal_form(problem, x, p, derivatives), True
+    """(NormalForm or None, whether its coefficient has settled):
+    :func:`~slosh_bif.orbits.map_derivatives.settle` on the curve point's normal form. Exact map
+    derivatives ((8)'s jets) are evaluated once."""
     nf = _normal_form(problem, x, p, derivatives)
-    if nf is None:
-        return None, True
-    coarse = _normal_form(problem, x, p, derivatives, COARSE_RTOL)
-    if coarse is not None and _agree(coarse.coefficient, nf.coefficient):
+    if getattr(derivatives, "exact", False):
         return nf, True
-    fine = _normal_form(problem, x, p, derivatives, FINE_RTOL)
-    if fine is None:
-        return nf, False
-    return fine, _agree(nf.coefficient, fine.coefficient)
-
-
-def _agree(rough, better) -> bool:
-    return bool(abs(rough - better) <= SETTLED * abs(better))
+    return settle(lambda rtol: _normal_form(problem, x, p, derivatives, rtol), nf)
 
 
 def _zero(problem, branch, j, value, derivatives) -> SpecialPoint:
