@@ -147,6 +147,40 @@ def test_a_coefficient_that_does_not_settle_under_refinement_is_undetermined(pit
     assert set(boundary("BP", measures["coefficient"], measures["judged"])) == {"undetermined"}
 
 
+def _blind(box):
+    """(9)'s map derivatives, not computable inside ``box`` ((sigma_lo, sigma_hi), (Abar_lo,
+    Abar_hi)), as (8)'s map at a grazing is not."""
+    (s0, s1), (a0, a1) = box
+
+    class Blind(FlowDerivatives):
+        def __init__(self, params, *args, **kwargs):
+            if s0 <= params.sigma <= s1 and a0 <= params.Abar <= a1:
+                raise ValueError("not computable here")
+            super().__init__(params, *args, **kwargs)
+
+    return Blind
+
+
+def test_rows_beside_a_point_whose_coefficient_cannot_be_computed_are_undetermined(pitchfork_curve):
+    """Where the coefficient cannot be computed (curve points 20-40) the curve's rows are
+    undetermined, not labelled from the computed points on either side; away from there they keep
+    the labels computed without the gap."""
+    P, curve = pitchfork_curve
+    b = curve.branch
+    problem = curve_problem(P, "BP", "sigma", "Abar", segments=len(b.x[0][:-1]) // 4)
+    abar = b.x[:, -1]
+    gap = slice(20, 41)  # soft, away from the curve's codimension-2 points (from point 81 on)
+    box = ((b.p[gap].min(), b.p[gap].max()), (abar[gap].min(), abar[gap].max()))
+    inside = (b.p >= box[0][0]) & (b.p <= box[0][1]) & (abar >= box[1][0]) & (abar <= box[1][1])
+    plain = curve_coefficients(problem, b)[1]
+    blind = curve_coefficients(problem, b, _blind(box))[1]
+    assert set(boundary("BP", plain["coefficient"][inside], plain["judged"][inside])) <= {"soft", "hard"}
+    assert set(boundary("BP", blind["coefficient"][inside], blind["judged"][inside])) == {"undetermined"}
+    away = np.ones(len(b), dtype=bool)
+    away[10:51] = False
+    assert np.array_equal(blind["judged"][away], plain["judged"][away])
+
+
 def test_a_branch_points_verdict_is_undetermined_where_its_coefficient_does_not_settle(flip_branch):
     """The PD's verdict with (9)'s derivatives is soft or hard, its coefficient that at rtol 1e-11
     within the agreement asked of a settled one; with derivatives whose coefficient moves with the

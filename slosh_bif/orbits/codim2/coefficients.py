@@ -20,8 +20,9 @@ interpolation between the two (to about the curve's step) only where that fails,
 message says which. No zero is placed where the coefficient grows towards the change instead of
 falling (a pole, where a second multiplier reaches the unit circle: LPPD, PDNS, R1-R4, BPLP); a
 zero closer to such a point than the curve's next point is not seen. Points between computed ones
-carry the interpolated coefficient. Evaluating it at every point, as a test function, cost half as
-much again as the curve itself at one tolerance (1e-9)."""
+carry the interpolated coefficient and the nearer computed one's judgement (undetermined beside a
+point whose coefficient could not be computed). Evaluating it at every point, as a test function,
+cost half as much again as the curve itself at one tolerance (1e-9)."""
 
 from __future__ import annotations
 
@@ -91,8 +92,9 @@ def curve_coefficients(problem, branch, derivatives=None):
     """(branch with the coefficient's zeros added to its special points, {"coefficient": ...,
     "judged": ...}) for a traced curve (``problem`` its MinAugCurveProblem): the coefficient per
     point (interpolated in arclength between computed ones) and 1 where the nearest computed
-    point's normal form is valid. ``derivatives``: the map derivatives of the curve's model
-    (:class:`FlowDerivatives` for (9)'s shooting, the default; (8)'s curves pass theirs).
+    point's normal form is valid (0 where it is not, or could not be computed). ``derivatives``:
+    the map derivatives of the curve's model (:class:`FlowDerivatives` for (9)'s shooting, the
+    default; (8)'s curves pass theirs).
     ``(branch, {})`` for kinds without one (LP) and for a model without map derivatives."""
     kind = problem.kind
     if derivatives is None and isinstance(problem.orbits, ShootingProblem):
@@ -128,12 +130,11 @@ def curve_coefficients(problem, branch, derivatives=None):
             if outer and max(abs(value[j]), abs(value[j + 1])) > max(outer):
                 continue  # grows towards the change: a pole
             zeros.append(_zero(problem, branch, j, value, derivatives))
-    done = np.isfinite(value)
+    done, evaluated = np.isfinite(value), valid != 0
     s = branch.arclength
-    out = {
-        "coefficient": np.interp(s, s[done], value[done]) if done.any() else value,
-        "judged": np.interp(s, s[done], (valid[done] > 0).astype(float)).round() if done.any() else valid,
-    }
+    # a point whose coefficient could not be computed judges its half of each interval (undetermined)
+    judged = np.interp(s, s[evaluated], (valid[evaluated] > 0).astype(float)).round()
+    out = {"coefficient": np.interp(s, s[done], value[done]) if done.any() else value, "judged": judged}
     special = sorted([*branch.special, *zeros], key=lambda sp: (sp.index, sp.kind == "END"))
     return dataclasses.replace(branch, special=tuple(special)), out
 
