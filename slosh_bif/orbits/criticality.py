@@ -4,8 +4,10 @@ on the map over the orbit's period; a symmetric orbit's pitchfork on its half-pe
 normal form's prediction of the motion born there (its size against the distance to the point,
 :func:`~slosh_bif.continuation.normal_forms.growth_law`, with the rate at which the critical
 multiplier crosses from :func:`~slosh_bif.orbits.map_derivatives.crossing_rate`), and the plain
-sentence a user reads beside each point. The vibro-impact model (8) is judged the same way, on
-its map's derivatives through the impacts
+sentence a user reads beside each point. A PD, NS or BP coefficient integrated by the variational
+equations is settled under refinement (:func:`~slosh_bif.orbits.map_derivatives.settle`), the
+verdict undetermined where it does not settle. The vibro-impact model (8) is judged the same way,
+on its map's exact derivatives through the impacts
 (:class:`~slosh_bif.orbits.impact.map_derivatives.ImpactMapDerivatives`)."""
 
 from __future__ import annotations
