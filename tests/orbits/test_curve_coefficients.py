@@ -3,7 +3,9 @@ evaluations: at curve points, the coefficient of the same bifurcation found by o
 continuation at the point's second parameter (its own location, tangent and integrated Jacobian,
 not the curve's arcs); a degenerate point (GPD) of a curve against one-parameter branches
 on either side of it, whose period doublings are soft on one side and hard on the other; and the
-degenerate pitchforks of a curve against the coefficient integrated a hundred times more tightly."""
+degenerate pitchforks of a curve against the coefficient integrated a hundred times more tightly;
+curves and branch points whose coefficient does not settle under refinement, or cannot be
+computed, undetermined."""
 
 import copy
 import dataclasses
@@ -194,7 +196,7 @@ def test_a_branch_points_verdict_is_undetermined_where_its_coefficient_does_not_
         direct.coefficient, rel=0.25
     )
     problem = copy.copy(ob.problem)
-    problem.map_derivatives = _Unsettled  # the duck-typed hook (8)'s problems state theirs by
+    problem.map_derivatives = _Unsettled  # the attribute by which (8)'s problems name their derivatives
     noisy = dataclasses.replace(ob, problem=problem)
     verdict = special_criticality(noisy, only=k)[k]
     assert verdict.verdict == "undetermined"
