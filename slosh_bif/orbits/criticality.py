@@ -112,8 +112,8 @@ def judge(problem, sp, param: str):
         nf = at(RTOL)
     except ValueError as err:  # not integrated, or (8)'s map not smooth there
         return f"not computed: {err}"
-    if nf.status == "ok" and sp.kind != "LP" and not getattr(derivatives, "exact", False):
-        nf = _settled(nf, at)
+    if nf.status == "ok" and sp.kind != "LP":  # a fold is a jump whatever a's size
+        nf = _settled(nf, at, getattr(derivatives, "exact", False))
     dy = _tangent_rate(sp)
     slope = math.nan
     if dy is not None and nf.status == "ok" and sp.kind != "LP":
@@ -126,10 +126,11 @@ def judge(problem, sp, param: str):
     return Verdict(sp.kind, nf, param, float(sp.p), K * scale, side, _STATE[c], problem.period_multiple)
 
 
-def _settled(nf, at):
+def _settled(nf, at, exact):
     """``nf`` (at :data:`~slosh_bif.orbits.map_derivatives.RTOL`), or the one at FINE_RTOL where
-    the coefficient needed it (:func:`~slosh_bif.orbits.map_derivatives.settle`), undetermined where
-    it has not settled: its sign is not known from the integrations."""
+    the coefficient needed it (:func:`~slosh_bif.orbits.map_derivatives.settle`; ``exact``
+    derivatives as they are), undetermined where it has not settled: its sign is not known from
+    the integrations."""
 
     def quiet(rtol):
         try:
@@ -137,7 +138,7 @@ def _settled(nf, at):
         except ValueError:
             return None
 
-    found, settled = settle(quiet, nf)
+    found, settled = settle(quiet, nf, exact=exact)
     if settled:
         return found
     status = (

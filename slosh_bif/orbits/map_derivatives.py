@@ -227,15 +227,16 @@ def criticality(
     raise ValueError(f"kind must be LP, PD, NS or BP; got {kind!r}")
 
 
-def settle(evaluate, nf):
+def settle(evaluate, nf, *, exact: bool = False):
     """(NormalForm or None, whether its coefficient has settled) from ``nf = evaluate(RTOL)``:
     ``evaluate(rtol)`` is the normal form with the map's derivatives integrated at ``rtol`` (None
     where they cannot be). ``nf`` is kept where the one at :data:`COARSE_RTOL` agrees with it
     within :data:`SETTLED`; else the one at :data:`FINE_RTOL` is kept, settled where it agrees with
     ``nf``. Where the map's derivatives are stiff (a high-power wall) the coefficient is a small
-    difference of large terms, and its sign at one tolerance can be the integration's error."""
-    if nf is None:
-        return None, True
+    difference of large terms, and its sign at one tolerance can be the integration's error.
+    ``exact`` derivatives (not integrated: (8)'s jets) are taken as they are."""
+    if nf is None or exact:
+        return nf, True
     coarse = evaluate(COARSE_RTOL)
     if coarse is not None and _agree(coarse.coefficient, nf.coefficient):
         return nf, True

@@ -32,15 +32,7 @@ import numpy as np
 
 from slosh_bif.continuation import ContinuationOptions, SpecialPoint
 from slosh_bif.continuation.corrector import correct
-from slosh_bif.orbits.map_derivatives import (
-    COARSE_RTOL,
-    FINE_RTOL,
-    RTOL,
-    SETTLED,
-    FlowDerivatives,
-    criticality,
-    settle,
-)
+from slosh_bif.orbits.map_derivatives import FINE_RTOL, RTOL, FlowDerivatives, criticality, settle
 from slosh_bif.orbits.shooting import ShootingProblem
 
 __all__ = [
@@ -48,9 +40,6 @@ __all__ = [
     "DEGENERATE",
     "STRIDE",
     "CURVE_RTOL",
-    "COARSE_RTOL",
-    "FINE_RTOL",
-    "SETTLED",
     "ZERO_TOL",
     "boundary",
     "curve_coefficients",
@@ -141,12 +130,12 @@ def curve_coefficients(problem, branch, derivatives=None):
 
 def _settled(problem, x, p, derivatives):
     """(NormalForm or None, whether its coefficient has settled):
-    :func:`~slosh_bif.orbits.map_derivatives.settle` on the curve point's normal form. Exact map
-    derivatives ((8)'s jets) are evaluated once."""
-    nf = _normal_form(problem, x, p, derivatives)
-    if getattr(derivatives, "exact", False):
-        return nf, True
-    return settle(lambda rtol: _normal_form(problem, x, p, derivatives, rtol), nf)
+    :func:`~slosh_bif.orbits.map_derivatives.settle` on the curve point's normal form."""
+    return settle(
+        lambda rtol: _normal_form(problem, x, p, derivatives, rtol),
+        _normal_form(problem, x, p, derivatives),
+        exact=getattr(derivatives, "exact", False),
+    )
 
 
 def _zero(problem, branch, j, value, derivatives) -> SpecialPoint:
