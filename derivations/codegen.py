@@ -50,7 +50,9 @@ class Function:
     ``scalar_args`` are symbols passed as they are. ``outputs`` is a sympy Matrix; the function
     returns an array of shape ``outputs.shape + broadcast shape`` of the vector components and
     of the arguments named in ``broadcast`` (a column matrix is returned as a vector, a 1x1
-    matrix as an array of the broadcast shape).
+    matrix as an array of the broadcast shape). A kernel (:func:`render_kernels`) writes its
+    column into ``out``, or returns it as a tuple where ``returns`` (no array to allocate where a
+    compiled caller needs the values only as numbers).
     """
 
     name: str
@@ -59,6 +61,7 @@ class Function:
     scalar_args: tuple
     outputs: sp.Matrix
     broadcast: tuple = ("tau",)
+    returns: bool = False
 
 
 class _Printer(NumPyPrinter):
@@ -111,7 +114,8 @@ class _KernelPrinter(_Printer):
 
 
 def _kernel_body(fn: Function) -> list[str]:
-    """Scalar statements writing ``fn.outputs`` (a column) into ``out`` in place."""
+    """Scalar statements writing ``fn.outputs`` (a column) into ``out`` in place, or returning it
+    as a tuple (``fn.returns``)."""
     printer = _KernelPrinter()
     replacements, reduced = sp.cse(
         list(fn.outputs), symbols=sp.numbered_symbols("x"), optimizations="basic", order="canonical"
@@ -120,23 +124,31 @@ def _kernel_body(fn: Function) -> list[str]:
     for name, vector in fn.vector_args:
         lines += [f"    {s} = {name}[{i}]" for i, s in enumerate(vector)]
     lines += [f"    {sym} = {printer.doprint(expr)}" for sym, expr in replacements]
+    if fn.returns:
+        # numbers as floats: one element type, so that a compiled caller may index the tuple
+        items = [repr(float(e)) if e.is_Number else printer.doprint(e) for e in reduced]
+        return lines + ["    return ("] + [f"        {item}," for item in items] + ["    )"]
     lines += [f"    out[{i}] = {printer.doprint(expr)}" for i, expr in enumerate(reduced)]
     return lines
 
 
-def render_kernels(title: str, script: str, functions: list[Function]) -> str:
-    """Source text of scalar, allocation-free kernels ``name(tau, <vector args>, out, pars)``.
+def render_kernels(title: str, script: str, functions: list[Function], constants: tuple = ()) -> str:
+    """Source text of scalar, allocation-free kernels ``name(tau, <vector args>, out, pars)``
+    (``name(tau, <vector args>, pars)`` returning a tuple where ``fn.returns``).
 
     Every output component is written (zeros included) so that ``out`` may be uninitialised;
     ``pars`` holds ``fn.scalar_args`` in order. Plain Python that numba compiles unchanged.
+    ``constants``: (name, comment, tuple) written after the functions.
     """
     text = HEADER.format(title=title, script=script, sympy_range=SYMPY_RANGE)
     text += "from slosh_bif.model.powers import int_power\n\n"
     for fn in functions:
-        args = ["tau"] + [name for name, _ in fn.vector_args] + ["out", "pars"]
+        args = ["tau"] + [name for name, _ in fn.vector_args] + ([] if fn.returns else ["out"]) + ["pars"]
         text += f"\ndef {fn.name}({', '.join(args)}):\n"
         text += f'    """{fn.doc}"""\n'
         text += "\n".join(_kernel_body(fn)) + "\n\n"
+    for name, comment, value in constants:
+        text += f"\n# {comment}\n{name} = {value!r}\n"
     return text.rstrip("\n") + "\n"
 
 

@@ -12,6 +12,7 @@ Each derivation module builds sympy expressions; this script turns them into num
 from __future__ import annotations
 
 import argparse
+import itertools
 import sys
 from pathlib import Path
 
@@ -192,35 +193,10 @@ def _kernels_module() -> str:
     )
     state = (("y", m.STATE),)
     augmented = (("z", tuple(m.STATE) + tuple(phi) + tuple(s_sigma) + tuple(s_abar) + (sp.Symbol("trace"),)),)
-    # the map's second and third derivatives along u, v, w (orbits/map_derivatives.py)
-    du, dv, dw, Wuv, Wuw, Wvw, Z = (
-        sp_matrix(sp.symbols(f"{name}0:4", real=True))
-        for name in ("du", "dv", "dw", "Wuv", "Wuw", "Wvw", "Z")
-    )
-    S = lambda a, b: m.directional(f, a, b)  # noqa: E731
-    third = sp_matrix(
-        list(f)
-        + list(J * du)
-        + list(J * dv)
-        + list(J * dw)
-        + list(J * Wuv + S(du, dv))
-        + list(J * Wuw + S(du, dw))
-        + list(J * Wvw + S(dv, dw))
-        + list(J * Z + S(du, Wvw) + S(dv, Wuw) + S(dw, Wuv) + m.directional(f, du, dv, dw))
-    )
-    variations = (
-        (
-            "z",
-            tuple(m.STATE)
-            + tuple(du)
-            + tuple(dv)
-            + tuple(dw)
-            + tuple(Wuv)
-            + tuple(Wuw)
-            + tuple(Wvw)
-            + tuple(Z),
-        ),
-    )
+    # the map's derivatives along any directions (flows/smooth/jets.py, orbits/map_derivatives.py):
+    # f, J and the non-zero entries of f's second and third derivatives in the state, the
+    # variational equations of every order contracted from them by one hand-written kernel
+    second, third = _derivative_entries(f)
     # the arcs' derivatives along a direction d of the start state (the curve problems' second
     # derivatives, orbits/codim2/minaug.py): d' = J d, Psi = D Phi . d, r = D (dy/da, dy/db) . d
     d = sp_matrix(sp.symbols("d0:4", real=True))
@@ -298,15 +274,38 @@ def _kernels_module() -> str:
                 along_sigma_abar,
             ),
             F(
-                "smooth_third_kernel",
-                "out = d/dtau [y, Phi u, Phi v, Phi w, D2[u, v], D2[u, w], D2[v, w], D3[u, v, w]] for (9), "
-                "32 components: the second- and third-order variational equations along u, v, w.",
-                variations,
+                "smooth_jet_kernel",
+                "(f, J row-major, f_yy[i, j, k], f_yyy[i, j, k, l]) of (9) at (tau, y): the right-hand "
+                "side, its Jacobian and the non-zero entries of its second and third derivatives in "
+                "the state, in the order of SMOOTH_SECOND_ENTRIES and SMOOTH_THIRD_ENTRIES.",
+                state,
                 m.PARAMS,
-                third,
+                sp_matrix(list(f) + list(J) + list(second.values()) + list(third.values())),
+                returns=True,
             ),
         ],
+        constants=(
+            ("SMOOTH_SECOND_ENTRIES", "(i, j, k) of each non-zero d2 f_i / dy_j dy_k", tuple(second)),
+            ("SMOOTH_THIRD_ENTRIES", "(i, j, k, l) of each non-zero d3 f_i / dy_j dy_k dy_l", tuple(third)),
+        ),
     )
+
+
+def _derivative_entries(f):
+    """({(i, j, k): d2 f_i / dy_j dy_k}, {(i, j, k, l): d3 f_i / dy_j dy_k dy_l}), the non-zero
+    entries of the second and third derivatives of ``f`` in the state (every order of the indices
+    listed: the contractions need no symmetry bookkeeping)."""
+    y = m.STATE
+    second, third = {}, {}
+    for i, j, k in itertools.product(range(len(y)), repeat=3):
+        entry = m.guard_negative_powers(f[i].diff(y[j], y[k]))
+        if entry != 0:
+            second[(i, j, k)] = entry
+        for r in range(len(y)):
+            entry = m.guard_negative_powers(f[i].diff(y[j], y[k], y[r]))
+            if entry != 0:
+                third[(i, j, k, r)] = entry
+    return second, third
 
 
 def _tableau_module() -> str:

@@ -130,8 +130,8 @@ def flip_coefficient(A, B, C) -> NormalForm:
     n = len(A)
     q, p, _ = _eigenpair(A, -1.0)
     q, p = q.real.astype(float), p.real.astype(float)
+    cubic = _inner(p, C(q, q, q)) / 6.0  # first: a map's derivatives may give B(q, q) with it
     h2 = np.linalg.solve(np.eye(n) - A, B(q, q))
-    cubic = _inner(p, C(q, q, q)) / 6.0
     quadratic = 0.5 * _inner(p, B(q, h2))
     b = float(np.real(cubic + quadratic))
     verdict, status = _verdict("PD", b, abs(cubic) + abs(quadratic))
@@ -162,9 +162,10 @@ def neimark_sacker_coefficient(A, B, C) -> NormalForm:
         return NormalForm("NS", math.nan, "undetermined", resonant, q, p)
     qb = np.conj(q)
     e = np.exp(1j * theta)
+    cubic = _inner(p, C(q, q, qb))  # first: a map's derivatives may give B(q, q), B(q, qb) with it
     h11 = np.linalg.solve(np.eye(n) - A, B(q, qb))
     h20 = np.linalg.solve(e * e * np.eye(n) - A, B(q, q))
-    terms = (_inner(p, C(q, q, qb)), 2.0 * _inner(p, B(q, h11)), _inner(p, B(qb, h20)))
+    terms = (cubic, 2.0 * _inner(p, B(q, h11)), _inner(p, B(qb, h20)))
     d = float(0.5 * np.real(np.conj(e) * sum(terms)))
     verdict, status = _verdict("NS", d, sum(abs(t) for t in terms))
     near = _second_critical(values, [mu, np.conj(mu)]) or resonant

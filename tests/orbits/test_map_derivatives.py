@@ -332,3 +332,51 @@ def test_shoot_writes_and_prints_each_points_verdict(tmp_path, capsys):
         rows = [r for r in csv.DictReader(fh) if "BP" in r["special"]]
     verdicts = {round(float(r["sigma"]), 2): r["criticality"] for r in rows}
     assert verdicts[-2.03].startswith("BP soft") and verdicts[0.37].startswith("BP hard")
+
+
+class _OneAtATime(FlowDerivatives):
+    """(9)'s map derivatives with every real pair and triple integrated on its own (its own
+    directions only): the bookkeeping of one integration for many checked against none."""
+
+    def _fill(self, pairs, triples):
+        for pair in pairs:
+            super()._fill([pair], [])
+        for triple in triples:
+            super()._fill([], [triple])
+
+
+def test_one_integration_for_many_directions_is_each_integrated_alone():
+    """A Neimark-Sacker coefficient's C(q, q, conj q) (four real triples and three pairs in one
+    integration) and B along two more directions, against each real pair and triple integrated
+    with its own directions only."""
+    q, h = A + 1j * B, C - 0.5j * A
+    together, alone = FlowDerivatives(P, Y, 1.2), _OneAtATime(P, Y, 1.2)
+    for form in ("third", "second"):
+        args = (q, q, np.conj(q)) if form == "third" else (q, h)
+        x, y = getattr(together, form)(*args), getattr(alone, form)(*args)
+        assert np.allclose(x, y, rtol=1e-8, atol=1e-8 * np.abs(y).max()), form
+
+
+def test_a_neimark_sacker_coefficient_takes_three_integrations(monkeypatch):
+    """C(q, q, conj q) with B(q, q) and B(q, conj q) in one integration, then B(q, h11) and
+    B(conj q, h20): three (seven with three directions an integration)."""
+    import slosh_bif.orbits.map_derivatives as md
+    from slosh_bif.continuation.normal_forms import neimark_sacker_coefficient
+
+    calls = []
+    real = md.integrate_variations
+    monkeypatch.setattr(md, "integrate_variations", lambda *a, **k: calls.append(1) or real(*a, **k))
+    flow = FlowDerivatives(P, Y, 1.2)
+    theta = 1.1  # a map with a complex pair on the unit circle (the formula needs only A, B, C)
+    A_ns = np.diag([0.5, 0.5, 0.2, 0.3])
+    A_ns[:2, :2] = [[np.cos(theta), -np.sin(theta)], [np.sin(theta), np.cos(theta)]]
+    nf = neimark_sacker_coefficient(A_ns, flow.second, flow.third)
+    assert np.isfinite(nf.coefficient)
+    assert len(calls) == 3
+
+
+def test_a_triple_without_its_pairs_is_refused():
+    from slosh_bif.flows.smooth.integrator import integrate_variations
+
+    with pytest.raises(ValueError, match="needs its three pairs"):
+        integrate_variations(P, Y, 1.2, [A, B, C], [(0, 1)], [(0, 1, 2)])

@@ -383,12 +383,12 @@ def test_a_failed_run_in_a_regime_map_is_recorded_as_failed_with_its_reason(monk
 
 def test_cached_machine_code_is_dropped_when_the_generated_kernels_change(tmp_path):
     # numba keys a cache on the function's own file; the loop inlines the kernels of another file
-    # (and the integer power they call), so a changed kernels.py or powers.py must remove the loop's cached
-    # code (a stale one ran the old equations).
+    # (and the integer power they call, and the variations kernel), so a changed kernels.py, powers.py or
+    # variations.py must remove the loop's cached code (a stale one ran the old equations).
     import hashlib
     import types
 
-    from slosh_bif.flows.smooth import dop853
+    from slosh_bif.flows.smooth import dop853, variations
     from slosh_bif.model import powers
     from slosh_bif.model._generated import kernels
 
@@ -403,7 +403,8 @@ def test_cached_machine_code_is_dropped_when_the_generated_kernels_change(tmp_pa
     (tmp_path / "dop853.kernels.sha256").write_text("the digest of older kernels")
     dop853._forget_compilations_of_other_kernels(compiled)
     assert not any(p.exists() for p in stale) and other.exists()
-    digest = hashlib.sha256(b"".join(open(m.__file__, "rb").read() for m in (kernels, powers))).hexdigest()
+    sources = (kernels, powers, variations)
+    digest = hashlib.sha256(b"".join(open(m.__file__, "rb").read() for m in sources)).hexdigest()
     assert (tmp_path / "dop853.kernels.sha256").read_text() == digest
     stale[0].write_text("x")  # compiled from the current kernels: kept
     dop853._forget_compilations_of_other_kernels(compiled)

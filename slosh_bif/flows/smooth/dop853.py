@@ -4,11 +4,13 @@ the error norm, step-size control and initial-step rule of scipy's ``solve_ivp(m
 that the loop does not import scipy.integrate), compiled by numba around the scalar
 kernels that the sympy derivation writes for (9) (``_generated/kernels.py``): (9) alone, (9) with
 everything shooting needs (variational equations, two parameter sensitivities, the Liouville
-integral; the (sigma, Abar) kernel or the pair kernel for any two parameters), and (9) with the
-random forcing of (47), the noise spline of :mod:`slosh_bif.flows.noise` added where cos(tau)
-enters. :mod:`slosh_bif.flows.smooth.integrator` is the interface. numba compiles these loops just in
-time (with its on-disk cache), loaded on first use by :mod:`slosh_bif.flows.loops`; without numba
-these are the plain Python functions (never called: the scipy path runs instead).
+integral; the (sigma, Abar) kernel or the pair kernel for any two parameters), (9) with its
+variational equations of first to third order along any directions
+(:mod:`slosh_bif.flows.smooth.variations`), and (9) with the random forcing of (47), the noise
+spline of :mod:`slosh_bif.flows.noise` added where cos(tau) enters.
+:mod:`slosh_bif.flows.smooth.integrator` is the interface. numba compiles these loops just in time
+(with its on-disk cache), loaded on first use by :mod:`slosh_bif.flows.loops`; without numba these
+are the plain Python functions (never called: the scipy path runs instead).
 """
 
 from __future__ import annotations
@@ -21,6 +23,7 @@ import numpy as np
 
 from slosh_bif.flows.compiled import HAVE_NUMBA, numba
 from slosh_bif.flows.compiled import jit as _jit
+from slosh_bif.flows.smooth import variations as _variations
 from slosh_bif.flows.smooth.dop853_interface import ALONG_SIZE, SHOOTING_SIZE, WHICH
 from slosh_bif.model import powers as _powers
 from slosh_bif.model._generated import kernels as _kernels
@@ -43,7 +46,8 @@ def _forget_compilations_of_other_kernels(compiled):
         folder = Path(compiled._cache._impl.locator.get_cache_path())
     except AttributeError:  # a numba without these internals: nothing to do
         return
-    digest = hashlib.sha256(b"".join(Path(m.__file__).read_bytes() for m in (_kernels, _powers))).hexdigest()
+    sources = (_kernels, _powers, _variations)
+    digest = hashlib.sha256(b"".join(Path(m.__file__).read_bytes() for m in sources)).hexdigest()
     marker = folder / "dop853.kernels.sha256"
     try:
         if marker.read_text() == digest:
@@ -140,7 +144,7 @@ _RAW = {
     "plain": _kernels.smooth_rhs_kernel,
     "shooting": _kernels.smooth_shooting_kernel,
     "pair": _kernels.smooth_pair_kernel,
-    "third": _kernels.smooth_third_kernel,
+    "variations": _variations.variations_kernel,
     "along": _kernels.smooth_along_kernel,
     "along_extra": _kernels.smooth_along_extra_kernel,
     "along_sigma_abar": _kernels.smooth_along_sigma_abar_kernel,
@@ -148,7 +152,7 @@ _RAW = {
 _plain_kernel = _jit(_RAW["plain"], inline=True)
 _shooting_kernel = _jit(_RAW["shooting"], inline=True)
 _pair_kernel = _jit(_RAW["pair"], inline=True)
-_third_kernel = _jit(_RAW["third"], inline=True)
+_variations_kernel = _jit(_RAW["variations"], inline=True)
 _along_kernel = _jit(_RAW["along"], inline=True)
 _along_extra_kernel = _jit(_RAW["along_extra"], inline=True)
 _along_sigma_abar_kernel = _jit(_RAW["along_sigma_abar"], inline=True)
@@ -168,7 +172,7 @@ def _kernel(which, tau, z, out, pars):
     elif which == 3:
         _pair_kernel(tau, z, out, pars)
     elif which == 4:
-        _third_kernel(tau, z, out, pars)
+        _variations_kernel(tau, z, out, pars)
     elif which == _ALONG:
         _along_kernel(tau, z, out, pars)
     elif which == _ALONG_EXTRA:

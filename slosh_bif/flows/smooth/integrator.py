@@ -25,7 +25,15 @@ import numpy as np
 
 from slosh_bif.flows.loops import compiled
 from slosh_bif.flows.noise import BandLimitedNoise
-from slosh_bif.flows.smooth.dop853_interface import MESSAGES, OK, SHOOTING_SIZE, TABLEAU, WHICH
+from slosh_bif.flows.smooth.dop853_interface import (
+    MESSAGES,
+    OK,
+    SHOOTING_SIZE,
+    TABLEAU,
+    WHICH,
+    variation_parameters,
+    variations_size,
+)
 from slosh_bif.model.params import REAL_FIELDS, Params, real_pair
 
 __all__ = [
@@ -38,7 +46,6 @@ __all__ = [
     "DEFAULT_SENSITIVITIES",
     "kernel_parameters",
     "integrate_variations",
-    "VARIATIONS_SIZE",
     "scipy_rhs",
 ]
 
@@ -221,24 +228,22 @@ def integrate(
     )
 
 
-VARIATIONS_SIZE = 32  # [y, Phi u, Phi v, Phi w, D2[u, v], D2[u, w], D2[v, w], D3[u, v, w]]
-
-
 def integrate_variations(
-    params: Params, y0, t1: float, directions, *, rtol=1e-11, atol=1e-13, backend="auto"
+    params: Params, y0, t1: float, directions, pairs=(), triples=(), *, rtol=1e-11, atol=1e-13, backend="auto"
 ):
     """The flow of (9) from ``y0`` at tau = 0 to ``t1`` with its derivatives in the initial state
-    along the three real ``directions`` (u, v, w): the end of [y, Phi u, Phi v, Phi w, D2 phi[u, v],
-    D2 phi[u, w], D2 phi[v, w], D3 phi[u, v, w]] (the second- and third-order variational
-    equations of the generated kernel). A one-line ValueError where the integration fails."""
-    z0 = np.zeros(VARIATIONS_SIZE)
+    (:mod:`slosh_bif.flows.smooth.variations`): the end of [y, Phi d for each of the real
+    ``directions``, D2 phi[a, b] for each of the ``pairs`` (a, b), D3 phi[a, b, c] for each of the
+    ``triples`` (a, b, c)], pairs and triples as indices of the directions (a triple's three pairs
+    among the pairs). A one-line ValueError where the integration fails."""
+    directions = np.atleast_2d(np.asarray(directions, dtype=float))
+    pars = variation_parameters(kernel_parameters(params), len(directions), pairs, triples)
+    z0 = np.zeros(variations_size(len(directions), len(pairs), len(triples)))
     z0[:4] = _check(params, y0, 0.0, t1, rtol, atol, 4)
-    for k, direction in enumerate(directions):
-        z0[4 + 4 * k : 8 + 4 * k] = np.asarray(direction, dtype=float)
-    pars = kernel_parameters(params)
+    z0[4 : 4 + directions.size] = directions.ravel()
     if resolve_backend(backend) == "numba":
         z, _, _, _, _, status = compiled().dop853_loop(
-            WHICH["third"],
+            WHICH["variations"],
             0.0,
             float(t1),
             z0,
@@ -258,7 +263,7 @@ def integrate_variations(
     from scipy.integrate import solve_ivp  # the fallback only
 
     with np.errstate(over="ignore", invalid="ignore"):
-        run = solve_ivp(scipy_rhs("third", pars), (0.0, t1), z0, method="DOP853", rtol=rtol, atol=atol)
+        run = solve_ivp(scipy_rhs("variations", pars), (0.0, t1), z0, method="DOP853", rtol=rtol, atol=atol)
     if not run.success:
         raise ValueError(f"the variational equations of (9) were not integrated to {t1:g}: {run.message}")
     return run.y[:, -1].copy()

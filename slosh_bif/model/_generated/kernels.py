@@ -832,8 +832,8 @@ def smooth_along_sigma_abar_kernel(tau, z, out, pars):
     out[27] = -q2*x26 - q3*x24 - rb0*x13*x4 - rb2*x18 - rb3*x12 - x28
 
 
-def smooth_third_kernel(tau, z, out, pars):
-    """out = d/dtau [y, Phi u, Phi v, Phi w, D2[u, v], D2[u, w], D2[v, w], D3[u, v, w]] for (9), 32 components: the second- and third-order variational equations along u, v, w."""
+def smooth_jet_kernel(tau, y, pars):
+    """(f, J row-major, f_yy[i, j, k], f_yyy[i, j, k, l]) of (9) at (tau, y): the right-hand side, its Jacobian and the non-zero entries of its second and third derivatives in the state, in the order of SMOOTH_SECOND_ENTRIES and SMOOTH_THIRD_ENTRIES."""
     eps = pars[0]
     beta = pars[1]
     gamma = pars[2]
@@ -843,118 +843,69 @@ def smooth_third_kernel(tau, z, out, pars):
     chi = pars[6]
     n = pars[7]
     p = pars[8]
-    X = z[0]
-    Xd = z[1]
-    w = z[2]
-    wd = z[3]
-    du0 = z[4]
-    du1 = z[5]
-    du2 = z[6]
-    du3 = z[7]
-    dv0 = z[8]
-    dv1 = z[9]
-    dv2 = z[10]
-    dv3 = z[11]
-    dw0 = z[12]
-    dw1 = z[13]
-    dw2 = z[14]
-    dw3 = z[15]
-    Wuv0 = z[16]
-    Wuv1 = z[17]
-    Wuv2 = z[18]
-    Wuv3 = z[19]
-    Wuw0 = z[20]
-    Wuw1 = z[21]
-    Wuw2 = z[22]
-    Wuw3 = z[23]
-    Wvw0 = z[24]
-    Wvw1 = z[25]
-    Wvw2 = z[26]
-    Wvw3 = z[27]
-    Z0 = z[28]
-    Z1 = z[29]
-    Z2 = z[30]
-    Z3 = z[31]
+    X = y[0]
+    Xd = y[1]
+    w = y[2]
+    wd = y[3]
     x0 = eps*sigma - 1
     x1 = beta**2
-    x2 = (eps*x1 + 1)**(-1.0)
-    x3 = x2*(x1 - 1)
-    x4 = eps*x3
-    x5 = eps*gamma
-    x6 = eps**2*gamma
-    x7 = -Abar*eps*numpy.cos(tau) + Xd*x5 + wd*x6
-    x8 = 2*n
-    x9 = x8 + 1
-    x10 = 2*p
-    x11 = lam*int_power(w, x10)
-    x12 = eps + x1
-    x13 = du1*x5
-    x14 = x0*x4
-    x15 = x11 + x6
-    x16 = lam*wd
-    x17 = int_power(w, max(0, x10 - 1))*x10
-    x18 = chi*int_power(w, x8)*x9 - x0*x12*x2 + x16*x17
-    x19 = dv1*x5
-    x20 = dw1*x5
-    x21 = Wuv1*x5
-    x22 = du2*dv2
-    x23 = chi*int_power(w, x8 - 1)
-    x24 = x23*x8
-    x25 = 4*x22
-    x26 = n**2*x23
-    x27 = lam*x17
-    x28 = du2*x27
-    x29 = du3*x27
-    x30 = int_power(w, max(0, 2*(p - 1)))
-    x31 = p**2
-    x32 = x16*x30*x31
-    x33 = Wuw1*x5
-    x34 = du2*dw2
-    x35 = 4*x26
-    x36 = 4*x32
-    x37 = Wvw1*x5
-    x38 = dv2*dw2
-    x39 = dw3*x27
-    x40 = dw2*x27
-    x41 = Z1*x5
-    x42 = Wuv2*dw2
-    x43 = Wuw2*dv2
-    x44 = Wvw2*du2
-    x45 = int_power(w, x8 - 2)
-    x46 = 8*dw2*x22
-    x47 = int_power(w, max(0, x10 - 3))
-    x48 = x16*x47
-    x49 = lam*x30*x31
-    x50 = 4*x49
-    out[0] = Xd
-    out[1] = X*x0 - w*x0*x4 - x7
-    out[2] = wd
-    out[3] = -X*x0*x3 - chi*int_power(w, x9) + w*x0*x12*x2 - wd*x11 - x7
-    out[4] = du1
-    out[5] = du0*x0 - du2*x14 - du3*x6 - x13
-    out[6] = du3
-    out[7] = -du0*x0*x3 - du2*x18 - du3*x15 - x13
-    out[8] = dv1
-    out[9] = dv0*x0 - dv2*x14 - dv3*x6 - x19
-    out[10] = dv3
-    out[11] = -dv0*x0*x3 - dv2*x18 - dv3*x15 - x19
-    out[12] = dw1
-    out[13] = dw0*x0 - dw2*x14 - dw3*x6 - x20
-    out[14] = dw3
-    out[15] = -dw0*x0*x3 - dw2*x18 - dw3*x15 - x20
-    out[16] = Wuv1
-    out[17] = Wuv0*x0 - Wuv2*x14 - Wuv3*x6 - x21
-    out[18] = Wuv3
-    out[19] = -Wuv0*x0*x3 - Wuv2*x18 - Wuv3*x15 + 2*du2*dv2*lam*p*wd*x30 - dv2*x29 - dv3*x28 - x21 - x22*x24 - x25*x26 - x25*x32
-    out[20] = Wuw1
-    out[21] = Wuw0*x0 - Wuw2*x14 - Wuw3*x6 - x33
-    out[22] = Wuw3
-    out[23] = -Wuw0*x0*x3 - Wuw2*x18 - Wuw3*x15 + 2*du2*dw2*lam*p*wd*x30 - dw2*x29 - dw3*x28 - x24*x34 - x33 - x34*x35 - x34*x36
-    out[24] = Wvw1
-    out[25] = Wvw0*x0 - Wvw2*x14 - Wvw3*x6 - x37
-    out[26] = Wvw3
-    out[27] = -Wvw0*x0*x3 - Wvw2*x18 - Wvw3*x15 + 2*dv2*dw2*lam*p*wd*x30 - dv2*x39 - dv3*x40 - x24*x38 - x35*x38 - x36*x38 - x37
-    out[28] = Z1
-    out[29] = Z0*x0 - Z2*x14 - Z3*x6 - x41
-    out[30] = Z3
-    out[31] = 2*Wuv2*dw2*lam*p*wd*x30 - Wuv2*x39 - Wuv3*x40 + 2*Wuw2*dv2*lam*p*wd*x30 - Wuw2*dv3*x27 - Wuw3*dv2*x27 + 2*Wvw2*du2*lam*p*wd*x30 - Wvw2*x29 - Wvw3*x28 - Z0*x0*x3 - Z2*x18 - Z3*x15 + 2*chi*du2*dv2*dw2*n*x45 - chi*n**3*x45*x46 + 12*du2*dv2*dw2*lam*wd*x31*x47 + 2*du2*dv2*dw3*lam*p*x30 + 2*du2*dv3*dw2*lam*p*x30 + 2*du3*dv2*dw2*lam*p*x30 - du3*x38*x50 - dv3*x34*x50 - dw2*p*x25*x48 - dw3*x25*x49 - p**3*x46*x48 - x24*x42 - x24*x43 - x24*x44 - x35*x42 - x35*x43 - x35*x44 - x36*x42 - x36*x43 - x36*x44 - x41
+    x2 = x1 - 1
+    x3 = (eps*x1 + 1)**(-1.0)
+    x4 = x0*x2*x3
+    x5 = eps*x4
+    x6 = eps*gamma
+    x7 = eps**2*gamma
+    x8 = -Abar*eps*numpy.cos(tau) + Xd*x6 + wd*x7
+    x9 = 2*n
+    x10 = x9 + 1
+    x11 = 2*p
+    x12 = lam*int_power(w, x11)
+    x13 = eps + x1
+    x14 = -x6
+    x15 = lam*wd
+    x16 = x11 - 1
+    x17 = int_power(w, max(0, x16))*x11
+    x18 = int_power(w, x9 - 1)
+    x19 = int_power(w, max(0, 2*(p - 1)))
+    x20 = p**2
+    x21 = -lam*x17
+    x22 = int_power(w, x9 - 2)
+    x23 = int_power(w, max(0, x11 - 3))
+    x24 = x15*x23
+    x25 = -lam*x11*x16*x19
+    return (
+        Xd,
+        X*x0 - w*x5 - x8,
+        wd,
+        -X*x0*x2*x3 - chi*int_power(w, x10) + w*x0*x13*x3 - wd*x12 - x8,
+        0.0,
+        1.0,
+        0.0,
+        0.0,
+        x0,
+        x14,
+        -x5,
+        -x7,
+        0.0,
+        0.0,
+        0.0,
+        1.0,
+        -x4,
+        x14,
+        -chi*int_power(w, x9)*x10 + x0*x13*x3 - x15*x17,
+        -x12 - x7,
+        -4*chi*n**2*x18 - 2*chi*n*x18 + 2*lam*p*wd*x19 - 4*x15*x19*x20,
+        x21,
+        x21,
+        -8*chi*n**3*x22 + 2*chi*n*x22 + 12*lam*wd*x20*x23 - 8*p**3*x24 - 2*x11*x24,
+        x25,
+        x25,
+        x25,
+    )
+
+
+# (i, j, k) of each non-zero d2 f_i / dy_j dy_k
+SMOOTH_SECOND_ENTRIES = ((3, 2, 2), (3, 2, 3), (3, 3, 2))
+
+# (i, j, k, l) of each non-zero d3 f_i / dy_j dy_k dy_l
+SMOOTH_THIRD_ENTRIES = ((3, 2, 2, 2), (3, 2, 2, 3), (3, 2, 3, 2), (3, 3, 2, 2))

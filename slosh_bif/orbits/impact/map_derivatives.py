@@ -40,7 +40,7 @@ from scipy.linalg import expm
 from slosh_bif.flows.impact.flow import END_REASONS, ImpactFlow
 from slosh_bif.model._generated.impact_kernels import impact_reset_jet_kernel
 from slosh_bif.model.params import Params
-from slosh_bif.orbits.map_derivatives import FlowDerivatives
+from slosh_bif.orbits.map_derivatives import MapDerivatives, _key
 
 __all__ = ["ImpactMapDerivatives", "GRAZING_SPEED"]
 
@@ -100,7 +100,7 @@ def _law_table(law):
     return _TABLES[id(law)][1]
 
 
-class ImpactMapDerivatives(FlowDerivatives):
+class ImpactMapDerivatives(MapDerivatives):
     """The map of (8) (``variant="paper"``) or of the corrected impact model (``"corrected"``) from
     ``y0`` at tau = ``phase`` over ``t1`` and its derivatives in the initial state, as
     :class:`FlowDerivatives` gives them for (9): ``jacobian``, ``second``, ``third``, real or
@@ -218,7 +218,32 @@ class ImpactMapDerivatives(FlowDerivatives):
         g = self._gap(jet, side)
         return g[0], g[1]
 
+    def _fill(self, pairs, triples):
+        """Jets in three directions at a time: each triple (with its three pairs), then the pairs
+        still missing, each jet's third direction chosen to cover one more where it can."""
+        for triple in triples:
+            self._keep(triple)
+        missing = {_key(*pair): pair for pair in pairs if _key(*pair) not in self._seconds}
+        while missing:
+            u, v = next(iter(missing.values()))
+            w = max(
+                (d for pair in missing.values() for d in pair),
+                key=lambda d: len({_key(u, v), _key(u, d), _key(v, d)} & missing.keys()),
+            )
+            self._keep((u, v, w))
+            missing = {k: pair for k, pair in missing.items() if k not in self._seconds}
+
+    def _keep(self, directions):
+        """D2 phi of the three pairs and D3 phi of the triple of real ``directions`` (u, v, w)."""
+        u, v, w = directions
+        end = self._variations(directions)
+        for (a, b), lo in (((u, v), 16), ((u, w), 20), ((v, w), 24)):
+            self._seconds.setdefault(_key(a, b), end[lo : lo + 4])
+        self._thirds.setdefault(_key(u, v, w), end[28:32])
+
     def _variations(self, directions):
+        """[y, Phi u, Phi v, Phi w, D2[u, v], D2[u, w], D2[v, w], D3[u, v, w]] (32 numbers) of the
+        map in the real ``directions`` (u, v, w), from the jets through its impacts."""
         K = self.K
         z = self._start(directions)
         t_prev = np.zeros(8)
