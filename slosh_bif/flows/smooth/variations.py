@@ -6,8 +6,7 @@ Along y(tau) with J = f_y, for directions a, b, c of the start state,
 
     (Phi a)' = J Phi a,
     W_ab' = J W_ab + f_yy[Phi a, Phi b],
-    Z_abc' = J Z_abc + f_yy[Phi a, W_bc] + f_yy[Phi b, W_ac] + f_yy[Phi c, W_ab]
-             + f_yyy[Phi a, Phi b, Phi c],
+    Z_abc' = J Z_abc + f_yy[Phi a, W_bc] + f_yy[Phi b, W_ac] + f_yy[Phi c, W_ab] + f_yyy[Phi a, Phi b, Phi c],
 
 from Phi a = a, W = Z = 0: W_ab(t1) = D^2 phi[a, b], Z_abc(t1) = D^3 phi[a, b, c]. The contractions
 come from the non-zero entries of f's second and third derivatives that the sympy derivation
