@@ -66,6 +66,7 @@ class MapDerivatives:
         self._seconds, self._thirds = {}, {}
 
     def jacobian(self) -> np.ndarray:
+        """d phi(t1) / d y0 (times ``sign``)."""
         raise NotImplementedError
 
     def _fill(self, pairs, triples):
