@@ -193,7 +193,7 @@ def _kernels_module() -> str:
     )
     state = (("y", m.STATE),)
     augmented = (("z", tuple(m.STATE) + tuple(phi) + tuple(s_sigma) + tuple(s_abar) + (sp.Symbol("trace"),)),)
-    # the map's derivatives along any directions (flows/smooth/jets.py, orbits/map_derivatives.py):
+    # the map's derivatives along any directions (flows/smooth/variations.py, orbits/map_derivatives.py):
     # f, J and the non-zero entries of f's second and third derivatives in the state, the
     # variational equations of every order contracted from them by one hand-written kernel
     second, third = _derivative_entries(f)
