@@ -58,6 +58,11 @@ class MapDerivatives:
 
     exact = False  # integrated to ``rtol``: a result's error is seen by integrating more tightly
 
+    @staticmethod
+    def key(*directions):
+        """A real pair's or triple's cache key (the forms are symmetric: any order)."""
+        return _key(*directions)
+
     def __init__(
         self, params: Params, y0, t1: float, *, sign: float = 1.0, rtol=RTOL, atol=ATOL, backend="auto"
     ):
@@ -71,7 +76,7 @@ class MapDerivatives:
 
     def _fill(self, pairs, triples):
         """Compute D2 phi of every real pair and D3 phi of every real triple given (each a tuple of
-        directions) into ``self._seconds`` and ``self._thirds`` under :func:`_key`."""
+        directions) into ``self._seconds`` and ``self._thirds`` under :meth:`key`."""
         raise NotImplementedError
 
     def _need(self, pairs=(), triples=()):

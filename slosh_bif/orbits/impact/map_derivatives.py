@@ -40,7 +40,7 @@ from scipy.linalg import expm
 from slosh_bif.flows.impact.flow import END_REASONS, ImpactFlow
 from slosh_bif.model._generated.impact_kernels import impact_reset_jet_kernel
 from slosh_bif.model.params import Params
-from slosh_bif.orbits.map_derivatives import MapDerivatives, _key
+from slosh_bif.orbits.map_derivatives import MapDerivatives
 
 __all__ = ["ImpactMapDerivatives", "GRAZING_SPEED"]
 
@@ -223,12 +223,12 @@ class ImpactMapDerivatives(MapDerivatives):
         still missing, each jet's third direction chosen to cover one more where it can."""
         for triple in triples:
             self._keep(triple)
-        missing = {_key(*pair): pair for pair in pairs if _key(*pair) not in self._seconds}
+        missing = {self.key(*pair): pair for pair in pairs if self.key(*pair) not in self._seconds}
         while missing:
             u, v = next(iter(missing.values()))
             w = max(
                 (d for pair in missing.values() for d in pair),
-                key=lambda d: len({_key(u, v), _key(u, d), _key(v, d)} & missing.keys()),
+                key=lambda d: len({self.key(u, v), self.key(u, d), self.key(v, d)} & missing.keys()),
             )
             self._keep((u, v, w))
             missing = {k: pair for k, pair in missing.items() if k not in self._seconds}
@@ -238,8 +238,8 @@ class ImpactMapDerivatives(MapDerivatives):
         u, v, w = directions
         end = self._variations(directions)
         for (a, b), lo in (((u, v), 16), ((u, w), 20), ((v, w), 24)):
-            self._seconds.setdefault(_key(a, b), end[lo : lo + 4])
-        self._thirds.setdefault(_key(u, v, w), end[28:32])
+            self._seconds.setdefault(self.key(a, b), end[lo : lo + 4])
+        self._thirds.setdefault(self.key(u, v, w), end[28:32])
 
     def _variations(self, directions):
         """[y, Phi u, Phi v, Phi w, D2[u, v], D2[u, w], D2[v, w], D3[u, v, w]] (32 numbers) of the
