@@ -382,9 +382,9 @@ def test_a_failed_run_in_a_regime_map_is_recorded_as_failed_with_its_reason(monk
 
 
 def test_cached_machine_code_is_dropped_when_the_generated_kernels_change(tmp_path):
-    # numba keys a cache on the function's own file; the loop inlines the kernels of another file
-    # (and the integer power they call, and the variations kernel), so a changed kernels.py, powers.py or
-    # variations.py must remove the loop's cached code (a stale one ran the old equations).
+    # numba keys a cache on the function's own file; the loops and the tape's replay inline the kernels
+    # of other files (the generated kernels, the integer power, the variations kernel, dop853's switch),
+    # so a change to any of them must remove both caches (a stale one ran the old equations).
     import hashlib
     import types
 
@@ -396,14 +396,18 @@ def test_cached_machine_code_is_dropped_when_the_generated_kernels_change(tmp_pa
     compiled = types.SimpleNamespace(
         _cache=types.SimpleNamespace(_impl=types.SimpleNamespace(locator=locator))
     )
-    stale = [tmp_path / "dop853._dop853_loop-1.py311.nbi", tmp_path / "dop853._dop853_loop-1.py311.1.nbc"]
+    stale = [
+        tmp_path / "dop853._dop853_loop-1.py311.nbi",
+        tmp_path / "dop853._dop853_loop-1.py311.1.nbc",
+        tmp_path / "tape.replay_loop-1.py311.nbi",
+    ]
     other = tmp_path / "noise.other-1.py311.nbi"
     for path in (*stale, other):
         path.write_text("x")
     (tmp_path / "dop853.kernels.sha256").write_text("the digest of older kernels")
     dop853._forget_compilations_of_other_kernels(compiled)
     assert not any(p.exists() for p in stale) and other.exists()
-    sources = (kernels, powers, variations)
+    sources = (kernels, powers, variations, dop853)
     digest = hashlib.sha256(b"".join(open(m.__file__, "rb").read() for m in sources)).hexdigest()
     assert (tmp_path / "dop853.kernels.sha256").read_text() == digest
     stale[0].write_text("x")  # compiled from the current kernels: kept

@@ -38,16 +38,17 @@ if HAVE_NUMBA:  # before any kernel compiles: the kernels' int_power becomes rep
 
 
 def _forget_compilations_of_other_kernels(compiled):
-    """Remove this module's cached machine code when the generated kernels (or the integer power
-    they call) have changed since it was compiled: numba keys a cache on the contents of the
-    function's own file only, and the loops here contain the kernels (without this, a regenerated
-    kernels.py would run the stale equations)."""
+    """Remove the cached machine code of this module's loops and of the tape's replay
+    (:mod:`slosh_bif.flows.smooth.tape`) when the kernels they inline have changed since it was
+    compiled (the generated kernels, the integer power they call, the variations kernel, this
+    module's switch): numba keys a cache on the contents of the function's own file only (without
+    this, a regenerated kernels.py would run the stale equations)."""
     try:
         folder = Path(compiled._cache._impl.locator.get_cache_path())
     except AttributeError:  # a numba without these internals: nothing to do
         return
-    sources = (_kernels, _powers, _variations)
-    digest = hashlib.sha256(b"".join(Path(m.__file__).read_bytes() for m in sources)).hexdigest()
+    sources = [Path(m.__file__) for m in (_kernels, _powers, _variations)] + [Path(__file__)]
+    digest = hashlib.sha256(b"".join(path.read_bytes() for path in sources)).hexdigest()
     marker = folder / "dop853.kernels.sha256"
     try:
         if marker.read_text() == digest:
@@ -55,7 +56,7 @@ def _forget_compilations_of_other_kernels(compiled):
     except OSError:
         pass
     try:
-        for path in folder.glob("dop853.*.nb[ic]"):
+        for path in [*folder.glob("dop853.*.nb[ic]"), *folder.glob("tape.*.nb[ic]")]:
             path.unlink(missing_ok=True)
         folder.mkdir(parents=True, exist_ok=True)
         marker.write_text(digest)
@@ -161,8 +162,7 @@ _RAW["noisy"] = _noisy_kernel_py
 _noisy_kernel = _jit(_noisy_kernel_py, inline=True)
 
 
-@_jit(inline=True)
-def _kernel(which, tau, z, out, pars):
+def _switch(which, tau, z, out, pars):
     # One entry point with a switch rather than the kernel as an argument: numba cannot cache a
     # function that takes another compiled function as argument, and recompiling costs ~1 s a process.
     if which == 0:
@@ -183,6 +183,12 @@ def _kernel(which, tau, z, out, pars):
         _noisy_kernel(tau, z, out, pars)
 
 
+# Inlined where it runs every stage (a call costs as much as a small right-hand side), called where
+# it runs once an integration: each inlined copy holds every kernel, and numba compiles each copy
+_kernel = _jit(_switch, inline=True)
+_kernel_call = _jit(_switch)
+
+
 @_jit
 def _dop853_loop(which, t0, t1, z0, pars, rtol, atol, h, max_steps, tape, A, B, C, E3, E5):
     """The hot loop from t0 to t1: (end state, steps, rejected, nfev, next step, status).
@@ -197,7 +203,7 @@ def _dop853_loop(which, t0, t1, z0, pars, rtol, atol, h, max_steps, tape, A, B, 
     znew = np.empty(n)
     tmp = np.empty(n)
     scale = np.empty(n)
-    _kernel(which, t0, z, K[0], pars)
+    _kernel_call(which, t0, z, K[0], pars)
     nfev = 1
     span = t1 - t0
     if h <= 0.0:  # scipy's initial step (Hairer, Norsett & Wanner II.4) for an order-7 estimate
@@ -209,7 +215,7 @@ def _dop853_loop(which, t0, t1, z0, pars, rtol, atol, h, max_steps, tape, A, B, 
         h0 = min(h0, span)
         for i in range(n):
             tmp[i] = z[i] + h0 * K[0, i]
-        _kernel(which, t0 + h0, tmp, K[1], pars)
+        _kernel_call(which, t0 + h0, tmp, K[1], pars)
         nfev += 1
         for i in range(n):
             znew[i] = K[1, i] - K[0, i]
@@ -243,38 +249,38 @@ def _dop853_loop(which, t0, t1, z0, pars, rtol, atol, h, max_steps, tape, A, B, 
                 tape[steps, 1] = hh
                 for i in range(n):
                     tape[steps, 2 + i] = z[i]
-            for s in range(1, 12):
-                # the shooting system: row by row of K, contiguous and vectorised, zeros skipped (40 %
-                # faster at 29 components; 20 % slower at 4)
-                if n > 4:
-                    for i in range(n):
-                        tmp[i] = 0.0
-                    for j in range(s):
-                        a = A[s, j]
-                        if a != 0.0:
-                            for i in range(n):
-                                tmp[i] += a * K[j, i]
-                    for i in range(n):
-                        tmp[i] = z[i] + hh * tmp[i]
-                else:
+            for s in range(1, 13):  # the 13th stage at the new state (the next step's first)
+                if s == 12:
                     for i in range(n):
                         acc = 0.0
+                        for j in range(12):
+                            acc += B[j] * K[j, i]
+                        znew[i] = z[i] + hh * acc
+                    ts, state = t_new, znew
+                else:
+                    # the shooting system: row by row of K, contiguous and vectorised, zeros skipped
+                    # (40 % faster at 29 components; 20 % slower at 4)
+                    if n > 4:
+                        for i in range(n):
+                            tmp[i] = 0.0
                         for j in range(s):
-                            acc += A[s, j] * K[j, i]
-                        tmp[i] = z[i] + hh * acc
+                            a = A[s, j]
+                            if a != 0.0:
+                                for i in range(n):
+                                    tmp[i] += a * K[j, i]
+                        for i in range(n):
+                            tmp[i] = z[i] + hh * tmp[i]
+                    else:
+                        for i in range(n):
+                            acc = 0.0
+                            for j in range(s):
+                                acc += A[s, j] * K[j, i]
+                            tmp[i] = z[i] + hh * acc
+                    ts, state = t + C[s] * hh, tmp
                 if keep:
                     for i in range(n):
-                        tape[steps, 2 + n * s + i] = tmp[i]
-                _kernel(which, t + C[s] * hh, tmp, K[s], pars)
-            for i in range(n):
-                acc = 0.0
-                for j in range(12):
-                    acc += B[j] * K[j, i]
-                znew[i] = z[i] + hh * acc
-            if keep:
-                for i in range(n):
-                    tape[steps, 2 + 12 * n + i] = znew[i]
-            _kernel(which, t_new, znew, K[12], pars)
+                        tape[steps, 2 + n * s + i] = state[i]
+                _kernel(which, ts, state, K[s], pars)  # its one inlined call
             nfev += 12
             err5 = 0.0
             err3 = 0.0

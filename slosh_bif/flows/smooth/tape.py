@@ -22,7 +22,7 @@ from __future__ import annotations
 import numpy as np
 
 from slosh_bif.flows.compiled import jit as _jit
-from slosh_bif.flows.smooth.dop853 import _kernel
+from slosh_bif.flows.smooth.dop853 import _kernel, _kernel_call
 from slosh_bif.flows.smooth.dop853_interface import EXTRA_SIZE as EXTRA
 from slosh_bif.flows.smooth.dop853_interface import SHOOTING_SIZE, WHICH
 
@@ -59,7 +59,7 @@ def _replay_loop(dedicated, tapes, counts, directions, pars, A, B, C):
                     stage[i] = row[2 + i]
                 for i in range(EXTRA):
                     stage[n + i] = e[i]
-                _kernel(which, t, stage, KE[0], pars)
+                _kernel_call(which, t, stage, KE[0], pars)
             else:
                 for i in range(EXTRA):
                     KE[0, i] = KE[12, i]
