@@ -80,8 +80,8 @@ class MapDerivatives:
         raise NotImplementedError
 
     def _need(self, pairs=(), triples=()):
-        pairs = {_key(*pair): pair for pair in pairs if _key(*pair) not in self._seconds}
-        triples = {_key(*triple): triple for triple in triples if _key(*triple) not in self._thirds}
+        pairs = {key: pair for pair in pairs if (key := _key(*pair)) not in self._seconds}
+        triples = {key: triple for triple in triples if (key := _key(*triple)) not in self._thirds}
         if pairs or triples:
             self._fill(list(pairs.values()), list(triples.values()))
 
@@ -115,17 +115,15 @@ class FlowDerivatives(MapDerivatives):
     def _fill(self, pairs, triples):
         """One integration: the directions of ``pairs`` and ``triples``, every pair asked for or
         inside a triple, every triple."""
-        directions = {}
-        for d in (d for group in (*pairs, *triples) for d in group):
-            directions.setdefault(d.tobytes(), (len(directions), d))
-        index = {key: k for key, (k, _) in directions.items()}
+        directions = {d.tobytes(): d for group in (*pairs, *triples) for d in group}
+        index = {key: k for k, key in enumerate(directions)}
         inside = [pair for a, b, c in triples for pair in ((b, c), (a, c), (a, b))]
         pairs = list({_key(*pair): pair for pair in (*pairs, *inside)}.values())
         end = integrate_variations(
             self.params,
             self.y0,
             self.t1,
-            [d for _, d in directions.values()],
+            list(directions.values()),
             [tuple(index[d.tobytes()] for d in pair) for pair in pairs],
             [tuple(index[d.tobytes()] for d in triple) for triple in triples],
             rtol=self.rtol,
