@@ -1,6 +1,8 @@
 """The chart's curve tracing on several processes gives the sequential result: the same curves,
 point for point, each once however the starts repeat (issue 16's speed target, on 2 cores)."""
 
+from concurrent.futures import Future
+
 import numpy as np
 import pytest
 
@@ -12,7 +14,7 @@ from slosh_bif.orbits import (
     trace_orbits,
 )
 from slosh_bif.orbits.settings import ParameterRange
-from slosh_bif.studies.chart.curves import curve_starts, trace_curves
+from slosh_bif.studies.chart.curves import CurveStart, curve_starts, seed_points, trace_curves
 
 PRESET = get_preset("fig10")
 
@@ -181,3 +183,88 @@ def test_the_pitchfork_curve_from_a_pairs_turn_meets_the_turn_of_a_one_parameter
     order = np.argsort(curve["Abar"])
     on_curve = np.interp(2.9, curve["Abar"][order], curve["sigma"][order])
     assert len(turns) == 1 and abs(turns[0] - on_curve) < 2e-5  # the curve read between its points
+
+
+def test_seeds_spread_over_the_sigma_the_primary_branch_covers_each_point_once():
+    """An isola (the primary branch of eps 0.08, beta 0.15, gamma 0.3, lam 0.25, chi 0.4, n 8,
+    pbar 2 at Abar 2 spans sigma in [-0.643, 0.161] only): seven targets spread over the whole
+    box fell on its two ends, and each end's curves were traced three or four times."""
+    loop = np.concatenate([np.linspace(-0.643, 0.161, 60), np.linspace(0.161, -0.643, 60)[1:]])
+    regular = np.ones(len(loop), dtype=bool)
+    regular[:3] = regular[57:63] = False  # near its special points
+    chosen = seed_points([(loop, regular)], (-5.0, 6.0), 7)
+    assert len(chosen) == len(set(chosen)) == 7
+    sigmas = np.array(sorted(loop[i] for _, i in chosen))
+    assert np.all(np.diff(sigmas) > 0.05) and -0.643 < sigmas[0] and sigmas[-1] < 0.161
+    assert all(regular[i] for _, i in chosen)
+    # a branch across the whole range: the nearest regular point to each of the equally spaced
+    # targets, on whichever piece has it
+    full = np.linspace(-6.0, 8.0, 141)
+    pieces = [(full[:70], np.ones(70, dtype=bool)), (full[70:], np.ones(71, dtype=bool))]
+    chosen = seed_points(pieces, (-6.0, 8.0), 6)
+    assert [pieces[k][0][i] for k, i in chosen] == pytest.approx(np.linspace(-6, 8, 8)[1:-1])
+    assert [k for k, _ in chosen] == [0, 0, 0, 1, 1, 1]
+    # a branch with fewer regular points than targets gives each once; none gives no seed
+    assert len(seed_points([(full, np.arange(141) % 70 == 0)], (-6.0, 8.0), 7)) == 3
+    assert seed_points([(full, np.zeros(141, dtype=bool))], (-6.0, 8.0), 7) == []
+
+
+class _Line:
+    """A curve as the chart's bookkeeping sees it: a kind and points in (sigma, Abar)."""
+
+    p2, status = "Abar", "ok"
+
+    def __init__(self, kind, origin):
+        self.kind, self.origin = kind, origin
+        self.sigma = np.linspace(-1.0, 1.0, 21)
+        self.Abar = 2.0 + self.sigma if kind == "LP" else 3.0 - self.sigma
+
+    def __len__(self):
+        return len(self.sigma)
+
+    def __getitem__(self, name):
+        return getattr(self, name)
+
+
+def _line(kind, origin):
+    return _Line(kind, origin)
+
+
+class _HeldExecutor:
+    """Runs each job at once, except the NS curve's, which finishes only when the test says."""
+
+    def __init__(self):
+        self.submitted, self.held = [], Future()
+
+    def submit(self, function, job):
+        self.submitted.append(job["origin"])
+        if job["kind"] == "NS":
+            return self.held
+        future = Future()
+        future.set_result(function(job))
+        return future
+
+
+def test_a_start_on_a_finished_curve_of_its_kind_is_not_traced_while_another_kind_runs():
+    """The second fold start lies on the first fold's curve: once that curve is in, the start is
+    skipped though the NS curve started before both is still running (only a curve of its own
+    kind can cover a start). The curves kept are the sequential run's."""
+    starts = [
+        CurveStart.with_job(kind, sigma, value, origin, dict(trace=_line, kind=kind, origin=origin))
+        for kind, sigma, value, origin in [
+            ("NS", 0.0, 3.0, "ns"),
+            ("LP", 0.0, 2.0, "lp 1"),
+            ("LP", 0.5, 2.5, "lp 2 on lp 1"),
+        ]
+    ]
+    executor = _HeldExecutor()
+
+    def say(message):
+        if message.startswith("LP curve from lp 1"):
+            executor.held.set_result((_line("NS", "ns"), None, 0.0))
+
+    curves, status, failures = trace_curves(starts, say, workers=2, executor=executor)
+    assert executor.submitted == ["ns", "lp 1"]
+    sequential, _, _ = trace_curves(starts, lambda message: None, workers=1)
+    assert [c.origin for c in curves] == [c.origin for c in sequential] == ["ns", "lp 1"]
+    assert status == "complete" and failures == ()

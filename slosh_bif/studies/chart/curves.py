@@ -30,6 +30,8 @@ __all__ = [
     "torus_starts",
     "pitchforks_of",
     "repeats_early",
+    "regular_points",
+    "seed_points",
     "trace_curves",
 ]
 
@@ -48,6 +50,41 @@ class CurveStart:
         """The start and its set-up: the keyword arguments of :func:`trace_curve`, or of the
         tracer given as ``job["trace"]`` (the curves of (8))."""
         return _Start(kind, sigma, value, origin, job)
+
+
+def seed_points(pieces, sigma_range, count: int) -> list:
+    """Where the chart continues the primary branch's orbits in its second parameter: ``count``
+    values of sigma spread over the part of ``sigma_range`` the branch covers (all of it, unless
+    the branch is an isola or ends inside the range), and for each the nearest regular point of
+    ``pieces`` (pairs of the branch's sigma values and a mask of its points away from special
+    ones). Returns (piece, index) pairs, each point once: targets that fall on the same point
+    (a short branch) would trace the same curves again."""
+    covered = [np.asarray(p, dtype=float) for p, _ in pieces if len(p)]
+    if not covered or count <= 0:
+        return []
+    lo = max(sigma_range[0], min(float(np.min(p)) for p in covered))
+    hi = min(sigma_range[1], max(float(np.max(p)) for p in covered))
+    chosen = []
+    for sigma in np.linspace(lo, hi, count + 2)[1:-1] if lo < hi else ():
+        best = None
+        for k, (p, regular) in enumerate(pieces):
+            if not np.any(regular):
+                continue
+            i = int(np.argmin(np.where(regular, np.abs(np.asarray(p) - sigma), np.inf)))
+            if best is None or abs(p[i] - sigma) < abs(pieces[best[0]][0][best[1]] - sigma):
+                best = (k, i)
+        if best is not None and best not in chosen:
+            chosen.append(best)
+    return chosen
+
+
+def regular_points(branch) -> np.ndarray:
+    """A mask of the branch's points at least three points away from its special points: an orbit
+    at a pitchfork continued in another parameter shows its mirror pair's meeting as spurious folds."""
+    regular = np.ones(len(branch), dtype=bool)
+    for sp in branch.special:
+        regular[max(sp.index - 2, 0) : sp.index + 3] = False
+    return regular
 
 
 @dataclasses.dataclass(frozen=True)
@@ -260,12 +297,16 @@ def _trace_in_pool(starts, workers, covered, record, traced, executor=None):
     pool = WorkerPool(workers) if executor is None else _OnCluster(executor)
     resolved = set(traced)  # starts traced, failed or skipped
 
-    def settled_curves():
-        """The curves the sequential run would have kept from the starts before the first one
-        still running: only these may skip a start (a curve from a later start, or from one the
-        sequential run would skip, may not: the result must not depend on which finishes first)."""
+    def settled_curves(kind):
+        """The curves of ``kind`` that the sequential run keeps from the starts of that kind before
+        the first of that kind not yet traced: only these may skip a start of that kind. Only a curve
+        of a start's own kind can cover it, so what the sequential run keeps of one kind does not
+        wait for the other kinds' curves; a curve from a later start, or from one the sequential
+        run would skip, may not skip one: the result must not depend on which finishes first."""
         kept = []
         for k in range(len(starts)):
+            if starts[k].kind != kind:
+                continue
             if k not in resolved:
                 break
             if k in traced and not covered(k, kept):
@@ -277,7 +318,7 @@ def _trace_in_pool(starts, workers, covered, record, traced, executor=None):
         while pending or running:
             while pending and len(running) < workers:
                 i = pending.pop(_next_start(pending, [starts[k].kind for k in running.values()], starts))
-                if covered(i, settled_curves()):
+                if covered(i, settled_curves(starts[i].kind)):
                     resolved.add(i)
                 else:
                     running[pool.submit(_trace_job, starts[i].job)] = i

@@ -37,7 +37,7 @@ from slosh_bif.orbits.impact.switching import (
 from slosh_bif.orbits.settings import BRANCHING, BranchingSettings
 from slosh_bif.orbits.shooting import MAX_PERIOD_MULTIPLE
 from slosh_bif.slowflow.critical import critical_curve
-from slosh_bif.studies.chart.curves import CurveStart, trace_curves
+from slosh_bif.studies.chart.curves import CurveStart, regular_points, seed_points, trace_curves
 from slosh_bif.studies.chart.result import Chart, ChartSettings, check_box, where
 
 __all__ = ["impact_chart", "impact_family", "impact_curve_starts", "ImpactFamily", "NamedImpactBranch"]
@@ -108,8 +108,9 @@ def impact_chart(
     starts = [s for nb in family for s in impact_curve_starts(nb, params, box, pitchforks)]
     # Folds and period doublings met when the forcing falls: the primary branch's orbits at
     # ``settings.seeds`` values of sigma, each continued in Abar over the box.
-    for sigma in np.linspace(s0, s1, settings.seeds + 2)[1:-1]:
-        seed = _seed_in_abar(family[0], params, float(sigma), (a0, a1))
+    pieces = [piece.branch for piece in family[0].branch.pieces]
+    for k, i in seed_points([(b.p, regular_points(b)) for b in pieces], (s0, s1), settings.seeds):
+        seed = _seed_in_abar(family[0], family[0].branch.pieces[k], i, params, (a0, a1))
         if seed is not None:
             starts += list(impact_curve_starts(seed, seed.at, box))
     tasks = []
@@ -338,23 +339,13 @@ class _SeedBranch(NamedImpactBranch):
     at: Params = None  # the parameter set it was continued at (its sigma)
 
 
-def _seed_in_abar(primary: NamedImpactBranch, params: Params, sigma: float, abar_range) -> _SeedBranch | None:
-    """The primary branch's orbit nearest ``sigma`` (away from its special points) continued in
-    Abar over ``abar_range`` at that sigma, or None where there is none or it cannot be continued."""
-    best = None
-    for piece in primary.branch.pieces:
-        b = piece.branch
-        regular = np.ones(len(b), dtype=bool)
-        for sp in b.special:
-            regular[max(sp.index - 2, 0) : sp.index + 3] = False
-        if not np.any(regular):
-            continue
-        i = int(np.argmin(np.where(regular, np.abs(b.p - sigma), np.inf)))
-        if best is None or abs(b.p[i] - sigma) < abs(best[0].branch.p[best[1]] - sigma):
-            best = (piece, i)
-    if best is None or not abar_range[0] <= params.Abar <= abar_range[1]:
+def _seed_in_abar(
+    primary: NamedImpactBranch, piece, i: int, params: Params, abar_range
+) -> _SeedBranch | None:
+    """The orbit at point ``i`` of ``piece`` of the primary branch continued in Abar over
+    ``abar_range`` at its sigma, or None where it cannot be continued."""
+    if not abar_range[0] <= params.Abar <= abar_range[1]:
         return None
-    piece, i = best
     at = params.replace(sigma=float(piece.branch.p[i]))
     variant = primary.branch.variant
     problem = ImpactOrbitProblem(at, "sigma", symmetric=primary.symmetric, phase=piece.phase, variant=variant)

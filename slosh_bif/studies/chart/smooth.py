@@ -34,8 +34,6 @@ from __future__ import annotations
 
 import time
 
-import numpy as np
-
 from slosh_bif.continuation import ConvergenceError
 from slosh_bif.model.params import Params
 from slosh_bif.orbits.families import trace_orbits
@@ -53,6 +51,8 @@ from slosh_bif.slowflow.critical import critical_curve
 from slosh_bif.studies.chart.curves import (
     curve_starts,
     pitchforks_of,
+    regular_points,
+    seed_points,
     torus_starts,
     trace_curves,
 )
@@ -111,22 +111,17 @@ def bifurcation_chart(
     pitchforks = pitchforks_of(family)
     starts = [s for ob in family.branches for s in curve_starts(ob, params, box, pitchforks, shooting)]
     # Folds and period doublings met when the forcing falls: the primary branch's orbits at
-    # ``seeds`` values of sigma, each continued in Abar (the second parameter) over the box.
-    primary = family.branches[0]
-    # Seed orbits are regular points: an orbit at a pitchfork continued in Abar shows its mirror
-    # pair's meeting as spurious folds.
-    regular = np.ones(len(primary.branch), dtype=bool)
-    for sp in primary.branch.special:
-        regular[max(sp.index - 2, 0) : sp.index + 3] = False
-    for sigma in np.linspace(s0, s1, settings.seeds + 2)[1:-1]:
-        i = int(np.argmin(np.where(regular, np.abs(primary.branch.p - sigma), np.inf)))
-        at = params.replace(sigma=float(primary.branch.p[i]))
+    # ``seeds`` values of sigma, each continued in Abar (the second parameter) over the box, from
+    # regular points (see :func:`regular_points`).
+    primary = family.branches[0].branch
+    for _, i in seed_points([(primary.p, regular_points(primary))], (s0, s1), settings.seeds):
+        at = params.replace(sigma=float(primary.p[i]))
         if not a0 <= getattr(at, second) <= a1:
             continue
         try:
             down = trace_orbits(
                 at,
-                primary.branch.x[i, :4],
+                primary.x[i, :4],
                 shooting=shooting,
                 branching=NO_SWITCHING,
                 progress=say,
