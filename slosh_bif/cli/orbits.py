@@ -159,7 +159,6 @@ def _shoot_impact(args, params, lo, hi) -> int:
     with the asymmetric branches born at its pitchforks (unless --no-switch)."""
     from slosh_bif.continuation import ContinuationOptions
     from slosh_bif.orbits.criticality import describe, impact_criticality, npz_arrays, phrases
-    from slosh_bif.orbits.impact.branches import settled_orbit
     from slosh_bif.orbits.impact.output import (
         impact_rows,
         plot_impact_branch,
@@ -188,11 +187,7 @@ def _shoot_impact(args, params, lo, hi) -> int:
     options = continuation_options(args, ContinuationOptions(step=0.05, step_max=0.3, tol=1e-10))
     args.out.mkdir(parents=True, exist_ok=True)
     with PlotProcess() as plots:  # matplotlib imported beside the computation
-        x0 = (
-            args.guess
-            if args.guess is not None
-            else settled_orbit(params, state0_of(args, params), periods=args.settle, variant=variant)
-        )
+        x0 = args.guess if args.guess is not None else _settled_start(args, params, variant)
         branching = BranchingSettings(switch=not args.no_switch, max_branches=args.max_branches)
         family = impact_family(
             params,
@@ -371,3 +366,14 @@ def add_commands(sub) -> None:
     )
     add_scheduler_option(shoot)
     shoot.set_defaults(run=_shoot)
+
+
+def _settled_start(args, params, variant):
+    """The orbit of (8) a simulation settles on, or the one-line error with the options to change."""
+    from slosh_bif.continuation import ConvergenceError
+    from slosh_bif.orbits.impact.branches import settled_orbit
+
+    try:
+        return settled_orbit(params, state0_of(args, params), periods=args.settle, variant=variant)
+    except ConvergenceError as err:
+        raise ConvergenceError(f"{err}; pass --guess X,Xd,w,wd or change --settle") from None

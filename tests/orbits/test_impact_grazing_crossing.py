@@ -14,7 +14,7 @@ from slosh_bif import get_preset, simulate_impact
 from slosh_bif.continuation.corrector import newton_solve
 from slosh_bif.flows.smooth.integrator import HAVE_NUMBA
 from slosh_bif.orbits.impact.branches import settled_orbit, trace_impact_orbits
-from slosh_bif.orbits.impact.grazing_crossing import contact_at, on_section, unfold
+from slosh_bif.orbits.impact.grazing_crossing import Contact, contact_at, on_section, unfold
 from slosh_bif.orbits.impact.problem import ImpactOrbitProblem
 
 pytestmark = pytest.mark.skipif(not HAVE_NUMBA, reason="the compiled flow needs numba")
@@ -104,3 +104,17 @@ def test_each_grazing_is_where_the_orbits_slow_impact_extrapolates_to_zero_speed
             checked += 1
             assert min(abs(f - p_g) for f in fits) < 1e-9
     assert checked >= 3
+
+
+def test_a_slow_impact_where_21_has_no_real_kappa_gives_no_orbit_and_no_warning():
+    """pbar = -2: (21) loses without bound at slow impacts (kappa^2 = 1 - c v^-2 < 0 below
+    v = sqrt(c)), so the orbits just beyond a grazing do not exist: unfolding says so (None),
+    without a warning on the user's terminal."""
+    import warnings
+
+    params = get_preset("fig10").params.replace(lam=0.1, chi=0.4, n=4, pbar=-2, sigma=1.0)
+    problem = ImpactOrbitProblem(params, symmetric=True, phase=0.0, impacts=1)
+    contact = Contact(t=1.0, side=1.0, X=0.1, Xd=0.0, kind="flight")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert unfold(problem, contact, 1.0, "impact", 1e-3) is None

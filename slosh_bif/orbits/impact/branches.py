@@ -33,6 +33,7 @@ from slosh_bif.continuation import (
 )
 from slosh_bif.continuation.branch import Kind, Status
 from slosh_bif.continuation.corrector import newton_solve
+from slosh_bif.flows.impact.flow import END_REASONS
 from slosh_bif.model.params import Params
 from slosh_bif.orbits.impact.grazing_crossing import contact_at, cross_grazing
 from slosh_bif.orbits.impact.problem import GRAZING, SECTION, VARIANT_NAMES, ImpactOrbitProblem
@@ -127,8 +128,9 @@ def settled_orbit(params: Params, state0, *, periods: int, tries: int = 4, varia
         t, y, _, code = flow.run(x, 0.0, 2 * np.pi * count, stick_speed=1e-9, max_impacts=10**7)
         if code != 0:
             raise ConvergenceError(
-                f"the simulation of {VARIANT_NAMES[variant]} for a start orbit stopped (code {code}) after "
-                f"{done + t[-1] / (2 * np.pi):.0f} periods"
+                f"the simulation of {VARIANT_NAMES[variant]} for a start orbit stopped after "
+                f"{done + t[-1] / (2 * np.pi):.0f} periods at sigma = {params.sigma:g}, Abar = "
+                f"{params.Abar:g}: {END_REASONS.get(code, f'code {code}')}"
             )
         x, done = y[:, -1], done + count
         run = newton_solve(problem, x, params.sigma, tol=1e-12)
@@ -136,7 +138,7 @@ def settled_orbit(params: Params, state0, *, periods: int, tries: int = 4, varia
             return run.x
     raise ConvergenceError(
         f"no periodic orbit of {VARIANT_NAMES[variant]} near the strobe of a {done}-period simulation "
-        "(it has not settled); pass --guess X,Xd,w,wd"
+        f"at sigma = {params.sigma:g}, Abar = {params.Abar:g} (it has not settled)"
     )
 
 

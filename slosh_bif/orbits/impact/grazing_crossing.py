@@ -90,9 +90,12 @@ def contact_at(problem, x, p) -> Contact:
 
 
 def _wall(flow, v):
-    """(kappa, D) of the flow's wall at impact speed v (the measured law clamped as the flow clamps it)."""
+    """(kappa, D) of the flow's wall at impact speed v (the measured law clamped as the flow clamps
+    it); kappa NaN where (21) has no real value at v (pbar < 0: slow impacts lose without bound),
+    which makes the caller's residual NaN."""
     if flow.wall is None:
-        return np.sqrt(1.0 - flow.kappa_c * v**flow.kappa_q), 1.0
+        square = 1.0 - flow.kappa_c * v**flow.kappa_q
+        return (np.sqrt(square) if square >= 0 else np.nan), 1.0
     kappa, _, clearance, _ = law(flow.shape, flow.stacked, v)
     return kappa, clearance
 

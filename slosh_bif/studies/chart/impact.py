@@ -83,9 +83,16 @@ def impact_chart(
     say = progress or (lambda message: None)
     started = time.perf_counter()
     params.require_positive_stiffness()
+    try:
+        start = settled_orbit(params, state0, periods=settings.settle, variant=variant)
+    except ConvergenceError as err:
+        raise ConvergenceError(
+            f"{err}; the chart's family starts from that orbit: start it at another sigma or Abar "
+            "inside the box (--set sigma=S --set Abar=A)"
+        ) from None
     family = impact_family(
         params,
-        settled_orbit(params, state0, periods=settings.settle, variant=variant),
+        start,
         param="sigma",
         p_range=(s0, s1),
         variant=variant,
