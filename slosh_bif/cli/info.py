@@ -90,7 +90,7 @@ def _derive(args) -> int:
 def _compile(args) -> int:
     """Fill numba's on-disk cache: one short call of every compiled loop of (9), of the periodic QR
     and of the exact flow of (8), so that the first real command loads machine code instead of
-    compiling it (15-30 s once a machine and a source); and the package's bytecode, which an
+    compiling it (40-80 s once a machine and a source on 2 cores); and the package's bytecode, which an
     installed wheel has but a checkout run with ``PYTHONDONTWRITEBYTECODE`` never writes (its
     modules are then compiled from source by every command: 0.07 s of a start-up)."""
     import compileall
@@ -106,7 +106,7 @@ def _compile(args) -> int:
 
     if compiled() is None:
         raise RuntimeError("numba does not import here: the scipy paths run, with nothing to compile")
-    print("compiling the loops of (9) and (8) into numba's cache (15-30 s the first time)", file=sys.stderr)
+    print("compiling the loops of (9) and (8) into numba's cache (40-80 s the first time)", file=sys.stderr)
     start = time.perf_counter()
     preset = get_preset("fig10")
     y0 = preset.state_for(preset.params)
@@ -153,6 +153,6 @@ def add_commands(sub) -> None:
     compile_ = sub.add_parser(
         "compile",
         help="compile the loops of (9) and (8) into numba's on-disk cache now (a first command does it "
-        "otherwise, 15-30 s once a machine)",
+        "otherwise, 40-80 s once a machine)",
     )
     compile_.set_defaults(run=_compile)
