@@ -32,6 +32,7 @@ special points, so the envelope there is the lowest stable-bounding one.
 
 from __future__ import annotations
 
+import dataclasses
 import time
 
 from slosh_bif.continuation import ConvergenceError
@@ -39,7 +40,6 @@ from slosh_bif.model.params import Params
 from slosh_bif.orbits.families import trace_orbits
 from slosh_bif.orbits.settings import (
     BRANCHING,
-    NO_SWITCHING,
     SHOOTING,
     BranchingSettings,
     ParameterRange,
@@ -74,7 +74,8 @@ def bifurcation_chart(
 ) -> Chart:
     """Trace the family of orbits at the parameter set's Abar over sigma's range (from a
     simulation from ``state0``, switched as ``branching`` says) and the primary branch's orbits at
-    ``settings.seeds`` values of sigma continued in Abar, then the LP, PD, NS and BP curve through
+    ``settings.seeds`` values of sigma continued in Abar (with the pairs born at their pitchforks
+    unless ``branching.switch`` is off), then the LP, PD, NS and BP curve through
     each of their special points (each curve once) in ``box``, ``{"sigma": (lo, hi), "Abar": (lo, hi)}``,
     on ``settings.workers`` processes (:class:`ChartSettings`), every orbit computed with ``shooting``.
     Interrupted while
@@ -114,6 +115,9 @@ def bifurcation_chart(
     # ``seeds`` values of sigma, each continued in Abar (the second parameter) over the box, from
     # regular points (see :func:`regular_points`).
     primary = family.branches[0].branch
+    # The pairs born at the seed branches' pitchforks too (their folds and flips can bound the
+    # stable region below the family's: an isola's asymmetric pair in Abar); not the cascades.
+    seed_branching = dataclasses.replace(branching, doublings=False, max_branches=3)
     for _, i in seed_points([(primary.p, regular_points(primary))], (s0, s1), settings.seeds):
         at = params.replace(sigma=float(primary.p[i]))
         if not a0 <= getattr(at, second) <= a1:
@@ -123,14 +127,15 @@ def bifurcation_chart(
                 at,
                 primary.x[i, :4],
                 shooting=shooting,
-                branching=NO_SWITCHING,
+                branching=seed_branching,
                 progress=say,
                 interval=ParameterRange(name=second, lo=a0, hi=a1),
             )
         except (ConvergenceError, ValueError) as err:
             say(f"no {second} branch at sigma = {at.sigma:.4g}: {err}")
             continue
-        starts += curve_starts(down.branches[0], at, box, shooting=shooting)
+        turns = pitchforks_of(down)
+        starts += [s for ob in down.branches for s in curve_starts(ob, at, box, turns, shooting=shooting)]
     say(f"{len(starts)} special points to start curves from, {where(settings)}")
     if resume.done:
         say(f"{len(resume.done)} curves from an earlier run")
