@@ -7,13 +7,16 @@ import numpy as np
 import pytest
 
 from slosh_bif import get_preset
+from slosh_bif.model.params import Params
 from slosh_bif.orbits import (
     NO_SWITCHING,
     ShootingSettings,
     orbit_from_simulation,
     trace_orbits,
 )
-from slosh_bif.orbits.settings import ParameterRange
+from slosh_bif.orbits.settings import BranchingSettings, ParameterRange
+from slosh_bif.studies.chart import ChartSettings, bifurcation_chart
+from slosh_bif.studies.chart.critical import lowest_stable_boundary
 from slosh_bif.studies.chart.curves import CurveStart, curve_starts, seed_points, trace_curves
 
 PRESET = get_preset("fig10")
@@ -268,3 +271,29 @@ def test_a_start_on_a_finished_curve_of_its_kind_is_not_traced_while_another_kin
     sequential, _, _ = trace_curves(starts, lambda message: None, workers=1)
     assert [c.origin for c in curves] == [c.origin for c in sequential] == ["ns", "lp 1"]
     assert status == "complete" and failures == ()
+
+
+def test_below_an_isola_the_chart_finds_the_flip_of_the_pair_born_at_a_pitchfork_in_abar():
+    """At eps 0.08, beta 0.15, gamma 0.3, lam 0.25, chi 0.4, n 8, pbar 2 the primary family at
+    Abar = 2 is an isola (sigma in [-0.643, 0.161]), and at sigma = -0.089 the stable response is
+    lost, as the forcing falls, at a flip of an asymmetric pair that exists only in Abar, born at a
+    pitchfork of the seed's symmetric orbits: the chart reaches it by switching there (without,
+    it read 1.60 at an NS curve). The chart's Abar_c (a two-parameter curve, corrected at sigma)
+    against the flip located on a one-parameter branch in Abar at that sigma."""
+    params = Params(eps=0.08, beta=0.15, gamma=0.3, sigma=0.0, Abar=2.0, lam=0.25, chi=0.4, n=8, pbar=2)
+    state0 = PRESET.state_for(params)
+    box = {"sigma": (-0.6, 0.1), "Abar": (0.5, 2.5)}
+    chart = bifurcation_chart(params, state0, box=box, settings=ChartSettings(seeds=2, workers=1))
+    sigma = -0.0892857142857
+    abar_c, kind, loss = lowest_stable_boundary(chart.curves, sigma, params)
+    assert (kind, loss) == ("PD", "soft") and abar_c < 1.0
+    at = params.replace(sigma=sigma)
+    start = orbit_from_simulation(at, state0, settle=150)
+    family = trace_orbits(
+        start.params,
+        start.y0,
+        branching=BranchingSettings(doublings=False, max_branches=3),
+        interval=ParameterRange(name="Abar", lo=0.5, hi=2.5),
+    )
+    flips = [sp.p for ob in family.branches if ob.kind == "asymmetric" for sp in ob.branch.special_of("PD")]
+    assert min(abs(np.array(flips) - abar_c)) < 1e-7

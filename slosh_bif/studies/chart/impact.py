@@ -114,12 +114,14 @@ def impact_chart(
     ]
     starts = [s for nb in family for s in impact_curve_starts(nb, params, box, pitchforks)]
     # Folds and period doublings met when the forcing falls: the primary branch's orbits at
-    # ``settings.seeds`` values of sigma, each continued in Abar over the box.
+    # ``settings.seeds`` values of sigma, each continued in Abar over the box with the pairs born
+    # at its pitchforks (not the cascades).
     pieces = [piece.branch for piece in family[0].branch.pieces]
+    seed_branching = dataclasses.replace(branching, doublings=False, max_branches=3)
     for k, i in seed_points([(b.p, regular_points(b)) for b in pieces], (s0, s1), settings.seeds):
-        seed = _seed_in_abar(family[0], family[0].branch.pieces[k], i, params, (a0, a1))
-        if seed is not None:
-            starts += list(impact_curve_starts(seed, seed.at, box))
+        at, seeds = _seeds_in_abar(family[0], family[0].branch.pieces[k], i, params, (a0, a1), seed_branching)
+        turns = [p for nb in seeds if nb.symmetric for p, _ in nb.branch.special("BP")]
+        starts += [s for nb in seeds for s in impact_curve_starts(nb, at, box, turns)]
     tasks = []
     say(f"{len(starts)} special points of {VARIANT_NAMES[variant]} to start curves from, {where(settings)}")
     curves, status, failures = trace_curves(
@@ -341,35 +343,22 @@ def _grazing_starts(named: NamedImpactBranch, params: Params, box: dict):
         yield CurveStart.with_job("GR", at.sigma, at.Abar, origin, job)
 
 
-@dataclasses.dataclass(frozen=True)
-class _SeedBranch(NamedImpactBranch):
-    at: Params = None  # the parameter set it was continued at (its sigma)
-
-
-def _seed_in_abar(
-    primary: NamedImpactBranch, piece, i: int, params: Params, abar_range
-) -> _SeedBranch | None:
-    """The orbit at point ``i`` of ``piece`` of the primary branch continued in Abar over
-    ``abar_range`` at its sigma, or None where it cannot be continued."""
-    if not abar_range[0] <= params.Abar <= abar_range[1]:
-        return None
+def _seeds_in_abar(primary: NamedImpactBranch, piece, i: int, params: Params, abar_range, branching):
+    """(the parameter set at its sigma, the branches): the orbit at point ``i`` of ``piece`` of the
+    primary branch continued in Abar over ``abar_range`` at its sigma, switched as ``branching``
+    says; no branches where it cannot be continued."""
     at = params.replace(sigma=float(piece.branch.p[i]))
+    if not abar_range[0] <= params.Abar <= abar_range[1]:
+        return at, []
     variant = primary.branch.variant
     problem = ImpactOrbitProblem(at, "sigma", symmetric=primary.symmetric, phase=piece.phase, variant=variant)
     try:
         x0 = state_at_zero(problem, piece.branch.x[i], at.sigma)
-        branch = trace_impact_orbits(
-            at,
-            x0,
-            param="Abar",
-            p_min=abar_range[0],
-            p_max=abar_range[1],
-            symmetric=primary.symmetric,
-            variant=variant,
+        return at, impact_family(
+            at, x0, param="Abar", p_range=abar_range, branching=branching, variant=variant
         )
     except (ConvergenceError, ValueError):
-        return None
-    return _SeedBranch(primary.name, branch, primary.symmetric, at)
+        return at, []
 
 
 def state_at_zero(problem: ImpactOrbitProblem, x, p):
