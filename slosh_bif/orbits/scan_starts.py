@@ -160,7 +160,12 @@ def _starts_at(at: Params, param: str, v: float, initial, settle: int, shooting:
     found = []
     for y, what in guesses:
         messages.append(f"scan: Newton at {param} = {v:.4g} from {what}")
-        orbit = orbit_at(problem, problem.initial_states(y), at.sigma, tol=START_TOL)
+        try:  # the arcs' start states: one period of (9) from the guess
+            x = problem.initial_states(y)
+        except RuntimeError as err:  # a state deep in the wall, say: the other guesses remain
+            messages.append(f"scan: no arcs from {what} at {param} = {v:.4g} ({err})")
+            continue
+        orbit = orbit_at(problem, x, at.sigma, tol=START_TOL)
         if orbit.converged:
             found.append(StartOrbit(at, orbit, f"Newton at {param} = {v:.6g} from {what}"))
     return found, messages

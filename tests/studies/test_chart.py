@@ -16,7 +16,7 @@ from slosh_bif.orbits import (
 )
 from slosh_bif.orbits.settings import BranchingSettings, ParameterRange
 from slosh_bif.studies.chart import ChartSettings, bifurcation_chart
-from slosh_bif.studies.chart.critical import lowest_stable_boundary
+from slosh_bif.studies.chart.critical import exits_below, lowest_stable_boundary
 from slosh_bif.studies.chart.curves import CurveStart, curve_starts, seed_points, trace_curves
 
 PRESET = get_preset("fig10")
@@ -282,11 +282,15 @@ def test_below_an_isola_the_chart_finds_the_flip_of_the_pair_born_at_a_pitchfork
     against the flip located on a one-parameter branch in Abar at that sigma."""
     params = Params(eps=0.08, beta=0.15, gamma=0.3, sigma=0.0, Abar=2.0, lam=0.25, chi=0.4, n=8, pbar=2)
     state0 = PRESET.state_for(params)
-    box = {"sigma": (-0.6, 0.1), "Abar": (0.5, 2.5)}
+    box = {"sigma": (-0.6, 0.1), "Abar": (0.7, 2.5)}
     chart = bifurcation_chart(params, state0, box=box, settings=ChartSettings(seeds=2, workers=1))
     sigma = -0.0892857142857
     abar_c, kind, loss = lowest_stable_boundary(chart.curves, sigma, params)
     assert (kind, loss) == ("PD", "soft") and abar_c < 1.0
+    # the pair's fold bounds the stable orbits below the box's Abar = 0.7 from about sigma = -0.4
+    # (0.668 at -0.48): the chart says where it leaves
+    exits = [(kind, s) for _, kind, s in exits_below(chart)]
+    assert any(kind == "LP" and -0.5 < s < -0.3 for kind, s in exits)
     at = params.replace(sigma=sigma)
     start = orbit_from_simulation(at, state0, settle=150)
     family = trace_orbits(

@@ -37,6 +37,7 @@ __all__ = [
     "critical_forcing_full",
     "critical_rows",
     "lowest_stable_boundary",
+    "exits_below",
 ]
 
 
@@ -189,6 +190,23 @@ def lowest_stable_boundary(curves, sigma, params: Params | None = None):
             kinds = curve_boundary(c)[1]
             best = (value, c.kind, str(kinds[i] if t <= 0.5 else kinds[i + 1]))
     return best
+
+
+def exits_below(chart: Chart) -> list:
+    """(curve index, kind, sigma) where a curve that bounds stable period-1 orbits with wall
+    contact leaves the chart through its lowest Abar: beyond that sigma the least stable forcing
+    may lie below the box, which ``critical.csv`` (read inside the box) cannot show."""
+    if chart.second != "Abar":
+        return []
+    low = chart.abar_range[0]
+    found = []
+    for k, c in enumerate(chart.curves):
+        if c.period_multiple != 1 or c.kind == "GR" or not len(c):
+            continue
+        at_edge = np.abs(c["Abar"] - low) <= 1e-9 * (1 + abs(low))
+        for i in np.flatnonzero(at_edge & _bounds_stable(c)):
+            found.append((k, c.kind, float(c["sigma"][i])))
+    return found
 
 
 def _lowest_crossing(s, v, at):
