@@ -301,3 +301,21 @@ def test_below_an_isola_the_chart_finds_the_flip_of_the_pair_born_at_a_pitchfork
     )
     flips = [sp.p for ob in family.branches if ob.kind == "asymmetric" for sp in ob.branch.special_of("PD")]
     assert min(abs(np.array(flips) - abar_c)) < 1e-7
+
+
+@pytest.mark.slow  # a whole chart (about 40 s on 2 cores) and two one-sigma answers
+@pytest.mark.parametrize("sigma", [-0.482142857143, 0.303571428571])
+def test_a_whole_chart_at_a_set_that_is_no_preset_agrees_with_the_one_sigma_critical_forcing(sigma):
+    """The isola's set over the box sigma in [-5, 6], Abar in [0.2, 5]: the chart's Abar_c (its
+    curves' envelope) against critical_forcing_full at that sigma (every family there in Abar, the
+    curves through their special points in a narrow box), a different search for the same
+    number: a fold at -0.48, a torus curve at 0.30."""
+    from slosh_bif.studies.chart import critical_forcing_full
+
+    params = Params(eps=0.08, beta=0.15, gamma=0.3, sigma=0.0, Abar=2.0, lam=0.25, chi=0.4, n=8, pbar=2)
+    state0 = PRESET.state_for(params)
+    chart = bifurcation_chart(params, state0, box={"sigma": (-5.0, 6.0), "Abar": (0.2, 5.0)})
+    abar_c, kind, _ = lowest_stable_boundary(chart.curves, sigma, params)
+    one = critical_forcing_full(params.replace(sigma=sigma), state0)
+    assert (one.bounded_by, kind) == (("LP", "LP") if sigma < 0 else ("NS", "NS"))
+    assert abar_c == pytest.approx(one.Abar_c, rel=1e-6)
