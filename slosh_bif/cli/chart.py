@@ -145,7 +145,7 @@ def _chart_on(args, executor) -> int:
         )
     print(f"{len(chart.curves)} curves in {chart.seconds:.1f} s; wrote " + ", ".join(str(p) for p in paths))
     print(scaling_line(chart.tasks))
-    _warn_below_box(chart, args)
+    _warn_below_box(chart)
     for status in (chart.status, regimes.status if regimes is not None else "complete"):
         if status != "complete":  # the files hold what was finished
             raise stopped(status)
@@ -161,7 +161,7 @@ def _chart_on(args, executor) -> int:
     return 0
 
 
-def _warn_below_box(chart, args) -> None:
+def _warn_below_box(chart) -> None:
     """A warning for each curve bounding stable orbits that leaves through the box's lowest Abar."""
     from slosh_bif.studies.chart.critical import exits_below
 

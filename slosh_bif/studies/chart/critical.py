@@ -205,10 +205,10 @@ def exits_below(chart: Chart) -> list:
             continue
         at_edge = np.abs(c["Abar"] - low) <= 1e-9 * (1 + abs(low))
         for i in np.flatnonzero(at_edge & _bounds_stable(c)):
-            exit = (k, c.kind, float(c["sigma"][i]))
+            sigma = float(c["sigma"][i])
             # a curve keeps its end point twice
-            if not any(e[0] == k and abs(e[2] - exit[2]) <= 1e-6 for e in found):
-                found.append(exit)
+            if not any(e[0] == k and abs(e[2] - sigma) <= 1e-6 for e in found):
+                found.append((k, c.kind, sigma))
     return found
 
 
