@@ -191,7 +191,7 @@ def test_the_pitchfork_curve_from_a_pairs_turn_meets_the_turn_of_a_one_parameter
 def test_seeds_spread_over_the_sigma_the_primary_branch_covers_each_point_once():
     """An isola (the primary branch of eps 0.08, beta 0.15, gamma 0.3, lam 0.25, chi 0.4, n 8,
     pbar 2 at Abar 2 spans sigma in [-0.643, 0.161] only): seven targets spread over the whole
-    box fell on its two ends, and each end's curves were traced three or four times."""
+    box would fall on its two ends, whose curves would then be traced three and four times."""
     loop = np.concatenate([np.linspace(-0.643, 0.161, 60), np.linspace(0.161, -0.643, 60)[1:]])
     regular = np.ones(len(loop), dtype=bool)
     regular[:3] = regular[57:63] = False  # near its special points
