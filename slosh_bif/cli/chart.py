@@ -165,11 +165,11 @@ def _warn_below_box(chart) -> None:
     """A warning for each curve bounding stable orbits that leaves through the box's lowest Abar."""
     from slosh_bif.studies.chart.critical import exits_below
 
-    for k, kind, sigma in exits_below(chart):
+    for k, kind, sigma, _ in exits_below(chart):
         print(
             f"slosh-bif chart: warning: curve {k} ({kind}) bounds stable orbits where it leaves the box "
             f"at Abar = {chart.abar_range[0]:g}, sigma = {sigma:.5g}: beyond it the least stable forcing "
-            "may lie below the box, which critical.csv does not show; lower --abar-min to see it",
+            "may lie below the box (critical.csv's below_box); lower --abar-min to see it",
             file=sys.stderr,
         )
 

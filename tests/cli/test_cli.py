@@ -353,7 +353,15 @@ def test_chart_writes_curves_critical_and_png_and_checks_its_box(tmp_path, capsy
     assert {r["kind"] for r in curves} == {"LP"} and {r["status"] for r in curves} == {"ok"}
     assert all(-1.6 <= float(r["sigma"]) <= -1.2 and 2.6 <= float(r["Abar"]) <= 3.4 for r in curves)
     critical = list(csv.DictReader(open(out / "critical.csv")))
-    assert list(critical[0]) == ["sigma", "Abar_b_slowflow", "Abar_c_full", "rel_diff", "bounded_by", "loss"]
+    assert list(critical[0]) == [
+        "sigma",
+        "Abar_b_slowflow",
+        "Abar_c_full",
+        "rel_diff",
+        "bounded_by",
+        "loss",
+        "below_box",
+    ]
     assert {r["loss"] for r in critical if r["bounded_by"] == "LP"} <= {"jump"}  # a fold is a jump
     assert (out / "chart.png").stat().st_size > 10_000
     assert main(argv[:9] + ["--abar-min", "3", "--abar-max", "2", "--out", str(out)]) == 2

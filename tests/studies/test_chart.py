@@ -16,7 +16,7 @@ from slosh_bif.orbits import (
 )
 from slosh_bif.orbits.settings import BranchingSettings, ParameterRange
 from slosh_bif.studies.chart import ChartSettings, bifurcation_chart
-from slosh_bif.studies.chart.critical import exits_below, lowest_stable_boundary
+from slosh_bif.studies.chart.critical import critical_rows, exits_below, lowest_stable_boundary
 from slosh_bif.studies.chart.curves import CurveStart, curve_starts, seed_points, trace_curves
 
 PRESET = get_preset("fig10")
@@ -289,8 +289,10 @@ def test_below_an_isola_the_chart_finds_the_flip_of_the_pair_born_at_a_pitchfork
     assert (kind, loss) == ("PD", "soft") and abar_c < 1.0
     # the pair's fold bounds the stable orbits below the box's Abar = 0.7 from about sigma = -0.4
     # (0.668 at -0.48): the chart says where it leaves
-    exits = [(kind, s) for _, kind, s in exits_below(chart)]
-    assert any(kind == "LP" and -0.5 < s < -0.3 for kind, s in exits)
+    exits = [(kind, s, side) for _, kind, s, side in exits_below(chart)]
+    assert any(kind == "LP" and -0.5 < s < -0.3 and side == -1 for kind, s, side in exits)
+    rows = list(critical_rows(chart))  # sigma from -0.6 to 0.1: flagged left of the exit only
+    assert (rows[0]["sigma"], rows[0]["below_box"], rows[-1]["below_box"]) == (-0.6, 1, 0)
     at = params.replace(sigma=sigma)
     start = orbit_from_simulation(at, state0, settle=150)
     family = trace_orbits(

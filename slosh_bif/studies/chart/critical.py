@@ -42,7 +42,7 @@ __all__ = [
 
 
 SECOND_ON_CIRCLE = 1e-5  # a located codimension-2 point has its second multiplier this near the circle
-CRITICAL_COLUMNS = ("sigma", "Abar_b_slowflow", "Abar_c_full", "rel_diff", "bounded_by", "loss")
+CRITICAL_COLUMNS = ("sigma", "Abar_b_slowflow", "Abar_c_full", "rel_diff", "bounded_by", "loss", "below_box")
 
 
 @dataclasses.dataclass(frozen=True)
@@ -193,9 +193,10 @@ def lowest_stable_boundary(curves, sigma, params: Params | None = None):
 
 
 def exits_below(chart: Chart) -> list:
-    """(curve index, kind, sigma) where a curve that bounds stable period-1 orbits with wall
-    contact leaves the chart through its lowest Abar: beyond that sigma the least stable forcing
-    may lie below the box, which ``critical.csv`` (read inside the box) cannot show."""
+    """(curve index, kind, sigma, side) where a curve that bounds stable period-1 orbits with wall
+    contact leaves the chart through its lowest Abar: beyond that sigma (below it for side -1,
+    above for +1, the side away from the curve's points inside the box; 0 where it has none) the
+    least stable forcing may lie below the box, which the box's curves cannot show."""
     if chart.second != "Abar":
         return []
     low = chart.abar_range[0]
@@ -204,11 +205,15 @@ def exits_below(chart: Chart) -> list:
         if c.period_multiple != 1 or c.kind == "GR" or not len(c):
             continue
         at_edge = np.abs(c["Abar"] - low) <= 1e-9 * (1 + abs(low))
+        inside = np.flatnonzero(~at_edge)
         for i in np.flatnonzero(at_edge & _bounds_stable(c)):
             sigma = float(c["sigma"][i])
             # a curve keeps its end point twice
-            if not any(e[0] == k and abs(e[2] - sigma) <= 1e-6 for e in found):
-                found.append((k, c.kind, sigma))
+            if any(e[0] == k and abs(e[2] - sigma) <= 1e-6 for e in found):
+                continue
+            near = inside[np.argmin(np.abs(inside - i))] if len(inside) else None
+            side = 0 if near is None else -int(np.sign(c["sigma"][near] - sigma))
+            found.append((k, c.kind, sigma, side))
     return found
 
 
@@ -283,14 +288,24 @@ def _slow_flow_critical_at(slow, sigma: float) -> float:
 def critical_rows(chart: Chart, points: int = 57):
     """``critical.csv`` rows: on a sigma grid, Abar_b of (46), Abar_c of (9), which curve kind sets it
     and how the stable response is lost there (``loss``: jump, soft, hard, undetermined; '' where
-    no coefficient was computed); none for a chart whose second parameter is not Abar."""
+    no coefficient was computed), and ``below_box`` 1 beyond a sigma where a curve bounding stable
+    orbits leaves through the box's lowest Abar (:func:`exits_below`: the least stable forcing may
+    lie below the box there); none for a chart whose second parameter is not Abar."""
     if chart.second != "Abar":
         return
+    exits = exits_below(chart)
     slow = chart.slow_flow_critical
     for sigma in np.linspace(*chart.sigma_range, points):
         b = _slow_flow_critical_at(slow, sigma)
         c, kind, loss = lowest_stable_boundary(chart.curves, sigma, chart.params)
         rel = abs(c - b) / b if np.isfinite(b) and np.isfinite(c) and b > 0 else np.nan
+        below = any(side != 0 and (sigma - at) * side > 0 for _, _, at, side in exits)
         yield dict(
-            sigma=float(sigma), Abar_b_slowflow=b, Abar_c_full=c, rel_diff=rel, bounded_by=kind, loss=loss
+            sigma=float(sigma),
+            Abar_b_slowflow=b,
+            Abar_c_full=c,
+            rel_diff=rel,
+            bounded_by=kind,
+            loss=loss,
+            below_box=int(below),
         )
