@@ -31,6 +31,7 @@ __all__ = [
     "pitchforks_of",
     "repeats_early",
     "regular_points",
+    "seed_branching",
     "seed_points",
     "trace_curves",
 ]
@@ -76,6 +77,13 @@ def seed_points(pieces, sigma_range, count: int) -> list:
         if best is not None and best not in chosen:
             chosen.append(best)
     return chosen
+
+
+def seed_branching(branching):
+    """How a seed continued in the chart's second parameter switches: at its pitchforks as
+    ``branching`` says (their pairs' folds and flips can bound the stable region below everything
+    the family reaches), not at period doublings, three branches at most."""
+    return dataclasses.replace(branching, doublings=False, max_branches=3)
 
 
 def regular_points(branch) -> np.ndarray:

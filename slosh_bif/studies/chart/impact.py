@@ -37,7 +37,13 @@ from slosh_bif.orbits.impact.switching import (
 from slosh_bif.orbits.settings import BRANCHING, BranchingSettings
 from slosh_bif.orbits.shooting import MAX_PERIOD_MULTIPLE
 from slosh_bif.slowflow.critical import critical_curve
-from slosh_bif.studies.chart.curves import CurveStart, regular_points, seed_points, trace_curves
+from slosh_bif.studies.chart.curves import (
+    CurveStart,
+    regular_points,
+    seed_branching,
+    seed_points,
+    trace_curves,
+)
 from slosh_bif.studies.chart.result import Chart, ChartSettings, check_box, where
 
 __all__ = ["impact_chart", "impact_family", "impact_curve_starts", "ImpactFamily", "NamedImpactBranch"]
@@ -104,24 +110,15 @@ def impact_chart(
         f"{sum(len(piece.branch) for nb in family for piece in nb.branch.pieces)} points"
     )
     box = {"sigma": (s0, s1), "Abar": (a0, a1)}
-    pitchforks = [
-        s.p
-        for nb in family
-        if nb.symmetric
-        for piece in nb.branch.pieces
-        for s in piece.branch.special
-        if s.kind == "BP"
-    ]
-    starts = [s for nb in family for s in impact_curve_starts(nb, params, box, pitchforks)]
+    starts = [s for nb in family for s in impact_curve_starts(nb, params, box, _pitchforks(family))]
     # Folds and period doublings met when the forcing falls: the primary branch's orbits at
     # ``settings.seeds`` values of sigma, each continued in Abar over the box with the pairs born
     # at its pitchforks (not the cascades).
     pieces = [piece.branch for piece in family[0].branch.pieces]
-    seed_branching = dataclasses.replace(branching, doublings=False, max_branches=3)
+    switching = seed_branching(branching)
     for k, i in seed_points([(b.p, regular_points(b)) for b in pieces], (s0, s1), settings.seeds):
-        at, seeds = _seeds_in_abar(family[0], family[0].branch.pieces[k], i, params, (a0, a1), seed_branching)
-        turns = [p for nb in seeds if nb.symmetric for p, _ in nb.branch.special("BP")]
-        starts += [s for nb in seeds for s in impact_curve_starts(nb, at, box, turns)]
+        at, seeds = _seeds_in_abar(family[0], family[0].branch.pieces[k], i, params, (a0, a1), switching)
+        starts += [s for nb in seeds for s in impact_curve_starts(nb, at, box, _pitchforks(seeds))]
     tasks = []
     say(f"{len(starts)} special points of {VARIANT_NAMES[variant]} to start curves from, {where(settings)}")
     curves, status, failures = trace_curves(
@@ -341,6 +338,11 @@ def _grazing_starts(named: NamedImpactBranch, params: Params, box: dict):
         )
         job = dict(trace=trace_grazing_curve, params=params, seed=seed, box=box)
         yield CurveStart.with_job("GR", at.sigma, at.Abar, origin, job)
+
+
+def _pitchforks(family) -> list:
+    """The parameter values at the pitchforks of the family's symmetric branches (of (8))."""
+    return [p for nb in family if nb.symmetric for p, _ in nb.branch.special("BP")]
 
 
 def _seeds_in_abar(primary: NamedImpactBranch, piece, i: int, params: Params, abar_range, branching):

@@ -32,7 +32,6 @@ special points, so the envelope there is the lowest stable-bounding one.
 
 from __future__ import annotations
 
-import dataclasses
 import time
 
 from slosh_bif.continuation import ConvergenceError
@@ -52,6 +51,7 @@ from slosh_bif.studies.chart.curves import (
     curve_starts,
     pitchforks_of,
     regular_points,
+    seed_branching,
     seed_points,
     torus_starts,
     trace_curves,
@@ -115,9 +115,6 @@ def bifurcation_chart(
     # ``seeds`` values of sigma, each continued in Abar (the second parameter) over the box, from
     # regular points (see :func:`regular_points`).
     primary = family.branches[0].branch
-    # The pairs born at the seed branches' pitchforks too (their folds and flips can bound the
-    # stable region below the family's: an isola's asymmetric pair in Abar); not the cascades.
-    seed_branching = dataclasses.replace(branching, doublings=False, max_branches=3)
     for _, i in seed_points([(primary.p, regular_points(primary))], (s0, s1), settings.seeds):
         at = params.replace(sigma=float(primary.p[i]))
         if not a0 <= getattr(at, second) <= a1:
@@ -127,7 +124,7 @@ def bifurcation_chart(
                 at,
                 primary.x[i, :4],
                 shooting=shooting,
-                branching=seed_branching,
+                branching=seed_branching(branching),
                 progress=say,
                 interval=ParameterRange(name=second, lo=a0, hi=a1),
             )
