@@ -161,6 +161,25 @@ def _check(params, param, p_min, p_max):
         raise ValueError(f"{param} = {p0} of the start orbit lies outside [{p_min}, {p_max}]")
 
 
+def _not_isolated(problem, x0, p0, multipliers, params) -> str:
+    """Why a start orbit with a multiplier at +1 cannot be continued (empty when it has none): it
+    is not isolated; at a small beta an orbit clear of the walls leaves the particle nearly free,
+    held only by the wall force chi w^(2n+1) of (9)."""
+    gap = float(np.min(np.abs(np.asarray(multipliers) - 1)))
+    if not gap < 1e-3:
+        return ""
+    why = f"; the start orbit has a Floquet multiplier at +1 (|mu - 1| = {gap:.1g}): it is (nearly) not"
+    why += " isolated"
+    reach = orbit_measures(problem, x0, p0, points_per_2pi=64)["max_abs_w"]
+    if reach < 1:
+        why += (
+            f" (it stays clear of the walls, max |w| = {reach:.2g}, where beta = {params.beta:g} and the"
+            " wall force chi w^(2n+1) barely hold the particle); start where the response reaches the"
+            " walls: a larger Abar, or sigma nearer resonance"
+        )
+    return why
+
+
 def _primary(
     params, y0, param, opts, make_problem, points_per_2pi, say, known=(), found_from=""
 ) -> OrbitBranch:
@@ -178,9 +197,12 @@ def _primary(
     if symmetric and problem.segments % 2 == 0:
         problem = make_problem(1, symmetric=True)
         x0 = x0[: 4 * problem.segments]
-    branch = continuation(
-        problem, x0, p0, param=param, options=opts, callback=point_counter(say, name, param)
-    )
+    try:
+        branch = continuation(
+            problem, x0, p0, param=param, options=opts, callback=point_counter(say, name, param)
+        )
+    except ConvergenceError as err:
+        raise ConvergenceError(f"{err}{_not_isolated(problem, x0, p0, start.multipliers, params)}") from None
     if symmetric and not problem.symmetric:
         branch = refine_pitchforks(problem, branch)
     say(f"{name}: {len(branch)} points, {len(branch.special)} special points")

@@ -455,3 +455,21 @@ def test_derivatives_replayed_on_kept_steps_are_those_of_one_integration_of_all_
     whole, _ = integrate_arcs(P, starts, taus, sensitivities=("beta", "lam"), directions=d)
     np.testing.assert_allclose(ends, whole[:, :29], rtol=1e-10, atol=1e-12)  # two kernels' rounding
     np.testing.assert_allclose(replay_along(tape, d), whole[:, 29:], rtol=1e-7, atol=1e-9)
+
+
+@pytest.mark.filterwarnings("ignore:the 150-period simulation")
+def test_a_start_orbit_clear_of_the_walls_at_beta_zero_is_reported_as_not_isolated():
+    """At beta = 0 the particle is held only by the wall force chi w^(2n+1); an orbit with
+    max |w| = 0.07 has a multiplier 2e-5 from +1, so Newton at fixed sigma cannot settle the step
+    along it though |F| is at rounding. The error says so and where to start instead. The run has not settled,
+    so which such orbit Newton lands on depends on rounding; every one of them is this close to +1."""
+    from slosh_bif.continuation import ConvergenceError
+    from slosh_bif.model.params import Params
+    from slosh_bif.orbits import NO_SWITCHING, orbit_from_simulation, trace_orbits
+    from slosh_bif.orbits.settings import ParameterRange
+
+    params = Params(eps=0.12, beta=0.0, gamma=0.15, sigma=4.6, Abar=0.22, lam=0.1, chi=1.0, n=4, pbar=-2)
+    start = orbit_from_simulation(params, get_preset("fig10").state_for(params), settle=150)
+    assert min(abs(start.orbit.multipliers - 1)) < 1e-4
+    with pytest.raises(ConvergenceError, match=r"multiplier at \+1 .* clear of the walls, max \|w\| = 0\.0"):
+        trace_orbits(params, start.y0, branching=NO_SWITCHING, interval=ParameterRange(lo=4.0, hi=5.0))
