@@ -24,6 +24,7 @@ from slosh_bif.cli.common import (
     stopped,
     sweep_executor,
     throttled,
+    warn_below_box,
 )
 from slosh_bif.model.params import REAL_FIELDS
 
@@ -145,7 +146,7 @@ def _chart_on(args, executor) -> int:
         )
     print(f"{len(chart.curves)} curves in {chart.seconds:.1f} s; wrote " + ", ".join(str(p) for p in paths))
     print(scaling_line(chart.tasks))
-    _warn_below_box(chart)
+    warn_below_box(chart, "chart")
     for status in (chart.status, regimes.status if regimes is not None else "complete"):
         if status != "complete":  # the files hold what was finished
             raise stopped(status)
@@ -159,19 +160,6 @@ def _chart_on(args, executor) -> int:
         )
         return 3
     return 0
-
-
-def _warn_below_box(chart) -> None:
-    """A warning for each curve bounding stable orbits that leaves through the box's lowest Abar."""
-    from slosh_bif.studies.chart.critical import exits_below
-
-    for k, kind, sigma, _ in exits_below(chart):
-        print(
-            f"slosh-bif chart: warning: curve {k} ({kind}) bounds stable orbits where it leaves the box "
-            f"at Abar = {chart.abar_range[0]:g}, sigma = {sigma:.5g}: beyond it the least stable forcing "
-            "may lie below the box (critical.csv's below_box); lower --abar-min to see it",
-            file=sys.stderr,
-        )
 
 
 def _shared_pool(args, executor):

@@ -18,6 +18,7 @@ from slosh_bif.cli.common import (
     stopped,
     sweep_executor,
     throttled,
+    warn_below_box,
 )
 
 __all__ = ["add_commands"]
@@ -50,6 +51,9 @@ def _study(args) -> int:
             at_value=at_value,
         )
     paths = [write_study_csv(study, args.out / "study.csv"), plot_study(study, args.out / "study.png")]
+    for v in study.values:
+        if v.chart is not None:
+            warn_below_box(v.chart, "study", f"{name} = {v.value:.6g}: ")
     for v in study.values:
         print(f"{name} = {v.value:.6g}: {v.status}" + (f" ({v.reason})" if v.reason else ""))
     print("wrote " + ", ".join(str(p) for p in paths))

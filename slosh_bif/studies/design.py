@@ -32,7 +32,16 @@ __all__ = [
     "plot_study",
 ]
 
-STUDY_COLUMNS = ("value", "sigma", "Abar_b_slowflow", "Abar_c_full", "bounded_by", "loss", "status")
+STUDY_COLUMNS = (
+    "value",
+    "sigma",
+    "Abar_b_slowflow",
+    "Abar_c_full",
+    "bounded_by",
+    "loss",
+    "below_box",
+    "status",
+)
 
 
 def parse_vary(text: str, tank: dict | None = None) -> tuple:
@@ -138,8 +147,10 @@ def design_study(
 
 
 def study_rows(study: Study, points: int = 57):
-    """Per value and sigma: Abar_b of (46), Abar_c of (9), the kind of curve that sets it and how
-    the response is lost there; a value that was not charted has one row with its reason."""
+    """Per value and sigma: Abar_b of (46), Abar_c of (9), the kind of curve that sets it, how
+    the response is lost there and whether it may lie below the box (``critical.csv``'s columns,
+    :func:`~slosh_bif.studies.chart.critical.critical_rows`); a value that was not charted has one
+    row with its reason."""
     for v in study.values:
         if v.chart is None:
             yield dict(
@@ -149,6 +160,7 @@ def study_rows(study: Study, points: int = 57):
                 Abar_c_full=np.nan,
                 bounded_by="",
                 loss="",
+                below_box="",
                 status=f"not charted: {v.reason}",
             )
             continue
