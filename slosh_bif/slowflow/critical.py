@@ -153,9 +153,14 @@ class EndProblem:
             at_end, residual_end = law.end_values(law.lower), self.r.flow.generated("steady_residual_end")
             self._parts = lambda p, Abar: residual_end(*at_end, P.beta, P.gamma, p, Abar)
         else:  # a fold of (39) or kappa = 0 ends S+: alpha is regular there
-            self._parts = lambda p, Abar: np.array(
-                [self.r.R(self.A, p, Abar), *self.r.grad(self.A, p, Abar)[1:]]
-            )
+            self._parts = self._parts_at_fold
+
+    def _parts_at_fold(self, p, Abar):
+        """R, R_sigma, R_Abar at an end where S+ folds: R_A is infinite there (an inf or NaN that
+        is not used, so numpy's warning about it is silenced)."""
+        with np.errstate(invalid="ignore", divide="ignore"):
+            grad = self.r.grad(self.A, p, Abar)
+        return np.array([self.r.R(self.A, p, Abar), *grad[1:]])
 
     def abar_at(self, sigma):
         """The Abar of the steady state on the end at ``sigma``: R = a Abar^2 + b (even in Abar)."""

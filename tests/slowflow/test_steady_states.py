@@ -225,6 +225,35 @@ def test_the_upper_end_condition_and_the_fold_curves_stay_on_s_plus():
     assert folds.in_domain(np.array([folds.r.flow.A_max * 0.5, 1.0]), 0.0)
 
 
+@pytest.mark.filterwarnings("ignore:slow flow outside its checked range")
+def test_at_a_fold_of_s_plus_the_unused_infinite_slope_raises_no_numpy_warning():
+    """At the fold of (39) that ends S+ above, R_A is infinite and rounding can put the root
+    under it below zero (a NaN): the end's R, R_sigma and R_Abar are used, and no warning about
+    R_A reaches the user (a random admissible set where it did at sigma = -4)."""
+    import warnings
+
+    from slosh_bif.model.params import Params
+    from slosh_bif.slowflow.critical import EndProblem, abar_at_upper_end
+
+    P = Params(
+        eps=0.09876011384422585,
+        beta=0.5823508928063189,
+        gamma=0.09009404281499403,
+        sigma=0.0,
+        Abar=2.1875717149225897,
+        lam=0.3927080668452921,
+        chi=0.8080862068317072,
+        n=10,
+        pbar=2,
+    )
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)
+        end = EndProblem(P, end="upper")
+        at = end.abar_at(-4.0)
+    flow = SlowFlow(P.replace(sigma=-4.0))
+    assert at == pytest.approx(abar_at_upper_end(flow, flow.A_max), rel=1e-9)
+
+
 @pytest.mark.slow
 def test_critical_curve_reaches_an_upper_end_of_s_plus():
     """A wall whose S+ ends above at a fold of (39): the curve is traced up to that end, and agrees
