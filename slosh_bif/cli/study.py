@@ -40,7 +40,7 @@ def _study(args) -> int:
     with sweep_executor(args) as executor:
         study = design_study(
             params,
-            state0_of(args, params),
+            lambda at: state0_of(args, at),
             name,
             values,
             box={"sigma": (lo, hi), "Abar": (a_lo, a_hi)},

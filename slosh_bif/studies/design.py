@@ -117,7 +117,9 @@ def design_study(
     settings). A value whose set is not admissible (its parameter file's own check) is recorded
     with the reason and skipped; a chart stopped part way (Ctrl-C) stops the study there.
     ``at_value(value)``: the parameter set at a value (a tank converted at its fill depth, say;
-    a ValueError where it has none), instead of ``params`` with ``name`` replaced."""
+    a ValueError where it has none), instead of ``params`` with ``name`` replaced. ``state0``: the
+    initial state of the charts' simulations, or a function of a value's parameter set giving it
+    (a preset's ``state_for``, scaled with each value's eps, as ``chart`` would start there)."""
     say = progress or (lambda message: None)
     sigma_range, abar_range = tuple(box["sigma"]), tuple(box["Abar"])
     done = []
@@ -130,11 +132,12 @@ def design_study(
             continue
         say(f"{name} = {value:.6g}: chart {k + 1} of {len(values)}")
         options = dict(switch=True, seeds=settings.seeds, backend="auto")
-        stored = chart_settings(at, state0, sigma_range, abar_range, **options)
+        start = state0(at) if callable(state0) else state0
+        stored = chart_settings(at, start, sigma_range, abar_range, **options)
         store = curve_store(Path(folder) / f"value-{k:03d}" / "curves", stored, resume=resume)
         chart = bifurcation_chart(
             at,
-            state0,
+            start,
             box={"sigma": sigma_range, "Abar": abar_range},
             settings=settings,
             progress=lambda message, k=k: say(f"{name} = {values[k]:.6g}: {message}"),

@@ -17,7 +17,13 @@ from slosh_bif.orbits import (
 from slosh_bif.orbits.settings import BranchingSettings, ParameterRange
 from slosh_bif.studies.chart import ChartSettings, bifurcation_chart
 from slosh_bif.studies.chart.critical import critical_rows, exits_below, lowest_stable_boundary
-from slosh_bif.studies.chart.curves import CurveStart, curve_starts, seed_points, trace_curves
+from slosh_bif.studies.chart.curves import (
+    CurveStart,
+    curve_starts,
+    seed_points,
+    trace_curves,
+    uncovered_points,
+)
 
 PRESET = get_preset("fig10")
 
@@ -212,6 +218,19 @@ def test_seeds_spread_over_the_sigma_the_primary_branch_covers_each_point_once()
     assert seed_points([(full, np.zeros(141, dtype=bool))], (-6.0, 8.0), 7) == []
 
 
+def test_the_parts_of_the_box_an_isola_leaves_get_seeds_of_their_own_by_their_length():
+    """An isola over [-0.22, 0.04] in the box [-4, 5]: the 3.78 to its left gets three of seven
+    seeds, the 4.96 to its right four, spread over their insides; a branch across the box, or
+    leaving less than 2 % of it, leaves none."""
+    isola = np.concatenate([np.linspace(-0.22, 0.04, 30), np.linspace(0.04, -0.22, 30)])
+    left, right = np.linspace(-4, -0.22, 5)[1:-1], np.linspace(0.04, 5, 6)[1:-1]
+    assert uncovered_points([isola], (-4.0, 5.0), 7) == pytest.approx([*left, *right])
+    assert uncovered_points([np.linspace(-4, 5, 50)], (-4.0, 5.0), 7) == []
+    assert uncovered_points([np.linspace(-3.9, 5, 50)], (-4.0, 5.0), 7) == []
+    # two pieces with a gap between them: the gap, one seed at least
+    assert uncovered_points([np.linspace(-4, 0, 9), np.linspace(1, 5, 9)], (-4.0, 5.0), 7) == [0.5]
+
+
 class _Line:
     """A curve as the chart's bookkeeping sees it: a kind and points in (sigma, Abar)."""
 
@@ -320,4 +339,33 @@ def test_a_whole_chart_at_a_set_that_is_no_preset_agrees_with_the_one_sigma_crit
     abar_c, kind, _ = lowest_stable_boundary(chart.curves, sigma, params)
     one = critical_forcing_full(params.replace(sigma=sigma), state0)
     assert (one.bounded_by, kind) == (("LP", "LP") if sigma < 0 else ("NS", "NS"))
+    assert abar_c == pytest.approx(one.Abar_c, rel=1e-6)
+
+
+@pytest.mark.slow  # a chart (25 s on 2 cores) and a one-sigma answer (10 s)
+def test_where_the_primary_branch_is_an_isola_the_chart_scans_the_rest_of_the_box():
+    """eps 0.0727, beta 0.481, gamma 0.278, lam 0.236, chi 1.35, n 13, pbar -7: at Abar = 2.04
+    the primary branch is an isola of asymmetric orbits over sigma in [-0.22, 0.04]. At sigma =
+    3.58 the stable response is lost at a torus point of the linear response's family (0.945),
+    which no curve from the isola reaches (the chart read NaN there). The chart scans for orbits
+    at sigmas outside the isola; its Abar_c against critical_forcing_full."""
+    from slosh_bif.studies.chart import critical_forcing_full
+
+    params = Params(
+        eps=0.0726730510330887,
+        beta=0.481053364495394,
+        gamma=0.2778798952715666,
+        sigma=0.0,
+        Abar=2.0412675163465517,
+        lam=0.23648117799319274,
+        chi=1.3489398374888895,
+        n=13,
+        pbar=-7,
+    )
+    state0 = PRESET.state_for(params)
+    box = {"sigma": (-0.3, 4.0), "Abar": (0.5, 2.1)}
+    chart = bifurcation_chart(params, state0, box=box, settings=ChartSettings(seeds=3))
+    abar_c, kind, _ = lowest_stable_boundary(chart.curves, 3.5804, params)
+    one = critical_forcing_full(params.replace(sigma=3.5804), state0, abar_range=(0.1, 4.0))
+    assert (kind, one.bounded_by) == ("NS", "NS")
     assert abar_c == pytest.approx(one.Abar_c, rel=1e-6)

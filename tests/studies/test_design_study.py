@@ -82,8 +82,8 @@ def test_a_study_over_a_tanks_fill_depth_charts_the_tank_converted_at_each_depth
     assert main(["chart", "--params", str(files["4"]), *TANK_BOX, "--no-switch", "--out", str(alone)]) == 0
     single = _rows(alone / "critical.csv")
     mine = [r for r in rows if r["value"] == "4"]
-    # the same curves to the corrector's tolerance (the study's orbit search starts from the first
-    # file's initial state, scaled with its eps)
+    # the same curves to the corrector's tolerance (each chart's simulations start from the
+    # preset's initial state in the scaling of its own eps, as the chart's do)
     assert [float(r["Abar_c_full"]) for r in mine] == pytest.approx(
         [float(r["Abar_c_full"]) for r in single], rel=1e-8, nan_ok=True
     )

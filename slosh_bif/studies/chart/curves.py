@@ -34,6 +34,7 @@ __all__ = [
     "seed_branching",
     "seed_points",
     "trace_curves",
+    "uncovered_points",
 ]
 
 
@@ -77,6 +78,31 @@ def seed_points(pieces, sigma_range, count: int) -> list:
         if best is not None and best not in chosen:
             chosen.append(best)
     return chosen
+
+
+def uncovered_points(pieces, sigma_range, count: int, least: float = 0.02) -> list:
+    """Values of sigma where the chart seeks orbits of its own, outside the primary branch: in
+    each part of ``sigma_range`` that no piece of ``pieces`` (arrays of the branch's sigma) covers
+    and that is at least ``least`` of the range long (an isola, a branch ending inside the range),
+    as many as that part's share of ``count`` (at least one), spread over its inside. Empty
+    where the branch spans the range."""
+    lo, hi = sigma_range
+    covered = [(float(np.min(p)), float(np.max(p))) for p in pieces if len(p)]
+    if not covered:
+        return []
+    gaps, at = [], lo
+    for a, b in sorted(covered):
+        if a > at:
+            gaps.append((at, min(a, hi)))
+        at = max(at, b)
+    if at < hi:
+        gaps.append((at, hi))
+    out = []
+    for a, b in gaps:
+        if b - a >= least * (hi - lo):
+            k = max(1, round(count * (b - a) / (hi - lo)))
+            out += [float(v) for v in np.linspace(a, b, k + 2)[1:-1]]
+    return out
 
 
 def seed_branching(branching):

@@ -37,6 +37,7 @@ import time
 from slosh_bif.continuation import ConvergenceError
 from slosh_bif.model.params import Params
 from slosh_bif.orbits.families import trace_orbits
+from slosh_bif.orbits.scan import scan_families
 from slosh_bif.orbits.settings import (
     BRANCHING,
     SHOOTING,
@@ -55,6 +56,7 @@ from slosh_bif.studies.chart.curves import (
     seed_points,
     torus_starts,
     trace_curves,
+    uncovered_points,
 )
 from slosh_bif.studies.chart.result import Chart, ChartSettings, check_box, where
 
@@ -133,6 +135,12 @@ def bifurcation_chart(
             continue
         turns = pitchforks_of(down)
         starts += [s for ob in down.branches for s in curve_starts(ob, at, box, turns, shooting=shooting)]
+    # Where the primary branch does not reach (an isola, a branch ending inside the box), the
+    # orbits the family scan finds at sigmas there, continued in Abar: a torus curve of the
+    # linear response at large sigma bounds stable orbits that no curve of the branch meets.
+    gaps = uncovered_points([primary.p], (s0, s1), settings.seeds) if second == "Abar" else []
+    for sigma in gaps:
+        starts += _scan_seeds(params.replace(sigma=sigma), state0, box, shooting, branching, say)
     say(f"{len(starts)} special points to start curves from, {where(settings)}")
     if resume.done:
         say(f"{len(resume.done)} curves from an earlier run")
@@ -163,3 +171,25 @@ def bifurcation_chart(
         failures,
         tasks=tuple(tasks),
     )
+
+
+def _scan_seeds(at: Params, state0, box: dict, shooting, branching, say) -> list:
+    """The curve starts on every family of orbits that the scan finds at ``at.sigma`` over the
+    box's Abar (switched at pitchforks as a seed is: :func:`seed_branching`); none where it finds
+    no orbit."""
+    a0, a1 = box["Abar"]
+    at = at.replace(Abar=min(max(at.Abar, a0), a1))
+    try:
+        found = scan_families(
+            at,
+            state0,
+            shooting=shooting,
+            branching=seed_branching(branching),
+            interval=ParameterRange(name="Abar", lo=a0, hi=a1),
+        )
+    except (ConvergenceError, ValueError) as err:
+        say(f"no orbits found at sigma = {at.sigma:.4g}, outside the primary branch: {err}")
+        return []
+    say(f"sigma = {at.sigma:.4g}, outside the primary branch: {len(found.branches)} branch(es) in Abar")
+    turns = pitchforks_of(found)
+    return [s for ob in found.branches for s in curve_starts(ob, at, box, turns, shooting=shooting)]
