@@ -161,3 +161,55 @@ def test_a_period_doubling_curve_of_period_4_orbits_meets_its_one_parameter_bran
     one = continuation(problem, curve.branch.x[i, :4], sigma - 0.005, param="sigma", options=options)
     found = [s.p for s in one.special if s.kind == "PD"]
     assert found and min(abs(q - sigma) for q in found) < 1e-8
+
+
+def test_a_fold_curve_goes_on_across_an_impact_on_its_section():
+    """A fold of symmetric orbits of (8) at eps 0.099, beta 0.58, gamma 0.09, lam 0.39, chi 0.81,
+    n 10, pbar 2, located on a branch in Abar at sigma = -0.5049, started on a section just after
+    an impact: as sigma moves the impact reaches the section, where the curve ended (the chart of
+    this set read Abar_c off a pitchfork curve at 0.319 where stable orbits exist down to 0.216,
+    its fold curve cut so). It goes on on a moved section: its points there are where
+    one-parameter branches in sigma on that section locate their own fold."""
+    from slosh_bif.model.params import Params
+    from slosh_bif.orbits.impact.branches import settled_orbit, trace_impact_orbits
+
+    params = Params(
+        eps=0.09876011384422585,
+        beta=0.5823508928063189,
+        gamma=0.09009404281499403,
+        sigma=-0.5049,
+        Abar=0.309,
+        lam=0.3927080668452921,
+        chi=0.8080862068317072,
+        n=10,
+        pbar=2,
+    )
+    x0 = settled_orbit(params, [0.72259, 1.02594, -0.11101, -0.57222], periods=100)
+    branch = trace_impact_orbits(params, x0, param="Abar", p_min=0.15, p_max=0.35, symmetric=True)
+    piece, sp = next((pc, s) for pc in branch.pieces for s in pc.branch.special if s.kind == "LP")
+    assert sp.p == pytest.approx(0.21583, abs=1e-5)
+    # the orbit's state on a section 0.02 after its first impact: the impact moves across it as
+    # sigma falls
+    at = params.replace(Abar=sp.p)
+    problem = ImpactOrbitProblem(at, "Abar", symmetric=True, phase=piece.phase)
+    first = problem.orbit(sp.x, sp.p)[2][0, 0]
+    phase = first + 0.02
+    state = problem.flow_at(sp.p).run(sp.x, piece.phase, phase, stick_speed=1e-9, max_impacts=100)[1][:, -1]
+    seed = ImpactCurveSeed("LP", state, sp.p, "Abar", symmetric=True, phase=phase, impacts=piece.impacts)
+    curve = trace_impact_curve(params, seed, box={"sigma": (-4.0, -0.3), "Abar": (0.1, 0.6)})
+    moved = np.flatnonzero(curve["phase"] != phase)
+    assert curve.status == "ok" and len(moved) >= 4, curve.branch.message
+    # one curve in curve order: its two ends only, at its first and last points
+    assert [sp.index for sp in curve.branch.special if sp.kind == "END"] == [0, len(curve) - 1]
+    assert np.all(np.diff(curve.branch.arclength) >= 0)
+    for i in moved[[1, -2]]:
+        sigma, abar = float(curve["sigma"][i]), float(curve["Abar"][i])
+        problem = ImpactOrbitProblem(
+            params.replace(sigma=sigma - 0.02, Abar=abar), "sigma", phase=float(curve["phase"][i])
+        )
+        options = ContinuationOptions(
+            step=0.01, step_max=0.02, tol=1e-10, p_min=sigma - 0.05, p_max=sigma + 0.05
+        )
+        one = continuation(problem, curve.branch.x[i, :4], sigma - 0.02, param="sigma", options=options)
+        (found,) = [s.p for s in one.special if s.kind == "LP"]
+        assert found == pytest.approx(sigma, abs=1e-8)

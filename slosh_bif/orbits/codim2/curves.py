@@ -318,17 +318,26 @@ def start_multipliers(orbits, x, at: Params, kind: str):
     return mu
 
 
-def continue_curve(problem: MinAugCurveProblem, x, mu, at: Params, box, options, callback) -> Branch:
-    """The curve of ``problem`` through the orbit x at ``at`` (multipliers ``mu``), over ``box``."""
+def continue_curve(
+    problem: MinAugCurveProblem, x, mu, at: Params, box, options, callback, *, orient=None, tail=None
+) -> Branch:
+    """The curve of ``problem`` through the orbit x at ``at`` (multipliers ``mu``), over ``box``:
+    both ways, or with ``orient`` (a vector in the curve's unknowns and p1) the way it points
+    alone. ``tail``: the unknowns after the orbit's (p2, and an NS curve's cos theta) where they
+    are known (a curve resumed from a point of its own)."""
     (p1, (lo1, hi1)), (p2, _) = read_box(box)
     u0 = np.append(x, float(getattr(at, p2)))
     if problem.kind == "NS":
         pair = mu[np.argmin(np.abs(np.abs(mu) - 1) + (np.abs(mu.imag) < 1e-9))]  # the pair on the unit circle
         u0 = np.append(u0, np.cos(np.angle(pair)))
+    if tail is not None:
+        u0 = np.append(x, tail)
     p1_0 = float(getattr(at, p1))
     problem.init_borders(u0, p1_0)
     opts = dataclasses.replace(options or CURVE_OPTIONS, p_min=lo1, p_max=hi1)
-    return _once(continuation(problem, u0, p1_0, param=p1, options=opts, callback=callback))
+    if orient is not None:
+        opts = dataclasses.replace(opts, direction="forward")
+    return _once(continuation(problem, u0, p1_0, param=p1, options=opts, orient=orient, callback=callback))
 
 
 def _once(branch: Branch) -> Branch:

@@ -4,9 +4,10 @@ period-doubling, pitchfork and Neimark-Sacker curve classes of (9) on the strobo
 parameter derivatives; the second derivatives that the minimally augmented system needs along
 the null vector are central differences of that exact Jacobian.
 
-A curve keeps the number of impacts per period of its start: where that changes (grazing) or an
-impact reaches the section tau = ``phase``, the map is not smooth and the curve ends at the
-domain's edge (its status says so). The grazing points themselves are continued as curves too
+A curve keeps the number of impacts per period of its start: where that changes (grazing) the
+map is not smooth and the curve ends at the domain's edge (its status says so). Where an impact
+reaches the section tau = ``phase`` the section moves and the curve goes on
+(:mod:`~slosh_bif.orbits.impact.curve_pieces`). The grazing points themselves are continued as curves too
 (:func:`trace_grazing_curve`, on :class:`~slosh_bif.orbits.impact.grazing.GrazingCurveProblem`).
 """
 
@@ -30,6 +31,7 @@ from slosh_bif.orbits.codim2.curves import (
     start_multipliers,
     start_params,
 )
+from slosh_bif.orbits.impact.curve_pieces import across_sections, join_pieces, moved_start
 from slosh_bif.orbits.impact.grazing import FREE, GrazingCurveProblem
 from slosh_bif.orbits.impact.map_derivatives import ImpactMapDerivatives
 from slosh_bif.orbits.impact.output import orbit_measures
@@ -70,7 +72,8 @@ def trace_impact_curve(
     """Trace the curve of ``seed.kind`` of periodic orbits of (8) through the seed's special point
     over ``box``, ``{p1: (low, high), p2: (low, high)}`` (two parameters of (8): eps, beta,
     gamma, sigma, Abar, lam or chi), in both directions until it leaves the box, closes, reaches
-    the domain's edge (grazing, an impact on the section) or cannot be continued; as
+    the domain's edge at a grazing or cannot be continued (across an impact on the section, in
+    pieces on moved sections, :func:`~.curve_pieces.across_sections`); as
     :func:`~slosh_bif.orbits.codim2.curves.trace_curve` does for (9). A fold, period-doubling or
     torus curve from a symmetric branch is traced on the whole-period map, a pitchfork curve on
     the half-period map."""
@@ -91,16 +94,15 @@ def trace_impact_curve(
     if impacts is not None and seed.symmetric and not symmetric:
         impacts *= 2  # the whole period holds the half period's impacts twice
     span1 = hi1 - lo1
-    orbits = ImpactStrobe(
-        at,
-        (p1, p2),
+    strobe = functools.partial(
+        ImpactStrobe,
+        sensitivities=(p1, p2),
         symmetric=symmetric,
         period_multiple=seed.period_multiple,
         box=(lo1 - 0.5 * span1, hi1 + 0.5 * span1),
-        phase=seed.phase,
-        impacts=impacts,
         variant=seed.variant,
     )
+    orbits = strobe(at, phase=seed.phase, impacts=impacts)
     mu = start_multipliers(orbits, x, at, kind)
     if orbits.impacts is None:  # the domain holds the start's count
         orbits.impacts = len(
@@ -117,17 +119,36 @@ def trace_impact_curve(
         )
     problem = curve_problem(at, kind, p1, p2, p2_box=(lo2, hi2), orbits=orbits)
     branch = continue_curve(problem, x, mu, at, box, options, callback)
-    derivatives = functools.partial(ImpactMapDerivatives, phase=seed.phase, variant=seed.variant)
-    branch, coefficients = curve_coefficients(problem, branch, derivatives)  # the normal form's along it
-    return BifurcationCurve(
-        kind,
-        p1,
-        p2,
-        branch,
-        {**_measures(problem, branch), **coefficients},
-        seed.origin,
-        seed.period_multiple,
-    )
+
+    def new_piece(old, point, orient):
+        moved = moved_start(old, point)
+        if moved is None:
+            return None
+        phase, state, at_point = moved
+        beyond = strobe(at_point, phase=phase, impacts=old.orbits.impacts)
+        mu = start_multipliers(beyond, state, at_point, kind)
+        piece = curve_problem(at_point, kind, p1, p2, p2_box=(lo2, hi2), orbits=beyond)
+        run = continue_curve(
+            piece, state, mu, at_point, box, options, callback, orient=orient, tail=point.x[4:]
+        )
+        return piece, run
+
+    parts = [
+        (*_finished(piece, run, seed.variant), backwards)
+        for piece, run, backwards in across_sections(problem, branch, new_piece)
+    ]
+    joined, measures = join_pieces(parts)
+    return BifurcationCurve(kind, p1, p2, joined, measures, seed.origin, seed.period_multiple)
+
+
+def _finished(problem, branch, variant) -> tuple:
+    """(branch, measures) of one piece of a curve: the normal form's coefficient along it (its
+    zeros added to the special points), the orbits' measures and ``phase``, the section its
+    points' states are on."""
+    phase = problem.orbits.phase
+    derivatives = functools.partial(ImpactMapDerivatives, phase=phase, variant=variant)
+    branch, coefficients = curve_coefficients(problem, branch, derivatives)
+    return branch, {**_measures(problem, branch), **coefficients, "phase": np.full(len(branch), phase)}
 
 
 def _measures(problem, branch) -> dict:
