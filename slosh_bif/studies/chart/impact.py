@@ -10,8 +10,8 @@ least forcing Abar_c at which (8) has a stable periodic orbit, read off them as 
 :class:`~slosh_bif.studies.chart.result.Chart`, written and drawn by the chart's own output functions.
 
 A curve keeps its start's number of impacts per period; it ends at the domain's edge where that
-changes (on a grazing curve) or an impact reaches the section of its start (the chart does not yet
-follow a curve across either). A grazing curve bounds Abar_c where its orbits are stable: there
+changes (on a grazing curve; the chart does not yet follow a curve across it), and goes on across
+an impact on its section on a moved section. A grazing curve bounds Abar_c where its orbits are stable: there
 the stable orbit with contact exists up to the grazing.
 """
 
