@@ -78,10 +78,10 @@ def test_an_impact_curve_ends_near_grazing_by_its_rule():
     # The Fig. 13 set's fold curve of (8) from sigma = 1 runs down in sigma towards an orbit whose
     # slowest impact vanishes (grazing); it ends where that impact falls below MIN_IMPACT_SPEED,
     # at the domain's edge, named.
+    from slosh_bif.orbits.impact.branches import state_at_zero
     from slosh_bif.orbits.impact.curves import ImpactCurveSeed, trace_impact_curve
     from slosh_bif.orbits.impact.problem import ImpactOrbitProblem
     from slosh_bif.orbits.impact.strobe import MIN_IMPACT_SPEED, NEAR_GRAZING
-    from slosh_bif.studies.chart.impact import state_at_zero
 
     pre = get_preset("fig13")
     P = pre.params.replace(sigma=1.0)  # Abar = 1: the resonant symmetric orbit, continued down in Abar

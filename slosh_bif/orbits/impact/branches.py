@@ -45,6 +45,7 @@ __all__ = [
     "trace_impact_orbits",
     "quiet_section",
     "settled_orbit",
+    "state_at_zero",
 ]
 
 GRAZES, PIECES = "grazing", "pieces"  # the tracer's own end reasons, beside the engine's
@@ -303,3 +304,21 @@ def _attracting_beyond(problem, x, p, sign, opts):
             if count != problem.impacts:
                 return problem.replace(impacts=count), run.x, q, sign
     return None
+
+
+def state_at_zero(problem: ImpactOrbitProblem, x, p):
+    """The state at tau = 0 of the orbit through x on the problem's section tau = phase: the flow
+    of (8) from the section to the next multiple of the map's period, mirrored once per half
+    period for a symmetric orbit."""
+    periods = int(np.ceil(problem.phase / problem.period - 1e-12))
+    end = periods * problem.period
+    if end == problem.phase:
+        return np.asarray(x, dtype=float)
+    _, y, _, code = problem.flow_at(p).run(
+        np.asarray(x, dtype=float), problem.phase, end, stick_speed=1e-9, max_impacts=10_000
+    )
+    if code != 0:
+        raise ValueError(
+            f"the orbit of (8) cannot be followed from its section to tau = {end:g} (code {code})"
+        )
+    return y[:, -1] * (problem.closing**periods)

@@ -24,7 +24,7 @@ import numpy as np
 
 from slosh_bif.continuation import ConvergenceError
 from slosh_bif.model.params import Params
-from slosh_bif.orbits.impact.branches import settled_orbit, trace_impact_orbits
+from slosh_bif.orbits.impact.branches import settled_orbit, state_at_zero, trace_impact_orbits
 from slosh_bif.orbits.impact.curves import ImpactCurveSeed, trace_grazing_curve, trace_impact_curve
 from slosh_bif.orbits.impact.problem import VARIANT_NAMES, ImpactOrbitProblem
 from slosh_bif.orbits.impact.strobe import least_impact_speed
@@ -43,6 +43,7 @@ from slosh_bif.studies.chart.curves import (
     seed_branching,
     seed_points,
     trace_curves,
+    uncovered_points,
 )
 from slosh_bif.studies.chart.result import Chart, ChartSettings, check_box, where
 
@@ -80,8 +81,9 @@ def impact_chart(
     """The chart of (8) over ``sigma_range`` x ``abar_range``: the branch of orbits of (8) through
     the orbit a ``settings.settle``-period simulation from ``state0`` settles on (at the set's
     sigma and Abar), the asymmetric branches born at its pitchforks (unless ``branching.switch``
-    is off), the primary branch's orbits at ``settings.seeds`` values of sigma continued in Abar,
-    and the curve through each of their LP, PD, NS and BP points (each curve once), on
+    is off), the primary branch's orbits at ``settings.seeds`` values of sigma continued in Abar
+    (where it does not reach, the orbits a simulation settles on there), and the curve through
+    each of their LP, PD, NS and BP points (each curve once), on
     ``settings.workers`` processes; the paper's slow flow's Abar_b beside them."""
     check_box(params, sigma_range, abar_range)
     settings = settings or ChartSettings()
@@ -118,6 +120,20 @@ def impact_chart(
     switching = seed_branching(branching)
     for k, i in seed_points([(b.p, regular_points(b)) for b in pieces], (s0, s1), settings.seeds):
         at, seeds = _seeds_in_abar(family[0], family[0].branch.pieces[k], i, params, (a0, a1), switching)
+        starts += [s for nb in seeds for s in impact_curve_starts(nb, at, box, _pitchforks(seeds))]
+    # Where the primary branch does not reach (an isola, a branch ending in the box): the orbit
+    # a simulation settles on at sigmas there, continued in Abar as a seed is.
+    for sigma in uncovered_points([b.p for b in pieces], (s0, s1), settings.seeds):
+        at = params.replace(sigma=sigma)
+        try:
+            x = settled_orbit(at, state0, periods=settings.settle, variant=variant)
+            seeds = impact_family(at, x, param="Abar", p_range=(a0, a1), branching=switching, variant=variant)
+        except (ConvergenceError, ValueError) as err:
+            say(
+                f"no orbit of {VARIANT_NAMES[variant]} at sigma = {sigma:.4g} (outside the primary "
+                f"branch): {err}"
+            )
+            continue
         starts += [s for nb in seeds for s in impact_curve_starts(nb, at, box, _pitchforks(seeds))]
     tasks = []
     say(f"{len(starts)} special points of {VARIANT_NAMES[variant]} to start curves from, {where(settings)}")
@@ -361,21 +377,3 @@ def _seeds_in_abar(primary: NamedImpactBranch, piece, i: int, params: Params, ab
         )
     except (ConvergenceError, ValueError):
         return at, []
-
-
-def state_at_zero(problem: ImpactOrbitProblem, x, p):
-    """The state at tau = 0 of the orbit through x on the problem's section tau = phase: the flow
-    of (8) from the section to the next multiple of the map's period, mirrored once per half
-    period for a symmetric orbit."""
-    periods = int(np.ceil(problem.phase / problem.period - 1e-12))
-    end = periods * problem.period
-    if end == problem.phase:
-        return np.asarray(x, dtype=float)
-    _, y, _, code = problem.flow_at(p).run(
-        np.asarray(x, dtype=float), problem.phase, end, stick_speed=1e-9, max_impacts=10_000
-    )
-    if code != 0:
-        raise ValueError(
-            f"the orbit of (8) cannot be followed from its section to tau = {end:g} (code {code})"
-        )
-    return y[:, -1] * (problem.closing**periods)
