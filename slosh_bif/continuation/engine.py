@@ -72,6 +72,10 @@ CREEP, CREEP_STEPS = 1e3, 50
 # version, at most this many times per direction, before the stall is reported.
 REFINEMENTS = 2
 
+# A step whose two ends differ in stability with no special point located between them is
+# shortened, down to this fraction of the largest step (below it, the change is accepted as it is).
+UNEXPLAINED_FLOOR = 1e-3
+
 
 def _run(problem, start: Point, opts, loop_guard: bool, callback=None, stop=None):
     """One direction from ``start``: predict, correct, adapt the step, detect and locate special
@@ -134,6 +138,9 @@ def _run(problem, start: Point, opts, loop_guard: bool, callback=None, stop=None
             h *= 0.5 * opts.max_angle / angle + 0.25  # turned far too sharply: redo shorter
             continue
         found = special_between(problem, a, b, h, opts, predict)
+        if not found and h > UNEXPLAINED_FLOOR * opts.step_max and _stability_changes(caps, a, b):
+            h *= 0.5  # stability changed with no special point between: two events in one step
+            continue
         end = next((i for i, q in enumerate(found) if _ends(q, terminal, stop, len(points) + i)), None)
         if end is not None:  # the curve ends at this point by nature: nothing beyond it is kept
             points.extend(found[: end + 1])
@@ -177,6 +184,17 @@ def _run(problem, start: Point, opts, loop_guard: bool, callback=None, stop=None
             # A closed curve has no end: the branch's message says it closed, no point is an END.
             return points, LOOP
         h = _next_step(h, iters, angle, opts)
+
+
+def _stability_changes(caps, a: Point, b: Point) -> bool:
+    """Whether a and b differ in stability (b stamped now; it would be on joining the branch).
+    With no special point located between them, two events fell in one step (a pair of
+    multipliers meeting on the real axis and crossing the unit circle, on a branch of (8): no
+    test changes sign over the step) and a shorter step separates them."""
+    if not caps.has_stability:
+        return False
+    _stamp(caps, b)
+    return bool(caps.is_stable(a.eigenvalues)) != bool(caps.is_stable(b.eigenvalues))
 
 
 def _ends(q: Point, terminal, stop, index) -> bool:

@@ -339,3 +339,36 @@ def test_a_start_that_8_cannot_reach_is_named_with_what_to_change(tmp_path, caps
     assert len(err.strip().splitlines()) == 1 and "code " not in err
     assert re.search(reason, err)
     assert ("--set sigma=S" if command == "chart" else "pass --guess") in err
+
+
+def test_a_torus_point_behind_a_pair_meeting_in_the_same_step_is_located():
+    """Symmetric orbits of (8) at eps 0.080, beta 0.14, gamma 0.29, lam 0.047, chi 0.42, n 27,
+    pbar 3, sigma 1.1296, continued down in Abar: two real multipliers above 1 meet, and the
+    complex pair they make crosses the unit circle, within one step of 0.2, where no test
+    changed sign and the branch turned stable with no special point. A step whose ends differ in
+    stability is shortened: the NS point is the one a run with steps of at most 0.01 locates."""
+    from slosh_bif.continuation import ContinuationOptions
+    from slosh_bif.model.params import Params
+    from slosh_bif.orbits.impact.branches import settled_orbit, trace_impact_orbits
+
+    params = Params(
+        eps=0.07994907227438248,
+        beta=0.1412897694323314,
+        gamma=0.28517375827351965,
+        sigma=1.1296,
+        Abar=1.389,
+        lam=0.047223027937772666,
+        chi=0.41876001098223814,
+        n=27,
+        pbar=3,
+    )
+    x0 = settled_orbit(params, [-0.60363, 0.08571, 0.88036, -0.92619], periods=100)
+
+    def torus_points(options=None):
+        branch = trace_impact_orbits(
+            params, x0, param="Abar", p_min=0.5, p_max=1.389, symmetric=True, options=options
+        )
+        return [p for p, _ in branch.special("NS")]
+
+    fine = torus_points(ContinuationOptions(step=0.01, step_max=0.01, tol=1e-10))
+    assert len(fine) == 1 and torus_points() == pytest.approx(fine, abs=1e-8)
