@@ -19,7 +19,7 @@ from slosh_bif.continuation.branch import Status
 from slosh_bif.orbits.impact.branches import quiet_section
 from slosh_bif.orbits.impact.problem import SECTION, ImpactOrbitProblem
 
-__all__ = ["MAX_PIECES", "across_sections", "join_pieces", "moved_start"]
+__all__ = ["MAX_PIECES", "across_sections", "join_pieces", "moved_start", "point_problem"]
 
 MAX_PIECES = 8  # pieces of one curve, the first included
 
@@ -58,20 +58,25 @@ def moved_start(problem, point):
     impact on the section: the section moved to the middle of the orbit's longest flight, the
     orbit's state there, and the parameter set at the point; None where the section does not
     move (no impact over the map's time)."""
+    single = point_problem(problem, point.x, point.p)
+    phase, state = quiet_section(single, point.x[:4], point.p)
+    if abs(phase - problem.orbits.phase) < 1e-9:
+        return None
+    return phase, state, single.params
+
+
+def point_problem(problem, u, p) -> ImpactOrbitProblem:
+    """The orbits of (8) in the curve's first parameter through the curve ``problem``'s point
+    (u, p): its parameter set, section and symmetry."""
     orbits = problem.orbits
-    at = problem.params_at(point.x, point.p)
-    single = ImpactOrbitProblem(
-        at,
+    return ImpactOrbitProblem(
+        problem.params_at(u, p),
         problem.p1,
         symmetric=orbits.symmetric,
         period_multiple=orbits.period_multiple,
         phase=orbits.phase,
         variant=orbits.variant,
     )
-    phase, state = quiet_section(single, point.x[:4], point.p)
-    if abs(phase - orbits.phase) < 1e-9:
-        return None
-    return phase, state, at
 
 
 def join_pieces(parts) -> tuple:

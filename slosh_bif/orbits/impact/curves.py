@@ -31,7 +31,7 @@ from slosh_bif.orbits.codim2.curves import (
     start_multipliers,
     start_params,
 )
-from slosh_bif.orbits.impact.curve_pieces import across_sections, join_pieces, moved_start
+from slosh_bif.orbits.impact.curve_pieces import across_sections, join_pieces, moved_start, point_problem
 from slosh_bif.orbits.impact.grazing import FREE, GrazingCurveProblem
 from slosh_bif.orbits.impact.map_derivatives import ImpactMapDerivatives
 from slosh_bif.orbits.impact.output import orbit_measures
@@ -154,19 +154,7 @@ def _finished(problem, branch, variant) -> tuple:
 def _measures(problem, branch) -> dict:
     """A1, max |X|, max |w| and the slowest impact speed of each point's orbit, and the largest
     multiplier but the critical ones."""
-    orbits = problem.orbits
-    rows = []
-    for u, p in zip(branch.x, branch.p):
-        at = problem.params_at(u, p)
-        single = ImpactOrbitProblem(
-            at,
-            problem.p1,
-            symmetric=orbits.symmetric,
-            period_multiple=orbits.period_multiple,
-            phase=orbits.phase,
-            variant=orbits.variant,
-        )
-        rows.append(orbit_measures(single, u[:4], p))
+    rows = [orbit_measures(point_problem(problem, u, p), u[:4], p) for u, p in zip(branch.x, branch.p)]
     out = (
         {
             key: np.array([r[key] for r in rows])
