@@ -24,7 +24,6 @@ from slosh_bif.cli.common import (
     stopped,
     sweep_executor,
     throttled,
-    warn_below_box,
 )
 from slosh_bif.model.params import REAL_FIELDS
 
@@ -310,3 +309,17 @@ def add_commands(sub) -> None:
         "flights, its wall's measured law)",
     )
     chart.set_defaults(run=_chart)
+
+
+def warn_below_box(chart, command: str, where: str = "") -> None:
+    """A warning on stderr for each curve of ``chart`` that bounds stable orbits and leaves
+    through the box's lowest Abar (``where``: which chart of several, as "beta = 0.3: ")."""
+    from slosh_bif.studies.chart.critical import exits_below
+
+    for k, kind, sigma, _ in exits_below(chart):
+        print(
+            f"slosh-bif {command}: warning: {where}curve {k} ({kind}) bounds stable orbits where it leaves "
+            f"the box at Abar = {chart.abar_range[0]:g}, sigma = {sigma:.5g}: beyond it the least stable "
+            "forcing may lie below the box (below_box in the CSV); lower --abar-min to see it",
+            file=sys.stderr,
+        )

@@ -398,17 +398,3 @@ def _probe_scheduler(address: str) -> None:
 
 def floats(text):
     return [float(v) for v in text.split(",")]
-
-
-def warn_below_box(chart, command: str, where: str = "") -> None:
-    """A warning on stderr for each curve of ``chart`` that bounds stable orbits and leaves
-    through the box's lowest Abar (``where``: which chart of several, as "beta = 0.3: ")."""
-    from slosh_bif.studies.chart.critical import exits_below
-
-    for k, kind, sigma, _ in exits_below(chart):
-        print(
-            f"slosh-bif {command}: warning: {where}curve {k} ({kind}) bounds stable orbits where it leaves "
-            f"the box at Abar = {chart.abar_range[0]:g}, sigma = {sigma:.5g}: beyond it the least stable "
-            "forcing may lie below the box (below_box in the CSV); lower --abar-min to see it",
-            file=sys.stderr,
-        )

@@ -18,13 +18,13 @@ from slosh_bif.cli.common import (
     stopped,
     sweep_executor,
     throttled,
-    warn_below_box,
 )
 
 __all__ = ["add_commands"]
 
 
 def _study(args) -> int:
+    from slosh_bif.cli.chart import warn_below_box
     from slosh_bif.studies.chart import ChartSettings, check_box
     from slosh_bif.studies.design import design_study, plot_study, write_study_csv
 

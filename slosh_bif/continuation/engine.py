@@ -58,6 +58,7 @@ from slosh_bif.continuation.options import (
 )
 from slosh_bif.continuation.predictor import predictor
 from slosh_bif.continuation.problem import capabilities, require_problem
+from slosh_bif.continuation.steps import UNEXPLAINED_FLOOR, next_step, passes_start, stability_changes, stamp
 
 __all__ = ["continuation", "switch_branch"]
 
@@ -71,10 +72,6 @@ CREEP, CREEP_STEPS = 1e3, 50
 # to rtol): a problem that offers ``refined()`` is resumed from the stall with that finer
 # version, at most this many times per direction, before the stall is reported.
 REFINEMENTS = 2
-
-# A step whose two ends differ in stability with no special point located between them is
-# shortened, down to this fraction of the largest step (below it, the change is accepted as it is).
-UNEXPLAINED_FLOOR = 1e-3
 
 
 def _run(problem, start: Point, opts, loop_guard: bool, callback=None, stop=None):
@@ -94,7 +91,7 @@ def _run(problem, start: Point, opts, loop_guard: bool, callback=None, stop=None
     deadline = time.monotonic() + opts.max_seconds
     while True:
         for q in points[stamped:]:
-            _stamp(caps, q)
+            stamp(caps, q)
         stamped = len(points)
         if len(points) > opts.max_steps:
             mark_end(points[-1], STEPS, f"{STEPS} ({opts.max_steps} steps)")
@@ -138,7 +135,7 @@ def _run(problem, start: Point, opts, loop_guard: bool, callback=None, stop=None
             h *= 0.5 * opts.max_angle / angle + 0.25  # turned far too sharply: redo shorter
             continue
         found = special_between(problem, a, b, h, opts, predict)
-        if not found and h > UNEXPLAINED_FLOOR * opts.step_max and _stability_changes(caps, a, b):
+        if not found and h > UNEXPLAINED_FLOOR * opts.step_max and stability_changes(caps, a, b):
             h *= 0.5  # stability changed with no special point between: two events in one step
             continue
         end = next((i for i, q in enumerate(found) if _ends(q, terminal, stop, len(points) + i)), None)
@@ -180,21 +177,10 @@ def _run(problem, start: Point, opts, loop_guard: bool, callback=None, stop=None
                 "singular point of the system)",
             )
             return points, STALL
-        if loop_guard and len(points) > 3 and _passes(start, a.u, u, h):
+        if loop_guard and len(points) > 3 and passes_start(start, a.u, u, h):
             # A closed curve has no end: the branch's message says it closed, no point is an END.
             return points, LOOP
-        h = _next_step(h, iters, angle, opts)
-
-
-def _stability_changes(caps, a: Point, b: Point) -> bool:
-    """Whether a and b differ in stability (b stamped now; it would be on joining the branch).
-    With no special point located between them, two events fell in one step (a pair of
-    multipliers meeting on the real axis and crossing the unit circle, on a branch of (8): no
-    test changes sign over the step) and a shorter step separates them."""
-    if not caps.has_stability:
-        return False
-    _stamp(caps, b)
-    return bool(caps.is_stable(a.eigenvalues)) != bool(caps.is_stable(b.eigenvalues))
+        h = next_step(h, iters, angle, opts)
 
 
 def _ends(q: Point, terminal, stop, index) -> bool:
@@ -217,29 +203,6 @@ def _restart_at(problem, points):
     q = make_point(problem, a.u, a.t, a.iterations)
     a.t, a.tests, a.jac = q.t, q.tests, q.jac
     a.refined = True
-
-
-def _stamp(caps, q: Point):
-    """The point's stability and the problem's checks, computed once, when the point joins the branch."""
-    if q.eigenvalues is None:
-        q.eigenvalues = np.asarray(caps.eigenvalues(q.u[:-1], q.u[-1], q.jac), dtype=complex)
-        q.diagnostics = caps.diagnostics(q.u[:-1], q.u[-1])
-
-
-def _next_step(h, iterations, angle, opts):
-    """Grow after an easy correction, shrink after a slow one, and keep the turn per step near
-    ``max_angle``."""
-    h = min(h * opts.growth, opts.step_max) if iterations <= 3 else (h * 0.6 if iterations >= 6 else h)
-    if angle > opts.max_angle:
-        h *= opts.max_angle / angle
-    return max(h, opts.step_min)
-
-
-def _passes(start: Point, ua, ub, h):
-    """Whether the step from ua to ub runs through the start point in the start's direction."""
-    seg = ub - ua
-    w = np.clip((start.u - ua) @ seg / (seg @ seg), 0.0, 1.0)
-    return np.linalg.norm(ua + w * seg - start.u) < 0.1 * h and seg @ start.t > 0
 
 
 # -- the driver ------------------------------------------------------------------------------------
@@ -374,7 +337,7 @@ def _assemble(problem, points, param, status, message, opts, ends=()) -> Branch:
     steps = np.linalg.norm(np.diff(u, axis=0), axis=1)
     caps = capabilities(problem)
     for q in points:  # the ends appended last
-        _stamp(caps, q)
+        stamp(caps, q)
     eigenvalues = np.array([q.eigenvalues for q in points])
     stable = (
         np.array([caps.is_stable(ev) for ev in eigenvalues])

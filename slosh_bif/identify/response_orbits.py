@@ -175,6 +175,15 @@ class OrbitResponse:
                 return [found] if found is not None and found[2] else []
         return []
 
+    def mirrored(self, i: int, orbit) -> tuple | None:
+        """(x, A1, stable) of the mirror twin y(tau + pi) -> -y of ``orbit`` (an (x, A1, stable) at
+        point i's set, the one the last call left): the same first harmonic, another motion where
+        the orbit is asymmetric; None where Newton does not converge from it."""
+        at, s = self.data.params_at(self.params, i), float(self.sigma[i])
+        half = integrate_grid(at, orbit[0][:4], np.array([0.0, np.pi]), rtol=1e-12, atol=1e-13)[-1]
+        problem = self._problems(self.params, only=i)
+        return _orbit(problem, problem.initial_states(-half), s)
+
     def _problems(self, params: Params, only: int | None = None):
         """Each point's shooting problem: one for all but data in Hz, whose points each have their
         own gamma and Abar (``only``: point only's problem)."""

@@ -182,10 +182,12 @@ class RecordOrbit:
         simulation from rest settles on: the one whose samples explain the whole record best, not
         its first harmonic alone (at sigma = 0.5 of a set with n = 20 two stable orbits of (9)
         have the same A1 to 1e-8, the particle moving differently, the vessel's motion differing
-        by 4e-3)."""
+        by 4e-3: mirror twins, of which the search at a set may find either)."""
         found = [f for f in self.orbits.found[0] + self.orbits.settled_from_rest(0) if f[-1]]
         if not found:
             return
+        if self.model == "smooth":  # each one's mirror twin: which of a pair a search finds is rounding
+            found += [m for m in (self.orbits.mirrored(0, f) for f in found) if m is not None and m[-1]]
         scale = self.record.std if self.record.std is not None else 1.0
 
         def misfit(f):

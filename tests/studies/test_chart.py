@@ -226,6 +226,7 @@ def test_the_parts_of_the_box_an_isola_leaves_get_seeds_of_their_own_by_their_le
     left, right = np.linspace(-4, -0.22, 5)[1:-1], np.linspace(0.04, 5, 6)[1:-1]
     assert uncovered_points([isola], (-4.0, 5.0), 7) == pytest.approx([*left, *right])
     assert uncovered_points([np.linspace(-4, 5, 50)], (-4.0, 5.0), 7) == []
+    assert uncovered_points([isola], (-4.0, 5.0), 0) == []  # no seeds asked for
     assert uncovered_points([np.linspace(-3.9, 5, 50)], (-4.0, 5.0), 7) == []
     # two pieces with a gap between them: the gap, one seed at least
     assert uncovered_points([np.linspace(-4, 0, 9), np.linspace(1, 5, 9)], (-4.0, 5.0), 7) == [0.5]

@@ -85,10 +85,10 @@ def uncovered_points(pieces, sigma_range, count: int, least: float = 0.02) -> li
     each part of ``sigma_range`` that no piece of ``pieces`` (arrays of the branch's sigma) covers
     and that is at least ``least`` of the range long (an isola, a branch ending inside the range),
     as many as that part's share of ``count`` (at least one), spread over its inside. Empty
-    where the branch spans the range."""
+    where the branch spans the range, or ``count`` is 0 (no seeds asked for)."""
     lo, hi = sigma_range
     covered = [(float(np.min(p)), float(np.max(p))) for p in pieces if len(p)]
-    if not covered:
+    if not covered or count <= 0:
         return []
     gaps, at = [], lo
     for a, b in sorted(covered):
