@@ -281,7 +281,8 @@ def add_commands(sub) -> None:
         type=int,
         default=7,
         help="sigma values at which the primary branch's orbit is also continued in Abar (or --second) "
-        "to find folds and period doublings off the preset's value (default 7)",
+        "to find folds and period doublings off the preset's value; where the primary branch does not "
+        "reach, their share of the rest of the box is searched for orbits of its own (default 7)",
     )
     add_backend_option(chart)
     chart.add_argument(
