@@ -3,13 +3,16 @@ any work, or the work starts (a stand-in raises at its first step). Values no co
 (NaN, infinities, negative sizes) must be errors (issue 18). Derandomized, so that CI runs the
 same examples every time; values random runs found are kept in the sampled list."""
 
+import importlib
 import math
+import pkgutil
 
 import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+import slosh_bif
 from slosh_bif.cli import main
 
 
@@ -41,6 +44,12 @@ class _NoFigure:
 @pytest.fixture
 def no_work(monkeypatch):
     """The first step of each command's work raises _WorkStarted."""
+    # Every module imported before anything is patched: a module imported first under a patch
+    # binds the stand-in by name and keeps it after the test (later tests in the same process, the
+    # README's commands, then failed with _WorkStarted).
+    for module in pkgutil.walk_packages(slosh_bif.__path__, "slosh_bif."):
+        if not module.name.endswith("__main__"):
+            importlib.import_module(module.name)
     import slosh_bif.flows.smooth.integrator as integrator
     import slosh_bif.orbits.scan as scan
     import slosh_bif.orbits.starts as starts
