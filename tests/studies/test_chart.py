@@ -370,3 +370,28 @@ def test_where_the_primary_branch_is_an_isola_the_chart_scans_the_rest_of_the_bo
     one = critical_forcing_full(params.replace(sigma=3.5804), state0, abar_range=(0.1, 4.0))
     assert (kind, one.bounded_by) == ("NS", "NS")
     assert abar_c == pytest.approx(one.Abar_c, rel=1e-6)
+
+
+@pytest.mark.slow  # a one-sigma answer (10 s)
+@pytest.mark.xfail(strict=True, reason="open: the lowest bounding point is read, not the lowest stable orbit")
+def test_where_stable_orbits_with_contact_reach_below_every_bounding_point_the_answer_says_so():
+    """eps 0.135, beta 0.624, gamma 0.064, lam 0.145, chi 1.35, n 21, pbar 1, sigma = -2.049: a
+    branch of symmetric orbits in Abar is stable with contact (max |w| 1.03-1.07) from its
+    pitchfork at 3.234 down to the range's bottom, and simulations settle on such orbits at
+    Abar = 1.2. The least forcing with a stable response in contact lies below 0.2; the answer
+    reads the pitchfork, 3.234 (the chart page's open limit)."""
+    from slosh_bif.studies.chart import critical_forcing_full
+
+    params = Params(
+        eps=0.13503608402999223,
+        beta=0.6242813949181742,
+        gamma=0.06448937039741993,
+        sigma=-2.049,
+        Abar=0.9104394001221893,
+        lam=0.1451777130963097,
+        chi=1.351204532948671,
+        n=21,
+        pbar=1,
+    )
+    one = critical_forcing_full(params, PRESET.state_for(params), abar_range=(0.1, 4.0))
+    assert one.Abar_c < 0.2
