@@ -326,12 +326,13 @@ def continue_curve(
     alone. ``tail``: the unknowns after the orbit's (p2, and an NS curve's cos theta) where they
     are known (a curve resumed from a point of its own)."""
     (p1, (lo1, hi1)), (p2, _) = read_box(box)
-    u0 = np.append(x, float(getattr(at, p2)))
-    if problem.kind == "NS":
-        pair = mu[np.argmin(np.abs(np.abs(mu) - 1) + (np.abs(mu.imag) < 1e-9))]  # the pair on the unit circle
-        u0 = np.append(u0, np.cos(np.angle(pair)))
     if tail is not None:
         u0 = np.append(x, tail)
+    else:
+        u0 = np.append(x, float(getattr(at, p2)))
+        if problem.kind == "NS":
+            pair = mu[np.argmin(np.abs(np.abs(mu) - 1) + (np.abs(mu.imag) < 1e-9))]  # the pair on the circle
+            u0 = np.append(u0, np.cos(np.angle(pair)))
     p1_0 = float(getattr(at, p1))
     problem.init_borders(u0, p1_0)
     opts = dataclasses.replace(options or CURVE_OPTIONS, p_min=lo1, p_max=hi1)

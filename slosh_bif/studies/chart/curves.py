@@ -27,6 +27,7 @@ __all__ = [
     "CurveStart",
     "CurveFailure",
     "curve_starts",
+    "family_starts",
     "torus_starts",
     "pitchforks_of",
     "repeats_early",
@@ -178,6 +179,13 @@ def curve_starts(ob, params, box: dict, pitchforks=(), shooting: ShootingSetting
             seed = dataclasses.replace(seed, kind="BP", x=symmetrized(seed.x), origin=origin)
         job = dict(params=params, seed=seed, box=box, shooting=arcs)
         yield CurveStart.with_job(seed.kind, float(sigma), float(value), seed.origin, job)
+
+
+def family_starts(family, params, box: dict, shooting: ShootingSettings = SHOOTING) -> list:
+    """:func:`curve_starts` of every branch of the orbit ``family`` (at ``params``), with the
+    family's own pitchforks."""
+    pitchforks = pitchforks_of(family)
+    return [s for ob in family.branches for s in curve_starts(ob, params, box, pitchforks, shooting)]
 
 
 def torus_starts(curves, params, box: dict, shooting: ShootingSettings = SHOOTING):

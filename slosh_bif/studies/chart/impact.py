@@ -10,9 +10,9 @@ least forcing Abar_c at which (8) has a stable periodic orbit, read off them as 
 :class:`~slosh_bif.studies.chart.result.Chart`, written and drawn by the chart's own output functions.
 
 A curve keeps its start's number of impacts per period; it ends at the domain's edge where that
-changes (on a grazing curve; the chart does not yet follow a curve across it), and goes on across
-an impact on its section on a moved section. A grazing curve bounds Abar_c where its orbits are stable: there
-the stable orbit with contact exists up to the grazing.
+changes (on a grazing curve; the chart does not yet follow a curve across it); where an impact
+reaches its section, the section moves and the curve goes on. A grazing curve bounds Abar_c where
+its orbits are stable: there the stable orbit with contact exists up to the grazing.
 """
 
 from __future__ import annotations
@@ -112,7 +112,7 @@ def impact_chart(
         f"{sum(len(piece.branch) for nb in family for piece in nb.branch.pieces)} points"
     )
     box = {"sigma": (s0, s1), "Abar": (a0, a1)}
-    starts = [s for nb in family for s in impact_curve_starts(nb, params, box, _pitchforks(family))]
+    starts = _family_starts(family, params, box)
     # Folds and period doublings met when the forcing falls: the primary branch's orbits at
     # ``settings.seeds`` values of sigma, each continued in Abar over the box with the pairs born
     # at its pitchforks (not the cascades).
@@ -120,7 +120,7 @@ def impact_chart(
     switching = seed_branching(branching)
     for k, i in seed_points([(b.p, regular_points(b)) for b in pieces], (s0, s1), settings.seeds):
         at, seeds = _seeds_in_abar(family[0], family[0].branch.pieces[k], i, params, (a0, a1), switching)
-        starts += [s for nb in seeds for s in impact_curve_starts(nb, at, box, _pitchforks(seeds))]
+        starts += _family_starts(seeds, at, box)
     # Where the primary branch does not reach (an isola, a branch ending in the box): the orbit
     # a simulation settles on at sigmas there, continued in Abar as a seed is.
     for sigma in uncovered_points([b.p for b in pieces], (s0, s1), settings.seeds):
@@ -134,7 +134,7 @@ def impact_chart(
                 f"branch): {err}"
             )
             continue
-        starts += [s for nb in seeds for s in impact_curve_starts(nb, at, box, _pitchforks(seeds))]
+        starts += _family_starts(seeds, at, box)
     tasks = []
     say(f"{len(starts)} special points of {VARIANT_NAMES[variant]} to start curves from, {where(settings)}")
     curves, status, failures = trace_curves(
@@ -354,6 +354,12 @@ def _grazing_starts(named: NamedImpactBranch, params: Params, box: dict):
         )
         job = dict(trace=trace_grazing_curve, params=params, seed=seed, box=box)
         yield CurveStart.with_job("GR", at.sigma, at.Abar, origin, job)
+
+
+def _family_starts(family, params: Params, box: dict) -> list:
+    """:func:`impact_curve_starts` of every branch of ``family`` (at ``params``), with the
+    family's own pitchforks."""
+    return [s for nb in family for s in impact_curve_starts(nb, params, box, _pitchforks(family))]
 
 
 def _pitchforks(family) -> list:

@@ -49,8 +49,7 @@ from slosh_bif.orbits.starts import start_orbit
 from slosh_bif.report.files import Resume
 from slosh_bif.slowflow.critical import critical_curve
 from slosh_bif.studies.chart.curves import (
-    curve_starts,
-    pitchforks_of,
+    family_starts,
     regular_points,
     seed_branching,
     seed_points,
@@ -111,8 +110,7 @@ def bifurcation_chart(
         interval=ParameterRange(lo=s0, hi=s1),
     )
     say(f"orbit family: {len(family.branches)} branch(es), {sum(len(ob) for ob in family.branches)} points")
-    pitchforks = pitchforks_of(family)
-    starts = [s for ob in family.branches for s in curve_starts(ob, params, box, pitchforks, shooting)]
+    starts = family_starts(family, params, box, shooting)
     # Folds and period doublings met when the forcing falls: the primary branch's orbits at
     # ``seeds`` values of sigma, each continued in Abar (the second parameter) over the box, from
     # regular points (see :func:`regular_points`).
@@ -133,8 +131,7 @@ def bifurcation_chart(
         except (ConvergenceError, ValueError) as err:
             say(f"no {second} branch at sigma = {at.sigma:.4g}: {err}")
             continue
-        turns = pitchforks_of(down)
-        starts += [s for ob in down.branches for s in curve_starts(ob, at, box, turns, shooting=shooting)]
+        starts += family_starts(down, at, box, shooting)
     # Where the primary branch does not reach (an isola, a branch ending inside the box), the
     # orbits the family scan finds at sigmas there, continued in Abar: a torus curve of the
     # linear response at large sigma bounds stable orbits that no curve of the branch meets.
@@ -191,5 +188,4 @@ def _scan_seeds(at: Params, state0, box: dict, shooting, branching, say) -> list
         say(f"no orbits found at sigma = {at.sigma:.4g}, outside the primary branch: {err}")
         return []
     say(f"sigma = {at.sigma:.4g}, outside the primary branch: {len(found.branches)} branch(es) in Abar")
-    turns = pitchforks_of(found)
-    return [s for ob in found.branches for s in curve_starts(ob, at, box, turns, shooting=shooting)]
+    return family_starts(found, at, box, shooting)
