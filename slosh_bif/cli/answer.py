@@ -43,12 +43,19 @@ def _answer(args) -> int:
         )
     elif args.question == "critical-forcing":
         value, kind = (r.Abar_b, r.kind) if hasattr(r, "Abar_b") else (r.Abar_c, r.bounded_by)
-        print(
-            f"critical forcing at sigma = {params.sigma:g}: Abar = {value:.6g} ({kind}; {_crossing(r)})"
-            if np.isfinite(value)
-            else "no traced curve bounds stable orbits with wall contact for Abar in "
-            f"[{r.chart.abar_range[0]:g}, {r.chart.abar_range[1]:g}]"
-        )
+        low, high = r.chart.abar_range if hasattr(r, "chart") else (np.nan, np.nan)
+        if np.isfinite(value):
+            print(
+                f"critical forcing at sigma = {params.sigma:g}: Abar = {value:.6g} ({kind}; {_crossing(r)})"
+            )
+        elif getattr(r, "below_range", False):
+            print(
+                f"critical forcing at sigma = {params.sigma:g}: below Abar = {low:g}, the range's "
+                "bottom: stable orbits with wall contact reach it"
+            )
+        else:
+            where = f"sigma = {params.sigma:g} for Abar in [{low:g}, {high:g}]"
+            print(f"no stable orbit with wall contact at {where}")
     elif args.question == "time-response":
         A = r.A if hasattr(r, "A") else None
         print(
@@ -119,4 +126,5 @@ def _crossing(r) -> str:
         "jump": "crossing it is a jump: the stable orbit folds",
         "soft": "crossing it is soft: a small new motion grows beside the orbit",
         "hard": "crossing it is a jump: the new motion is born unstable",
+        "none": "no bifurcation: below it the stable orbit stops touching the walls",
     }.get(r.loss, f"whether crossing it is a jump is {r.loss or 'not computed'}")

@@ -372,14 +372,15 @@ def test_where_the_primary_branch_is_an_isola_the_chart_scans_the_rest_of_the_bo
     assert abar_c == pytest.approx(one.Abar_c, rel=1e-6)
 
 
-@pytest.mark.slow  # a one-sigma answer (10 s)
-@pytest.mark.xfail(strict=True, reason="open: the lowest bounding point is read, not the lowest stable orbit")
+@pytest.mark.slow  # two one-sigma answers and two simulations (40 s)
 def test_where_stable_orbits_with_contact_reach_below_every_bounding_point_the_answer_says_so():
     """eps 0.135, beta 0.624, gamma 0.064, lam 0.145, chi 1.35, n 21, pbar 1, sigma = -2.049: a
     branch of symmetric orbits in Abar is stable with contact (max |w| 1.03-1.07) from its
-    pitchfork at 3.234 down to the range's bottom, and simulations settle on such orbits at
-    Abar = 1.2. The least forcing with a stable response in contact lies below 0.2; the answer
-    reads the pitchfork, 3.234 (the chart page's open limit)."""
+    pitchfork at 3.234 down to a fold at 0.0455, below every curve that bounds stable orbits. The
+    answer is that fold; over a range whose bottom is 0.1 it lies below the range. Simulations of
+    (9) from the orbit with contact at Abar = 0.06 agree: at 0.06 the motion stays in contact, at
+    0.04 it leaves the walls."""
+    from slosh_bif.simulation.direct import integrate_smooth
     from slosh_bif.studies.chart import critical_forcing_full
 
     params = Params(
@@ -393,5 +394,49 @@ def test_where_stable_orbits_with_contact_reach_below_every_bounding_point_the_a
         n=21,
         pbar=1,
     )
-    one = critical_forcing_full(params, PRESET.state_for(params), abar_range=(0.1, 4.0))
-    assert one.Abar_c < 0.2
+    short = critical_forcing_full(params, PRESET.state_for(params), abar_range=(0.1, 4.0))
+    assert short.below_range and np.isnan(short.Abar_c)
+    one = critical_forcing_full(params, PRESET.state_for(params), abar_range=(0.02, 4.0))
+    assert (one.bounded_by, one.loss, one.below_range) == ("LP", "jump", False)
+    assert 0.04 < one.Abar_c < 0.05
+    branch = next(ob for ob in one.chart.family.branches if np.any(ob.branch.p < 0.05))
+    contact = branch.branch.stable & (branch["max_abs_w"] >= 1) & (branch.branch.p > 0.06)
+    i = np.flatnonzero(contact)[np.argmin(branch.branch.p[contact])]
+    y0 = branch.branch.x[i, :4]
+    for abar, touches in ((0.06, True), (0.04, False)):
+        run = integrate_smooth(
+            params.replace(Abar=abar),
+            y0,
+            (0.0, 400 * np.pi),
+            t_eval=np.linspace(360 * np.pi, 400 * np.pi, 20001),
+        )
+        assert (np.max(np.abs(run.y[2])) >= 1.0) == touches
+
+
+@pytest.mark.slow  # a chart of three curves (10 s)
+def test_a_chart_whose_lowest_curve_has_stable_orbits_with_contact_below_marks_the_rows_below_the_box():
+    """The set above charted over sigma in [-2.6, -1.6], Abar in [0.1, 4]: the lowest curve that
+    bounds stable orbits is the pitchfork at 3.234, but the symmetric orbits below it are stable
+    with contact down to the box's bottom (the one-sigma answer's fold at 0.0455 lies below it):
+    the rows where that curve is read say so (no Abar_c, below_box 1)."""
+    params = Params(
+        eps=0.13503608402999223,
+        beta=0.6242813949181742,
+        gamma=0.06448937039741993,
+        sigma=-2.049,
+        Abar=3.0,
+        lam=0.1451777130963097,
+        chi=1.351204532948671,
+        n=21,
+        pbar=1,
+    )
+    chart = bifurcation_chart(
+        params,
+        PRESET.state_for(params),
+        box={"sigma": (-2.6, -1.6), "Abar": (0.1, 4.0)},
+        settings=ChartSettings(seeds=3, workers=2),
+    )
+    rows = list(critical_rows(chart, 5))
+    for row in rows[1:]:
+        assert lowest_stable_boundary(chart.curves, row["sigma"])[1] == "BP"
+        assert np.isnan(row["Abar_c_full"]) and row["below_box"] == 1 and row["bounded_by"] == ""

@@ -23,6 +23,7 @@ from slosh_bif.orbits.settings import (
     ShootingSettings,
     StartSettings,
 )
+from slosh_bif.orbits.stable_contact import LowEnd, lowest_stable_contact, stable_side_below
 from slosh_bif.slowflow.critical import critical_curve
 from slosh_bif.studies.chart.curves import (
     curve_starts,
@@ -35,6 +36,7 @@ __all__ = [
     "CRITICAL_COLUMNS",
     "FullCritical",
     "critical_forcing_full",
+    "critical_at",
     "critical_rows",
     "lowest_stable_boundary",
     "exits_below",
@@ -47,17 +49,20 @@ CRITICAL_COLUMNS = ("sigma", "Abar_b_slowflow", "Abar_c_full", "rel_diff", "boun
 
 @dataclasses.dataclass(frozen=True)
 class FullCritical:
-    """Abar_c of (9) at one sigma: NaN (and ``bounded_by`` empty) when no traced curve bounds
-    stable orbits with wall contact there inside the Abar range; ``loss`` how the stable response
-    is lost there (``jump`` at a fold, ``soft`` or ``hard`` by the normal-form coefficient of a
-    PD or NS point, ``undetermined`` near a codimension-2 point); ``chart`` is what it was read
-    off."""
+    """Abar_c of (9) at one sigma: the least Abar in the range with a stable orbit in wall
+    contact, NaN (and ``bounded_by`` empty) where there is none, or where they reach the range's
+    bottom (``below_range``: Abar_c lies below it); ``bounded_by`` the special point's kind, or
+    "contact" where the stable orbit stops touching the walls smoothly; ``loss`` how the stable
+    response is lost there (``jump`` at a fold, ``soft`` or ``hard`` by the normal-form
+    coefficient of a PD, NS or BP point, ``undetermined`` near a codimension-2 point, ``none`` at a
+    contact crossing); ``chart`` is what it was read off."""
 
     sigma: float
     Abar_c: float
     bounded_by: str
     chart: Chart
     loss: str = ""
+    below_range: bool = False
 
 
 def critical_forcing_full(
@@ -76,8 +81,10 @@ def critical_forcing_full(
     ``abar_range`` (default [0.05, max(2 Abar, 3)]), found by :func:`~slosh_bif.orbits.scan.scan_families`
     (starts from ``state0`` and others as ``starts`` says; switched at branch points as
     ``branching`` says, never at period doublings: only period-1 orbits count), then the curve through each
-    of their LP, PD and NS points in the box sigma +- ``halfwidth`` x ``abar_range``; the lowest
-    curve point at sigma that bounds stable period-1 orbits with wall contact.
+    of their LP, PD and NS points in the box sigma +- ``halfwidth`` x ``abar_range``. Abar_c is
+    the lower end of the stable period-1 orbits with wall contact on those branches
+    (:func:`~slosh_bif.orbits.stable_contact.lowest_stable_contact`), or a curve's crossing of
+    sigma below it (with its stable side checked, :func:`critical_at`).
 
     A single family misses stable orbits that no path in Abar at this sigma connects to it
     (Fig. 10 set, sigma = -1.2: the resonant orbit folds at Abar = 2.515, while a separate family
@@ -117,26 +124,41 @@ def critical_forcing_full(
     chart = Chart(
         params, box, (a0, a1), family, curves, slow, time.perf_counter() - started, failures=failures
     )
-    # The special points lie at sigma exactly; a curve read at sigma is interpolated between its
-    # points (2e-3 off at the Fig. 13 set's NS), so it counts only where it crosses sigma away
-    # from every special point: a crossing of a family the scan did not reach.
-    exact = [
-        (sp.p, sp.kind, k, j)
-        for k, ob in enumerate(family.branches)
+    # The lower ends of the stable orbits with contact on the branches in Abar, exact at sigma.
+    ends = [
+        e
+        for ob in family.branches
         if ob.problem.period_multiple == 1
-        for j, sp in enumerate(ob.branch.special)
+        for e in [lowest_stable_contact(ob, a0)]
+        if e is not None
+    ]
+    if any(e.below_range for e in ends):
+        return FullCritical(float(sigma), np.nan, "", chart, "", below_range=True)
+    value, kind, loss, _ = min(
+        (_reading_of(e) for e in ends), key=lambda r: r[0], default=(np.nan, "", "", 0)
+    )
+    # A curve read at sigma is interpolated between its points (2e-3 off at the Fig. 13 set's NS),
+    # so it counts only where it crosses sigma away from every special point: a crossing of a
+    # family the scan did not reach.
+    exact = [
+        (sp.p, sp.kind)
+        for ob in family.branches
+        if ob.problem.period_multiple == 1
+        for sp in ob.branch.special
         if _bounds_stable_contact(ob, sp)
     ]
-    value, kind, k, j = min(exact, default=(np.nan, "", -1, -1))
-    loss = _point_loss(family.branches[k], j) if k >= 0 else ""
     for c in curves:
-        crossed, _, crossed_loss = lowest_stable_boundary([c], sigma)
+        crossed = lowest_stable_boundary([c], sigma)[0]
         if (
             np.isfinite(crossed)
             and not crossed >= value
-            and not any(kd == c.kind and abs(a - crossed) <= 0.01 * a for a, kd, _, _ in exact)
+            and not any(kd == c.kind and abs(a - crossed) <= 0.01 * a for a, kd in exact)
         ):
-            value, kind, loss = crossed, c.kind, crossed_loss
+            reading = critical_at([c], sigma, params, a0, shooting)
+            if reading[3]:
+                return FullCritical(float(sigma), np.nan, "", chart, "", below_range=True)
+            if not reading[0] >= value:
+                value, kind, loss = reading[:3]
     return FullCritical(float(sigma), float(value), kind, chart, loss)
 
 
@@ -173,8 +195,15 @@ def lowest_stable_boundary(curves, sigma, params: Params | None = None):
     crossing of a curve of (9) is then corrected on the curve's own system at sigma
     (:func:`~slosh_bif.orbits.codim2.corrected_at`; the interpolation kept where that fails).
     Grazing curves of (8) are not read: there the number of impacts changes, not stability (on
-    the Fig. 13 set the lowest is where the impact-free response first touches the walls)."""
-    best = (np.nan, "", "")
+    the Fig. 13 set the lowest is where the impact-free response first touches the walls).
+    Which side of the point the stable orbits lie on is not asked here: :func:`critical_at` does."""
+    return _lowest_reading(curves, sigma, params)[:3]
+
+
+def _lowest_reading(curves, sigma, params):
+    """:func:`lowest_stable_boundary` with the curve read and the crossing's orbit y0 (None for
+    none)."""
+    best = (np.nan, "", "", None, None)
     for c in curves:
         if c.period_multiple != 1 or c.kind == "GR":
             continue  # a period-2 branch's curves bound period-2 orbits; a grazing is no loss of stability
@@ -188,8 +217,38 @@ def lowest_stable_boundary(curves, sigma, params: Params | None = None):
             value = value if corrected is None else corrected
         if not value >= best[0]:
             kinds = curve_boundary(c)[1]
-            best = (value, c.kind, str(kinds[i] if t <= 0.5 else kinds[i + 1]))
+            y0 = c.branch.x[i, :4] + t * (c.branch.x[i + 1, :4] - c.branch.x[i, :4])
+            best = (value, c.kind, str(kinds[i] if t <= 0.5 else kinds[i + 1]), c, y0)
     return best
+
+
+def critical_at(curves, sigma, params: Params, abar_min: float, shooting: ShootingSettings = SHOOTING):
+    """(Abar, kind, loss, below) of the critical forcing at sigma read off ``curves`` of (9): the
+    lowest point that bounds stable orbits with wall contact (:func:`lowest_stable_boundary`),
+    unless stable orbits with contact lie just below it, in which case the lower end of those
+    (:func:`~slosh_bif.orbits.stable_contact.stable_side_below`: a special point, a contact
+    crossing with loss "none", or NaN with ``below`` True where they reach ``abar_min``)."""
+    value, kind, loss, curve, y0 = _lowest_reading(curves, sigma, params)
+    if curve is None or "(9)" not in curve.branch.kind:
+        return value, kind, loss, False
+    end = stable_side_below(
+        params.replace(sigma=float(sigma), Abar=float(value)),
+        y0,
+        abar_min,
+        fold=curve.kind == "LP",
+        shooting=shooting,
+    )
+    return (value, kind, loss, False) if end is None else _reading_of(end)
+
+
+def _reading_of(end: LowEnd):
+    """(Abar, kind, loss, below) of a lower end of stable orbits with contact."""
+    if end.below_range:
+        return np.nan, "", "", True
+    if end.kind == "contact":
+        return end.Abar, "contact", "none", False
+    loss = _point_loss(end.branch, end.index) if end.index >= 0 else "undetermined"
+    return end.Abar, end.kind, loss, False
 
 
 def exits_below(chart: Chart) -> list:
@@ -286,20 +345,22 @@ def _slow_flow_critical_at(slow, sigma: float) -> float:
 
 
 def critical_rows(chart: Chart, points: int = 57):
-    """``critical.csv`` rows: on a sigma grid, Abar_b of (46), Abar_c of (9), which curve kind sets it
-    and how the stable response is lost there (``loss``: jump, soft, hard, undetermined; '' where
-    no coefficient was computed), and ``below_box`` 1 beyond a sigma where a curve bounding stable
-    orbits leaves through the box's lowest Abar (:func:`exits_below`: the least stable forcing may
-    lie below the box there); none for a chart whose second parameter is not Abar."""
+    """``critical.csv`` rows: on a sigma grid, Abar_b of (46), Abar_c of (9) (:func:`critical_at`),
+    which curve kind sets it ("contact" where the stable orbit below the curves stops touching the
+    walls) and how the stable response is lost there (``loss``: jump, soft, hard, undetermined,
+    none; '' where no coefficient was computed), and ``below_box`` 1 where stable orbits with
+    contact reach the box's lowest Abar, or beyond a sigma where a curve bounding stable orbits
+    leaves through it (:func:`exits_below`): the least stable forcing may lie below the box there;
+    none for a chart whose second parameter is not Abar."""
     if chart.second != "Abar":
         return
     exits = exits_below(chart)
     slow = chart.slow_flow_critical
     for sigma in np.linspace(*chart.sigma_range, points):
         b = _slow_flow_critical_at(slow, sigma)
-        c, kind, loss = lowest_stable_boundary(chart.curves, sigma, chart.params)
+        c, kind, loss, below = critical_at(chart.curves, sigma, chart.params, chart.abar_range[0])
         rel = abs(c - b) / b if np.isfinite(b) and np.isfinite(c) and b > 0 else np.nan
-        below = any(side != 0 and (sigma - at) * side > 0 for _, _, at, side in exits)
+        below = below or any(side != 0 and (sigma - at) * side > 0 for _, _, at, side in exits)
         yield dict(
             sigma=float(sigma),
             Abar_b_slowflow=b,

@@ -22,7 +22,12 @@ import numpy as np
 from slosh_bif.orbits.codim2 import CODIM2_KINDS, BifurcationCurve, curve_boundary
 from slosh_bif.report.files import DAMAGE, damaged, read_store, write_text_atomically
 from slosh_bif.report.tables import write_rows
-from slosh_bif.studies.chart.critical import CRITICAL_COLUMNS, critical_rows, lowest_stable_boundary
+from slosh_bif.studies.chart.critical import (
+    CRITICAL_COLUMNS,
+    critical_at,
+    critical_rows,
+    lowest_stable_boundary,
+)
 
 __all__ = [
     "CURVE_COLUMNS",
@@ -139,7 +144,7 @@ _KIND_NAMES = {
     "BP": "BP (symmetry breaking)",
 }
 _LOSS_STYLES = {
-    "soft": ("-", "solid: lost softly (a small new motion grows)"),
+    "soft": ("-", "solid: soft (a small new motion grows, or contact starts smoothly)"),
     "jump": ((0, (5, 2)), "dashed: a jump (a fold, or a hard PD, NS or BP)"),
     "undetermined": ((0, (1, 1.5)), "dotted: undetermined (near a codimension-2 point, or unsettled)"),
     "unknown": ("-", "solid on a PD, NS or BP curve without its coefficient: soft or hard not computed"),
@@ -147,10 +152,12 @@ _LOSS_STYLES = {
 
 
 def _loss_style(kinds) -> np.ndarray:
-    """Each point's style key: hard and jump are both a jump; '' (no coefficient: a curve traced
-    without the map's derivatives, such as one from an earlier run) unknown."""
+    """Each point's style key: hard and jump are both a jump, none (a contact crossing) soft; ''
+    (no coefficient: a curve traced without the map's derivatives, such as one from an earlier
+    run) unknown."""
     out = np.asarray(kinds, dtype="<U12").copy()
     out[out == "hard"] = "jump"
+    out[out == "none"] = "soft"  # a contact crossing: the stable response starts to touch the walls
     out[out == ""] = "unknown"
     return out
 
@@ -231,7 +238,8 @@ def _draw_critical(ax, chart, drawn):
     if chart.second != "Abar":
         return
     grid = np.linspace(*chart.sigma_range, 401)
-    found = [lowest_stable_boundary(chart.curves, sigma) for sigma in grid]
+    low = chart.abar_range[0]
+    found = [critical_at(chart.curves, sigma, chart.params, low) for sigma in grid]
     full = np.array([f[0] for f in found])
     if not np.any(np.isfinite(full)):
         return

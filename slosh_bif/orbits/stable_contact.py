@@ -1,0 +1,152 @@
+"""The least forcing Abar at one sigma with a stable 2pi-periodic response of (9) in wall contact
+(max |w| >= 1): the critical forcing Abar_c of the full model, the counterpart of the slow flow's
+Abar_b of (46). It is the lower end of the stable orbits with contact, which is one of
+
+- a special point (LP, PD, NS, BP) below which the orbits are unstable or absent;
+- a contact crossing: the stable orbit stops touching the walls smoothly as Abar falls, which in
+  (9) is no bifurcation (no stability is lost; ``loss`` "none");
+- the bottom of the range: stable orbits with contact reach it, and Abar_c lies below.
+
+A curve of bifurcations bounds stable orbits on one side only. Where the stable side is below the
+curve (a pitchfork whose symmetric orbit stays stable beneath it, a torus point of an orbit stable
+below), the lower end is further down: :func:`stable_side_below` follows it there.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+from scipy import optimize
+
+from slosh_bif.continuation.options import ConvergenceError
+from slosh_bif.model.params import Params
+from slosh_bif.orbits.families import trace_orbits
+from slosh_bif.orbits.orbit_branch import OrbitBranch
+from slosh_bif.orbits.orbit_tools import orbit_at, orbit_measures
+from slosh_bif.orbits.settings import NO_SWITCHING, SHOOTING, ParameterRange, ShootingSettings
+from slosh_bif.orbits.shooting import ShootingProblem
+
+__all__ = ["LowEnd", "lowest_stable_contact", "stable_side_below", "BELOW_STEP", "FINE_POINTS"]
+
+BELOW_STEP = 1e-3  # the side below a curve point is probed at Abar (1 - BELOW_STEP)
+FINE_POINTS = 4096  # samples per 2pi of max |w| at a contact crossing (the peak's error ~ 1e-7)
+_BOUNDS = ("LP", "PD", "NS", "BP")
+
+
+@dataclasses.dataclass(frozen=True)
+class LowEnd:
+    """The lower end of the stable orbits with wall contact on a branch in Abar: ``Abar`` (NaN
+    where ``below_range``: they reach the range's bottom), ``kind`` (a special point's kind,
+    "contact" for a contact crossing, "unlocated" where stability changes between two points with
+    no special point located), ``index`` of the special point on ``branch`` (-1 for none)."""
+
+    Abar: float
+    kind: str
+    branch: OrbitBranch
+    index: int = -1
+    below_range: bool = False
+
+
+def lowest_stable_contact(ob: OrbitBranch, a0: float) -> LowEnd | None:
+    """The lower end of the stable orbits with wall contact on the period-1 branch ``ob`` (in
+    Abar), over a range whose bottom is ``a0``; None where it has none."""
+    b = ob.branch
+    good = np.asarray(b.stable, dtype=bool) & (ob["max_abs_w"] >= 1.0)
+    if not good.any():
+        return None
+    p = np.asarray(b.p, dtype=float)
+    i = int(np.argmin(np.where(good, p, np.inf)))
+    if p[i] <= a0 + 1e-9 * (1 + abs(a0)):
+        return LowEnd(np.nan, "", ob, below_range=True)
+    bounding = [
+        (sp.p, j)
+        for j, sp in enumerate(b.special)
+        if sp.kind in _BOUNDS and sp.located and sp.index in (i - 1, i) and sp.p <= p[i]
+    ]
+    if bounding:
+        value, j = min(bounding)
+        return LowEnd(float(value), b.special[j].kind, ob, j)
+    lower = [k for k in (i - 1, i + 1) if 0 <= k < len(p) and p[k] < p[i]]
+    if lower and b.stable[lower[0]]:  # stable there, without contact
+        return LowEnd(_contact_crossing(ob, lower[0], i), "contact", ob)
+    return LowEnd(float(p[i]), "unlocated", ob)
+
+
+def _contact_crossing(ob: OrbitBranch, lo: int, hi: int) -> float:
+    """Abar where max |w| = 1 between the branch's points ``lo`` (no contact) and ``hi``
+    (contact), by Brent's method on Newton-corrected orbits (the linear interpolation of max |w|
+    where that fails)."""
+    b, problem = ob.branch, ob.problem
+    p0, p1 = float(b.p[lo]), float(b.p[hi])
+
+    def excess(a):
+        t = (a - p0) / (p1 - p0)
+        orbit = orbit_at(problem, b.x[lo] + t * (b.x[hi] - b.x[lo]), a)
+        if not orbit.converged:
+            raise ConvergenceError(orbit.message)
+        x = problem.initial_states(orbit.y0)
+        return orbit_measures(problem, x, a, points_per_2pi=FINE_POINTS)["max_abs_w"] - 1.0
+
+    try:
+        f0, f1 = excess(p0), excess(p1)
+        if f0 < 0 <= f1:
+            return float(optimize.brentq(excess, p0, p1, xtol=1e-12 * (1 + abs(p1)), rtol=1e-12))
+    except (ConvergenceError, ValueError):
+        pass
+    w = ob["max_abs_w"]
+    return float(p0 + (1.0 - w[lo]) / (w[hi] - w[lo]) * (p1 - p0))
+
+
+def stable_side_below(
+    params: Params,
+    y0,
+    a0: float,
+    *,
+    fold: bool = False,
+    period_multiple: int = 1,
+    shooting: ShootingSettings = SHOOTING,
+) -> LowEnd | None:
+    """Where the curve point (``params.sigma``, ``params.Abar``) with the orbit through ``y0`` has
+    stable orbits with wall contact just below it (at Abar (1 - :data:`BELOW_STEP`)), the lower
+    end of them on their branch in Abar down to ``a0``; None where it has none there (the stable
+    side is above, or no orbit is found below). At a ``fold`` both orbits below are tried (from
+    the curve's orbit, and reflected through it). Period-2 curves bound period-2 orbits: None."""
+    value = params.Abar
+    below = value * (1 - BELOW_STEP)
+    if period_multiple != 1 or not below > a0:
+        return None
+    problem = ShootingProblem(
+        params.replace(Abar=below),
+        "Abar",
+        segments=shooting.segments,
+        rtol=shooting.rtol,
+        atol=shooting.atol,
+        backend=shooting.backend,
+    )
+    x0 = problem.initial_states(np.asarray(y0, dtype=float))
+    first = orbit_at(problem, x0, below)
+    found = first if _stable_with_contact(problem, first, below) else None
+    if found is None and fold and first.converged:  # the fold's other orbit, reflected through the curve's
+        other = orbit_at(problem, 2 * x0 - problem.initial_states(first.y0), below)
+        found = other if _stable_with_contact(problem, other, below) else None
+    if found is None:
+        return None
+    try:
+        family = trace_orbits(
+            params.replace(Abar=below),
+            found.y0,
+            interval=ParameterRange(lo=a0, hi=value, name="Abar"),
+            shooting=shooting,
+            branching=NO_SWITCHING,
+        )
+    except (ConvergenceError, ValueError):
+        return None
+    return lowest_stable_contact(family.branches[0], a0)
+
+
+def _stable_with_contact(problem: ShootingProblem, orbit, p) -> bool:
+    """Whether the Newton result ``orbit`` at ``p`` converged to a stable orbit in wall contact."""
+    if not (orbit.converged and orbit.stable):
+        return False
+    return orbit_measures(problem, problem.initial_states(orbit.y0), p)["max_abs_w"] >= 1.0
