@@ -222,13 +222,24 @@ def _lowest_reading(curves, sigma, params):
     return best
 
 
-def critical_at(curves, sigma, params: Params, abar_min: float, shooting: ShootingSettings = SHOOTING):
+def critical_at(
+    curves,
+    sigma,
+    params: Params,
+    abar_min: float,
+    shooting: ShootingSettings = SHOOTING,
+    *,
+    corrected: bool = True,
+):
     """(Abar, kind, loss, below) of the critical forcing at sigma read off ``curves`` of (9): the
-    lowest point that bounds stable orbits with wall contact (:func:`lowest_stable_boundary`),
-    unless stable orbits with contact lie just below it, in which case the lower end of those
+    lowest point that bounds stable orbits with wall contact (:func:`lowest_stable_boundary`;
+    ``corrected`` False: the curve's interpolation, not corrected at sigma), unless stable orbits
+    with contact lie just below it, in which case the lower end of those
     (:func:`~slosh_bif.orbits.stable_contact.stable_side_below`: a special point, a contact
-    crossing with loss "none", or NaN with ``below`` True where they reach ``abar_min``)."""
-    value, kind, loss, curve, y0 = _lowest_reading(curves, sigma, params)
+    crossing with loss "none", or NaN with ``below`` True where they reach ``abar_min``). An
+    interpolation a little above the curve probes the stable orbits above a fold; their branch
+    then leads back down to the fold, so the reading is the same point."""
+    value, kind, loss, curve, y0 = _lowest_reading(curves, sigma, params if corrected else None)
     if curve is None or "(9)" not in curve.branch.kind:
         return value, kind, loss, False
     end = stable_side_below(

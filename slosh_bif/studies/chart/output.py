@@ -144,7 +144,7 @@ _KIND_NAMES = {
     "BP": "BP (symmetry breaking)",
 }
 _LOSS_STYLES = {
-    "soft": ("-", "solid: soft (a small new motion grows, or contact starts smoothly)"),
+    "soft": ("-", "solid: lost softly (a small new motion grows)"),
     "jump": ((0, (5, 2)), "dashed: a jump (a fold, or a hard PD, NS or BP)"),
     "undetermined": ((0, (1, 1.5)), "dotted: undetermined (near a codimension-2 point, or unsettled)"),
     "unknown": ("-", "solid on a PD, NS or BP curve without its coefficient: soft or hard not computed"),
@@ -239,7 +239,7 @@ def _draw_critical(ax, chart, drawn):
         return
     grid = np.linspace(*chart.sigma_range, 401)
     low = chart.abar_range[0]
-    found = [critical_at(chart.curves, sigma, chart.params, low) for sigma in grid]
+    found = [critical_at(chart.curves, sigma, chart.params, low, corrected=False) for sigma in grid]
     full = np.array([f[0] for f in found])
     if not np.any(np.isfinite(full)):
         return
