@@ -30,6 +30,7 @@ from slosh_bif.orbits.shooting import ShootingProblem
 __all__ = ["LowEnd", "lowest_stable_contact", "stable_side_below", "BELOW_STEP", "FINE_POINTS"]
 
 BELOW_STEP = 1e-3  # the side below a curve point is probed at Abar (1 - BELOW_STEP)
+ABOVE = 0.05  # the branch below a curve point is traced up to Abar (1 + ABOVE)
 FINE_POINTS = 4096  # samples per 2pi of max |w| at a contact crossing (the peak's error ~ 1e-7)
 _BOUNDS = ("LP", "PD", "NS", "BP")
 
@@ -136,7 +137,8 @@ def stable_side_below(
         family = trace_orbits(
             params.replace(Abar=below),
             found.y0,
-            interval=ParameterRange(lo=a0, hi=value, name="Abar"),
+            # room above the curve point: a fold just below it is located, not cut by the range's end
+            interval=ParameterRange(lo=a0, hi=value * (1 + ABOVE), name="Abar"),
             shooting=shooting,
             branching=NO_SWITCHING,
         )
