@@ -30,6 +30,10 @@ from slosh_bif.orbits.shooting import ShootingProblem
 __all__ = ["LowEnd", "lowest_stable_contact", "stable_side_below", "BELOW_STEP", "FINE_POINTS"]
 
 BELOW_STEP = 1e-3  # the side below a curve point is probed at Abar (1 - BELOW_STEP)
+# Newton steps of a probe: an orbit 1e-3 below a PD, NS or BP point, or 3e-2 below a fold, is
+# found in a few; above a fold opening upwards there is none, and each further step is an
+# integration of the variational equations
+PROBE_ITERATIONS = 8
 ABOVE = 0.05  # the branch below a curve point is traced up to Abar (1 + ABOVE)
 FINE_POINTS = 4096  # samples per 2pi of max |w| at a contact crossing (the peak's error ~ 1e-7)
 _BOUNDS = ("LP", "PD", "NS", "BP")
@@ -107,12 +111,15 @@ def stable_side_below(
     fold: bool = False,
     period_multiple: int = 1,
     shooting: ShootingSettings = SHOOTING,
+    follow: bool = True,
 ) -> LowEnd | None:
     """Where the curve point (``params.sigma``, ``params.Abar``) with the orbit through ``y0`` has
     stable orbits with wall contact just below it (at Abar (1 - :data:`BELOW_STEP`)), the lower
     end of them on their branch in Abar down to ``a0``; None where it has none there (the stable
     side is above, or no orbit is found below). At a ``fold`` both orbits below are tried (from
-    the curve's orbit, and reflected through it). Period-2 curves bound period-2 orbits: None."""
+    the curve's orbit, and reflected through it). Period-2 curves bound period-2 orbits: None.
+    ``follow`` False: only whether there are such orbits (a :class:`LowEnd` with no value, kind
+    "below the point", or None), without tracing their branch."""
     value = params.Abar
     below = value * (1 - BELOW_STEP)
     if period_multiple != 1 or not below > a0:
@@ -126,13 +133,15 @@ def stable_side_below(
         backend=shooting.backend,
     )
     x0 = problem.initial_states(np.asarray(y0, dtype=float))
-    first = orbit_at(problem, x0, below)
+    first = orbit_at(problem, x0, below, max_iter=PROBE_ITERATIONS)
     found = first if _stable_with_contact(problem, first, below) else None
     if found is None and fold and first.converged:  # the fold's other orbit, reflected through the curve's
-        other = orbit_at(problem, 2 * x0 - problem.initial_states(first.y0), below)
+        other = orbit_at(problem, 2 * x0 - problem.initial_states(first.y0), below, max_iter=PROBE_ITERATIONS)
         found = other if _stable_with_contact(problem, other, below) else None
     if found is None:
         return None
+    if not follow:
+        return LowEnd(np.nan, "below the point", None)
     try:
         family = trace_orbits(
             params.replace(Abar=below),

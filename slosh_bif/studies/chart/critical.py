@@ -10,7 +10,7 @@ import time
 import numpy as np
 
 from slosh_bif.model.params import Params
-from slosh_bif.orbits.codim2 import corrected_at, curve_boundary
+from slosh_bif.orbits.codim2 import CODIM2_KINDS, corrected_at, curve_boundary
 from slosh_bif.orbits.criticality import special_criticality
 from slosh_bif.orbits.orbit_tools import orbit_measures
 from slosh_bif.orbits.scan import scan_families
@@ -201,9 +201,9 @@ def lowest_stable_boundary(curves, sigma, params: Params | None = None):
 
 
 def _lowest_reading(curves, sigma, params):
-    """:func:`lowest_stable_boundary` with the curve read and the crossing's orbit y0 (None for
-    none)."""
-    best = (np.nan, "", "", None, None)
+    """:func:`lowest_stable_boundary` with the curve read, the crossing's orbit y0 and the
+    segment's first point (None and -1 for none)."""
+    best = (np.nan, "", "", None, None, -1)
     for c in curves:
         if c.period_multiple != 1 or c.kind == "GR":
             continue  # a period-2 branch's curves bound period-2 orbits; a grazing is no loss of stability
@@ -218,7 +218,7 @@ def _lowest_reading(curves, sigma, params):
         if not value >= best[0]:
             kinds = curve_boundary(c)[1]
             y0 = c.branch.x[i, :4] + t * (c.branch.x[i + 1, :4] - c.branch.x[i, :4])
-            best = (value, c.kind, str(kinds[i] if t <= 0.5 else kinds[i + 1]), c, y0)
+            best = (value, c.kind, str(kinds[i] if t <= 0.5 else kinds[i + 1]), c, y0, i)
     return best
 
 
@@ -230,17 +230,22 @@ def critical_at(
     shooting: ShootingSettings = SHOOTING,
     *,
     corrected: bool = True,
+    sides: dict | None = None,
 ):
     """(Abar, kind, loss, below) of the critical forcing at sigma read off ``curves`` of (9): the
     lowest point that bounds stable orbits with wall contact (:func:`lowest_stable_boundary`;
     ``corrected`` False: the curve's interpolation, not corrected at sigma), unless stable orbits
     with contact lie just below it, in which case the lower end of those
     (:func:`~slosh_bif.orbits.stable_contact.stable_side_below`: a special point, a contact
-    crossing with loss "none", or NaN with ``below`` True where they reach ``abar_min``). An
-    interpolation a little above the curve probes the stable orbits above a fold; their branch
-    then leads back down to the fold, so the reading is the same point."""
-    value, kind, loss, curve, y0 = _lowest_reading(curves, sigma, params if corrected else None)
+    crossing with loss "none", or NaN with ``below`` True where they reach ``abar_min``).
+
+    Which side of a curve the stable orbits lie on changes only where the curve turns in sigma
+    or at a codimension-2 point; between those it is asked once, at a computed point of the
+    curve, and kept in ``sides`` (a dict shared by the calls over one chart's sigmas)."""
+    value, kind, loss, curve, y0, i = _lowest_reading(curves, sigma, params if corrected else None)
     if curve is None or "(9)" not in curve.branch.kind:
+        return value, kind, loss, False
+    if not _stable_side_below(curve, i, params, abar_min, shooting, {} if sides is None else sides):
         return value, kind, loss, False
     end = stable_side_below(
         params.replace(sigma=float(sigma), Abar=float(value)),
@@ -250,6 +255,27 @@ def critical_at(
         shooting=shooting,
     )
     return (value, kind, loss, False) if end is None else _reading_of(end)
+
+
+def _stable_side_below(curve, i, params, abar_min, shooting, sides) -> bool:
+    """Whether the piece of ``curve`` holding segment i has stable orbits with contact just below
+    it, asked at the segment's first point (or its second, where the first is a codimension-2
+    point) and kept in ``sides`` by (curve, piece)."""
+    s = curve["sigma"]
+    turns = np.r_[False, np.diff(np.sign(np.diff(s))) != 0]
+    for sp in curve.branch.special:
+        if sp.kind in CODIM2_KINDS and 0 <= sp.index < len(turns):
+            turns[sp.index] = True
+    key = (id(curve), int(np.count_nonzero(turns[: i + 1])))
+    if key not in sides:
+        near = [sp.index for sp in curve.branch.special if sp.kind in CODIM2_KINDS]
+        j = i + 1 if i in near and i + 1 < len(s) else i
+        at = params.replace(sigma=float(s[j]), Abar=float(curve["Abar"][j]))
+        found = stable_side_below(
+            at, curve.branch.x[j, :4], abar_min, fold=curve.kind == "LP", shooting=shooting, follow=False
+        )
+        sides[key] = found is not None
+    return sides[key]
 
 
 def _reading_of(end: LowEnd):
@@ -367,9 +393,12 @@ def critical_rows(chart: Chart, points: int = 57):
         return
     exits = exits_below(chart)
     slow = chart.slow_flow_critical
+    sides = {}
     for sigma in np.linspace(*chart.sigma_range, points):
         b = _slow_flow_critical_at(slow, sigma)
-        c, kind, loss, below = critical_at(chart.curves, sigma, chart.params, chart.abar_range[0])
+        c, kind, loss, below = critical_at(
+            chart.curves, sigma, chart.params, chart.abar_range[0], sides=sides
+        )
         rel = abs(c - b) / b if np.isfinite(b) and np.isfinite(c) and b > 0 else np.nan
         below = below or any(side != 0 and (sigma - at) * side > 0 for _, _, at, side in exits)
         yield dict(

@@ -239,7 +239,8 @@ def _draw_critical(ax, chart, drawn):
         return
     grid = np.linspace(*chart.sigma_range, 401)
     low = chart.abar_range[0]
-    found = [critical_at(chart.curves, sigma, chart.params, low, corrected=False) for sigma in grid]
+    sides = {}
+    found = [critical_at(chart.curves, g, chart.params, low, corrected=False, sides=sides) for g in grid]
     full = np.array([f[0] for f in found])
     if not np.any(np.isfinite(full)):
         return
