@@ -315,7 +315,7 @@ def add_commands(sub) -> None:
 def warn_below_box(chart, command: str, where: str = "") -> None:
     """A warning on stderr for each curve of ``chart`` that bounds stable orbits and leaves
     through the box's lowest Abar (``where``: which chart of several, as "beta = 0.3: ")."""
-    from slosh_bif.studies.chart.critical import exits_below
+    from slosh_bif.studies.chart.reading import exits_below
 
     for k, kind, sigma, _ in exits_below(chart):
         print(

@@ -16,7 +16,7 @@ from slosh_bif.orbits import (
 )
 from slosh_bif.orbits.settings import BranchingSettings, ParameterRange
 from slosh_bif.studies.chart import ChartSettings, bifurcation_chart
-from slosh_bif.studies.chart.critical import critical_rows, exits_below, lowest_stable_boundary
+from slosh_bif.studies.chart.critical import critical_rows
 from slosh_bif.studies.chart.curves import (
     CurveStart,
     curve_starts,
@@ -24,6 +24,7 @@ from slosh_bif.studies.chart.curves import (
     trace_curves,
     uncovered_points,
 )
+from slosh_bif.studies.chart.reading import exits_below, lowest_stable_boundary
 
 PRESET = get_preset("fig10")
 # A random admissible draw (seed 28 of the chart's campaign, docs/findings/chart.md)

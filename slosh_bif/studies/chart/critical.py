@@ -1,6 +1,7 @@
-"""The full model's critical forcing read off a chart: Abar_c(sigma), the lowest curve in Abar that
-bounds stable orbits with wall contact, beside the slow flow's Abar_b of (46) (the paper's
-Fig. 10-13 comparison), and the table of both along sigma."""
+"""The full model's critical forcing Abar_c(sigma), the least forcing with a stable orbit in wall
+contact, at one sigma over every family there (:func:`critical_forcing_full`) and along a chart
+(:func:`critical_rows`, read by :mod:`~slosh_bif.studies.chart.reading`), beside the slow flow's
+Abar_b of (46) (the paper's Fig. 10-13 comparison)."""
 
 from __future__ import annotations
 
@@ -10,8 +11,6 @@ import time
 import numpy as np
 
 from slosh_bif.model.params import Params
-from slosh_bif.orbits.codim2 import CODIM2_KINDS, corrected_at, curve_boundary
-from slosh_bif.orbits.criticality import special_criticality
 from slosh_bif.orbits.orbit_tools import orbit_measures
 from slosh_bif.orbits.scan import scan_families
 from slosh_bif.orbits.settings import (
@@ -23,27 +22,19 @@ from slosh_bif.orbits.settings import (
     ShootingSettings,
     StartSettings,
 )
-from slosh_bif.orbits.stable_contact import LowEnd, lowest_stable_contact, stable_side_below
+from slosh_bif.orbits.stable_contact import lowest_stable_contact
 from slosh_bif.slowflow.critical import critical_curve
 from slosh_bif.studies.chart.curves import (
     curve_starts,
     pitchforks_of,
     trace_curves,
 )
+from slosh_bif.studies.chart.reading import critical_at, exits_below, low_end_reading, lowest_stable_boundary
 from slosh_bif.studies.chart.result import Chart
 
-__all__ = [
-    "CRITICAL_COLUMNS",
-    "FullCritical",
-    "critical_forcing_full",
-    "critical_at",
-    "critical_rows",
-    "lowest_stable_boundary",
-    "exits_below",
-]
+__all__ = ["CRITICAL_COLUMNS", "FullCritical", "critical_forcing_full", "critical_rows"]
 
 
-SECOND_ON_CIRCLE = 1e-5  # a located codimension-2 point has its second multiplier this near the circle
 CRITICAL_COLUMNS = ("sigma", "Abar_b_slowflow", "Abar_c_full", "rel_diff", "bounded_by", "loss", "below_box")
 
 
@@ -84,7 +75,7 @@ def critical_forcing_full(
     of their LP, PD and NS points in the box sigma +- ``halfwidth`` x ``abar_range``. Abar_c is
     the lower end of the stable period-1 orbits with wall contact on those branches
     (:func:`~slosh_bif.orbits.stable_contact.lowest_stable_contact`), or a curve's crossing of
-    sigma below it (with its stable side checked, :func:`critical_at`).
+    sigma below it (with its stable side checked, :func:`~slosh_bif.studies.chart.reading.critical_at`).
 
     A single family misses stable orbits that no path in Abar at this sigma connects to it
     (Fig. 10 set, sigma = -1.2: the resonant orbit folds at Abar = 2.515, while a separate family
@@ -135,7 +126,7 @@ def critical_forcing_full(
     if any(e.below_range for e in ends):
         return FullCritical(float(sigma), np.nan, "", chart, "", below_range=True)
     value, kind, loss, _ = min(
-        (_reading_of(e) for e in ends), key=lambda r: r[0], default=(np.nan, "", "", 0)
+        (low_end_reading(e) for e in ends), key=lambda r: r[0], default=(np.nan, "", "", 0)
     )
     # A curve read at sigma is interpolated between its points (2e-3 off at the Fig. 13 set's NS),
     # so it counts only where it crosses sigma away from every special point: a crossing of a
@@ -162,12 +153,6 @@ def critical_forcing_full(
     return FullCritical(float(sigma), float(value), kind, chart, loss)
 
 
-def _point_loss(ob, j) -> str:
-    """How the stable response is lost at special point j of the orbit branch ``ob``."""
-    found = special_criticality(ob, only=j).get(j)
-    return found.verdict if hasattr(found, "verdict") else "undetermined"
-
-
 _CRITICAL_COUNT = {"LP": 1, "BP": 1, "PD": 1, "NS": 2}
 
 
@@ -185,161 +170,6 @@ def _bounds_stable_contact(ob, sp) -> bool:
     )
     rest = np.delete(mu, np.argsort(distance)[: _CRITICAL_COUNT[sp.kind]])
     return bool(np.all(np.abs(rest) < 1) and orbit_measures(ob.problem, sp.x, sp.p)["max_abs_w"] >= 1.0)
-
-
-def lowest_stable_boundary(curves, sigma, params: Params | None = None):
-    """(Abar, kind, loss) of the lowest point at sigma of the ``curves`` that bounds stable
-    period-1 orbits with wall contact, and how stability is lost there (the curve's ``boundary``:
-    jump, soft, hard, undetermined; '' where not computed); (nan, "", "") when none. Each curve is
-    read by linear interpolation between its points; with ``params`` (the chart's set), the
-    crossing of a curve of (9) is then corrected on the curve's own system at sigma
-    (:func:`~slosh_bif.orbits.codim2.corrected_at`; the interpolation kept where that fails).
-    Grazing curves of (8) are not read: there the number of impacts changes, not stability (on
-    the Fig. 13 set the lowest is where the impact-free response first touches the walls).
-    Which side of the point the stable orbits lie on is not asked here: :func:`critical_at` does."""
-    return _lowest_reading(curves, sigma, params)[:3]
-
-
-def _lowest_reading(curves, sigma, params):
-    """:func:`lowest_stable_boundary` with the curve read, the crossing's orbit y0 and the
-    segment's first point (None and -1 for none)."""
-    best = (np.nan, "", "", None, None, -1)
-    for c in curves:
-        if c.period_multiple != 1 or c.kind == "GR":
-            continue  # a period-2 branch's curves bound period-2 orbits; a grazing is no loss of stability
-        good = _bounds_stable(c)
-        crossing = _lowest_crossing(c["sigma"], np.where(good, c["Abar"], np.nan), sigma)
-        if crossing is None:
-            continue
-        value, i, t = crossing
-        if params is not None:
-            corrected = corrected_at(c, params, sigma, i)
-            value = value if corrected is None else corrected
-        if not value >= best[0]:
-            kinds = curve_boundary(c)[1]
-            y0 = c.branch.x[i, :4] + t * (c.branch.x[i + 1, :4] - c.branch.x[i, :4])
-            best = (value, c.kind, str(kinds[i] if t <= 0.5 else kinds[i + 1]), c, y0, i)
-    return best
-
-
-def critical_at(
-    curves,
-    sigma,
-    params: Params,
-    abar_min: float,
-    shooting: ShootingSettings = SHOOTING,
-    *,
-    corrected: bool = True,
-    sides: dict | None = None,
-):
-    """(Abar, kind, loss, below) of the critical forcing at sigma read off ``curves`` of (9): the
-    lowest point that bounds stable orbits with wall contact (:func:`lowest_stable_boundary`;
-    ``corrected`` False: the curve's interpolation, not corrected at sigma), unless stable orbits
-    with contact lie just below it, in which case the lower end of those
-    (:func:`~slosh_bif.orbits.stable_contact.stable_side_below`: a special point, a contact
-    crossing with loss "none", or NaN with ``below`` True where they reach ``abar_min``).
-
-    Which side of a curve the stable orbits lie on changes only where the curve turns in sigma
-    or at a codimension-2 point; between those it is asked once, at a computed point of the
-    curve, and kept in ``sides`` (a dict shared by the calls over one chart's sigmas)."""
-    value, kind, loss, curve, y0, i = _lowest_reading(curves, sigma, params if corrected else None)
-    if curve is None or "(9)" not in curve.branch.kind:
-        return value, kind, loss, False
-    if not _stable_side_below(curve, i, params, abar_min, shooting, {} if sides is None else sides):
-        return value, kind, loss, False
-    end = stable_side_below(
-        params.replace(sigma=float(sigma), Abar=float(value)),
-        y0,
-        abar_min,
-        fold=curve.kind == "LP",
-        shooting=shooting,
-    )
-    return (value, kind, loss, False) if end is None else _reading_of(end)
-
-
-def _stable_side_below(curve, i, params, abar_min, shooting, sides) -> bool:
-    """Whether the piece of ``curve`` holding segment i has stable orbits with contact just below
-    it, asked at the segment's first point (or its second, where the first is a codimension-2
-    point) and kept in ``sides`` by (curve, piece)."""
-    s = curve["sigma"]
-    turns = np.r_[False, np.diff(np.sign(np.diff(s))) != 0]
-    for sp in curve.branch.special:
-        if sp.kind in CODIM2_KINDS and 0 <= sp.index < len(turns):
-            turns[sp.index] = True
-    key = (id(curve), int(np.count_nonzero(turns[: i + 1])))
-    if key not in sides:
-        near = [sp.index for sp in curve.branch.special if sp.kind in CODIM2_KINDS]
-        j = i + 1 if i in near and i + 1 < len(s) else i
-        at = params.replace(sigma=float(s[j]), Abar=float(curve["Abar"][j]))
-        found = stable_side_below(
-            at, curve.branch.x[j, :4], abar_min, fold=curve.kind == "LP", shooting=shooting, follow=False
-        )
-        sides[key] = found is not None
-    return sides[key]
-
-
-def _reading_of(end: LowEnd):
-    """(Abar, kind, loss, below) of a lower end of stable orbits with contact."""
-    if end.below_range:
-        return np.nan, "", "", True
-    if end.kind == "contact":
-        return end.Abar, "contact", "none", False
-    loss = _point_loss(end.branch, end.index) if end.index >= 0 else "undetermined"
-    return end.Abar, end.kind, loss, False
-
-
-def exits_below(chart: Chart) -> list:
-    """(curve index, kind, sigma, side) where a curve that bounds stable period-1 orbits with wall
-    contact leaves the chart through its lowest Abar: beyond that sigma (below it for side -1,
-    above for +1, the side away from the curve's points inside the box; 0 where it has none) the
-    least stable forcing may lie below the box, which the box's curves cannot show."""
-    if chart.second != "Abar":
-        return []
-    low = chart.abar_range[0]
-    found = []
-    for k, c in enumerate(chart.curves):
-        if c.period_multiple != 1 or c.kind == "GR" or not len(c):
-            continue
-        at_edge = np.abs(c["Abar"] - low) <= 1e-9 * (1 + abs(low))
-        inside = np.flatnonzero(~at_edge)
-        for i in np.flatnonzero(at_edge & _bounds_stable(c)):
-            sigma = float(c["sigma"][i])
-            # a curve keeps its end point twice
-            if any(e[0] == k and abs(e[2] - sigma) <= 1e-6 for e in found):
-                continue
-            near = inside[np.argmin(np.abs(inside - i))] if len(inside) else None
-            side = 0 if near is None else -int(np.sign(c["sigma"][near] - sigma))
-            found.append((k, c.kind, sigma, side))
-    return found
-
-
-def _lowest_crossing(s, v, at):
-    """(value, i, t) of the lowest linear interpolation of the curve (s, v) at s = at, over the
-    segment (i, i + 1) at fraction t (segments with a non-finite end skipped; of equal values the
-    first segment's); None where no segment spans ``at``."""
-    s, v = np.asarray(s, dtype=float), np.asarray(v, dtype=float)
-    a, b, va, vb = s[:-1], s[1:], v[:-1], v[1:]
-    spans = (a != b) & (np.minimum(a, b) <= at) & (at <= np.maximum(a, b))
-    (i,) = np.nonzero(spans & np.isfinite(va) & np.isfinite(vb))
-    if not len(i):
-        return None
-    t = (at - a[i]) / (b[i] - a[i])
-    values = va[i] + t * (vb[i] - va[i])
-    k = int(np.argmin(values))
-    return float(values[k]), int(i[k]), float(t[k])
-
-
-def _bounds_stable(curve) -> np.ndarray:
-    """Whether each point of ``curve`` bounds stable orbits with wall contact. At a codimension-2
-    point a second multiplier is on the unit circle (BPLP, LPPD, ...), and the point's own flag is
-    decided by rounding: there the flag of its stable neighbour holds, as the segment between them
-    bounds stable orbits up to that point."""
-    contact = curve["max_abs_w"] >= 1.0
-    good = curve.branch.stable & contact
-    second = curve["max_abs_multiplier"]
-    for i in np.flatnonzero(contact & (np.abs(second - 1.0) < SECOND_ON_CIRCLE)):
-        good[i] = bool(good[max(i - 1, 0)] or good[min(i + 1, len(good) - 1)])
-    return good
 
 
 def _slow_flow_critical_at(slow, sigma: float) -> float:
@@ -382,12 +212,12 @@ def _slow_flow_critical_at(slow, sigma: float) -> float:
 
 
 def critical_rows(chart: Chart, points: int = 57):
-    """``critical.csv`` rows: on a sigma grid, Abar_b of (46), Abar_c of (9) (:func:`critical_at`),
+    """``critical.csv`` rows: on a sigma grid, Abar_b of (46), Abar_c of (9) (:func:`~.reading.critical_at`),
     which curve kind sets it ("contact" where the stable orbit below the curves stops touching the
     walls) and how the stable response is lost there (``loss``: jump, soft, hard, undetermined,
     none; '' where no coefficient was computed), and ``below_box`` 1 where stable orbits with
     contact reach the box's lowest Abar, or beyond a sigma where a curve bounding stable orbits
-    leaves through it (:func:`exits_below`): the least stable forcing may lie below the box there;
+    leaves through it (:func:`~.reading.exits_below`): the least stable forcing may lie below the box there;
     none for a chart whose second parameter is not Abar."""
     if chart.second != "Abar":
         return

@@ -22,12 +22,8 @@ import numpy as np
 from slosh_bif.orbits.codim2 import CODIM2_KINDS, BifurcationCurve, curve_boundary
 from slosh_bif.report.files import DAMAGE, damaged, read_store, write_text_atomically
 from slosh_bif.report.tables import write_rows
-from slosh_bif.studies.chart.critical import (
-    CRITICAL_COLUMNS,
-    critical_at,
-    critical_rows,
-    lowest_stable_boundary,
-)
+from slosh_bif.studies.chart.critical import CRITICAL_COLUMNS, critical_rows
+from slosh_bif.studies.chart.reading import critical_at, lowest_stable_boundary
 
 __all__ = [
     "CURVE_COLUMNS",

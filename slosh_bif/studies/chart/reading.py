@@ -1,0 +1,181 @@
+"""The full model's critical forcing read off a chart's curves at one sigma: the lowest curve that
+bounds stable orbits with wall contact, and, where the stable orbits lie below it, the lower end
+of those (:mod:`slosh_bif.orbits.stable_contact`); the curves that leave the box through its
+lowest Abar. The least forcing with a stable response in contact is the counterpart of the slow
+flow's Abar_b of (46)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from slosh_bif.model.params import Params
+from slosh_bif.orbits.codim2 import CODIM2_KINDS, corrected_at, curve_boundary
+from slosh_bif.orbits.criticality import special_criticality
+from slosh_bif.orbits.settings import SHOOTING, ShootingSettings
+from slosh_bif.orbits.stable_contact import LowEnd, stable_side_below
+from slosh_bif.studies.chart.result import Chart
+
+__all__ = ["critical_at", "exits_below", "low_end_reading", "lowest_stable_boundary", "SECOND_ON_CIRCLE"]
+
+SECOND_ON_CIRCLE = 1e-5  # a located codimension-2 point has its second multiplier this near the circle
+
+
+def _point_loss(ob, j) -> str:
+    """How the stable response is lost at special point j of the orbit branch ``ob``."""
+    found = special_criticality(ob, only=j).get(j)
+    return found.verdict if hasattr(found, "verdict") else "undetermined"
+
+
+def lowest_stable_boundary(curves, sigma, params: Params | None = None):
+    """(Abar, kind, loss) of the lowest point at sigma of the ``curves`` that bounds stable
+    period-1 orbits with wall contact, and how stability is lost there (the curve's ``boundary``:
+    jump, soft, hard, undetermined; '' where not computed); (nan, "", "") when none. Each curve is
+    read by linear interpolation between its points; with ``params`` (the chart's set), the
+    crossing of a curve of (9) is then corrected on the curve's own system at sigma
+    (:func:`~slosh_bif.orbits.codim2.corrected_at`; the interpolation kept where that fails).
+    Grazing curves of (8) are not read: there the number of impacts changes, not stability (on
+    the Fig. 13 set the lowest is where the impact-free response first touches the walls).
+    Which side of the point the stable orbits lie on is not asked here: :func:`critical_at` does."""
+    return _lowest_reading(curves, sigma, params)[:3]
+
+
+def _lowest_reading(curves, sigma, params):
+    """:func:`lowest_stable_boundary` with the curve read, the crossing's orbit y0 and the
+    segment's first point (None and -1 for none)."""
+    best = (np.nan, "", "", None, None, -1)
+    for c in curves:
+        if c.period_multiple != 1 or c.kind == "GR":
+            continue  # a period-2 branch's curves bound period-2 orbits; a grazing is no loss of stability
+        good = _bounds_stable(c)
+        crossing = _lowest_crossing(c["sigma"], np.where(good, c["Abar"], np.nan), sigma)
+        if crossing is None:
+            continue
+        value, i, t = crossing
+        if params is not None:
+            corrected = corrected_at(c, params, sigma, i)
+            value = value if corrected is None else corrected
+        if not value >= best[0]:
+            kinds = curve_boundary(c)[1]
+            y0 = c.branch.x[i, :4] + t * (c.branch.x[i + 1, :4] - c.branch.x[i, :4])
+            best = (value, c.kind, str(kinds[i] if t <= 0.5 else kinds[i + 1]), c, y0, i)
+    return best
+
+
+def critical_at(
+    curves,
+    sigma,
+    params: Params,
+    abar_min: float,
+    shooting: ShootingSettings = SHOOTING,
+    *,
+    corrected: bool = True,
+    sides: dict | None = None,
+):
+    """(Abar, kind, loss, below) of the critical forcing at sigma read off ``curves`` of (9): the
+    lowest point that bounds stable orbits with wall contact (:func:`lowest_stable_boundary`;
+    ``corrected`` False: the curve's interpolation, not corrected at sigma), unless stable orbits
+    with contact lie just below it, in which case the lower end of those
+    (:func:`~slosh_bif.orbits.stable_contact.stable_side_below`: a special point, a contact
+    crossing with loss "none", or NaN with ``below`` True where they reach ``abar_min``).
+
+    Which side of a curve the stable orbits lie on changes only where the curve turns in sigma
+    or at a codimension-2 point; between those it is asked once, at a computed point of the
+    curve, and kept in ``sides`` (a dict shared by the calls over one chart's sigmas)."""
+    value, kind, loss, curve, y0, i = _lowest_reading(curves, sigma, params if corrected else None)
+    if curve is None or "(9)" not in curve.branch.kind:
+        return value, kind, loss, False
+    if not _stable_side_below(curve, i, params, abar_min, shooting, {} if sides is None else sides):
+        return value, kind, loss, False
+    end = stable_side_below(
+        params.replace(sigma=float(sigma), Abar=float(value)),
+        y0,
+        abar_min,
+        fold=curve.kind == "LP",
+        shooting=shooting,
+    )
+    return (value, kind, loss, False) if end is None else low_end_reading(end)
+
+
+def _stable_side_below(curve, i, params, abar_min, shooting, sides) -> bool:
+    """Whether the piece of ``curve`` holding segment i has stable orbits with contact just below
+    it, asked at the segment's first point (or its second, where the first is a codimension-2
+    point) and kept in ``sides`` by (curve, piece)."""
+    s = curve["sigma"]
+    turns = np.r_[False, np.diff(np.sign(np.diff(s))) != 0]
+    for sp in curve.branch.special:
+        if sp.kind in CODIM2_KINDS and 0 <= sp.index < len(turns):
+            turns[sp.index] = True
+    key = (id(curve), int(np.count_nonzero(turns[: i + 1])))
+    if key not in sides:
+        near = [sp.index for sp in curve.branch.special if sp.kind in CODIM2_KINDS]
+        j = i + 1 if i in near and i + 1 < len(s) else i
+        at = params.replace(sigma=float(s[j]), Abar=float(curve["Abar"][j]))
+        found = stable_side_below(
+            at, curve.branch.x[j, :4], abar_min, fold=curve.kind == "LP", shooting=shooting, follow=False
+        )
+        sides[key] = found is not None
+    return sides[key]
+
+
+def low_end_reading(end: LowEnd):
+    """(Abar, kind, loss, below) of a lower end of stable orbits with contact."""
+    if end.below_range:
+        return np.nan, "", "", True
+    if end.kind == "contact":
+        return end.Abar, "contact", "none", False
+    loss = _point_loss(end.branch, end.index) if end.index >= 0 else "undetermined"
+    return end.Abar, end.kind, loss, False
+
+
+def exits_below(chart: Chart) -> list:
+    """(curve index, kind, sigma, side) where a curve that bounds stable period-1 orbits with wall
+    contact leaves the chart through its lowest Abar: beyond that sigma (below it for side -1,
+    above for +1, the side away from the curve's points inside the box; 0 where it has none) the
+    least stable forcing may lie below the box, which the box's curves cannot show."""
+    if chart.second != "Abar":
+        return []
+    low = chart.abar_range[0]
+    found = []
+    for k, c in enumerate(chart.curves):
+        if c.period_multiple != 1 or c.kind == "GR" or not len(c):
+            continue
+        at_edge = np.abs(c["Abar"] - low) <= 1e-9 * (1 + abs(low))
+        inside = np.flatnonzero(~at_edge)
+        for i in np.flatnonzero(at_edge & _bounds_stable(c)):
+            sigma = float(c["sigma"][i])
+            # a curve keeps its end point twice
+            if any(e[0] == k and abs(e[2] - sigma) <= 1e-6 for e in found):
+                continue
+            near = inside[np.argmin(np.abs(inside - i))] if len(inside) else None
+            side = 0 if near is None else -int(np.sign(c["sigma"][near] - sigma))
+            found.append((k, c.kind, sigma, side))
+    return found
+
+
+def _lowest_crossing(s, v, at):
+    """(value, i, t) of the lowest linear interpolation of the curve (s, v) at s = at, over the
+    segment (i, i + 1) at fraction t (segments with a non-finite end skipped; of equal values the
+    first segment's); None where no segment spans ``at``."""
+    s, v = np.asarray(s, dtype=float), np.asarray(v, dtype=float)
+    a, b, va, vb = s[:-1], s[1:], v[:-1], v[1:]
+    spans = (a != b) & (np.minimum(a, b) <= at) & (at <= np.maximum(a, b))
+    (i,) = np.nonzero(spans & np.isfinite(va) & np.isfinite(vb))
+    if not len(i):
+        return None
+    t = (at - a[i]) / (b[i] - a[i])
+    values = va[i] + t * (vb[i] - va[i])
+    k = int(np.argmin(values))
+    return float(values[k]), int(i[k]), float(t[k])
+
+
+def _bounds_stable(curve) -> np.ndarray:
+    """Whether each point of ``curve`` bounds stable orbits with wall contact. At a codimension-2
+    point a second multiplier is on the unit circle (BPLP, LPPD, ...), and the point's own flag is
+    decided by rounding: there the flag of its stable neighbour holds, as the segment between them
+    bounds stable orbits up to that point."""
+    contact = curve["max_abs_w"] >= 1.0
+    good = curve.branch.stable & contact
+    second = curve["max_abs_multiplier"]
+    for i in np.flatnonzero(contact & (np.abs(second - 1.0) < SECOND_ON_CIRCLE)):
+        good[i] = bool(good[max(i - 1, 0)] or good[min(i + 1, len(good) - 1)])
+    return good
