@@ -146,6 +146,7 @@ def _chart_on(args, executor) -> int:
     print(f"{len(chart.curves)} curves in {chart.seconds:.1f} s; wrote " + ", ".join(str(p) for p in paths))
     print(scaling_line(chart.tasks))
     warn_below_box(chart, "chart")
+    warn_seeds(chart, "chart")
     for status in (chart.status, regimes.status if regimes is not None else "complete"):
         if status != "complete":  # the files hold what was finished
             raise stopped(status)
@@ -322,5 +323,21 @@ def warn_below_box(chart, command: str, where: str = "") -> None:
             f"slosh-bif {command}: warning: {where}curve {k} ({kind}) bounds stable orbits where it leaves "
             f"the box at Abar = {chart.abar_range[0]:g}, sigma = {sigma:.5g}: beyond it the least stable "
             "forcing may lie below the box (below_box in the CSV); lower --abar-min to see it",
+            file=sys.stderr,
+        )
+
+
+def warn_seeds(chart, command: str, where: str = "") -> None:
+    """A warning on stderr for each seed of ``chart`` whose branches in Abar have stable orbits
+    with wall contact below what the curves read there (:func:`seed_disagreements`)."""
+    from slosh_bif.studies.chart.reading import seed_disagreements
+
+    for sigma, read, least, below in seed_disagreements(chart):
+        there = "down to the box's bottom" if below else f"down to Abar = {least:.6g}"
+        read_there = f"{where}at sigma = {sigma:.5g} the curves read Abar_c = {read:.6g}"
+        missed = f"stable orbits with wall contact {there}: a boundary the curves miss"
+        print(
+            f"slosh-bif {command}: warning: {read_there}, but the branches in Abar there have "
+            f"{missed}; `slosh-bif answer critical-forcing` at that sigma asks every family",
             file=sys.stderr,
         )

@@ -24,7 +24,7 @@ __all__ = ["add_commands"]
 
 
 def _study(args) -> int:
-    from slosh_bif.cli.chart import warn_below_box
+    from slosh_bif.cli.chart import warn_below_box, warn_seeds
     from slosh_bif.studies.chart import ChartSettings, check_box
     from slosh_bif.studies.design import design_study, plot_study, write_study_csv
 
@@ -54,6 +54,7 @@ def _study(args) -> int:
     for v in study.values:
         if v.chart is not None:
             warn_below_box(v.chart, "study", f"{name} = {v.value:.6g}: ")
+            warn_seeds(v.chart, "study", f"{name} = {v.value:.6g}: ")
     for v in study.values:
         print(f"{name} = {v.value:.6g}: {v.status}" + (f" ({v.reason})" if v.reason else ""))
     print("wrote " + ", ".join(str(p) for p in paths))

@@ -1,6 +1,7 @@
 """The chart's curve tracing on several processes gives the sequential result: the same curves,
 point for point, each once however the starts repeat (issue 16's speed target, on 2 cores)."""
 
+import dataclasses
 from concurrent.futures import Future
 
 import numpy as np
@@ -24,7 +25,8 @@ from slosh_bif.studies.chart.curves import (
     trace_curves,
     uncovered_points,
 )
-from slosh_bif.studies.chart.reading import exits_below, lowest_stable_boundary
+from slosh_bif.studies.chart.reading import exits_below, lowest_stable_boundary, seed_disagreements
+from slosh_bif.studies.chart.result import Chart
 
 PRESET = get_preset("fig10")
 # A random admissible draw (seed 28 of the chart's campaign, docs/findings/chart.md)
@@ -433,3 +435,24 @@ def test_a_chart_whose_lowest_curve_has_stable_orbits_with_contact_below_marks_t
     for row in rows[1:]:
         assert lowest_stable_boundary(chart.curves, row["sigma"])[1] == "BP"
         assert np.isnan(row["Abar_c_full"]) and row["below_box"] == 1 and row["bounded_by"] == ""
+    # Where no curve reaches, the seed's branch in Abar says what the curves cannot.
+    missed = seed_disagreements(chart)
+    assert len(missed) == 1
+    sigma, read, _, below = missed[0]
+    assert sigma < -2.35 and np.isnan(read) and below
+
+
+def test_a_seed_with_stable_orbits_with_contact_below_the_curves_reading_is_reported():
+    """A chart's seed (its family in Abar at one sigma) against its curves: with none traced, the
+    seed's fold at 0.0455, the lower end of its stable orbits with contact, is reported."""
+    family = trace_orbits(
+        SEED_28.replace(Abar=0.02),
+        np.zeros(4),
+        interval=ParameterRange(0.02, 4.0, "Abar"),
+        branching=NO_SWITCHING,
+    )
+    chart = Chart(SEED_28, (-2.5, -1.5), (0.02, 4.0), family, [], None, 0.0, seeds=((-2.049, family),))
+    ((sigma, read, least, below),) = seed_disagreements(chart)
+    assert sigma == -2.049 and np.isnan(read) and not below
+    assert 0.04 < least < 0.05
+    assert seed_disagreements(dataclasses.replace(chart, abar_range=(0.1, 4.0)))[0][3]

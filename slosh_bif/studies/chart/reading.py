@@ -12,10 +12,17 @@ from slosh_bif.model.params import Params
 from slosh_bif.orbits.codim2 import CODIM2_KINDS, corrected_at, curve_boundary
 from slosh_bif.orbits.criticality import special_criticality
 from slosh_bif.orbits.settings import SHOOTING, ShootingSettings
-from slosh_bif.orbits.stable_contact import LowEnd, stable_side_below
+from slosh_bif.orbits.stable_contact import LowEnd, lowest_stable_contact, stable_side_below
 from slosh_bif.studies.chart.result import Chart
 
-__all__ = ["critical_at", "exits_below", "low_end_reading", "lowest_stable_boundary", "SECOND_ON_CIRCLE"]
+__all__ = [
+    "critical_at",
+    "exits_below",
+    "low_end_reading",
+    "lowest_stable_boundary",
+    "seed_disagreements",
+    "SECOND_ON_CIRCLE",
+]
 
 SECOND_ON_CIRCLE = 1e-5  # a located codimension-2 point has its second multiplier this near the circle
 
@@ -179,3 +186,35 @@ def _bounds_stable(curve) -> np.ndarray:
     for i in np.flatnonzero(contact & (np.abs(second - 1.0) < SECOND_ON_CIRCLE)):
         good[i] = bool(good[max(i - 1, 0)] or good[min(i + 1, len(good) - 1)])
     return good
+
+
+def seed_disagreements(chart: Chart, rtol: float = 1e-4) -> list:
+    """(sigma, read, found, below) at each seed of ``chart`` (its families in Abar at one sigma)
+    whose stable orbits with wall contact reach lower than the curves read there: ``read`` the
+    chart's Abar_c at that sigma (:func:`critical_at`), ``found`` the lower end on the seed's
+    branches (NaN with ``below`` where they reach the box's bottom). The curves then miss a
+    boundary (one no traced curve carries, or none at all: stable orbits with contact down to the
+    bottom); a check the chart makes of itself, at no cost but the reading."""
+    if chart.second != "Abar":
+        return []
+    low = chart.abar_range[0]
+    found = []
+    sides = {}
+    for sigma, family in chart.seeds:
+        ends = [
+            e
+            for ob in family.branches
+            if ob.problem.period_multiple == 1
+            for e in [lowest_stable_contact(ob, low)]
+            if e is not None
+        ]
+        if not ends:
+            continue
+        read, _, _, read_below = critical_at(chart.curves, sigma, chart.params, low, sides=sides)
+        below = any(e.below_range for e in ends)
+        least = np.nan if below else min(e.Abar for e in ends)
+        if read_below:
+            continue
+        if below or not least >= read * (1 - rtol):
+            found.append((float(sigma), float(read), float(least), below))
+    return found

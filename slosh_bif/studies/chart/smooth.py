@@ -115,6 +115,7 @@ def bifurcation_chart(
     # ``seeds`` values of sigma, each continued in Abar (the second parameter) over the box, from
     # regular points (see :func:`regular_points`).
     primary = family.branches[0].branch
+    seeds = []
     for _, i in seed_points([(primary.p, regular_points(primary))], (s0, s1), settings.seeds):
         at = params.replace(sigma=float(primary.p[i]))
         if not a0 <= getattr(at, second) <= a1:
@@ -132,6 +133,7 @@ def bifurcation_chart(
             say(f"no {second} branch at sigma = {at.sigma:.4g}: {err}")
             continue
         starts += family_starts(down, at, box, shooting)
+        seeds.append((float(at.sigma), down))
     # Where the primary branch does not reach (an isola, a branch ending inside the box), the
     # orbits the family scan finds at sigmas there, continued in Abar: a torus curve of the
     # linear response at large sigma bounds stable orbits that no curve of the branch meets.
@@ -167,6 +169,7 @@ def bifurcation_chart(
         second,
         failures,
         tasks=tuple(tasks),
+        seeds=tuple(seeds),
     )
 
 
