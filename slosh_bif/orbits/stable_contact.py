@@ -27,7 +27,14 @@ from slosh_bif.orbits.orbit_tools import orbit_at, orbit_measures
 from slosh_bif.orbits.settings import NO_SWITCHING, SHOOTING, ParameterRange, ShootingSettings
 from slosh_bif.orbits.shooting import ShootingProblem
 
-__all__ = ["LowEnd", "lowest_stable_contact", "stable_side_below", "BELOW_STEP", "FINE_POINTS"]
+__all__ = [
+    "LowEnd",
+    "lowest_stable_contact",
+    "stable_orbit_below",
+    "stable_side_below",
+    "BELOW_STEP",
+    "FINE_POINTS",
+]
 
 BELOW_STEP = 1e-3  # the side below a curve point is probed at Abar (1 - BELOW_STEP)
 # Newton steps of a probe: an orbit 1e-3 below a PD, NS or BP point, or 3e-2 below a fold, is
@@ -103,7 +110,7 @@ def _contact_crossing(ob: OrbitBranch, lo: int, hi: int) -> float:
     return float(p0 + (1.0 - w[lo]) / (w[hi] - w[lo]) * (p1 - p0))
 
 
-def stable_side_below(
+def stable_orbit_below(
     params: Params,
     y0,
     a0: float,
@@ -111,17 +118,13 @@ def stable_side_below(
     fold: bool = False,
     period_multiple: int = 1,
     shooting: ShootingSettings = SHOOTING,
-    follow: bool = True,
-) -> LowEnd | None:
-    """Where the curve point (``params.sigma``, ``params.Abar``) with the orbit through ``y0`` has
-    stable orbits with wall contact just below it (at Abar (1 - :data:`BELOW_STEP`)), the lower
-    end of them on their branch in Abar down to ``a0``; None where it has none there (the stable
-    side is above, or no orbit is found below). At a ``fold`` both orbits below are tried (from
-    the curve's orbit, and reflected through it). Period-2 curves bound period-2 orbits: None.
-    ``follow`` False: only whether there are such orbits (a :class:`LowEnd` with no value, kind
-    "below the point", or None), without tracing their branch."""
-    value = params.Abar
-    below = value * (1 - BELOW_STEP)
+):
+    """The stable orbit with wall contact just below the curve point (``params.sigma``,
+    ``params.Abar``) whose orbit passes through ``y0``: Newton at Abar (1 - :data:`BELOW_STEP`)
+    from it (at a ``fold``, from it and reflected through it: the fold's two orbits there); None
+    where there is none (the stable side is above, or no orbit is found below), below ``a0``, or
+    on a period-2 curve (it bounds period-2 orbits)."""
+    below = params.Abar * (1 - BELOW_STEP)
     if period_multiple != 1 or not below > a0:
         return None
     problem = ShootingProblem(
@@ -134,17 +137,34 @@ def stable_side_below(
     )
     x0 = problem.initial_states(np.asarray(y0, dtype=float))
     first = orbit_at(problem, x0, below, max_iter=PROBE_ITERATIONS)
-    found = first if _stable_with_contact(problem, first, below) else None
-    if found is None and fold and first.converged:  # the fold's other orbit, reflected through the curve's
+    if _stable_with_contact(problem, first, below):
+        return first
+    if fold and first.converged:
         other = orbit_at(problem, 2 * x0 - problem.initial_states(first.y0), below, max_iter=PROBE_ITERATIONS)
-        found = other if _stable_with_contact(problem, other, below) else None
+        if _stable_with_contact(problem, other, below):
+            return other
+    return None
+
+
+def stable_side_below(
+    params: Params,
+    y0,
+    a0: float,
+    *,
+    fold: bool = False,
+    period_multiple: int = 1,
+    shooting: ShootingSettings = SHOOTING,
+) -> LowEnd | None:
+    """Where the curve point (``params.sigma``, ``params.Abar``) with the orbit through ``y0`` has
+    stable orbits with wall contact just below it (:func:`stable_orbit_below`), the lower end of
+    them on their branch in Abar down to ``a0``; None where it has none there."""
+    found = stable_orbit_below(params, y0, a0, fold=fold, period_multiple=period_multiple, shooting=shooting)
     if found is None:
         return None
-    if not follow:
-        return LowEnd(np.nan, "below the point", None)
+    value = params.Abar
     try:
         family = trace_orbits(
-            params.replace(Abar=below),
+            params.replace(Abar=value * (1 - BELOW_STEP)),
             found.y0,
             # room above the curve point: a fold just below it is located, not cut by the range's end
             interval=ParameterRange(lo=a0, hi=value * (1 + ABOVE), name="Abar"),

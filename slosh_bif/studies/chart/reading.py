@@ -12,7 +12,12 @@ from slosh_bif.model.params import Params
 from slosh_bif.orbits.codim2 import CODIM2_KINDS, corrected_at, curve_boundary
 from slosh_bif.orbits.criticality import special_criticality
 from slosh_bif.orbits.settings import SHOOTING, ShootingSettings
-from slosh_bif.orbits.stable_contact import LowEnd, lowest_stable_contact, stable_side_below
+from slosh_bif.orbits.stable_contact import (
+    LowEnd,
+    lowest_stable_contact,
+    stable_orbit_below,
+    stable_side_below,
+)
 from slosh_bif.studies.chart.result import Chart
 
 __all__ = [
@@ -117,8 +122,8 @@ def _stable_side_below(curve, i, params, abar_min, shooting, sides) -> bool:
         near = [sp.index for sp in curve.branch.special if sp.kind in CODIM2_KINDS]
         j = i + 1 if i in near and i + 1 < len(s) else i
         at = params.replace(sigma=float(s[j]), Abar=float(curve["Abar"][j]))
-        found = stable_side_below(
-            at, curve.branch.x[j, :4], abar_min, fold=curve.kind == "LP", shooting=shooting, follow=False
+        found = stable_orbit_below(
+            at, curve.branch.x[j, :4], abar_min, fold=curve.kind == "LP", shooting=shooting
         )
         sides[key] = found is not None
     return sides[key]
