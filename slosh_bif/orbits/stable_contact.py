@@ -111,21 +111,14 @@ def _contact_crossing(ob: OrbitBranch, lo: int, hi: int) -> float:
 
 
 def stable_orbit_below(
-    params: Params,
-    y0,
-    a0: float,
-    *,
-    fold: bool = False,
-    period_multiple: int = 1,
-    shooting: ShootingSettings = SHOOTING,
+    params: Params, y0, a0: float, *, fold: bool = False, shooting: ShootingSettings = SHOOTING
 ):
-    """The stable orbit with wall contact just below the curve point (``params.sigma``,
+    """The stable period-1 orbit with wall contact just below the curve point (``params.sigma``,
     ``params.Abar``) whose orbit passes through ``y0``: Newton at Abar (1 - :data:`BELOW_STEP`)
     from it (at a ``fold``, from it and reflected through it: the fold's two orbits there); None
-    where there is none (the stable side is above, or no orbit is found below), below ``a0``, or
-    on a period-2 curve (it bounds period-2 orbits)."""
+    where there is none (the stable side is above, or no orbit is found below) or below ``a0``."""
     below = params.Abar * (1 - BELOW_STEP)
-    if period_multiple != 1 or not below > a0:
+    if not below > a0:
         return None
     problem = ShootingProblem(
         params.replace(Abar=below),
@@ -146,26 +139,17 @@ def stable_orbit_below(
     return None
 
 
-def stable_side_below(
-    params: Params,
-    y0,
-    a0: float,
-    *,
-    fold: bool = False,
-    period_multiple: int = 1,
-    shooting: ShootingSettings = SHOOTING,
-) -> LowEnd | None:
-    """Where the curve point (``params.sigma``, ``params.Abar``) with the orbit through ``y0`` has
-    stable orbits with wall contact just below it (:func:`stable_orbit_below`), the lower end of
-    them on their branch in Abar down to ``a0``; None where it has none there."""
-    found = stable_orbit_below(params, y0, a0, fold=fold, period_multiple=period_multiple, shooting=shooting)
-    if found is None:
+def stable_side_below(params: Params, orbit, a0: float, shooting: ShootingSettings = SHOOTING):
+    """The lower end of the stable orbits with wall contact on the branch in Abar through
+    ``orbit``, the one :func:`stable_orbit_below` found below the curve point ``params`` (None
+    for none), traced down to ``a0``; None where there is no orbit or its branch fails."""
+    if orbit is None:
         return None
     value = params.Abar
     try:
         family = trace_orbits(
             params.replace(Abar=value * (1 - BELOW_STEP)),
-            found.y0,
+            orbit.y0,
             # room above the curve point: a fold just below it is located, not cut by the range's end
             interval=ParameterRange(lo=a0, hi=value * (1 + ABOVE), name="Abar"),
             shooting=shooting,

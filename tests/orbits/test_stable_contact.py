@@ -10,7 +10,7 @@ from slosh_bif import get_preset
 from slosh_bif.model.params import Params
 from slosh_bif.orbits import NO_SWITCHING, periodic_orbit, trace_orbits
 from slosh_bif.orbits.settings import ParameterRange
-from slosh_bif.orbits.stable_contact import lowest_stable_contact, stable_side_below
+from slosh_bif.orbits.stable_contact import lowest_stable_contact, stable_orbit_below, stable_side_below
 from slosh_bif.simulation.direct import integrate_smooth
 
 # A random admissible draw (seed 28 of the chart's campaign) at sigma = -2.049: the orbits with
@@ -44,20 +44,22 @@ def test_the_stable_orbits_with_contact_end_at_a_fold_far_below_the_pitchfork(fr
     pitchfork = [sp for sp in from_rest.branch.special if sp.kind == "BP"]
     assert len(pitchfork) == 1 and pitchfork[0].p > 3.2
     # From the pitchfork down, on the branch traced from there: the same fold.
-    below = stable_side_below(SEED_28.replace(Abar=pitchfork[0].p), pitchfork[0].x[:4], 0.02)
+    at = SEED_28.replace(Abar=pitchfork[0].p)
+    below = stable_side_below(at, stable_orbit_below(at, pitchfork[0].x[:4], 0.02), 0.02)
     assert below.kind == "LP"
     assert below.Abar == pytest.approx(end.Abar, rel=1e-9)
 
 
 def test_stable_orbits_with_contact_down_to_the_range_bottom_lie_below_it(from_rest):
     pitchfork = [sp for sp in from_rest.branch.special if sp.kind == "BP"][0]
-    below = stable_side_below(SEED_28.replace(Abar=pitchfork.p), pitchfork.x[:4], 0.1)
+    at = SEED_28.replace(Abar=pitchfork.p)
+    below = stable_side_below(at, stable_orbit_below(at, pitchfork.x[:4], 0.1), 0.1)
     assert below.below_range and np.isnan(below.Abar)
 
 
 def test_above_a_fold_whose_stable_orbits_lie_above_nothing_is_found_below(from_rest):
     fold = [sp for sp in from_rest.branch.special if sp.kind == "LP" and sp.p < 1][0]
-    assert stable_side_below(SEED_28.replace(Abar=fold.p), fold.x[:4], 0.02, fold=True) is None
+    assert stable_orbit_below(SEED_28.replace(Abar=fold.p), fold.x[:4], 0.02, fold=True) is None
 
 
 def test_a_contact_crossing_is_where_the_stable_orbit_first_touches_the_walls():

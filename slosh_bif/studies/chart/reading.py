@@ -96,19 +96,15 @@ def critical_at(
     value, kind, loss, curve, y0, i = _lowest_reading(curves, sigma, params if corrected else None)
     if curve is None or "(9)" not in curve.branch.kind:
         return value, kind, loss, False
-    if not _stable_side_below(curve, i, params, abar_min, shooting, {} if sides is None else sides):
+    if not _side_is_below(curve, i, params, abar_min, shooting, {} if sides is None else sides):
         return value, kind, loss, False
-    end = stable_side_below(
-        params.replace(sigma=float(sigma), Abar=float(value)),
-        y0,
-        abar_min,
-        fold=curve.kind == "LP",
-        shooting=shooting,
-    )
+    at = params.replace(sigma=float(sigma), Abar=float(value))
+    probe = stable_orbit_below(at, y0, abar_min, fold=curve.kind == "LP", shooting=shooting)
+    end = stable_side_below(at, probe, abar_min, shooting)
     return (value, kind, loss, False) if end is None else low_end_reading(end)
 
 
-def _stable_side_below(curve, i, params, abar_min, shooting, sides) -> bool:
+def _side_is_below(curve, i, params, abar_min, shooting, sides) -> bool:
     """Whether the piece of ``curve`` holding segment i has stable orbits with contact just below
     it, asked at the segment's first point (or its second, where the first is a codimension-2
     point) and kept in ``sides`` by (curve, piece)."""
