@@ -29,6 +29,7 @@ from slosh_bif.orbits.shooting import ShootingProblem
 
 __all__ = [
     "LowEnd",
+    "born_at",
     "lowest_stable_contact",
     "stable_orbit_below",
     "stable_side_below",
@@ -83,6 +84,27 @@ def lowest_stable_contact(ob: OrbitBranch, a0: float) -> LowEnd | None:
     if lower and b.stable[lower[0]]:  # stable there, without contact
         return LowEnd(_contact_crossing(ob, lower[0], i), "contact", ob)
     return LowEnd(float(p[i]), "unlocated", ob)
+
+
+def born_at(end: LowEnd, branches) -> LowEnd:
+    """Where ``end`` is the first (or last) point of a switched branch, its stable orbits start
+    where it was switched on: the located BP of another of ``branches`` at that Abar (within
+    1e-3), with its own index there; ``end`` itself otherwise. The switched branch's first point
+    lies a step off the pitchfork (5e-5 on the seed-28 set), where nothing is located."""
+    ob = end.branch
+    if end.kind != "unlocated" or not ob.origin or end.Abar not in (ob.branch.p[0], ob.branch.p[-1]):
+        return end
+    near = [
+        (abs(sp.p - end.Abar), k, j)
+        for k, other in enumerate(branches)
+        if other is not ob
+        for j, sp in enumerate(other.branch.special)
+        if sp.kind == "BP" and sp.located
+    ]
+    if not near or min(near)[0] > 1e-3 * (1 + abs(end.Abar)):
+        return end
+    _, k, j = min(near)
+    return LowEnd(float(branches[k].branch.special[j].p), "BP", branches[k], j)
 
 
 def _contact_crossing(ob: OrbitBranch, lo: int, hi: int) -> float:

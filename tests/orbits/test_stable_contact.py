@@ -9,8 +9,13 @@ import pytest
 from slosh_bif import get_preset
 from slosh_bif.model.params import Params
 from slosh_bif.orbits import NO_SWITCHING, periodic_orbit, trace_orbits
-from slosh_bif.orbits.settings import ParameterRange
-from slosh_bif.orbits.stable_contact import lowest_stable_contact, stable_orbit_below, stable_side_below
+from slosh_bif.orbits.settings import BranchingSettings, ParameterRange
+from slosh_bif.orbits.stable_contact import (
+    born_at,
+    lowest_stable_contact,
+    stable_orbit_below,
+    stable_side_below,
+)
 from slosh_bif.simulation.direct import integrate_smooth
 
 # A random admissible draw (seed 28 of the chart's campaign) at sigma = -2.049: the orbits with
@@ -60,6 +65,25 @@ def test_stable_orbits_with_contact_down_to_the_range_bottom_lie_below_it(from_r
 def test_above_a_fold_whose_stable_orbits_lie_above_nothing_is_found_below(from_rest):
     fold = [sp for sp in from_rest.branch.special if sp.kind == "LP" and sp.p < 1][0]
     assert stable_orbit_below(SEED_28.replace(Abar=fold.p), fold.x[:4], 0.02, fold=True) is None
+
+
+def test_a_pair_stable_from_where_it_was_switched_on_starts_at_its_parents_pitchfork():
+    """The asymmetric pair born at the pitchfork at 3.234 is stable with contact from its first
+    point, a step off the pitchfork: its lower end is the parent's located pitchfork."""
+    family = trace_orbits(
+        SEED_28,
+        np.zeros(4),
+        interval=ParameterRange(0.02, 4.0, "Abar"),
+        branching=BranchingSettings(doublings=False),
+    )
+    parent, pair = family.branches
+    end = lowest_stable_contact(pair, 0.02)
+    assert end.kind == "unlocated"
+    (pitchfork,) = [sp for sp in parent.branch.special if sp.kind == "BP"]
+    assert 0 < abs(end.Abar - pitchfork.p) < 1e-3
+    born = born_at(end, family.branches)
+    assert (born.kind, born.Abar, born.branch) == ("BP", pitchfork.p, parent)
+    assert born_at(lowest_stable_contact(parent, 0.02), family.branches).kind == "LP"  # not switched
 
 
 def test_a_contact_crossing_is_where_the_stable_orbit_first_touches_the_walls():
