@@ -30,6 +30,7 @@ from slosh_bif.orbits.shooting import ShootingProblem
 __all__ = [
     "LowEnd",
     "born_at",
+    "family_low_ends",
     "lowest_stable_contact",
     "stable_orbit_below",
     "stable_side_below",
@@ -105,6 +106,14 @@ def born_at(end: LowEnd, branches) -> LowEnd:
         return end
     _, k, j = min(near)
     return LowEnd(float(branches[k].branch.special[j].p), "BP", branches[k], j)
+
+
+def family_low_ends(branches, a0: float) -> list:
+    """The lower end of the stable orbits with wall contact on each period-1 branch of
+    ``branches`` that has them (:func:`lowest_stable_contact`, a switched pair's at its parent's
+    pitchfork by :func:`born_at`)."""
+    period_1 = [ob for ob in branches if ob.problem.period_multiple == 1]
+    return [born_at(e, period_1) for ob in period_1 for e in [lowest_stable_contact(ob, a0)] if e is not None]
 
 
 def _contact_crossing(ob: OrbitBranch, lo: int, hi: int) -> float:

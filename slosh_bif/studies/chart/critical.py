@@ -22,7 +22,7 @@ from slosh_bif.orbits.settings import (
     ShootingSettings,
     StartSettings,
 )
-from slosh_bif.orbits.stable_contact import born_at, lowest_stable_contact
+from slosh_bif.orbits.stable_contact import family_low_ends
 from slosh_bif.slowflow.critical import critical_curve
 from slosh_bif.studies.chart.curves import (
     curve_starts,
@@ -116,8 +116,7 @@ def critical_forcing_full(
         params, box, (a0, a1), family, curves, slow, time.perf_counter() - started, failures=failures
     )
     # The lower ends of the stable orbits with contact on the branches in Abar, exact at sigma.
-    period_1 = [ob for ob in family.branches if ob.problem.period_multiple == 1]
-    ends = [born_at(e, period_1) for ob in period_1 for e in [lowest_stable_contact(ob, a0)] if e is not None]
+    ends = family_low_ends(family.branches, a0)
     if any(e.below_range for e in ends):
         return FullCritical(float(sigma), np.nan, "", chart, "", below_range=True)
     value, kind, loss, _ = min(

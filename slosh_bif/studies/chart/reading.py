@@ -12,12 +12,7 @@ from slosh_bif.model.params import Params
 from slosh_bif.orbits.codim2 import CODIM2_KINDS, corrected_at, curve_boundary
 from slosh_bif.orbits.criticality import special_criticality
 from slosh_bif.orbits.settings import SHOOTING, ShootingSettings
-from slosh_bif.orbits.stable_contact import (
-    LowEnd,
-    lowest_stable_contact,
-    stable_orbit_below,
-    stable_side_below,
-)
+from slosh_bif.orbits.stable_contact import LowEnd, family_low_ends, stable_orbit_below, stable_side_below
 from slosh_bif.studies.chart.result import Chart
 
 __all__ = [
@@ -109,14 +104,12 @@ def _side_is_below(curve, i, params, abar_min, shooting, sides) -> bool:
     it, asked at the segment's first point (or its second, where the first is a codimension-2
     point) and kept in ``sides`` by (curve, piece)."""
     s = curve["sigma"]
+    codim2 = [sp.index for sp in curve.branch.special if sp.kind in CODIM2_KINDS]
     turns = np.r_[False, np.diff(np.sign(np.diff(s))) != 0]
-    for sp in curve.branch.special:
-        if sp.kind in CODIM2_KINDS and 0 <= sp.index < len(turns):
-            turns[sp.index] = True
+    turns[[k for k in codim2 if 0 <= k < len(turns)]] = True
     key = (id(curve), int(np.count_nonzero(turns[: i + 1])))
     if key not in sides:
-        near = [sp.index for sp in curve.branch.special if sp.kind in CODIM2_KINDS]
-        j = i + 1 if i in near and i + 1 < len(s) else i
+        j = i + 1 if i in codim2 and i + 1 < len(s) else i
         at = params.replace(sigma=float(s[j]), Abar=float(curve["Abar"][j]))
         found = stable_orbit_below(
             at, curve.branch.x[j, :4], abar_min, fold=curve.kind == "LP", shooting=shooting
@@ -202,13 +195,7 @@ def seed_disagreements(chart: Chart, rtol: float = 1e-4) -> list:
     found = []
     sides = {}
     for sigma, family in chart.seeds:
-        ends = [
-            e
-            for ob in family.branches
-            if ob.problem.period_multiple == 1
-            for e in [lowest_stable_contact(ob, low)]
-            if e is not None
-        ]
+        ends = family_low_ends(family.branches, low)
         if not ends:
             continue
         read, _, _, read_below = critical_at(chart.curves, sigma, chart.params, low, sides=sides)
