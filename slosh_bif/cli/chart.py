@@ -336,8 +336,12 @@ def warn_seeds(chart, command: str, where: str = "") -> None:
         there = "down to the box's bottom" if below else f"down to Abar = {least:.6g}"
         read_there = f"{where}at sigma = {sigma:.5g} the curves read Abar_c = {read:.6g}"
         missed = f"stable orbits with wall contact {there}: a boundary the curves miss"
+        ask = (
+            "; `slosh-bif answer critical-forcing` at that sigma asks every family"
+            if chart.orbits == "(9)"
+            else ""
+        )
         print(
-            f"slosh-bif {command}: warning: {read_there}, but the branches in Abar there have "
-            f"{missed}; `slosh-bif answer critical-forcing` at that sigma asks every family",
+            f"slosh-bif {command}: warning: {read_there}, but the branches in Abar there have {missed}{ask}",
             file=sys.stderr,
         )

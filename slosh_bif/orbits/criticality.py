@@ -191,14 +191,18 @@ def family_criticality(branches) -> list:
     return [{k: _AT_PARENT if sp is None else next(found) for k, sp in plan} for plan in plans]
 
 
-def impact_criticality(branch, params, *, symmetric: bool = False) -> list:
+def impact_criticality(branch, params, *, symmetric: bool = False, only: tuple | None = None) -> list:
     """Per piece of the :class:`~slosh_bif.orbits.impact.branches.ImpactBranch` ``branch`` of (8)
     (traced on the half-period map when ``symmetric``), ``{index in the piece's special points:
-    Verdict or a reason}`` as :func:`special_criticality` gives them for (9)."""
+    Verdict or a reason}`` as :func:`special_criticality` gives them for (9); ``only``: (piece,
+    index) of one point, the other pieces left empty."""
     from slosh_bif.orbits.impact.problem import ImpactOrbitProblem  # numba only where (8) is judged
 
     out = []
-    for piece in branch.pieces:
+    for k, piece in enumerate(branch.pieces):
+        if only is not None and only[0] != k:
+            out.append({})
+            continue
         problem = ImpactOrbitProblem(
             params,
             piece.branch.param,
@@ -207,7 +211,7 @@ def impact_criticality(branch, params, *, symmetric: bool = False) -> list:
             period_multiple=piece.period_multiple,
             variant=branch.variant,
         )
-        out.append(_judged(problem, piece.branch))
+        out.append(_judged(problem, piece.branch, None if only is None else only[1]))
     return out
 
 

@@ -1,4 +1,4 @@
-"""A curve of orbit bifurcations of (9) read at a value of its first parameter: the point between
+"""A curve of orbit bifurcations of (9) (or of (8)) read at a value of its first parameter: the point between
 two computed points corrected on the curve's own minimally augmented system at that value (Newton
 in the orbit's states and p2, p1 held), not interpolated linearly between them. The chart's
 critical forcing Abar_c(sigma) (:mod:`slosh_bif.studies.chart.critical`) then carries the
@@ -11,6 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from slosh_bif.continuation.corrector import newton_solve
+from slosh_bif.continuation.options import ConvergenceError
 from slosh_bif.model.params import Params
 from slosh_bif.orbits.codim2.curves import curve_problem
 
@@ -19,14 +20,15 @@ __all__ = ["corrected_at", "CROSSING_TOL"]
 CROSSING_TOL = 1e-9  # Newton's update at the corrected point (the curves' own corrector tolerance)
 
 
-def corrected_at(curve, params: Params, value: float, segment: int) -> float | None:
+def corrected_at(curve, params: Params, value: float, segment: int, orbits=None) -> float | None:
     """p2 of ``curve`` at p1 = ``value``, corrected from the linear interpolation over its points
     ``segment`` and ``segment + 1`` (which bracket ``value``), on the curve problem of its kind
-    built at ``params`` with the curve's arcs and period; None where the curve is not one of (9)
-    (the stroboscopic map of (8) keeps the interpolation), Newton does not converge, or it
+    built at ``params`` with the curve's arcs and period (``orbits``: the orbit equations of
+    another model, :func:`~slosh_bif.orbits.impact.curves.impact_corrected_at`); None where the
+    curve is not one of (9) and no ``orbits`` are given, Newton does not converge, or it
     converges off the segment (beyond half the segment's own span in p2)."""
     branch = curve.branch
-    if "(9)" not in branch.kind:
+    if "(9)" not in branch.kind and orbits is None:
         return None
     s, x = branch.p, branch.x
     i = int(segment)
@@ -42,10 +44,11 @@ def corrected_at(curve, params: Params, value: float, segment: int) -> float | N
             curve.p2,
             segments=(len(branch.names) - extra) // 4,
             period_multiple=curve.period_multiple,
+            orbits=orbits,
         )
         problem.init_borders(x0, float(value))
         run = newton_solve(problem, x0, float(value), tol=CROSSING_TOL, max_iter=8)
-    except (ValueError, np.linalg.LinAlgError):
+    except (ValueError, ConvergenceError, np.linalg.LinAlgError):
         return None
     if not run.converged:
         return None

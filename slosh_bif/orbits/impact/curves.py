@@ -22,6 +22,7 @@ from scipy import linalg
 from slosh_bif.continuation import ContinuationOptions, continuation, newton_solve
 from slosh_bif.model.params import Params
 from slosh_bif.orbits.codim2.coefficients import curve_coefficients
+from slosh_bif.orbits.codim2.crossing import corrected_at
 from slosh_bif.orbits.codim2.curves import (
     CURVE_PROBLEMS,
     BifurcationCurve,
@@ -38,7 +39,7 @@ from slosh_bif.orbits.impact.output import orbit_measures
 from slosh_bif.orbits.impact.problem import VARIANT_NAMES, ImpactOrbitProblem
 from slosh_bif.orbits.impact.strobe import ImpactStrobe
 
-__all__ = ["ImpactCurveSeed", "trace_impact_curve", "trace_grazing_curve"]
+__all__ = ["ImpactCurveSeed", "impact_corrected_at", "trace_impact_curve", "trace_grazing_curve"]
 
 
 @dataclasses.dataclass(frozen=True)
@@ -139,6 +140,42 @@ def trace_impact_curve(
     ]
     joined, measures = join_pieces(parts)
     return BifurcationCurve(kind, p1, p2, joined, measures, seed.origin, seed.period_multiple)
+
+
+def impact_corrected_at(curve, params: Params, value: float, segment: int, variant: str = "paper"):
+    """p2 of the curve of (8) (of the impact model ``variant``) at p1 = ``value``, corrected on the
+    curve's own system from the interpolation over its points ``segment`` and ``segment + 1``
+    (:func:`~slosh_bif.orbits.codim2.crossing.corrected_at`), with their section and number of
+    impacts held; None where the two points lie on different sections or the correction fails."""
+    i = int(segment)
+    phase = curve["phase"]
+    if phase[i] != phase[i + 1]:
+        return None
+    x = curve.branch.x[i, :4]
+    at = params.replace(**{curve.p1: float(curve.branch.p[i]), curve.p2: float(curve.branch.x[i, 4])})
+    symmetric = curve.kind == "BP"
+    try:
+        probe = ImpactOrbitProblem(
+            at,
+            curve.p1,
+            symmetric=symmetric,
+            period_multiple=curve.period_multiple,
+            phase=float(phase[i]),
+            variant=variant,
+        )
+        impacts = len(probe.evaluate(x, getattr(at, curve.p1)).impacts)
+        orbits = ImpactStrobe(
+            at,
+            sensitivities=(curve.p1, curve.p2),
+            symmetric=symmetric,
+            period_multiple=curve.period_multiple,
+            phase=float(phase[i]),
+            impacts=impacts,
+            variant=variant,
+        )
+    except ValueError:
+        return None
+    return corrected_at(curve, params, value, i, orbits=orbits)
 
 
 def _finished(problem, branch, variant) -> tuple:

@@ -29,7 +29,14 @@ from slosh_bif.studies.chart.curves import (
     pitchforks_of,
     trace_curves,
 )
-from slosh_bif.studies.chart.reading import critical_at, exits_below, low_end_reading, lowest_stable_boundary
+from slosh_bif.studies.chart.reading import (
+    beyond_exit,
+    critical_at,
+    exits_below,
+    low_end_reading,
+    lowest_stable_boundary,
+    variant_of,
+)
 from slosh_bif.studies.chart.result import Chart
 
 __all__ = ["CRITICAL_COLUMNS", "FullCritical", "critical_forcing_full", "critical_rows"]
@@ -218,13 +225,14 @@ def critical_rows(chart: Chart, points: int = 57):
     exits = exits_below(chart)
     slow = chart.slow_flow_critical
     sides = {}
+    variant = variant_of(chart) or "paper"
     for sigma in np.linspace(*chart.sigma_range, points):
         b = _slow_flow_critical_at(slow, sigma)
         c, kind, loss, below = critical_at(
-            chart.curves, sigma, chart.params, chart.abar_range[0], sides=sides
+            chart.curves, sigma, chart.params, chart.abar_range[0], sides=sides, variant=variant
         )
         rel = abs(c - b) / b if np.isfinite(b) and np.isfinite(c) and b > 0 else np.nan
-        below = below or any(side != 0 and (sigma - at) * side > 0 for _, _, at, side in exits)
+        below = below or beyond_exit(exits, sigma)
         yield dict(
             sigma=float(sigma),
             Abar_b_slowflow=b,

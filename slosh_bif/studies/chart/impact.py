@@ -118,9 +118,11 @@ def impact_chart(
     # at its pitchforks (not the cascades).
     pieces = [piece.branch for piece in family[0].branch.pieces]
     switching = seed_branching(branching)
+    seeds_found = []  # (sigma, family in Abar) of each seed: the chart's self-check
     for k, i in seed_points([(b.p, regular_points(b)) for b in pieces], (s0, s1), settings.seeds):
         at, seeds = _seeds_in_abar(family[0], family[0].branch.pieces[k], i, params, (a0, a1), switching)
         starts += _family_starts(seeds, at, box)
+        seeds_found.append((float(at.sigma), ImpactFamily(seeds)))
     # Where the primary branch does not reach (an isola, a branch ending in the box): the orbit
     # a simulation settles on at sigmas there, continued in Abar as a seed is.
     for sigma in uncovered_points([b.p for b in pieces], (s0, s1), settings.seeds):
@@ -135,6 +137,7 @@ def impact_chart(
             )
             continue
         starts += _family_starts(seeds, at, box)
+        seeds_found.append((float(sigma), ImpactFamily(seeds)))
     tasks = []
     say(f"{len(starts)} special points of {VARIANT_NAMES[variant]} to start curves from, {where(settings)}")
     curves, status, failures = trace_curves(
@@ -158,6 +161,7 @@ def impact_chart(
         failures,
         orbits=VARIANT_NAMES[variant],
         tasks=tuple(tasks),
+        seeds=tuple(seeds_found),
     )
 
 

@@ -23,7 +23,7 @@ from slosh_bif.orbits.codim2 import CODIM2_KINDS, BifurcationCurve, curve_bounda
 from slosh_bif.report.files import DAMAGE, damaged, read_store, write_text_atomically
 from slosh_bif.report.tables import write_rows
 from slosh_bif.studies.chart.critical import CRITICAL_COLUMNS, critical_rows
-from slosh_bif.studies.chart.reading import critical_at, lowest_stable_boundary
+from slosh_bif.studies.chart.reading import critical_at, lowest_stable_boundary, variant_of
 
 __all__ = [
     "CURVE_COLUMNS",
@@ -236,7 +236,11 @@ def _draw_critical(ax, chart, drawn):
     grid = np.linspace(*chart.sigma_range, 401)
     low = chart.abar_range[0]
     sides = {}
-    found = [critical_at(chart.curves, g, chart.params, low, corrected=False, sides=sides) for g in grid]
+    variant = variant_of(chart) or "paper"
+    found = [
+        critical_at(chart.curves, g, chart.params, low, corrected=False, sides=sides, variant=variant)
+        for g in grid
+    ]
     full = np.array([f[0] for f in found])
     if not np.any(np.isfinite(full)):
         return

@@ -33,8 +33,8 @@ class Chart:
     # the model whose orbits the curves are of: the smooth model (9) or the impact model (8)
     orbits: str = "(9)"
     tasks: tuple = ()  # a Task per curve traced (start, seconds, points), in the order they finished
-    # (sigma, OrbitFamily in the second parameter) of each seed of a chart of (9): an answer at that
-    # sigma apart from the curves (:func:`~slosh_bif.studies.chart.reading.seed_disagreements`)
+    # (sigma, family in the second parameter) of each seed (an OrbitFamily of (9), an ImpactFamily of
+    # (8)): an answer at that sigma apart from the curves (reading.seed_disagreements)
     seeds: tuple = ()
 
     @property
