@@ -256,6 +256,7 @@ class _Line:
         self.kind, self.origin = kind, origin
         self.sigma = np.linspace(-1.0, 1.0, 21)
         self.Abar = 2.0 + self.sigma if kind == "LP" else 3.0 - self.sigma
+        self.max_abs_multiplier = np.full(21, 0.5)  # every other multiplier inside the circle
 
     def __len__(self):
         return len(self.sigma)
@@ -306,6 +307,23 @@ def test_a_start_on_a_finished_curve_of_its_kind_is_not_traced_while_another_kin
     sequential, _, _ = trace_curves(starts, lambda message: None, workers=1)
     assert [c.origin for c in curves] == [c.origin for c in sequential] == ["ns", "lp 1"]
     assert status == "complete" and failures == ()
+
+
+def test_a_fold_start_on_a_fold_curve_of_the_other_side_of_the_circle_is_traced():
+    """A fold start within 2e-3 of a traced fold curve lies on it only where the curve's other
+    multipliers are on the start's side of the unit circle there (two folds 1.7e-3 apart at
+    Abar = 0.28 on a random set of (8), one bounding stable orbits and one not)."""
+
+    def fold_starts(inside):
+        job = dict(trace=_line, kind="LP", origin="lp 2")
+        return [
+            CurveStart.with_job("LP", 0.0, 2.0, "lp 1", dict(trace=_line, kind="LP", origin="lp 1")),
+            CurveStart.with_job("LP", 0.5, 2.5005, "lp 2", job, inside),
+        ]
+
+    for inside, traced in ((True, ["lp 1"]), (None, ["lp 1"]), (False, ["lp 1", "lp 2"])):
+        curves, status, _ = trace_curves(fold_starts(inside), lambda message: None, workers=1)
+        assert status == "complete" and [c.origin for c in curves] == traced
 
 
 def test_below_an_isola_the_chart_finds_the_flip_of_the_pair_born_at_a_pitchfork_in_abar():

@@ -77,7 +77,8 @@ def lowest_stable_impacts(branch: ImpactBranch, a0: float, symmetric: bool = Fal
     bounding = [
         (sp.p, j)
         for j, sp in enumerate(b.special)
-        if sp.kind in _BOUNDS and sp.located and sp.index in (i - 1, i) and sp.p <= value
+        # beside point i on either side: a branch of (8) holds its located points among its own
+        if sp.kind in _BOUNDS and sp.located and abs(sp.index - i) <= 1 and sp.p <= value
     ]
     if bounding:
         at, j = min(bounding)

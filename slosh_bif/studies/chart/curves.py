@@ -35,6 +35,7 @@ __all__ = [
     "seed_branching",
     "seed_points",
     "trace_curves",
+    "side_at",
     "uncovered_points",
 ]
 
@@ -49,10 +50,16 @@ class CurveStart:
     origin: str
 
     @staticmethod
-    def with_job(kind: str, sigma: float, value: float, origin: str, job: dict) -> "CurveStart":
+    def with_job(
+        kind: str, sigma: float, value: float, origin: str, job: dict, inside: bool | None = None
+    ) -> "CurveStart":
         """The start and its set-up: the keyword arguments of :func:`trace_curve`, or of the
-        tracer given as ``job["trace"]`` (the curves of (8))."""
-        return _Start(kind, sigma, value, origin, job)
+        tracer given as ``job["trace"]`` (the curves of (8)); ``inside``: whether the start's
+        other multipliers lie inside the unit circle (:func:`side_at`; None: not known)."""
+        return _Start(kind, sigma, value, origin, job, inside)
+
+
+SIDE_MARGIN = 1e-2  # a curve point's largest other multiplier this near the unit circle tells no side
 
 
 def seed_points(pieces, sigma_range, count: int) -> list:
@@ -137,11 +144,29 @@ def _on_curve(curve: BifurcationCurve, sigma, value, tol=2e-3):
     )
 
 
+def _covers(curve: BifurcationCurve, start) -> bool:
+    """Whether ``curve`` passes through ``start``: of its kind, within 2e-3 in (sigma, p2), and,
+    for a fold whose side is known, with the other multipliers on the start's side of the unit
+    circle at the curve's nearest point (two fold curves of the Abar seeds 1.7e-3 apart at Abar =
+    0.28, one bounding stable orbits and one not, are two curves). Torus curves are not told
+    apart so: the pair a point of one treats as critical can be a neutral saddle's."""
+    if curve.kind != start.kind or not _on_curve(curve, start.sigma, start.value):
+        return False
+    inside = getattr(start, "inside", None)
+    if inside is None or start.kind != "LP":
+        return True
+    j = int(np.argmin(np.hypot(curve["sigma"] - start.sigma, curve[curve.p2] - start.value)))
+    largest = float(curve["max_abs_multiplier"][j])
+    return not np.isfinite(largest) or abs(largest - 1.0) < SIDE_MARGIN or (largest < 1.0) == inside
+
+
 @dataclasses.dataclass(frozen=True)
 class _Start(CurveStart):
-    """A curve's start and its set-up (the arguments of :func:`trace_curve`, or of ``job["trace"]``)."""
+    """A curve's start and its set-up (the arguments of :func:`trace_curve`, or of ``job["trace"]``),
+    and which side of the unit circle its other multipliers lie on (None: not known)."""
 
     job: dict
+    inside: bool | None = None
 
 
 def curve_starts(ob, params, box: dict, pitchforks=(), shooting: ShootingSettings = SHOOTING):
@@ -178,7 +203,19 @@ def curve_starts(ob, params, box: dict, pitchforks=(), shooting: ShootingSetting
             origin = f"BP (the turn of the pair where it meets its symmetric parent) {where}"
             seed = dataclasses.replace(seed, kind="BP", x=symmetrized(seed.x), origin=origin)
         job = dict(params=params, seed=seed, box=box, shooting=arcs)
-        yield CurveStart.with_job(seed.kind, float(sigma), float(value), seed.origin, job)
+        inside = side_at(ob.branch, sp) if seed.kind == sp.kind else None
+        yield CurveStart.with_job(seed.kind, float(sigma), float(value), seed.origin, job, inside)
+
+
+def side_at(branch, sp) -> bool | None:
+    """Whether the multipliers at the special point ``sp`` of ``branch`` but the critical one(s)
+    lie inside the unit circle: whether the branch is stable at a point beside it, on either side
+    (the critical multiplier is inside on one side; a point at ``sp`` itself has it on the
+    circle); None for a branch without stability flags."""
+    if getattr(branch, "stable", None) is None:
+        return None
+    stable = np.asarray(branch.stable, dtype=bool)
+    return bool(stable[max(sp.index - 1, 0) : sp.index + 2].any())
 
 
 def family_starts(family, params, box: dict, shooting: ShootingSettings = SHOOTING) -> list:
@@ -269,7 +306,7 @@ def trace_curves(
     failed = {}  # start index -> why no curve
 
     def covered(i, among):
-        return any(c.kind == starts[i].kind and _on_curve(c, starts[i].sigma, starts[i].value) for c in among)
+        return any(_covers(c, starts[i]) for c in among)
 
     def record(i, result):
         curve, err, seconds = result

@@ -42,6 +42,7 @@ from slosh_bif.studies.chart.curves import (
     regular_points,
     seed_branching,
     seed_points,
+    side_at,
     trace_curves,
     uncovered_points,
 )
@@ -296,6 +297,7 @@ def impact_curve_starts(named: NamedImpactBranch, params: Params, box: dict, pit
                 at.Abar,
                 origin,
                 dict(trace=trace_impact_curve, params=params, seed=seed, box=box),
+                side_at(piece.branch, sp),
             )
 
 

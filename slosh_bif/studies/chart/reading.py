@@ -38,18 +38,18 @@ def _point_loss(ob, j) -> str:
     return found.verdict if hasattr(found, "verdict") else "undetermined"
 
 
-def lowest_stable_boundary(curves, sigma, params: Params | None = None):
+def lowest_stable_boundary(curves, sigma, params: Params | None = None, variant: str = "paper"):
     """(Abar, kind, loss) of the lowest point at sigma of the ``curves`` that bounds stable
     period-1 orbits with wall contact, and how stability is lost there (the curve's ``boundary``:
     jump, soft, hard, undetermined; '' where not computed); (nan, "", "") when none. Each curve is
     read by linear interpolation between its points; with ``params`` (the chart's set), the
     crossing is then corrected on the curve's own system at sigma
     (:func:`~slosh_bif.orbits.codim2.corrected_at`; the interpolation kept where that fails; a
-    curve of (8) as (8) states it, :func:`critical_at` reads the corrected impact model's).
+    curve of (8) on the impact model ``variant``'s map).
     Grazing curves of (8) are not read: there the number of impacts changes, not stability (on
     the Fig. 13 set the lowest is where the impact-free response first touches the walls).
     Which side of the point the stable orbits lie on is not asked here: :func:`critical_at` does."""
-    return _lowest_reading(curves, sigma, params)[:3]
+    return _lowest_reading(curves, sigma, params, variant)[:3]
 
 
 def _lowest_reading(curves, sigma, params, variant="paper"):
