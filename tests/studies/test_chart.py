@@ -73,6 +73,17 @@ def test_parallel_curves_are_the_sequential_curves_each_once(starts):
         np.testing.assert_array_equal(a.branch.p, b.branch.p)
 
 
+def test_a_fold_starts_side_of_the_circle_is_its_curves(starts):
+    # The resonant fold at sigma = -1.40 bounds stable orbits: its other multipliers, read at the
+    # located point on the branch in sigma, are inside the circle, as the fold curve's own (on
+    # its minimally augmented system) are where it starts.
+    fold = next(s for s in starts if s.kind == "LP")
+    assert fold.inside is True
+    (curve,), _, _ = trace_curves([fold], lambda message: None, workers=1)
+    j = int(np.argmin(np.hypot(curve["sigma"] - fold.sigma, curve["Abar"] - fold.value)))
+    assert curve["max_abs_multiplier"][j] < 1
+
+
 def test_a_period_two_branch_turning_where_it_meets_its_parent_gives_no_fold_curve():
     # At the flip where a period-2 branch is born (or meets its parent again), the branch has
     # t_p = 0 and the engine labels an LP; its orbit is the parent's, repeating after 2pi. The Fig.
