@@ -29,6 +29,7 @@ from slosh_bif.orbits.shooting import ShootingProblem
 
 __all__ = [
     "LowEnd",
+    "along_bottom",
     "born_at",
     "family_low_ends",
     "lowest_stable_contact",
@@ -114,6 +115,32 @@ def family_low_ends(branches, a0: float) -> list:
     pitchfork by :func:`born_at`)."""
     period_1 = [ob for ob in branches if ob.problem.period_multiple == 1]
     return [born_at(e, period_1) for ob in period_1 for e in [lowest_stable_contact(ob, a0)] if e is not None]
+
+
+def along_bottom(ob: OrbitBranch, at: Params, a0: float, sigma_range, shooting: ShootingSettings = SHOOTING):
+    """(sigma, good) of the branch in sigma at Abar = ``a0`` through the lowest stable orbit with
+    wall contact of ``ob`` (a branch in Abar at ``at``'s sigma whose stable orbits with contact
+    reach ``a0``, the range's bottom), traced over ``sigma_range``: ``good`` where its orbits are
+    stable with contact, so that Abar_c lies below ``a0`` there; None where it cannot be traced."""
+    b = ob.branch
+    good = np.asarray(b.stable, dtype=bool) & (ob["max_abs_w"] >= 1.0)
+    if not good.any():
+        return None
+    i = int(np.argmin(np.where(good, b.p, np.inf)))
+    try:
+        family = trace_orbits(
+            at.replace(Abar=float(b.p[i])),  # a0, to the range's end location
+            b.x[i, :4],
+            interval=ParameterRange(lo=float(sigma_range[0]), hi=float(sigma_range[1])),
+            shooting=shooting,
+            branching=NO_SWITCHING,
+        )
+    except (ConvergenceError, ValueError):
+        return None
+    edge = family.branches[0]
+    return np.asarray(edge.branch.p, dtype=float), np.asarray(edge.branch.stable, dtype=bool) & (
+        edge["max_abs_w"] >= 1.0
+    )
 
 
 def _contact_crossing(ob: OrbitBranch, lo: int, hi: int) -> float:

@@ -9,8 +9,9 @@ from slosh_bif.model.params import Params
 from slosh_bif.orbits.impact.branches import settled_orbit, state_at_zero, trace_impact_orbits
 from slosh_bif.orbits.impact.curves import ImpactCurveSeed, trace_impact_curve
 from slosh_bif.orbits.impact.problem import ImpactOrbitProblem
-from slosh_bif.orbits.impact.stable_impacts import lowest_stable_impacts
+from slosh_bif.orbits.impact.stable_impacts import impacts_along_bottom, lowest_stable_impacts
 from slosh_bif.simulation.vibro_impact import simulate_impact
+from slosh_bif.studies.chart.bottom import below_bottom
 from slosh_bif.studies.chart.reading import critical_at, lowest_stable_boundary
 
 # Random admissible draws of the impact chart's campaign (docs/findings/impact.md)
@@ -101,3 +102,19 @@ def test_a_stable_flag_at_a_grazing_point_alone_does_not_end_the_stable_orbits_t
     y0, p = _orbit_at(branch, 0.47, True, SET_45)
     after, _, _ = _strobe_after(SET_45.replace(Abar=p), y0 + 1e-7, 40)
     assert np.linalg.norm(after - y0) > 1e-4
+
+
+def test_along_the_bottom_of_the_box_the_stable_orbits_with_impacts_reach_sigmas_no_seed_is_at(set_40_branch):
+    # From the seed at sigma = -1, whose symmetric orbits are stable with impacts down to Abar =
+    # 0.1, the orbit at 0.1 continued in sigma stays stable with impacts to sigma = -4: there no
+    # curve bounds anything, and Abar_c lies below the box.
+    bottom = impacts_along_bottom(set_40_branch, SET_40, 0.1, (-4.0, -0.5), symmetric=True)
+    assert below_bottom(bottom, -3.0) and below_bottom(bottom, -3.9)
+    # a simulation at (sigma, Abar) = (-3, 0.1) from the seed's orbit at Abar = 0.1 settles on a
+    # period-1 orbit that hits the walls: 400 periods of the compiled flow, then one period by
+    # the expm event loop
+    y0, _ = _orbit_at(set_40_branch, 0.1, True, SET_40)
+    at = SET_40.replace(sigma=-3.0, Abar=0.1)
+    settled = simulate_impact(at, y0, (0.0, 400 * 2 * np.pi))
+    after, again, impacts = _strobe_after(at, settled.y[:, -1], 1)
+    assert np.linalg.norm(again - after) < 1e-6 and impacts >= 1

@@ -21,12 +21,11 @@ from slosh_bif.studies.chart.critical import critical_rows
 from slosh_bif.studies.chart.curves import (
     CurveStart,
     curve_starts,
-    seed_points,
     trace_curves,
-    uncovered_points,
 )
 from slosh_bif.studies.chart.reading import exits_below, lowest_stable_boundary, seed_disagreements
 from slosh_bif.studies.chart.result import Chart
+from slosh_bif.studies.chart.seeds import seed_points, uncovered_points
 
 PRESET = get_preset("fig10")
 # A random admissible draw (seed 28 of the chart's campaign, docs/findings/chart.md)

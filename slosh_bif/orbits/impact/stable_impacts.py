@@ -24,7 +24,13 @@ from slosh_bif.model.params import Params
 from slosh_bif.orbits.impact.branches import ImpactBranch, state_at_zero, trace_impact_orbits
 from slosh_bif.orbits.impact.problem import ImpactOrbitProblem
 
-__all__ = ["ImpactLowEnd", "lowest_stable_impacts", "stable_impacts_below", "stable_impact_orbit_below"]
+__all__ = [
+    "ImpactLowEnd",
+    "impacts_along_bottom",
+    "lowest_stable_impacts",
+    "stable_impacts_below",
+    "stable_impact_orbit_below",
+]
 
 BELOW_STEP = 1e-3  # the side below a curve point is probed at Abar (1 - BELOW_STEP), as for (9)
 ABOVE = 0.05  # the branch below a curve point is traced up to Abar (1 + ABOVE)
@@ -57,17 +63,7 @@ def lowest_stable_impacts(branch: ImpactBranch, a0: float, symmetric: bool = Fal
     """The lower end of the stable period-1 orbits with impacts on ``branch`` (of (8), in Abar;
     of symmetric orbits on the half-period map where ``symmetric``), over a range whose bottom is
     ``a0``; None where it has none."""
-    best = None
-    for k, piece in enumerate(branch.pieces):
-        if piece.impacts < 1 or piece.period_multiple != 1 or not len(piece.branch):
-            continue
-        p = np.asarray(piece.branch.p, dtype=float)
-        # at a grazing point an impact has speed zero and its stability flag means nothing
-        stable = np.asarray(piece.branch.stable, dtype=bool) & ~_at_grazing(branch, p)
-        if stable.any():
-            i = int(np.argmin(np.where(stable, p, np.inf)))
-            if best is None or p[i] < best[0]:
-                best = (float(p[i]), k, i)
+    best = _lowest_stable(branch)
     if best is None:
         return None
     value, k, i = best
@@ -90,6 +86,57 @@ def lowest_stable_impacts(branch: ImpactBranch, a0: float, symmetric: bool = Fal
         at = float(p[grazing[0]])
         return ImpactLowEnd(at, "GR", branch, k, loss=_beyond_grazing(branch, at), symmetric=symmetric)
     return ImpactLowEnd(value, "unlocated", branch, k, loss="undetermined", symmetric=symmetric)
+
+
+def impacts_along_bottom(
+    branch: ImpactBranch, at: Params, a0: float, sigma_range, symmetric: bool = False
+) -> list:
+    """(sigma, good) of each piece of the branch of (8) in sigma at Abar = ``a0`` through the
+    lowest stable orbit with impacts of ``branch`` (in Abar at ``at``'s sigma, its stable orbits
+    with impacts reaching ``a0``), over ``sigma_range``: ``good`` where its orbits are stable with
+    impacts (not at a grazing point); empty where it cannot be traced."""
+    found = _lowest_stable(branch)
+    if found is None:
+        return []
+    p, k, i = found
+    piece = branch.pieces[k]
+    problem = ImpactOrbitProblem(
+        at.replace(Abar=p), "Abar", symmetric=symmetric, phase=piece.phase, variant=branch.variant
+    )
+    try:
+        edge = trace_impact_orbits(
+            problem.params,
+            state_at_zero(problem, piece.branch.x[i], p),
+            param="sigma",
+            p_min=float(sigma_range[0]),
+            p_max=float(sigma_range[1]),
+            symmetric=symmetric,
+            variant=branch.variant,
+        )
+    except (ConvergenceError, ValueError):
+        return []
+    out = []
+    for q in edge.pieces:
+        s = np.asarray(q.branch.p, dtype=float)
+        good = np.asarray(q.branch.stable, dtype=bool) & ~_at_grazing(edge, s) & (q.impacts >= 1)
+        out.append((s, good & (q.period_multiple == 1)))
+    return out
+
+
+def _lowest_stable(branch: ImpactBranch):
+    """(Abar, piece, index) of the least Abar of the branch's stable period-1 orbits with impacts
+    (None for none). A grazing point's own flag counts for nothing: an impact of speed zero."""
+    best = None
+    for k, piece in enumerate(branch.pieces):
+        if piece.impacts < 1 or piece.period_multiple != 1 or not len(piece.branch):
+            continue
+        p = np.asarray(piece.branch.p, dtype=float)
+        stable = np.asarray(piece.branch.stable, dtype=bool) & ~_at_grazing(branch, p)
+        if stable.any():
+            i = int(np.argmin(np.where(stable, p, np.inf)))
+            if best is None or p[i] < best[0]:
+                best = (float(p[i]), k, i)
+    return best
 
 
 def _at_grazing(branch: ImpactBranch, p) -> np.ndarray:

@@ -24,6 +24,7 @@ from slosh_bif.orbits.settings import (
 )
 from slosh_bif.orbits.stable_contact import family_low_ends
 from slosh_bif.slowflow.critical import critical_curve
+from slosh_bif.studies.chart.bottom import below_bottom
 from slosh_bif.studies.chart.curves import (
     curve_starts,
     pitchforks_of,
@@ -217,9 +218,10 @@ def critical_rows(chart: Chart, points: int = 57):
     which curve kind sets it ("contact" where the stable orbit below the curves stops touching the
     walls) and how the stable response is lost there (``loss``: jump, soft, hard, undetermined,
     none; '' where no coefficient was computed), and ``below_box`` 1 where stable orbits with
-    contact reach the box's lowest Abar, or beyond a sigma where a curve bounding stable orbits
-    leaves through it (:func:`~.reading.exits_below`): the least stable forcing may lie below the box there;
-    none for a chart whose second parameter is not Abar."""
+    contact reach the box's lowest Abar (below the lowest curve, or on a branch along the box's
+    bottom, :func:`~.bottom.below_bottom`: no Abar_c there), or beyond a sigma where a curve
+    bounding stable orbits leaves through it (:func:`~.reading.exits_below`): the least stable
+    forcing may lie below the box there; none for a chart whose second parameter is not Abar."""
     if chart.second != "Abar":
         return
     exits = exits_below(chart)
@@ -231,6 +233,8 @@ def critical_rows(chart: Chart, points: int = 57):
         c, kind, loss, below = critical_at(
             chart.curves, sigma, chart.params, chart.abar_range[0], sides=sides, variant=variant
         )
+        if below_bottom(chart.bottom, sigma):  # a stable orbit with contact at the box's bottom
+            c, kind, loss, below = np.nan, "", "", True
         rel = abs(c - b) / b if np.isfinite(b) and np.isfinite(c) and b > 0 else np.nan
         below = below or beyond_exit(exits, sigma)
         yield dict(

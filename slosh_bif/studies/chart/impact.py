@@ -37,16 +37,14 @@ from slosh_bif.orbits.impact.switching import (
 from slosh_bif.orbits.settings import BRANCHING, BranchingSettings
 from slosh_bif.orbits.shooting import MAX_PERIOD_MULTIPLE
 from slosh_bif.slowflow.critical import critical_curve
+from slosh_bif.studies.chart.bottom import impact_bottom
 from slosh_bif.studies.chart.curves import (
     CurveStart,
-    regular_points,
-    seed_branching,
-    seed_points,
     side_at,
     trace_curves,
-    uncovered_points,
 )
 from slosh_bif.studies.chart.result import Chart, ChartSettings, check_box, where
+from slosh_bif.studies.chart.seeds import regular_points, seed_branching, seed_points, uncovered_points
 
 __all__ = ["impact_chart", "impact_family", "impact_curve_starts", "ImpactFamily", "NamedImpactBranch"]
 
@@ -139,6 +137,7 @@ def impact_chart(
             continue
         starts += _family_starts(seeds, at, box)
         seeds_found.append((float(sigma), ImpactFamily(seeds)))
+    bottom = impact_bottom(seeds_found, params, (s0, s1), a0, say)
     tasks = []
     say(f"{len(starts)} special points of {VARIANT_NAMES[variant]} to start curves from, {where(settings)}")
     curves, status, failures = trace_curves(
@@ -163,6 +162,7 @@ def impact_chart(
         orbits=VARIANT_NAMES[variant],
         tasks=tuple(tasks),
         seeds=tuple(seeds_found),
+        bottom=bottom,
     )
 
 

@@ -15,6 +15,7 @@ from slosh_bif.orbits.codim2 import CODIM2_KINDS, corrected_at, curve_boundary
 from slosh_bif.orbits.criticality import impact_criticality, special_criticality
 from slosh_bif.orbits.settings import SHOOTING, ShootingSettings
 from slosh_bif.orbits.stable_contact import LowEnd, family_low_ends, stable_orbit_below, stable_side_below
+from slosh_bif.studies.chart.bottom import below_bottom
 from slosh_bif.studies.chart.result import Chart
 
 __all__ = [
@@ -263,8 +264,8 @@ def seed_disagreements(chart: Chart, rtol: float = 1e-4) -> list:
     sides = {}
     for sigma, family in chart.seeds:
         ends = _seed_low_ends(family, low, smooth=variant is None)
-        if not ends or beyond_exit(exits, sigma):
-            continue  # a curve leaving through the box's bottom already marks the rows there
+        if not ends or beyond_exit(exits, sigma) or below_bottom(chart.bottom, sigma):
+            continue  # the rows there are already marked below the box
         read, _, _, read_below = critical_at(
             chart.curves, sigma, chart.params, low, sides=sides, variant=variant or "paper"
         )

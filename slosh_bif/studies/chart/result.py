@@ -36,6 +36,10 @@ class Chart:
     # (sigma, family in the second parameter) of each seed (an OrbitFamily of (9), an ImpactFamily of
     # (8)): an answer at that sigma apart from the curves (reading.seed_disagreements)
     seeds: tuple = ()
+    # (sigma, good) of each branch in sigma along the box's lowest Abar, traced from a seed whose
+    # stable orbits with wall contact reach it: good where Abar_c lies below the box
+    # (bottom.below_bottom)
+    bottom: tuple = ()
 
     @property
     def incomplete(self) -> list:

@@ -48,16 +48,14 @@ from slosh_bif.orbits.settings import (
 from slosh_bif.orbits.starts import start_orbit
 from slosh_bif.report.files import Resume
 from slosh_bif.slowflow.critical import critical_curve
+from slosh_bif.studies.chart.bottom import smooth_bottom
 from slosh_bif.studies.chart.curves import (
     family_starts,
-    regular_points,
-    seed_branching,
-    seed_points,
     torus_starts,
     trace_curves,
-    uncovered_points,
 )
 from slosh_bif.studies.chart.result import Chart, ChartSettings, check_box, where
+from slosh_bif.studies.chart.seeds import regular_points, seed_branching, seed_points, uncovered_points
 
 __all__ = ["bifurcation_chart"]
 
@@ -134,6 +132,7 @@ def bifurcation_chart(
             continue
         starts += family_starts(down, at, box, shooting)
         seeds.append((float(at.sigma), down))
+    bottom = smooth_bottom(seeds, params, (s0, s1), a0, say, shooting) if second == "Abar" else ()
     # Where the primary branch does not reach (an isola, a branch ending inside the box), the
     # orbits the family scan finds at sigmas there, continued in Abar: a torus curve of the
     # linear response at large sigma bounds stable orbits that no curve of the branch meets.
@@ -170,6 +169,7 @@ def bifurcation_chart(
         failures,
         tasks=tuple(tasks),
         seeds=tuple(seeds),
+        bottom=bottom,
     )
 
 
