@@ -451,7 +451,8 @@ def test_a_chart_whose_lowest_curve_has_stable_orbits_with_contact_below_marks_t
     """The set above charted over sigma in [-2.6, -1.6], Abar in [0.1, 4]: the lowest curve that
     bounds stable orbits is the pitchfork at 3.234, but the symmetric orbits below it are stable
     with contact down to the box's bottom (the one-sigma answer's fold at 0.0455 lies below it):
-    the rows where that curve is read say so (no Abar_c, below_box 1)."""
+    the rows where that curve is read say so (no Abar_c, below_box 1), and so do those along the
+    branch at the box's bottom."""
     params = SEED_28.replace(Abar=3.0)
     chart = bifurcation_chart(
         params,
@@ -462,12 +463,28 @@ def test_a_chart_whose_lowest_curve_has_stable_orbits_with_contact_below_marks_t
     rows = list(critical_rows(chart, 5))
     for row in rows[1:]:
         assert lowest_stable_boundary(chart.curves, row["sigma"])[1] == "BP"
+    # Where no curve reaches (sigma = -2.6), the seed's branch in Abar reaches the box's bottom, and
+    # the orbit there followed in sigma along it is stable with contact: those rows say so too,
+    # and the seed has nothing left to warn of.
+    assert np.isnan(lowest_stable_boundary(chart.curves, rows[0]["sigma"])[0])
+    assert chart.bottom
+    for row in rows:
         assert np.isnan(row["Abar_c_full"]) and row["below_box"] == 1 and row["bounded_by"] == ""
-    # Where no curve reaches, the seed's branch in Abar says what the curves cannot.
-    missed = seed_disagreements(chart)
-    assert len(missed) == 1
-    sigma, read, _, below = missed[0]
-    assert sigma < -2.35 and np.isnan(read) and below
+    assert seed_disagreements(chart) == []
+    # A simulation of (9) at (sigma, Abar) = (-2.6, 0.1), from the seed's orbit at the bottom,
+    # still touches the walls after 200 periods.
+    from slosh_bif.simulation.direct import integrate_smooth
+
+    (_, family), *_ = chart.seeds
+    ob = min(family.branches, key=lambda b: b.branch.p.min())
+    y0 = ob.branch.x[int(np.argmin(ob.branch.p)), :4]
+    run = integrate_smooth(
+        params.replace(sigma=-2.6, Abar=0.1),
+        y0,
+        (0.0, 400 * np.pi),
+        t_eval=np.linspace(360 * np.pi, 400 * np.pi, 20001),
+    )
+    assert np.max(np.abs(run.y[2])) >= 1.0
 
 
 def test_a_seed_with_stable_orbits_with_contact_below_the_curves_reading_is_reported():
