@@ -129,7 +129,7 @@ def along_bottom(ob: OrbitBranch, at: Params, a0: float, sigma_range, shooting: 
     i = int(np.argmin(np.where(good, b.p, np.inf)))
     try:
         family = trace_orbits(
-            at.replace(Abar=float(b.p[i])),  # a0, to the range's end location
+            at.replace(Abar=float(b.p[i])),  # a0 as the branch located its end
             b.x[i, :4],
             interval=ParameterRange(lo=float(sigma_range[0]), hi=float(sigma_range[1])),
             shooting=shooting,

@@ -1,6 +1,6 @@
-"""A curve of orbit bifurcations of (9) (or of (8)) read at a value of its first parameter: the point between
-two computed points corrected on the curve's own minimally augmented system at that value (Newton
-in the orbit's states and p2, p1 held), not interpolated linearly between them. The chart's
+"""A curve of orbit bifurcations of (9) (or of (8)) read at a value of its first parameter: the
+point between two computed points corrected on the curve's own minimally augmented system at that
+value (Newton in the orbit's states and p2, p1 held), not interpolated linearly between them. The chart's
 critical forcing Abar_c(sigma) (:mod:`slosh_bif.studies.chart.critical`) then carries the
 corrector's error instead of the points' spacing: where a fold curve turns between two points the
 interpolation is off by up to 1e-3 (the Fig. 10 set at sigma = -1.5: 0.32079 against 0.32068).

@@ -76,9 +76,9 @@ def _on_curve(curve: BifurcationCurve, sigma, value, tol=2e-3):
 def _covers(curve: BifurcationCurve, start) -> bool:
     """Whether ``curve`` passes through ``start``: of its kind, within 2e-3 in (sigma, p2), and,
     for a fold whose side is known, with the other multipliers on the start's side of the unit
-    circle at the curve's nearest point (two fold curves of the Abar seeds 1.7e-3 apart at Abar =
-    0.28, one bounding stable orbits and one not, are two curves). Torus curves are not told
-    apart so: the pair a point of one treats as critical can be a neutral saddle's."""
+    circle at the curve's nearest point (two fold curves can lie that close, one bounding stable
+    orbits and one not). Torus curves are not told apart so: the pair a point of one treats as
+    critical can be a neutral saddle's."""
     if curve.kind != start.kind or not _on_curve(curve, start.sigma, start.value):
         return False
     inside = getattr(start, "inside", None)
@@ -140,9 +140,9 @@ def side_at(branch, sp) -> bool | None:
     """For a fold ``sp`` of ``branch``: whether its multipliers but the critical one (the nearest
     to +1) lie inside the unit circle, read at the located point itself (a branch holds it among
     its points); None for another kind, where the point is not among the branch's, or where the
-    largest other multiplier lies within :data:`SIDE_MARGIN` of the circle. (The stability of the
-    points beside a fold is no guide: on a tank's set the point 9e-5 beyond one was stable, the
-    fold's other multiplier 1.65 having crossed back between them unlocated.)"""
+    largest other multiplier lies within :data:`SIDE_MARGIN` of the circle. The stability of the
+    points beside the fold is no guide: another multiplier can cross the circle between them,
+    unlocated."""
     eigenvalues = getattr(branch, "eigenvalues", None)
     if sp.kind != "LP" or eigenvalues is None:
         return None
