@@ -24,7 +24,6 @@ from slosh_bif.orbits.settings import (
 )
 from slosh_bif.orbits.stable_contact import family_low_ends
 from slosh_bif.slowflow.critical import critical_curve
-from slosh_bif.studies.chart.bottom import below_bottom
 from slosh_bif.studies.chart.curves import (
     curve_starts,
     pitchforks_of,
@@ -231,10 +230,14 @@ def critical_rows(chart: Chart, points: int = 57):
     for sigma in np.linspace(*chart.sigma_range, points):
         b = _slow_flow_critical_at(slow, sigma)
         c, kind, loss, below = critical_at(
-            chart.curves, sigma, chart.params, chart.abar_range[0], sides=sides, variant=variant
+            chart.curves,
+            sigma,
+            chart.params,
+            chart.abar_range[0],
+            sides=sides,
+            variant=variant,
+            bottom=chart.bottom,
         )
-        if below_bottom(chart.bottom, sigma):  # a stable orbit with contact at the box's bottom
-            c, kind, loss, below = np.nan, "", "", True
         rel = abs(c - b) / b if np.isfinite(b) and np.isfinite(c) and b > 0 else np.nan
         below = below or beyond_exit(exits, sigma)
         yield dict(

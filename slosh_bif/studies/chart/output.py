@@ -22,7 +22,6 @@ import numpy as np
 from slosh_bif.orbits.codim2 import CODIM2_KINDS, BifurcationCurve, curve_boundary
 from slosh_bif.report.files import DAMAGE, damaged, read_store, write_text_atomically
 from slosh_bif.report.tables import write_rows
-from slosh_bif.studies.chart.bottom import below_bottom
 from slosh_bif.studies.chart.critical import CRITICAL_COLUMNS, critical_rows
 from slosh_bif.studies.chart.reading import critical_at, lowest_stable_boundary, variant_of
 
@@ -239,10 +238,19 @@ def _draw_critical(ax, chart, drawn):
     sides = {}
     variant = variant_of(chart) or "paper"
     found = [
-        critical_at(chart.curves, g, chart.params, low, corrected=False, sides=sides, variant=variant)
+        critical_at(
+            chart.curves,
+            g,
+            chart.params,
+            low,
+            corrected=False,
+            sides=sides,
+            variant=variant,
+            bottom=chart.bottom,
+        )
         for g in grid
     ]
-    full = np.array([np.nan if below_bottom(chart.bottom, g) else f[0] for g, f in zip(grid, found)])
+    full = np.array([f[0] for f in found])
     if not np.any(np.isfinite(full)):
         return
     loss = _loss_style([f[2] for f in found])

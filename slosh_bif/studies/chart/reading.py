@@ -92,6 +92,7 @@ def critical_at(
     corrected: bool = True,
     sides: dict | None = None,
     variant: str = "paper",
+    bottom=(),
 ):
     """(Abar, kind, loss, below) of the critical forcing at sigma read off a chart's ``curves``
     (of (9), or of the impact model ``variant`` of (8)): the lowest point that bounds stable
@@ -103,7 +104,11 @@ def critical_at(
 
     Which side of a curve the stable orbits lie on changes only where the curve turns in sigma
     or at a codimension-2 point; between those it is asked once, at a computed point of the
-    curve, and kept in ``sides`` (a dict shared by the calls over one chart's sigmas)."""
+    curve, and kept in ``sides`` (a dict shared by the calls over one chart's sigmas). Where a
+    branch along the box's bottom (``bottom``, ``Chart.bottom``) is stable with contact at sigma,
+    Abar_c lies below the box: NaN with ``below`` True, the curves not read."""
+    if below_bottom(bottom, sigma):
+        return np.nan, "", "", True
     value, kind, loss, curve, y0, i, near = _lowest_reading(
         curves, sigma, params if corrected else None, variant
     )
@@ -264,10 +269,16 @@ def seed_disagreements(chart: Chart, rtol: float = 1e-4) -> list:
     sides = {}
     for sigma, family in chart.seeds:
         ends = _seed_low_ends(family, low, smooth=variant is None)
-        if not ends or beyond_exit(exits, sigma) or below_bottom(chart.bottom, sigma):
-            continue  # the rows there are already marked below the box
+        if not ends or beyond_exit(exits, sigma):
+            continue  # a curve leaving through the box's bottom already marks the rows there
         read, _, _, read_below = critical_at(
-            chart.curves, sigma, chart.params, low, sides=sides, variant=variant or "paper"
+            chart.curves,
+            sigma,
+            chart.params,
+            low,
+            sides=sides,
+            variant=variant or "paper",
+            bottom=chart.bottom,
         )
         below = any(e.below_range for e in ends)
         least = np.nan if below else min(e.Abar for e in ends)
