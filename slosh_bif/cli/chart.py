@@ -132,8 +132,10 @@ def _chart_on(args, executor) -> int:
         else:
             shared.stop()
     paths = [write_curves_csv(chart, args.out / "curves.csv")]
-    if args.second == "Abar":  # the critical forcing is a curve in (sigma, Abar)
+    if args.second == "Abar" and chart.status == "complete":  # read off every curve, or not at all
         paths.append(write_critical_csv(chart, args.out / "critical.csv"))
+    else:  # not an earlier run's left beside this one's curves
+        (args.out / "critical.csv").unlink(missing_ok=True)
     paths.append(write_codim2_csv(chart, args.out / "codim2.csv"))
     paths.append(plot_chart(chart, args.out / "chart.png", regimes=regimes))
     paths.append(write_tasks_csv(chart.tasks, args.out / "tasks.csv"))

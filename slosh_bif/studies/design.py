@@ -155,7 +155,7 @@ def study_rows(study: Study, points: int = 57):
     :func:`~slosh_bif.studies.chart.critical.critical_rows`); a value that was not charted has one
     row with its reason."""
     for v in study.values:
-        if v.chart is None:
+        if v.chart is None or v.chart.status != "complete":
             yield dict(
                 value=v.value,
                 sigma=np.nan,
@@ -164,7 +164,7 @@ def study_rows(study: Study, points: int = 57):
                 bounded_by="",
                 loss="",
                 below_box="",
-                status=f"not charted: {v.reason}",
+                status=f"not charted: {v.reason}" if v.chart is None else v.status,
             )
             continue
         for row in critical_rows(v.chart, points):
@@ -183,7 +183,7 @@ def plot_study(study: Study, path) -> Path:
 
     plt = pyplot()
     fig, (left, right) = plt.subplots(1, 2, figsize=(12, 5), gridspec_kw={"width_ratios": [1.6, 1]})
-    charted = [v for v in study.values if v.chart is not None]
+    charted = [v for v in study.values if v.chart is not None and v.status == "complete"]
     colours = plt.cm.viridis(np.linspace(0, 1, max(len(charted), 2)))
     least = []
     for v, colour in zip(charted, colours):

@@ -237,6 +237,7 @@ def test_a_stopped_chart_keeps_its_finished_curves_and_leaves_no_worker(tmp_path
     stored = sorted((out / "curves").glob("curve-*.npz"))
     with open(out / "curves.csv", newline="") as fh:
         rows = list(csv.DictReader(fh))
+    assert not (out / "critical.csv").exists()  # read off every curve or not at all
     assert stored and 0 < len({r["curve"] for r in rows}) <= len(
         stored
     )  # the finished curves (one of two duplicates dropped), complete

@@ -3,6 +3,7 @@ start that cannot is a failure (exit 3, a row in curves.csv), and what is comput
 counts only, not on the worker count or the machine's load."""
 
 import csv
+import dataclasses
 import subprocess
 import sys
 
@@ -14,7 +15,10 @@ from slosh_bif.cli import main
 from slosh_bif.slowflow.flow import SlowFlow
 from slosh_bif.slowflow.steady_states import abar_on_curve
 from slosh_bif.studies.chart import Chart, CurveFailure
+from slosh_bif.studies.chart.critical import critical_rows
 from slosh_bif.studies.chart.output import curve_rows
+from slosh_bif.studies.chart.reading import seed_disagreements
+from slosh_bif.studies.design import Study, StudyValue, study_rows
 
 FIG10_NO_SWITCH = [
     "chart",
@@ -77,6 +81,27 @@ def test_a_start_without_a_curve_is_a_failure_row():
     (row,) = curve_rows(chart)
     assert row["kind"] == "LP" and row["status"] == "failed to start: Newton failed" and row["sigma"] == -0.5
     assert chart.incomplete == ["no LP curve from LP at sigma = -0.5: Newton failed"]
+
+
+def test_a_chart_stopped_part_way_reads_no_critical_forcing():
+    """Off part of the curves the lowest boundary may be a higher curve's: a stopped chart gives
+    no Abar_c rows (the command writes no critical.csv), and a study shows it as one row with its
+    status."""
+    stopped = Chart(
+        params=get_preset("fig10").params,
+        sigma_range=(-1, 1),
+        abar_range=(0.2, 1),
+        family=None,
+        curves=[],
+        slow_flow_critical=None,
+        seconds=0.0,
+        status="interrupted (SIGINT) after 0 curves, 3 starts",
+    )
+    assert list(critical_rows(stopped)) == [] and seed_disagreements(stopped) == []
+    assert len(list(critical_rows(dataclasses.replace(stopped, status="complete"), 5))) == 5
+    study = Study("beta", (StudyValue(0.2, stopped, stopped.status),), (-1, 1), (0.2, 1))
+    (row,) = study_rows(study)
+    assert row["status"] == stopped.status and np.isnan(row["Abar_c_full"])
 
 
 def test_the_curves_do_not_depend_on_workers_or_load(tmp_path, beta_chart):

@@ -259,8 +259,9 @@ def seed_disagreements(chart: Chart, rtol: float = 1e-4) -> list:
     there: ``read`` the chart's Abar_c at that sigma (:func:`critical_at`), ``found`` the lower
     end on the seed's branches (NaN with ``below`` where they reach the box's bottom). The curves
     then miss a boundary (one no traced curve carries, or none at all: stable orbits with contact
-    down to the bottom); a check the chart makes of itself, at no cost but the reading."""
-    if chart.second != "Abar":
+    down to the bottom); a check the chart makes of itself, at no cost but the reading, and only
+    of a complete chart (:func:`~.critical.critical_rows`)."""
+    if chart.second != "Abar" or chart.status != "complete":
         return []
     low = chart.abar_range[0]
     variant = variant_of(chart)
