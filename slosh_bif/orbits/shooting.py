@@ -29,6 +29,7 @@ The scipy reference for any vector field is :mod:`slosh_bif.orbits.period_map`;
 from __future__ import annotations
 
 import dataclasses
+import functools
 
 import numpy as np
 
@@ -223,10 +224,10 @@ class ShootingProblem(ShootingArcs):
         wrap = self.closing if wrap is None else wrap
         m = len(arcs.mats)
         J = np.zeros((4 * m, 4 * m), dtype=complex if isinstance(wrap, complex) else float)
-        blocks, k = J.reshape(m, 4, m, 4), np.arange(m - 1)
-        blocks[np.arange(m), :, np.arange(m), :] = arcs.mats
-        blocks[k, :, k + 1, :] -= np.eye(4)
-        blocks[m - 1, :, 0, :] -= wrap * np.eye(4)  # (one arc: Phi - wrap I)
+        diagonal, beside, closing = _cyclic_places(m)
+        J.reshape(m, 4, m, 4)[diagonal, :, diagonal, :] = arcs.mats
+        J[beside] -= 1.0
+        J[closing] -= wrap  # (one arc: Phi - wrap I)
         return J
 
     def period_jacobian(self, x, p):
@@ -322,3 +323,14 @@ class ShootingProblem(ShootingArcs):
         return taus, integrator.integrate_grid(
             self.params_at(p), x[:4], taus, rtol=self.rtol, atol=self.atol, backend=self.backend
         )
+
+
+@functools.lru_cache(maxsize=None)
+def _cyclic_places(m: int):
+    """Where the blocks of the multiple-shooting matrix over m arcs sit: the diagonal blocks'
+    indices, and (rows, columns) of the -I blocks beside them and of the block closing the period
+    (the diagonal itself for one arc)."""
+    i = np.arange(4)
+    k = np.arange(m - 1)[:, None]
+    beside = ((4 * k + i).ravel(), (4 * (k + 1) + i).ravel())
+    return np.arange(m), beside, (4 * (m - 1) + i, i)

@@ -116,13 +116,18 @@ class MinAugCurveProblem:
         self._memo = {}
         self._last_second = None  # (u, the derivatives there) of the last computation
         self._multipliers = {}
+        self._at = None  # ((p1, p2), the parameter set there) last asked for
+        self._last_rows = None  # ((x, p), [F_x, F_p]) last computed, with the same borders
 
     # -- the augmented system ----------------------------------------------------------------
 
     _extra = 1  # unknowns after the orbit's states: p2 (the NS problem adds kappa)
 
     def params_at(self, x, p) -> Params:
-        return self.params.replace(**{self.p1: float(p), self.p2: float(x[-self._extra])})
+        key = (float(p), float(x[-self._extra]))
+        if self._at is None or self._at[0] != key:  # a point asks for its set ~10 times
+            self._at = (key, self.params.replace(**{self.p1: key[0], self.p2: key[1]}))
+        return self._at[1]
 
     def edge_name_at(self, x, p) -> str:
         """The edge that failed steps from the curve point (x, p) ran into: the kind's own (set by
@@ -170,7 +175,7 @@ class MinAugCurveProblem:
         k = self._borders
         self._b, self._c = U[:, -k:].copy(), Vh[-k:].conj().T.copy()
         self._memo.clear()
-        self._last_second = None
+        self._last_second = self._last_rows = None
 
     def accept(self, x, p):
         """Renew the borders from the null vectors at an accepted point (keeps the bordered matrix
@@ -180,7 +185,7 @@ class MinAugCurveProblem:
         _, V, W, _ = self._bordered(x, p)
         self._b, self._c = orthonormal(W), orthonormal(V)
         self._memo.clear()
-        self._last_second = None
+        self._last_second = self._last_rows = None
 
     def _bordered(self, x, p):
         """(arcs, V, W, G) of the bordered system at (x, p), one linear solver for every curve kind:
@@ -211,6 +216,7 @@ class MinAugCurveProblem:
         result = (arcs, VG[:n], WH[:n], VG[n:])
         if len(self._memo) > 8:
             self._memo.clear()
+            self._last_rows = None  # built from what the memo held
         self._memo[key] = result
         return result
 
@@ -295,11 +301,18 @@ class MinAugCurveProblem:
         )
         return np.vstack([top, g_row.real, g_row.imag]) if np.iscomplexobj(g_row) else np.vstack([top, g_row])
 
+    def _full_rows(self, x, p):
+        """[F_x, F_p] at (x, p), kept: the corrector asks for both parts at each iterate."""
+        key = (x.tobytes(), float(p))
+        if self._last_rows is None or self._last_rows[0] != key:
+            self._last_rows = (key, self._rows(x, p, self._g_row(self._second(x, p))))
+        return self._last_rows[1]
+
     def jacobian(self, x, p):
-        return self._rows(x, p, self._g_row(self._second(x, p)))[:, :-1]
+        return self._full_rows(x, p)[:, :-1]
 
     def dparam(self, x, p):
-        return self._rows(x, p, self._g_row(self._second(x, p)))[:, -1]
+        return self._full_rows(x, p)[:, -1]
 
     # -- precision -------------------------------------------------------------------------------
 
@@ -330,6 +343,7 @@ class MinAugCurveProblem:
             sensitivities=s.sensitivities,
         )
         finer._memo, finer._last_second, finer._multipliers = {}, None, {}
+        finer._last_rows = None
         finer.orbits.record_steps()
         return finer
 
