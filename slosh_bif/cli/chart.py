@@ -240,7 +240,7 @@ def add_commands(sub) -> None:
         "model's critical forcing",
         epilog="exit status: 0 when every curve left the box, closed or reached a strong resonance, 3 "
         "when a curve was cut short, 2 for bad input, 130/143 when interrupted (the finished "
-        "curves are written)",
+        "curves are written; critical.csv only when every curve is)",
     )
     add_params_options(chart)
     chart.add_argument(
