@@ -336,6 +336,41 @@ def test_a_fold_start_on_a_fold_curve_of_the_other_side_of_the_circle_is_traced(
         assert status == "complete" and [c.origin for c in curves] == traced
 
 
+ISOLA = Params(eps=0.08, beta=0.15, gamma=0.3, sigma=0.0, Abar=2.0, lam=0.25, chi=0.4, n=8, pbar=2)
+
+
+def test_a_seed_switches_at_its_pitchfork_to_the_pair_whose_flip_bounds_the_stable_orbits():
+    """The fast check of the chart below: at sigma = -0.089 of the isola's set, the seed's family
+    in Abar (switched as a chart's seeds are) holds an asymmetric pair with a flip below Abar = 1,
+    a PD curve starts there, and the orbit has a multiplier -1 by scipy's integration of (9) and
+    its variational equations over the period (the reference path)."""
+    from slosh_bif.model.equations import SmoothModel
+    from slosh_bif.orbits.period_map import period_map
+    from slosh_bif.orbits.settings import BRANCHING
+    from slosh_bif.studies.chart.curves import family_starts
+    from slosh_bif.studies.chart.seeds import seed_branching
+
+    at = ISOLA.replace(sigma=-0.0892857142857)
+    start = orbit_from_simulation(at, PRESET.state_for(ISOLA), settle=150)
+    box = {"sigma": (-0.6, 0.1), "Abar": (0.7, 2.5)}
+    family = trace_orbits(
+        start.params,
+        start.y0,
+        branching=seed_branching(BRANCHING),
+        interval=ParameterRange(name="Abar", **dict(zip(("lo", "hi"), box["Abar"]))),
+    )
+    flips = [sp for ob in family.branches if ob.kind == "asymmetric" for sp in ob.branch.special_of("PD")]
+    low = min(flips, key=lambda sp: sp.p)
+    assert low.p < 1.0
+    starts = family_starts(family, at, box)
+    assert any(s.kind == "PD" and abs(s.value - low.p) < 1e-9 for s in starts)
+    y0 = np.asarray(low.x[:4], dtype=float)
+    model = SmoothModel(at.replace(Abar=float(low.p)))
+    _, M, _ = period_map(model.rhs, model.jac, y0, 2 * np.pi, rtol=1e-11, atol=1e-13)
+    assert min(abs(np.linalg.eigvals(M) + 1)) < 1e-5
+
+
+@pytest.mark.slow  # a whole chart in one process (45 s); the check above is its fast part
 def test_below_an_isola_the_chart_finds_the_flip_of_the_pair_born_at_a_pitchfork_in_abar():
     """At eps 0.08, beta 0.15, gamma 0.3, lam 0.25, chi 0.4, n 8, pbar 2 the primary family at
     Abar = 2 is an isola (sigma in [-0.643, 0.161]), and at sigma = -0.089 the stable response is
@@ -343,7 +378,7 @@ def test_below_an_isola_the_chart_finds_the_flip_of_the_pair_born_at_a_pitchfork
     pitchfork of the seed's symmetric orbits: the chart reaches it by switching there (without,
     it read 1.60 at an NS curve). The chart's Abar_c (a two-parameter curve, corrected at sigma)
     against the flip located on a one-parameter branch in Abar at that sigma."""
-    params = Params(eps=0.08, beta=0.15, gamma=0.3, sigma=0.0, Abar=2.0, lam=0.25, chi=0.4, n=8, pbar=2)
+    params = ISOLA
     state0 = PRESET.state_for(params)
     box = {"sigma": (-0.6, 0.1), "Abar": (0.7, 2.5)}
     chart = bifurcation_chart(params, state0, box=box, settings=ChartSettings(seeds=2, workers=1))
