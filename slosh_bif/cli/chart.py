@@ -132,7 +132,7 @@ def _chart_on(args, executor) -> int:
         else:
             shared.stop()
     paths = [write_curves_csv(chart, args.out / "curves.csv")]
-    if args.second == "Abar" and chart.status == "complete":  # read off every curve, or not at all
+    if chart.reads_critical:
         paths.append(write_critical_csv(chart, args.out / "critical.csv"))
     else:  # not an earlier run's left beside this one's curves
         (args.out / "critical.csv").unlink(missing_ok=True)

@@ -221,10 +221,8 @@ def critical_rows(chart: Chart, points: int = 57):
     bottom, :func:`~.bottom.below_bottom`: no Abar_c there), or beyond a sigma where a curve
     bounding stable orbits leaves through it (:func:`~.reading.exits_below`): the least stable
     forcing may lie below the box there; none for a chart whose second parameter is not Abar, nor
-    for a chart stopped part way: off part of the curves the lowest boundary may be a higher
-    curve's, and the stable orbits below it would be followed down to the box's bottom at every
-    sigma."""
-    if chart.second != "Abar" or chart.status != "complete":
+    for a chart stopped part way (:attr:`~.result.Chart.reads_critical`)."""
+    if not chart.reads_critical:
         return
     exits = exits_below(chart)
     slow = chart.slow_flow_critical

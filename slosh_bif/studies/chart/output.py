@@ -231,7 +231,7 @@ def _draw_critical(ax, chart, drawn):
     if slow is not None and len(slow.sigma):
         (line,) = ax.plot(slow.sigma, slow.Abar_b, "k-.", lw=1.3, zorder=5)
         drawn[r"slow flow $\bar A_b$ " + ("(46)" if slow.model == "slowflow" else "(corrected)")] = line
-    if chart.second != "Abar" or chart.status != "complete":  # as critical.csv: a complete chart's
+    if not chart.reads_critical:
         return
     grid = np.linspace(*chart.sigma_range, 401)
     low = chart.abar_range[0]

@@ -261,7 +261,7 @@ def seed_disagreements(chart: Chart, rtol: float = 1e-4) -> list:
     then miss a boundary (one no traced curve carries, or none at all: stable orbits with contact
     down to the bottom); a check the chart makes of itself, at no cost but the reading, and only
     of a complete chart (:func:`~.critical.critical_rows`)."""
-    if chart.second != "Abar" or chart.status != "complete":
+    if not chart.reads_critical:
         return []
     low = chart.abar_range[0]
     variant = variant_of(chart)

@@ -42,6 +42,13 @@ class Chart:
     bottom: tuple = ()
 
     @property
+    def reads_critical(self) -> bool:
+        """Whether the critical forcing Abar_c is read off this chart: Abar is its second
+        parameter and every curve was traced (off part of the curves the lowest boundary may be a
+        higher curve's, and the stable orbits below it would be followed down at every sigma)."""
+        return self.second == "Abar" and self.status == "complete"
+
+    @property
     def incomplete(self) -> list:
         """Why the chart is not the whole answer, one line each: curves cut short, starts that gave no
         curve."""
