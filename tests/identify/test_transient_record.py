@@ -138,15 +138,16 @@ def test_a_wrong_wall_power_is_said_not_to_fit(smooth_decay):
     assert right.describes  # (over tau in [0, 20])
 
 
+def _decay_csv(path, record):
+    """The record as the CSV `slosh-bif fit --data` reads (tau, X, std at full precision)."""
+    rows = zip(record.tau, record.X, record.std)
+    path.write_text("tau,X,std\n" + "".join(f"{float(t)!r},{float(x)!r},{float(s)!r}\n" for t, x, s in rows))
+    return path
+
+
 def test_slosh_bif_fit_a_decay_by_the_full_model_and_its_refusals(tmp_path, smooth_decay, capsys):
     record = _noisy(smooth_decay, 1)
-    data = tmp_path / "decay.csv"
-    data.write_text(
-        "tau,X,std\n"
-        + "".join(
-            f"{float(t)!r},{float(x)!r},{float(s)!r}\n" for t, x, s in zip(record.tau, record.X, record.std)
-        )
-    )
+    data = _decay_csv(tmp_path / "decay.csv", record)
     args = ["fit", "--preset", "fig10", "--set=lam=0.4", "--data", str(data), "--model", "smooth"]
     assert main(args + ["--free", "lam,gamma", "--out", str(tmp_path / "fit")]) == 0
     out = capsys.readouterr().out
@@ -155,15 +156,24 @@ def test_slosh_bif_fit_a_decay_by_the_full_model_and_its_refusals(tmp_path, smoo
     assert result["record"] == "decay" and result["horizon"] < 60.0
     assert len(result["trajectory"]["X"]) == len(record)
     assert (tmp_path / "fit" / "fit.png").is_file()
-    side = tmp_path / "side"  # the valley search and the profiles on two processes: the same fit
-    assert main(args + ["--free", "lam,gamma", "--workers", "2", "--out", str(side)]) == 0
-    assert json.loads((side / "fit.json").read_text())["estimate"] == result["estimate"]
     assert main(args + ["--free", "Abar", "--out", str(tmp_path / "x")]) == 2
     assert "--free takes one or more of lam, chi, gamma, eps" in capsys.readouterr().err
     envelope = tmp_path / "envelope.csv"
     envelope.write_text("tau,A\n" + "".join(f"{k},{3.0 - 0.01 * k}\n" for k in range(20)))
     assert main(args + ["--free", "gamma", "--data", str(envelope), "--out", str(tmp_path / "x")]) == 2
     assert "needs the columns tau and X" in capsys.readouterr().err
+
+
+@pytest.mark.slow  # the steady and impact fits check --workers 2 in the default run
+def test_a_decay_fit_on_two_processes_is_the_one_process_fit(tmp_path, smooth_decay):
+    record = _noisy(smooth_decay, 1)
+    data = _decay_csv(tmp_path / "decay.csv", record)
+    args = ["fit", "--preset", "fig10", "--set=lam=0.4", "--data", str(data), "--model", "smooth"]
+    args += ["--free", "lam,gamma"]
+    assert main(args + ["--out", str(tmp_path / "one")]) == 0
+    assert main(args + ["--workers", "2", "--out", str(tmp_path / "two")]) == 0
+    one, two = (json.loads((tmp_path / k / "fit.json").read_text())["estimate"] for k in ("one", "two"))
+    assert one == two  # the valley search and the profiles on two processes: the same fit
 
 
 @pytest.mark.slow
