@@ -187,10 +187,12 @@ def _shoot_impact(args, params, lo, hi) -> int:
     options = continuation_options(args, ContinuationOptions(step=0.05, step_max=0.3, tol=1e-10))
     args.out.mkdir(parents=True, exist_ok=True)
     with PlotProcess() as plots:  # matplotlib imported beside the computation
-        x0 = args.guess if args.guess is not None else _settled_start(args, params, variant)
+        at, x0 = (
+            (params, args.guess) if args.guess is not None else _settled_start(args, params, variant, lo, hi)
+        )
         branching = BranchingSettings(switch=not args.no_switch, max_branches=args.max_branches)
         family = impact_family(
-            params,
+            at,
             x0,
             param=args.parameter,
             p_range=(lo, hi),
@@ -368,12 +370,22 @@ def add_commands(sub) -> None:
     shoot.set_defaults(run=_shoot)
 
 
-def _settled_start(args, params, variant):
-    """The orbit of (8) a simulation settles on, or the one-line error with the options to change."""
+def _settled_start(args, params, variant, lo, hi):
+    """(its parameter set, its state) of the orbit of (8) a simulation settles on (in sigma, else
+    from the slow flow's steady states over [lo, hi]), or the one-line error with the options to
+    change."""
     from slosh_bif.continuation import ConvergenceError
-    from slosh_bif.orbits.impact.branches import settled_orbit
+    from slosh_bif.orbits.impact.starts import impact_start
 
     try:
-        return settled_orbit(params, state0_of(args, params), periods=args.settle, variant=variant)
+        start = impact_start(
+            params,
+            state0_of(args, params),
+            periods=args.settle,
+            sigma_range=(lo, hi) if args.parameter == "sigma" else None,
+            variant=variant,
+        )
     except ConvergenceError as err:
         raise ConvergenceError(f"{err}; pass --guess X,Xd,w,wd or change --settle") from None
+    progress(f"start orbit at sigma = {start.params.sigma:.5g}: {start.found_from}")
+    return start.params, start.x

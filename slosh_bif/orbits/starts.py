@@ -33,6 +33,8 @@ __all__ = [
     "orbit_from_simulation",
     "orbit_from_slow_flow",
     "slow_flow_start",
+    "stable_steady_states",
+    "slow_flow_motion",
     "settle_and_shoot",
 ]
 
@@ -215,6 +217,39 @@ def orbit_from_slow_flow(
     return orbit_at(problem, x, params.sigma, tol=tol)
 
 
+def stable_steady_states(
+    params: Params, sigma_min: float, sigma_max: float, *, tries: int = 12, response=None
+) -> list:
+    """Up to ``tries`` stable steady states of (46) in [sigma_min, sigma_max] as (params at their
+    sigma, A, psi), the start guesses of the orbits of (9) (:func:`slow_flow_start`) and of (8)
+    (:func:`slosh_bif.orbits.impact.starts.impact_start`): from the ends of the range inward, where
+    the slow flow is closest to the full models, spread over the branch's points (neighbours are
+    nearly the same guess). ``response``: the frequency response of (46) over the range, if
+    already traced."""
+    fr = (
+        response
+        if response is not None
+        else frequency_response(params, sigma_min=sigma_min, sigma_max=sigma_max)
+    )
+    # (sigma, A, psi): the branch's own phase (at a branch's end on A_min, (46)'s phase balance is
+    # a square root of rounding, NaN: seen at n = 6, eps = 0.02)
+    candidates = [
+        (float(b.p[i]), float(b.x[i, 0]), float(b.x[i, 1]))
+        for b in fr.branches
+        for i in range(len(b))
+        if b.stable[i] and sigma_min <= b.p[i] <= sigma_max
+    ]
+    candidates.sort(key=lambda c: min(c[0] - sigma_min, sigma_max - c[0]))
+    picks = candidates[:: max(1, len(candidates) // tries)][:tries]
+    return [(params.replace(sigma=sigma), A, psi) for sigma, A, psi in picks]
+
+
+def slow_flow_motion(params: Params, A: float, psi: float, tau) -> np.ndarray:
+    """The slow flow's leading-order motion [X, X', w, w'] at the fast times ``tau`` on its state
+    (A, psi) (:meth:`SlowFlow.fast_state`, eqs. 25, 29, 35): a start guess for either model."""
+    return SlowFlow(params).fast_state(A, psi, np.asarray(tau, dtype=float))
+
+
 def slow_flow_start(
     params: Params,
     sigma_min: float,
@@ -237,24 +272,8 @@ def slow_flow_start(
     (46) over the range, if already traced. ``skip``: pass over the first ``skip`` orbits found
     (a caller whose continuation failed from the first asks for the next).
     """
-    fr = (
-        response
-        if response is not None
-        else frequency_response(params, sigma_min=sigma_min, sigma_max=sigma_max)
-    )
-    # (sigma, A, psi): the branch's own phase (at a branch's end on A_min, (46)'s phase balance is
-    # a square root of rounding, NaN: seen at n = 6, eps = 0.02)
-    candidates = [
-        (float(b.p[i]), float(b.x[i, 0]), float(b.x[i, 1]))
-        for b in fr.branches
-        for i in range(len(b))
-        if b.stable[i] and sigma_min <= b.p[i] <= sigma_max
-    ]
-    candidates.sort(key=lambda c: min(c[0] - sigma_min, sigma_max - c[0]))
-    # Neighbours on a branch are nearly the same guess: spread the tries over the candidates.
-    picks = candidates[:: max(1, len(candidates) // tries)][:tries]
-    for sigma, A, psi in picks:
-        at = params.replace(sigma=sigma)
+    picks = stable_steady_states(params, sigma_min, sigma_max, tries=tries, response=response)
+    for at, A, psi in picks:
         orbit = orbit_from_slow_flow(at, A, psi=psi, segments=segments, backend=backend)
         if orbit.converged:
             if skip == 0:

@@ -116,19 +116,21 @@ def impact_branch_rows(
 ) -> list:
     """Rows (:func:`~slosh_bif.orbits.impact.output.impact_rows`) of the branch of orbits of (8)
     (``variant="corrected"``: of the corrected impact model) through the orbit a ``settle``-period
-    simulation from ``state0`` settles on at the set's sigma (as ``shoot --model impact``), over
+    simulation from ``state0`` settles on at the set's sigma (else from the slow flow's steady
+    states in the range, as ``shoot --model impact``), over
     [sigma_min, sigma_max], at steps of at most 0.05 so that A1 read between points is within
     about 1e-4 of the orbit's (0.3 % at shoot's 0.3); the ``criticality`` column says how each
     LP, PD, NS and BP is crossed."""
     from slosh_bif.continuation import ContinuationOptions
     from slosh_bif.orbits.criticality import Verdict, impact_criticality, phrases
-    from slosh_bif.orbits.impact.branches import settled_orbit, trace_impact_orbits
+    from slosh_bif.orbits.impact.branches import trace_impact_orbits
     from slosh_bif.orbits.impact.output import impact_rows
+    from slosh_bif.orbits.impact.starts import impact_start
 
-    x0 = settled_orbit(params, state0, periods=settle, variant=variant)
+    start = impact_start(params, state0, periods=settle, sigma_range=(sigma_min, sigma_max), variant=variant)
     result = trace_impact_orbits(
-        params,
-        x0,
+        start.params,
+        start.x,
         p_min=sigma_min,
         p_max=sigma_max,
         options=ContinuationOptions(step=0.02, step_max=0.05, tol=1e-10),

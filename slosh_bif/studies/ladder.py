@@ -56,7 +56,8 @@ import numpy as np
 from slosh_bif.model.params import Params
 from slosh_bif.model.presets import CLASSIFY_TMAX, get_preset
 from slosh_bif.orbits.families import trace_orbits
-from slosh_bif.orbits.impact.branches import settled_orbit, trace_impact_orbits
+from slosh_bif.orbits.impact.branches import trace_impact_orbits
+from slosh_bif.orbits.impact.starts import impact_start
 from slosh_bif.orbits.settings import NO_SWITCHING, ParameterRange
 from slosh_bif.orbits.starts import settle_and_shoot
 from slosh_bif.simulation.direct import simulate
@@ -265,9 +266,9 @@ def _slow(question, params, y0, lo, hi, tmax, model):
 
 def _impact(params, y0, lo, hi, variant):
     """The branch of orbits of the impact model ``variant`` through the one a simulation of it
-    from y0 settles on."""
-    x0 = settled_orbit(params, y0, periods=IMPACT_SETTLE, variant=variant)
-    return trace_impact_orbits(params, x0, p_min=lo, p_max=hi, variant=variant)
+    from y0 settles on (else from the slow flow's steady states over [lo, hi])."""
+    start = impact_start(params, y0, periods=IMPACT_SETTLE, sigma_range=(lo, hi), variant=variant)
+    return trace_impact_orbits(start.params, start.x, p_min=lo, p_max=hi, variant=variant)
 
 
 IMPACT_SETTLE = 300  # forcing periods of (8) before Newton on its map

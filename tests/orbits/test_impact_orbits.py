@@ -3,8 +3,6 @@ differences of the compiled map, the orbits and multipliers against a scipy Newt
 finite-difference Jacobian on the expm event loop (the reference flow), grazing against scipy's
 event location of the turning point, and the branch across sections and grazings."""
 
-import re
-
 import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
@@ -314,31 +312,6 @@ def test_an_asymmetric_start_finds_its_symmetric_parent_by_switching_at_its_bran
     y0, p, phase = piece.branch.x[i], piece.branch.p[i], piece.phase
     half = simulate_impact(params.replace(sigma=p), y0, (phase, phase + np.pi), backend="scipy").y[:, -1]
     assert np.abs(half + y0).max() < 1e-8
-
-
-_SET_A = dict(eps=0.08, beta=0.15, gamma=0.3, sigma=0.0, Abar=2.0, lam=0.25, chi=0.4, n=8, pbar=2)
-_SET_C = dict(eps=0.12, beta=0.0, gamma=0.15, sigma=1.0, Abar=1.5, lam=0.1, chi=1.0, n=4, pbar=-2)
-
-
-@pytest.mark.parametrize(
-    "values, command, reason",
-    [
-        # pbar = -2: the restitution law (21) loses energy without bound at slow impacts
-        (_SET_C, "chart", r"kappa \(eq. 21\) is not real at an impact speed reached"),
-        (_SET_A, "shoot", "has not settled"),  # no orbit (8) settles on in 2250 periods
-    ],
-)
-def test_a_start_that_8_cannot_reach_is_named_with_what_to_change(tmp_path, capsys, values, command, reason):
-    from slosh_bif.cli import main
-
-    settings = [a for name, value in values.items() for a in ("--set", f"{name}={value}")]
-    box = ["--sigma-min", "-2", "--sigma-max", "2", "--abar-min", "0.5", "--abar-max", "3"]
-    args = [command, "--preset", "fig10", *settings, "--model", "impact", "--out", str(tmp_path)]
-    assert main(args + (box if command == "chart" else [])) == 1
-    err = capsys.readouterr().err
-    assert len(err.strip().splitlines()) == 1 and "code " not in err
-    assert re.search(reason, err)
-    assert ("--set sigma=S" if command == "chart" else "pass --guess") in err
 
 
 def test_a_torus_point_behind_a_pair_meeting_in_the_same_step_is_located():

@@ -1,6 +1,7 @@
 """Periodic orbits of the vibro-impact model (8) and of the corrected impact model: the
 stroboscopic map with its saltation matrices (:mod:`~slosh_bif.orbits.impact.problem`),
-branches continued in pieces through grazing (:mod:`~slosh_bif.orbits.impact.branches`,
+their start orbits (:mod:`~slosh_bif.orbits.impact.starts`), branches continued in pieces
+through grazing (:mod:`~slosh_bif.orbits.impact.branches`,
 :mod:`~slosh_bif.orbits.impact.grazing_crossing`), switching at the pitchforks of symmetric
 orbits and at period doublings (:mod:`~slosh_bif.orbits.impact.switching`), the map as the
 orbit equations of the shared curve problems (:mod:`~slosh_bif.orbits.impact.strobe`), curves
@@ -15,6 +16,8 @@ _WHERE = {
     "ImpactOrbitProblem": "problem",
     "trace_impact_orbits": "branches",
     "settled_orbit": "branches",
+    "impact_start": "starts",
+    "ImpactStart": "starts",
     "ImpactBranch": "branches",
     "ImpactCurveSeed": "curves",
     "trace_impact_curve": "curves",

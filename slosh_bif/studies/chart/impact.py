@@ -27,6 +27,7 @@ from slosh_bif.model.params import Params
 from slosh_bif.orbits.impact.branches import settled_orbit, state_at_zero, trace_impact_orbits
 from slosh_bif.orbits.impact.curves import ImpactCurveSeed, trace_grazing_curve, trace_impact_curve
 from slosh_bif.orbits.impact.problem import VARIANT_NAMES, ImpactOrbitProblem
+from slosh_bif.orbits.impact.starts import impact_start
 from slosh_bif.orbits.impact.strobe import least_impact_speed
 from slosh_bif.orbits.impact.switching import (
     asymmetric_branches,
@@ -79,11 +80,13 @@ def impact_chart(
 ) -> Chart:
     """The chart of (8) over ``sigma_range`` x ``abar_range``: the branch of orbits of (8) through
     the orbit a ``settings.settle``-period simulation from ``state0`` settles on (at the set's
-    sigma and Abar), the asymmetric branches born at its pitchforks (unless ``branching.switch``
-    is off), the primary branch's orbits at ``settings.seeds`` values of sigma continued in Abar
-    (where it does not reach, the orbits a simulation settles on there), and the curve through
-    each of their LP, PD, NS and BP points (each curve once), on
-    ``settings.workers`` processes; the paper's slow flow's Abar_b beside them."""
+    sigma and Abar; where it settles on none, from the slow flow's motion on a steady state of
+    (46) in the box: :func:`~slosh_bif.orbits.impact.starts.impact_start`), the asymmetric
+    branches born at its pitchforks (unless ``branching.switch`` is off), the primary branch's
+    orbits at ``settings.seeds`` values of sigma continued in Abar (where it does not reach, the
+    orbits a simulation settles on there), and the curve through each of their LP, PD, NS and BP
+    points (each curve once), on ``settings.workers`` processes; the paper's slow flow's Abar_b
+    beside them."""
     check_box(params, sigma_range, abar_range)
     settings = settings or ChartSettings()
     (s0, s1), (a0, a1) = sigma_range, abar_range
@@ -91,15 +94,16 @@ def impact_chart(
     started = time.perf_counter()
     params.require_positive_stiffness()
     try:
-        start = settled_orbit(params, state0, periods=settings.settle, variant=variant)
+        start = impact_start(params, state0, periods=settings.settle, sigma_range=(s0, s1), variant=variant)
     except ConvergenceError as err:
         raise ConvergenceError(
             f"{err}; the chart's family starts from that orbit: start it at another sigma or Abar "
             "inside the box (--set sigma=S --set Abar=A)"
         ) from None
+    say(f"start orbit at sigma = {start.params.sigma:.5g}: {start.found_from}")
     family = impact_family(
-        params,
-        start,
+        start.params,
+        start.x,
         param="sigma",
         p_range=(s0, s1),
         variant=variant,
