@@ -81,7 +81,7 @@ def no_work(monkeypatch):
         "simulate",
         "settle_and_shoot",
         "trace_orbits",
-        "settled_orbit",
+        "impact_start",
     ):  # answer's rungs
         monkeypatch.setattr(ladder, name, _started)
 
