@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["TIE", "TIE_RELATIVE", "UNEXPLAINED", "tie", "pick", "unexplained"]
+__all__ = ["TIE", "TIE_RELATIVE", "UNEXPLAINED", "tie", "pick", "unexplained", "with_followed"]
 
 TIE = 2.0  # standard deviations within which a sweep's continuing candidate is preferred
 TIE_RELATIVE = 0.02  # without a std: the tie as a fraction of the data's largest amplitude
@@ -58,4 +58,19 @@ def unexplained(data, stable_amplitudes, scale: float | None = None) -> list:
         elif spread is not None and spread > 0:
             if min(abs(float(data.A[i]) - a) for a in amplitudes) > UNEXPLAINED * spread:
                 out.append(i)
+    return out
+
+
+def with_followed(stable_amplitudes, followed_A, followed_stable) -> list:
+    """Each point's stable amplitudes (``stable_amplitudes[i]``, found by a search at the estimate)
+    with the amplitude ``followed_A[i]`` of the orbit the fit followed there added where that orbit
+    is stable (``followed_stable[i]``) and not among them: a search afresh can miss a stable orbit
+    that the fit, following it from the start, holds, and the point is explained by it all the
+    same."""
+    out = []
+    for amplitudes, a, ok in zip(stable_amplitudes, followed_A, followed_stable):
+        known = [float(b) for b in amplitudes]
+        if ok and all(abs(b - float(a)) > 1e-9 * (1.0 + abs(b)) for b in known):
+            known = sorted(known + [float(a)])
+        out.append(known)
     return out

@@ -45,7 +45,7 @@ import numpy as np
 from scipy import stats
 
 from slosh_bif.continuation.options import ConvergenceError
-from slosh_bif.identify.assignment import UNEXPLAINED, unexplained
+from slosh_bif.identify.assignment import UNEXPLAINED, unexplained, with_followed
 from slosh_bif.identify.goodness import goodness
 from slosh_bif.identify.response_data import ResponseData
 from slosh_bif.identify.response_integers import INTEGERS, integer_estimates, integer_sets, start_at
@@ -233,7 +233,8 @@ def fit_response(
                 run.message,
             )
         objective(z)  # the orbits at the estimate (the profiles below start from them)
-        unstable = [f"{s:.4g}" for s, ok in zip(data.sigma, objective.orbits.stable) if not ok]
+        followed_stable = list(objective.orbits.stable)
+        unstable = [f"{s:.4g}" for s, ok in zip(data.sigma, followed_stable) if not ok]
         if unstable:
             note = _join(
                 note,
@@ -296,6 +297,9 @@ def fit_response(
     fitted_count = len(continuous) + sum(name in INTEGERS for name in free)
     verdict = goodness(data, r, fitted_count, MODEL_NAMES[model])
     stable = [[float(a) for a, ok in c if ok] for c in found]
+    model_A = data.A - (r * data.std if scale_known else r)
+    if objective.orbits is not None:
+        stable = with_followed(stable, model_A, followed_stable)
     bad = unexplained(data, stable, None if scale_known else verdict.noise)
     if bad:
         note = _join(
@@ -304,7 +308,6 @@ def fit_response(
             f"{', '.join(f'{data.sigma[i]:.4g}' for i in bad)} (each farther than {UNEXPLAINED:g} standard "
             "deviations from every stable response there, or none there).",
         )
-    model_A = data.A - (r * data.std if scale_known else r)
     assignment = [
         {
             "sigma": float(data.sigma[i]),

@@ -53,13 +53,14 @@ import warnings
 
 import numpy as np
 
+from slosh_bif.continuation import ConvergenceError
 from slosh_bif.model.params import Params
 from slosh_bif.model.presets import CLASSIFY_TMAX, get_preset
 from slosh_bif.orbits.families import trace_orbits
 from slosh_bif.orbits.impact.branches import trace_impact_orbits
 from slosh_bif.orbits.impact.starts import impact_start
 from slosh_bif.orbits.settings import NO_SWITCHING, ParameterRange
-from slosh_bif.orbits.starts import settle_and_shoot
+from slosh_bif.orbits.starts import settle_and_shoot, slow_flow_start
 from slosh_bif.simulation.direct import simulate
 from slosh_bif.simulation.regimes import classify
 from slosh_bif.slowflow.critical import critical_forcing
@@ -281,10 +282,15 @@ def _full(question, params, y0, lo, hi, tmax, say=None):
     if question == "critical-forcing":  # every family at sigma, not only the one y0 settles on
         return critical_forcing_full(params, y0, progress=say)
     orbit, _ = settle_and_shoot(params, y0)
-    if not (orbit.converged and orbit.stable):
-        raise RuntimeError(
-            f"no stable periodic orbit of (9) is reached from state0 at sigma = {params.sigma}, "
-            f"Abar = {params.Abar} "
-            "within 1000 forcing periods: the response there is not periodic (try the regime question)"
-        )
-    return trace_orbits(params, orbit.y0, branching=NO_SWITCHING, interval=ParameterRange(lo=lo, hi=hi))
+    at, start = params, orbit.y0
+    if not (orbit.converged and orbit.stable):  # as shoot starts: from the slow flow's steady states
+        try:
+            found = slow_flow_start(params, lo, hi)
+        except (ConvergenceError, ValueError) as err:  # none of (9) from them, or no steady state
+            raise RuntimeError(
+                f"no stable periodic orbit of (9) is reached from state0 at sigma = {params.sigma}, "
+                f"Abar = {params.Abar} within 1000 forcing periods (the response there is not periodic: "
+                f"try the regime question), nor from the slow flow's steady states ({err})"
+            ) from None
+        at, start = found.params, found.y0
+    return trace_orbits(at, start, branching=NO_SWITCHING, interval=ParameterRange(lo=lo, hi=hi))

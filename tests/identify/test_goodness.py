@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from slosh_bif import get_preset
-from slosh_bif.identify.assignment import pick, unexplained
+from slosh_bif.identify.assignment import pick, unexplained, with_followed
 from slosh_bif.identify.goodness import THRESHOLD, goodness, runs_test, sweep_test
 from slosh_bif.identify.response_data import ResponseData
 
@@ -71,6 +71,12 @@ def test_a_point_takes_the_response_that_explains_it_and_its_sweep_decides_only_
     assert pick(data, 0, 1.0, candidates) == 1  # 1.9 is 9 std from 1.0: the label does not force it
     assert pick(data, 2, None, [(1.6, False), (3.0, False)]) == 0  # none stable: all are candidates
     assert unexplained(data, [[1.0], [1.5], []]) == [0, 2]  # 9 std off, 0.5 std, no stable response
+    # a search afresh at the estimate found only another response; the orbit the fit followed is
+    # stable and explains the point (added), or unstable (not added: a measured response cannot be it)
+    searched = [[1.0], [3.0], []]
+    assert with_followed(searched, [1.9, 1.5, 1.8], [True, True, False]) == [[1.0, 1.9], [1.5, 3.0], []]
+    assert unexplained(data, with_followed(searched, [1.9, 1.5, 1.8], [True, True, False])) == [2]
+    assert with_followed([[1.5]], [1.5], [True]) == [[1.5]]  # the same orbit: not twice
 
 
 @pytest.fixture(scope="module")

@@ -85,6 +85,28 @@ def test_frequency_response_answers_by_the_chosen_model():
     assert np.all(ob.measures["A1"] > 0)
 
 
+def test_where_9_settles_on_no_orbit_at_the_sets_sigma_the_frequency_response_starts_from_the_slow_flow(
+    scipy_flow,
+):
+    """A set (n = 3, pbar = 3, from a random draw) whose response at sigma = 1 a simulation of 1000
+    periods leaves unsettled: shooting on (9) answers the frequency response all the same, from
+    the slow flow's steady states over the range, as ``shoot`` starts (its orbits are (9)'s: one
+    checked by scipy's period map)."""
+    from slosh_bif.orbits.starts import settle_and_shoot
+
+    params = FIG10.replace(eps=0.07, beta=0.015, gamma=0.13, Abar=2.4, lam=0.35, chi=1.1, n=3, pbar=3)
+    orbit, _ = settle_and_shoot(params, get_preset("fig10").state_for(params))
+    assert not (orbit.converged and orbit.stable)  # what sent the answer to the slow flow's start
+    got = answer("frequency-response", params, tol=1e-3, sigma_min=-2.0, sigma_max=4.0)
+    assert got.model == "shooting on (9)"
+    ob = got.result.branches[0]
+    assert ob.branch.p.min() == pytest.approx(-2.0) and ob.branch.p.max() == pytest.approx(4.0)
+    k = len(ob.branch.p) // 3
+    y0 = ob.branch.x[k][:4]  # the orbit's state at tau = 0 (its first arc's start)
+    end, _ = scipy_flow(params.replace(sigma=float(ob.branch.p[k])), y0, 2 * np.pi)
+    np.testing.assert_allclose(end, y0, rtol=0, atol=1e-7)
+
+
 @pytest.mark.slow  # a 221-cell regime map of (9) (about a minute on 2 cores)
 def test_regime_error_in_the_table_matches_a_fresh_regime_map():
     """SLOW_FLOW_ERROR["regime"] is the disagreement of the slow flow's prediction (integrated from
