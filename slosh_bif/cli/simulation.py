@@ -73,8 +73,9 @@ def _simulate(args) -> int:
         noise=Noise(std=noise, seed=args.seed, cutoff=args.noise_cutoff),
     )
     args.out.mkdir(parents=True, exist_ok=True)
-    if not sim.success and sim.status != "sticking":
-        print(f"slosh-bif simulate: the run stopped early: {sim.message}", file=sys.stderr)
+    stopped = not sim.success and sim.status != "sticking"
+    if stopped:
+        print(f"slosh-bif simulate: the run stopped early (exit status 3): {sim.message}", file=sys.stderr)
     transient = args.transient if args.transient is not None and args.transient < sim.t[-1] else None
     try:
         summary = classify(sim, transient=transient)
@@ -94,7 +95,7 @@ def _simulate(args) -> int:
     ]
     print(f"regime: {summary.regime} ({summary.reason}); {sim.message}; {sim.seconds:.2f} s")
     print("wrote " + ", ".join(str(p) for p in paths))
-    return 0
+    return 3 if stopped else 0  # 3: a partial result (the run to where it stopped)
 
 
 def _regimes(args) -> int:

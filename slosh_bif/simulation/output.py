@@ -107,7 +107,8 @@ def plot_simulation(sim, summary, path, *, title: str = "") -> Path:
 
     proj = project_on_manifold(sim.t, sim.y)
     ax_e.plot(proj.t, proj.A, ".-", color="tab:blue", ms=2, lw=0.6, label="A: peak |X| per period")
-    ax_e.axhline(summary.A_min, color="k", ls="--", lw=0.8, label=f"A_min = {summary.A_min:.3g}")
+    A_min = _a_min(sim, summary)
+    ax_e.axhline(A_min, color="k", ls="--", lw=0.8, label=f"A_min = {A_min:.3g}")
     if sim.impact_t.size:
         ax_i = ax_e.twinx()
         edges = np.arange(sim.t[0], sim.t[-1] + 2 * np.pi, 2 * np.pi)
@@ -126,14 +127,24 @@ def plot_simulation(sim, summary, path, *, title: str = "") -> Path:
     return save_figure(fig, path)
 
 
+def _a_min(sim, summary) -> float:
+    """The manifold's A_min (36): the summary's, or the parameter set's where the run was not judged."""
+    return summary.A_min if np.isfinite(summary.A_min) else ManifoldLaw(sim.params).A_min
+
+
 def plot_motion_on_manifold(ax, sim, summary, proj):
-    """The manifold's branches, the trajectory's (A, alpha) per period, and the impact counts."""
-    A_top = max(3 * summary.A_min, 1.15 * float(np.max(proj.A)) if proj.A.size else 1.0)
-    plot_slow_manifold(ax, ManifoldLaw(sim.params), A_top)
+    """The manifold's branches, the trajectory's (A, alpha) per period, and the impact counts (a
+    run stopped before a period's peak, or one not judged, still gets the manifold drawn)."""
+    law, A_min = ManifoldLaw(sim.params), _a_min(sim, summary)
+    peaks = proj.A[np.isfinite(proj.A)]
+    A_top = max(3 * A_min, 1.15 * float(np.max(peaks)) if peaks.size else 1.0)
+    plot_slow_manifold(ax, law, A_top)
     plot_projection(ax, proj, label="trajectory, one point per period")
     ax.legend(loc="lower right", fontsize=8)
     ax.set_title(
-        f"{summary.impacts_per_period:.2f} impacts, {summary.crossings_per_period:.2f} crossings per period",
+        f"{summary.impacts_per_period:.2f} impacts, {summary.crossings_per_period:.2f} crossings per period"
+        if np.isfinite(summary.impacts_per_period)
+        else "impacts and crossings per period not counted: the run was not judged",
         fontsize=9,
     )
     return ax

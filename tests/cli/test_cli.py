@@ -629,6 +629,23 @@ def test_simulate_writes_trajectory_summary_and_figure(tmp_path, capsys):
     assert "regime:" in capsys.readouterr().out
 
 
+def test_a_simulation_that_stops_early_writes_what_it_ran_and_exits_3(tmp_path, capsys):
+    """(8) with pbar = 3 (a random draw): the restitution (21) is not real at an impact speed of 3.2
+    reached at tau = 4.9. The run to there is written and drawn (the manifold's A_min from the set,
+    the run too short to be judged), exit status 3: a partial result."""
+    values = dict(eps=0.07, beta=0.015, gamma=0.13, Abar=2.42, lam=0.353, chi=1.1, n=3, pbar=3)
+    settings = [a for name, value in values.items() for a in ("--set", f"{name}={value}")]
+    out = tmp_path / "sim"
+    assert main(["simulate", "--preset", "fig10", *settings, "--model", "impact", "--out", str(out)]) == 3
+    err = capsys.readouterr().err
+    assert "stopped early (exit status 3)" in err and "kappa (eq. 21) is not real" in err
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["regime"] == "failed" and "too early to judge" in summary["reason"]
+    tau = np.load(out / "trajectory.npz")["tau"]
+    assert 0 < tau[-1] < 2 * np.pi
+    assert (out / "simulate.png").stat().st_size > 10_000
+
+
 def test_simulate_with_noise_records_the_seed_and_is_reproducible(tmp_path):
     runs = []
     for name in ("a", "b"):
