@@ -121,9 +121,9 @@ def test_the_ladder_says_when_two_models_describe_the_data_with_different_parame
 def test_a_held_out_set_fitted_by_9_holds_the_truth_and_explains_every_point():
     """Another set that is no preset (eps 0.04, beta 0.2, gamma 0.25, lam 0.25, chi 0.5, n 30, Abar
     1.8), both sweeps over sigma in [1.5, 5] with 1 % noise (seed 7), fitted by (9) from lam 0.325,
-    gamma 0.2. The estimate (lam 0.093) follows the lower orbits above sigma = 3, stable there; a
-    search afresh at the estimate finds only the upper response, and those points were once
-    reported as explained by no stable response beside a chi-square that said they were."""
+    gamma 0.2. The estimate (lam 0.093) follows the lower orbits above sigma = 3, stable there,
+    where a search afresh at the estimate finds only the upper response: the points are explained
+    by the orbits the fit followed, as the chi-square says."""
     truth = TRUTH.replace(eps=0.04, beta=0.2, gamma=0.25, lam=0.25, chi=0.5, n=30, Abar=1.8)
     sigma, A, std, sweeps = example.response(truth, np.linspace(1.5, 5.0, 10), noise=0.01, seed=7)
     data = ResponseData(sigma, A, std, sweeps, "held-out sweeps")

@@ -43,7 +43,7 @@ def test_where_8_settles_on_no_orbit_at_the_sets_sigma_the_start_comes_from_the_
 def test_a_start_settled_at_the_sets_sigma_is_kept_there():
     params = get_preset("fig13").params.replace(sigma=0.5)
     start = impact_start(params, _state0(params), periods=150, sigma_range=(-3.0, 5.0))
-    assert start.params == params and "simulation at sigma = 0.5" in start.found_from
+    assert start.params == params and "simulation settled at sigma = 0.5" in start.found_from
 
 
 def test_shoot_model_impact_starts_from_the_slow_flow_where_the_simulation_does_not_settle(tmp_path, capsys):

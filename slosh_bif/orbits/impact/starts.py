@@ -48,7 +48,7 @@ def impact_start(
     try:
         x = settled_orbit(params, state0, periods=periods, variant=variant)
         return ImpactStart(
-            params, x, f"Newton from a {periods}-period simulation at sigma = {params.sigma:g}"
+            params, x, f"Newton from the strobe of a simulation settled at sigma = {params.sigma:g}"
         )
     except ConvergenceError as err:
         if sigma_range is None:
