@@ -71,7 +71,8 @@ def family_from_args(args, params, lo, hi, param="sigma"):
             start = start_orbit(
                 params,
                 state0_of(args, params),
-                (lo, hi) if param == "sigma" else None,
+                (lo, hi),
+                param=param,
                 settle=args.settle,
                 guess=args.guess,
                 segments=args.segments,
@@ -90,8 +91,8 @@ def family_from_args(args, params, lo, hi, param="sigma"):
     mu = ", ".join(f"{abs(m):.4g}" for m in start.orbit.multipliers)
     which = "from the slow flow " if args.start == "slow-flow" else ""
     progress(
-        f"start orbit {which}at sigma = {start.sigma:.5g}: |X(0)| = {abs(start.y0[0]):.4g}, "
-        f"multipliers |mu| = {mu} ({start.found_from})"
+        f"start orbit {which}at {param} = {getattr(start.params, param):.5g}: "
+        f"|X(0)| = {abs(start.y0[0]):.4g}, multipliers |mu| = {mu} ({start.found_from})"
     )
     return trace_new_family(
         start.params,
@@ -371,9 +372,9 @@ def add_commands(sub) -> None:
 
 
 def _settled_start(args, params, variant, lo, hi):
-    """(its parameter set, its state) of the orbit of (8) a simulation settles on (in sigma, else
-    from the slow flow's steady states over [lo, hi]), or the one-line error with the options to
-    change."""
+    """(its parameter set, its state) of the orbit of (8) a simulation settles on (else from the
+    slow flow's steady states over [lo, hi] of the continued parameter), or the one-line error
+    with the options to change."""
     from slosh_bif.continuation import ConvergenceError
     from slosh_bif.orbits.impact.starts import impact_start
 
@@ -382,10 +383,12 @@ def _settled_start(args, params, variant, lo, hi):
             params,
             state0_of(args, params),
             periods=args.settle,
-            sigma_range=(lo, hi) if args.parameter == "sigma" else None,
+            p_range=(lo, hi),
+            param=args.parameter,
             variant=variant,
         )
     except ConvergenceError as err:
         raise ConvergenceError(f"{err}; pass --guess X,Xd,w,wd or change --settle") from None
-    progress(f"start orbit at sigma = {start.params.sigma:.5g}: {start.found_from}")
+    value = getattr(start.params, args.parameter)
+    progress(f"start orbit at {args.parameter} = {value:.5g}: {start.found_from}")
     return start.params, start.x

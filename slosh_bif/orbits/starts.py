@@ -20,7 +20,7 @@ from slosh_bif.orbits.orbit_tools import orbit_at, orbit_measures
 from slosh_bif.orbits.shooting import PeriodicOrbit, ShootingProblem
 from slosh_bif.simulation.direct import SimulationSettings, simulate
 from slosh_bif.slowflow.flow import SlowFlow
-from slosh_bif.slowflow.steady_states import frequency_response
+from slosh_bif.slowflow.steady_states import forcing_response, frequency_response
 
 # residual tolerance of Newton from a start guess (scan.on_traced_branch resolves orbits to it)
 START_TOL = 1e-9
@@ -141,12 +141,13 @@ def orbit_from_simulation(
 def start_orbit(
     params: Params,
     state0,
-    sigma_range: tuple | None = None,
+    p_range: tuple | None = None,
     *,
     settle: int = 150,
     guess=None,
     segments: int = 4,
     backend: str = "auto",
+    param: str = "sigma",
 ) -> StartOrbit:
     """The default start of a family: the stable orbit a ``settle``-period simulation has reached.
 
@@ -154,12 +155,12 @@ def start_orbit(
     (relative) of that state, so that the run is in the orbit's basin, close to it, and the last
     bits of the integration (which differ between machines: glibc picks its ``cos``/``pow`` by
     the CPU) cannot send Newton elsewhere. Otherwise (a strongly modulated run, an unstable or no
-    orbit near its strobe) the slow flow's start over ``sigma_range`` (sigma_min, sigma_max),
-    which no rounding moves: from an unsettled Fig. 10 run Newton found the symmetric orbit on one
-    build and an asymmetric one on another. Without a range, with a ``guess``, or when the slow
-    flow's start fails too, :func:`orbit_from_simulation` as it is (with its warning when the
-    run has not settled)."""
-    if sigma_range is None or guess is not None:
+    orbit near its strobe) the slow flow's start over ``p_range`` (lo, hi) of ``param`` (sigma,
+    or Abar at the set's sigma), which no rounding moves: from an unsettled Fig. 10 run Newton
+    found the symmetric orbit on one build and an asymmetric one on another. Without a range,
+    with a ``guess``, or when the slow flow's start fails too, :func:`orbit_from_simulation` as
+    it is (with its warning when the run has not settled)."""
+    if p_range is None or guess is not None:
         return orbit_from_simulation(
             params, state0, settle=settle, guess=guess, segments=segments, backend=backend
         )
@@ -183,8 +184,8 @@ def start_orbit(
         "orbit Newton finds from it"
     )
     try:
-        start = slow_flow_start(params, *sigma_range, segments=segments, backend=backend)
-    except ConvergenceError:
+        start = slow_flow_start(params, *p_range, segments=segments, backend=backend, param=param)
+    except (ConvergenceError, ValueError):  # no orbit from (46)'s states, or (46) has none
         return orbit_from_simulation(params, state0, settle=settle, segments=segments, backend=backend)
     return dataclasses.replace(
         start,
@@ -218,30 +219,34 @@ def orbit_from_slow_flow(
 
 
 def stable_steady_states(
-    params: Params, sigma_min: float, sigma_max: float, *, tries: int = 12, response=None
+    params: Params, lo: float, hi: float, *, tries: int = 12, response=None, param: str = "sigma"
 ) -> list:
-    """Up to ``tries`` stable steady states of (46) in [sigma_min, sigma_max] as (params at their
-    sigma, A, psi), the start guesses of the orbits of (9) (:func:`slow_flow_start`) and of (8)
-    (:func:`slosh_bif.orbits.impact.starts.impact_start`): from the ends of the range inward, where
-    the slow flow is closest to the full models, spread over the branch's points (neighbours are
-    nearly the same guess). ``response``: the frequency response of (46) over the range, if
-    already traced."""
-    fr = (
-        response
-        if response is not None
-        else frequency_response(params, sigma_min=sigma_min, sigma_max=sigma_max)
-    )
-    # (sigma, A, psi): the branch's own phase (at a branch's end on A_min, (46)'s phase balance is
+    """Up to ``tries`` stable steady states of (46) with ``param`` (sigma or Abar) in [lo, hi], as
+    (params at their value, A, psi): the start guesses of the orbits of (9)
+    (:func:`slow_flow_start`) and of (8) (:func:`slosh_bif.orbits.impact.starts.impact_start`).
+    From the ends of the range inward, where the slow flow is closest to the full models, spread
+    over the branch's points (neighbours are nearly the same guess). ``response``: (46)'s steady
+    states over the range, if already traced."""
+    if param not in ("sigma", "Abar"):
+        raise ValueError(f"the slow flow's steady states are continued in sigma or Abar; got {param!r}")
+    fr = response
+    if fr is None:
+        fr = (
+            frequency_response(params, sigma_min=lo, sigma_max=hi)
+            if param == "sigma"
+            else forcing_response(params, abar_min=lo, abar_max=hi)
+        )
+    # (value, A, psi): the branch's own phase (at a branch's end on A_min, (46)'s phase balance is
     # a square root of rounding, NaN: seen at n = 6, eps = 0.02)
     candidates = [
         (float(b.p[i]), float(b.x[i, 0]), float(b.x[i, 1]))
         for b in fr.branches
         for i in range(len(b))
-        if b.stable[i] and sigma_min <= b.p[i] <= sigma_max
+        if b.stable[i] and lo <= b.p[i] <= hi
     ]
-    candidates.sort(key=lambda c: min(c[0] - sigma_min, sigma_max - c[0]))
+    candidates.sort(key=lambda c: min(c[0] - lo, hi - c[0]))
     picks = candidates[:: max(1, len(candidates) // tries)][:tries]
-    return [(params.replace(sigma=sigma), A, psi) for sigma, A, psi in picks]
+    return [(params.replace(**{param: value}), A, psi) for value, A, psi in picks]
 
 
 def slow_flow_motion(params: Params, A: float, psi: float, tau) -> np.ndarray:
@@ -252,18 +257,19 @@ def slow_flow_motion(params: Params, A: float, psi: float, tau) -> np.ndarray:
 
 def slow_flow_start(
     params: Params,
-    sigma_min: float,
-    sigma_max: float,
+    lo: float,
+    hi: float,
     *,
     segments: int = 4,
     tries: int = 12,
     response=None,
     backend: str = "auto",
     skip: int = 0,
+    param: str = "sigma",
 ) -> StartOrbit:
-    """A :class:`StartOrbit`: a 2pi-orbit of (9) found from a stable steady state of (46) in
-    [sigma_min, sigma_max], for starting :func:`trace_orbits` without a simulation; its
-    ``params`` carry the sigma of that steady state.
+    """A :class:`StartOrbit`: a 2pi-orbit of (9) found from a stable steady state of (46) with
+    ``param`` (sigma, or Abar at the set's sigma) in [lo, hi], for starting :func:`trace_orbits`
+    without a simulation; its ``params`` carry the value of that steady state.
 
     States are tried from the ends of the range inward: far from the peak the slow flow is
     closest to (9) (Fig. 10 set: 8 of 16 evenly spread stable states converge, all with
@@ -272,7 +278,7 @@ def slow_flow_start(
     (46) over the range, if already traced. ``skip``: pass over the first ``skip`` orbits found
     (a caller whose continuation failed from the first asks for the next).
     """
-    picks = stable_steady_states(params, sigma_min, sigma_max, tries=tries, response=response)
+    picks = stable_steady_states(params, lo, hi, tries=tries, response=response, param=param)
     for at, A, psi in picks:
         orbit = orbit_from_slow_flow(at, A, psi=psi, segments=segments, backend=backend)
         if orbit.converged:
@@ -284,8 +290,7 @@ def slow_flow_start(
                 )
             skip -= 1
     raise ConvergenceError(
-        f"no orbit of (9) found from {len(picks)} stable steady states of (46) in sigma in "
-        f"[{sigma_min}, {sigma_max}]"
+        f"no orbit of (9) found from {len(picks)} stable steady states of (46) in {param} in [{lo}, {hi}]"
     )
 
 

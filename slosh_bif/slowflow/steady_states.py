@@ -287,7 +287,7 @@ def forcing_response(
             f"{A[-1]:.3g})"
         )
     branches = []
-    starts = np.flatnonzero(inside & ~np.roll(inside, 1))
+    starts = np.flatnonzero(inside & ~np.r_[False, inside[:-1]])  # each piece's first point
     for i0 in starts:
         i1 = i0 + int(np.argmax(~inside[i0:])) if not np.all(inside[i0:]) else len(A)
         k = (i0 + i1 - 1) // 2  # the middle of the piece

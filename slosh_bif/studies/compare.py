@@ -127,7 +127,7 @@ def impact_branch_rows(
     from slosh_bif.orbits.impact.output import impact_rows
     from slosh_bif.orbits.impact.starts import impact_start
 
-    start = impact_start(params, state0, periods=settle, sigma_range=(sigma_min, sigma_max), variant=variant)
+    start = impact_start(params, state0, periods=settle, p_range=(sigma_min, sigma_max), variant=variant)
     result = trace_impact_orbits(
         start.params,
         start.x,

@@ -268,7 +268,7 @@ def _slow(question, params, y0, lo, hi, tmax, model):
 def _impact(params, y0, lo, hi, variant):
     """The branch of orbits of the impact model ``variant`` through the one a simulation of it
     from y0 settles on (else from the slow flow's steady states over [lo, hi])."""
-    start = impact_start(params, y0, periods=IMPACT_SETTLE, sigma_range=(lo, hi), variant=variant)
+    start = impact_start(params, y0, periods=IMPACT_SETTLE, p_range=(lo, hi), variant=variant)
     return trace_impact_orbits(start.params, start.x, p_min=lo, p_max=hi, variant=variant)
 
 

@@ -31,7 +31,7 @@ def test_where_8_settles_on_no_orbit_at_the_sets_sigma_the_start_comes_from_the_
     params = Params(**UNSETTLED)
     with pytest.raises(ConvergenceError, match="has not settled"):  # without a range, as before
         impact_start(params, _state0(params), periods=150)
-    start = impact_start(params, _state0(params), periods=150, sigma_range=(-2.0, 2.0))
+    start = impact_start(params, _state0(params), periods=150, p_range=(-2.0, 2.0))
     assert -2.0 <= start.params.sigma <= 2.0 and start.params.sigma != params.sigma
     assert start.params.replace(sigma=params.sigma) == params
     assert "slow flow" in start.found_from and "has not settled" in start.found_from
@@ -42,7 +42,7 @@ def test_where_8_settles_on_no_orbit_at_the_sets_sigma_the_start_comes_from_the_
 
 def test_a_start_settled_at_the_sets_sigma_is_kept_there():
     params = get_preset("fig13").params.replace(sigma=0.5)
-    start = impact_start(params, _state0(params), periods=150, sigma_range=(-3.0, 5.0))
+    start = impact_start(params, _state0(params), periods=150, p_range=(-3.0, 5.0))
     assert start.params == params and "simulation settled at sigma = 0.5" in start.found_from
 
 

@@ -264,3 +264,31 @@ def test_critical_curve_reaches_an_upper_end_of_s_plus():
     assert curve.sigma[0] == -2.0 and curve.sigma[-1] == 3.0
     for sigma, abar in zip(curve.sigma[::5], curve.Abar_b[::5]):
         assert abar == pytest.approx(critical_forcing(P, sigma).Abar_b, rel=1e-7)
+
+
+def test_a_forcing_response_whose_whole_curve_lies_in_the_range_is_traced():
+    """pbar = 3 (a random draw): S+ ends at the fold of (39), so every A on it has its Abar inside
+    [0, 4.84]; the curve is one branch all the same, and at Abar = 1.5 it holds the steady states
+    that the frequency response in sigma at that Abar has at the set's sigma (two runs in
+    different parameters)."""
+    from slosh_bif.slowflow.steady_states import forcing_response
+
+    P = get_preset("fig10").params.replace(
+        eps=0.07, beta=0.015, gamma=0.13, Abar=2.42, lam=0.353, chi=1.1, n=3, pbar=3
+    )
+    in_abar = forcing_response(P, abar_min=0.0, abar_max=2 * P.Abar)
+    assert len(in_abar.branches) == 1 and len(in_abar.branches[0]) > 10
+    in_sigma = frequency_response(P.replace(Abar=1.5), sigma_min=0.5, sigma_max=1.5)
+    expected = sorted(A for b in in_sigma.branches for A in _crossings(b.p, b.x[:, 0], P.sigma))
+    got = sorted(A for b in in_abar.branches for A in _crossings(b.p, b.x[:, 0], 1.5))
+    assert len(got) == len(expected) >= 1
+    np.testing.assert_allclose(got, expected, rtol=2e-2)  # read between points up to 0.2 apart
+
+
+def _crossings(p, A, value):
+    """A where the polyline (p, A) crosses p = value (linear between points)."""
+    out = []
+    for k in np.flatnonzero(np.diff(np.sign(p - value)) != 0):
+        w = (value - p[k]) / (p[k + 1] - p[k])
+        out.append(float(A[k] + w * (A[k + 1] - A[k])))
+    return out

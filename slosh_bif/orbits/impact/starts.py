@@ -36,13 +36,14 @@ def impact_start(
     state0,
     *,
     periods: int,
-    sigma_range: tuple | None = None,
+    p_range: tuple | None = None,
+    param: str = "sigma",
     variant: str = "paper",
 ) -> ImpactStart:
     """The orbit of (8) (``variant``) that a ``periods``-period simulation from ``state0`` at
-    ``params`` settles on (:func:`settled_orbit`). Where it settles on none and ``sigma_range``
-    (sigma_min, sigma_max) is given: the orbit a ``periods``-period simulation from the slow
-    flow's motion on a stable steady state of (46) in that range settles on, up to
+    ``params`` settles on (:func:`settled_orbit`). Where it settles on none and ``p_range`` (lo,
+    hi) of ``param`` (sigma, or Abar at the set's sigma) is given: the orbit a ``periods``-period
+    simulation from the slow flow's motion on a stable steady state of (46) in that range settles on, up to
     :data:`GUESSES` states tried from the ends inward (far from the peak the slow flow is
     closest to the full models). Raises :class:`ConvergenceError` saying what was tried."""
     try:
@@ -51,7 +52,7 @@ def impact_start(
             params, x, f"Newton from the strobe of a simulation settled at sigma = {params.sigma:g}"
         )
     except ConvergenceError as err:
-        if sigma_range is None:
+        if p_range is None:
             raise
         why = str(err)
     from slosh_bif.orbits.starts import slow_flow_motion, stable_steady_states
@@ -59,7 +60,7 @@ def impact_start(
     with warnings.catch_warnings():  # a guess: the simulation and Newton decide, not (46)'s accuracy
         warnings.filterwarnings("ignore", message="slow flow outside its checked range")
         try:
-            guesses = stable_steady_states(params, *sigma_range, tries=GUESSES)
+            guesses = stable_steady_states(params, *p_range, tries=GUESSES, param=param)
             states = [slow_flow_motion(at, A, psi, 0.0) for at, A, psi in guesses]
         except (ValueError, ConvergenceError):  # no steady state of (46) to start from
             guesses = states = []
@@ -72,9 +73,10 @@ def impact_start(
             at,
             x,
             f"a {periods}-period simulation from the slow flow's motion on the stable steady state "
-            f"A = {A:.6g} of (46) at sigma = {at.sigma:.6g} (at sigma = {params.sigma:g}: {why})",
+            f"A = {A:.6g} of (46) at {param} = {getattr(at, param):.6g} (at {param} = "
+            f"{getattr(params, param):g}: {why})",
         )
-    where = f"in sigma in [{sigma_range[0]:g}, {sigma_range[1]:g}]"
+    where = f"in {param} in [{p_range[0]:g}, {p_range[1]:g}]"
     raise ConvergenceError(
         f"{why}; nor from {len(guesses)} stable steady states of (46) {where}"
         if guesses

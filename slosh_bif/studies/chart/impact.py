@@ -94,7 +94,7 @@ def impact_chart(
     started = time.perf_counter()
     params.require_positive_stiffness()
     try:
-        start = impact_start(params, state0, periods=settings.settle, sigma_range=(s0, s1), variant=variant)
+        start = impact_start(params, state0, periods=settings.settle, p_range=(s0, s1), variant=variant)
     except ConvergenceError as err:
         raise ConvergenceError(
             f"{err}; the chart's family starts from that orbit: start it at another sigma or Abar "
