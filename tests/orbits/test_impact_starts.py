@@ -19,6 +19,10 @@ UNSETTLED = dict(eps=0.08, beta=0.15, gamma=0.3, sigma=0.0, Abar=2.0, lam=0.25, 
 # pbar = -2: the restitution law (21) loses energy without bound at slow impacts, and at Abar = 0.1
 # (46) has no steady state either
 NOT_REAL = dict(eps=0.12, beta=0.0, gamma=0.15, sigma=1.0, Abar=0.1, lam=0.1, chi=1.0, n=4, pbar=-2)
+# the simulation at the set stops at an impact speed where (21) is not real
+NOT_REAL_AT_SPEED = dict(
+    eps=0.07, beta=0.015, gamma=0.13, sigma=1.0, Abar=2.42, lam=0.353, chi=1.1, n=3, pbar=3
+)
 # not settled at sigma = 1, and below (46)'s critical forcing over the whole range
 BELOW = dict(eps=0.0715, beta=0.2, gamma=0.33, sigma=1.0, Abar=0.36, lam=0.36, chi=0.88, n=5, pbar=3)
 
@@ -36,6 +40,18 @@ def test_where_8_settles_on_no_orbit_at_the_sets_sigma_the_start_comes_from_the_
     assert start.params.replace(sigma=params.sigma) == params
     assert "slow flow" in start.found_from and "has not settled" in start.found_from
     # a fixed point of the 2pi map of (8), by the expm event loop (independent of the compiled flow)
+    image = simulate_impact(start.params, start.x, (0.0, 2 * np.pi), backend="scipy").y[:, -1]
+    np.testing.assert_allclose(image, start.x, rtol=0, atol=1e-8)
+
+
+def test_a_family_in_abar_starts_from_the_slow_flows_states_in_abar_at_the_sets_sigma():
+    """pbar = 3 (a random draw): at Abar = 2.42 the simulation stops (the restitution (21) is not
+    real at an impact speed reached); continued in Abar, the start is an orbit at another Abar
+    and the set's own sigma, a fixed point of (8)'s map by the reference flow."""
+    params = Params(**NOT_REAL_AT_SPEED)
+    start = impact_start(params, _state0(params), periods=150, p_range=(0.0, 4.84), param="Abar")
+    assert start.params.sigma == params.sigma and 0.0 <= start.params.Abar <= 4.84
+    assert start.params.Abar != params.Abar and "at Abar = 2.42" in start.found_from
     image = simulate_impact(start.params, start.x, (0.0, 2 * np.pi), backend="scipy").y[:, -1]
     np.testing.assert_allclose(image, start.x, rtol=0, atol=1e-8)
 
