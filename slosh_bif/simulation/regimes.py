@@ -171,7 +171,7 @@ def classify(simulation, *, transient: float | None = None) -> RegimeSummary:
     A_min = law.A_min
     p10, p90 = (float(v) for v in np.percentile(A, [10, 90]))
     modulation = (p90 - p10) / p90 if p90 > 0 else 0.0
-    on = A >= A_min
+    on = (A >= A_min) & (A <= law.A_max)  # S+ ends at A_max where (39) folds (pbar != 0)
     if np.any(on):
         target = law.alpha(A[on])
         distance = float(np.median(np.abs(proj.alpha[on] - target) / target))
@@ -214,12 +214,17 @@ def classify(simulation, *, transient: float | None = None) -> RegimeSummary:
             ),
         )
     else:
+        where = (
+            f"{100 * distance:.1f} % from the stable manifold branch"
+            if np.isfinite(distance)
+            else f"the envelope beyond S+, which ends at A = {law.A_max:.4g}"
+            if np.any(A > law.A_max)
+            else "the envelope below S+"
+        )
         regime, reason = (
             "other",
-            (
-                f"{crossings:.3g} crossings per period, envelope varies {100 * modulation:.1f} %, "
-                f"{collapses} collapses, {100 * distance:.1f} % from the stable manifold branch"
-            ),
+            f"{crossings:.3g} crossings per period, envelope varies {100 * modulation:.1f} %, "
+            f"{collapses} collapses, {where}",
         )
     return RegimeSummary(
         regime,

@@ -314,6 +314,23 @@ def test_classifier_rules_on_synthetic_responses():
         classify(quiet, transient=1e6)
 
 
+def test_an_envelope_beyond_the_upper_end_of_s_plus_is_classified_not_refused():
+    """pbar = 3 (a random draw): S+ ends at A = 3.18 where (39) folds. A steady response of two
+    crossings a period at A = 4.6, beyond that end, is judged (not resonant on S+: "other"), as
+    (8) gives it at sigma = -0.5, Abar = 3; one below S+ is said to be below it."""
+    from slosh_bif.model.restitution.on_manifold import ManifoldLaw
+
+    P = get_preset("fig10").params.replace(
+        eps=0.0715, beta=0.2, gamma=0.33, sigma=-0.5, Abar=3.0, lam=0.36, chi=0.88, n=5, pbar=3
+    )
+    law = ManifoldLaw(P)
+    assert 3.0 < law.A_max < 4.0
+    summary = classify(synthetic(np.full(60, 4.6), [1, -1], P), transient=0.0)
+    assert summary.regime == "other" and f"beyond S+, which ends at A = {law.A_max:.4g}" in summary.reason
+    below = classify(synthetic(np.full(60, 0.5 * law.A_min), [1, -1], P), transient=0.0)
+    assert "below S+" in below.reason
+
+
 def test_regime_map_runs_through_any_executor():
     """The map through a user's executor (threads here; a Dask client's executor the same way)
     gives what classifying each point by itself gives."""
