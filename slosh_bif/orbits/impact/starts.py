@@ -65,6 +65,7 @@ def impact_start(
         except (ValueError, ConvergenceError):  # no steady state of (46) to start from
             guesses = states = []
     for (at, A, _), y0 in zip(guesses, states):
+        y0[2] = np.clip(y0[2], -1 + 1e-9, 1 - 1e-9)  # the particle inside the walls
         try:
             x = settled_orbit(at, y0, periods=periods, tries=1, variant=variant)
         except ConvergenceError:
