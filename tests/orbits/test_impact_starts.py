@@ -92,3 +92,30 @@ def test_a_start_that_8_cannot_reach_is_named_with_what_to_change(tmp_path, caps
     assert re.search(reason, err)
     assert "(46) has no stable steady state in sigma in" in err
     assert ("--set sigma=S" if command == "chart" else "pass --guess") in err
+
+
+def test_a_branch_whose_directions_meet_at_a_grazing_with_nothing_beyond_is_complete():
+    """A random draw (n = 50, pbar = 2): period-2 and period-4 branches of (8) run from a grazing
+    with no orbit beyond it, one way round, back to the same grazing (a loop through it): complete.
+    A branch with two such dead ends at different grazings is not."""
+    from slosh_bif.studies.chart.impact import impact_family
+
+    values = dict(eps=0.0757, beta=0.1757, gamma=0.3181, sigma=1.0, Abar=2.779, lam=0.5832, chi=1.144, n=50)
+    params = Params(**values, pbar=2)
+    start = impact_start(params, _state0(params), periods=150, p_range=(-4.0, 6.0))
+    family = impact_family(start.params, start.x, param="sigma", p_range=(-4.0, 6.0))
+    at = re.compile(r"grazing (?:at|of) sigma = (-?[\d.]+)")
+    seen = set()
+    for nb in family:
+        reasons = sorted(e.reason for e in nb.branch.ends)
+        found = [at.search(e.message) for e in nb.branch.ends]
+        if not all(found):
+            continue
+        gap = abs(float(found[0].group(1)) - float(found[1].group(1)))
+        if reasons == ["closed loop", "grazing"] and gap < 1e-6:
+            assert nb.branch.complete, nb.name
+            seen.add("a loop through its dead end")
+        if reasons == ["grazing", "grazing"] and gap > 1e-6:
+            assert not nb.branch.complete, nb.name
+            seen.add("two dead ends")
+    assert seen == {"a loop through its dead end", "two dead ends"}

@@ -81,7 +81,9 @@ class BranchEnd:
 @dataclasses.dataclass(frozen=True)
 class ImpactBranch:
     """A branch of orbits of (8) in pieces. ``grazing``: (p, x, phase) of each GR point;
-    ``ends``: a :class:`BranchEnd` per direction; ``complete``: both reached a bound or closed."""
+    ``ends``: a :class:`BranchEnd` per direction; ``complete``: both reached a bound or closed (a
+    direction ending at a grazing with no orbit beyond, where the other direction closed a loop, is
+    closed too)."""
 
     param: str
     pieces: tuple
@@ -201,6 +203,7 @@ def trace_impact_orbits(
             f"no periodic orbit of {VARIANT_NAMES[variant]} near x0 at {param} = {p0}: {run.message}"
         )
     pieces, grazing, ends, starts, contacts = [], [], [], [], []
+    dead, met = set(), set()  # contacts a direction ended at (nothing beyond), contacts a loop closed at
     for direction in ("forward", "backward"):
         phase, x = quiet_section(first, run.x, p0)
         p, sign = p0, 1.0 if direction == "forward" else -1.0
@@ -243,7 +246,9 @@ def trace_impact_orbits(
                 problem = _problem(first, phase, x, p)
                 continue
             contact = contact_at(problem, x_end, p_end)
-            if any(contact.same_as(c, p_end, q) for c, q in contacts):
+            seen = [i for i, (c, q) in enumerate(contacts) if contact.same_as(c, p_end, q)]
+            if seen:
+                met.add(seen[0])
                 ends.append(
                     BranchEnd(
                         direction,
@@ -259,6 +264,7 @@ def trace_impact_orbits(
                 problem, x_end, p_end, sign, opts
             )
             if beyond is None:
+                dead.add(len(contacts) - 1)
                 ends.append(
                     BranchEnd(
                         direction,
@@ -269,7 +275,12 @@ def trace_impact_orbits(
                 )
                 break
             problem, x, p, sign = beyond
-    complete = all(e.reason in (Status.BOUND.value, Status.LOOP.value) for e in ends)
+    # a direction that ended at a grazing with nothing beyond, where the other direction closed
+    # (at it or its mirror image), ends a loop through that grazing: nothing of the branch is left
+    complete = all(
+        e.reason in (Status.BOUND.value, Status.LOOP.value) or (e.reason == GRAZES and dead <= met)
+        for e in ends
+    )
     return ImpactBranch(param, tuple(pieces), tuple(grazing), tuple(ends), complete, variant)
 
 
