@@ -43,6 +43,18 @@ def check_family_options(args) -> float:
     return rtol
 
 
+def check_start_inside(params, param, lo, hi) -> None:
+    """The one-line error, before any work, for a --guess at the set's ``param`` outside [lo, hi]
+    (without one a start outside the range comes from the slow flow's states inside it)."""
+    p0 = getattr(params, param)
+    if not lo <= p0 <= hi:
+        option = "--sigma-min/--sigma-max" if param == "sigma" else "--abar-min/--abar-max"
+        raise ValueError(
+            f"--guess is an orbit at the set's {param} = {p0:g} (the preset's, the parameter file's or "
+            f"--set), which must lie in the range [{lo:g}, {hi:g}] ({option})"
+        )
+
+
 def family_from_args(args, params, lo, hi, param="sigma"):
     """The family of orbits ``shoot`` and ``compare`` trace: from --start's orbit, over [lo, hi] of
     ``param``."""
@@ -64,6 +76,8 @@ def family_from_args(args, params, lo, hi, param="sigma"):
 
         tracing = dict(shooting=shooting, branching=branching, options=options)
         return scan_from_args(args, params, ParameterRange(name=param, lo=lo, hi=hi), rtol, tracing)
+    if args.guess is not None:
+        check_start_inside(params, param, lo, hi)
     if args.start == "slow-flow":
         start = slow_flow_start(params, lo, hi, segments=args.segments, backend=args.backend)
     else:
@@ -78,7 +92,10 @@ def family_from_args(args, params, lo, hi, param="sigma"):
                 segments=args.segments,
                 backend=args.backend,
             )
-        except RuntimeError:
+        except RuntimeError as err:
+            p0 = getattr(params, param)
+            if not lo <= p0 <= hi:  # the start came from the slow flow alone
+                raise ValueError(f"{err} (the set's {param} = {p0:g} lies outside the range)") from None
             where = (
                 "--guess"
                 if args.guess is not None
@@ -178,12 +195,8 @@ def _shoot_impact(args, params, lo, hi) -> int:
     variant = "corrected" if args.model == "impact-corrected" else "paper"
     model_name = VARIANT_NAMES[variant]
     check_family_options(args)
-    p0 = getattr(params, args.parameter)
-    if not lo <= p0 <= hi:
-        raise ValueError(
-            f"the start's {args.parameter} = {p0:g} (the preset's, or --set) must lie in the range "
-            f"[{lo:g}, {hi:g}]"
-        )
+    if args.guess is not None:
+        check_start_inside(params, args.parameter, lo, hi)
     params.require_positive_stiffness()
     options = continuation_options(args, ContinuationOptions(step=0.05, step_max=0.3, tol=1e-10))
     args.out.mkdir(parents=True, exist_ok=True)
@@ -283,7 +296,8 @@ def add_shooting_options(parser):
         "--start",
         choices=("simulation", "slow-flow", "scan"),
         default="simulation",
-        help="start orbit: Newton from a simulation at the preset's sigma (default); from the "
+        help="start orbit: Newton from a simulation at the preset's sigma (default; from the slow "
+        "flow's states in the range where that orbit is not stable or sigma lies outside); from the "
         "leading-order motion of a stable steady state of (46) "
         "in the range (no simulation); or scan: every family that simulations from several states "
         "at several sigma, every steady state of (46) "

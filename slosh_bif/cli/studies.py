@@ -4,6 +4,8 @@ set's: :mod:`slosh_bif.cli.compare`; a design study: :mod:`slosh_bif.cli.study`)
 
 from __future__ import annotations
 
+import sys
+
 import numpy as np
 
 from slosh_bif.cli.common import (
@@ -50,6 +52,12 @@ def _trust(args) -> int:
     check_sigma_points(args)
     check_workers(args)
     check_impact_model(args)
+    odd = [n for n in args.n if n >= 1 and (n + base.pbar) % 2]  # n < 1: Params names it
+    if odd:
+        raise ValueError(
+            f"--n {','.join(map(str, odd))}: the wall exponent must have the parity of the set's "
+            f"pbar = {base.pbar} (p = (pbar + n)/2 an integer, eq. 19)"
+        )
     settings = dict(
         params=base.as_dict(),
         eps=args.eps,
@@ -108,6 +116,14 @@ def _trust(args) -> int:
     missing = [p.status for p in points if p.status.startswith("not computed")]
     if missing:
         raise stopped(missing[0])
+    failed = [p for p in points if p.status != "ok"]
+    if failed:  # cells without a comparison: the map does not answer there
+        print(
+            f"slosh-bif trust: {len(failed)} of {len(points)} parameter set(s) not compared (their "
+            "status in trust_map.csv; exit status 3)",
+            file=sys.stderr,
+        )
+        return 3
     return 0
 
 

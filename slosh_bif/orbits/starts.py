@@ -159,13 +159,20 @@ def start_orbit(
     or Abar at the set's sigma), which no rounding moves: from an unsettled Fig. 10 run Newton
     found the symmetric orbit on one build and an asymmetric one on another. Without a range,
     with a ``guess``, or when the slow flow's start fails too, :func:`orbit_from_simulation` as
-    it is (with its warning when the run has not settled)."""
+    it is (with its warning when the run has not settled). Where the set's ``param`` lies outside
+    ``p_range``, the slow flow's start alone (no simulation: its orbit would lie outside)."""
     if p_range is None or guess is not None:
         return orbit_from_simulation(
             params, state0, settle=settle, guess=guess, segments=segments, backend=backend
         )
     if not (isinstance(settle, int) and settle >= 1):
         raise ValueError(f"settle must be an integer >= 1 (forcing periods); got {settle!r}")
+    p0, (lo, hi) = getattr(params, param), p_range
+    if not lo <= p0 <= hi:  # the simulation's orbit could not start a family over the range
+        start = slow_flow_start(params, lo, hi, segments=segments, backend=backend, param=param)
+        return dataclasses.replace(
+            start, found_from=f"{start.found_from} (the set's {param} = {p0:g} lies outside [{lo:g}, {hi:g}])"
+        )
     strobe = integrate_grid(params, state0, [0.0, 2 * np.pi * settle], backend=backend)[-1]
     problem = ShootingProblem(params, segments=segments, backend=backend)
     orbit = orbit_at(problem, problem.initial_states(strobe), params.sigma, tol=START_TOL)
@@ -291,6 +298,8 @@ def slow_flow_start(
             skip -= 1
     raise ConvergenceError(
         f"no orbit of (9) found from {len(picks)} stable steady states of (46) in {param} in [{lo}, {hi}]"
+        if picks
+        else f"(46) has no stable steady state in {param} in [{lo}, {hi}] to start (9) from"
     )
 
 

@@ -27,6 +27,7 @@ TANK = [
     "--clearance",
     "1",
 ]
+GUESS = ["shoot", "--preset", "fig10", "--guess", "0.1,0,0,0"]
 
 
 @pytest.mark.parametrize(
@@ -43,8 +44,12 @@ TANK = [
             "--model impact starts from a simulation of (8)",
         ),
         (
-            ["shoot", "--preset", "fig10", "--model", "impact", "--sigma-min", "2", "--sigma-max", "3"],
-            "must lie in the range [2, 3]",
+            [*GUESS, "--model", "impact", "--sigma-min", "2", "--sigma-max", "3"],
+            "must lie in the range [2, 3] (--sigma-min/--sigma-max)",
+        ),
+        (
+            [*GUESS, "--parameter", "Abar", "--abar-min", "4", "--abar-max", "5"],
+            "--guess is an orbit at the set's Abar = 3 (the preset's, the parameter file's or --set), which",
         ),
         (
             [

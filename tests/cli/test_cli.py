@@ -560,6 +560,18 @@ def test_trust_writes_the_map_and_checks_its_input(tmp_path, capsys):
         == 2
     )
     assert "parameter n must be in integers >= 1; got 0" in capsys.readouterr().err
+    odd = ["trust", "--preset", "fig10", "--set", "n=5", "--set", "pbar=3", "--set", "lam=0.1", "--n", "5,10"]
+    assert main([*odd, "--out", str(out)]) == 2
+    assert "--n 10: the wall exponent must have the parity of the set's pbar = 3" in capsys.readouterr().err
+
+
+def test_trust_with_a_set_it_cannot_compare_exits_3(tmp_path, capsys):
+    # eps = 2 and n = 50: the slow flow's stable states start no orbit of (9); the map says so.
+    argv = ["trust", "--preset", "fig10", "--eps", "2", "--beta", "0", "--n", "50", "--grid", "11"]
+    assert main([*argv, "--out", str(tmp_path)]) == 3
+    rows = list(csv.DictReader(open(tmp_path / "trust_map.csv")))
+    assert rows[0]["status"].startswith("no start")
+    assert "1 of 1 parameter set(s) not compared" in capsys.readouterr().err
 
 
 def test_trust_names_the_corrected_impact_model_and_needs_impact_for_it(tmp_path, capsys):

@@ -62,6 +62,15 @@ def test_a_start_settled_at_the_sets_sigma_is_kept_there():
     assert start.params == params and "simulation settled at sigma = 0.5" in start.found_from
 
 
+def test_a_range_without_the_sets_sigma_takes_the_slow_flows_start_inside_it():
+    params = get_preset("fig13").params.replace(sigma=0.5)  # settles there (the test above)
+    start = impact_start(params, _state0(params), periods=150, p_range=(2.0, 5.0))
+    assert 2.0 <= start.params.sigma <= 5.0
+    assert "the set's sigma = 0.5 lies outside [2, 5]" in start.found_from
+    image = simulate_impact(start.params, start.x, (0.0, 2 * np.pi), backend="scipy").y[:, -1]
+    np.testing.assert_allclose(image, start.x, rtol=0, atol=1e-8)
+
+
 def test_shoot_model_impact_starts_from_the_slow_flow_where_the_simulation_does_not_settle(tmp_path, capsys):
     from slosh_bif.cli import main
 

@@ -291,6 +291,19 @@ def test_slow_flow_start_tries_steady_states_and_says_when_none_gives_an_orbit()
         slow_flow_start(P, 0.1, 0.3, tries=3)
 
 
+def test_a_start_for_a_range_without_the_sets_sigma_comes_from_the_slow_flow_inside_it():
+    """Fig. 10 at sigma = -6, where the simulation settles: over [2, 8] its orbit could not start
+    the family, so the start is the slow flow's, inside the range, a fixed point of scipy's map."""
+    from slosh_bif.orbits.starts import start_orbit
+
+    pre = get_preset("fig10")
+    start = start_orbit(pre.params.replace(sigma=-6.0), pre.state0, (2.0, 8.0))
+    assert 2.0 <= start.params.sigma <= 8.0 and "the set's sigma = -6 lies outside [2, 8]" in start.found_from
+    model = SmoothModel(start.params)
+    image = period_map(model.rhs, model.jac, start.y0, 2 * np.pi, rtol=1e-12, atol=1e-13)[0]
+    np.testing.assert_allclose(image, start.y0, rtol=0, atol=1e-7)
+
+
 @pytest.mark.parametrize("backend", ["numba", pytest.param("scipy", marks=pytest.mark.slow)])
 def test_default_start_does_not_depend_on_rounding_where_the_simulation_has_not_settled(backend):
     """Fig. 10 set at sigma = 1: the 150-period simulation is still strongly modulated, and Newton

@@ -45,16 +45,21 @@ def impact_start(
     hi) of ``param`` (sigma, or Abar at the set's sigma) is given: the orbit a ``periods``-period
     simulation from the slow flow's motion on a stable steady state of (46) in that range settles on, up to
     :data:`GUESSES` states tried from the ends inward (far from the peak the slow flow is
-    closest to the full models). Raises :class:`ConvergenceError` saying what was tried."""
-    try:
-        x = settled_orbit(params, state0, periods=periods, variant=variant)
-        return ImpactStart(
-            params, x, f"Newton from the strobe of a simulation settled at sigma = {params.sigma:g}"
-        )
-    except ConvergenceError as err:
-        if p_range is None:
-            raise
-        why = str(err)
+    closest to the full models); only those where the set's ``param`` lies outside ``p_range``.
+    Raises :class:`ConvergenceError` saying what was tried."""
+    p0 = getattr(params, param)
+    if p_range is not None and not p_range[0] <= p0 <= p_range[1]:
+        why = f"the set's {param} = {p0:g} lies outside [{p_range[0]:g}, {p_range[1]:g}]"
+    else:
+        try:
+            x = settled_orbit(params, state0, periods=periods, variant=variant)
+            return ImpactStart(
+                params, x, f"Newton from the strobe of a simulation settled at sigma = {params.sigma:g}"
+            )
+        except ConvergenceError as err:
+            if p_range is None:
+                raise
+            why = str(err)
     from slosh_bif.orbits.starts import slow_flow_motion, stable_steady_states
 
     with warnings.catch_warnings():  # a guess: the simulation and Newton decide, not (46)'s accuracy
