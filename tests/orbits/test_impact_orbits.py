@@ -12,6 +12,7 @@ from slosh_bif import ImpactModel, get_preset, simulate_impact
 from slosh_bif.continuation.corrector import newton
 from slosh_bif.flows.impact.flow import ImpactFlow
 from slosh_bif.flows.smooth.integrator import HAVE_NUMBA
+from slosh_bif.model.params import Params
 from slosh_bif.orbits.impact.branches import trace_impact_orbits
 from slosh_bif.orbits.impact.problem import ImpactOrbitProblem
 
@@ -345,3 +346,30 @@ def test_a_torus_point_behind_a_pair_meeting_in_the_same_step_is_located():
 
     fine = torus_points(ContinuationOptions(step=0.01, step_max=0.01, tol=1e-10))
     assert len(fine) == 1 and torus_points() == pytest.approx(fine, abs=1e-8)
+
+
+def test_a_switch_newton_cannot_settle_is_passed_over_and_said_not_fatal_to_the_family():
+    """A tank near 1:1 (beta = 0.93): the symmetric branch's pitchfork at sigma = -5.47 is so flat
+    (b = -0.014) that the switched start, 1e-8 from it in sigma, leaves F_x singular to 1e-13 and
+    Newton at fixed sigma stalls at |F| = 3e-7. The family keeps its symmetric branch and says
+    which switch it passed over."""
+    from slosh_bif.orbits.impact.starts import impact_start
+    from slosh_bif.orbits.settings import BranchingSettings
+    from slosh_bif.studies.chart.impact import impact_family
+
+    params = Params(
+        eps=0.02522159110675746, beta=0.9347875095748552, gamma=1.5198551406668455, sigma=1.494378875761165,
+        Abar=5.705038614922699, lam=0.35, chi=0.2, n=50, pbar=0,
+    )  # fmt: skip
+    start = impact_start(params, get_preset("fig10").state_for(params), periods=150, p_range=(-6.0, 8.0))
+    said = []
+    family = impact_family(
+        start.params,
+        start.x,
+        param="sigma",
+        p_range=(-6.0, 8.0),
+        branching=BranchingSettings(),
+        say=said.append,
+    )
+    assert family[0].name == "symmetric" and family[0].branch.pieces
+    assert any(m.startswith("no branch switched at the BP at sigma = -5.470") for m in said)

@@ -61,11 +61,12 @@ def asymmetric_branches(
     options: ContinuationOptions | None = None,
     max_branches: int = 4,
     known: tuple = (),
+    say=None,
 ) -> list:
     """(origin, ImpactBranch) of the asymmetric branch born at each located pitchfork of the
     ``symmetric`` branch (traced on the half-period map), each family once: a pitchfork that an
     earlier asymmetric branch (or one of the ``known`` ones) passes through is not switched at
-    again."""
+    again. A switch whose start Newton cannot settle is passed over, told to ``say``."""
     param = symmetric.param
     found = []
     for piece in symmetric.pieces:
@@ -78,7 +79,10 @@ def asymmetric_branches(
             if start is None:
                 continue
             x0, p = start
-            branch = trace_impact_orbits(
+            origin = f"BP at {param} = {sp.p:.6g} on the symmetric branch"
+            branch = _traced(
+                say,
+                origin,
                 params.replace(**{param: p}),
                 x0,
                 param=param,
@@ -87,7 +91,8 @@ def asymmetric_branches(
                 options=options,
                 variant=symmetric.variant,
             )
-            found.append((f"BP at {param} = {sp.p:.6g} on the symmetric branch", branch))
+            if branch is not None:
+                found.append((origin, branch))
     return found
 
 
@@ -98,6 +103,7 @@ def symmetric_branch(
     p_min: float,
     p_max: float,
     options: ContinuationOptions | None = None,
+    say=None,
 ):
     """(origin, ImpactBranch) of the symmetric branch that the asymmetric branch ``asymmetric``
     meets at its first located branch point where switching gives a symmetric orbit (traced on the
@@ -127,7 +133,10 @@ def symmetric_branch(
                 run = newton_solve(half, x0, p, tol=1e-12)
             if not (run.converged and is_symmetric(at, run.x, variant=variant)):
                 continue
-            branch = trace_impact_orbits(
+            origin = f"BP at {param} = {sp.p:.6g} on the asymmetric branch"
+            branch = _traced(
+                say,
+                origin,
                 at,
                 run.x,
                 param=param,
@@ -137,7 +146,8 @@ def symmetric_branch(
                 symmetric=True,
                 variant=variant,
             )
-            return f"BP at {param} = {sp.p:.6g} on the asymmetric branch", branch
+            if branch is not None:
+                return origin, branch
     return None
 
 
@@ -149,6 +159,7 @@ def doubled_branches(
     p_max: float,
     options: ContinuationOptions | None = None,
     max_branches: int = 2,
+    say=None,
 ) -> list:
     """(origin, ImpactBranch) of the branch of twice the period born at each located period
     doubling of ``parent`` (orbits of the full map), each family once: a period doubling that an
@@ -165,7 +176,10 @@ def doubled_branches(
             if start is None:
                 continue
             x0, p = start
-            branch = trace_impact_orbits(
+            origin = f"PD at {param} = {sp.p:.6g}"
+            branch = _traced(
+                say,
+                origin,
                 params.replace(**{param: p}),
                 x0,
                 param=param,
@@ -175,8 +189,20 @@ def doubled_branches(
                 period_multiple=2 * piece.period_multiple,
                 variant=parent.variant,
             )
-            found.append((f"PD at {param} = {sp.p:.6g}", branch))
+            if branch is not None:
+                found.append((origin, branch))
     return found
+
+
+def _traced(say, origin, params, x0, **trace):
+    """The branch traced from a switched start, or None where Newton settles no orbit there (a
+    start near a branch point whose new direction is barely resolved), told to ``say``."""
+    try:
+        return trace_impact_orbits(params, x0, **trace)
+    except ConvergenceError as err:
+        if say is not None:
+            say(f"no branch switched at the {origin}: {err}")
+        return None
 
 
 def _doubled_start(params, param, piece, sp, p_min, p_max, variant):

@@ -199,7 +199,7 @@ def impact_family(
     family = [NamedImpactBranch("symmetric" if symmetric else "primary", primary, symmetric)]
     known = ()
     if not symmetric and branching.switch:  # the symmetric parent, met at the primary's pitchfork
-        met = symmetric_branch(params, primary, p_min=lo, p_max=hi, options=options)
+        met = symmetric_branch(params, primary, p_min=lo, p_max=hi, options=options, say=say)
         if met is not None:
             family.append(NamedImpactBranch("symmetric", met[1], True))
             known = (primary,)
@@ -216,6 +216,7 @@ def impact_family(
                 options=options,
                 max_branches=branching.max_branches - len(family),
                 known=known,
+                say=say,
             )
         ):
             family.append(NamedImpactBranch("asymmetric" + (f"-{k + 1}" if k else ""), branch, False))
@@ -237,6 +238,7 @@ def impact_family(
                 p_max=hi,
                 options=options,
                 max_branches=branching.max_branches - len(family),
+                say=say,
             ):
                 count[2 * multiple] = count.get(2 * multiple, 0) + 1
                 n = count[2 * multiple]
