@@ -79,7 +79,7 @@ def family_from_args(args, params, lo, hi, param="sigma"):
     if args.guess is not None:
         check_start_inside(params, param, lo, hi)
     if args.start == "slow-flow":
-        start = slow_flow_start(params, lo, hi, segments=args.segments, backend=args.backend)
+        start = slow_flow_start(params, lo, hi, segments=args.segments, backend=args.backend, param=param)
     else:
         try:
             start = start_orbit(
@@ -136,8 +136,6 @@ def _shoot(args) -> int:
 
     params = params_of(args)
     if args.parameter == "Abar":
-        if args.start == "slow-flow":
-            raise ValueError("--start slow-flow searches the sigma range; use it with --parameter sigma")
         lo, hi = abar_range(args, default=(0.0, 2 * params.Abar))
     else:
         lo, hi = sigma_range(args)
