@@ -316,3 +316,22 @@ def test_kappa_is_found_right_next_to_the_lower_end(wall):
         if np.isfinite(reference):
             assert k == pytest.approx(reference, abs=1e-10)
     assert abs(kappa[0] - law.lower.kappa) < 1e-5  # a fold-of-(39) end: kappa - kappa_end ~ sqrt(A - A_min)
+
+
+def test_the_window_scans_every_amplitude_at_once_with_the_roots_one_at_a_time():
+    """The window's scan (801 amplitudes in one pass, bisection to 1e-10) finds a root of (39)
+    exactly where the scan one amplitude at a time (brentq) does, and the same one, on random
+    walls of both signs of pbar."""
+    from slosh_bif.model.restitution.eq21 import dissipation_at_unit_speed, kappa_on_manifold, largest_roots
+    from slosh_bif.model.restitution.eq39 import SCAN
+
+    rng = np.random.default_rng(11)
+    A = SCAN[::16]
+    for _ in range(6):
+        n = int(rng.choice([3, 6, 20, 50]))
+        pbar = int(rng.choice([-2, 2, 4])) + n % 2
+        lam, chi = float(rng.uniform(0.02, 0.8)), float(rng.uniform(0.1, 2.0))
+        one = kappa_on_manifold(A, lam, chi, n, pbar, strict=False).kappa
+        every = largest_roots(A, float(dissipation_at_unit_speed(lam, chi, n, pbar)), pbar / (n + 1))
+        np.testing.assert_array_equal(np.isfinite(every), np.isfinite(one))
+        np.testing.assert_allclose(every, one, rtol=0, atol=1e-9)

@@ -51,6 +51,7 @@ __all__ = [
     "rho",
     "drho_dkappa",
     "kappa_on_manifold",
+    "largest_roots",
     "kappa_low",
     "ManifoldKappa",
     "simulate_rebound",
@@ -183,6 +184,39 @@ def _solve_manifold_kappa(A, delta1, exponent, xtol):
     return brentq(
         lambda k: float(_manifold_residual(k, A, delta1, exponent)), grid[i + 1], grid[i], xtol=xtol
     )
+
+
+def largest_roots(A, delta1, exponent, *, xtol=1e-10) -> np.ndarray:
+    """The root of :func:`_solve_manifold_kappa` at every amplitude of the 1-d array ``A`` at
+    once (NaN where none), to ``xtol`` by bisection in the same first bracket of the same scan down
+    from kappa = 1: for callers that need where the root exists and roughly where (the window of
+    S+ scans 801 amplitudes, 1 s one root at a time), not its last digits."""
+    A = np.asarray(A, dtype=float)
+    if delta1 == 0.0:
+        return np.where(A >= 0, 1.0, np.nan)
+    with np.errstate(invalid="ignore", divide="ignore"):  # A >= 1: k_low is 0
+        k_low = np.clip(np.where(A < 1, _kappa_from_rho(A / np.sqrt(1 - A**2)), 0.0), 0.0, 1.0)
+    grid = np.linspace(1.0, k_low, 65)[:-1]  # one column per amplitude, as the scalar scan's
+    grid = np.vstack([grid, k_low + (grid[-1] - k_low) * 1e-9])
+    values = _manifold_residual(grid, A, delta1, exponent)
+    sign = np.sign(values)
+    change = sign[:-1] != sign[1:]
+    i = np.argmax(change, axis=0)
+    cols = np.arange(len(A))
+    out = np.full(len(A), np.nan)
+    found = change.any(axis=0)
+    out[values[0] == 0.0] = 1.0
+    exact = found & (values[0] != 0.0) & (values[i + 1, cols] == 0.0)
+    out[exact] = grid[i + 1, cols][exact]
+    todo = found & (values[0] != 0.0) & ~exact
+    lo, hi, s_lo = grid[i + 1, cols][todo], grid[i, cols][todo], sign[i + 1, cols][todo]
+    at = A[todo]
+    for _ in range(int(np.ceil(np.log2(max(float(np.max(hi - lo, initial=0.0)), xtol) / xtol)))):
+        mid = 0.5 * (lo + hi)
+        same = np.sign(_manifold_residual(mid, at, delta1, exponent)) == s_lo
+        lo, hi = np.where(same, mid, lo), np.where(same, hi, mid)
+    out[todo] = 0.5 * (lo + hi)
+    return out
 
 
 def kappa_on_manifold(A, lam, chi, n, pbar, *, strict=True, xtol=1e-14) -> ManifoldKappa:

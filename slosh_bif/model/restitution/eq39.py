@@ -91,8 +91,9 @@ class Eq39:
 
     def _window(self):
         """The ends of the longest run of amplitudes on which the root of (39) exists and moves
-        continuously, each located from its own equations."""
-        roots = np.array([self._largest_root(A) for A in SCAN])
+        continuously, each located from its own equations (the scan's roots to 1e-10, those at
+        the run's ends to the last digit)."""
+        roots = restitution.largest_roots(SCAN, self._delta1, self._expo)
         ok = np.isfinite(roots)
         # A jump of the largest root between neighbours is a fold passed over: the run ends there.
         jump = np.abs(np.diff(roots)) > 0.2
@@ -109,6 +110,7 @@ class Eq39:
                 f"[1e-4, 1e4] ({self.where})"
             )
         lo, hi = max(runs, key=lambda r: r[1] - r[0])
+        roots[lo], roots[hi] = self._largest_root(SCAN[lo]), self._largest_root(SCAN[hi])
         lower = self._end(SCAN[lo], roots[lo], SCAN[lo - 1] if lo > 0 else 0.0)
         upper = self._end(SCAN[hi], roots[hi], SCAN[hi + 1]) if hi < len(SCAN) - 1 else None
         return lower, upper
