@@ -51,6 +51,7 @@ __all__ = [
     "rho",
     "drho_dkappa",
     "kappa_on_manifold",
+    "largest_root",
     "largest_roots",
     "kappa_low",
     "ManifoldKappa",
@@ -159,6 +160,28 @@ def _manifold_residual(k, A, delta1, exponent):
     return k**2 - 1.0 + delta1 * speed**exponent
 
 
+def _manifold_residual_at(k, A, delta1, exponent):
+    """:func:`_manifold_residual` for one float kappa, in floats (rho (31), alpha_S+ (36) with its
+    fold, the speed (38)): brentq calls it about eight times a root, 1 us a call against 60."""
+    r = 2.0 * (1.0 - k) / (math.pi * (1.0 + k))
+    r2 = r * r
+    disc = (1.0 + r2) * (A * A) - r2
+    tiny = _FOLD_ULPS * max(1.0, r2)
+    if not disc >= -tiny:
+        raise ValueError(f"amplitude A must be >= A_min = rho/sqrt(1+rho**2) on the manifold; got A = {A}")
+    if disc <= tiny:  # at the fold, where rounding may put the root's argument below zero
+        alpha = 1.0 / (1.0 + r2)
+    else:
+        x1 = r2 + 1.0
+        x2 = 1.0 / x1
+        alpha = x2 * (math.sqrt(x1) * math.sqrt(A * A - r2 * x2) + 1.0)
+    speed = 4.0 * alpha / (math.pi * (1.0 + k))
+    return k * k - 1.0 + delta1 * speed**exponent
+
+
+_FOLD_ULPS = 8 * np.finfo(float).eps  # manifold.alpha's allowance for rounding at the fold
+
+
 def _solve_manifold_kappa(A, delta1, exponent, xtol):
     """Largest root in (0, 1] of the scalar residual, or NaN when none exists."""
     if delta1 == 0.0:
@@ -168,22 +191,32 @@ def _solve_manifold_kappa(A, delta1, exponent, xtol):
     grid = np.linspace(1.0, k_low, 65)[:-1]
     grid = np.append(grid, k_low + (grid[-1] - k_low) * 1e-9)
     grid = grid[grid > 0]
-    values = _manifold_residual(grid, A, delta1, exponent)  # one vectorised pass over the scan
     # Scanning down from kappa = 1 (where the residual is > 0) picks the root nearest the elastic
-    # limit: the one reached continuously from small dissipation.
-    sign_change = np.flatnonzero(np.sign(values[:-1]) != np.sign(values[1:]))
-    if values[0] == 0.0:
+    # limit: the one reached continuously from small dissipation. Point by point, in floats: the
+    # root is most often in the first cells.
+    A = float(A)
+    previous = _manifold_residual_at(float(grid[0]), A, delta1, exponent)
+    if previous == 0.0:
         return grid[0]
-    if len(sign_change) == 0:
+    for i in range(len(grid) - 1):
+        value = _manifold_residual_at(float(grid[i + 1]), A, delta1, exponent)
+        if value == 0.0:
+            return grid[i + 1]
+        if np.sign(value) != np.sign(previous):
+            break
+        previous = value
+    else:
         return np.nan
-    i = sign_change[0]
-    if values[i + 1] == 0.0:
-        return grid[i + 1]
     from scipy.optimize import brentq
 
-    return brentq(
-        lambda k: float(_manifold_residual(k, A, delta1, exponent)), grid[i + 1], grid[i], xtol=xtol
-    )
+    return brentq(_manifold_residual_at, grid[i + 1], grid[i], args=(A, delta1, exponent), xtol=xtol)
+
+
+def largest_root(A: float, delta1: float, exponent: float, *, xtol=1e-14) -> float:
+    """kappa of (39) on S+ at one amplitude A, from the wall's ``delta1`` (the dissipation at unit
+    speed) and ``exponent`` pbar / (n + 1), or NaN: :func:`kappa_on_manifold`'s kappa without its
+    checks and its rho and alpha (a slow flow at pbar != 0 asks for it at every amplitude)."""
+    return float(_solve_manifold_kappa(A, delta1, exponent, xtol))
 
 
 def largest_roots(A, delta1, exponent, *, xtol=1e-10) -> np.ndarray:

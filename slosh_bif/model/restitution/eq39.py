@@ -61,11 +61,7 @@ class Eq39:
             return (float(v) for v in gen.manifold_kappa_residual_grad(k, A, self._delta1, self._expo))
 
     def _largest_root(self, A):
-        return float(
-            restitution.kappa_on_manifold(
-                np.array([A]), self.lam, self.chi, self.n, self.pbar, strict=False
-            ).kappa[0]
-        )
+        return restitution.largest_root(float(A), self._delta1, self._expo)
 
     def _root_near_manifold_end(self, A, k_end):
         """The root just above the manifold end, where it sits within rounding of the smallest

@@ -45,6 +45,8 @@ from slosh_bif.model.restitution.eq39 import (
 
 __all__ = ["ManifoldLaw", "END_KINDS"]
 
+BATCH = 8  # from this many amplitudes on, kappa is solved for all of them in one vectorised pass
+
 
 class ManifoldLaw:
     """kappa(A), rho(A), alpha_S+(A) on S+ and the ends of S+, for one parameter set.
@@ -91,6 +93,11 @@ class ManifoldLaw:
             return np.full_like(A, self.lower.kappa)
         out = np.full(A.shape, np.nan)
         fold = [e for e in (self.lower, self.upper) if e is not None and e.kind == END_KINDS[1]]
+        batch = None
+        if A.size >= BATCH:  # the scan of every amplitude at once; brentq's for a few
+            inside = (A >= self.A_min) & (A <= self.A_max)
+            batch = np.full(A.shape, np.nan)
+            batch[inside] = restitution.largest_roots(A[inside], self._delta1, self._expo, xtol=1e-15)
         for i, a in np.ndenumerate(A):
             if not self.A_min <= a <= self.A_max:
                 continue
@@ -102,7 +109,7 @@ class ManifoldLaw:
             if at_end:  # exactly on an end, where the root sits on the edge of its bracket
                 out[i] = at_end[0].kappa
                 continue
-            k = self._eq._largest_root(a)
+            k = self._eq._largest_root(a) if batch is None else batch[i]
             if not np.isfinite(k) and self.lower.kind == END_KINDS[0]:
                 k = self._eq._root_near_manifold_end(a, self.lower.kappa)
             near_fold = [e for e in fold if not np.isfinite(k) or abs(k - e.kappa) < 0.2]
