@@ -335,3 +335,20 @@ def test_the_window_scans_every_amplitude_at_once_with_the_roots_one_at_a_time()
         every = largest_roots(A, float(dissipation_at_unit_speed(lam, chi, n, pbar)), pbar / (n + 1))
         np.testing.assert_array_equal(np.isfinite(every), np.isfinite(one))
         np.testing.assert_allclose(every, one, rtol=0, atol=1e-9)
+
+
+def test_kappa_on_s_plus_for_many_amplitudes_at_once_is_kappa_one_at_a_time():
+    """pbar != 0: kappa of (39) for an array of amplitudes (bisection, all at once) is kappa asked
+    one amplitude at a time (brentq), to 1e-13, over the window and its ends."""
+    rng = np.random.default_rng(4)
+    for n, pbar in ((6, 2), (5, 3), (20, -2), (35, 1)):
+        params = get_preset("fig10").params.replace(
+            n=n, pbar=pbar, lam=float(rng.uniform(0.05, 0.3)), chi=float(rng.uniform(0.2, 1.5))
+        )
+        law = ManifoldLaw(params)
+        top = law.A_max if np.isfinite(law.A_max) else 10 * law.A_min + 5
+        A = np.concatenate([[law.A_min], np.geomspace(law.A_min * (1 + 1e-12), top, 40)])
+        together = law.kappa(A)
+        apart = np.array([law.kappa(np.array([a]))[0] for a in A])
+        np.testing.assert_array_equal(np.isfinite(together), np.isfinite(apart))
+        np.testing.assert_allclose(together, apart, rtol=0, atol=1e-13)
