@@ -68,6 +68,7 @@ from slosh_bif.identify.response_search import (
     slow_flow_estimate,
 )
 from slosh_bif.identify.response_stats import (
+    ELASTIC,
     SEARCH,
     least_squares,
     lost_sentence,
@@ -267,9 +268,7 @@ def fit_response(
         estimate[name]["profile_95"] = interval
         profiles[name] = rows
         if name == "lam" and interval[0] == 0.0:
-            note = _join(
-                note, "lam's interval reaches 0: an elastic wall (kappa = 1) is consistent with the data."
-            )
+            note = _join(note, ELASTIC)
         for sentence in lost_sentence(name, lost):
             note = _join(note, sentence)
         lost_sides = {"below" if side < 0 else "above" for side, _ in lost}

@@ -27,6 +27,7 @@ __all__ = [
     "profile_all",
     "lost_sentence",
     "range_end_sentences",
+    "ELASTIC",
     "interval_statistics",
     "HeldObjective",
 ]
@@ -118,12 +119,18 @@ def wald(objective, z, r, scale_known, n_points):
     scale = np.maximum(np.abs(z), 1e-12)  # the SVD of the relative Jacobian: units do not matter
     _, sv, vt = np.linalg.svd(J * scale, full_matrices=False)
     note = ""
-    if sv[-1] <= 1e-8 * sv[0]:
-        direction = ", ".join(f"{c:+.3g} d{n}/{n}" for c, n in zip(vt[-1], names) if abs(c) > 0.05)
-        note = (
-            f"The data do not determine the combination {direction} (the relative Jacobian's singular "
-            f"values {sv[0]:.3g} and {sv[-1]:.3g})."
-        )
+    # a parameter at its lower end (lam at 0) has no relative change: its sentence is the range's
+    inside = [k for k in range(len(names)) if not _at_lower_end(objective, z, k)]
+    if inside:
+        _, sv_in, vt_in = np.linalg.svd((J * scale)[:, inside], full_matrices=False)
+        if sv_in[-1] <= 1e-8 * sv_in[0]:
+            direction = ", ".join(
+                f"{c:+.3g} d{names[k]}/{names[k]}" for c, k in zip(vt_in[-1], inside) if abs(c) > 0.05
+            )
+            note = (
+                f"The data do not determine the combination {direction} (the relative Jacobian's "
+                f"singular values {sv_in[0]:.3g} and {sv_in[-1]:.3g})."
+            )
     cov = s2 * np.outer(scale, scale) * ((vt.T / np.maximum(sv, 1e-300 * sv[0]) ** 2) @ vt)
     quantile = 1.959963984540054 if scale_known else float(stats.t.ppf(0.975, dof))
     estimate = {}
@@ -243,6 +250,14 @@ def profile_all(objective, z, which, best, scale_known, estimate, rng, *, pool=N
     say(f"profile likelihoods of {', '.join(name for _, name in which)} side by side")
     futures = [pool.submit(method, z, k, best, scale_known, estimate[name], rng) for k, name in which]
     return [future.result() for future in futures]
+
+
+ELASTIC = "lam's interval reaches 0: an elastic wall (kappa = 1) is consistent with the data."
+
+
+def _at_lower_end(objective, z, k) -> bool:
+    end = objective.lower[k]
+    return bool(np.isfinite(end) and abs(z[k] - end) <= 1e-6 * (1.0 + abs(end)))
 
 
 def range_end_sentences(objective, names, z) -> list:

@@ -29,7 +29,15 @@ from slosh_bif.identify.csv_table import number, read_header, read_table
 from slosh_bif.identify.goodness import goodness
 from slosh_bif.identify.response_model import impact_free
 from slosh_bif.identify.response_result import ResponseFit, chi_held, free_names
-from slosh_bif.identify.response_stats import STARTS, least_squares, misfit_of, profile, wald
+from slosh_bif.identify.response_stats import (
+    ELASTIC,
+    STARTS,
+    least_squares,
+    misfit_of,
+    profile,
+    range_end_sentences,
+    wald,
+)
 from slosh_bif.model.equations import ImpactModel
 from slosh_bif.model.params import Params
 from slosh_bif.slowflow.flow import AsymptoticsWarning, SlowFlow
@@ -240,6 +248,7 @@ def fit_time_series(
     scale_known = data.std is not None
     misfit = misfit_of(r, scale_known)
     estimate, correlation, rank_note = wald(objective, run.x, r, scale_known, len(data))
+    sentences = [note, *range_end_sentences(objective, objective.names, run.x), rank_note]
     profiles = {}
     for k, name in enumerate(objective.names):
         if name in NUISANCE:  # their Wald intervals only: the profiles cost as much again
@@ -247,6 +256,8 @@ def fit_time_series(
         interval, rows, _ = profile(objective, run.x, k, misfit, scale_known, estimate[name], rng)
         estimate[name]["profile_95"] = interval
         profiles[name] = rows
+        if name == "lam" and interval[0] == 0.0:
+            sentences.append(ELASTIC)
     values = {n: float(v) for n, v in zip(objective.names, run.x)}
     return TimeSeriesFit(
         free,
@@ -257,7 +268,7 @@ def fit_time_series(
         math.sqrt(float(r @ r) / len(r)),
         len(data),
         model,
-        " ".join(s for s in (note, rank_note) if s),
+        " ".join(s for s in sentences if s),
         run.status > 0,
         run.message,
         profiles,

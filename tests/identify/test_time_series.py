@@ -113,3 +113,17 @@ def test_a_decay_with_the_true_wall_fits_and_the_residuals_runs_catch_a_wrong_on
     assert right.describes and right.goodness.p_value > 1e-3
     blind = fit_time_series(TimeRecord(noisy.tau, noisy.A, None, "blind"), TRUTH.replace(lam=0.6), ["gamma"])
     assert blind.goodness.tests["runs_of_one_sign"] < 0.05
+
+
+def test_an_elastic_wall_is_said_as_such_not_as_a_parameter_the_data_do_not_determine():
+    """A decay of (45) with a nearly elastic wall (lam = 1e-4) and 1 % noise: lam's estimate sits
+    at its lower end, where its relative change means nothing; the fit says the elastic wall is
+    consistent with the data, not that lam is undetermined."""
+    tau = np.linspace(0.0, 200.0, 25)
+    A, A_min = _radau(TRUTH.replace(Abar=0.0, lam=1e-4), 3.0, 0.0, tau)
+    noisy = A + np.random.default_rng(2).normal(0.0, 0.03, A.size)
+    record = TimeRecord(tau[A > 1.05 * A_min], noisy[A > 1.05 * A_min], None, "elastic")
+    fit = fit_time_series(record, TRUTH.replace(lam=0.2, gamma=0.15), ["lam", "gamma"])
+    assert fit.estimate["lam"]["profile_95"][0] == 0.0
+    assert "an elastic wall (kappa = 1) is consistent" in fit.not_identifiable
+    assert "do not determine" not in fit.not_identifiable
