@@ -63,8 +63,12 @@ class ResponseCurve:
         return sorted(found)
 
     def stable(self, A: float, sigma: float) -> bool:
+        """Whether the steady state (A, sigma) is stable; not where the Jacobian is not finite
+        (at an end of S+ where kappa of (39) folds, rho's slope is infinite), as the engine's
+        branches count it."""
         psi = float(self.flow.steady_phase(A, sigma=sigma))
-        return bool(np.all(np.linalg.eigvals(self.flow.jac(A, psi, sigma=sigma)).real < 0))
+        J = self.flow.jac(A, psi, sigma=sigma)
+        return bool(np.isfinite(J).all() and np.all(np.linalg.eigvals(J).real < 0))
 
 
 def response_curve(params: Params, model: str = "slowflow") -> ResponseCurve:

@@ -183,7 +183,10 @@ class SlowFlow:
         E (the energy balance) does not depend on sigma or Abar; Phi is linear in sigma.
         """
         A = self._check_on_manifold(A)
-        return self.generated("steady_balances")(A, *self.law.values(A), *self._slow_with(sigma, Abar))
+        # at an end of S+ located by its own equations (pbar != 0), alpha's root may be a few ulps
+        # below zero: NaN there, read as no steady state, not a warning to the user
+        with np.errstate(invalid="ignore"):
+            return self.generated("steady_balances")(A, *self.law.values(A), *self._slow_with(sigma, Abar))
 
     def steady_phase(self, A, sigma=None, Abar=None):
         """psi of the steady state of amplitude A (requires Abar > 0)."""

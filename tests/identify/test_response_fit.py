@@ -282,3 +282,20 @@ def test_the_full_model_fit_finds_its_orbits_again_where_the_start_had_other_sta
     fit = fit_response(data, TRUTH.replace(gamma=0.15), ["gamma"], model="smooth")
     assert fit.values["gamma"] == pytest.approx(TRUTH.gamma, rel=1e-2)
     assert "unstable" not in fit.not_identifiable
+
+
+def test_a_steady_state_where_the_slow_flows_jacobian_is_not_finite_is_not_stable():
+    """pbar = 3 with lam at its lower end (a fit's estimate): S+ reaches down to A = 9e-11, where
+    (46)'s Jacobian is NaN; the response's steady state there is counted not stable, as the
+    engine's branches count such points, and drawing the fit no longer fails on it."""
+    from slosh_bif.identify.response_model import response_curve
+
+    params = get_preset("fig10").params.replace(
+        eps=0.06310449087656667, beta=0.44379595846496056, gamma=0.42106074650686914,
+        Abar=3.5782457837460577, lam=1.0000000000000129e-09, chi=0.8836996265998253, n=35, pbar=3,
+    )  # fmt: skip
+    curve = response_curve(params)
+    A = float(curve.A[0])
+    sigma = float(curve.sigma_low[0])
+    assert A < 1e-9 and np.isfinite(sigma)
+    assert curve.stable(A, sigma) is False
