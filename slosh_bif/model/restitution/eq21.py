@@ -160,6 +160,9 @@ def _manifold_residual(k, A, delta1, exponent):
     return k**2 - 1.0 + delta1 * speed**exponent
 
 
+_FOLD_ULPS = 8 * np.finfo(float).eps  # manifold.alpha's allowance for rounding at the fold
+
+
 def _manifold_residual_at(k, A, delta1, exponent):
     """:func:`_manifold_residual` for one float kappa, in floats (rho (31), alpha_S+ (36) with its
     fold, the speed (38)): brentq calls it about eight times a root, 1 us a call against 60."""
@@ -177,9 +180,6 @@ def _manifold_residual_at(k, A, delta1, exponent):
         alpha = x2 * (math.sqrt(x1) * math.sqrt(A * A - r2 * x2) + 1.0)
     speed = 4.0 * alpha / (math.pi * (1.0 + k))
     return k * k - 1.0 + delta1 * speed**exponent
-
-
-_FOLD_ULPS = 8 * np.finfo(float).eps  # manifold.alpha's allowance for rounding at the fold
 
 
 def _solve_manifold_kappa(A, delta1, exponent, xtol):
