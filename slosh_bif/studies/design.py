@@ -30,6 +30,7 @@ __all__ = [
     "STUDY_COLUMNS",
     "write_study_csv",
     "plot_study",
+    "least_critical",
 ]
 
 STUDY_COLUMNS = (
@@ -175,6 +176,19 @@ def write_study_csv(study: Study, path) -> Path:
     return write_rows(study_rows(study), STUDY_COLUMNS, path)
 
 
+def least_critical(rows, abar_min: float) -> tuple:
+    """(least Abar_c over sigma, its sigma, below) of one chart's :func:`critical_rows`: where
+    stable orbits reach the box's bottom at some sigma (``below_box``) the least is below the box,
+    so it is returned as the box's bottom ``abar_min`` with ``below`` True and no sigma."""
+    if any(r["below_box"] for r in rows):
+        return abar_min, np.nan, True
+    c = np.array([r["Abar_c_full"] for r in rows], dtype=float)
+    if not np.any(np.isfinite(c)):
+        return np.nan, np.nan, False
+    k = int(np.nanargmin(c))
+    return float(c[k]), float(rows[k]["sigma"]), False
+
+
 def plot_study(study: Study, path) -> Path:
     """Left: Abar_c(sigma) of (9) for each value (a colour a value; solid where the response is
     lost softly, dashed where by a jump, dotted where undetermined) and the slow flow's Abar_b
@@ -197,8 +211,7 @@ def plot_study(study: Study, path) -> Path:
             label = f"{study.name} = {v.value:.4g}" if style == "-" else None
             left.plot(sigma, np.where(shown, c, np.nan), style, color=colour, lw=2, label=label)
         left.plot(sigma, b, "-.", color=colour, lw=0.8)
-        k = int(np.nanargmin(c)) if np.any(np.isfinite(c)) else -1
-        least.append((v.value, c[k] if k >= 0 else np.nan, sigma[k] if k >= 0 else np.nan))
+        least.append((v.value, *least_critical(rows, study.abar_range[0])))
     left.set_xlim(*study.sigma_range)
     left.set_ylim(*study.abar_range)
     left.set_xlabel(r"detuning $\sigma$")
@@ -210,8 +223,17 @@ def plot_study(study: Study, path) -> Path:
     left.legend(fontsize=8)
     left.grid(alpha=0.3)
     if least:
-        value, c, at = map(np.array, zip(*least))
-        right.plot(value, c, "o-", color="tab:green", label=r"least $\bar A_c$ over $\sigma$")
+        value, c, at, below = map(np.array, zip(*least))
+        label = r"least $\bar A_c$ over $\sigma$"
+        if below.any():  # the least lies below the box there: drawn at its bottom, open
+            right.plot(value, c, "-", color="tab:green")
+            if not below.all():
+                right.plot(value[~below], c[~below], "o", color="tab:green", label=label)
+            right.plot(
+                value[below], c[below], "v", color="tab:red", mfc="none", label="below the box: lower --abar-min"
+            )
+        else:
+            right.plot(value, c, "o-", color="tab:green", label=label)
         twin = right.twinx()
         twin.plot(value, at, "s:", color="0.4", label=r"its $\sigma$")
         twin.set_ylabel(r"$\sigma$ of the least $\bar A_c$")

@@ -98,3 +98,19 @@ def test_a_study_over_a_tanks_fill_depth_charts_the_tank_converted_at_each_depth
         == 2
     )
     assert "with --params of a [tank] file" in capsys.readouterr().err
+
+
+def test_the_least_critical_forcing_below_the_box_is_not_read_as_the_lowest_inside_it():
+    """Where stable orbits reach the box's bottom at some sigma, the least Abar_c lies below the
+    box: the study's lowest point is the box's bottom, flagged, not the least value read inside."""
+    from slosh_bif.studies.design import least_critical
+
+    inside = [
+        dict(sigma=-1.0, Abar_c_full=0.4, below_box=0),
+        dict(sigma=0.0, Abar_c_full=0.3, below_box=0),
+        dict(sigma=1.0, Abar_c_full=0.5, below_box=0),
+    ]
+    assert least_critical(inside, 0.2) == (0.3, 0.0, False)
+    reaching = [dict(sigma=-2.0, Abar_c_full=float("nan"), below_box=1), *inside]
+    value, sigma, below = least_critical(reaching, 0.2)
+    assert (value, below) == (0.2, True) and sigma != sigma
