@@ -229,9 +229,8 @@ def plot_study(study: Study, path) -> Path:
             right.plot(value, c, "-", color="tab:green")
             if not below.all():
                 right.plot(value[~below], c[~below], "o", color="tab:green", label=label)
-            right.plot(
-                value[below], c[below], "v", color="tab:red", mfc="none", label="below the box: lower --abar-min"
-            )
+            under = "below the box: lower --abar-min"
+            right.plot(value[below], c[below], "v", color="tab:red", mfc="none", label=under)
         else:
             right.plot(value, c, "o-", color="tab:green", label=label)
         twin = right.twinx()
