@@ -21,6 +21,7 @@ from slosh_bif.cli.common import (
     state0_of,
     throttled,
 )
+from slosh_bif.cli.starts import check_start_inside, impact_start_of
 from slosh_bif.cli.terminal import REPORTER
 
 __all__ = ["add_commands"]
@@ -41,18 +42,6 @@ def check_family_options(args) -> float:
         if not low <= value <= high:
             raise ValueError(f"{flag} must be an integer in [{low}, {high}]; got {value}")
     return rtol
-
-
-def check_start_inside(params, param, lo, hi) -> None:
-    """The one-line error, before any work, for a --guess at the set's ``param`` outside [lo, hi]
-    (without one a start outside the range comes from the slow flow's states inside it)."""
-    p0 = getattr(params, param)
-    if not lo <= p0 <= hi:
-        option = "--sigma-min/--sigma-max" if param == "sigma" else "--abar-min/--abar-max"
-        raise ValueError(
-            f"--guess is an orbit at the set's {param} = {p0:g} (the preset's, the parameter file's or "
-            f"--set), which must lie in the range [{lo:g}, {hi:g}] ({option})"
-        )
 
 
 def family_from_args(args, params, lo, hi, param="sigma"):
@@ -200,7 +189,7 @@ def _shoot_impact(args, params, lo, hi) -> int:
     args.out.mkdir(parents=True, exist_ok=True)
     with PlotProcess() as plots:  # matplotlib imported beside the computation
         at, x0 = (
-            (params, args.guess) if args.guess is not None else _settled_start(args, params, variant, lo, hi)
+            (params, args.guess) if args.guess is not None else impact_start_of(args, params, variant, lo, hi)
         )
         branching = BranchingSettings(switch=not args.no_switch, max_branches=args.max_branches)
         family = impact_family(
@@ -381,26 +370,3 @@ def add_commands(sub) -> None:
     )
     add_scheduler_option(shoot)
     shoot.set_defaults(run=_shoot)
-
-
-def _settled_start(args, params, variant, lo, hi):
-    """(its parameter set, its state) of the orbit of (8) a simulation settles on (else from the
-    slow flow's steady states over [lo, hi] of the continued parameter), or the one-line error
-    with the options to change."""
-    from slosh_bif.continuation import ConvergenceError
-    from slosh_bif.orbits.impact.starts import impact_start
-
-    try:
-        start = impact_start(
-            params,
-            state0_of(args, params),
-            periods=args.settle,
-            p_range=(lo, hi),
-            param=args.parameter,
-            variant=variant,
-        )
-    except ConvergenceError as err:
-        raise ConvergenceError(f"{err}; pass --guess X,Xd,w,wd or change --settle") from None
-    value = getattr(start.params, args.parameter)
-    progress(f"start orbit at {args.parameter} = {value:.5g}: {start.found_from}")
-    return start.params, start.x
