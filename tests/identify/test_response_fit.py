@@ -78,6 +78,7 @@ def _misses(seeds, free, known_std=True):
     return misses
 
 
+@pytest.mark.slow  # the default run keeps this capability's faster tests
 def test_intervals_cover_the_truth_with_noise_of_known_size():
     """Over 10 seeded repetitions the 95 % intervals of gamma miss the truth at most twice
     (binomial: P(more than 2 misses in 10) = 1 % at 95 % coverage)."""

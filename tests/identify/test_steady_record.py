@@ -167,6 +167,7 @@ def test_records_at_two_frequencies_give_back_three_parameters_from_half_off(two
         assert fit.values[name] == pytest.approx(getattr(SMOOTH, name), rel=1e-2), name
 
 
+@pytest.mark.slow  # the default run keeps this capability's faster tests
 def test_a_second_frequency_separates_the_dampings_and_bounds_eps(smooth_record, two_records):
     """With 1 % noise one frequency's record leaves lam within most of its admissible range and
     eps unbounded below (lam and gamma correlated to -0.9999); with a second frequency the profiles

@@ -116,6 +116,7 @@ def _noisy(record, seed, level=0.01):
     return TransientRecord(record.tau, X, np.full(len(record), std), "noisy")
 
 
+@pytest.mark.slow  # the default run keeps this capability's faster tests
 def test_a_noisy_decay_stops_at_its_horizon_and_its_intervals_hold_the_truth(smooth_decay):
     """1 % noise: the windows stop where the misfit is no longer quadratic within a standard
     error (tau = 35 of 60 here), said; Wald and profile intervals hold the truth there."""
