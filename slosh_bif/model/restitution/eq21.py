@@ -182,14 +182,20 @@ def _manifold_residual_at(k, A, delta1, exponent):
     return k * k - 1.0 + delta1 * speed**exponent
 
 
+def _scan_grid(k_low):
+    """The kappas the scan for (39)'s largest root tries, from 1 down to just above ``k_low``: the
+    manifold needs A >= A_min(rho(kappa)), and rho falls as kappa grows, so kappa >= k_low(A). 65
+    of them; one column per entry of an array ``k_low``."""
+    k_low = np.clip(k_low, 0.0, 1.0)
+    grid = np.linspace(1.0, k_low, 65)[:-1]
+    return np.concatenate([grid, [k_low + (grid[-1] - k_low) * 1e-9]])
+
+
 def _solve_manifold_kappa(A, delta1, exponent, xtol):
     """Largest root in (0, 1] of the scalar residual, or NaN when none exists."""
     if delta1 == 0.0:
         return 1.0 if A >= 0 else np.nan
-    # The manifold needs A >= A_min(rho(kappa)); rho falls as kappa grows, so kappa >= k_low(A).
-    k_low = min(max(kappa_low(A), 0.0), 1.0)
-    grid = np.linspace(1.0, k_low, 65)[:-1]
-    grid = np.append(grid, k_low + (grid[-1] - k_low) * 1e-9)
+    grid = _scan_grid(kappa_low(A))
     grid = grid[grid > 0]
     # Scanning down from kappa = 1 (where the residual is > 0) picks the root nearest the elastic
     # limit: the one reached continuously from small dissipation. Point by point, in floats: the
@@ -227,10 +233,7 @@ def largest_roots(A, delta1, exponent, *, xtol=1e-10) -> np.ndarray:
     A = np.asarray(A, dtype=float)
     if delta1 == 0.0:
         return np.where(A >= 0, 1.0, np.nan)
-    with np.errstate(invalid="ignore", divide="ignore"):  # A >= 1: k_low is 0
-        k_low = np.clip(np.where(A < 1, _kappa_from_rho(A / np.sqrt(1 - A**2)), 0.0), 0.0, 1.0)
-    grid = np.linspace(1.0, k_low, 65)[:-1]  # one column per amplitude, as the scalar scan's
-    grid = np.vstack([grid, k_low + (grid[-1] - k_low) * 1e-9])
+    grid = _scan_grid(np.array([kappa_low(a) for a in A]))  # one column per amplitude
     values = _manifold_residual(grid, A, delta1, exponent)
     sign = np.sign(values)
     change = sign[:-1] != sign[1:]
