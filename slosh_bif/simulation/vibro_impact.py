@@ -24,6 +24,7 @@ import functools
 import numpy as np
 
 from slosh_bif.flows.impact.band import inside_measured_wall
+from slosh_bif.flows.impact.crossings import STICK_RISE
 from slosh_bif.flows.impact.flow import IMPACT_VARIANTS, ImpactFlow
 from slosh_bif.flows.smooth.integrator import resolve_backend
 from slosh_bif.model.equations import ImpactModel
@@ -132,8 +133,10 @@ def simulate_impact(
     max_impacts : int
         Stop (status ``"max-impacts"``) after this many impacts.
     stick_speed : float
-        A post-impact speed below this ends the run (status ``"sticking"``): impacts would
-        accumulate at a point in time (a Zeno point), beyond which (8) is not defined.
+        A post-impact speed below this ends the run (status ``"sticking"``), as does a flight
+        pushed back onto the wall within a rise below
+        :data:`~slosh_bif.flows.impact.crossings.STICK_RISE` (too small for w's rounding): impacts
+        would accumulate at a point in time (a Zeno point), beyond which (8) is not defined.
     backend : ``"auto"``/``"numba"`` the compiled flow, ``"scipy"`` the expm event loop.
     variant : ``"paper"``, (8) as the paper states it, or ``"corrected"``: (9) with its wall replaced
         by the wall's own restitution at its clearance |w| = D(v) (compiled flow only).
@@ -168,7 +171,7 @@ def simulate_impact(
         t, y, hits, code = _compiled_flow(params, float(sample_step), variant).run(
             y0, t0, t1, stick_speed=stick_speed, max_impacts=int(max_impacts)
         )
-        return _trajectory(t, y, hits, code, t1, stick_speed, max_impacts)
+        return _trajectory(t, y, hits, code, t1, max_impacts)
 
     flow = _ExactFlow(model)
     step_propagator = flow.propagator(sample_step)
@@ -199,12 +202,9 @@ def simulate_impact(
         impacts.append((tau, side, v_minus, y[3]))
         times.append(tau)
         states.append(y.copy())
-        if abs(y[3]) < stick_speed:
-            status = STICKING
-            message = (
-                f"post-impact speed {abs(y[3]):.3g} < stick_speed at tau = {tau:.10g}: the particle "
-                "sticks to the wall"
-            )
+        push = side * float(flow.K[3] @ _augment(tau, y))  # w'' towards the wall just left
+        if abs(y[3]) < stick_speed or (push > 0.0 and y[3] ** 2 < 2.0 * push * STICK_RISE):
+            status, message = STICKING, _sticking(y[3], tau)
             break
         if len(impacts) >= max_impacts:
             status, message = (
@@ -231,16 +231,19 @@ def _compiled_flow(params: Params, step: float, variant: str = "paper") -> Impac
     return ImpactFlow(params, step, variant=variant)
 
 
-def _trajectory(t, y, hits, code, t1, stick_speed, max_impacts) -> ImpactTrajectory:
+def _sticking(speed, tau) -> str:
+    return (
+        f"post-impact speed {abs(speed):.3g} at tau = {tau:.10g}: the particle sticks to the wall "
+        f"(below stick_speed, or pushed back onto it within a rise below {STICK_RISE:g})"
+    )
+
+
+def _trajectory(t, y, hits, code, t1, max_impacts) -> ImpactTrajectory:
     """The compiled run's arrays and end code as an :class:`ImpactTrajectory`."""
     if code == 0:
         status, message = FINISHED, f"reached tau = {t1}"
     elif code == 1:
-        status = STICKING
-        message = (
-            f"post-impact speed {abs(y[3, -1]):.3g} < stick_speed at tau = {t[-1]:.10g}: the particle "
-            "sticks to the wall"
-        )
+        status, message = STICKING, _sticking(y[3, -1], t[-1])
     elif code == 2:
         status = KAPPA_NOT_REAL
         message = (

@@ -21,9 +21,15 @@ __all__ = [
     "may_reach",
     "piece",
     "saltation",
+    "sticks",
 ]
 
 LEVELS = 48  # the finest interval is h 2**-48
+STICK_RISE = 1e-12
+"""A flight that rises less than this from the wall before the push brings it back is not
+resolved: w is known to rounding (2.2e-16 at |w| = 1), and below this rise the next impact's
+instant and speed carry rounding of the order of the flight itself (a chattering sequence then
+settles into a spurious one at a fixed tiny speed instead of accumulating). It counts as sticking."""
 
 
 @jit(inline=True)
@@ -39,6 +45,21 @@ def may_reach(f0, d0, f1, d1, L, B):
     if s <= 0.0 or s >= L:
         return False  # the envelope is one convex parabola, below 1 at s = L and at most 1 at s = 0
     return f0 + d0 * s + 0.5 * B * s * s >= 1.0
+
+
+@jit(inline=True)
+def sticks(K, z, side, stick_speed):
+    """Whether the particle, just leaving the wall ``side`` at the state z, stays on it: its speed
+    below ``stick_speed``, or pushed back onto the wall (``side * w'' > 0``, ``w'' = K[3] . z``)
+    within a rise ``w'**2 / (2 side w'')`` below :data:`STICK_RISE`."""
+    v = z[3]
+    if abs(v) < stick_speed:
+        return True
+    push = 0.0
+    for m in range(6):
+        push += K[3, m] * z[m]
+    push *= side
+    return push > 0.0 and v * v < 2.0 * push * STICK_RISE
 
 
 @jit(inline=True)

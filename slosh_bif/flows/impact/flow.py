@@ -23,8 +23,9 @@ holds the impact, and one whose end does not is a tangency within rounding, not 
 
 Impacts. ``w'+ = -kappa(|w'-|) w'-`` with kappa of (21), ``sqrt(1 - c v**q)``. A run stops with a
 status rather than going on without a model: ``"kappa-not-real"`` where (21) gives no real kappa,
-``"sticking"`` where the post-impact speed falls below ``stick_speed`` (impacts then accumulate at a
-point in time, beyond which (8) without a sticking phase is not defined), ``"max-impacts"``. The
+``"sticking"`` where the post-impact speed falls below ``stick_speed`` or the flight is pushed back
+onto the wall within a rise too small for w's rounding (impacts then accumulate at a point in
+time, beyond which (8) without a sticking phase is not defined), ``"max-impacts"``. The
 corrected impact model (``variant="corrected"``) puts the smooth wall's kappa_wall(v) at a wall that
 stands at |w| = D(v) (:mod:`slosh_bif.flows.impact.band`).
 
@@ -41,7 +42,16 @@ import numpy as np
 
 from slosh_bif.flows.compiled import jit
 from slosh_bif.flows.impact.band import LEFT, REACHED, TOO_FAST, band, law, law_arrays
-from slosh_bif.flows.impact.crossings import LEVELS, apply, carry, max_abs, may_reach, piece, saltation
+from slosh_bif.flows.impact.crossings import (
+    LEVELS,
+    apply,
+    carry,
+    max_abs,
+    may_reach,
+    piece,
+    saltation,
+    sticks,
+)
 from slosh_bif.flows.impact.propagators import (
     LINEAR_PARAMETERS,
     WALL_PARAMETERS,
@@ -205,7 +215,7 @@ def _run(flights, restitution, wall, linear, span, limits, variations, record):
                 phis[rows] = phi
                 dps[rows] = dp
             rows += 1
-            if abs(z[3]) < stick_speed:
+            if sticks(flights[2], z, side, stick_speed):
                 return times, states, impacts, rows, hits, _STICKING, phis, dps
             if hits >= max_impacts:
                 return times, states, impacts, rows, hits, _MAX_IMPACTS, phis, dps
