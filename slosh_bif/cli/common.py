@@ -309,11 +309,11 @@ def throttled(report, every=1.0, *, passes=lambda message: "point" not in messag
 
 
 def cell_progress(report, what: str):
-    """A ``progress(count, total)`` callback for a sweep: "k of n <what>, r/s, about t left" (the
-    rate from this run's cells only, so that a resumed run's stored cells do not inflate it)."""
+    """A ``progress(count, total)`` callback for a sweep, at most once a second and always the last:
+    "k of n <what>, r/s, about t left" (the rate from this run's cells only, not a resume's)."""
     import time
 
-    start, first = time.monotonic(), [None]
+    start, first, shown = time.monotonic(), [None], throttled(report, passes=lambda message: False)
 
     def callback(count, total):
         if first[0] is None:
@@ -321,7 +321,7 @@ def cell_progress(report, what: str):
         elapsed, new = time.monotonic() - start, count - first[0]
         rate = new / elapsed if elapsed > 0 else float("nan")
         left = f", about {(total - count) / rate:.0f} s left" if rate > 0 and count < total else ""
-        report(f"{count} of {total} {what}, {rate:.2g}/s{left}")
+        (report if count >= total else shown)(f"{count} of {total} {what}, {rate:.2g}/s{left}")
 
     return callback
 

@@ -134,7 +134,6 @@ def _regimes(args) -> int:
             f"classified in {args.out}"
         )
     args.out.mkdir(parents=True, exist_ok=True)
-    report = throttled(progress, passes=lambda message: False)
     with sweep_executor(args) as executor:
         rmap = regime_map(
             params,
@@ -145,7 +144,7 @@ def _regimes(args) -> int:
             settings=SimulationSettings(model=args.model, backend=args.backend),
             workers=Workers(executor, args.workers),
             resume=Resume(store.done, store.keep),
-            progress=cell_progress(report, "grid points classified"),
+            progress=cell_progress(progress, "grid points classified"),
         )
     store.finish(rmap.status)
     curve = (

@@ -28,7 +28,6 @@ from slosh_bif.cli.common import (
     sigma_range,
     stopped,
     sweep_executor,
-    throttled,
 )
 from slosh_bif.report.files import write_text_atomically
 
@@ -174,9 +173,7 @@ def _basins(args) -> int:
             model=args.model,
             workers=Workers(executor, args.workers),
             resume=Resume(store.done, store.keep),
-            progress=cell_progress(
-                throttled(progress, passes=lambda message: False), "initial states simulated"
-            ),
+            progress=cell_progress(progress, "initial states simulated"),
         )
     store.finish(bmap.status)
     paths = [

@@ -936,6 +936,7 @@ def test_basins_writes_csv_attractors_and_png(tmp_path, capsys):
         )
         == 0
     )
+    assert "4 of 4 initial states simulated" in capsys.readouterr().err  # the last count, however fast
     rows = list(csv.DictReader(open(out / "basins.csv")))
     assert len(rows) == 4 and set(rows[0]) == {"X", "w", "attractor", "uncertain", "periods_to_settle"}
     assert all(

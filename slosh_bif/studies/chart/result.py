@@ -127,7 +127,9 @@ def check_box(params: Params, sigma_range, second_range, second: str = "Abar"):
     if not (s0 <= params.sigma <= s1 and a0 <= getattr(params, second) <= a1):
         raise ValueError(
             f"the start (sigma = {params.sigma:g}, {second} = {getattr(params, second):g}) lies "
-            "outside the box"
+            f"outside the box sigma in [{s0:g}, {s1:g}], {second} in [{a0:g}, {a1:g}]: the chart's "
+            f"family starts at the set's own values; move them inside with --set sigma=... --set "
+            f"{second}=..."
         )
 
 
