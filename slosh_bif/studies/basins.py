@@ -91,6 +91,7 @@ class BasinMap:
     periods: np.ndarray | None = None
     uncertain_fraction: dict = dataclasses.field(default_factory=dict)
     model: str = "smooth"
+    transient: np.ndarray | None = None  # a start or a perturbed copy of it not settled by tmax
 
     def fractions(self) -> dict:
         """The share of the plane's cells per attractor, largest first."""
@@ -107,6 +108,14 @@ class BasinMap:
             name: (float(np.sum((self.label == name) & certain)) / computed, share)
             for name, share in self.fractions().items()
         }
+
+    @property
+    def transient_uncertain(self) -> int:
+        """Uncertain cells where the start or a perturbed copy had not settled: their labels are
+        a transient's regime, so they say nothing about where basins meet."""
+        if self.uncertain is None or self.transient is None:
+            return 0
+        return int(np.sum(self.uncertain & self.transient))
 
     @property
     def uncertainty_exponent(self) -> float:
@@ -260,12 +269,14 @@ def basin_map(
     label = np.full((second.size, first.size), "not computed", dtype=object)
     uncertain = np.zeros(label.shape, dtype=bool)
     periods = np.full(label.shape, np.nan)
+    transient = np.zeros(label.shape, dtype=bool)
     changed = {eps: 0 for eps in PERTURBATIONS}
     for (i, j), outcomes in sorted(results.items()):
         labels = [names.of(outcome, y0) for outcome, y0, _ in outcomes]
         label[i, j] = labels[0]
         settled = not (labels[0].endswith("(not settled)") or labels[0] in ("failed", "diverged"))
         periods[i, j] = outcomes[0][2] if settled else np.nan
+        transient[i, j] = any(name.endswith("(not settled)") for name in labels)
         for eps, other in zip(PERTURBATIONS, labels[1:]):
             changed[eps] += other != labels[0]
             uncertain[i, j] |= other != labels[0]
@@ -284,6 +295,7 @@ def basin_map(
         periods,
         fraction,
         model,
+        transient,
     )
 
 

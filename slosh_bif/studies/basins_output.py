@@ -63,8 +63,14 @@ def attractor_table(bmap) -> str:
             "uncertain cells (a start moved by eps times the plane's width reaches another "
             f"attractor): {sizes}"
         )
-        alpha = bmap.uncertainty_exponent
-        if math.isfinite(alpha):
+        alpha, transient = bmap.uncertainty_exponent, bmap.transient_uncertain
+        if math.isfinite(alpha) and transient:
+            lines.append(
+                f"uncertainty exponent not judged: {transient} of the {int(np.sum(bmap.uncertain))} "
+                f"uncertain cells had a start that did not settle by tau = {bmap.tmax:.6g}, whose "
+                "label is a transient's regime, not an attractor (a longer --tmax may settle them)"
+            )
+        elif math.isfinite(alpha):
             verdict = (
                 "smooth basin boundaries"
                 if alpha > 0.8
@@ -123,7 +129,8 @@ def plot_basins(bmap, path) -> Path:
     ax.set_ylabel(f"initial {bmap.axes[1]}")
     P = bmap.params
     alpha = bmap.uncertainty_exponent
-    note = f"; uncertainty exponent {max(alpha, 0.0):.2f}" if math.isfinite(alpha) else ""
+    judged = math.isfinite(alpha) and not bmap.transient_uncertain
+    note = f"; uncertainty exponent {max(alpha, 0.0):.2f}" if judged else ""
     ax.set_title(
         f"basins of attraction of {'(8)' if bmap.model == 'impact' else '(9)'}: sigma = {P.sigma:g}, "
         f"Abar = {P.Abar:g}, n = {P.n}{note}"

@@ -8,6 +8,7 @@ import pytest
 from slosh_bif import get_preset
 from slosh_bif.simulation.settings import Workers
 from slosh_bif.studies.basins import basin_map
+from slosh_bif.studies.basins_output import attractor_table
 
 
 @pytest.fixture(scope="module")
@@ -98,3 +99,19 @@ def test_the_corrected_impact_models_basins_name_9s_mirror_pair(basins):
         return float(name.split("A1 = ")[1])
 
     assert abs(a1(named[0]) - a1(nine[0])) < 1e-3 * a1(nine[0])
+
+
+def test_uncertain_cells_of_unsettled_starts_are_not_read_as_fractal_boundaries():
+    """A random set (seed 313) followed for 48 periods only: no start settles, and starts moved by
+    1e-3 and 1e-6 of the plane end in another transient's regime. Those labels are not attractors,
+    so the exponent of their changes is not read as the basins' boundary (it gave "fractal")."""
+    P = get_preset("fig10").params.replace(
+        eps=0.0518, beta=0.39, gamma=0.231, sigma=1.896, Abar=1.499, lam=0.108, chi=1.405, n=6, pbar=2
+    )
+    bmap = basin_map(
+        P, np.linspace(-3, 3, 4), np.linspace(-1, 1, 3), tmax=300, workers=Workers(max_workers=1)
+    )
+    assert not np.isfinite(bmap.periods).any() and bmap.transient_uncertain == int(bmap.uncertain.sum()) > 0
+    table = attractor_table(bmap)
+    assert "uncertainty exponent not judged" in table
+    assert "fractal" not in table and "smooth basin" not in table
