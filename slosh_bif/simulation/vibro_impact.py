@@ -87,18 +87,28 @@ def _augment(tau, y):
 
 
 def _find_impact(flow, z, h, side):
-    """Earliest s in (0, h] where w reaches the wall ``side`` (+1/-1), or None."""
+    """Earliest s in [0, h] where w reaches the wall ``side`` (+1/-1), or None; 0 only for a start
+    on the wall moving into it, or at rest there and pushed into it."""
     from scipy import optimize
 
     def beyond(s):
         return side * flow.component(z, s, 2) - 1.0
 
+    def speed(s):
+        return flow.component(z, s, 3)
+
+    on_wall = beyond(0.0) >= 0.0
+    if on_wall and (side * z[3] > 0.0 or (z[3] == 0.0 and side * float(flow.K[3] @ z) > 0.0)):
+        return 0.0
     if beyond(h) >= 0.0:
         start = 0.0
-        if beyond(0.0) >= 0.0:
-            # Just rebounded from this wall and back on it within the step: the particle turned
-            # around in between, and the new impact lies after the turn.
-            start = optimize.brentq(lambda s: flow.component(z, s, 3), 0.0, h, xtol=1e-15, rtol=1e-15)
+        if on_wall:
+            # Left this wall (a rebound, or at rest and pulled off it) and back on it within the
+            # step: the particle turned around in between, and the new impact lies after the turn.
+            leaving = 0.0 if z[3] != 0.0 else 1e-9 * h
+            if speed(leaving) * speed(h) >= 0.0:
+                return None
+            start = optimize.brentq(speed, leaving, h, xtol=1e-15, rtol=1e-15)
         return optimize.brentq(beyond, start, h, xtol=1e-15, rtol=1e-15)
     # Grazing: w may exceed the wall inside the step and come back; look at the extremum of w.
     v0, v1 = z[3], flow.component(z, h, 3)
@@ -182,7 +192,7 @@ def simulate_impact(
     while tau < t1:
         h = min(sample_step, t1 - tau)
         z = _augment(tau, y)
-        hits = [(s, side) for side in (1, -1) if (s := _find_impact(flow, z, h, side)) is not None and s > 0]
+        hits = [(s, side) for side in (1, -1) if (s := _find_impact(flow, z, h, side)) is not None]
         if not hits:
             z_next = (step_propagator if h == sample_step else flow.propagator(h)) @ z
             tau, y = tau + h, z_next[:4]
@@ -194,7 +204,7 @@ def simulate_impact(
         y[2] = float(side)  # exactly on the wall, so the next step starts inside
         v_minus = y[3]
         try:
-            y = model.impact(y)
+            y = model.impact(y) if v_minus != 0.0 else y  # at rest on the wall, pressed into it: sticks
         except ValueError as err:
             status, message = KAPPA_NOT_REAL, f"at tau = {tau + s:.10g}: {err}"
             break

@@ -162,3 +162,23 @@ def test_a_kappa_that_is_not_real_stops_the_run():
     assert run.impact_t.size == 0 and run.t[-1] < 1e-3
     with pytest.raises(ValueError, match="not real"):
         model.kappa(abs(float(run.message.split("speed ")[-1])))
+
+
+def test_a_start_at_rest_on_a_wall_leaves_it_when_pulled_off_and_sticks_when_pressed():
+    """The basins' default plane has rows on the walls (w = +-1, w' = 0). A random set (seed 300):
+    at X = -3 the particle on the wall w = -1 is pulled off it (w'' = 2.65 > 0) and flies; on
+    w = +1 it is pressed into it and sticks. The compiled flow called the first sticking too (an
+    impact at 2e-16 moving off the wall); the expm loop crashed on the second (brentq's bracket)."""
+    params = get_preset("fig10").params.replace(
+        eps=0.0604, beta=0.19, gamma=0.163, sigma=3.026, Abar=3.376, lam=0.313, chi=1.421, n=3, pbar=3
+    )
+    w_dd = ImpactModel(params).augmented()[3] @ np.array([-3.0, 0.0, 0.0, 0.0, 1.0, 0.0])
+    assert w_dd > 0  # the forcing and the vessel's displacement push w up at both walls alike
+    pulled, pressed = (
+        [simulate_impact(params, [-3.0, 0.0, w, 0.0], (0.0, 10.0), backend=b) for b in ("numba", "scipy")]
+        for w in (-1.0, 1.0)
+    )
+    assert all(run.success for run in pulled) and pulled[0].impact_t.size == pulled[1].impact_t.size > 0
+    assert pulled[0].impact_t[0] > 1.0 and np.allclose(pulled[0].impact_t, pulled[1].impact_t, atol=1e-9)
+    for run in pressed:
+        assert run.status == "sticking" and run.impact_t.size == 1 and run.impact_t[0] < 1e-12

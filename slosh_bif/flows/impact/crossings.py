@@ -226,8 +226,8 @@ def piece(flights, z, k0, out, work, variations, c):
         B = row_norm * growth[k] * max_abs(za) / c
         up = may_reach(za[2] / c, za[3] / c, zb[2] / c, zb[3] / c, L, B)
         down = may_reach(-za[2] / c, -za[3] / c, -zb[2] / c, -zb[3] / c, L, B)
-        if not (up or down) or (k == LEVELS and abs(zb[2]) < c):
-            out[:] = zb  # free, or a tangency within rounding
+        if not (up or down) or (k == LEVELS and (abs(zb[2]) < c or zb[2] * zb[3] <= 0.0)):
+            out[:] = zb  # free, or a tangency within rounding, or on the wall but moving off it
             reached = s + L
             if jac:
                 carry(table[k], dtable[k], za, phi, dp, tmp)

@@ -18,8 +18,10 @@ fast or however grazing the approach. Once an interval ends beyond one wall only
 certified positive over it (``f'(0) - B L > 0``), it holds exactly one crossing, which Newton on the
 flow's Taylor series from the interval's start finds to rounding (the map's Jacobian is carried
 there by the Taylor series of the flight's variational system). At the finest level (L = h
-2**-LEVELS, 1e-16 of tau at the default step) an interval whose end lies at or beyond the wall
-holds the impact, and one whose end does not is a tangency within rounding, not an impact.
+2**-LEVELS, 1e-16 of tau at the default step) an interval whose end lies at or beyond the wall,
+moving into it, holds the impact; one whose end does not is a tangency within rounding, and one
+whose end is on the wall but moving off it (a start at rest on the wall, pulled away) is not an
+impact either.
 
 Impacts. ``w'+ = -kappa(|w'-|) w'-`` with kappa of (21), ``sqrt(1 - c v**q)``. A run stops with a
 status rather than going on without a model: ``"kappa-not-real"`` where (21) gives no real kappa,
