@@ -208,7 +208,9 @@ def _simulate_impact_in_chunks(params, y0, t0, tmax, sample_step, progress, star
     parts = []
     y = y0
     for k, (a, b) in enumerate(zip(edges[:-1], edges[1:])):
-        run = simulate_impact(params, y, (a, b), sample_step=sample_step, backend=backend, variant=variant)
+        run = simulate_impact(
+            params, y, (a, b), sample_step=sample_step, backend=backend, variant=variant, continued=k > 0
+        )
         parts.append(run)
         if progress is not None:
             progress((k + 1) / (len(edges) - 1))

@@ -129,6 +129,7 @@ def simulate_impact(
     stick_speed: float = 1e-9,
     backend: str = "auto",
     variant: str = "paper",
+    continued: bool = False,
 ) -> ImpactTrajectory:
     """Simulate the vibro-impact model (8) from ``state0`` over ``t_span = (t0, t1)``.
 
@@ -150,6 +151,10 @@ def simulate_impact(
     backend : ``"auto"``/``"numba"`` the compiled flow, ``"scipy"`` the expm event loop.
     variant : ``"paper"``, (8) as the paper states it, or ``"corrected"``: (9) with its wall replaced
         by the wall's own restitution at its clearance |w| = D(v) (compiled flow only).
+    continued : bool
+        ``state0`` is where an earlier run of the same flow ended (a longer run in pieces): it may
+        lie in the corrected model's contact band, beyond D(v) at its present speed, and is not
+        checked against the wall.
     """
     model = ImpactModel(params)
     y0 = np.asarray(state0, dtype=float)
@@ -157,7 +162,7 @@ def simulate_impact(
         raise ValueError(f"state0 must be 4 finite numbers [X, X', w, w']; got {state0!r}")
     if variant not in IMPACT_VARIANTS:
         raise ValueError(f"variant must be one of {', '.join(IMPACT_VARIANTS)}; got {variant!r}")
-    if variant == "paper" and abs(y0[2]) > 1.0:
+    if variant == "paper" and abs(y0[2]) > 1.0 and not continued:
         raise ValueError(f"state0 must start between the walls, |w| <= 1; got w = {float(y0[2])!r}")
     t0, t1 = (float(t) for t in t_span)
     if not (np.isfinite(t0) and np.isfinite(t1) and t1 > t0):
@@ -172,7 +177,7 @@ def simulate_impact(
             raise ValueError("the corrected impact model runs on the compiled flow only (backend 'numba')")
         flow = _compiled_flow(params, float(sample_step), variant)
         inside = inside_measured_wall(flow.wall, y0)
-        if inside < 0:
+        if inside < 0 and not continued:
             raise ValueError(
                 f"state0 must start inside the measured wall, |w| < D(v) = {abs(y0[2]) + inside:.6g}; "
                 f"got w = {float(y0[2])!r}"

@@ -132,3 +132,25 @@ def test_bad_input_for_the_measured_law_is_refused_before_any_work():
         ImpactFlow(params, exact_flights=True).strobe(np.array([0, 0, 0, 0.5]), 0.0, np.pi)
     with pytest.raises(ValueError, match="compiled flow only"):
         simulate_impact(params, [0, 0, 0, 0.5], (0, 1), variant="corrected", backend="scipy")
+
+
+def test_a_long_run_in_pieces_goes_on_from_a_piece_ending_in_the_contact_band():
+    """`simulate --model impact-corrected` runs (the corrected model) in pieces of 200 time units.
+    At a random set (seed 303, n = 6) the first piece ends in the contact band at w = 1.013, beyond
+    D(v) at its speed there: the next piece refused that state as a start outside the wall (exit 2).
+    The pieces now join into the run in one piece."""
+    from slosh_bif.simulation.direct import SimulationSettings, simulate
+
+    preset = get_preset("fig10")
+    params = preset.params.replace(
+        eps=0.0475, beta=0.404, gamma=0.173, sigma=3.526, Abar=0.698, lam=0.29, chi=1.694, n=6, pbar=0
+    )
+    y0 = preset.state_for(params)
+    pieces = simulate(params, y0, 600.0, settings=SimulationSettings(model="impact-corrected"))
+    whole = simulate_impact(params, y0, (0.0, 600.0), sample_step=0.02, variant="corrected")
+    assert pieces.success and whole.success and pieces.t.shape == whole.t.shape
+    assert np.abs(pieces.y - whole.y).max() < 1e-9
+    with pytest.raises(ValueError, match="inside the measured wall"):  # a start given by the user
+        simulate_impact(
+            params, pieces.y[:, np.searchsorted(pieces.t, 200.0)], (0.0, 1.0), variant="corrected"
+        )
