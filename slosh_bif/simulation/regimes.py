@@ -153,6 +153,10 @@ def classify(simulation, *, transient: float | None = None) -> RegimeSummary:
         )
     if transient is None:
         transient = t0 + 0.5 * (t1 - t0)
+    if sim.status == "sticking" and np.isfinite(transient) and t1 - 4 * np.pi <= transient:
+        # (8) without a sticking phase ends where the particle sticks: nothing after it to measure
+        reason = f"the particle sticks to a wall before the judged window ({sim.message})"
+        return dataclasses.replace(RegimeSummary.failed(reason, transient), regime="non-resonant")
     if not (np.isfinite(transient) and t0 <= transient < t1 - 4 * np.pi):
         raise ValueError(
             f"transient must leave at least two forcing periods of the run [{t0:g}, {t1:g}]; got "

@@ -430,3 +430,21 @@ def test_cached_machine_code_is_dropped_when_the_generated_kernels_change(tmp_pa
     stale[0].write_text("x")  # compiled from the current kernels: kept
     dop853._forget_compilations_of_other_kernels(compiled)
     assert stale[0].exists()
+
+
+def test_a_run_that_sticks_before_the_judged_window_is_non_resonant():
+    """A random set (seed 306: n = 35, pbar = 1) whose particle sticks to a wall at tau = 2.39, long
+    before the second half of a 600-unit run: (8) ends there, and the run is non-resonant, as a
+    sticking run judged after its transient is. `regimes --model impact` at this set ended with
+    "transient must leave at least two forcing periods" (exit 2)."""
+    preset = get_preset("fig10")
+    params = preset.params.replace(
+        eps=0.0371, beta=0.074, gamma=0.437, sigma=4.758, Abar=3.441, lam=0.589, chi=0.137, n=35, pbar=1
+    )
+    sim = simulate(params, preset.state_for(params), 600.0, settings=SimulationSettings(model="impact"))
+    assert sim.status == "sticking" and sim.t[-1] < 3.0
+    for transient in (None, 300.0):
+        summary = classify(sim, transient=transient)
+        assert summary.regime == "non-resonant" and "sticks to a wall" in summary.reason
+    with pytest.raises(ValueError, match="transient must leave"):  # a run that ended another way
+        classify(dataclasses.replace(sim, status="max-impacts"), transient=300.0)

@@ -25,6 +25,7 @@ __all__ = [
 ]
 
 LEVELS = 48  # the finest interval is h 2**-48
+ON_WALL = 1.0 + 4 * 2.0**-52  # f at most this is on the wall or inside it, to rounding
 STICK_RISE = 1e-12
 """A flight that rises less than this from the wall before the push brings it back is not
 resolved: w is known to rounding (2.2e-16 at |w| = 1), and below this rise the next impact's
@@ -36,6 +37,11 @@ settles into a spurious one at a fixed tiny speed instead of accumulating). It c
 def may_reach(f0, d0, f1, d1, L, B):
     """Whether f may reach 1 in (0, L]: f(0) = f0 <= 1 (1 only when leaving the wall, d0 < 0),
     f(L) = f1, slopes d0, d1, |f''| <= B."""
+    if d0 < 0.0 and d1 < 0.0 and -(d0 + d1) > B * L and f0 <= ON_WALL:
+        # f' <= min(d0 + B s, d1 + B (L - s)) < 0 throughout: f falls from f(0), so it cannot
+        # come back to the wall, whatever rounding makes of f(L) (a particle leaving the wall at a
+        # speed of 1e-8 stays within rounding of it for 1e-8 of tau: 1e8 of the finest intervals)
+        return False
     if f1 >= 1.0 or (f0 >= 1.0 and d0 >= 0.0):
         return True
     denom = d0 - d1 + B * L  # >= 0, as |d1 - d0| <= B L
@@ -226,8 +232,10 @@ def piece(flights, z, k0, out, work, variations, c):
         B = row_norm * growth[k] * max_abs(za) / c
         up = may_reach(za[2] / c, za[3] / c, zb[2] / c, zb[3] / c, L, B)
         down = may_reach(-za[2] / c, -za[3] / c, -zb[2] / c, -zb[3] / c, L, B)
-        if not (up or down) or (k == LEVELS and (abs(zb[2]) < c or zb[2] * zb[3] <= 0.0)):
-            out[:] = zb  # free, or a tangency within rounding, or on the wall but moving off it
+        if not (up or down) or (
+            k == LEVELS and (abs(zb[2]) < c or (abs(zb[2]) == c and zb[2] * zb[3] < 0.0))
+        ):
+            out[:] = zb  # free, or a tangency within rounding, or on the wall (to rounding) moving off it
             reached = s + L
             if jac:
                 carry(table[k], dtable[k], za, phi, dp, tmp)
