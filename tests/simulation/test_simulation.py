@@ -398,14 +398,19 @@ def test_a_failed_run_in_a_regime_map_is_recorded_as_failed_with_its_reason(monk
     assert row["regime"] == "failed" and "rounding limit" in row["reason"]
 
 
-def test_cached_machine_code_is_dropped_when_the_generated_kernels_change(tmp_path):
-    # numba keys a cache on the function's own file; the loops and the tape's replay inline the kernels
-    # of other files (the generated kernels, the integer power, the variations kernel, dop853's switch),
-    # so a change to any of them must remove both caches (a stale one ran the old equations).
+def _sources_digest(modules):
     import hashlib
+
+    return hashlib.sha256(b"".join(open(m.__file__, "rb").read() for m in modules)).hexdigest()
+
+
+def test_cached_machine_code_is_dropped_when_the_sources_it_compiled_in_change(tmp_path):
+    # numba keys a cache on the function's own file; the loops inline or call functions of other
+    # files (the generated kernels, the impact search), so a change to any of them must remove the
+    # caches of every module that compiled them in (a stale one ran the old code).
     import types
 
-    from slosh_bif.flows.smooth import dop853, variations
+    from slosh_bif.flows.compiled import forget_stale_compilations
     from slosh_bif.model import powers
     from slosh_bif.model._generated import kernels
 
@@ -421,15 +426,54 @@ def test_cached_machine_code_is_dropped_when_the_generated_kernels_change(tmp_pa
     other = tmp_path / "noise.other-1.py311.nbi"
     for path in (*stale, other):
         path.write_text("x")
-    (tmp_path / "dop853.kernels.sha256").write_text("the digest of older kernels")
-    dop853._forget_compilations_of_other_kernels(compiled)
+    (tmp_path / "loops.sha256").write_text("the digest of older kernels")
+    sources = (kernels, powers)
+    forget_stale_compilations(compiled, sources, ("dop853", "tape"), "loops")
     assert not any(p.exists() for p in stale) and other.exists()
-    sources = (kernels, powers, variations, dop853)
-    digest = hashlib.sha256(b"".join(open(m.__file__, "rb").read() for m in sources)).hexdigest()
-    assert (tmp_path / "dop853.kernels.sha256").read_text() == digest
-    stale[0].write_text("x")  # compiled from the current kernels: kept
-    dop853._forget_compilations_of_other_kernels(compiled)
+    assert (tmp_path / "loops.sha256").read_text() == _sources_digest(sources)
+    stale[0].write_text("x")  # compiled from the current sources: kept
+    forget_stale_compilations(compiled, sources, ("dop853", "tape"), "loops")
     assert stale[0].exists()
+
+
+@pytest.mark.parametrize(
+    "name, modules",
+    [
+        (
+            "smooth/__pycache__/dop853.kernels",
+            ("model._generated.kernels", "model.powers", "flows.smooth.variations", "flows.smooth.dop853"),
+        ),
+        (
+            "impact/__pycache__/impact.sources",
+            (
+                "flows.impact.crossings",
+                "flows.impact.band",
+                "model._generated.impact_kernels",
+                "flows.impact.flow",
+            ),
+        ),
+    ],
+)
+def test_each_compiled_loop_keeps_the_digest_of_every_source_it_compiles_in(name, modules):
+    """The loops of (9) and the exact flow of (8) record, beside their cache, the digest of all the
+    files they inline or call: a change to the impact search alone (crossings.py) once left the flow
+    running its old code."""
+    import importlib
+    from pathlib import Path
+
+    import slosh_bif.flows
+    from slosh_bif.flows.compiled import HAVE_NUMBA
+    from slosh_bif.flows.impact import flow  # noqa: F401  (records its digest on import)
+    from slosh_bif.flows.smooth import dop853  # noqa: F401
+
+    if not HAVE_NUMBA:
+        pytest.skip("numba does not import here: nothing is compiled")
+    folder = Path(slosh_bif.flows.__file__).parent
+    if not (folder / "smooth/__pycache__/dop853.kernels.sha256").exists():
+        pytest.skip("numba's cache is not beside the sources here (NUMBA_CACHE_DIR or read-only)")
+    marker = folder / f"{name}.sha256"
+    sources = [importlib.import_module(f"slosh_bif.{m}") for m in modules]
+    assert marker.read_text() == _sources_digest(sources)
 
 
 def test_a_run_that_sticks_before_the_judged_window_is_non_resonant():

@@ -39,10 +39,13 @@ from __future__ import annotations
 
 import functools
 import math
+import sys
 
 import numpy as np
 
-from slosh_bif.flows.compiled import jit
+from slosh_bif.flows.compiled import HAVE_NUMBA, forget_stale_compilations, jit
+from slosh_bif.flows.impact import band as _band_module
+from slosh_bif.flows.impact import crossings as _crossings_module
 from slosh_bif.flows.impact.band import LEFT, REACHED, TOO_FAST, band, law, law_arrays
 from slosh_bif.flows.impact.crossings import (
     LEVELS,
@@ -60,6 +63,7 @@ from slosh_bif.flows.impact.propagators import (
     derivative_of_K,
     propagators,
 )
+from slosh_bif.model._generated import impact_kernels as _impact_kernels
 from slosh_bif.model._generated.impact_kernels import impact_measured_kernel, impact_saltation_kernel
 from slosh_bif.model.equations import impact_augmented
 from slosh_bif.model.params import Params
@@ -380,3 +384,12 @@ class ImpactFlow:
             y0, t0, t0 + period, stick_speed, max_impacts, min(max_impacts, 64), True
         )
         return states[:, -1].copy(), phi, dp, impacts, code
+
+
+if HAVE_NUMBA:  # the run inlines or calls the search, the band and the generated impact kernels
+    forget_stale_compilations(
+        _run,
+        (_crossings_module, _band_module, _impact_kernels, sys.modules[__name__]),
+        ("flow", "crossings", "band"),
+        "impact.sources",
+    )

@@ -15,13 +15,12 @@ are the plain Python functions (never called: the scipy path runs instead).
 
 from __future__ import annotations
 
-import hashlib
 import math
-from pathlib import Path
+import sys
 
 import numpy as np
 
-from slosh_bif.flows.compiled import HAVE_NUMBA, numba
+from slosh_bif.flows.compiled import HAVE_NUMBA, forget_stale_compilations, numba
 from slosh_bif.flows.compiled import jit as _jit
 from slosh_bif.flows.smooth import variations as _variations
 from slosh_bif.flows.smooth.dop853_interface import ALONG_SIZE, SHOOTING_SIZE, WHICH
@@ -35,33 +34,6 @@ if HAVE_NUMBA:  # before any kernel compiles: the kernels' int_power becomes rep
     @numba.extending.overload(_powers.int_power)
     def _int_power_compiled(x, k):
         return _powers.int_power_by_squaring
-
-
-def _forget_compilations_of_other_kernels(compiled):
-    """Remove the cached machine code of this module's loops and of the tape's replay
-    (:mod:`slosh_bif.flows.smooth.tape`) when the kernels they inline have changed since it was
-    compiled (the generated kernels, the integer power they call, the variations kernel, this
-    module's switch): numba keys a cache on the contents of the function's own file only (without
-    this, a regenerated kernels.py would run the stale equations)."""
-    try:
-        folder = Path(compiled._cache._impl.locator.get_cache_path())
-    except AttributeError:  # a numba without these internals: nothing to do
-        return
-    sources = [Path(m.__file__) for m in (_kernels, _powers, _variations)] + [Path(__file__)]
-    digest = hashlib.sha256(b"".join(path.read_bytes() for path in sources)).hexdigest()
-    marker = folder / "dop853.kernels.sha256"
-    try:
-        if marker.read_text() == digest:
-            return
-    except OSError:
-        pass
-    try:
-        for path in [*folder.glob("dop853.*.nb[ic]"), *folder.glob("tape.*.nb[ic]")]:
-            path.unlink(missing_ok=True)
-        folder.mkdir(parents=True, exist_ok=True)
-        marker.write_text(digest)
-    except OSError:  # a read-only cache: numba then keeps its own rule
-        pass
 
 
 @_jit
@@ -355,8 +327,9 @@ def _arcs_loop(which, taus, starts, directions, pars, rtol, atol, max_steps, tap
     return out, m, 0, counts
 
 
-if HAVE_NUMBA:
-    _forget_compilations_of_other_kernels(_dop853_loop)
+if HAVE_NUMBA:  # the loops and the tape's replay inline the kernels, the integer power and the variations
+    sources = (_kernels, _powers, _variations, sys.modules[__name__])
+    forget_stale_compilations(_dop853_loop, sources, ("dop853", "tape"), "dop853.kernels")
 
 # The interface of :mod:`slosh_bif.flows.smooth.integrator` (its constants, the tableau that every loop
 # takes last and the status codes, are in :mod:`slosh_bif.flows.smooth.dop853_interface`).
