@@ -97,12 +97,6 @@ def _compile(args) -> int:
 
     import numpy as np
 
-    package = Path(__file__).resolve().parents[1]
-    if args.fresh:  # numba keys a cached function to its own file, not to the callees it compiled in
-        stale = [f for pattern in ("*.nbi", "*.nbc") for f in package.rglob(f"__pycache__/{pattern}")]
-        for path in stale:
-            path.unlink()
-        print(f"removed {len(stale)} files of numba's cache", file=sys.stderr)
     from slosh_bif.flows.loops import compiled
     from slosh_bif.flows.smooth.arcs import Tape, integrate_arcs, replay_along
     from slosh_bif.flows.smooth.integrator import integrate, integrate_grid
@@ -126,6 +120,7 @@ def _compile(args) -> int:
     periodic_schur([np.eye(4) * 2.0, np.eye(4)])
     impact = get_preset("fig13")
     simulate(impact.params, impact.state_for(impact.params), 1.0, settings=SimulationSettings(model="impact"))
+    package = Path(__file__).resolve().parents[1]
     with contextlib.redirect_stdout(io.StringIO()):  # compileall lists what it cannot write
         written = compileall.compile_dir(package, quiet=1, workers=1)
     caches = "numba's cache and the package's bytecode" if written else f"numba's cache; {package} read-only"
@@ -159,11 +154,5 @@ def add_commands(sub) -> None:
         "compile",
         help="compile the loops of (9) and (8) into numba's on-disk cache now (a first command does it "
         "otherwise, 40-80 s once a machine)",
-    )
-    compile_.add_argument(
-        "--fresh",
-        action="store_true",
-        help="first remove the package's numba cache: after editing a module whose compiled "
-        "functions others call or inline (numba ties a cached function to its own file only)",
     )
     compile_.set_defaults(run=_compile)
