@@ -198,7 +198,9 @@ def wall_contacts(params: Params, t, y, *, rtol=1e-9, atol=1e-11, backend="auto"
     return wall_passages(np.concatenate(times)[order], np.concatenate(states, axis=1)[:, order])
 
 
-def _simulate_impact_in_chunks(params, y0, t0, tmax, sample_step, progress, start, backend, variant):
+def _simulate_impact_in_chunks(
+    params, y0, t0, tmax, sample_step, progress, start, backend, variant, continued
+):
     """(8) over [t0, tmax] in up to 20 pieces of at least 200 time units, so that progress can be
     reported; each piece starts from the previous one's end state (the flow is exact, so the pieces
     join seamlessly)."""
@@ -209,7 +211,13 @@ def _simulate_impact_in_chunks(params, y0, t0, tmax, sample_step, progress, star
     y = y0
     for k, (a, b) in enumerate(zip(edges[:-1], edges[1:])):
         run = simulate_impact(
-            params, y, (a, b), sample_step=sample_step, backend=backend, variant=variant, continued=k > 0
+            params,
+            y,
+            (a, b),
+            sample_step=sample_step,
+            backend=backend,
+            variant=variant,
+            continued=continued or k > 0,
         )
         parts.append(run)
         if progress is not None:
@@ -256,6 +264,7 @@ def simulate(
     settings: SimulationSettings = SIMULATION,
     noise: Noise | None = None,
     progress=None,
+    continued: bool = False,
 ) -> Simulation:
     """Simulate from ``state0`` at ``t0`` to ``tmax`` and sample every ``sample_step``.
 
@@ -265,7 +274,9 @@ def simulate(
     event loop with ``backend="scipy"``). ``noise`` with ``std > 0`` adds the band-limited noise of
     (47) (smooth model only, see :mod:`slosh_bif.flows.noise`) and then needs a seed.
     ``progress(fraction)`` is called as the run advances. Integration failure is not raised: the
-    result's ``status`` and ``message`` say where and why it stopped.
+    result's ``status`` and ``message`` say where and why it stopped. ``continued``: ``state0`` is
+    where a run of the same model ended (the corrected impact model's start is then not checked
+    against its wall: it may lie in the contact band).
     """
     if not isinstance(settings, SimulationSettings):
         raise TypeError(f"settings must be a SimulationSettings; got {type(settings).__name__}")
@@ -314,7 +325,16 @@ def simulate(
     start = time.perf_counter()
     if model in _VARIANTS:
         return _simulate_impact_in_chunks(
-            params, y0, t0, tmax, min(sample_step, 0.05), progress, start, backend, _VARIANTS[model]
+            params,
+            y0,
+            t0,
+            tmax,
+            min(sample_step, 0.05),
+            progress,
+            start,
+            backend,
+            _VARIANTS[model],
+            continued,
         )
 
     count = int(np.ceil((tmax - t0) / sample_step))

@@ -184,6 +184,7 @@ def _settle(params, state0, max_periods: int, backend, model="smooth"):
         max_periods * PERIOD + TAIL_PERIODS * PERIOD,
         t0=max_periods * PERIOD,
         settings=SimulationSettings(model=model, backend=backend),
+        continued=True,  # the strobe's own state: in the corrected model's contact band, maybe
     )
     if sim.status == "diverged":
         return "diverged", None, max_periods

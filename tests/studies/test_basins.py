@@ -115,3 +115,23 @@ def test_uncertain_cells_of_unsettled_starts_are_not_read_as_fractal_boundaries(
     table = attractor_table(bmap)
     assert "uncertainty exponent not judged" in table
     assert "fractal" not in table and "smooth basin" not in table
+
+
+def test_an_unsettled_start_of_the_corrected_impact_model_is_classified_from_its_own_state():
+    """A random set (seed 300: n = 3, the measured wall's clearance 0.62 at unit speed) followed for
+    48 periods: the starts that have not settled are simulated on from the state the strobe
+    reached, in the contact band beyond D(v) (w = 1.36). That run refused it as a start outside the
+    wall, and the whole map ended with exit 2; each cell now has its regime."""
+    P = get_preset("fig10").params.replace(
+        eps=0.0604, beta=0.19, gamma=0.163, sigma=3.026, Abar=3.376, lam=0.313, chi=1.421, n=3, pbar=3
+    )
+    bmap = basin_map(
+        P,
+        np.linspace(-3, 3, 3),
+        np.linspace(-1, 1, 3),
+        tmax=300,
+        model="impact-corrected",
+        workers=Workers(max_workers=1),
+    )
+    assert bmap.status == "complete"
+    assert all(label.endswith("(not settled)") for label in bmap.label.ravel())
