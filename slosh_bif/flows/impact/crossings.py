@@ -39,8 +39,9 @@ def may_reach(f0, d0, f1, d1, L, B):
     f(L) = f1, slopes d0, d1, |f''| <= B."""
     if d0 < 0.0 and d1 < 0.0 and -(d0 + d1) > B * L and f0 <= ON_WALL:
         # f' <= min(d0 + B s, d1 + B (L - s)) < 0 throughout: f falls from f(0), so it cannot
-        # come back to the wall, whatever rounding makes of f(L) (a particle leaving the wall at a
-        # speed of 1e-8 stays within rounding of it for 1e-8 of tau: 1e8 of the finest intervals)
+        # come back to the wall, whatever rounding makes of f(L) (a particle leaving at speed v
+        # stays within w's rounding of the wall for about 1e-16 / v of tau, which halving to the
+        # finest intervals would walk through one by one)
         return False
     if f1 >= 1.0 or (f0 >= 1.0 and d0 >= 0.0):
         return True
