@@ -57,8 +57,8 @@ def may_reach(f0, d0, f1, d1, L, B):
 @jit(inline=True)
 def sticks(K, z, side, stick_speed):
     """Whether the particle, just leaving the wall ``side`` at the state z, stays on it: its speed
-    below ``stick_speed``, or pushed back onto the wall (``side * w'' > 0``, ``w'' = K[3] . z``)
-    within a rise ``w'**2 / (2 side w'')`` below :data:`STICK_RISE`."""
+    below ``stick_speed``, or pushed back onto the wall (``side * w'' > 0``, w'' from K's fourth
+    row) within a rise ``w'**2 / (2 side w'')`` below :data:`STICK_RISE`."""
     v = z[3]
     if abs(v) < stick_speed:
         return True
