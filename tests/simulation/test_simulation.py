@@ -436,44 +436,36 @@ def test_cached_machine_code_is_dropped_when_the_sources_it_compiled_in_change(t
     assert stale[0].exists()
 
 
-@pytest.mark.parametrize(
-    "name, modules",
-    [
-        (
-            "smooth/__pycache__/dop853.kernels",
-            ("model._generated.kernels", "model.powers", "flows.smooth.variations", "flows.smooth.dop853"),
-        ),
-        (
-            "impact/__pycache__/impact.sources",
-            (
-                "flows.impact.crossings",
-                "flows.impact.band",
-                "model._generated.impact_kernels",
-                "flows.impact.flow",
-            ),
-        ),
-    ],
-)
-def test_each_compiled_loop_keeps_the_digest_of_every_source_it_compiles_in(name, modules):
+def test_each_compiled_loop_keeps_the_digest_of_every_source_it_compiles_in(tmp_path):
     """The loops of (9) and the exact flow of (8) record, beside their cache, the digest of all the
     files they inline or call: a change to the impact search alone (crossings.py) once left the flow
-    running its old code."""
+    running its old code. Imported in a fresh process whose numba cache is an empty folder."""
     import importlib
-    from pathlib import Path
+    import os
+    import subprocess
+    import sys
 
-    import slosh_bif.flows
-    from slosh_bif.flows.compiled import HAVE_NUMBA
-    from slosh_bif.flows.impact import flow  # noqa: F401  (records its digest on import)
-    from slosh_bif.flows.smooth import dop853  # noqa: F401
-
-    if not HAVE_NUMBA:
-        pytest.skip("numba does not import here: nothing is compiled")
-    folder = Path(slosh_bif.flows.__file__).parent
-    if not (folder / "smooth/__pycache__/dop853.kernels.sha256").exists():
-        pytest.skip("numba's cache is not beside the sources here (NUMBA_CACHE_DIR or read-only)")
-    marker = folder / f"{name}.sha256"
-    sources = [importlib.import_module(f"slosh_bif.{m}") for m in modules]
-    assert marker.read_text() == _sources_digest(sources)
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path)}
+    code = "import slosh_bif.flows.impact.flow, slosh_bif.flows.smooth.dop853"
+    subprocess.run([sys.executable, "-c", code], env=env, check=True)
+    expected = {
+        "dop853.kernels.sha256": (
+            "model._generated.kernels",
+            "model.powers",
+            "flows.smooth.variations",
+            "flows.smooth.dop853",
+        ),
+        "impact.sources.sha256": (
+            "flows.impact.crossings",
+            "flows.impact.band",
+            "model._generated.impact_kernels",
+            "flows.impact.flow",
+        ),
+    }
+    for name, modules in expected.items():
+        (marker,) = tmp_path.rglob(name)
+        sources = [importlib.import_module(f"slosh_bif.{m}") for m in modules]
+        assert marker.read_text() == _sources_digest(sources), name
 
 
 def test_a_run_that_sticks_before_the_judged_window_is_non_resonant():
