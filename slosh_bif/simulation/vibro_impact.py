@@ -111,9 +111,8 @@ def _find_impact(flow, z, h, side):
             start = optimize.brentq(speed, leaving, h, xtol=1e-15, rtol=1e-15)
         return optimize.brentq(beyond, start, h, xtol=1e-15, rtol=1e-15)
     # Grazing: w may exceed the wall inside the step and come back; look at the extremum of w.
-    v0, v1 = z[3], flow.component(z, h, 3)
-    if side * v0 > 0 > side * v1:
-        s_peak = optimize.brentq(lambda s: flow.component(z, s, 3), 0.0, h, xtol=1e-15, rtol=1e-15)
+    if side * z[3] > 0 > side * speed(h):
+        s_peak = optimize.brentq(speed, 0.0, h, xtol=1e-15, rtol=1e-15)
         if beyond(s_peak) >= 0.0:
             return optimize.brentq(beyond, 0.0, s_peak, xtol=1e-15, rtol=1e-15)
     return None
