@@ -8,7 +8,9 @@ losing at most half the energy per impact), or where the full model it expands (
 (46) the vibro-impact model (8) with the restitution (21); the corrected slow flow, whose impacts
 take the smooth wall's own kappa and clearance, (9)) does not describe the data at its estimate.
 The rungs passed over are reported with why: their p-values, their concerns, or the error that
-stopped them."""
+stopped them. (9), fitted as a check beside a lighter rung used, takes its place where its misfit
+is lower by more than the likelihood ratio's 95 % threshold: a rung that describes the data at its
+own p-value is not the answer where the data tell a better one from it."""
 
 from __future__ import annotations
 
@@ -22,6 +24,7 @@ from slosh_bif.identify.response_fit import fit_response
 from slosh_bif.identify.response_integers import INTEGERS
 from slosh_bif.identify.response_objective import Objective
 from slosh_bif.identify.response_result import MODEL_NAMES, SLOW_MODELS
+from slosh_bif.identify.response_stats import CHI2_95
 from slosh_bif.slowflow.flow import AsymptoticsWarning, asymptotics_concerns
 
 __all__ = ["RUNGS", "EXPANDS", "fit_by_ladder", "unheld_by_expansion"]
@@ -123,10 +126,12 @@ def unheld_by_expansion(data, params, model: str, free: int) -> str:
 
 def _against_heaviest(data, base, free, fit, say, fitting):
     """``fit`` (a lighter rung's) with the heaviest rung fitted as a check, a row of the ladder
-    (``checked``): where that rung describes the data too but puts a free parameter's 95 % profile
-    interval apart from ``fit``'s, the data do not tell the two models apart and the parameters
-    depend on which one holds, which ``fit`` then says (the vibro-impact model (8) and (9) both
-    describe the sweeps of ``examples/sweep_response.py`` with gamma 0.54 and 0.28)."""
+    (``checked``): where that rung's misfit is lower by more than the likelihood ratio's 95 %
+    threshold, its fit instead (:func:`_preferred`); where it describes the data too but puts a
+    free parameter's 95 % profile interval apart from ``fit``'s, the data do not tell the two
+    models apart and the parameters depend on which one holds, which ``fit`` then says (the
+    vibro-impact model (8) and (9) both describe the sweeps of ``examples/sweep_response.py``
+    with gamma 0.54 and 0.28)."""
     heaviest = RUNGS[-1]
     if fit.model == heaviest or _applies(heaviest, free):
         return fit
@@ -136,6 +141,8 @@ def _against_heaviest(data, base, free, fit, say, fitting):
         row["why"] = f"fitted as a check: {why}"
         return dataclasses.replace(fit, ladder=fit.ladder + [row])
     row |= {"p_value": other.goodness.p_value, "values": other.values}
+    if fit.misfit - other.misfit > CHI2_95:
+        return _preferred(fit, other)
     apart = [n for n in fit.free if _apart(fit.estimate[n]["profile_95"], other.estimate[n]["profile_95"])]
     if not apart:
         row["why"] = (
@@ -156,6 +163,28 @@ def _against_heaviest(data, base, free, fit, say, fitting):
     return dataclasses.replace(
         fit, ladder=fit.ladder + [row], not_identifiable=" ".join(filter(None, [fit.not_identifiable, said]))
     )
+
+
+def _preferred(fit, other):
+    """``other`` (the heaviest rung's fit) in place of ``fit``, whose misfit it lowers by more than
+    :data:`~.response_stats.CHI2_95` with as many parameters (the likelihood ratio's 95 % threshold,
+    here the same difference of AIC): the data tell the two models apart, and ``fit`` describing
+    them at its own p-value does not make it the answer."""
+    lower = f"misfit {other.misfit:.4g} against {fit.misfit:.4g}, lower by more than {CHI2_95:.3g}"
+    passed = {
+        "model": fit.model,
+        "used": False,
+        "why": f"describes the data (p = {fit.goodness.p_value:.2g}), but {MODEL_NAMES[other.model]} "
+        f"describes them better ({lower} with as many parameters)",
+        "p_value": fit.goodness.p_value,
+        "values": fit.values,
+    }
+    used = {
+        "model": other.model,
+        "used": True,
+        "why": f"describes the data (p = {other.goodness.p_value:.2g}) better than {MODEL_NAMES[fit.model]}",
+    }
+    return dataclasses.replace(other, ladder=fit.ladder[:-1] + [passed, used])
 
 
 def _apart(one, other) -> bool:

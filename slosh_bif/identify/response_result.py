@@ -17,6 +17,7 @@ __all__ = [
     "ORBIT_MODELS",
     "MODELS",
     "MODEL_NAMES",
+    "MISFIT_UNSCALED",
     "ResponseFit",
     "dissipation_estimates",
     "free_names",
@@ -25,6 +26,7 @@ __all__ = [
 SLOW_MODELS = ("slowflow", "corrected")  # the slow flows (46)
 ORBIT_MODELS = ("smooth", "impact", "impact-corrected")  # the orbits of (9), (8), the corrected (8)
 MODELS = SLOW_MODELS + ORBIT_MODELS
+MISFIT_UNSCALED = "N log(residual sum of squares), the likelihood's scale with the noise estimated"
 MODEL_NAMES = {
     "slowflow": "the slow flow's steady states (46)",
     "corrected": "the corrected slow flow's steady states",
@@ -70,28 +72,38 @@ class ResponseFit:
         return base.replace(**self.values)
 
     def as_dict(self) -> dict:
-        return {
-            "model": f"{MODEL_NAMES[self.model]} (model {self.model!r})",
-            "free": list(self.free),
-            "values": self.values,
-            "estimate": self.estimate,
-            "correlation": self.correlation.tolist(),
-            "misfit": self.misfit,
-            "misfit_kind": "chi-square" if self.scale_known else "residual sum of squares",
-            "rms_residual": self.rms,
-            "points": self.points,
-            "not_identifiable": self.not_identifiable,
-            "converged": self.converged,
-            "message": self.message,
-            "profiles": {k: [list(map(float, row)) for row in v] for k, v in self.profiles.items()},
-            "residuals": self.residuals.tolist(),
-            "goodness_of_fit": None if self.goodness is None else self.goodness.as_dict(),
-            "intervals": "95 %"
-            if self.describes
-            else "95 %, conditional on a model that does not describe the data",
-            "assignment": self.assignment,
-            "minima": self.minima,
-        } | ({"ladder": self.ladder} if self.ladder else {})
+        return (
+            {
+                "model": f"{MODEL_NAMES[self.model]} (model {self.model!r})",
+                "free": list(self.free),
+                "values": self.values,
+                "estimate": self.estimate,
+                "correlation": self.correlation.tolist(),
+                "misfit": self.misfit,
+                "misfit_kind": "chi-square" if self.scale_known else MISFIT_UNSCALED,
+                "rms_residual": self.rms,
+                "points": self.points,
+                "not_identifiable": self.not_identifiable,
+                "converged": self.converged,
+                "message": self.message,
+                "profiles": {k: [list(map(float, row)) for row in v] for k, v in self.profiles.items()},
+                "residuals": self.residuals.tolist(),
+                "goodness_of_fit": None if self.goodness is None else self.goodness.as_dict(),
+                "intervals": "95 %"
+                if self.describes
+                else "95 %, conditional on a model that does not describe the data",
+                "assignment": self.assignment,
+                "minima": self.minima,
+            }
+            | self._unscaled()
+            | ({"ladder": self.ladder} if self.ladder else {})
+        )
+
+    def _unscaled(self) -> dict:
+        """Without the data's std the misfit is N log(RSS); the RSS itself beside it."""
+        if self.scale_known:
+            return {}
+        return {"residual_sum_of_squares": float(self.residuals @ self.residuals)}
 
 
 def dissipation_estimates(params: Params, lam: dict) -> dict:

@@ -13,7 +13,7 @@ from slosh_bif.model.params import Params
 from slosh_bif.orbits.orbit_tools import orbit_at
 from slosh_bif.orbits.settings import SHOOTING, STARTS, ShootingSettings, StartSettings
 from slosh_bif.orbits.shooting import ShootingProblem
-from slosh_bif.orbits.starts import START_TOL, StartOrbit, orbit_from_slow_flow
+from slosh_bif.orbits.starts import START_TOL, StartOrbit, guess_only, orbit_from_slow_flow
 from slosh_bif.report.tasks import Task, timed
 from slosh_bif.slowflow.flow import SlowFlow
 from slosh_bif.slowflow.steady_states import forcing_response, frequency_response
@@ -38,10 +38,11 @@ def _steady_states_near(params: Params, param: str, values, p_min, p_max):
     """(v, p, A, stable) of every branch of (46) in ``param`` where it crosses each v of ``values``
     (the branch's own point: Newton on (9) then sits exactly at that point's p)."""
     try:
-        if param == "sigma":
-            fr = frequency_response(params, sigma_min=p_min, sigma_max=p_max)
-        else:
-            fr = forcing_response(params, abar_min=max(p_min, 0.0), abar_max=p_max)
+        with guess_only():
+            if param == "sigma":
+                fr = frequency_response(params, sigma_min=p_min, sigma_max=p_max)
+            else:
+                fr = forcing_response(params, abar_min=max(p_min, 0.0), abar_max=p_max)
     except (ValueError, RuntimeError, ConvergenceError):
         return []  # no slow manifold or no steady state: the other starts remain
     found = []
@@ -119,7 +120,8 @@ def start_jobs(
         at = params.replace(**{param: float(v)})
         initial = [(np.asarray(state0, dtype=float), "the preset's initial state"), (np.zeros(4), "rest")]
         if at.Abar > 0:
-            flow = SlowFlow(at)
+            with guess_only():
+                flow = SlowFlow(at)
             initial += [
                 (flow.fast_state(A, float(flow.steady_phase(A)), 0.0), f"the slow flow's state A = {A:.4g}")
                 for at_v, _, A, _ in states
@@ -133,7 +135,9 @@ def start_jobs(
         jobs.append((_starts_at, (at, param, float(v), initial, starts.settle, shooting), label))
     for _, value, A, stable in states:
         at = params.replace(**{param: value})
-        if A > SlowFlow(at).A_min:  # a state on the end of S+: (46)'s phase there is a root of rounding
+        with guess_only():
+            A_min = SlowFlow(at).A_min
+        if A > A_min:  # a state on the end of S+: (46)'s phase there is a root of rounding
             label = f"the slow flow's motion on A = {A:.6g} at {param} = {value:.6g}"
             jobs.append((_start_from_slow_flow, (at, param, value, A, stable, shooting), label))
     return jobs

@@ -8,6 +8,7 @@ knows only the model and the continuation engine.
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import warnings
 
@@ -19,7 +20,7 @@ from slosh_bif.model.params import Params
 from slosh_bif.orbits.orbit_tools import orbit_at, orbit_measures
 from slosh_bif.orbits.shooting import PeriodicOrbit, ShootingProblem
 from slosh_bif.simulation.direct import SimulationSettings, simulate
-from slosh_bif.slowflow.flow import SlowFlow
+from slosh_bif.slowflow.flow import AsymptoticsWarning, SlowFlow
 from slosh_bif.slowflow.steady_states import forcing_response, frequency_response
 
 # residual tolerance of Newton from a start guess (scan.on_traced_branch resolves orbits to it)
@@ -33,6 +34,7 @@ __all__ = [
     "orbit_from_simulation",
     "orbit_from_slow_flow",
     "slow_flow_start",
+    "guess_only",
     "stable_steady_states",
     "slow_flow_motion",
     "settle_and_shoot",
@@ -218,7 +220,8 @@ def orbit_from_slow_flow(
     known, else from (46)): each arc starts on :meth:`SlowFlow.fast_state` at its own start time,
     so that multiple shooting does not carry the guess's error across the period. Returns a
     :class:`PeriodicOrbit` (``converged`` says whether Newton found one)."""
-    flow = SlowFlow(params, model)
+    with guess_only():
+        flow = SlowFlow(params, model)
     psi = float(flow.steady_phase(A)) if psi is None else float(psi)
     problem = ShootingProblem(params, segments=segments, rtol=rtol, atol=atol, backend=backend)
     x = flow.fast_state(A, psi, problem.arc_times()[:-1]).ravel()
@@ -238,11 +241,12 @@ def stable_steady_states(
         raise ValueError(f"the slow flow's steady states are continued in sigma or Abar; got {param!r}")
     fr = response
     if fr is None:
-        fr = (
-            frequency_response(params, sigma_min=lo, sigma_max=hi)
-            if param == "sigma"
-            else forcing_response(params, abar_min=lo, abar_max=hi)
-        )
+        with guess_only():
+            fr = (
+                frequency_response(params, sigma_min=lo, sigma_max=hi)
+                if param == "sigma"
+                else forcing_response(params, abar_min=lo, abar_max=hi)
+            )
     # (value, A, psi): the branch's own phase (at a branch's end on A_min, (46)'s phase balance is
     # a square root of rounding, NaN: seen at n = 6, eps = 0.02)
     candidates = [
@@ -259,7 +263,17 @@ def stable_steady_states(
 def slow_flow_motion(params: Params, A: float, psi: float, tau) -> np.ndarray:
     """The slow flow's leading-order motion [X, X', w, w'] at the fast times ``tau`` on its state
     (A, psi) (:meth:`SlowFlow.fast_state`, eqs. 25, 29, 35): a start guess for either model."""
-    return SlowFlow(params).fast_state(A, psi, np.asarray(tau, dtype=float))
+    with guess_only():
+        return SlowFlow(params).fast_state(A, psi, np.asarray(tau, dtype=float))
+
+
+@contextlib.contextmanager
+def guess_only():
+    """The slow flow as a start guess for Newton on a full model: its checked range is no concern
+    there (the orbit found does not depend on the guess's accuracy), so it does not warn."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", AsymptoticsWarning)
+        yield
 
 
 def slow_flow_start(

@@ -183,3 +183,48 @@ def test_a_sweep_of_one_point_is_warned_of():
     data = ResponseData(np.array([4.5, 5.0, 5.5]), np.array([0.6, 0.5, 0.45]), None, ("up", "", ""), "one")
     with pytest.warns(SweepWarning, match="the up-sweep has one point only"):
         fit_response(data, truth, ["gamma"])
+
+
+def _stub_fit(model, misfit, gamma):
+    """A fit by ``model`` with the given misfit (chi-square, 20 points, gamma free) that describes
+    its data, as the ladder reads it."""
+    from slosh_bif.identify.goodness import Goodness
+    from slosh_bif.identify.response_result import ResponseFit
+
+    p = float(__import__("scipy").stats.chi2.sf(misfit, 19))
+    estimate = {"gamma": {"value": gamma, "std": 0.01, "profile_95": [gamma - 0.02, gamma + 0.02]}}
+    return ResponseFit(
+        ("gamma",), {"gamma": gamma}, estimate, np.eye(1), misfit, 1.0, 20, model, "", True, "", {},
+        True, np.zeros(20), Goodness(p, p >= THRESHOLD, "", 1.0, {"chi_square": p}),
+    )  # fmt: skip
+
+
+@pytest.mark.parametrize("heaviest_misfit, used", [(17.0, "impact"), (15.0, "smooth")])
+def test_the_ladder_takes_the_check_where_it_describes_the_data_better_by_the_likelihood_ratio(
+    monkeypatch, heaviest_misfit, used
+):
+    """(8) describes the data (chi-square 20 on 19 degrees of freedom) and (9), fitted as a check,
+    with a misfit lower by 3 (within the likelihood ratio's 95 % threshold, 3.84: (8) is kept and
+    its interval meets (9)'s) or by 5 (beyond it: the data tell the two apart, and (9) is used,
+    (8) passed over with why). The slow flows cannot fit (a stub raising, as a lost response does)."""
+    from slosh_bif.identify import response_ladder
+
+    fits = {"impact": _stub_fit("impact", 20.0, 0.30), "smooth": _stub_fit("smooth", heaviest_misfit, 0.31)}
+
+    def fit_response(data, base, free, *, model, **fitting):
+        if model not in fits:
+            raise ValueError(f"no response of {model} to compare with")
+        return fits[model]
+
+    monkeypatch.setattr(response_ladder, "fit_response", fit_response)
+    base = get_preset("fig10").params
+    fit = response_ladder.fit_by_ladder(_data(np.ones(20), np.ones(20)), base, ["gamma"])
+    rungs = {row["model"]: row for row in fit.ladder}
+    assert fit.model == used and rungs[used]["used"] and sum(row["used"] for row in fit.ladder) == 1
+    if used == "smooth":
+        assert rungs["impact"]["why"].startswith(
+            "describes the data (p = 0.39), but the orbits of the smooth"
+        )
+        assert "lower by more than 3.84" in rungs["impact"]["why"]
+    else:
+        assert rungs["smooth"]["checked"] and "each interval meeting" in rungs["smooth"]["why"]

@@ -50,6 +50,12 @@ def test_points_of_the_continued_slow_flow_give_back_the_vessel_and_the_wall(exa
     assert fit.values["gamma"] == pytest.approx(TRUTH.gamma, rel=1e-6)
     # both damp the response: their estimates are strongly (negatively) correlated
     assert fit.correlation[0, 1] < -0.9 and fit.correlation[0, 0] == pytest.approx(1.0)
+    # without a std the misfit is N log(RSS), saved under that name with the RSS beside it
+    record = fit.as_dict()
+    rss = float(np.sum(np.square(fit.residuals)))
+    assert record["misfit_kind"].startswith("N log(residual sum of squares)")
+    assert record["residual_sum_of_squares"] == pytest.approx(rss, rel=1e-12)
+    assert record["misfit"] == pytest.approx(len(exact) * np.log(rss), rel=1e-12)
 
 
 def test_lam_and_chi_together_are_one_combination_reported_with_kappa(exact):

@@ -291,6 +291,26 @@ def test_slow_flow_start_tries_steady_states_and_says_when_none_gives_an_orbit()
         slow_flow_start(P, 0.1, 0.3, tries=3)
 
 
+def test_a_start_from_the_slow_flow_outside_its_checked_range_does_not_warn():
+    """A wall losing 70 % of the energy per impact (n = 20, lam 0.35, chi 0.23): the slow flow
+    itself warns that it is outside its checked range, but as a start guess for Newton on (9) it is
+    no concern (the orbit found does not depend on it), so the start does not warn."""
+    import warnings
+
+    from slosh_bif.orbits.starts import slow_flow_start
+    from slosh_bif.slowflow.flow import AsymptoticsWarning, SlowFlow
+
+    P = get_preset("fig10").params.replace(
+        eps=0.076, beta=0.14, gamma=0.37, Abar=1.17, lam=0.35, chi=0.23, n=20
+    )
+    with pytest.warns(AsymptoticsWarning, match="outside its checked range"):
+        SlowFlow(P)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", AsymptoticsWarning)
+        start = slow_flow_start(P, 0.5, 3.2)
+    assert start.orbit.converged
+
+
 def test_a_start_for_a_range_without_the_sets_sigma_comes_from_the_slow_flow_inside_it():
     """Fig. 10 at sigma = -6, where the simulation settles: over [2, 8] its orbit could not start
     the family, so the start is the slow flow's, inside the range, a fixed point of scipy's map."""
