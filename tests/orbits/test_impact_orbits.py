@@ -373,3 +373,26 @@ def test_a_switch_newton_cannot_settle_is_passed_over_and_said_not_fatal_to_the_
     )
     assert family[0].name == "symmetric" and family[0].branch.pieces
     assert any(m.startswith("no branch switched at the BP at sigma = -5.470") for m in said)
+
+
+def test_a_corrected_orbit_whose_strobe_leaves_the_wall_from_beyond_its_slowest_clearance():
+    """The corrected impact model at a wall of n = 20 (lam 0.35, chi 0.23; sigma 0.63, Abar 1.17):
+    at tau = 0 the settled orbit's particle has just left the wall at |w| = 0.9995, beyond the
+    clearance of the slowest measured speed D(v_min) (where g still reads it as inside the wall),
+    moving away. Such a state is the flow's own: Newton on the map accepts it (it was refused as
+    outside the domain, so every fit, start and chart from such a strobe failed), and the orbit
+    found returns to itself over one period when simulated at another sample step."""
+    from slosh_bif.flows.impact.band import inside_measured_wall
+    from slosh_bif.orbits.impact.branches import settled_orbit
+
+    at = get_preset("fig10").params.replace(
+        eps=0.076, beta=0.14, gamma=0.37, sigma=0.63, Abar=1.17, lam=0.35, chi=0.23, n=20, pbar=0
+    )
+    y0 = np.array([-0.55276892, 0.32357286, 0.80555477, -0.70499684])  # the slow flow's motion
+    x = settled_orbit(at, y0, periods=100, tries=1, variant="corrected")
+    problem = ImpactOrbitProblem(at, variant="corrected")
+    assert inside_measured_wall(problem.flow_at(at.sigma).wall, x) < 0 and np.sign(x[2]) * x[3] < 0
+    assert problem.in_domain(x, at.sigma)
+    run = simulate_impact(at, x, (0.0, 2 * np.pi), sample_step=0.02, variant="corrected", continued=True)
+    assert run.success and len(run.impact_t) == 2
+    np.testing.assert_allclose(run.y[:, -1], x, rtol=0, atol=1e-9)

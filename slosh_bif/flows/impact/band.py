@@ -24,7 +24,16 @@ import numpy as np
 from slosh_bif.flows.compiled import jit
 from slosh_bif.flows.impact.crossings import apply, carry, flow_taylor
 
-__all__ = ["BAND_LEVEL", "law", "wall_gap", "advance", "band", "law_arrays", "inside_measured_wall"]
+__all__ = [
+    "BAND_LEVEL",
+    "law",
+    "wall_gap",
+    "advance",
+    "band",
+    "law_arrays",
+    "inside_measured_wall",
+    "leaving_measured_wall",
+]
 
 BAND_LEVEL = 5  # the band's step: the sample step / 32
 # Codes of a band march.
@@ -46,6 +55,14 @@ def inside_measured_wall(wall, y) -> float:
     law's speeds as the compiled flow clamps it."""
     v = min(max(float(np.sign(y[2]) * y[3]), wall.v_min), wall.v_max)
     return float(wall.clearance(v)) - abs(float(y[2]))
+
+
+def leaving_measured_wall(wall, y) -> bool:
+    """Whether the particle at state y moves away from the nearer wall within the band a rebound
+    can leave it in (|w| up to the highest clearance): a state of a flight that left the wall
+    beyond D(v_min), where g (:func:`inside_measured_wall`) is still positive, and the flow carries
+    it away from the wall."""
+    return float(np.sign(y[2]) * y[3]) < 0.0 and abs(float(y[2])) <= wall.highest_clearance
 
 
 @jit(inline=True)

@@ -143,6 +143,12 @@ class WallLaw:
         return np.exp(self.clearance_series(self._log_v(v0)))
 
     @functools.cached_property
+    def highest_clearance(self) -> float:
+        """The largest D over the measured speeds (on a grid of 4001 in log v0): how far out a
+        rebound can leave the particle."""
+        return float(np.max(self.clearance(np.geomspace(self.v_min, self.v_max, 4001))))
+
+    @functools.cached_property
     def _coefficients(self):
         # The four series (kappa, its slope, log D, its slope) as the columns of one coefficient
         # array on the window [-1, 1], evaluated together: a corrected slow flow asks for them at
