@@ -56,10 +56,11 @@ _AT_PARENT = "where the orbit meets its symmetric parent: see the parent's pitch
 class Verdict:
     """A special point's criticality: its ``nf`` (:class:`NormalForm`), where it is (``param``,
     ``at``) and the motion born there: its state component ``component`` (the one the critical
-    eigenvector moves most: X, X', w or w') at tau = 0 differs from the parent orbit's by
-    ``growth |param - at|^0.5`` (for a torus: is modulated by up to that), on the side
-    ``sign(param - at) == side`` (NaN and 0 at a fold or where the point is undetermined); the
-    parent's period is ``multiple`` forcing periods."""
+    eigenvector moves most: X, X', w or w') on the map's section, at tau = ``section`` (0 for (9);
+    for (8) the piece's section, where the coefficient and the growth are computed), differs from
+    the parent orbit's by ``growth |param - at|^0.5`` (for a torus: is modulated by up to that), on
+    the side ``sign(param - at) == side`` (NaN and 0 at a fold or where the point is undetermined);
+    the parent's period is ``multiple`` forcing periods."""
 
     kind: str
     nf: NormalForm
@@ -69,6 +70,7 @@ class Verdict:
     side: int
     component: str = "w"
     multiple: int = 1  # the parent orbit's period in forcing periods (a PD doubles it)
+    section: float = 0.0  # the section's time, where the component is read
 
     @property
     def verdict(self) -> str:
@@ -123,7 +125,10 @@ def judge(problem, sp, param: str):
     K, side = growth_law(nf, slope)
     c = int(np.argmax(np.abs(nf.q)))
     scale = 2.0 * abs(nf.q[c]) if sp.kind == "NS" else abs(nf.q[c])  # x = 2 Re(z q) on a circle
-    return Verdict(sp.kind, nf, param, float(sp.p), K * scale, side, _STATE[c], problem.period_multiple)
+    section = float(getattr(problem, "phase", 0.0))
+    return Verdict(
+        sp.kind, nf, param, float(sp.p), K * scale, side, _STATE[c], problem.period_multiple, section
+    )
 
 
 def _settled(nf, at, exact):
@@ -258,7 +263,8 @@ def describe(verdict) -> str:
         name, at = verdict.param, verdict.at
         distance = f"{name} - {at:.4g}" if at >= 0 else f"{name} + {-at:.4g}"
         law = (
-            f" ({name} {'>' if verdict.side > 0 else '<'} {at:.4g}), {verdict.component} at tau = 0 {change} "
+            f" ({name} {'>' if verdict.side > 0 else '<'} {at:.4g}), {verdict.component} at "
+            f"{'tau = 0' if verdict.section == 0 else f'the section tau = {verdict.section:.4g}'} {change} "
             f"+-{verdict.growth:.3g} |{distance}|^0.5"
         )
     if nf.verdict == "soft":

@@ -140,7 +140,7 @@ def test_each_pitchforks_verdict_and_size_are_what_the_switched_asymmetric_branc
     found without the coefficient, its piece through the pitchfork)."""
     from functools import partial
 
-    from slosh_bif.orbits.criticality import impact_criticality
+    from slosh_bif.orbits.criticality import describe, impact_criticality
     from slosh_bif.orbits.map_derivatives import crossing_rate
 
     params, symmetric, pair_pieces, variant = fig13_impact_family
@@ -151,6 +151,8 @@ def test_each_pitchforks_verdict_and_size_are_what_the_switched_asymmetric_branc
             sp = piece.branch.special[k]
             seen[round(sp.p, 2)] = v.verdict
             c = ("X", "X'", "w", "w'").index(v.component)
+            # the growth is the section's (checked below), and the phrase says where it is read
+            assert v.section == piece.phase and f"at the section tau = {piece.phase:.4g}" in describe(v)
             near = [
                 (float(pp), bool(stable), _on_section(params, x, pp, other.phase, piece.phase, variant))
                 for other in pair_pieces
