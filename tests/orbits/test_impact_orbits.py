@@ -396,3 +396,35 @@ def test_a_corrected_orbit_whose_strobe_leaves_the_wall_from_beyond_its_slowest_
     run = simulate_impact(at, x, (0.0, 2 * np.pi), sample_step=0.02, variant="corrected", continued=True)
     assert run.success and len(run.impact_t) == 2
     np.testing.assert_allclose(run.y[:, -1], x, rtol=0, atol=1e-9)
+
+
+def test_a_corrected_branch_goes_on_past_the_corner_of_the_laws_least_speed():
+    """A random set's corrected impact model (n = 35, pbar = 1, lam 0.589, chi 0.137): its symmetric
+    branch's slow impact reaches the measured law's least speed 0.05 twice, where the law is held
+    constant below and the map has a corner (each a fold: the branch turns back there). The
+    continuation stalled there, ending the branch at sigma = 0.52 and -0.51 of [-6, 8]; it now
+    goes on past both along the other side's tangent and covers the range. Every piece's first
+    orbit, those just beyond the corners included, returns to itself over a period when simulated
+    at another sample step (to 1e-7: impacts at 0.05 amplify the flows' rounding 20-fold)."""
+    from slosh_bif.orbits.impact.branches import settled_orbit
+
+    at = get_preset("fig10").params.replace(
+        eps=0.0371, beta=0.074, gamma=0.437, sigma=4.758, Abar=3.441, lam=0.589, chi=0.137, n=35, pbar=1
+    )
+    x0 = settled_orbit(at, get_preset("fig10").state0, periods=150, variant="corrected")
+    branch = trace_impact_orbits(at, x0, p_min=-6.0, p_max=8.0, symmetric=True, variant="corrected")
+    assert branch.complete and {e.reason for e in branch.ends} == {"parameter bound"}
+    lows = [p.branch.p.min() for p in branch.pieces] + [p.branch.p.max() for p in branch.pieces]
+    assert min(lows) == -6.0 and max(lows) == 8.0
+    for piece in branch.pieces:
+        x, p = piece.branch.x[0], piece.branch.p[0]
+        run = simulate_impact(
+            at.replace(sigma=float(p)),
+            x,
+            (piece.phase, piece.phase + 2 * np.pi),
+            sample_step=0.02,
+            variant="corrected",
+            continued=True,
+        )
+        assert run.success
+        np.testing.assert_allclose(run.y[:, -1], x, rtol=0, atol=1e-7)

@@ -36,6 +36,12 @@ from slosh_bif.continuation.corrector import newton_solve
 from slosh_bif.flows.impact.flow import END_REASONS
 from slosh_bif.model.params import Params
 from slosh_bif.orbits.impact.grazing_crossing import contact_at, cross_grazing
+from slosh_bif.orbits.impact.law_corner import (
+    CORNER_STEPS,
+    across_the_corner,
+    at_the_laws_corner,
+    corner_message,
+)
 from slosh_bif.orbits.impact.problem import GRAZING, SECTION, VARIANT_NAMES, ImpactOrbitProblem
 
 __all__ = [
@@ -202,30 +208,55 @@ def trace_impact_orbits(
         raise ConvergenceError(
             f"no periodic orbit of {VARIANT_NAMES[variant]} near x0 at {param} = {p0}: {run.message}"
         )
-    pieces, grazing, ends, starts, contacts = [], [], [], [], []
+    pieces, grazing, ends, starts, contacts, corners = [], [], [], [], [], []
     dead, met = set(), set()  # contacts a direction ended at (nothing beyond), contacts a loop closed at
     for direction in ("forward", "backward"):
         phase, x = quiet_section(first, run.x, p0)
         p, sign = p0, 1.0 if direction == "forward" else -1.0
         problem = _problem(first, phase, x, p)
+        step = opts.step
         while True:
             if len(pieces) >= max_pieces:
                 ends.append(BranchEnd(direction, PIECES, f"stopped after {max_pieces} pieces"))
                 break
-            branch = continuation(
-                problem,
-                x,
-                p,
-                param=param,
-                options=dataclasses.replace(opts, direction="forward" if sign > 0 else "backward"),
-            )
+            try:
+                branch = continuation(
+                    problem,
+                    x,
+                    p,
+                    param=param,
+                    options=dataclasses.replace(
+                        opts, direction="forward" if sign > 0 else "backward", step=min(opts.step, step)
+                    ),
+                )
+            except ConvergenceError as err:
+                if not pieces:  # no branch at all
+                    raise
+                # a piece that cannot start (beyond a section, grazing or corner): the direction ends
+                ends.append(BranchEnd(direction, Status.STALL.value, f"a piece at {param} = {p:.10g}: {err}"))
+                break
+            step = opts.step
             pieces.append(ImpactPiece(branch, problem.phase, problem.impacts, period_multiple))
             end = _far_end(branch, p, x)
             if end is None or end.reason != Status.EDGE.value or end.edge not in (SECTION, GRAZING):
                 reason = (
                     end.reason if end is not None else (branch.ends[-1][1] if branch.ends else branch.status)
                 )
-                ends.append(BranchEnd(direction, reason, end.message if end is not None else branch.message))
+                message = end.message if end is not None else branch.message
+                if (
+                    end is not None
+                    and reason == Status.STALL.value
+                    and at_the_laws_corner(problem, end.x, end.p)
+                ):
+                    seen = any(abs(end.p - q) <= 1e-6 * (1 + abs(q)) for q in corners)
+                    beyond = None if seen else across_the_corner(problem, branch, end, (p_min, p_max))
+                    if beyond is not None:
+                        corners.append(end.p)
+                        x, p, sign = beyond
+                        step = CORNER_STEPS[-1]  # the branch beyond turns within a hair of the corner
+                        continue
+                    message += corner_message(problem, end.p)
+                ends.append(BranchEnd(direction, reason, message))
                 break
             x_end, p_end = end.x, end.p
             sign = 1.0 if end.tangent is None or end.tangent[-1] >= 0 else -1.0

@@ -1,0 +1,91 @@
+"""The corner of the corrected impact model's map where an impact's speed crosses the measured
+law's least speed v_min (:mod:`slosh_bif.flows.impact.band`): below it kappa and D are held at
+their values there, so the map is continuous but its derivatives jump, and a branch of orbits
+reaching it has a corner: its continuation stalls there with vanishing steps (a branch whose slow
+impact reaches v_min often turns back in the parameter at that very point, a fold with a
+corner). The branch goes on beyond the corner on the other side of v_min, along the tangent of
+that side's map, and is continued from there.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from slosh_bif.continuation.corrector import newton_solve
+
+__all__ = ["CORNER_STEPS", "slowest_impact", "at_the_laws_corner", "corner_message", "across_the_corner"]
+
+CORNER_STEPS = (1e-6, 1e-5, 1e-4)  # parameter steps from the corner to the branch beyond it, in turn
+_AT = 1e-6  # an impact within this relative distance of v_min is at the corner
+_PAST = 1e-9  # a point beyond the corner: its slowest impact this far (relative) on the other side
+
+
+def slowest_impact(problem, x, p) -> float:
+    """The smallest impact speed over the orbit through x at p (NaN without impacts or a map)."""
+    m = problem.evaluate(np.asarray(x, dtype=float), p)
+    if m.code != 0 or len(m.impacts) == 0:
+        return math.nan
+    return float(np.abs(m.impacts[:, 2]).min())
+
+
+def at_the_laws_corner(problem, x, p) -> bool:
+    """Whether the orbit through x at p has an impact at the measured law's least speed (never for
+    (8), whose law (21) is smooth)."""
+    if problem.variant == "paper":
+        return False
+    v_min = problem.flow_at(p).wall.v_min
+    return abs(slowest_impact(problem, x, p) - v_min) <= _AT * v_min
+
+
+def corner_message(problem, p) -> str:
+    v_min = problem.flow_at(p).wall.v_min
+    return (
+        f": an impact there is at the measured law's least speed v = {v_min:g}, below which the law is "
+        "held constant, so the map has a corner there; no orbit found beyond it"
+    )
+
+
+def across_the_corner(problem, branch, end, p_range: tuple):
+    """(x, p, sign) of an orbit beyond the corner the run ``branch`` stalled at (its END point
+    ``end``), ``sign`` the parameter's direction away from the corner, or None where none is found
+    inside ``p_range``. The branch beyond leaves the corner along the null vector of the map's
+    [F_x, F_p] on the other side of v_min (the Jacobian at the corner's orbit moved a hair across,
+    along the slowest speed's gradient by differences): Newton at fixed parameter from steps of
+    :data:`CORNER_STEPS` along it, kept where its slowest impact lies on that side."""
+    if len(branch.p) < 2:
+        return None
+    x_end, p_end = np.asarray(end.x, dtype=float), float(end.p)
+    v_min = problem.flow_at(p_end).wall.v_min
+    before = slowest_impact(problem, branch.x[-2], branch.p[-2])
+    if not math.isfinite(before) or abs(before - v_min) <= _PAST * v_min:
+        return None
+    other = -1.0 if before > v_min else 1.0  # the side of v_min beyond the corner
+    v0, gradient = _speed_gradient(problem, x_end, p_end)
+    if not np.all(np.isfinite(gradient)) or not gradient @ gradient > 0:
+        return None
+    across = x_end + gradient * (v_min * (1 + other * 1e-5) - v0) / (gradient @ gradient)
+    rows = np.column_stack([problem.jacobian(across, p_end), problem.dparam(across, p_end)])
+    tangent = np.linalg.svd(rows)[2][-1]
+    tangent = tangent if other * (gradient @ tangent[:4]) > 0 else -tangent
+    for step in CORNER_STEPS:
+        q = p_end + step * tangent[-1]
+        if not p_range[0] <= q <= p_range[1]:
+            continue
+        run = newton_solve(problem, x_end + step * tangent[:4], q, tol=1e-12)
+        if not run.converged or not problem.in_domain(run.x, q):
+            continue
+        if other * (slowest_impact(problem, run.x, q) - v_min) > _PAST * v_min:
+            return run.x, q, 1.0 if tangent[-1] >= 0 else -1.0
+    return None
+
+
+def _speed_gradient(problem, x, p, h: float = 1e-7):
+    """The slowest impact speed at x and its gradient in x by central differences."""
+    gradient = np.empty(4)
+    for i in range(4):
+        e = np.zeros(4)
+        e[i] = h
+        gradient[i] = (slowest_impact(problem, x + e, p) - slowest_impact(problem, x - e, p)) / (2 * h)
+    return slowest_impact(problem, x, p), gradient
