@@ -32,7 +32,7 @@ __all__ = [
     "band",
     "law_arrays",
     "inside_measured_wall",
-    "leaving_measured_wall",
+    "within_measured_band",
 ]
 
 BAND_LEVEL = 5  # the band's step: the sample step / 32
@@ -57,12 +57,13 @@ def inside_measured_wall(wall, y) -> float:
     return float(wall.clearance(v)) - abs(float(y[2]))
 
 
-def leaving_measured_wall(wall, y) -> bool:
-    """Whether the particle at state y moves away from the nearer wall within the band a rebound
-    can leave it in (|w| up to the highest clearance): a state of a flight that left the wall
-    beyond D(v_min), where g (:func:`inside_measured_wall`) is still positive, and the flow carries
-    it away from the wall."""
-    return float(np.sign(y[2]) * y[3]) < 0.0 and abs(float(y[2])) <= wall.highest_clearance
+def within_measured_band(wall, y) -> bool:
+    """Whether the particle at state y lies within the band a rebound can leave it in (|w| up to
+    the highest clearance over the measured speeds), whatever g says: a flight that left the wall
+    beyond D(v_min) starts where g, read at v_min for a particle moving away, counts it inside the
+    wall, and one that turns back before leaving the band (a soft wall's two impacts on one side)
+    approaches from there; the flow carries such states on as its own."""
+    return abs(float(y[2])) <= wall.highest_clearance
 
 
 @jit(inline=True)

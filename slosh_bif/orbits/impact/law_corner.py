@@ -15,7 +15,14 @@ import numpy as np
 
 from slosh_bif.continuation.corrector import newton_solve
 
-__all__ = ["CORNER_STEPS", "slowest_impact", "at_the_laws_corner", "corner_message", "across_the_corner"]
+__all__ = [
+    "CORNER_STEPS",
+    "slowest_impact",
+    "at_the_laws_corner",
+    "corner_message",
+    "across_the_corner",
+    "neighbour",
+]
 
 CORNER_STEPS = (1e-6, 1e-5, 1e-4)  # parameter steps from the corner to the branch beyond it, in turn
 _AT = 1e-6  # an impact within this relative distance of v_min is at the corner
@@ -58,7 +65,8 @@ def across_the_corner(problem, branch, end, p_range: tuple):
         return None
     x_end, p_end = np.asarray(end.x, dtype=float), float(end.p)
     v_min = problem.flow_at(p_end).wall.v_min
-    before = slowest_impact(problem, branch.x[-2], branch.p[-2])
+    k = neighbour(branch, end)
+    before = slowest_impact(problem, branch.x[k], branch.p[k])
     if not math.isfinite(before) or abs(before - v_min) <= _PAST * v_min:
         return None
     other = -1.0 if before > v_min else 1.0  # the side of v_min beyond the corner
@@ -79,6 +87,12 @@ def across_the_corner(problem, branch, end, p_range: tuple):
         if other * (slowest_impact(problem, run.x, q) - v_min) > _PAST * v_min:
             return run.x, q, 1.0 if tangent[-1] >= 0 else -1.0
     return None
+
+
+def neighbour(branch, end) -> int:
+    """The index of the branch's point next to its END point ``end`` (the arrays are in arclength
+    order, a backward run's reversed)."""
+    return end.index - 1 if end.index > 0 else end.index + 1
 
 
 def _speed_gradient(problem, x, p, h: float = 1e-7):

@@ -25,7 +25,7 @@ from collections import OrderedDict
 import numpy as np
 from scipy import optimize
 
-from slosh_bif.flows.impact.band import inside_measured_wall, leaving_measured_wall
+from slosh_bif.flows.impact.band import inside_measured_wall, within_measured_band
 from slosh_bif.flows.impact.flow import IMPACT_VARIANTS, LINEAR_PARAMETERS, WALL_PARAMETERS, ImpactFlow
 from slosh_bif.model.params import Params
 from slosh_bif.orbits.impact.map_derivatives import ImpactMapDerivatives
@@ -181,8 +181,9 @@ class ImpactOrbitProblem:
 
     def admissible(self, x, p) -> bool:
         """(x, p) may be mapped: p inside the ``box``, a parameter set with a positive vessel
-        stiffness, the particle between the walls (for the measured wall: or leaving it from
-        beyond D(v_min), where a rebound at speed put it) and the state finite and within
+        stiffness, the particle between the walls (for the measured wall: or within the band beyond
+        D(v_min) where a rebound at speed leaves it,
+        :func:`~slosh_bif.flows.impact.band.within_measured_band`) and the state finite and within
         ``state_bound``."""
         if self.box is not None and not self.box[0] <= p <= self.box[1]:
             return False
@@ -196,7 +197,7 @@ class ImpactOrbitProblem:
             return False
         if self.wall_distance(x, p) >= 0.0:
             return True
-        return self.variant != "paper" and leaving_measured_wall(self.flow_at(p).wall, x)
+        return self.variant != "paper" and within_measured_band(self.flow_at(p).wall, x)
 
     def in_domain(self, x, p) -> bool:
         if not self.admissible(x, p):
