@@ -21,10 +21,9 @@ __all__ = [
     "at_the_laws_corner",
     "corner_message",
     "across_the_corner",
-    "neighbour",
 ]
 
-CORNER_STEPS = (1e-6, 1e-5, 1e-4)  # parameter steps from the corner to the branch beyond it, in turn
+CORNER_STEPS = (1e-6, 1e-5, 1e-4)  # steps along the tangent from the corner to the branch beyond
 _AT = 1e-6  # an impact within this relative distance of v_min is at the corner
 _PAST = 1e-9  # a point beyond the corner: its slowest impact this far (relative) on the other side
 
@@ -47,6 +46,7 @@ def at_the_laws_corner(problem, x, p) -> bool:
 
 
 def corner_message(problem, p) -> str:
+    """Why a run ended at the corner where no orbit was found beyond it (appended to its END's)."""
     v_min = problem.flow_at(p).wall.v_min
     return (
         f": an impact there is at the measured law's least speed v = {v_min:g}, below which the law is "
@@ -65,7 +65,7 @@ def across_the_corner(problem, branch, end, p_range: tuple):
         return None
     x_end, p_end = np.asarray(end.x, dtype=float), float(end.p)
     v_min = problem.flow_at(p_end).wall.v_min
-    k = neighbour(branch, end)
+    k = _neighbour(branch, end)
     before = slowest_impact(problem, branch.x[k], branch.p[k])
     if not math.isfinite(before) or abs(before - v_min) <= _PAST * v_min:
         return None
@@ -89,7 +89,7 @@ def across_the_corner(problem, branch, end, p_range: tuple):
     return None
 
 
-def neighbour(branch, end) -> int:
+def _neighbour(branch, end) -> int:
     """The index of the branch's point next to its END point ``end`` (the arrays are in arclength
     order, a backward run's reversed)."""
     return end.index - 1 if end.index > 0 else end.index + 1
