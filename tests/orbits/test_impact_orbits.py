@@ -428,3 +428,24 @@ def test_a_corrected_branch_goes_on_past_the_corner_of_the_laws_least_speed():
         )
         assert run.success
         np.testing.assert_allclose(run.y[:, -1], x, rtol=0, atol=1e-7)
+
+
+@pytest.mark.slow  # a branch of several pieces (7 s); the corner's fast test is the one above
+def test_a_corner_crept_up_to_is_crossed_and_not_called_a_grazing():
+    """Another random set (n = 6, pbar = 2, lam 0.563, chi 1.082): the asymmetric branch creeps up
+    to the law's corner (an impact at 0.05, whose grazing gap v^2 / 2a is 7e-4) and ended there as
+    at a grazing point, from which a chart then tried to start a grazing curve and failed. The
+    corner is crossed (the side it came from read off the piece before, whose points are clear of
+    it), and every grazing point the branch records is one: its gap vanishes."""
+    from slosh_bif.orbits.impact.branches import settled_orbit
+
+    at = get_preset("fig10").params.replace(
+        eps=0.0723, beta=0.223, gamma=0.297, sigma=-2.389, Abar=2.583, lam=0.563, chi=1.082, n=6, pbar=2
+    )
+    x0 = settled_orbit(at, get_preset("fig10").state0, periods=150, variant="corrected")
+    branch = trace_impact_orbits(at, x0, p_min=-4.389, p_max=-0.389, variant="corrected")
+    assert len(branch.grazing) == 2
+    for p, x, phase in branch.grazing:
+        problem = ImpactOrbitProblem(at, variant="corrected", phase=phase)
+        assert abs(problem.grazing(x, p).gap) < 1e-9
+    assert max(piece.branch.p.max() for piece in branch.pieces) > -0.5  # beyond the corner at -0.5525

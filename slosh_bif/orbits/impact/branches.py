@@ -214,7 +214,7 @@ def trace_impact_orbits(
         phase, x = quiet_section(first, run.x, p0)
         p, sign = p0, 1.0 if direction == "forward" else -1.0
         problem = _problem(first, phase, x, p)
-        step = opts.step
+        step, this_direction = opts.step, len(pieces)  # the index of this direction's first piece
         while True:
             if len(pieces) >= max_pieces:
                 ends.append(BranchEnd(direction, PIECES, f"stopped after {max_pieces} pieces"))
@@ -238,25 +238,32 @@ def trace_impact_orbits(
             step = opts.step
             pieces.append(ImpactPiece(branch, problem.phase, problem.impacts, period_multiple))
             end = _far_end(branch, p, x)
+            # a run stalls at the law's corner, or creeps up to it as to a grazing (an impact at
+            # v_min has a grazing gap of v_min^2 / 2a, small)
+            stopped = end is not None and (
+                end.reason == Status.STALL.value or (end.reason == Status.EDGE.value and end.edge == GRAZING)
+            )
+            if stopped and at_the_laws_corner(problem, end.x, end.p):
+                seen = any(abs(end.p - q) <= 1e-6 * (1 + abs(q)) for q in corners)
+                before = pieces[-2] if len(pieces) - 2 >= this_direction else None
+                earlier = (
+                    None
+                    if before is None
+                    else (first.replace(phase=before.phase, impacts=before.impacts), before.branch)
+                )
+                beyond = None if seen else across_the_corner(problem, branch, end, (p_min, p_max), earlier)
+                if beyond is not None:
+                    corners.append(end.p)
+                    x, p, sign = beyond
+                    step = CORNER_STEPS[-1]  # the branch beyond turns within a hair of the corner
+                    continue
+                ends.append(BranchEnd(direction, end.reason, end.message + corner_message(problem, end.p)))
+                break
             if end is None or end.reason != Status.EDGE.value or end.edge not in (SECTION, GRAZING):
                 reason = (
                     end.reason if end is not None else (branch.ends[-1][1] if branch.ends else branch.status)
                 )
-                message = end.message if end is not None else branch.message
-                if (
-                    end is not None
-                    and reason == Status.STALL.value
-                    and at_the_laws_corner(problem, end.x, end.p)
-                ):
-                    seen = any(abs(end.p - q) <= 1e-6 * (1 + abs(q)) for q in corners)
-                    beyond = None if seen else across_the_corner(problem, branch, end, (p_min, p_max))
-                    if beyond is not None:
-                        corners.append(end.p)
-                        x, p, sign = beyond
-                        step = CORNER_STEPS[-1]  # the branch beyond turns within a hair of the corner
-                        continue
-                    message += corner_message(problem, end.p)
-                ends.append(BranchEnd(direction, reason, message))
+                ends.append(BranchEnd(direction, reason, end.message if end is not None else branch.message))
                 break
             x_end, p_end = end.x, end.p
             sign = 1.0 if end.tangent is None or end.tangent[-1] >= 0 else -1.0

@@ -54,20 +54,21 @@ def corner_message(problem, p) -> str:
     )
 
 
-def across_the_corner(problem, branch, end, p_range: tuple):
+def across_the_corner(problem, branch, end, p_range: tuple, previous=None):
     """(x, p, sign) of an orbit beyond the corner the run ``branch`` stalled at (its END point
     ``end``), ``sign`` the parameter's direction away from the corner, or None where none is found
-    inside ``p_range``. The branch beyond leaves the corner along the null vector of the map's
-    [F_x, F_p] on the other side of v_min (the Jacobian at the corner's orbit moved a hair across,
-    along the slowest speed's gradient by differences): Newton at fixed parameter from steps of
-    :data:`CORNER_STEPS` along it, kept where its slowest impact lies on that side."""
-    if len(branch.p) < 2:
-        return None
+    inside ``p_range``; ``previous``: (problem, branch) of the piece before the run, whose points
+    tell the side the corner was reached from where the run's own are all at it. The branch beyond
+    leaves the corner along the null vector of the map's [F_x, F_p] on the other side of v_min (the
+    Jacobian at the corner's orbit moved a hair across, along the slowest speed's gradient by
+    differences): Newton at fixed parameter from steps of :data:`CORNER_STEPS` along it, kept where
+    its slowest impact lies on that side."""
     x_end, p_end = np.asarray(end.x, dtype=float), float(end.p)
     v_min = problem.flow_at(p_end).wall.v_min
-    k = _neighbour(branch, end)
-    before = slowest_impact(problem, branch.x[k], branch.p[k])
-    if not math.isfinite(before) or abs(before - v_min) <= _PAST * v_min:
+    before = _came_from(problem, branch, end, v_min)
+    if before is None and previous is not None:
+        before = _nearest_clear(*previous, end.p, v_min)
+    if before is None:
         return None
     other = -1.0 if before > v_min else 1.0  # the side of v_min beyond the corner
     v0, gradient = _speed_gradient(problem, x_end, p_end)
@@ -89,10 +90,30 @@ def across_the_corner(problem, branch, end, p_range: tuple):
     return None
 
 
-def _neighbour(branch, end) -> int:
-    """The index of the branch's point next to its END point ``end`` (the arrays are in arclength
-    order, a backward run's reversed)."""
-    return end.index - 1 if end.index > 0 else end.index + 1
+def _came_from(problem, branch, end, v_min, most: int = 50):
+    """The slowest impact speed of the run's nearest point before its END ``end`` clear of v_min
+    (by :data:`_AT`): a run that crept up to the corner has many points at it. None where there is
+    none within ``most`` points (the arrays are in arclength order, a backward run's reversed)."""
+    back = -1 if end.index > 0 else 1
+    for k in range(end.index + back, end.index + back * most, back):
+        if not 0 <= k < len(branch.p):
+            return None
+        v = slowest_impact(problem, branch.x[k], branch.p[k])
+        if not math.isfinite(v):
+            return None
+        if abs(v - v_min) > _AT * v_min:
+            return v
+    return None
+
+
+def _nearest_clear(problem, branch, p, v_min, most: int = 50):
+    """The slowest impact speed of ``branch``'s point nearest p in the parameter that is clear of
+    v_min, among its ``most`` nearest (None where none is)."""
+    for k in np.argsort(np.abs(np.asarray(branch.p) - p))[:most]:
+        v = slowest_impact(problem, branch.x[k], branch.p[k])
+        if math.isfinite(v) and abs(v - v_min) > _AT * v_min:
+            return v
+    return None
 
 
 def _speed_gradient(problem, x, p, h: float = 1e-7):
