@@ -92,24 +92,23 @@ def across_the_corner(problem, branch, end, p_range: tuple, previous=None):
 
 def _came_from(problem, branch, end, v_min, most: int = 50):
     """The slowest impact speed of the run's nearest point before its END ``end`` clear of v_min
-    (by :data:`_AT`): a run that crept up to the corner has many points at it. None where there is
-    none within ``most`` points (the arrays are in arclength order, a backward run's reversed)."""
+    (by :data:`_AT`), among ``most``: a run that crept up to the corner has many points at it (the
+    arrays are in arclength order, a backward run's reversed)."""
     back = -1 if end.index > 0 else 1
-    for k in range(end.index + back, end.index + back * most, back):
-        if not 0 <= k < len(branch.p):
-            return None
-        v = slowest_impact(problem, branch.x[k], branch.p[k])
-        if not math.isfinite(v):
-            return None
-        if abs(v - v_min) > _AT * v_min:
-            return v
-    return None
+    steps = range(end.index + back, end.index + back * most, back)
+    return _first_clear(problem, branch, [k for k in steps if 0 <= k < len(branch.p)], v_min)
 
 
 def _nearest_clear(problem, branch, p, v_min, most: int = 50):
     """The slowest impact speed of ``branch``'s point nearest p in the parameter that is clear of
-    v_min, among its ``most`` nearest (None where none is)."""
-    for k in np.argsort(np.abs(np.asarray(branch.p) - p))[:most]:
+    v_min, among its ``most`` nearest."""
+    return _first_clear(problem, branch, np.argsort(np.abs(np.asarray(branch.p) - p))[:most], v_min)
+
+
+def _first_clear(problem, branch, indices, v_min):
+    """The slowest impact speed of the first of ``branch``'s points at ``indices`` clear of v_min
+    (None where none is)."""
+    for k in indices:
         v = slowest_impact(problem, branch.x[k], branch.p[k])
         if math.isfinite(v) and abs(v - v_min) > _AT * v_min:
             return v
