@@ -449,3 +449,38 @@ def test_a_corner_crept_up_to_is_crossed_and_not_called_a_grazing():
         problem = ImpactOrbitProblem(at, variant="corrected", phase=phase)
         assert abs(problem.grazing(x, p).gap) < 1e-9
     assert max(piece.branch.p.max() for piece in branch.pieces) > -0.5  # beyond the corner at -0.5525
+
+
+def test_a_fold_tests_sign_change_at_the_laws_corner_is_no_fold():
+    """A soft wall's period-2 orbits (n = 3, pbar = 3, lam 0.056, chi 1.255; a random set), stepped
+    across the law's corner without stalling: the fold test changes sign there and was located as
+    an LP at sigma = 0.425527 (judged "a jump, a = -2.7"), whose multipliers (1.244 +- 0.063i,
+    0.787, 0.387) have none at 1, and a chart's fold curve failed to start from it. The corner is
+    where the slowest impact is at 0.05 (by ``simulate_impact``'s own impact speeds), and no
+    special point is reported there; the fold of the smooth part (0.426109) is."""
+    at = get_preset("fig10").params.replace(
+        eps=0.0426,
+        beta=0.281,
+        gamma=0.059,
+        sigma=0.4301023757693159,
+        Abar=1.23,
+        lam=0.056,
+        chi=1.255,
+        n=3,
+        pbar=3,
+    )
+    y0 = np.array([-1.96486609, 0.41721625, 0.28745567, 1.63980181])  # tau = 0, from the family's orbit
+    x0 = newton(ImpactOrbitProblem(at, variant="corrected", period_multiple=2), y0, at.sigma)
+    branch = trace_impact_orbits(at, x0, p_min=0.40, p_max=0.44, period_multiple=2, variant="corrected")
+    special = [(s, piece) for piece in branch.pieces for s in piece.branch.special if s.kind != "END"]
+    assert any(s.kind == "LP" and abs(s.p - 0.426109) < 1e-5 for s, _ in special)
+    for s, piece in special:
+        run = simulate_impact(
+            at.replace(sigma=float(s.p)),
+            s.x,
+            (piece.phase, piece.phase + 4 * np.pi),
+            sample_step=0.02,
+            variant="corrected",
+            continued=True,
+        )
+        assert abs(np.abs(run.impact_v_minus).min() - 0.05) > 1e-4, (s.kind, s.p)

@@ -41,6 +41,7 @@ from slosh_bif.orbits.impact.law_corner import (
     across_the_corner,
     at_the_laws_corner,
     corner_message,
+    without_corner_points,
 )
 from slosh_bif.orbits.impact.problem import GRAZING, SECTION, VARIANT_NAMES, ImpactOrbitProblem
 
@@ -236,6 +237,7 @@ def trace_impact_orbits(
                 ends.append(BranchEnd(direction, Status.STALL.value, f"a piece at {param} = {p:.10g}: {err}"))
                 break
             step = opts.step
+            branch = without_corner_points(problem, branch)
             pieces.append(ImpactPiece(branch, problem.phase, problem.impacts, period_multiple))
             end = _far_end(branch, p, x)
             # a run stalls at the law's corner, or creeps up to it as to a grazing (an impact at

@@ -9,10 +9,12 @@ that side's map, and is continued from there.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
 
+from slosh_bif.continuation.branch import END
 from slosh_bif.continuation.corrector import newton_solve
 
 __all__ = [
@@ -21,6 +23,7 @@ __all__ = [
     "at_the_laws_corner",
     "corner_message",
     "across_the_corner",
+    "without_corner_points",
 ]
 
 CORNER_STEPS = (1e-6, 1e-5, 1e-4)  # steps along the tangent from the corner to the branch beyond
@@ -43,6 +46,17 @@ def at_the_laws_corner(problem, x, p) -> bool:
         return False
     v_min = problem.flow_at(p).wall.v_min
     return abs(slowest_impact(problem, x, p) - v_min) <= _AT * v_min
+
+
+def without_corner_points(problem, branch):
+    """``branch`` without the special points its tests located at the law's corner: a fold test's
+    or a multiplier's sign change across the corner is the jump of the map's derivatives there, no
+    bifurcation of a smooth map (a chart's fold curve cannot start from it: no multiplier is at
+    1), so it is not reported as one. Its END points stay."""
+    if problem.variant == "paper":
+        return branch
+    keep = tuple(s for s in branch.special if s.kind == END or not at_the_laws_corner(problem, s.x, s.p))
+    return branch if len(keep) == len(branch.special) else dataclasses.replace(branch, special=keep)
 
 
 def corner_message(problem, p) -> str:
