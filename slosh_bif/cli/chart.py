@@ -79,10 +79,9 @@ def _chart_on(args, executor) -> int:
         raise ValueError(f"--seeds must be an integer >= 0; got {args.seeds}")
     check_workers(args)
     impact = args.model in ("impact", "impact-corrected")
-    if impact and (args.second != "Abar" or args.resume):
+    if impact and args.second != "Abar":
         raise ValueError(
-            f"--model {args.model} draws the (sigma, Abar) chart of an impact model in one run: without "
-            "--second and --resume"
+            f"--model {args.model} draws the (sigma, Abar) chart of an impact model: without --second"
         )
     if impact and args.backend != "auto" and args.regimes is None:
         raise ValueError(
@@ -219,6 +218,7 @@ def _trace_chart(args, params, state0, box, executor, say, resume):
             settings=ChartSettings(seeds=args.seeds, workers=args.workers, executor=executor),
             progress=say,
             variant="corrected" if args.model == "impact-corrected" else "paper",
+            resume=resume,
         )
     return bifurcation_chart(
         params,
@@ -303,7 +303,13 @@ def add_commands(sub) -> None:
     )
     add_scheduler_option(chart)
     chart.add_argument("--out", type=out_path, required=True, help="output folder (created if missing)")
-    chart.add_argument(
+    add_model_option(chart)
+    chart.set_defaults(run=_chart)
+
+
+def add_model_option(parser) -> None:
+    """``--model``: whose curves a chart draws (``chart``, and each chart of ``study``)."""
+    parser.add_argument(
         "--model",
         choices=("slowflow", "corrected", "impact", "impact-corrected"),
         default="slowflow",
@@ -312,7 +318,6 @@ def add_commands(sub) -> None:
         "with (46) beside them; 'impact-corrected': those of the corrected impact model ((9)'s "
         "flights, its wall's measured law)",
     )
-    chart.set_defaults(run=_chart)
 
 
 def warn_below_box(chart, command: str, where: str = "") -> None:

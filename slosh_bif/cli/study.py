@@ -1,9 +1,10 @@
-"""``slosh-bif study``: a design study, one (sigma, Abar) chart of (9) per value of a parameter of
-the set or of a tank's quantity (:mod:`slosh_bif.studies.design`), on local processes or a dask
-cluster, resumable."""
+"""``slosh-bif study``: a design study, one (sigma, Abar) chart of (9) or an impact model per value
+of a parameter of the set or of a tank's quantity (:mod:`slosh_bif.studies.design`), on local
+processes or a dask cluster, resumable."""
 
 from __future__ import annotations
 
+from slosh_bif.cli.chart import add_model_option
 from slosh_bif.cli.common import (
     abar_range,
     add_abar_range_options,
@@ -30,6 +31,7 @@ def _study(args) -> int:
 
     params = params_of(args)
     name, values, at_value = _varied(args)
+    slow = "slowflow" if args.model.startswith("impact") else args.model  # the slow flow drawn beside
     lo, hi = sigma_range(args)
     a_lo, a_hi = abar_range(args, default=(0.2, 2 * params.Abar))
     if args.seeds < 0:
@@ -46,9 +48,10 @@ def _study(args) -> int:
             box={"sigma": (lo, hi), "Abar": (a_lo, a_hi)},
             folder=args.out,
             resume=args.resume,
-            settings=ChartSettings(seeds=args.seeds, workers=args.workers, executor=executor),
+            settings=ChartSettings(seeds=args.seeds, workers=args.workers, executor=executor, model=slow),
             progress=throttled(progress, passes=lambda message: ": point " not in message),
             at_value=at_value,
+            model=args.model if args.model.startswith("impact") else "smooth",
         )
     paths = [write_study_csv(study, args.out / "study.csv"), plot_study(study, args.out / "study.png")]
     for v in study.values:
@@ -87,8 +90,8 @@ def add_commands(sub) -> None:
     """Register ``study`` on the ``slosh-bif`` subparsers ``sub``."""
     study = sub.add_parser(
         "study",
-        help="a design study: one (sigma, Abar) chart of (9) per value of a third parameter, and how the "
-        "critical forcing and the way it is lost move with it",
+        help="a design study: one (sigma, Abar) chart of (9) (or, --model, of an impact model) per value "
+        "of a third parameter, and how the critical forcing and the way it is lost move with it",
         epilog="exit status: 0 when every value was charted, 3 when a value was not (its reason in "
         "study.csv), 2 for bad input, 130/143 when interrupted (--resume continues)",
     )
@@ -117,6 +120,7 @@ def add_commands(sub) -> None:
         help="worker processes (default: one per core); with --scheduler, curves at once on the cluster",
     )
     add_scheduler_option(study)
+    add_model_option(study)
     study.add_argument(
         "--resume", action="store_true", help="reuse the curves an interrupted run stored in --out"
     )

@@ -1,9 +1,10 @@
-"""A design study over a third parameter: one (sigma, Abar) chart of (9) per value of a parameter
-of the set (beta, gamma, eps, lam, chi, ...), and how the full model's critical forcing Abar_c
-(the lowest forcing with a stable periodic response lost, read off each chart's curves) and the
-way it is lost (a jump or soft: the normal-form coefficients along the curves) move with it,
-beside the slow flow's Abar_b of (46). Each value's curves are stored as the chart stores them,
-so that a study stopped part way resumes where it stopped."""
+"""A design study over a third parameter: one (sigma, Abar) chart of (9), or of the impact model
+(8) or its corrected variant, per value of a parameter of the set (beta, gamma, eps, lam, chi,
+...), and how the full model's critical forcing Abar_c (the lowest forcing with a stable periodic
+response lost, read off each chart's curves) and the way it is lost (a jump or soft: the
+normal-form coefficients along the curves) move with it, beside the slow flow's Abar_b of (46).
+Each value's curves are stored as the chart stores them, so that a study stopped part way resumes
+where it stopped."""
 
 from __future__ import annotations
 
@@ -15,9 +16,11 @@ import numpy as np
 
 from slosh_bif.model.parameter_file import TANK_KEYS
 from slosh_bif.model.params import REAL_FIELDS, Params
+from slosh_bif.orbits.impact.problem import VARIANT_NAMES
 from slosh_bif.report.files import Resume
 from slosh_bif.report.tables import write_rows
 from slosh_bif.studies.chart.critical import critical_rows
+from slosh_bif.studies.chart.impact import impact_chart
 from slosh_bif.studies.chart.output import chart_settings, curve_store
 from slosh_bif.studies.chart.result import ChartSettings, check_box
 from slosh_bif.studies.chart.smooth import bifurcation_chart
@@ -28,6 +31,7 @@ __all__ = [
     "parse_vary",
     "design_study",
     "STUDY_COLUMNS",
+    "STUDY_MODELS",
     "write_study_csv",
     "plot_study",
     "least_critical",
@@ -43,6 +47,9 @@ STUDY_COLUMNS = (
     "below_box",
     "status",
 )
+
+# the models a study charts: (9), the impact model (8) and the corrected impact model
+STUDY_MODELS = ("smooth", "impact", "impact-corrected")
 
 
 def parse_vary(text: str, tank: dict | None = None) -> tuple:
@@ -88,12 +95,14 @@ class StudyValue:
 
 @dataclasses.dataclass(frozen=True)
 class Study:
-    """The charts of a study over ``name``: one :class:`StudyValue` per value, in order."""
+    """The charts of a study over ``name``: one :class:`StudyValue` per value, in order, of the
+    model ``orbits`` names ("(9)", "(8)", ...)."""
 
     name: str
     values: tuple
     sigma_range: tuple
     abar_range: tuple
+    orbits: str = "(9)"
 
     @property
     def complete(self) -> bool:
@@ -112,15 +121,19 @@ def design_study(
     settings: ChartSettings = ChartSettings(),
     progress=None,
     at_value=None,
+    model: str = "smooth",
 ) -> Study:
-    """One chart of (9) per value of ``name`` over ``box`` ({"sigma": range, "Abar": range}), its curves
-    stored under ``folder/value-K/curves`` (``resume``: reused from an earlier run with the same
-    settings). A value whose set is not admissible (its parameter file's own check) is recorded
-    with the reason and skipped; a chart stopped part way (Ctrl-C) stops the study there.
-    ``at_value(value)``: the parameter set at a value (a tank converted at its fill depth, say;
-    a ValueError where it has none), instead of ``params`` with ``name`` replaced. ``state0``: the
-    initial state of the charts' simulations, or a function of a value's parameter set giving it
-    (a preset's ``state_for``, scaled with each value's eps, as ``chart`` would start there)."""
+    """One chart of ``model`` (one of :data:`STUDY_MODELS`) per value of ``name`` over ``box``
+    ({"sigma": range, "Abar": range}), its curves stored under ``folder/value-K/curves``
+    (``resume``: reused from an earlier run with the same settings). A value whose set is not
+    admissible (its parameter file's own check) is recorded with the reason and skipped; a chart
+    stopped part way (Ctrl-C) stops the study there. ``at_value(value)``: the parameter set at a
+    value (a tank converted at its fill depth, say; a ValueError where it has none), instead of
+    ``params`` with ``name`` replaced. ``state0``: the initial state of the charts' simulations, or
+    a function of a value's parameter set giving it (a preset's ``state_for``, scaled with each
+    value's eps, as ``chart`` would start there)."""
+    if model not in STUDY_MODELS:
+        raise ValueError(f"model must be one of {', '.join(STUDY_MODELS)}; got {model!r}")
     say = progress or (lambda message: None)
     sigma_range, abar_range = tuple(box["sigma"]), tuple(box["Abar"])
     done = []
@@ -133,25 +146,48 @@ def design_study(
             continue
         say(f"{name} = {value:.6g}: chart {k + 1} of {len(values)}")
         options = dict(switch=True, seeds=settings.seeds, backend="auto")
+        if model != "smooth":  # as ``chart --model`` stores it
+            options["model"] = model
         start = state0(at) if callable(state0) else state0
         stored = chart_settings(at, start, sigma_range, abar_range, **options)
         store = curve_store(Path(folder) / f"value-{k:03d}" / "curves", stored, resume=resume)
-        chart = bifurcation_chart(
-            at,
-            start,
-            box={"sigma": sigma_range, "Abar": abar_range},
-            settings=settings,
-            progress=lambda message, k=k: say(f"{name} = {values[k]:.6g}: {message}"),
-            resume=Resume(*store),
-        )
+        say_k = lambda message, k=k: say(f"{name} = {values[k]:.6g}: {message}")  # noqa: E731
+        chart = _chart(model, at, start, (sigma_range, abar_range), settings, Resume(*store), say_k)
         done.append(StudyValue(float(value), chart, chart.status))
         if chart.status != "complete":
             break
-    return Study(name, tuple(done), tuple(sigma_range), tuple(abar_range))
+    orbits = (
+        "(9)" if model == "smooth" else VARIANT_NAMES["corrected" if model == "impact-corrected" else "paper"]
+    )
+    return Study(name, tuple(done), tuple(sigma_range), tuple(abar_range), orbits)
+
+
+def _chart(model, params, state0, box, settings, resume, say):
+    """One value's chart of ``model`` over ``box`` (sigma range, Abar range)."""
+    sigma_range, abar_range = box
+    if model == "smooth":
+        return bifurcation_chart(
+            params,
+            state0,
+            box={"sigma": sigma_range, "Abar": abar_range},
+            settings=settings,
+            progress=say,
+            resume=resume,
+        )
+    return impact_chart(
+        params,
+        state0,
+        sigma_range=sigma_range,
+        abar_range=abar_range,
+        settings=settings,
+        progress=say,
+        variant="corrected" if model == "impact-corrected" else "paper",
+        resume=resume,
+    )
 
 
 def study_rows(study: Study, points: int = 57):
-    """Per value and sigma: Abar_b of (46), Abar_c of (9), the kind of curve that sets it, how
+    """Per value and sigma: Abar_b of (46), Abar_c of the study's model, the kind of curve that sets it, how
     the response is lost there and whether it may lie below the box (``critical.csv``'s columns,
     :func:`~slosh_bif.studies.chart.critical.critical_rows`); a value that was not charted has one
     row with its reason."""
@@ -190,7 +226,7 @@ def least_critical(rows, abar_min: float) -> tuple:
 
 
 def plot_study(study: Study, path) -> Path:
-    """Left: Abar_c(sigma) of (9) for each value (a colour a value; solid where the response is
+    """Left: Abar_c(sigma) of the study's model for each value (a colour a value; solid where the response is
     lost softly, dashed where by a jump, dotted where undetermined) and the slow flow's Abar_b
     (thin); right: against the value, the least Abar_c over sigma and where it is."""
     from slosh_bif.report.plotting import pyplot, save_figure
@@ -215,7 +251,7 @@ def plot_study(study: Study, path) -> Path:
     left.set_xlim(*study.sigma_range)
     left.set_ylim(*study.abar_range)
     left.set_xlabel(r"detuning $\sigma$")
-    left.set_ylabel(r"critical forcing $\bar A_c$ of (9)")
+    left.set_ylabel(rf"critical forcing $\bar A_c$ of {study.orbits}")
     left.set_title(
         "solid: lost softly; dashed: a jump; dotted: undetermined; dash-dot: the slow flow's Abar_b (46)",
         fontsize=9,

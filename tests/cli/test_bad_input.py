@@ -38,6 +38,7 @@ GUESS = ["shoot", "--preset", "fig10", "--guess", "0.1,0,0,0"]
         (["simulate", "--preset", "fig10", "--set", "sigma=1e6"], "eps * sigma = 50000 >= 1"),
         (["basins", "--preset", "fig10", "--set", "sigma=30", "--grid", "3", "3"], "eps * sigma = 1.5 >= 1"),
         (["answer", "regime", "--preset", "fig10", "--set", "sigma=30"], "eps * sigma = 1.5 >= 1"),
+        (["chart", "--preset", "fig13", "--set", "eps=1.2", "--sigma-max", "2"], "eps * sigma = 1.2 >= 1"),
         ([*TANK, "--radius", "1e9"], "too shallow for the sloshing-mode series"),
         (
             ["shoot", "--preset", "fig10", "--model", "impact", "--start", "scan"],

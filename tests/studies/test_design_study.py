@@ -114,3 +114,63 @@ def test_the_least_critical_forcing_below_the_box_is_not_read_as_the_lowest_insi
     reaching = [dict(sigma=-2.0, Abar_c_full=float("nan"), below_box=1), *inside]
     value, sigma, below = least_critical(reaching, 0.2)
     assert (value, below) == (0.2, True) and sigma != sigma
+
+
+IMPACT_BOX = [
+    "--sigma-min",
+    "0.5",
+    "--sigma-max",
+    "1.5",
+    "--abar-min",
+    "0.5",
+    "--abar-max",
+    "1.2",
+    "--seeds",
+    "1",
+]
+
+
+def test_an_impact_models_study_is_its_charts_and_resumes_from_its_stored_curves(tmp_path, capsys):
+    """``--model impact``: each value's rows are those of ``chart --model impact`` run on its own
+    at that value (the same orbits of (8), read the same way); a value whose stored curves were
+    lost is traced again on ``--resume`` and the other reuses its own, the file unchanged (and a
+    chart of (8) resumes from its stored curves)."""
+    out = tmp_path / "study"
+    argv = ["study", "--preset", "fig13", "--model", "impact", "--vary", "beta=0.1:0.3:2", *IMPACT_BOX]
+    assert main([*argv, "--out", str(out)]) == 0
+    rows = _rows(out / "study.csv")
+    alone = tmp_path / "chart"
+    chart = ["chart", "--preset", "fig13", "--model", "impact", "--set", "beta=0.1", *IMPACT_BOX]
+    assert main([*chart, "--out", str(alone)]) == 0
+    single = _rows(alone / "critical.csv")
+    capsys.readouterr()
+    assert main([*chart, "--out", str(alone), "--resume", "-v"]) == 0  # the chart resumes too
+    assert "1 curves from an earlier run" in capsys.readouterr().err
+    assert _rows(alone / "critical.csv") == single
+    mine = [r for r in rows if r["value"] == "0.1"]
+    assert [(r["Abar_c_full"], r["bounded_by"], r["loss"]) for r in mine] == [
+        (r["Abar_c_full"], r["bounded_by"], r["loss"]) for r in single
+    ]
+    assert {(r["bounded_by"], r["loss"]) for r in mine} == {("NS", "soft")}
+    assert any(
+        a["Abar_c_full"] != b["Abar_c_full"] for a, b in zip(mine, (r for r in rows if r["value"] == "0.3"))
+    )
+    first = (out / "study.csv").read_bytes()
+    stored = sorted((out / "value-000" / "curves").glob("curve-*.npz"))
+    assert stored and sorted((out / "value-001" / "curves").glob("curve-*.npz"))
+    stored[0].unlink()
+    capsys.readouterr()
+    assert main([*argv, "--out", str(out), "--resume", "-v"]) == 0
+    said = capsys.readouterr().err  # the progress
+    before, after = said.split("beta = 0.3: chart")
+    assert f"beta = 0.1: {len(stored) - 1} curves from an earlier run" in before or (
+        len(stored) == 1 and "curves from an earlier run" not in before
+    )
+    assert "beta = 0.3: 1 curves from an earlier run" in after
+    assert (out / "study.csv").read_bytes() == first
+    assert stored[0].exists()  # traced again and stored
+    # values whose vessel has no restoring force at the start (eps sigma >= 1): recorded, not failed
+    limp = ["study", "--preset", "fig13", "--model", "impact", "--vary", "eps=1.1:1.2:2", *IMPACT_BOX]
+    assert main([*limp, "--out", str(tmp_path / "limp")]) == 3
+    assert {r["status"].split(":")[0] for r in _rows(tmp_path / "limp" / "study.csv")} == {"not charted"}
+    assert "the vessel's stiffness" in _rows(tmp_path / "limp" / "study.csv")[1]["status"]

@@ -37,13 +37,10 @@ from slosh_bif.orbits.impact.switching import (
 )
 from slosh_bif.orbits.settings import BRANCHING, BranchingSettings
 from slosh_bif.orbits.shooting import MAX_PERIOD_MULTIPLE
+from slosh_bif.report.files import Resume
 from slosh_bif.slowflow.critical import critical_curve
 from slosh_bif.studies.chart.bottom import impact_bottom
-from slosh_bif.studies.chart.curves import (
-    CurveStart,
-    side_at,
-    trace_curves,
-)
+from slosh_bif.studies.chart.curves import CurveStart, side_at, trace_curves
 from slosh_bif.studies.chart.result import Chart, ChartSettings, check_box, where
 from slosh_bif.studies.chart.seeds import regular_points, seed_branching, seed_points, uncovered_points
 
@@ -77,6 +74,7 @@ def impact_chart(
     settings: ChartSettings | None = None,
     progress=None,
     variant: str = "paper",
+    resume: Resume | None = None,
 ) -> Chart:
     """The chart of (8) over ``sigma_range`` x ``abar_range``: the branch of orbits of (8) through
     the orbit a ``settings.settle``-period simulation from ``state0`` settles on (at the set's
@@ -86,13 +84,13 @@ def impact_chart(
     orbits at ``settings.seeds`` values of sigma continued in Abar (where it does not reach, the
     orbits a simulation settles on there), and the curve through each of their LP, PD, NS and BP
     points (each curve once), on ``settings.workers`` processes; the paper's slow flow's Abar_b
-    beside them."""
+    beside them. ``resume``: the curves of an earlier run with the same settings, and the callback
+    that stores each new one (as for :func:`~slosh_bif.studies.chart.smooth.bifurcation_chart`)."""
     check_box(params, sigma_range, abar_range)
-    settings = settings or ChartSettings()
+    settings, resume = settings or ChartSettings(), resume or Resume()
     (s0, s1), (a0, a1) = sigma_range, abar_range
     say = progress or (lambda message: None)
     started = time.perf_counter()
-    params.require_positive_stiffness()
     try:
         start = impact_start(params, state0, periods=settings.settle, p_range=(s0, s1), variant=variant)
     except ConvergenceError as err:
@@ -144,8 +142,10 @@ def impact_chart(
     bottom = impact_bottom(seeds_found, params, (s0, s1), a0, say)
     tasks = []
     say(f"{len(starts)} special points of {VARIANT_NAMES[variant]} to start curves from, {where(settings)}")
+    if resume.done:
+        say(f"{len(resume.done)} curves from an earlier run")
     curves, status, failures = trace_curves(
-        starts, say, settings.slots, executor=settings.executor, tasks=tasks
+        starts, say, settings.slots, resume.done, resume.keep, executor=settings.executor, tasks=tasks
     )
     slow = None
     try:

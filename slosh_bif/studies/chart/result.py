@@ -104,7 +104,8 @@ class ChartSettings:
 def check_box(params: Params, sigma_range, second_range, second: str = "Abar"):
     """One line before any work unless ``second`` is a real field other than sigma, the box is
     not empty, both ends of the second range are admissible values (Abar >= 0, eps > 0, a real
-    restitution coefficient, ...) and the parameter set lies inside the box."""
+    restitution coefficient, ...), the parameter set lies inside the box and its vessel has a
+    positive stiffness (the charts start from a simulation there)."""
     if second == "sigma" or second not in PARAMETERS:
         raise ValueError(
             "the chart's second parameter must be one of "
@@ -131,6 +132,7 @@ def check_box(params: Params, sigma_range, second_range, second: str = "Abar"):
             f"family starts at the set's own values; move them inside with --set sigma=... --set "
             f"{second}=..."
         )
+    params.require_positive_stiffness()
 
 
 def chart_workers(workers) -> int:
