@@ -43,8 +43,7 @@ def _study(args) -> int:
         study = design_study(
             params,
             lambda at: state0_of(args, at),
-            name,
-            values,
+            (name, values),
             box={"sigma": (lo, hi), "Abar": (a_lo, a_hi)},
             folder=args.out,
             resume=args.resume,

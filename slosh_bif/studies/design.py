@@ -112,8 +112,7 @@ class Study:
 def design_study(
     params: Params,
     state0,
-    name: str,
-    values,
+    vary: tuple,
     *,
     box: dict,
     folder,
@@ -123,9 +122,10 @@ def design_study(
     at_value=None,
     model: str = "smooth",
 ) -> Study:
-    """One chart of ``model`` (one of :data:`STUDY_MODELS`) per value of ``name`` over ``box``
-    ({"sigma": range, "Abar": range}), its curves stored under ``folder/value-K/curves``
-    (``resume``: reused from an earlier run with the same settings). A value whose set is not
+    """One chart of ``model`` (one of :data:`STUDY_MODELS`) per value of ``vary``, (name, values)
+    as :func:`parse_vary` gives them, over ``box`` ({"sigma": range, "Abar": range}), its curves
+    stored under ``folder/value-K/curves`` (``resume``: reused from an earlier run with the same
+    settings). A value whose set is not
     admissible (its parameter file's own check) is recorded with the reason and skipped; a chart
     stopped part way (Ctrl-C) stops the study there. ``at_value(value)``: the parameter set at a
     value (a tank converted at its fill depth, say; a ValueError where it has none), instead of
@@ -134,6 +134,7 @@ def design_study(
     value's eps, as ``chart`` would start there)."""
     if model not in STUDY_MODELS:
         raise ValueError(f"model must be one of {', '.join(STUDY_MODELS)}; got {model!r}")
+    name, values = vary
     say = progress or (lambda message: None)
     sigma_range, abar_range = tuple(box["sigma"]), tuple(box["Abar"])
     done = []

@@ -95,8 +95,34 @@ def test_a_grazing_impact_is_refused_with_the_reason():
     with pytest.raises(ValueError, match="grazes the wall"):
         ImpactMapDerivatives(params, [0.0, 0.0, 1.0 - 1e-15, 5e-7], 2 * np.pi)
     level = ImpactFlow(params, variant="corrected").grazing_level  # the wall at its least speed
-    with pytest.raises(ValueError, match="below the measured law's least speed"):
-        ImpactMapDerivatives(params, [0.0, 0.0, level - 1e-12, 0.01], 2 * np.pi, variant="corrected")
+    with pytest.raises(ValueError, match="at the measured law's least speed 0.05"):
+        ImpactMapDerivatives(params, [0.0, 0.0, level - 1e-12, 0.05], 2 * np.pi, variant="corrected")
+
+
+def test_below_the_measured_laws_least_speed_the_derivatives_are_the_maps_own():
+    """The corrected impact model's law is held constant below its least measured speed 0.05, so
+    the map is smooth there: at a state whose one impact comes at 0.046, the jets' first and
+    second derivatives are central differences of the map and of its compiled Jacobian."""
+    params = get_preset("fig13").params
+    flow = ImpactFlow(params, variant="corrected")
+    y0, t1 = np.array([0.0, 0.0, 0.96, 0.1]), 2.0
+    speeds = np.abs(flow.strobe(y0, 0.0, t1)[3][:, 2])
+    assert len(speeds) == 1 and 0.04 < speeds[0] < 0.05
+    derivatives = ImpactMapDerivatives(params, y0, t1, variant="corrected")
+    u, v = np.random.default_rng(7).normal(size=(2, 4))
+    h = 1e-6
+
+    def end(y):
+        return flow.strobe(y, 0.0, t1)[0]
+
+    def jacobian(y):
+        return ImpactMapDerivatives(params, y, t1, variant="corrected").jacobian()
+
+    difference = (end(y0 + h * u) - end(y0 - h * u)) / (2 * h)
+    assert np.abs(derivatives.first(u) - difference).max() < 1e-6 * np.abs(difference).max()
+    assert np.abs(derivatives.jacobian() @ u - difference).max() < 1e-6 * np.abs(difference).max()
+    second = (jacobian(y0 + h * v) - jacobian(y0 - h * v)) @ u / (2 * h)
+    assert np.abs(derivatives.second(u, v) - second).max() < 1e-5 * np.abs(second).max()
 
 
 @pytest.fixture(scope="module", params=["paper", "corrected"])

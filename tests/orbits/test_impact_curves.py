@@ -213,3 +213,44 @@ def test_a_fold_curve_goes_on_across_an_impact_on_its_section():
         one = continuation(problem, curve.branch.x[i, :4], sigma - 0.02, param="sigma", options=options)
         (found,) = [s.p for s in one.special if s.kind == "LP"]
         assert found == pytest.approx(sigma, abs=1e-8)
+
+
+# A random admissible set (seed 310 of the corrected impact model's campaign) whose period-4 branch
+# runs on past the law's corner: there the slowest of its 13 impacts a period is 0.0126, below the
+# measured law's least speed 0.05, where the law is held constant. Its fold on that stretch
+# (``shoot --model impact-corrected``, the period-4 branch's fourth piece).
+BEYOND = get_preset("fig10").params.replace(
+    eps=0.0961, beta=0.336, gamma=0.358, sigma=-0.969, Abar=1.211, lam=0.292, chi=1.401, n=3, pbar=3
+)
+BEYOND_FOLD = (
+    -0.525917302040727,
+    [0.16217461794022467, -2.218596826157004, -0.0273775439151007, 0.4922723668420632],
+)
+BEYOND_PHASE = 2.7982718627177743
+
+
+def test_a_fold_curve_beyond_the_measured_laws_corner_meets_its_one_parameter_branches():
+    """The curves hold each impact's side of the law's corner (not only impacts faster than it):
+    the fold curve from a fold whose orbit has an impact below 0.05 is traced, its orbits keep
+    that slow impact, and at two interior points one-parameter branches in sigma at the point's
+    Abar locate their own fold there."""
+    p, x = BEYOND_FOLD
+    seed = ImpactCurveSeed(
+        "LP", np.array(x), p, phase=BEYOND_PHASE, impacts=13, period_multiple=4, variant="corrected"
+    )
+    curve = trace_impact_curve(
+        BEYOND.replace(sigma=p), seed, box={"sigma": (-0.56, -0.50), "Abar": (1.17, 1.25)}
+    )
+    assert curve.status == "ok" and len(curve) > 10, curve.branch.message
+    for i in (len(curve) // 3, (2 * len(curve)) // 3):
+        sigma, abar = float(curve["sigma"][i]), float(curve["Abar"][i])
+        at = BEYOND.replace(sigma=sigma, Abar=abar)
+        problem = ImpactOrbitProblem(at, "sigma", period_multiple=4, phase=BEYOND_PHASE, variant="corrected")
+        speeds = np.abs(problem.evaluate(curve.branch.x[i, :4], sigma).impacts[:, 2])
+        assert len(speeds) == 13 and 0.01 < speeds.min() < 0.05
+        options = ContinuationOptions(
+            step=1e-4, step_max=5e-4, tol=1e-10, p_min=sigma - 2e-3, p_max=sigma + 2e-3, direction="forward"
+        )
+        branch = continuation(problem, curve.branch.x[i, :4], sigma, param="sigma", options=options)
+        found = [s.p for s in branch.special if s.kind == "LP"]
+        assert found and min(abs(q - sigma) for q in found) < 1e-7, (found, sigma)

@@ -124,3 +124,38 @@ def test_bad_input_is_named():
         trace_grazing_curve(
             params, ImpactCurveSeed("LP", np.zeros(4), 3.0), box={"sigma": (1, 4), "Abar": (1, 2)}
         )
+
+
+def test_a_grazing_curve_whose_other_impacts_lie_below_the_laws_corner():
+    """A random set (seed 310 of the corrected impact model's campaign): its period-4 branch grazes
+    at sigma = -0.52782 where another of its 12 impacts a period is at 0.023, below the measured
+    law's least speed 0.05. The grazing curve from there holds that impact's side of the corner,
+    and at a point of it far from the seed the orbit, written at the section tau = 0 by the
+    compiled flow, is a fixed point of the period-4 map of ImpactOrbitProblem with a zero gap."""
+    params = get_preset("fig10").params.replace(
+        eps=0.0961, beta=0.336, gamma=0.358, sigma=-0.969, Abar=1.211, lam=0.292, chi=1.401, n=3, pbar=3
+    )
+    x = [0.15387670542881526, -2.2145556176818846, -0.029590711939581398, 0.48159985246804493]
+    p_gr, phase = -0.5278206935639772, 2.7982718627177743
+    seed = ImpactCurveSeed("GR", np.array(x), p_gr, phase=phase, period_multiple=4, variant="corrected")
+    c = trace_grazing_curve(params, seed, box={"sigma": (-0.56, -0.50), "Abar": (1.17, 1.25)})
+    assert c.status == "ok" and len(c) > 5, c.branch.message
+    i = int(np.argmax(np.abs(c["Abar"] - params.Abar)))
+    u, p = c.branch.x[i], c.branch.p[i]
+    assert abs(c["Abar"][i] - params.Abar) > 0.01
+    (problem,) = [
+        q
+        for q in (
+            GrazingCurveProblem(params, "sigma", "Abar", side=s, period_multiple=4, variant="corrected")
+            for s in (1.0, -1.0)
+        )
+        if np.abs(q.residual(u, p)).max() < 1e-8
+    ]
+    at = problem.params_at(u, p)
+    t0 = float(u[2]) + FREE
+    end = 2 * np.pi * np.ceil(t0 / (2 * np.pi))
+    orbits = ImpactOrbitProblem(at, "sigma", period_multiple=4, variant="corrected")
+    x0 = orbits.flow_at(p).run(problem.leaving(u, p), t0, end, stick_speed=1e-9, max_impacts=100)[1][:, -1]
+    assert np.abs(orbits.residual(x0, p)).max() < 1e-6 and orbits.grazing(x0, p).gap < 1e-8
+    speeds = np.abs(orbits.evaluate(x0, p).impacts[:, 2])
+    assert 1e-2 < speeds[speeds > 1e-6].min() < 0.05  # an impact (not the grazing contact) below the corner

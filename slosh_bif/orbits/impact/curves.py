@@ -37,7 +37,7 @@ from slosh_bif.orbits.impact.grazing import FREE, GrazingCurveProblem
 from slosh_bif.orbits.impact.map_derivatives import ImpactMapDerivatives
 from slosh_bif.orbits.impact.output import orbit_measures
 from slosh_bif.orbits.impact.problem import VARIANT_NAMES, ImpactOrbitProblem
-from slosh_bif.orbits.impact.strobe import ImpactStrobe
+from slosh_bif.orbits.impact.strobe import ImpactStrobe, slow_impacts
 
 __all__ = ["ImpactCurveSeed", "impact_corrected_at", "trace_impact_curve", "trace_grazing_curve"]
 
@@ -104,20 +104,22 @@ def trace_impact_curve(
         variant=seed.variant,
     )
     orbits = strobe(at, phase=seed.phase, impacts=impacts)
-    mu = start_multipliers(orbits, x, at, kind)
-    if orbits.impacts is None:  # the domain holds the start's count
-        orbits.impacts = len(
-            ImpactOrbitProblem(
-                at,
-                p1,
-                symmetric=symmetric,
-                period_multiple=seed.period_multiple,
-                phase=seed.phase,
-                variant=seed.variant,
-            )
-            .evaluate(x, getattr(at, p1))
-            .impacts
+    start = (
+        ImpactOrbitProblem(
+            at,
+            p1,
+            symmetric=symmetric,
+            period_multiple=seed.period_multiple,
+            phase=seed.phase,
+            variant=seed.variant,
         )
+        .evaluate(x, getattr(at, p1))
+        .impacts
+    )
+    if orbits.impacts is None:  # the domain holds the start's count
+        orbits.impacts = len(start)
+    orbits.slow = slow_impacts(start[:, 2], orbits.corner)  # and which side of the law's corner each is on
+    mu = start_multipliers(orbits, x, at, kind)
     problem = curve_problem(at, kind, p1, p2, p2_box=(lo2, hi2), orbits=orbits)
     branch = continue_curve(problem, x, mu, at, box, options, callback)
 
@@ -126,7 +128,7 @@ def trace_impact_curve(
         if moved is None:
             return None
         phase, state, at_point = moved
-        beyond = strobe(at_point, phase=phase, impacts=old.orbits.impacts)
+        beyond = strobe(at_point, phase=phase, impacts=old.orbits.impacts, slow=old.orbits.slow)
         mu = start_multipliers(beyond, state, at_point, kind)
         piece = curve_problem(at_point, kind, p1, p2, p2_box=(lo2, hi2), orbits=beyond)
         run = continue_curve(
@@ -145,8 +147,9 @@ def trace_impact_curve(
 def impact_corrected_at(curve, params: Params, value: float, segment: int, variant: str = "paper"):
     """p2 of the curve of (8) (of the impact model ``variant``) at p1 = ``value``, corrected on the
     curve's own system from the interpolation over its points ``segment`` and ``segment + 1``
-    (:func:`~slosh_bif.orbits.codim2.crossing.corrected_at`), with their section and number of
-    impacts held; None where the two points lie on different sections or the correction fails."""
+    (:func:`~slosh_bif.orbits.codim2.crossing.corrected_at`), with their section, number of
+    impacts and the sides of the law's corner the impacts are on held; None where the two points
+    lie on different sections or the correction fails."""
     i = int(segment)
     phase = curve["phase"]
     if phase[i] != phase[i + 1]:
@@ -163,15 +166,16 @@ def impact_corrected_at(curve, params: Params, value: float, segment: int, varia
             phase=float(phase[i]),
             variant=variant,
         )
-        impacts = len(probe.evaluate(x, getattr(at, curve.p1)).impacts)
+        impacts = probe.evaluate(x, getattr(at, curve.p1)).impacts
         orbits = ImpactStrobe(
             at,
             sensitivities=(curve.p1, curve.p2),
             symmetric=symmetric,
             period_multiple=curve.period_multiple,
             phase=float(phase[i]),
-            impacts=impacts,
+            impacts=len(impacts),
             variant=variant,
+            slow=slow_impacts(impacts[:, 2], probe.flow_at(getattr(at, curve.p1)).slowest_smooth_impact),
         )
     except ValueError:
         return None
@@ -236,6 +240,7 @@ def trace_grazing_curve(
     )
     x = np.asarray(seed.x, dtype=float)
     gap = probe.grazing(x, getattr(at, p1))
+    flow = probe.flow_at(getattr(at, p1))
     if not gap.gap < 1e-4:
         raise ValueError(
             f"the start is not a grazing orbit of {VARIANT_NAMES[seed.variant]}: its nearest approach to "
@@ -247,13 +252,11 @@ def trace_grazing_curve(
     t_near = max(seed.phase, t_g - FREE)
     y = x
     if t_near > seed.phase:
-        _, ys, _, code = probe.flow_at(getattr(at, p1)).run(
-            x, seed.phase, t_near, stick_speed=1e-9, max_impacts=10_000
-        )
+        _, ys, _, code = flow.run(x, seed.phase, t_near, stick_speed=1e-9, max_impacts=10_000)
         if code != 0:
             raise ValueError(f"the start orbit of (8) cannot be followed to its grazing point (code {code})")
         y = ys[:, -1]
-    free = linalg.expm(probe.flow_at(getattr(at, p1)).K * (t_g - t_near))
+    free = linalg.expm(flow.K * (t_g - t_near))
     y_g = (free @ np.concatenate([y, [np.cos(t_near), np.sin(t_near)]]))[:4]
     span1 = hi1 - lo1
     problem = GrazingCurveProblem(
@@ -266,6 +269,9 @@ def trace_grazing_curve(
         box=(lo1 - 0.5 * span1, hi1 + 0.5 * span1),
         p2_box=(lo2, hi2),
         variant=seed.variant,
+        # the other impacts on their sides of the law's corner, as the seed has them (the grazing
+        # contact itself, slower than MIN_IMPACT_SPEED where it shows as an impact, is not counted)
+        slow=slow_impacts(probe.evaluate(x, getattr(at, p1)).impacts[:, 2], flow.slowest_smooth_impact),
     )
     u0 = np.array([y_g[0], y_g[1], t_g, getattr(at, p2)])
     p1_0 = float(getattr(at, p1))

@@ -15,9 +15,9 @@ are flights of (8)'s linear part with the wall ignored (the propagator ``expm(K 
 parameter derivative), and the compiled flow with its impacts runs in between. The domain
 requires what makes this the orbit of (8): the free stretches stay inside the walls but at the
 grazing point itself, the particle leaves the wall inward (``side * w'' < 0`` there: where it
-vanishes the grazing degenerates, and the curve ends), and the other impacts keep their number and
-stay faster than :data:`~slosh_bif.orbits.impact.strobe.MIN_IMPACT_SPEED` (and, for the
-corrected impact model, than its measured law's least speed).
+vanishes the grazing degenerates, and the curve ends), and the other impacts keep their number,
+stay faster than :data:`~slosh_bif.orbits.impact.strobe.MIN_IMPACT_SPEED` and, for the
+corrected impact model, each on its side of its measured law's least speed (the law's corner).
 
 Derivatives are exact as elsewhere for (8): the flights' propagators, the impacts' saltation
 matrices; d/dt_g of the map of a time-periodic flow is ``f(end) - Phi f(start)``.
@@ -33,7 +33,7 @@ from scipy import linalg
 from slosh_bif.flows.impact.flow import IMPACT_VARIANTS, ImpactFlow
 from slosh_bif.flows.impact.propagators import WALL_PARAMETERS, derivative_of_K
 from slosh_bif.model.params import Params, real_pair
-from slosh_bif.orbits.impact.strobe import least_impact_speed
+from slosh_bif.orbits.impact.strobe import off_the_curves
 
 __all__ = ["GrazingCurveProblem", "FREE", "DEGENERATE"]
 
@@ -53,7 +53,7 @@ class _Pieces:
         self.flows = tuple(ImpactFlow(params, param=name, variant=variant) for name in pair)
         self.K = self.flows[0].K
         self.level = self.flows[0].grazing_level
-        self.min_speed = least_impact_speed(self.flows[0])
+        self.corner = self.flows[0].slowest_smooth_impact
         self.E = linalg.expm(self.K * FREE)
         zero = np.zeros_like(self.K)
         self.dE = []
@@ -69,7 +69,10 @@ class _Pieces:
 
 class GrazingCurveProblem:
     """Orbits of (8) grazing the wall ``side`` at tau = t_g, continued in (p1, p2); a problem of
-    the continuation engine in x = (X, X', t_g, p2) with parameter p1 (the module docstring)."""
+    the continuation engine in x = (X, X', t_g, p2) with parameter p1 (the module docstring).
+    ``impacts``: the number of the other impacts the domain holds (None: any); ``slow``: how many
+    of them are slower than the measured law's least speed
+    (:func:`~slosh_bif.orbits.impact.strobe.slow_impacts`; 0 for (8))."""
 
     branch_kind = "grazing orbits of (8)"
     kind = "GR"
@@ -88,6 +91,7 @@ class GrazingCurveProblem:
         box: tuple | None = None,
         p2_box: tuple | None = None,
         variant: str = "paper",
+        slow: int = 0,
     ):
         if not isinstance(params, Params):
             raise TypeError(f"params must be a slosh_bif.Params; got {type(params).__name__}")
@@ -102,7 +106,7 @@ class GrazingCurveProblem:
         self.symmetric, self.period_multiple = bool(symmetric), int(period_multiple)
         self.closing = -1.0 if symmetric else 1.0
         self.period = np.pi if symmetric else 2 * np.pi * period_multiple
-        self.impacts, self.box, self.p2_box = impacts, box, p2_box
+        self.impacts, self.box, self.p2_box, self.slow = impacts, box, p2_box, int(slow)
         self.names = ("X", "Xd", "t_g", p2)
         self.edge_name = "grazing curve's domain"
         self._pieces: OrderedDict = OrderedDict()
@@ -210,7 +214,7 @@ class GrazingCurveProblem:
             return False
         if self.impacts is not None and len(impacts) != self.impacts:
             return False
-        if len(impacts) and np.abs(impacts[:, 2]).min() < self._pieces_at(self.params_at(u, p)).min_speed:
+        if off_the_curves(impacts[:, 2], self._pieces_at(self.params_at(u, p)).corner, self.slow):
             return False
         return self._free_stretches_inside(u, p)
 

@@ -27,7 +27,8 @@ variational equations of (9) give (:class:`~slosh_bif.orbits.map_derivatives.Flo
 whose caching and complex directions this class shares). The impacts' sequence (times, walls) is
 the compiled flow's; an impact slower than :data:`GRAZING_SPEED` makes the map non-smooth within
 rounding of the orbit (derivatives grow as powers of 1 / speed) and is refused with that reason,
-as is one below the measured law's least speed (where the law is clamped).
+as is one at the measured law's least speed, where the law's clamp makes a corner; below it the
+law is constant and its derivatives vanish.
 """
 
 from __future__ import annotations
@@ -45,6 +46,7 @@ from slosh_bif.orbits.map_derivatives import MapDerivatives
 __all__ = ["ImpactMapDerivatives", "GRAZING_SPEED"]
 
 GRAZING_SPEED = 1e-6  # an impact slower than this grazes: its map's derivatives are not computed
+CORNER = 1e-9  # an impact within this relative distance of the measured law's least speed is at its corner
 # a product's coefficient k collects a[i] b[k ^ i] over the subsets i of k's bits: as a matrix
 # acting on b's coefficients, row k holds a[k ^ j] where j is a subset of k
 _ROWS, _COLUMNS = np.meshgrid(np.arange(8), np.arange(8), indexing="ij")
@@ -106,9 +108,9 @@ class ImpactMapDerivatives(MapDerivatives):
     :class:`FlowDerivatives` gives them for (9): ``jacobian``, ``second``, ``third``, real or
     complex directions, ``sign`` -1 for the half-period map -phi. ``rtol`` and ``atol`` are
     accepted for the common interface (the jets are exact to rounding). Raises ValueError where
-    the map is not smooth at y0 (a grazing impact; for the measured wall, an impact below its
-    least measured speed, where its law is clamped) or not defined (the run ends early), with
-    the reason."""
+    the map is not smooth at y0 (a grazing impact; for the measured wall, an impact at its least
+    measured speed, the corner of its clamped law) or not defined (the run ends early), with the
+    reason."""
 
     exact = True
 
@@ -130,16 +132,15 @@ class ImpactMapDerivatives(MapDerivatives):
         _, self._phi, _, impacts, code = flow.strobe(self.y0, self.phase, self.t1)
         if code != 0:
             raise ValueError(f"the map is not defined there: {END_REASONS.get(code, f'code {code}')}")
-        slowest = float(np.abs(impacts[:, 2]).min()) if len(impacts) else math.inf
-        if slowest < max(GRAZING_SPEED, flow.slowest_smooth_impact):
+        speeds = np.abs(impacts[:, 2])
+        slowest = float(speeds.min()) if len(impacts) else math.inf
+        if slowest < GRAZING_SPEED:
+            raise ValueError(f"an impact at speed {slowest:.2g} grazes the wall: the map is not smooth there")
+        corner = flow.slowest_smooth_impact
+        if corner > 0 and np.any(np.abs(speeds - corner) <= CORNER * corner):
             raise ValueError(
-                f"an impact at speed {slowest:.2g} grazes the wall"
-                + (
-                    ""
-                    if flow.wall is None
-                    else f" (below the measured law's least speed {flow.wall.v_min:g})"
-                )
-                + ": the map is not smooth there"
+                f"an impact at the measured law's least speed {corner:g}, below which the law is held "
+                "constant: the map has a corner there"
             )
         self.K, self.impacts, self.wall = flow.K, impacts, flow.wall
         self._loss = (flow.kappa_c, flow.kappa_q)
@@ -167,8 +168,11 @@ class ImpactMapDerivatives(MapDerivatives):
         and their first three derivatives (log D for D), evaluated together."""
         s = _compose([math.log(v[0]), 1 / v[0], -1 / v[0] ** 2, 2 / v[0] ** 3], v)
         (off, scale), table = _law_table(self.wall)
-        x = min(max(off + scale * s[0], -1.0), 1.0)
+        window = off + scale * s[0]
+        x = min(max(window, -1.0), 1.0)
         values = np.cos(np.arange(table.shape[0]) * math.acos(x)) @ table  # T_k(x) = cos(k acos x)
+        if x != window:  # outside the measured speeds the law is held at its end: no derivatives
+            values[[1, 2, 3, 5, 6, 7]] = 0.0
         kappa, log_d = _compose(values[:4], s), _compose(values[4:], s)
         return kappa, _compose([math.exp(log_d[0])] * 4, log_d)
 

@@ -21,7 +21,7 @@ from slosh_bif.model.params import Params, real_pair
 from slosh_bif.orbits.impact.problem import SECTION, ImpactOrbitProblem
 from slosh_bif.orbits.shooting import Arcs
 
-__all__ = ["ImpactStrobe", "MIN_IMPACT_SPEED", "NEAR_GRAZING", "least_impact_speed"]
+__all__ = ["ImpactStrobe", "MIN_IMPACT_SPEED", "NEAR_GRAZING", "slow_impacts", "off_the_curves"]
 
 _KEEP = 8  # parameter sets whose problems are kept (a corrector step and its differences)
 
@@ -32,18 +32,29 @@ MIN_IMPACT_SPEED = 1e-2
 NEAR_GRAZING = f"grazing (GR): an impact slower than {MIN_IMPACT_SPEED:g}, or the number of impacts changes"
 
 
-def least_impact_speed(flow) -> float:
-    """The slowest impact the curves of an impact model admit: :data:`MIN_IMPACT_SPEED`, and for
-    the corrected impact model also its measured law's least speed, below which the law is clamped
-    and the map is not smooth."""
-    return max(MIN_IMPACT_SPEED, flow.slowest_smooth_impact)
+def slow_impacts(speeds, corner: float) -> int:
+    """How many of the impacts' ``speeds`` lie between :data:`MIN_IMPACT_SPEED` and ``corner``, the
+    corrected impact model's measured law's least speed (0 for (8)): the law is held constant below
+    it, so the map is smooth on either side and has a corner there."""
+    speeds = np.abs(np.asarray(speeds, dtype=float))
+    return int(np.count_nonzero((speeds >= MIN_IMPACT_SPEED) & (speeds < corner)))
+
+
+def off_the_curves(speeds, corner: float, slow: int) -> bool:
+    """Whether impacts of ``speeds`` leave a curve's domain: one slower than
+    :data:`MIN_IMPACT_SPEED` (a grazing), or another number than ``slow`` below the law's corner
+    speed ``corner`` (:func:`slow_impacts`: an impact crossed the corner)."""
+    speeds = np.abs(np.asarray(speeds, dtype=float))
+    return bool(len(speeds) and speeds.min() < MIN_IMPACT_SPEED) or slow_impacts(speeds, corner) != slow
 
 
 class ImpactStrobe:
     """Orbits of (8) through x = [X, X', w, w'] at tau = ``phase`` for the curve problems, with
     the interface of :class:`~slosh_bif.orbits.shooting.ShootingProblem` they use: one arc,
     ``sensitivities`` = (p1, p2). ``impacts``: the number of impacts over the map's time that
-    the domain holds to (None: any); ``variant``: (8) as stated or the corrected impact model
+    the domain holds to (None: any); ``slow``: the number of them slower than the corrected
+    impact model's measured law's least speed that it holds to (:func:`slow_impacts`; 0 for
+    (8)); ``variant``: (8) as stated or the corrected impact model
     (:class:`~slosh_bif.orbits.impact.problem.ImpactOrbitProblem`)."""
 
     branch_kind = "periodic orbits of (8)"
@@ -61,13 +72,14 @@ class ImpactStrobe:
         phase: float = 0.0,
         impacts: int | None = None,
         variant: str = "paper",
+        slow: int = 0,
     ):
         self.sensitivities = real_pair(sensitivities, "sensitivities")
         self.variant = variant
         self.params, self.param = params, self.sensitivities[0]
         self.symmetric, self.period_multiple = bool(symmetric), period_multiple
         self.closing = -1.0 if symmetric else 1.0
-        self.box, self.phase, self.impacts = box, float(phase), impacts
+        self.box, self.phase, self.impacts, self.slow = box, float(phase), impacts, int(slow)
         # One problem per parameter of the pair: each gives the map's derivative in its own.
         self._problems: OrderedDict = OrderedDict()
         self._maps_of(params)  # a bad parameter set or pair fails here, before any work
@@ -80,12 +92,13 @@ class ImpactStrobe:
             phase=self.phase,
             variant=variant,
         )
-        self.min_speed = least_impact_speed(self._probe.flow_at(getattr(params, self.param)))
+        self.corner = self._probe.flow_at(getattr(params, self.param)).slowest_smooth_impact
         self.edge_rule = (
             NEAR_GRAZING
-            if self.min_speed == MIN_IMPACT_SPEED
-            else f"an impact at the measured wall law's least speed {self.min_speed:g} (below it the law "
-            "is clamped and the map is not smooth), or the number of impacts changes"
+            if self.corner == 0
+            else f"an impact at the measured wall law's least speed {self.corner:g} (the law is held "
+            f"constant below it: the map has a corner there), one slower than {MIN_IMPACT_SPEED:g}, or "
+            "the number of impacts changes"
         )
 
     def _maps_of(self, params: Params):
@@ -109,13 +122,14 @@ class ImpactStrobe:
     def arcs(self, x, params: Params) -> Arcs:
         """The map at (x, params) as one arc: its end (before the mirror), its Jacobian and its
         derivatives in (p1, p2); NaN where the flow stops short (sticking, a complex kappa), the
-        number of impacts is not the domain's or an impact is slower than ``min_speed``."""
+        number of impacts is not the domain's or its impacts leave the curves' domain
+        (:func:`off_the_curves`)."""
         x = np.asarray(x, dtype=float)
         first, second = self._maps_of(params)
         m1 = first.evaluate(x, getattr(params, self.sensitivities[0]))
         m2 = second.evaluate(x, getattr(params, self.sensitivities[1])) if m1.code == 0 else m1
-        grazing = (self.impacts is not None and len(m1.impacts) != self.impacts) or (
-            len(m1.impacts) and np.abs(m1.impacts[:, 2]).min() < self.min_speed
+        grazing = (self.impacts is not None and len(m1.impacts) != self.impacts) or off_the_curves(
+            m1.impacts[:, 2], self.corner, self.slow
         )
         if m1.code != 0 or m2.code != 0 or grazing:
             nan = np.full((4, 4), np.nan)
@@ -140,15 +154,21 @@ class ImpactStrobe:
 
     def edge_name_at(self, x, params: Params) -> str | None:
         """The edge near the orbit x at ``params``: ``edge_rule`` (grazing) when its slowest impact
-        is within a factor 2 of ``min_speed`` (or it has no longer the domain's impacts), the section
-        when the particle sits within 1e-3 of a wall there; None for neither."""
+        is within a factor 2 of :data:`MIN_IMPACT_SPEED`, an impact's speed within a factor 2 of the
+        law's corner or it has no longer the domain's impacts, the section when the particle sits
+        within 1e-3 of a wall there; None for neither."""
         if 1.0 - abs(float(x[2])) < 1e-6:  # an impact at the section: the count flips there
             return SECTION
         m = self._maps_of(params)[0].evaluate(
             np.asarray(x, dtype=float), getattr(params, self.sensitivities[0])
         )
-        if (self.impacts is not None and len(m.impacts) != self.impacts) or (
-            len(m.impacts) and np.abs(m.impacts[:, 2]).min() < 2 * self.min_speed
+        speeds = np.abs(m.impacts[:, 2])
+        near_corner = np.any((speeds > 0.5 * self.corner) & (speeds < 2 * self.corner))
+        if (
+            (self.impacts is not None and len(m.impacts) != self.impacts)
+            or (len(speeds) and speeds.min() < 2 * MIN_IMPACT_SPEED)
+            or near_corner
+            or slow_impacts(speeds, self.corner) != self.slow
         ):
             return self.edge_rule
         if 1.0 - abs(float(x[2])) < 1e-3:

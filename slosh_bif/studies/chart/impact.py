@@ -28,7 +28,7 @@ from slosh_bif.orbits.impact.branches import settled_orbit, state_at_zero, trace
 from slosh_bif.orbits.impact.curves import ImpactCurveSeed, trace_grazing_curve, trace_impact_curve
 from slosh_bif.orbits.impact.problem import VARIANT_NAMES, ImpactOrbitProblem
 from slosh_bif.orbits.impact.starts import impact_start
-from slosh_bif.orbits.impact.strobe import least_impact_speed
+from slosh_bif.orbits.impact.strobe import MIN_IMPACT_SPEED
 from slosh_bif.orbits.impact.switching import (
     asymmetric_branches,
     doubled_branches,
@@ -323,9 +323,9 @@ def _parents_orbit(params, param, piece, sp, variant) -> bool:
 
 def _within_grazing_rule(params, param, named, piece, sp) -> bool:
     """Whether the orbit at ``sp`` has an impact slower than
-    :data:`~slosh_bif.orbits.impact.strobe.MIN_IMPACT_SPEED` (or, for the corrected impact
-    model, than its law's least speed): a point the curves count as their grazing edge (a fold
-    within a few 1e-6 of a grazing, say)."""
+    :data:`~slosh_bif.orbits.impact.strobe.MIN_IMPACT_SPEED`: a point the curves count as their
+    grazing edge (a fold within a few 1e-6 of a grazing, say). Impacts below the corrected impact
+    model's least measured speed are the curves' own: they hold each impact's side of it."""
     problem = ImpactOrbitProblem(
         params.replace(**{param: float(sp.p)}),
         param,
@@ -335,8 +335,7 @@ def _within_grazing_rule(params, param, named, piece, sp) -> bool:
         variant=named.branch.variant,
     )
     impacts = problem.evaluate(np.asarray(sp.x, dtype=float), sp.p).impacts
-    least = least_impact_speed(problem.flow_at(sp.p))
-    return bool(len(impacts) and np.abs(impacts[:, 2]).min() < least)
+    return bool(len(impacts) and np.abs(impacts[:, 2]).min() < MIN_IMPACT_SPEED)
 
 
 def _grazing_starts(named: NamedImpactBranch, params: Params, box: dict):
