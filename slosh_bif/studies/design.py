@@ -125,13 +125,12 @@ def design_study(
     """One chart of ``model`` (one of :data:`STUDY_MODELS`) per value of ``vary``, (name, values)
     as :func:`parse_vary` gives them, over ``box`` ({"sigma": range, "Abar": range}), its curves
     stored under ``folder/value-K/curves`` (``resume``: reused from an earlier run with the same
-    settings). A value whose set is not
-    admissible (its parameter file's own check) is recorded with the reason and skipped; a chart
-    stopped part way (Ctrl-C) stops the study there. ``at_value(value)``: the parameter set at a
-    value (a tank converted at its fill depth, say; a ValueError where it has none), instead of
-    ``params`` with ``name`` replaced. ``state0``: the initial state of the charts' simulations, or
-    a function of a value's parameter set giving it (a preset's ``state_for``, scaled with each
-    value's eps, as ``chart`` would start there)."""
+    settings). A value whose set is not admissible (its parameter file's own check) is recorded
+    with the reason and skipped; a chart stopped part way (Ctrl-C) stops the study there.
+    ``at_value(value)``: the parameter set at a value (a tank converted at its fill depth, say;
+    a ValueError where it has none), instead of ``params`` with ``name`` replaced. ``state0``: the
+    initial state of the charts' simulations, or a function of a value's parameter set giving it
+    (a preset's ``state_for``, scaled with each value's eps, as ``chart`` would start there)."""
     if model not in STUDY_MODELS:
         raise ValueError(f"model must be one of {', '.join(STUDY_MODELS)}; got {model!r}")
     name, values = vary
@@ -152,8 +151,10 @@ def design_study(
         start = state0(at) if callable(state0) else state0
         stored = chart_settings(at, start, sigma_range, abar_range, **options)
         store = curve_store(Path(folder) / f"value-{k:03d}" / "curves", stored, resume=resume)
-        say_k = lambda message, k=k: say(f"{name} = {values[k]:.6g}: {message}")  # noqa: E731
-        chart = _chart(model, at, start, (sigma_range, abar_range), settings, Resume(*store), say_k)
+        here = f"{name} = {value:.6g}: "
+        chart = _chart(
+            model, at, start, (sigma_range, abar_range), settings, Resume(*store), lambda m: say(here + m)
+        )
         done.append(StudyValue(float(value), chart, chart.status))
         if chart.status != "complete":
             break
