@@ -229,6 +229,7 @@ BEYOND_FOLD = (
 BEYOND_PHASE = 2.7982718627177743
 
 
+@pytest.mark.slow  # 7 s; the grazing curve past the corner (test_impact_grazing.py) is the fast check
 def test_a_fold_curve_beyond_the_measured_laws_corner_meets_its_one_parameter_branches():
     """The curves hold each impact's side of the law's corner (not only impacts faster than it):
     the fold curve from a fold whose orbit has an impact below 0.05 is traced, its orbits keep
