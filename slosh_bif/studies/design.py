@@ -50,6 +50,7 @@ STUDY_COLUMNS = (
 
 # the models a study charts: (9), the impact model (8) and the corrected impact model
 STUDY_MODELS = ("smooth", "impact", "impact-corrected")
+_VARIANTS = {"impact": "paper", "impact-corrected": "corrected"}  # the impact models' variants
 
 
 def parse_vary(text: str, tank: dict | None = None) -> tuple:
@@ -158,9 +159,7 @@ def design_study(
         done.append(StudyValue(float(value), chart, chart.status))
         if chart.status != "complete":
             break
-    orbits = (
-        "(9)" if model == "smooth" else VARIANT_NAMES["corrected" if model == "impact-corrected" else "paper"]
-    )
+    orbits = VARIANT_NAMES[_VARIANTS[model]] if model in _VARIANTS else "(9)"
     return Study(name, tuple(done), tuple(sigma_range), tuple(abar_range), orbits)
 
 
@@ -183,7 +182,7 @@ def _chart(model, params, state0, box, settings, resume, say):
         abar_range=abar_range,
         settings=settings,
         progress=say,
-        variant="corrected" if model == "impact-corrected" else "paper",
+        variant=_VARIANTS[model],
         resume=resume,
     )
 

@@ -26,7 +26,12 @@ import math
 
 import numpy as np
 
-__all__ = ["Contact", "contact", "WallLaw", "wall_law"]
+__all__ = ["Contact", "contact", "WallLaw", "wall_law", "AT_CORNER"]
+
+# An impact within this relative distance of a law's least speed v_min is at the law's corner: the
+# impact models hold the law constant below v_min, so its derivatives in the speed jump there (the
+# orbits' special points and the normal forms' jets are not computed at it).
+AT_CORNER = 1e-6
 
 
 @dataclasses.dataclass(frozen=True)

@@ -16,6 +16,7 @@ import numpy as np
 
 from slosh_bif.continuation.branch import END
 from slosh_bif.continuation.corrector import newton_solve
+from slosh_bif.model.restitution.wall import AT_CORNER
 
 __all__ = [
     "CORNER_STEPS",
@@ -27,7 +28,6 @@ __all__ = [
 ]
 
 CORNER_STEPS = (1e-6, 1e-5, 1e-4)  # steps along the tangent from the corner to the branch beyond
-_AT = 1e-6  # an impact within this relative distance of v_min is at the corner
 _PAST = 1e-9  # a point beyond the corner: its slowest impact this far (relative) on the other side
 
 
@@ -45,7 +45,7 @@ def at_the_laws_corner(problem, x, p) -> bool:
     if problem.variant == "paper":
         return False
     v_min = problem.flow_at(p).wall.v_min
-    return abs(slowest_impact(problem, x, p) - v_min) <= _AT * v_min
+    return abs(slowest_impact(problem, x, p) - v_min) <= AT_CORNER * v_min
 
 
 def without_corner_points(problem, branch):
@@ -106,8 +106,9 @@ def across_the_corner(problem, branch, end, p_range: tuple, previous=None):
 
 def _came_from(problem, branch, end, v_min, most: int = 50):
     """The slowest impact speed of the run's nearest point before its END ``end`` clear of v_min
-    (by :data:`_AT`), among ``most``: a run that crept up to the corner has many points at it (the
-    arrays are in arclength order, a backward run's reversed)."""
+    (by :data:`~slosh_bif.model.restitution.wall.AT_CORNER`), among ``most``: a run that crept up to
+    the corner has many points at it (the arrays are in arclength order, a backward run's
+    reversed)."""
     back = -1 if end.index > 0 else 1
     steps = range(end.index + back, end.index + back * most, back)
     return _first_clear(problem, branch, [k for k in steps if 0 <= k < len(branch.p)], v_min)
@@ -124,7 +125,7 @@ def _first_clear(problem, branch, indices, v_min):
     (None where none is)."""
     for k in indices:
         v = slowest_impact(problem, branch.x[k], branch.p[k])
-        if math.isfinite(v) and abs(v - v_min) > _AT * v_min:
+        if math.isfinite(v) and abs(v - v_min) > AT_CORNER * v_min:
             return v
     return None
 

@@ -41,12 +41,12 @@ from scipy.linalg import expm
 from slosh_bif.flows.impact.flow import END_REASONS, ImpactFlow
 from slosh_bif.model._generated.impact_kernels import impact_reset_jet_kernel
 from slosh_bif.model.params import Params
+from slosh_bif.model.restitution.wall import AT_CORNER
 from slosh_bif.orbits.map_derivatives import MapDerivatives
 
 __all__ = ["ImpactMapDerivatives", "GRAZING_SPEED"]
 
 GRAZING_SPEED = 1e-6  # an impact slower than this grazes: its map's derivatives are not computed
-CORNER = 1e-9  # an impact within this relative distance of the measured law's least speed is at its corner
 # a product's coefficient k collects a[i] b[k ^ i] over the subsets i of k's bits: as a matrix
 # acting on b's coefficients, row k holds a[k ^ j] where j is a subset of k
 _ROWS, _COLUMNS = np.meshgrid(np.arange(8), np.arange(8), indexing="ij")
@@ -137,7 +137,7 @@ class ImpactMapDerivatives(MapDerivatives):
         if slowest < GRAZING_SPEED:
             raise ValueError(f"an impact at speed {slowest:.2g} grazes the wall: the map is not smooth there")
         corner = flow.slowest_smooth_impact
-        if corner > 0 and np.any(np.abs(speeds - corner) <= CORNER * corner):
+        if corner > 0 and np.any(np.abs(speeds - corner) <= AT_CORNER * corner):
             raise ValueError(
                 f"an impact at the measured law's least speed {corner:g}, below which the law is held "
                 "constant: the map has a corner there"
