@@ -123,9 +123,12 @@ def test_a_branch_locates_its_period_doubling_and_crosses_its_grazing():
 
 
 def test_a_period_doubling_of_8_gives_a_branch_of_twice_the_period():
-    """Switching at the period doubling of the Fig. 10 set's asymmetric orbit (sigma ~ 2.2): the
-    doubled branch passes through the doubling (its branch point there), and its orbits return
-    after 4 pi but not after 2 pi under the reference flow (scipy's expm between impacts)."""
+    """Switching at the period doubling of the Fig. 10 set's asymmetric orbit (sigma ~ 2.9): the
+    doubled branch passes through the doubling (its branch point there), and the middle orbit of
+    each of its pieces returns after 4 pi but not after 2 pi under the reference flow (scipy's
+    expm between impacts). Across its grazing near sigma = 2.34 (a second contact near grazing
+    too) it goes on with five impacts down to the parent's own grazing (sigma = 2.16104), where
+    its orbit is the parent's: a period-2 family born at the period-1 orbit's grazing."""
     from slosh_bif.orbits.impact.switching import doubled_branches
 
     params, x0 = _settled("fig10 sigma=3")
@@ -134,13 +137,20 @@ def test_a_period_doubling_of_8_gives_a_branch_of_twice_the_period():
     (origin, doubled), *_ = doubled_branches(params, parent, p_min=1.0, p_max=3.2, max_branches=1)
     assert origin.startswith("PD at sigma") and all(pc.period_multiple == 2 for pc in doubled.pieces)
     assert any(abs(p - pd) < 1e-5 for p, _ in doubled.special("BP"))
-    piece = max(doubled.pieces, key=lambda pc: len(pc.branch))
-    i = int(np.argmax(np.abs(piece.branch.p - pd)))  # the point farthest from the doubling
-    at, x = params.replace(sigma=float(piece.branch.p[i])), piece.branch.x[i]
-    back = simulate_impact(at, x, (piece.phase, piece.phase + 4 * np.pi), backend="scipy").y[:, -1]
-    half = simulate_impact(at, x, (piece.phase, piece.phase + 2 * np.pi), backend="scipy").y[:, -1]
-    assert np.linalg.norm(back - x) < 1e-7 * (1 + np.linalg.norm(x))
-    assert np.linalg.norm(half - x) > 1e-3
+
+    def returns(piece, i, periods):
+        at, x = params.replace(sigma=float(piece.branch.p[i])), piece.branch.x[i]
+        end = simulate_impact(at, x, (piece.phase, piece.phase + 2 * np.pi * periods), backend="scipy")
+        return np.linalg.norm(end.y[:, -1] - x) / (1 + np.linalg.norm(x))
+
+    for piece in doubled.pieces:
+        middle = len(piece.branch) // 2
+        assert returns(piece, middle, 2) < 1e-7 and returns(piece, middle, 1) > 1e-3
+    p_gr = parent.grazing[0][0]
+    last = min(doubled.pieces, key=lambda pc: pc.branch.p.min())
+    i = int(np.argmin(last.branch.p))
+    assert last.impacts == 5 and last.branch.p[i] == pytest.approx(p_gr, abs=1e-4)
+    assert returns(last, i, 1) < 1e-3
 
 
 def test_bad_input_is_refused_before_any_work():

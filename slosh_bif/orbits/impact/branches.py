@@ -6,7 +6,9 @@ in pieces, each direction on its own:
 
 * an impact on the section: the section moves to the middle of the orbit's longest flight (the
   same orbits in new coordinates) and the continuation resumes from the located edge point in the
-  same direction of the parameter;
+  same direction of the parameter; a start on orbits an earlier piece holds (a closed branch,
+  which meets the section at another point each lap) closes the branch as a loop
+  (:mod:`slosh_bif.orbits.impact.retrace`);
 * grazing (GR): the point is kept; the family on the other side (an impact more or fewer) is
   found on the contact's own unfolding (:mod:`slosh_bif.orbits.impact.grazing_crossing`),
   attracting or not, and the branch goes on from there in the direction that leads away from the
@@ -35,7 +37,7 @@ from slosh_bif.continuation.branch import Kind, Status
 from slosh_bif.continuation.corrector import newton_solve
 from slosh_bif.flows.impact.flow import END_REASONS
 from slosh_bif.model.params import Params
-from slosh_bif.orbits.impact.grazing_crossing import contact_at, cross_grazing
+from slosh_bif.orbits.impact.grazing_crossing import contact_at, cross_grazing, repeats_sooner
 from slosh_bif.orbits.impact.law_corner import (
     CORNER_STEPS,
     across_the_corner,
@@ -44,6 +46,7 @@ from slosh_bif.orbits.impact.law_corner import (
     without_corner_points,
 )
 from slosh_bif.orbits.impact.problem import GRAZING, SECTION, VARIANT_NAMES, ImpactOrbitProblem
+from slosh_bif.orbits.impact.retrace import retraced_piece, state_at_phase
 
 __all__ = [
     "ImpactPiece",
@@ -272,18 +275,19 @@ def trace_impact_orbits(
             if end.edge == SECTION:
                 phase, x = quiet_section(problem, x_end, p_end)
                 p = p_end
-                if _seen(starts, phase, p, x):
+                problem = _problem(first, phase, x, p)
+                # a closed branch meets the section at another point each lap: its start repeats
+                # no earlier one but lies on an earlier lap's piece (the last piece ends here)
+                if _seen(starts, phase, p, x) or retraced_piece(problem, x, p, pieces[:-1]) is not None:
                     ends.append(
                         BranchEnd(
                             direction,
                             Status.LOOP.value,
-                            f"closed loop (back at the section of {param} = {p:.10g}, or at its "
-                            "mirror image)",
+                            f"closed loop (back on the orbits of {param} = {p:.10g}, or their mirror images)",
                         )
                     )
                     break
                 starts.append((phase, p, x))
-                problem = _problem(first, phase, x, p)
                 continue
             contact = contact_at(problem, x_end, p_end)
             seen = [i for i, (c, q) in enumerate(contacts) if contact.same_as(c, p_end, q)]
@@ -352,24 +356,12 @@ def _attracting_beyond(problem, x, p, sign, opts):
             and probe.is_stable(probe.eigenvalues(run.x, q))
         ):
             count = len(probe.evaluate(run.x, q).impacts)
-            if count != problem.impacts:
+            if count != problem.impacts and not repeats_sooner(probe, run.x, q):
                 return problem.replace(impacts=count), run.x, q, sign
     return None
 
 
 def state_at_zero(problem: ImpactOrbitProblem, x, p):
-    """The state at tau = 0 of the orbit through x on the problem's section tau = phase: the flow
-    of (8) from the section to the next multiple of the map's period, mirrored once per half
-    period for a symmetric orbit."""
-    periods = int(np.ceil(problem.phase / problem.period - 1e-12))
-    end = periods * problem.period
-    if end == problem.phase:
-        return np.asarray(x, dtype=float)
-    _, y, _, code = problem.flow_at(p).run(
-        np.asarray(x, dtype=float), problem.phase, end, stick_speed=1e-9, max_impacts=10_000
-    )
-    if code != 0:
-        raise ValueError(
-            f"the orbit of (8) cannot be followed from its section to tau = {end:g} (code {code})"
-        )
-    return y[:, -1] * (problem.closing**periods)
+    """The state at tau = 0 of the orbit through x on the problem's section (see
+    :func:`~slosh_bif.orbits.impact.retrace.state_at_phase`)."""
+    return state_at_phase(problem, x, p, 0.0)

@@ -19,7 +19,10 @@ Generically p moves linearly in g and in v, so the family beyond exists on one s
 parameter only, and which side it is comes out of the solve (the side the branch came from: a
 non-smooth fold). The solve uses central differences (four unknowns, a few map evaluations); the
 orbit found is then polished by Newton on the section's map with its exact saltation Jacobian,
-which also checks that it is an orbit of (8) with the impact count the contact says.
+which also checks that it is an orbit of (8) with the impact count the contact says, and not an
+orbit of a shorter period (a period-2 family that ends on its parent's grazing). Where another
+contact of the orbit is near grazing too, the one-contact unfolding holds only within that
+contact's own gap, so smaller sizes are tried after the usual ones.
 """
 
 from __future__ import annotations
@@ -39,13 +42,19 @@ __all__ = [
     "on_section",
     "grazing_by_unfolding",
     "cross_grazing",
+    "repeats_sooner",
     "CONTACT_SIZES",
+    "NEAR_CONTACT_SIZES",
     "FREE",
 ]
 
 FREE = 0.1  # the flights beside the contact, in tau, taken with the wall ignored
 CONTACT_SIZES = (1e-3, 1e-2)  # gaps or impact speeds tried in turn beyond a grazing point
+# tried after those: where another contact of the orbit is itself near grazing, the one-contact
+# unfolding holds only that near (a second impact appears at a larger size)
+NEAR_CONTACT_SIZES = (1e-4, 1e-5, 1e-6)
 _NEWTON_STEPS = 25
+_SAME_ORBIT = 1e-7  # an orbit returns to itself within this (relative)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -205,15 +214,16 @@ def grazing_by_unfolding(problem, x, p):
 def cross_grazing(problem, x, p, opts, contact: Contact | None = None):
     """(problem, x, p, sign) of the branch beyond the grazing point (x, p) of ``problem`` (its
     ``contact``, when known): the orbit with the other contact at the least size in
-    :data:`CONTACT_SIZES` for which it is found and polished, its problem holding its own impact
-    count, and the direction of p that leads away from the grazing; None when none is found within
-    ``opts``' parameter bounds."""
+    :data:`CONTACT_SIZES`, else the largest in :data:`NEAR_CONTACT_SIZES`, for which it is found
+    and polished, its problem holding its own impact count, and the direction of p that leads away
+    from the grazing; None when none is found within ``opts``' parameter bounds."""
     contact = contact or contact_at(problem, x, p)
     probe = problem.replace(impacts=None)
     # the located point may sit on either side of the contact (an impact of speed ~0, or a flight
     # turning at the wall): the family beyond is the one whose impact count differs from the branch's
     kinds = (contact.beyond, contact.kind)
-    for kind, size in ((k, s) for k in kinds for s in CONTACT_SIZES):
+    tries = [(k, s) for sizes in (CONTACT_SIZES, NEAR_CONTACT_SIZES) for k in kinds for s in sizes]
+    for kind, size in tries:
         found = unfold(problem, contact, p, kind, size)
         if found is None:
             continue
@@ -225,6 +235,20 @@ def cross_grazing(problem, x, p, opts, contact: Contact | None = None):
         if not (run.converged and probe.in_domain(run.x, q)):
             continue
         count = len(probe.evaluate(run.x, q).impacts)
-        if count != problem.impacts:
+        if count != problem.impacts and not repeats_sooner(probe, run.x, q):
             return problem.replace(impacts=count), run.x, q, 1.0 if q > p else -1.0
     return None
+
+
+def repeats_sooner(problem, x, p) -> bool:
+    """Whether the orbit through x at ``p``, a fixed point of the map over ``period_multiple``
+    forcing periods, returns after a proper divisor of them: an orbit of a shorter period (the
+    parent of a period doubling, say), not one of the problem's family."""
+    m = problem.period_multiple
+    x = np.asarray(x, dtype=float)
+    for d in (d for d in range(1, m) if m % d == 0):
+        end = problem.phase + 2 * np.pi * d
+        _, y, _, code = problem.flow_at(p).run(x, problem.phase, end, stick_speed=1e-9, max_impacts=10_000)
+        if code == 0 and np.linalg.norm(y[:, -1] - x) <= _SAME_ORBIT * (1 + np.linalg.norm(x)):
+            return True
+    return False
