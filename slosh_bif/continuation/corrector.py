@@ -128,17 +128,20 @@ def correct(problem, u_pred, t, opts, *, strict: bool = False):
     return None, opts.max_newton if run.stalled else run.iterations
 
 
-def newton_solve(problem, x0, p, *, tol=1e-11, max_iter=30, criterion: str = "step") -> NewtonResult:
+def newton_solve(
+    problem, x0, p, *, tol=1e-11, max_iter=30, criterion: str = "step", halvings: int = 0
+) -> NewtonResult:
     """Newton on ``problem.residual(x, p) = 0`` at fixed p from x0 (:func:`~slosh_bif.newton.newton_loop`);
     never raises on failure. ``criterion``: ``"step"`` or ``"residual"``
-    (:data:`~slosh_bif.newton.CRITERIA`)."""
+    (:data:`~slosh_bif.newton.CRITERIA`); a step that leaves the problem's domain is halved up to
+    ``halvings`` times."""
     if criterion not in ("step", "residual"):
         raise ValueError(f"criterion must be 'step' or 'residual'; got {criterion!r}")
     return newton_loop(
         lambda x: problem.residual(x, p),
         lambda x: problem.jacobian(x, p),
         x0,
-        NewtonSettings(tol=tol, max_iter=max_iter, criterion=criterion),
+        NewtonSettings(tol=tol, max_iter=max_iter, criterion=criterion, halvings=halvings),
         admissible=lambda x: in_domain(problem, np.append(x, p)),
         domain=f"the problem's domain at p = {p}",
     )

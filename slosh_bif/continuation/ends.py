@@ -8,6 +8,7 @@ import numpy as np
 from slosh_bif.continuation.branch import END
 from slosh_bif.continuation.corrector import (
     Point,
+    in_domain,
     make_point,
     newton,
 )
@@ -36,17 +37,25 @@ def bound_message(bound, opts):
 
 def end_on_bound(problem, points, b_u, opts):
     """End at the bound that the corrected point b_u overshot: the point with p = bound between
-    the last point and b_u (Newton at fixed p), or the last point itself when it is on the bound."""
+    the last point and b_u (Newton at fixed p), or the last point itself when it is on the bound;
+    or at the domain's edge, on the last point, where Newton fails at the bound and the chord's
+    point there lies outside the domain. Returns the end's reason."""
     a = points[-1]
     bound = opts.p_max if b_u[-1] > opts.p_max else opts.p_min
     if a.u[-1] == bound:  # a start on the bound is itself the end (not a second copy of it)
         mark_end(a, BOUND, bound_message(bound, opts))
-        return
+        return BOUND
     w = (bound - a.u[-1]) / (b_u[-1] - a.u[-1])
     try:
         x = newton(problem, (1 - w) * a.u[:-1] + w * b_u[:-1], bound, tol=opts.tol)
     except (ConvergenceError, np.linalg.LinAlgError):
         x = (1 - w) * a.u[:-1] + w * b_u[:-1]  # a fold on the bound: keep the interpolated point
+        if not in_domain(problem, np.append(x, bound)):
+            # the domain's edge lies before the bound: the curve up to the bound is not known
+            edge = capabilities(problem).edge_name_near(a.u)
+            mark_end(a, EDGE, f"{EDGE}: {edge} before the {bound_message(bound, opts)}", (a.u[-1], bound))
+            a.edge = edge
+            return EDGE
     u = np.append(x, bound)
     points.append(
         make_point(
@@ -59,6 +68,7 @@ def end_on_bound(problem, points, b_u, opts):
             reason=BOUND,
         )
     )
+    return BOUND
 
 
 def mark_end(point: Point, reason: str, message: str, bracket=None):

@@ -46,7 +46,6 @@ from slosh_bif.continuation.corrector import (
 from slosh_bif.continuation.detection import special_between
 from slosh_bif.continuation.ends import at_named_edge, end_after_failures, end_on_bound, mark_end, stalls
 from slosh_bif.continuation.options import (
-    BOUND,
     COMPLETE,
     LOOP,
     STALL,
@@ -127,8 +126,7 @@ def _run(problem, start: Point, opts, loop_guard: bool, callback=None, stop=None
             continue
         edge_hits = 0
         if not opts.p_min <= u[-1] <= opts.p_max:
-            end_on_bound(problem, points, u, opts)
-            return points, BOUND
+            return points, end_on_bound(problem, points, u, opts)
         b = make_point(problem, u, a.t, iters)
         angle = math.acos(min(1.0, max(-1.0, float(b.t @ a.t))))
         if angle > 2 * opts.max_angle and h > 2 * opts.step_min:

@@ -117,6 +117,26 @@ def test_pitchfork_branch_point_is_detected_and_is_not_a_fold():
     assert not branch.special_of("LP")
 
 
+@dataclasses.dataclass
+class LineWithGap(HalfLine):
+    """x - p = 0 with a gap in its domain, 0.74 < x < 0.76, just short of the bound 0.75."""
+
+    def in_domain(self, x, p):
+        return not 0.74 < x[0] < 0.76
+
+
+def test_a_bound_inside_a_gap_of_the_domain_ends_the_branch_at_the_edge_on_its_last_point():
+    """A step from below the gap lands beyond it and the bound: the bound's point lies in the gap,
+    where Newton fails, so the branch ends on its last point as at an edge, not on a point outside
+    the domain called the bound."""
+    branch = continuation(
+        LineWithGap(), [0.5], 0.5, options=ContinuationOptions(p_min=0.0, p_max=0.75, step=0.3, step_max=0.3)
+    )
+    assert all(LineWithGap().in_domain(x, p) for x, p in zip(branch.x, branch.p))
+    (end,) = [e for e in branch.special_of("END") if e.p > 0.5]
+    assert end.reason == "domain edge" and end.p <= 0.74 and "before the parameter bound" in end.message
+
+
 def test_branch_ends_at_the_domain_edge_with_the_reason():
     branch = continuation(HalfLine(), [1.0], 1.0, options=ContinuationOptions(p_max=2.0))
     assert branch.status == "ok"

@@ -159,3 +159,29 @@ def test_a_grazing_curve_whose_other_impacts_lie_below_the_laws_corner():
     assert np.abs(orbits.residual(x0, p)).max() < 1e-6 and orbits.grazing(x0, p).gap < 1e-8
     speeds = np.abs(orbits.evaluate(x0, p).impacts[:, 2])
     assert 1e-2 < speeds[speeds > 1e-6].min() < 0.05  # an impact (not the grazing contact) below the corner
+
+
+def test_a_grazing_curve_starts_beside_a_second_contact_near_grazing():
+    """A random set (seed 305 of the robustness draws) whose primary branch of (8) crosses a
+    grazing where a second contact is near grazing too, and grazes again at sigma = -0.678047: the
+    start's full Newton step flips the other contact and leaves the problem's domain, a halved one
+    reaches the grazing orbit. Its points are periodic orbits touching the wall under scipy (to 1e-6:
+    the reference's own slow impact at the other contact amplifies its error)."""
+    params = get_preset("fig10").params.replace(
+        eps=0.0723, beta=0.223, gamma=0.297, Abar=2.583, lam=0.563, chi=1.082, n=6, pbar=2
+    )
+    x = [2.3643046114611153, -1.3393470736498625, -0.8460495823721782, 0.836763856419806]
+    seed = ImpactCurveSeed("GR", np.array(x), -0.6780467264913849, phase=1.2836254154747238, origin="test")
+    box = {"sigma": (-4.389, -0.389), "Abar": (0.861, 3.875)}
+    c = trace_grazing_curve(params.replace(sigma=seed.p), seed, box=box)
+    assert c.status == "ok" and len(c) > 10
+    for side in (1.0, -1.0):
+        problem = GrazingCurveProblem(params, "sigma", "Abar", side=side)
+        if np.abs(problem.residual(c.branch.x[0], c.branch.p[0])).max() < 1e-8:
+            break
+    for i in (len(c) // 4, len(c) // 2, 3 * len(c) // 4):  # the ends are where the other contact grazes
+        error, gap = _reference_check(params, problem, c.branch.x[i], c.branch.p[i])
+        assert error < 1e-6 and abs(gap) < 1e-6, (i, error, gap)
+    # the end towards the box's sigma_max is that contact's grazing, just short of the box: an edge
+    (last,) = [s for s in c.branch.special if s.kind == "END" and s.p == c.branch.p.max()]
+    assert last.reason == "domain edge" and last.p < -0.389

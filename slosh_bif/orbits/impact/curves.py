@@ -41,6 +41,8 @@ from slosh_bif.orbits.impact.strobe import ImpactStrobe, slow_impacts
 
 __all__ = ["ImpactCurveSeed", "impact_corrected_at", "trace_impact_curve", "trace_grazing_curve"]
 
+GR_START_HALVINGS = 10  # halvings of a start's Newton step that leaves the grazing problem's domain
+
 
 @dataclasses.dataclass(frozen=True)
 class ImpactCurveSeed:
@@ -275,7 +277,9 @@ def trace_grazing_curve(
     )
     u0 = np.array([y_g[0], y_g[1], t_g, getattr(at, p2)])
     p1_0 = float(getattr(at, p1))
-    run = newton_solve(problem, u0, p1_0, tol=1e-11)
+    # halved back into the domain: beside a second contact near grazing (the seed just across
+    # it, say) a full step can flip that contact, though the grazing orbit is within reach
+    run = newton_solve(problem, u0, p1_0, tol=1e-11, halvings=GR_START_HALVINGS)
     if not run.converged:
         raise ValueError(f"no grazing orbit of {VARIANT_NAMES[seed.variant]} near the start: {run.message}")
     problem.impacts = len(problem.evaluate(run.x, p1_0)[4])
