@@ -50,6 +50,11 @@ KINDS = ("LP", "PD", "NS", "BP")
 _NAMES = {"LP": "a", "PD": "b", "NS": "d", "BP": "b"}
 _STATE = ("X", "X'", "w", "w'")
 _AT_PARENT = "where the orbit meets its symmetric parent: see the parent's pitchfork"
+# on a branch of period-m orbits (m > 1), the branch point where it is born or ends
+_AT_PARENT_M = (
+    "where the orbit meets its parent (at the parent's period doubling, or a symmetric orbit's "
+    "pitchfork): see the parent's point"
+)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -94,7 +99,7 @@ def judge(problem, sp, param: str):
     """The :class:`Verdict` of the special point ``sp`` (an LP, PD, NS or BP of a branch of
     ``problem``'s orbits continued in ``param``), or the reason it is not computed (a str)."""
     if sp.kind == "BP" and not problem.symmetric:
-        return _AT_PARENT
+        return _AT_PARENT if problem.period_multiple == 1 else _AT_PARENT_M
     period = 2 * math.pi * problem.period_multiple
     # (8)'s problem states its own (jets through its impacts); (9)'s variational equations
     derivatives = getattr(problem, "map_derivatives", FlowDerivatives)
@@ -176,7 +181,8 @@ def special_criticality(ob, *, only: int | None = None) -> dict:
 
 def _judged(problem, branch, only=None) -> dict:
     plan = _plan(problem, branch, only)
-    return {k: _AT_PARENT if sp is None else judge(problem, sp, branch.param) for k, sp in plan}
+    at_parent = _AT_PARENT if problem.period_multiple == 1 else _AT_PARENT_M
+    return {k: at_parent if sp is None else judge(problem, sp, branch.param) for k, sp in plan}
 
 
 def family_criticality(branches) -> list:
@@ -193,7 +199,11 @@ def family_criticality(branches) -> list:
             found = iter(list(pool.map(lambda job: judge(copy.copy(job[0]), *job[1:]), jobs)))
     else:
         found = iter([judge(*job) for job in jobs])
-    return [{k: _AT_PARENT if sp is None else next(found) for k, sp in plan} for plan in plans]
+    parents = [_AT_PARENT if ob.problem.period_multiple == 1 else _AT_PARENT_M for ob in branches]
+    return [
+        {k: at_parent if sp is None else next(found) for k, sp in plan}
+        for plan, at_parent in zip(plans, parents)
+    ]
 
 
 def impact_criticality(branch, params, *, symmetric: bool = False, only: tuple | None = None) -> list:

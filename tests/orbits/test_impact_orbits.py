@@ -128,7 +128,8 @@ def test_a_period_doubling_of_8_gives_a_branch_of_twice_the_period():
     each of its pieces returns after 4 pi but not after 2 pi under the reference flow (scipy's
     expm between impacts). Across its grazing near sigma = 2.34 (a second contact near grazing
     too) it goes on with five impacts down to the parent's own grazing (sigma = 2.16104), where
-    its orbit is the parent's: a period-2 family born at the period-1 orbit's grazing."""
+    its orbit is the parent's: a period-2 family born at the period-1 orbit's grazing, which ends
+    the branch there."""
     from slosh_bif.orbits.impact.switching import doubled_branches
 
     params, x0 = _settled("fig10 sigma=3")
@@ -151,6 +152,8 @@ def test_a_period_doubling_of_8_gives_a_branch_of_twice_the_period():
     i = int(np.argmin(last.branch.p))
     assert last.impacts == 5 and last.branch.p[i] == pytest.approx(p_gr, abs=1e-4)
     assert returns(last, i, 1) < 1e-3
+    # which ends the branch there as met with its parent: complete, not cut short
+    assert "parent" in [e.reason for e in doubled.ends] and doubled.complete
 
 
 def test_bad_input_is_refused_before_any_work():
@@ -250,7 +253,7 @@ def test_a_symmetric_orbit_is_a_fixed_point_of_the_half_period_map_whose_multipl
     np.testing.assert_allclose(np.sort_complex(half.eigenvalues(x_half, -3.0)), mu_full, atol=1e-9)
 
 
-def test_shoot_model_impact_switches_at_the_pitchforks_of_the_symmetric_branch(tmp_path):
+def test_shoot_model_impact_switches_at_the_pitchforks_of_the_symmetric_branch(tmp_path, capsys):
     """The asymmetric branch of (8) born at the pitchforks of the Fig. 13 symmetric branch (sigma =
     0.43717 and -2.00827, located on the half-period map): continued through its grazings it joins
     the two; its orbits are periodic but not symmetric under the reference flow (scipy's expm
@@ -275,8 +278,11 @@ def test_shoot_model_impact_switches_at_the_pitchforks_of_the_symmetric_branch(t
                 str(tmp_path),
             ]
         )
-        == 3
-    )  # period-doubled branches end at grazings
+        == 0
+    )
+    # every branch is whole: the period-2 branch born at 0.553359 ends at a grazing beside its
+    # parent's (0.6113707), on the parent's orbit, and the other doubled branches close as loops
+    assert "meets its parent at the parent's grazing" in capsys.readouterr().err
     rows = list(csv.DictReader(open(tmp_path / "branch.csv")))
     # and the cascade born at the asymmetric branch's period doublings (six branches, the default;
     # which doublings come first depends on the order the loop is traced in)

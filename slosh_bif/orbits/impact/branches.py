@@ -37,7 +37,7 @@ from slosh_bif.continuation.branch import Kind, Status
 from slosh_bif.continuation.corrector import newton_solve
 from slosh_bif.flows.impact.flow import END_REASONS
 from slosh_bif.model.params import Params
-from slosh_bif.orbits.impact.grazing_crossing import contact_at, cross_grazing, repeats_sooner
+from slosh_bif.orbits.impact.grazing_crossing import contact_at, cross_grazing, repeats_sooner, sooner_return
 from slosh_bif.orbits.impact.law_corner import (
     CORNER_STEPS,
     across_the_corner,
@@ -58,7 +58,9 @@ __all__ = [
     "state_at_zero",
 ]
 
-GRAZES, PIECES = "grazing", "pieces"  # the tracer's own end reasons, beside the engine's
+# the tracer's own end reasons, beside the engine's
+GRAZES, PIECES, PARENT = "grazing", "pieces", "parent"
+NEAR_PARENT = 1e-3  # a grazing orbit this near (relative) to its image after fewer periods is on it
 CROSSING_STEPS = (1e-6, 1e-5, 1e-4, 1e-3)  # parameter steps beyond a grazing point, tried in turn
 CROSSING_ITERATES = 300  # iterates of the map beyond a grazing point before Newton
 NEAR_GRAZING = 10.0  # an orbit beyond a grazing counts as its continuation within this times sqrt(step)
@@ -78,7 +80,8 @@ class ImpactPiece:
 @dataclasses.dataclass(frozen=True)
 class BranchEnd:
     """How one direction ended: ``reason`` a :class:`~slosh_bif.continuation.Status` value, or
-    ``"grazing"`` (no orbit found beyond a GR point) or ``"pieces"`` (``max_pieces`` reached)."""
+    ``"grazing"`` (no orbit found beyond a GR point), ``"parent"`` (a grazing on an orbit of a
+    shorter period: the family meets its parent there) or ``"pieces"`` (``max_pieces`` reached)."""
 
     direction: str
     reason: str
@@ -91,9 +94,9 @@ class BranchEnd:
 @dataclasses.dataclass(frozen=True)
 class ImpactBranch:
     """A branch of orbits of (8) in pieces. ``grazing``: (p, x, phase) of each GR point;
-    ``ends``: a :class:`BranchEnd` per direction; ``complete``: both reached a bound or closed (a
-    direction ending at a grazing with no orbit beyond, where the other direction closed a loop, is
-    closed too)."""
+    ``ends``: a :class:`BranchEnd` per direction; ``complete``: both reached a bound, closed or met
+    their parent (a direction ending at a grazing with no orbit beyond, where the other direction
+    closed a loop, is closed too)."""
 
     param: str
     pieces: tuple
@@ -308,24 +311,38 @@ def trace_impact_orbits(
                 problem, x_end, p_end, sign, opts
             )
             if beyond is None:
-                dead.add(len(contacts) - 1)
-                ends.append(
-                    BranchEnd(
-                        direction,
-                        GRAZES,
-                        f"grazing at {param} = {p_end:.10g}; no orbit with another impact count "
-                        "found beyond it",
-                    )
-                )
+                ends.append(_dead_end(problem, x_end, p_end, direction, param))
+                if ends[-1].reason == GRAZES:
+                    dead.add(len(contacts) - 1)
                 break
             problem, x, p, sign = beyond
     # a direction that ended at a grazing with nothing beyond, where the other direction closed
     # (at it or its mirror image), ends a loop through that grazing: nothing of the branch is left
     complete = all(
-        e.reason in (Status.BOUND.value, Status.LOOP.value) or (e.reason == GRAZES and dead <= met)
+        e.reason in (Status.BOUND.value, Status.LOOP.value, PARENT) or (e.reason == GRAZES and dead <= met)
         for e in ends
     )
     return ImpactBranch(param, tuple(pieces), tuple(grazing), tuple(ends), complete, variant)
+
+
+def _dead_end(problem, x, p, direction, param) -> BranchEnd:
+    """How a direction ends at the grazing (x, p) with no orbit found beyond it: on an orbit of a
+    shorter period (its state within :data:`NEAR_PARENT` of its image after a divisor of the
+    map's periods: a period-2 family born at its parent's grazing, where the orbits the unfolding
+    finds beyond are the parent's), or with nothing beyond."""
+    distance, periods = sooner_return(problem, x, p)
+    if distance <= NEAR_PARENT:
+        return BranchEnd(
+            direction,
+            PARENT,
+            f"grazing at {param} = {p:.10g} on an orbit of period {periods} (within {distance:.1g} of "
+            "returning after it): the family meets its parent at the parent's grazing",
+        )
+    return BranchEnd(
+        direction,
+        GRAZES,
+        f"grazing at {param} = {p:.10g}; no orbit with another impact count found beyond it",
+    )
 
 
 def _attracting_beyond(problem, x, p, sign, opts):

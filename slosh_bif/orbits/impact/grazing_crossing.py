@@ -43,6 +43,7 @@ __all__ = [
     "grazing_by_unfolding",
     "cross_grazing",
     "repeats_sooner",
+    "sooner_return",
     "CONTACT_SIZES",
     "NEAR_CONTACT_SIZES",
     "FREE",
@@ -244,11 +245,19 @@ def repeats_sooner(problem, x, p) -> bool:
     """Whether the orbit through x at ``p``, a fixed point of the map over ``period_multiple``
     forcing periods, returns after a proper divisor of them: an orbit of a shorter period (the
     parent of a period doubling, say), not one of the problem's family."""
+    return sooner_return(problem, x, p)[0] <= _SAME_ORBIT
+
+
+def sooner_return(problem, x, p) -> tuple:
+    """(distance, periods): the least relative distance between the state x at ``p`` and its
+    image after a proper divisor of the map's ``period_multiple`` forcing periods, and that
+    divisor; (inf, 0) for a map over one forcing period."""
     m = problem.period_multiple
     x = np.asarray(x, dtype=float)
+    best = (np.inf, 0)
     for d in (d for d in range(1, m) if m % d == 0):
         end = problem.phase + 2 * np.pi * d
         _, y, _, code = problem.flow_at(p).run(x, problem.phase, end, stick_speed=1e-9, max_impacts=10_000)
-        if code == 0 and np.linalg.norm(y[:, -1] - x) <= _SAME_ORBIT * (1 + np.linalg.norm(x)):
-            return True
-    return False
+        if code == 0:
+            best = min(best, (float(np.linalg.norm(y[:, -1] - x) / (1 + np.linalg.norm(x))), d))
+    return best
