@@ -37,19 +37,28 @@ def bound_message(bound, opts):
 
 def end_on_bound(problem, points, b_u, opts):
     """End at the bound that the corrected point b_u overshot: the point with p = bound between
-    the last point and b_u (Newton at fixed p), or the last point itself when it is on the bound;
-    or at the domain's edge, on the last point, where Newton fails at the bound and the chord's
-    point there lies outside the domain. Returns the end's reason."""
+    the last point and b_u (Newton at fixed p from the chord, else from b_u or the last point), or
+    the last point itself when it is on the bound; or at the domain's edge, on the last point,
+    where Newton fails at the bound from all three and the chord's point there lies outside the
+    domain. Returns the end's reason."""
     a = points[-1]
     bound = opts.p_max if b_u[-1] > opts.p_max else opts.p_min
     if a.u[-1] == bound:  # a start on the bound is itself the end (not a second copy of it)
         mark_end(a, BOUND, bound_message(bound, opts))
         return BOUND
     w = (bound - a.u[-1]) / (b_u[-1] - a.u[-1])
-    try:
-        x = newton(problem, (1 - w) * a.u[:-1] + w * b_u[:-1], bound, tol=opts.tol)
-    except (ConvergenceError, np.linalg.LinAlgError):
-        x = (1 - w) * a.u[:-1] + w * b_u[:-1]  # a fold on the bound: keep the interpolated point
+    chord = (1 - w) * a.u[:-1] + w * b_u[:-1]
+    x = _on_bound(problem, chord, bound, opts.tol)
+    # a chord's point outside a thin domain fails at once: from the step's own ends, both on the
+    # curve, a solution within the step's length of the chord is the curve's at the bound
+    reach = float(np.linalg.norm(b_u - a.u))
+    for start in (b_u[:-1], a.u[:-1]) if x is None else ():
+        found = _on_bound(problem, start, bound, opts.tol)
+        if found is not None and np.linalg.norm(found - chord) <= reach:
+            x = found
+            break
+    if x is None:
+        x = chord  # a fold on the bound: keep the interpolated point
         if not in_domain(problem, np.append(x, bound)):
             # the domain's edge lies before the bound: the curve up to the bound is not known
             edge = capabilities(problem).edge_name_near(a.u)
@@ -69,6 +78,14 @@ def end_on_bound(problem, points, b_u, opts):
         )
     )
     return BOUND
+
+
+def _on_bound(problem, x0, bound, tol):
+    """Newton at p = bound from x0: the solution, or None."""
+    try:
+        return newton(problem, x0, bound, tol=tol)
+    except (ConvergenceError, np.linalg.LinAlgError):
+        return None
 
 
 def mark_end(point: Point, reason: str, message: str, bracket=None):

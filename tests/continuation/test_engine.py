@@ -137,6 +137,28 @@ def test_a_bound_inside_a_gap_of_the_domain_ends_the_branch_at_the_edge_on_its_l
     assert end.reason == "domain edge" and end.p <= 0.74 and "before the parameter bound" in end.message
 
 
+class ThinCircle(Circle):
+    """The circle with a domain that ends 1e-3 inside it: a chord's point, up to h^2 / 8 inside
+    the circle, lies outside the domain for steps longer than 0.09."""
+
+    def in_domain(self, x, p):
+        return np.hypot(x[0], p) > 1 - 1e-3
+
+
+def test_a_bound_whose_chord_point_leaves_a_thin_domain_ends_on_the_curve():
+    """Newton at the bound from the chord's point fails at once (outside the domain); from the
+    step's own end it lands on the circle at the bound, x = sqrt(1 - p^2)."""
+    branch = continuation(
+        ThinCircle(),
+        [1.0],
+        0.0,
+        options=ContinuationOptions(p_min=-0.5, p_max=0.5, step=0.3, step_max=0.3, direction="forward"),
+    )
+    (end,) = [e for e in branch.special_of("END") if e.p > 0]
+    assert end.reason == "parameter bound" and end.p == 0.5
+    assert end.x[0] == pytest.approx(np.sqrt(0.75), abs=1e-10)
+
+
 def test_branch_ends_at_the_domain_edge_with_the_reason():
     branch = continuation(HalfLine(), [1.0], 1.0, options=ContinuationOptions(p_max=2.0))
     assert branch.status == "ok"

@@ -61,6 +61,7 @@ __all__ = [
 # the tracer's own end reasons, beside the engine's
 GRAZES, PIECES, PARENT = "grazing", "pieces", "parent"
 NEAR_PARENT = 1e-3  # a grazing orbit this near (relative) to its image after fewer periods is on it
+GRAZING_GAP = 1e-4  # an end at the grazing edge is a grazing point within this gap (as a GR curve's start)
 CROSSING_STEPS = (1e-6, 1e-5, 1e-4, 1e-3)  # parameter steps beyond a grazing point, tried in turn
 CROSSING_ITERATES = 300  # iterates of the map beyond a grazing point before Newton
 NEAR_GRAZING = 10.0  # an orbit beyond a grazing counts as its continuation within this times sqrt(step)
@@ -292,6 +293,12 @@ def trace_impact_orbits(
                     break
                 starts.append((phase, p, x))
                 continue
+            gap = problem.grazing(x_end, p_end).gap
+            if not abs(gap) < GRAZING_GAP:  # an end named for the grazing edge, not on it
+                ends.append(
+                    BranchEnd(direction, end.reason, f"{end.message} (not on it: a gap of {gap:.3g})")
+                )
+                break
             contact = contact_at(problem, x_end, p_end)
             seen = [i for i, (c, q) in enumerate(contacts) if contact.same_as(c, p_end, q)]
             if seen:
