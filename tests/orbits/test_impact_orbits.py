@@ -446,6 +446,50 @@ def test_a_corrected_branch_goes_on_past_the_corner_of_the_laws_least_speed():
         np.testing.assert_allclose(run.y[:, -1], x, rtol=0, atol=1e-7)
 
 
+@pytest.mark.slow  # a branch of eight pieces (3 s); the corner's fast test is the one above
+def test_a_corner_the_branch_passes_straight_through_is_crossed_on_the_side_the_parameter_takes():
+    """A random set's corrected impact model (seed 304 of the robustness draws): its asymmetric
+    branch reaches the law's least speed at sigma = 0.23658 with sigma falling and goes on below
+    it with sigma still falling. Along the other side's tangent the slowest speed moves with sigma
+    as much as with the state; orienting the tangent by the state's part alone sent the steps back
+    onto the side it came from, and the branch ended there. It now crosses and closes as a loop;
+    its orbits just beyond the corner return to themselves at another sample step (to 1e-7)."""
+    from slosh_bif.orbits.impact.law_corner import slowest_impact
+
+    at = get_preset("fig10").params.replace(
+        eps=0.0909,
+        beta=0.192,
+        gamma=0.332,
+        sigma=-1.0281034715762218,
+        Abar=3.226,
+        lam=0.136,
+        chi=0.113,
+        n=35,
+        pbar=3,
+    )
+    x0 = [3.27702578459555, 1.6005908583382151, -0.9484647402436985, 1.8552596843950633]
+    branch = trace_impact_orbits(at, x0, p_min=-6.0, p_max=8.0, variant="corrected")
+    assert branch.complete and not any("least speed" in e.message for e in branch.ends)
+    beyond = []
+    for piece in branch.pieces:
+        problem = ImpactOrbitProblem(at, phase=piece.phase, variant="corrected")
+        for x, p in zip(piece.branch.x, piece.branch.p):
+            if abs(p - 0.23658) < 1e-3 and slowest_impact(problem, x, p) < 0.05 * (1 - 1e-4):
+                beyond.append((piece.phase, x, p))
+    assert beyond
+    for phase, x, p in beyond[:3]:
+        run = simulate_impact(
+            at.replace(sigma=float(p)),
+            x,
+            (phase, phase + 2 * np.pi),
+            sample_step=0.02,
+            variant="corrected",
+            continued=True,
+        )
+        assert run.success
+        np.testing.assert_allclose(run.y[:, -1], x, rtol=0, atol=1e-7)
+
+
 @pytest.mark.slow  # a branch of several pieces (7 s); the corner's fast test is the one above
 def test_a_corner_crept_up_to_is_crossed_and_not_called_a_grazing():
     """Another random set (n = 6, pbar = 2, lam 0.563, chi 1.082): the asymmetric branch creeps up

@@ -43,6 +43,7 @@ from slosh_bif.orbits.impact.law_corner import (
     across_the_corner,
     at_the_laws_corner,
     corner_message,
+    corner_sides,
     without_corner_points,
 )
 from slosh_bif.orbits.impact.problem import GRAZING, SECTION, VARIANT_NAMES, ImpactOrbitProblem
@@ -253,16 +254,20 @@ def trace_impact_orbits(
                 end.reason == Status.STALL.value or (end.reason == Status.EDGE.value and end.edge == GRAZING)
             )
             if stopped and at_the_laws_corner(problem, end.x, end.p):
-                seen = any(abs(end.p - q) <= 1e-6 * (1 + abs(q)) for q in corners)
                 before = pieces[-2] if len(pieces) - 2 >= this_direction else None
                 earlier = (
                     None
                     if before is None
                     else (first.replace(phase=before.phase, impacts=before.impacts), before.branch)
                 )
-                beyond = None if seen else across_the_corner(problem, branch, end, (p_min, p_max), earlier)
-                if beyond is not None:
-                    corners.append(end.p)
+                beyond = across_the_corner(problem, branch, end, (p_min, p_max), earlier)
+                # the same corner crossed to the same sides again is a loop; a pair of impacts at
+                # the corner together crosses it twice, a hair apart, to other sides
+                key = None if beyond is None else corner_sides(problem, beyond[0], beyond[1])
+                if beyond is not None and not any(
+                    k == key and abs(end.p - q) <= 1e-6 * (1 + abs(q)) for q, k in corners
+                ):
+                    corners.append((end.p, key))
                     x, p, sign = beyond
                     step = CORNER_STEPS[-1]  # the branch beyond turns within a hair of the corner
                     continue

@@ -24,6 +24,7 @@ __all__ = [
     "at_the_laws_corner",
     "corner_message",
     "across_the_corner",
+    "corner_sides",
     "without_corner_points",
 ]
 
@@ -74,9 +75,12 @@ def across_the_corner(problem, branch, end, p_range: tuple, previous=None):
     inside ``p_range``; ``previous``: (problem, branch) of the piece before the run, whose points
     tell the side the corner was reached from where the run's own are all at it. The branch beyond
     leaves the corner along the null vector of the map's [F_x, F_p] on the other side of v_min (the
-    Jacobian at the corner's orbit moved a hair across, along the slowest speed's gradient by
-    differences): Newton at fixed parameter from steps of :data:`CORNER_STEPS` along it, kept where
-    its slowest impact lies on that side."""
+    Jacobian at the corner's orbit moved a hair across, along the speeds' gradients by
+    differences), oriented so that the speeds, functions of the state and the parameter, move to
+    that side: Newton at fixed parameter from steps of :data:`CORNER_STEPS` along it, kept where
+    a speed at the corner lies on that side. Where several impacts are at the corner at once (a
+    mirror pair's), the branch may take any of them across: the slowest alone first (the others
+    kept on their side), then each of the others alone, then all."""
     x_end, p_end = np.asarray(end.x, dtype=float), float(end.p)
     v_min = problem.flow_at(p_end).wall.v_min
     before = _came_from(problem, branch, end, v_min)
@@ -85,13 +89,39 @@ def across_the_corner(problem, branch, end, p_range: tuple, previous=None):
     if before is None:
         return None
     other = -1.0 if before > v_min else 1.0  # the side of v_min beyond the corner
-    v0, gradient = _speed_gradient(problem, x_end, p_end)
-    if not np.all(np.isfinite(gradient)) or not gradient @ gradient > 0:
+    speeds, gradients = _speed_gradients(problem, x_end, p_end)
+    if speeds is None or not np.all(np.isfinite(gradients)):
         return None
-    across = x_end + gradient * (v_min * (1 + other * 1e-5) - v0) / (gradient @ gradient)
+    at_corner = np.flatnonzero(np.abs(speeds - v_min) <= 1e-4 * v_min)
+    if not len(at_corner):
+        return None
+    order = [int(at_corner[np.argmin(speeds[at_corner])])]
+    order += [int(i) for i in at_corner if i != order[0]]
+    subsets = [[i] for i in order] + ([list(order)] if len(order) > 1 else [])
+    for crossing in subsets:
+        found = _across(problem, x_end, p_end, speeds, gradients, crossing, other, v_min, p_range)
+        if found is not None:
+            return found
+    return None
+
+
+def _across(problem, x_end, p_end, speeds, gradients, crossing, other, v_min, p_range):
+    """The orbit beyond the corner with the impacts ``crossing`` taken to the side ``other`` of
+    v_min and the corner's other impacts kept where they are, or None."""
+    keep = [i for i in range(len(speeds)) if i not in crossing and abs(speeds[i] - v_min) <= 1e-4 * v_min]
+    rows_at = crossing + keep
+    G = gradients[rows_at, :4]
+    if not np.linalg.matrix_rank(G) == len(rows_at):
+        return None
+    target = np.array(
+        [v_min * (1 + other * 1e-5) for _ in crossing] + [v_min * (1 - other * 1e-5) for _ in keep]
+    )
+    across = x_end + np.linalg.lstsq(G, target - speeds[rows_at], rcond=None)[0]
     rows = np.column_stack([problem.jacobian(across, p_end), problem.dparam(across, p_end)])
     tangent = np.linalg.svd(rows)[2][-1]
-    tangent = tangent if other * (gradient @ tangent[:4]) > 0 else -tangent
+    # the speeds' change along the tangent in x and p both: an orbit's impact speeds move with the
+    # parameter too, and where the branch leaves the corner nearly along it, that term decides
+    tangent = tangent if other * (gradients[crossing[0]] @ tangent) > 0 else -tangent
     for step in CORNER_STEPS:
         q = p_end + step * tangent[-1]
         if not p_range[0] <= q <= p_range[1]:
@@ -99,8 +129,10 @@ def across_the_corner(problem, branch, end, p_range: tuple, previous=None):
         run = newton_solve(problem, x_end + step * tangent[:4], q, tol=1e-12)
         if not run.converged or not problem.in_domain(run.x, q):
             continue
-        if other * (slowest_impact(problem, run.x, q) - v_min) > _PAST * v_min:
-            return run.x, q, 1.0 if tangent[-1] >= 0 else -1.0
+        beyond = _speeds(problem, run.x, q)
+        if beyond is not None and len(beyond) == len(speeds):
+            if all(other * (beyond[i] - v_min) > _PAST * v_min for i in crossing):
+                return run.x, q, 1.0 if tangent[-1] >= 0 else -1.0
     return None
 
 
@@ -130,11 +162,32 @@ def _first_clear(problem, branch, indices, v_min):
     return None
 
 
-def _speed_gradient(problem, x, p, h: float = 1e-7):
-    """The slowest impact speed at x and its gradient in x by central differences."""
-    gradient = np.empty(4)
-    for i in range(4):
-        e = np.zeros(4)
-        e[i] = h
-        gradient[i] = (slowest_impact(problem, x + e, p) - slowest_impact(problem, x - e, p)) / (2 * h)
-    return slowest_impact(problem, x, p), gradient
+def corner_sides(problem, x, p) -> tuple:
+    """Which of the orbit's impacts are slower than the law's least speed, in time order."""
+    speeds = _speeds(problem, x, p)
+    v_min = problem.flow_at(p).wall.v_min
+    return () if speeds is None else tuple(bool(v < v_min) for v in speeds)
+
+
+def _speeds(problem, x, p):
+    """The impact speeds over the orbit through x at p, in time order (None without a map)."""
+    m = problem.evaluate(np.asarray(x, dtype=float), p)
+    return None if m.code != 0 else np.abs(m.impacts[:, 2])
+
+
+def _speed_gradients(problem, x, p, h: float = 1e-7):
+    """(speeds, gradients): the impact speeds at (x, p) and each one's gradient in (x, p) by
+    central differences ((None, None) where an impact count changes under the differences)."""
+    speeds = _speeds(problem, x, p)
+    if speeds is None or not len(speeds):
+        return None, None
+    gradients = np.empty((len(speeds), 5))
+    for i in range(5):
+        up, down = np.append(x, p).astype(float), np.append(x, p).astype(float)
+        up[i] += h
+        down[i] -= h
+        a, b = _speeds(problem, up[:4], up[4]), _speeds(problem, down[:4], down[4])
+        if a is None or b is None or len(a) != len(speeds) or len(b) != len(speeds):
+            return None, None
+        gradients[:, i] = (a - b) / (2 * h)
+    return speeds, gradients
