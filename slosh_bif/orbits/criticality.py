@@ -99,7 +99,7 @@ def judge(problem, sp, param: str):
     """The :class:`Verdict` of the special point ``sp`` (an LP, PD, NS or BP of a branch of
     ``problem``'s orbits continued in ``param``), or the reason it is not computed (a str)."""
     if sp.kind == "BP" and not problem.symmetric:
-        return _AT_PARENT if problem.period_multiple == 1 else _AT_PARENT_M
+        return _at_parent(problem)
     period = 2 * math.pi * problem.period_multiple
     # (8)'s problem states its own (jets through its impacts); (9)'s variational equations
     derivatives = getattr(problem, "map_derivatives", FlowDerivatives)
@@ -158,6 +158,11 @@ def _settled(nf, at, exact):
     return dataclasses.replace(found, verdict="undetermined", status=status)
 
 
+def _at_parent(problem) -> str:
+    """Why a branch point (or the pair's turn there) of ``problem``'s orbits is not judged."""
+    return _AT_PARENT if problem.period_multiple == 1 else _AT_PARENT_M
+
+
 def _plan(problem, branch, only=None) -> list:
     """``(index in branch.special, point to judge or None)`` over its LP, PD, NS and BP points; None:
     a fold that sits at a BP of an asymmetric branch, the pair's turn through its symmetric parent
@@ -181,8 +186,7 @@ def special_criticality(ob, *, only: int | None = None) -> dict:
 
 def _judged(problem, branch, only=None) -> dict:
     plan = _plan(problem, branch, only)
-    at_parent = _AT_PARENT if problem.period_multiple == 1 else _AT_PARENT_M
-    return {k: at_parent if sp is None else judge(problem, sp, branch.param) for k, sp in plan}
+    return {k: _at_parent(problem) if sp is None else judge(problem, sp, branch.param) for k, sp in plan}
 
 
 def family_criticality(branches) -> list:
@@ -199,10 +203,9 @@ def family_criticality(branches) -> list:
             found = iter(list(pool.map(lambda job: judge(copy.copy(job[0]), *job[1:]), jobs)))
     else:
         found = iter([judge(*job) for job in jobs])
-    parents = [_AT_PARENT if ob.problem.period_multiple == 1 else _AT_PARENT_M for ob in branches]
     return [
-        {k: at_parent if sp is None else next(found) for k, sp in plan}
-        for plan, at_parent in zip(plans, parents)
+        {k: _at_parent(ob.problem) if sp is None else next(found) for k, sp in plan}
+        for plan, ob in zip(plans, branches)
     ]
 
 

@@ -3,6 +3,8 @@ differences of the compiled map, the orbits and multipliers against a scipy Newt
 finite-difference Jacobian on the expm event loop (the reference flow), grazing against scipy's
 event location of the turning point, and the branch across sections and grazings."""
 
+from types import SimpleNamespace
+
 import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
@@ -14,6 +16,7 @@ from slosh_bif.flows.impact.flow import ImpactFlow
 from slosh_bif.flows.smooth.integrator import HAVE_NUMBA
 from slosh_bif.model.params import Params
 from slosh_bif.orbits.impact.branches import trace_impact_orbits
+from slosh_bif.orbits.impact.law_corner import across_the_corner, corner_sides, slowest_impact
 from slosh_bif.orbits.impact.problem import ImpactOrbitProblem
 
 pytestmark = pytest.mark.skipif(not HAVE_NUMBA, reason="the compiled flow needs numba")
@@ -414,6 +417,19 @@ def test_a_corrected_orbit_whose_strobe_leaves_the_wall_from_beyond_its_slowest_
     np.testing.assert_allclose(run.y[:, -1], x, rtol=0, atol=1e-9)
 
 
+def _corrected_run(at, x, p, phase, periods=1):
+    """The corrected impact model from x on the section tau = phase at sigma = p, over ``periods``
+    forcing periods, simulated at its own sample step (0.02), not the map's."""
+    return simulate_impact(
+        at.replace(sigma=float(p)),
+        x,
+        (phase, phase + 2 * np.pi * periods),
+        sample_step=0.02,
+        variant="corrected",
+        continued=True,
+    )
+
+
 def test_a_corrected_branch_goes_on_past_the_corner_of_the_laws_least_speed():
     """A random set's corrected impact model (n = 35, pbar = 1, lam 0.589, chi 0.137): its symmetric
     branch's slow impact reaches the measured law's least speed 0.05 twice, where the law is held
@@ -434,14 +450,7 @@ def test_a_corrected_branch_goes_on_past_the_corner_of_the_laws_least_speed():
     assert min(lows) == -6.0 and max(lows) == 8.0
     for piece in branch.pieces:
         x, p = piece.branch.x[0], piece.branch.p[0]
-        run = simulate_impact(
-            at.replace(sigma=float(p)),
-            x,
-            (piece.phase, piece.phase + 2 * np.pi),
-            sample_step=0.02,
-            variant="corrected",
-            continued=True,
-        )
+        run = _corrected_run(at, x, p, piece.phase)
         assert run.success
         np.testing.assert_allclose(run.y[:, -1], x, rtol=0, atol=1e-7)
 
@@ -454,7 +463,6 @@ def test_a_corner_the_branch_passes_straight_through_is_crossed_on_the_side_the_
     as much as with the state; orienting the tangent by the state's part alone sent the steps back
     onto the side it came from, and the branch ended there. It now crosses and closes as a loop;
     its orbits just beyond the corner return to themselves at another sample step (to 1e-7)."""
-    from slosh_bif.orbits.impact.law_corner import slowest_impact
 
     at = get_preset("fig10").params.replace(
         eps=0.0909,
@@ -478,14 +486,7 @@ def test_a_corner_the_branch_passes_straight_through_is_crossed_on_the_side_the_
                 beyond.append((piece.phase, x, p))
     assert beyond
     for phase, x, p in beyond[:3]:
-        run = simulate_impact(
-            at.replace(sigma=float(p)),
-            x,
-            (phase, phase + 2 * np.pi),
-            sample_step=0.02,
-            variant="corrected",
-            continued=True,
-        )
+        run = _corrected_run(at, x, p, phase)
         assert run.success
         np.testing.assert_allclose(run.y[:, -1], x, rtol=0, atol=1e-7)
 
@@ -535,12 +536,52 @@ def test_a_fold_tests_sign_change_at_the_laws_corner_is_no_fold():
     special = [(s, piece) for piece in branch.pieces for s in piece.branch.special if s.kind != "END"]
     assert any(s.kind == "LP" and abs(s.p - 0.426109) < 1e-5 for s, _ in special)
     for s, piece in special:
-        run = simulate_impact(
-            at.replace(sigma=float(s.p)),
-            s.x,
-            (piece.phase, piece.phase + 4 * np.pi),
-            sample_step=0.02,
-            variant="corrected",
-            continued=True,
-        )
+        run = _corrected_run(at, s.x, s.p, piece.phase, periods=2)
         assert abs(np.abs(run.impact_v_minus).min() - 0.05) > 1e-4, (s.kind, s.p)
+
+
+# the run's last points (sigma, state on the section tau = PAIR_PHASE), the slower of the pair falling
+# to v_min = 0.05 with sigma; the last is the stalled END
+PAIR_RUN = [
+    (-0.5251563570820801, [-1.6031229435695493, 3.618795591930465, 0.46458308997853404, 0.19632091207931918]),
+    (-0.5251593076893788, [-1.6031098936143207, 3.618790952247515, 0.4645836689033572, 0.1963213607892584]),
+    (-0.5251604879367475, [-1.6031046736409538, 3.6187890963518328, 0.4645839004720587, 0.1963215402666246]),
+    (-0.5251614321365495, [-1.603100497666332, 3.6187876116246414, 0.46458408572646914, 0.1963216838450211]),
+    (
+        -0.5251614557415135,
+        [-1.6031003932664118, 3.6187875745080986, 0.46458409035787973, 0.19632168743541678],
+    ),
+    (-0.5251614651835559, [-1.6031003515070656, 3.618787559659662, 0.46458409221038266, 0.19632168887056045]),
+    (-0.5251614661277719, [-1.603100347331232, 3.618787558174525, 0.4645840923956209, 0.196321689013914]),
+]
+PAIR_PHASE = 5.144708599910398
+
+
+def test_one_of_a_pair_of_impacts_at_the_corner_is_taken_across_and_the_orbit_closes():
+    """A branch of a random set's corrected impact model (seed 305 of the robustness draws)
+    stalls where a mirror pair of slow impacts reaches the law's least speed together. The orbit
+    beyond, found from the run's last points, takes one of the pair across and holds the other,
+    and returns to itself when simulated at another sample step."""
+    at = get_preset("fig10").params.replace(
+        eps=0.0723, beta=0.223, gamma=0.297, sigma=-0.4822, Abar=2.583, lam=0.563, chi=1.082, n=6, pbar=2
+    )
+    problem = ImpactOrbitProblem(at, phase=PAIR_PHASE, impacts=4, variant="corrected")
+    p_end, x_end = PAIR_RUN[-1]
+    speeds = np.abs(problem.evaluate(np.array(x_end), p_end).impacts[:, 2])
+    assert np.sum(np.abs(speeds - 0.05) < 1e-6) == 2  # the pair, both at the corner
+    branch = SimpleNamespace(p=np.array([p for p, _ in PAIR_RUN]), x=np.array([x for _, x in PAIR_RUN]))
+    end = SimpleNamespace(index=len(PAIR_RUN) - 1, x=np.array(x_end), p=p_end)
+    found = across_the_corner(problem, branch, end, (-6.0, 8.0))
+    assert found is not None
+    x, q, _ = found
+    assert abs(q - p_end) < 1e-4 and sum(corner_sides(problem, x, q)) == 1  # one across, one held
+    run = simulate_impact(
+        at.replace(sigma=float(q)),
+        x,
+        (PAIR_PHASE, PAIR_PHASE + 2 * np.pi),
+        sample_step=0.02,
+        variant="corrected",
+        continued=True,
+    )
+    assert run.success
+    np.testing.assert_allclose(run.y[:, -1], x, rtol=0, atol=1e-7)

@@ -298,13 +298,13 @@ def trace_impact_orbits(
                     break
                 starts.append((phase, p, x))
                 continue
-            gap = problem.grazing(x_end, p_end).gap
-            if not abs(gap) < GRAZING_GAP:  # an end named for the grazing edge, not on it
+            graze = problem.grazing(x_end, p_end)
+            if not abs(graze.gap) < GRAZING_GAP:  # an end named for the grazing edge, not on it
                 ends.append(
-                    BranchEnd(direction, end.reason, f"{end.message} (not on it: a gap of {gap:.3g})")
+                    BranchEnd(direction, end.reason, f"{end.message} (not on it: a gap of {graze.gap:.3g})")
                 )
                 break
-            contact = contact_at(problem, x_end, p_end)
+            contact = contact_at(problem, x_end, p_end, graze)
             seen = [i for i, (c, q) in enumerate(contacts) if contact.same_as(c, p_end, q)]
             if seen:
                 met.add(seen[0])

@@ -43,6 +43,7 @@ __all__ = [
     "grazing_by_unfolding",
     "cross_grazing",
     "repeats_sooner",
+    "SAME_ORBIT",
     "sooner_return",
     "CONTACT_SIZES",
     "NEAR_CONTACT_SIZES",
@@ -55,7 +56,7 @@ CONTACT_SIZES = (1e-3, 1e-2)  # gaps or impact speeds tried in turn beyond a gra
 # unfolding holds only that near (a second impact appears at a larger size)
 NEAR_CONTACT_SIZES = (1e-4, 1e-5, 1e-6)
 _NEWTON_STEPS = 25
-_SAME_ORBIT = 1e-7  # an orbit returns to itself within this (relative)
+SAME_ORBIT = 1e-7  # two states of one orbit (on one section, at one parameter) agree within this (relative)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -88,9 +89,10 @@ class Contact:
         return False
 
 
-def contact_at(problem, x, p) -> Contact:
-    """The contact of the grazing orbit x at p (a GR point of ``problem``, an ImpactOrbitProblem)."""
-    gap = problem.grazing(x, p)
+def contact_at(problem, x, p, gap=None) -> Contact:
+    """The contact of the grazing orbit x at p (a GR point of ``problem``, an ImpactOrbitProblem);
+    ``gap``: its ``problem.grazing(x, p)`` where already measured."""
+    gap = problem.grazing(x, p) if gap is None else gap
     flow = problem.flow_at(p)
     start = problem.phase
     y = np.asarray(x, dtype=float)
@@ -245,7 +247,7 @@ def repeats_sooner(problem, x, p) -> bool:
     """Whether the orbit through x at ``p``, a fixed point of the map over ``period_multiple``
     forcing periods, returns after a proper divisor of them: an orbit of a shorter period (the
     parent of a period doubling, say), not one of the problem's family."""
-    return sooner_return(problem, x, p)[0] <= _SAME_ORBIT
+    return sooner_return(problem, x, p)[0] <= SAME_ORBIT
 
 
 def sooner_return(problem, x, p) -> tuple:

@@ -34,10 +34,8 @@ _PAST = 1e-9  # a point beyond the corner: its slowest impact this far (relative
 
 def slowest_impact(problem, x, p) -> float:
     """The smallest impact speed over the orbit through x at p (NaN without impacts or a map)."""
-    m = problem.evaluate(np.asarray(x, dtype=float), p)
-    if m.code != 0 or len(m.impacts) == 0:
-        return math.nan
-    return float(np.abs(m.impacts[:, 2]).min())
+    speeds = _speeds(problem, x, p)
+    return math.nan if speeds is None or not len(speeds) else float(speeds.min())
 
 
 def at_the_laws_corner(problem, x, p) -> bool:

@@ -15,11 +15,11 @@ from __future__ import annotations
 import numpy as np
 
 from slosh_bif.continuation.corrector import newton_solve
+from slosh_bif.orbits.impact.grazing_crossing import SAME_ORBIT
 from slosh_bif.orbits.impact.problem import ImpactOrbitProblem
 
 __all__ = ["state_at_phase", "retraced_piece"]
 
-SAME_ORBIT = 1e-7  # two orbits on one section at one parameter are one within this (relative)
 CHORD_REACH = 0.25  # the chord's guess is trusted within this fraction of its segment's length
 
 
