@@ -14,8 +14,11 @@ in pieces, each direction on its own:
   attracting or not, and the branch goes on from there in the direction that leads away from the
   grazing (back in the parameter where the grazing is a non-smooth fold). Where that fails (two
   contacts grazing at once, say), the map's iterates are tried for an attracting orbit beyond;
-  failing both, the branch ends at the grazing with a status that says so. A grazing met again
-  (or its mirror image) closes the branch as a loop.
+  failing both, the branch ends at the grazing with a status that says so. Orbits of the family's
+  parent (a shorter period; for an asymmetric family a symmetric orbit) are refused beyond, and
+  a grazing on the parent ends the family there, met with its parent
+  (:mod:`slosh_bif.orbits.impact.parents`). A grazing met again (or its mirror image) closes the
+  branch as a loop.
 
 The result is an :class:`ImpactBranch`: its pieces (each a :class:`~slosh_bif.continuation.Branch`
 with its section and impact count), the grazing points, and how each direction ended.
@@ -37,7 +40,7 @@ from slosh_bif.continuation.branch import Kind, Status
 from slosh_bif.continuation.corrector import newton_solve
 from slosh_bif.flows.impact.flow import END_REASONS
 from slosh_bif.model.params import Params
-from slosh_bif.orbits.impact.grazing_crossing import contact_at, cross_grazing, repeats_sooner, sooner_return
+from slosh_bif.orbits.impact.grazing_crossing import attracting_beyond, contact_at, cross_grazing
 from slosh_bif.orbits.impact.law_corner import (
     CORNER_STEPS,
     across_the_corner,
@@ -46,6 +49,7 @@ from slosh_bif.orbits.impact.law_corner import (
     corner_sides,
     without_corner_points,
 )
+from slosh_bif.orbits.impact.parents import is_asymmetric, parent_met
 from slosh_bif.orbits.impact.problem import GRAZING, SECTION, VARIANT_NAMES, ImpactOrbitProblem
 from slosh_bif.orbits.impact.retrace import retraced_piece, state_at_phase
 
@@ -61,11 +65,7 @@ __all__ = [
 
 # the tracer's own end reasons, beside the engine's
 GRAZES, PIECES, PARENT = "grazing", "pieces", "parent"
-NEAR_PARENT = 1e-3  # a grazing orbit this near (relative) to its image after fewer periods is on it
 GRAZING_GAP = 1e-4  # an end at the grazing edge is a grazing point within this gap (as a GR curve's start)
-CROSSING_STEPS = (1e-6, 1e-5, 1e-4, 1e-3)  # parameter steps beyond a grazing point, tried in turn
-CROSSING_ITERATES = 300  # iterates of the map beyond a grazing point before Newton
-NEAR_GRAZING = 10.0  # an orbit beyond a grazing counts as its continuation within this times sqrt(step)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -82,8 +82,9 @@ class ImpactPiece:
 @dataclasses.dataclass(frozen=True)
 class BranchEnd:
     """How one direction ended: ``reason`` a :class:`~slosh_bif.continuation.Status` value, or
-    ``"grazing"`` (no orbit found beyond a GR point), ``"parent"`` (a grazing on an orbit of a
-    shorter period: the family meets its parent there) or ``"pieces"`` (``max_pieces`` reached)."""
+    ``"grazing"`` (no orbit found beyond a GR point), ``"parent"`` (a grazing on the family's
+    parent, an orbit of a shorter period or a symmetric one: the family meets its parent there) or
+    ``"pieces"`` (``max_pieces`` reached)."""
 
     direction: str
     reason: str
@@ -217,6 +218,9 @@ def trace_impact_orbits(
         raise ConvergenceError(
             f"no periodic orbit of {VARIANT_NAMES[variant]} near x0 at {param} = {p0}: {run.message}"
         )
+    # an asymmetric family meets its symmetric parent at the parent's grazing (a symmetric orbit
+    # may be traced on the whole-period map too)
+    asymmetric = is_asymmetric(first, run.x, p0)
     pieces, grazing, ends, starts, contacts, corners = [], [], [], [], [], []
     dead, met = set(), set()  # contacts a direction ended at (nothing beyond), contacts a loop closed at
     for direction in ("forward", "backward"):
@@ -319,11 +323,11 @@ def trace_impact_orbits(
                 break
             contacts.append((contact, p_end))
             grazing.append((p_end, x_end, problem.phase))
-            beyond = cross_grazing(problem, x_end, p_end, opts, contact) or _attracting_beyond(
-                problem, x_end, p_end, sign, opts
+            beyond = cross_grazing(problem, x_end, p_end, opts, contact, asymmetric) or attracting_beyond(
+                problem, x_end, p_end, sign, opts, asymmetric
             )
             if beyond is None:
-                ends.append(_dead_end(problem, x_end, p_end, direction, param))
+                ends.append(_dead_end(problem, x_end, p_end, direction, param, asymmetric))
                 if ends[-1].reason == GRAZES:
                     dead.add(len(contacts) - 1)
                 break
@@ -337,57 +341,22 @@ def trace_impact_orbits(
     return ImpactBranch(param, tuple(pieces), tuple(grazing), tuple(ends), complete, variant)
 
 
-def _dead_end(problem, x, p, direction, param) -> BranchEnd:
-    """How a direction ends at the grazing (x, p) with no orbit found beyond it: on an orbit of a
-    shorter period (its state within :data:`NEAR_PARENT` of its image after a divisor of the
-    map's periods: a period-2 family born at its parent's grazing, where the orbits the unfolding
-    finds beyond are the parent's), or with nothing beyond."""
-    distance, periods = sooner_return(problem, x, p)
-    if distance <= NEAR_PARENT:
+def _dead_end(problem, x, p, direction, param, asymmetric) -> BranchEnd:
+    """How a direction ends at the grazing (x, p) with no orbit found beyond it: on its family's
+    parent (:func:`~slosh_bif.orbits.impact.parents.parent_met`: the orbits the unfolding finds
+    beyond are the parent's), or with nothing beyond."""
+    parent = parent_met(problem, x, p, asymmetric)
+    if parent is not None:
         return BranchEnd(
             direction,
             PARENT,
-            f"grazing at {param} = {p:.10g} on an orbit of period {periods} (within {distance:.1g} of "
-            "returning after it): the family meets its parent at the parent's grazing",
+            f"grazing at {param} = {p:.10g} on {parent}: the family meets its parent at the parent's grazing",
         )
     return BranchEnd(
         direction,
         GRAZES,
         f"grazing at {param} = {p:.10g}; no orbit with another impact count found beyond it",
     )
-
-
-def _attracting_beyond(problem, x, p, sign, opts):
-    """(problem, x, p, sign) of an attracting orbit just beyond a grazing point, on a problem
-    holding its own impact count, or None: the fallback where the unfolding fails. The map's own
-    iterates from the grazing orbit give the guess that Newton then polishes."""
-    for step in CROSSING_STEPS:
-        q = p + sign * step
-        if not opts.p_min <= q <= opts.p_max:
-            return None
-        probe = problem.replace(impacts=None)
-        guess = np.asarray(x, dtype=float)
-        for _ in range(CROSSING_ITERATES):
-            m = probe.evaluate(guess, q)
-            if m.code != 0:
-                break
-            guess = m.y
-        run = newton_solve(probe, guess, q, tol=1e-12)
-        # the orbit beyond moves away from the grazing one as the square root of the step (the
-        # new impact's speed); one farther off is another attractor, not the branch's continuation
-        near = np.linalg.norm(run.x - x) <= NEAR_GRAZING * np.sqrt(step) * (1.0 + np.linalg.norm(x))
-        # and only an attracting one: where the iterates wander (no attractor beyond), Newton's
-        # landing place depends on rounding, and an unstable orbit it finds is left alone
-        if (
-            run.converged
-            and near
-            and probe.in_domain(run.x, q)
-            and probe.is_stable(probe.eigenvalues(run.x, q))
-        ):
-            count = len(probe.evaluate(run.x, q).impacts)
-            if count != problem.impacts and not repeats_sooner(probe, run.x, q):
-                return problem.replace(impacts=count), run.x, q, sign
-    return None
 
 
 def state_at_zero(problem: ImpactOrbitProblem, x, p):

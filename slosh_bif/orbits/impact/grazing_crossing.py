@@ -20,9 +20,10 @@ parameter only, and which side it is comes out of the solve (the side the branch
 non-smooth fold). The solve uses central differences (four unknowns, a few map evaluations); the
 orbit found is then polished by Newton on the section's map with its exact saltation Jacobian,
 which also checks that it is an orbit of (8) with the impact count the contact says, and not an
-orbit of a shorter period (a period-2 family that ends on its parent's grazing). Where another
-contact of the orbit is near grazing too, the one-contact unfolding holds only within that
-contact's own gap, so smaller sizes are tried after the usual ones.
+orbit of its family's parent (:mod:`slosh_bif.orbits.impact.parents`). Where another contact of
+the orbit is near grazing too, the one-contact unfolding holds only within that contact's own gap,
+so smaller sizes are tried after the usual ones. Where the unfolding fails at every size, the map's
+own iterates are tried for an attracting orbit beyond (:func:`attracting_beyond`).
 """
 
 from __future__ import annotations
@@ -34,6 +35,7 @@ from scipy import linalg
 
 from slosh_bif.continuation.corrector import newton_solve
 from slosh_bif.flows.impact.band import law
+from slosh_bif.orbits.impact.parents import on_parent
 
 __all__ = [
     "Contact",
@@ -42,9 +44,7 @@ __all__ = [
     "on_section",
     "grazing_by_unfolding",
     "cross_grazing",
-    "repeats_sooner",
-    "SAME_ORBIT",
-    "sooner_return",
+    "attracting_beyond",
     "CONTACT_SIZES",
     "NEAR_CONTACT_SIZES",
     "FREE",
@@ -56,7 +56,9 @@ CONTACT_SIZES = (1e-3, 1e-2)  # gaps or impact speeds tried in turn beyond a gra
 # unfolding holds only that near (a second impact appears at a larger size)
 NEAR_CONTACT_SIZES = (1e-4, 1e-5, 1e-6)
 _NEWTON_STEPS = 25
-SAME_ORBIT = 1e-7  # two states of one orbit (on one section, at one parameter) agree within this (relative)
+CROSSING_STEPS = (1e-6, 1e-5, 1e-4, 1e-3)  # parameter steps beyond a grazing point, tried in turn
+CROSSING_ITERATES = 300  # iterates of the map beyond a grazing point before Newton
+NEAR_GRAZING = 10.0  # an orbit beyond a grazing counts as its continuation within this times sqrt(step)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -214,12 +216,13 @@ def grazing_by_unfolding(problem, x, p):
     return (y, float(u[3])) if problem.admissible(y, u[3]) else None
 
 
-def cross_grazing(problem, x, p, opts, contact: Contact | None = None):
+def cross_grazing(problem, x, p, opts, contact: Contact | None = None, asymmetric: bool = False):
     """(problem, x, p, sign) of the branch beyond the grazing point (x, p) of ``problem`` (its
     ``contact``, when known): the orbit with the other contact at the least size in
     :data:`CONTACT_SIZES`, else the largest in :data:`NEAR_CONTACT_SIZES`, for which it is found
     and polished, its problem holding its own impact count, and the direction of p that leads away
-    from the grazing; None when none is found within ``opts``' parameter bounds."""
+    from the grazing; None when none is found within ``opts``' parameter bounds. An orbit of the
+    family's parent (a shorter period; a symmetric one for an ``asymmetric`` family) is refused."""
     contact = contact or contact_at(problem, x, p)
     probe = problem.replace(impacts=None)
     # the located point may sit on either side of the contact (an impact of speed ~0, or a flight
@@ -238,28 +241,40 @@ def cross_grazing(problem, x, p, opts, contact: Contact | None = None):
         if not (run.converged and probe.in_domain(run.x, q)):
             continue
         count = len(probe.evaluate(run.x, q).impacts)
-        if count != problem.impacts and not repeats_sooner(probe, run.x, q):
+        if count != problem.impacts and not on_parent(probe, run.x, q, asymmetric):
             return problem.replace(impacts=count), run.x, q, 1.0 if q > p else -1.0
     return None
 
 
-def repeats_sooner(problem, x, p) -> bool:
-    """Whether the orbit through x at ``p``, a fixed point of the map over ``period_multiple``
-    forcing periods, returns after a proper divisor of them: an orbit of a shorter period (the
-    parent of a period doubling, say), not one of the problem's family."""
-    return sooner_return(problem, x, p)[0] <= SAME_ORBIT
-
-
-def sooner_return(problem, x, p) -> tuple:
-    """(distance, periods): the least relative distance between the state x at ``p`` and its
-    image after a proper divisor of the map's ``period_multiple`` forcing periods, and that
-    divisor; (inf, 0) for a map over one forcing period."""
-    m = problem.period_multiple
-    x = np.asarray(x, dtype=float)
-    best = (np.inf, 0)
-    for d in (d for d in range(1, m) if m % d == 0):
-        end = problem.phase + 2 * np.pi * d
-        _, y, _, code = problem.flow_at(p).run(x, problem.phase, end, stick_speed=1e-9, max_impacts=10_000)
-        if code == 0:
-            best = min(best, (float(np.linalg.norm(y[:, -1] - x) / (1 + np.linalg.norm(x))), d))
-    return best
+def attracting_beyond(problem, x, p, sign, opts, asymmetric: bool = False):
+    """(problem, x, p, sign) of an attracting orbit just beyond a grazing point, on a problem
+    holding its own impact count, or None: the fallback where the unfolding fails. The map's own
+    iterates from the grazing orbit give the guess that Newton then polishes; an orbit of the
+    family's parent is refused as in :func:`cross_grazing`."""
+    for step in CROSSING_STEPS:
+        q = p + sign * step
+        if not opts.p_min <= q <= opts.p_max:
+            return None
+        probe = problem.replace(impacts=None)
+        guess = np.asarray(x, dtype=float)
+        for _ in range(CROSSING_ITERATES):
+            m = probe.evaluate(guess, q)
+            if m.code != 0:
+                break
+            guess = m.y
+        run = newton_solve(probe, guess, q, tol=1e-12)
+        # the orbit beyond moves away from the grazing one as the square root of the step (the
+        # new impact's speed); one farther off is another attractor, not the branch's continuation
+        near = np.linalg.norm(run.x - x) <= NEAR_GRAZING * np.sqrt(step) * (1.0 + np.linalg.norm(x))
+        # and only an attracting one: where the iterates wander (no attractor beyond), Newton's
+        # landing place depends on rounding, and an unstable orbit it finds is left alone
+        if (
+            run.converged
+            and near
+            and probe.in_domain(run.x, q)
+            and probe.is_stable(probe.eigenvalues(run.x, q))
+        ):
+            count = len(probe.evaluate(run.x, q).impacts)
+            if count != problem.impacts and not on_parent(probe, run.x, q, asymmetric):
+                return problem.replace(impacts=count), run.x, q, sign
+    return None

@@ -15,7 +15,7 @@ from __future__ import annotations
 import numpy as np
 
 from slosh_bif.continuation.corrector import newton_solve
-from slosh_bif.orbits.impact.grazing_crossing import SAME_ORBIT
+from slosh_bif.orbits.impact.parents import SAME_ORBIT
 from slosh_bif.orbits.impact.problem import ImpactOrbitProblem
 
 __all__ = ["state_at_phase", "retraced_piece"]
