@@ -106,7 +106,7 @@ def test_a_start_that_8_cannot_reach_is_named_with_what_to_change(tmp_path, caps
 def test_a_branch_whose_directions_meet_at_a_grazing_with_nothing_beyond_is_complete():
     """A random draw (n = 50, pbar = 2): period-2 and period-4 branches of (8) run from a grazing
     with no orbit beyond it, one way round, back to the same grazing (a loop through it): complete.
-    A branch with two such dead ends at different grazings is not."""
+    A branch with such a dead end that no loop closes (its other direction ends elsewhere) is not."""
     from slosh_bif.studies.chart.impact import impact_family
 
     values = dict(eps=0.0757, beta=0.1757, gamma=0.3181, sigma=1.0, Abar=2.779, lam=0.5832, chi=1.144, n=50)
@@ -124,7 +124,7 @@ def test_a_branch_whose_directions_meet_at_a_grazing_with_nothing_beyond_is_comp
         if reasons == ["closed loop", "grazing"] and gap < 1e-6:
             assert nb.branch.complete, nb.name
             seen.add("a loop through its dead end")
-        if reasons == ["grazing", "grazing"] and gap > 1e-6:
+        if "grazing" in reasons and gap > 1e-6:
             assert not nb.branch.complete, nb.name
-            seen.add("two dead ends")
-    assert seen == {"a loop through its dead end", "two dead ends"}
+            seen.add("a dead end no loop closes")
+    assert seen == {"a loop through its dead end", "a dead end no loop closes"}
