@@ -224,6 +224,7 @@ def test_pbar_and_lam_together():
     assert fit.values["pbar"] == 2 and fit.values["lam"] == pytest.approx(truth.lam, rel=1e-5)
 
 
+@pytest.mark.slow  # 20 s; the preset sets' fits keep the capability in the default run
 def test_random_admissible_sets_are_given_back_a_point_at_the_peak_included():
     """Three seeded random parameter sets (beta, gamma, lam, chi, n, Abar drawn over their usual
     ranges; the first has a point 0.006 from the resonance peak, where the curve turns between two

@@ -75,6 +75,7 @@ def test_slosh_bif_fit_a_decay_and_its_refusals(tmp_path, decay, capsys):
         fit_time_series(decay, TRUTH, ["Abar"])
 
 
+@pytest.mark.slow  # 20 s; the free decays above keep the fit by time series in the default run
 def test_a_forced_transient_gives_back_the_damping_and_its_start():
     """(45) at sigma = 3 on the Fig. 10 set from (A0, psi0) = (1.5, 0.5) onto its steady state, by
     Radau: gamma, A0 and psi0 come back to 1e-6 from four starts of the phase."""

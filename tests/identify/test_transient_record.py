@@ -87,6 +87,7 @@ def test_a_clean_decay_of_9_gives_back_the_dampings_from_half_off(smooth_decay):
     assert fit.values["X0"] == pytest.approx(3.0, rel=1e-6)
 
 
+@pytest.mark.slow  # 20 s; the command's fit of a decay by (8) keeps the capability in the default run
 def test_a_clean_decay_of_8_gives_back_three_parameters_from_half_off(impact_decay):
     start = DECAY.replace(lam=0.525, gamma=0.1, eps=0.075)
     fit = fit_transient(impact_decay, start, ["lam", "gamma", "eps"], model="impact")

@@ -104,6 +104,7 @@ def test_a_chart_stopped_part_way_reads_no_critical_forcing():
     assert row["status"] == stopped.status and np.isnan(row["Abar_c_full"])
 
 
+@pytest.mark.slow  # 17 s; the chart command's other tests keep it in the default run
 def test_the_curves_do_not_depend_on_workers_or_load(tmp_path, beta_chart):
     assert main([*beta_chart, "--workers", "1", "--out", str(tmp_path / "one")]) == 0
     burners = [subprocess.Popen([sys.executable, "-c", "while True: pass"]) for _ in range(2)]
