@@ -186,6 +186,7 @@ def test_the_corrected_slow_flow_gives_back_its_own_response():
     assert abs(other.values["gamma"] - TRUTH.gamma) > 1e-3
 
 
+@pytest.mark.slow  # 8-28 s; the file's other tests keep the capability in the default run
 def test_the_wall_power_n_is_profiled_where_the_model_feels_it():
     """Points of the continued corrected slow flow (whose clearance D(v) depends on n) made with
     n = 20: fitted with n and gamma free from n = 50, n = 20 alone is consistent and gamma comes

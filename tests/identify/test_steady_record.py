@@ -187,6 +187,7 @@ def test_a_second_frequency_separates_the_dampings_and_bounds_eps(smooth_record,
         assert 5 * (hi - lo) < (wide[1] or np.inf) - (wide[0] or 0.0), name
 
 
+@pytest.mark.slow  # 8-28 s; the file's other tests keep the capability in the default run
 def test_a_wrong_wall_power_is_said_not_to_fit(smooth_record):
     """The record of n = 20 with 1 % noise fitted with n = 50 held: lam and gamma absorb much of
     it (lam 0.03, gamma 0.38), not all: the chi-square's p-value below 1e-3."""

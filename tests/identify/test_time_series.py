@@ -98,6 +98,7 @@ def _noisy(decay):
     return TimeRecord(decay.tau, decay.A + std * rng.standard_normal(len(decay.A)), std, "noisy")
 
 
+@pytest.mark.slow  # 8-28 s; the file's other tests keep the capability in the default run
 def test_a_decay_with_a_wrong_wall_held_is_said_not_to_fit(decay):
     """1 % noise of known std on the Radau decay, fitted with lam held at 0.6 (the truth 0.35):
     the fitted model does not describe the data, and the fit says so (naming the chi-square)."""

@@ -130,6 +130,7 @@ def test_a_noisy_decay_stops_at_its_horizon_and_its_intervals_hold_the_truth(smo
             assert lo < getattr(DECAY, name) < hi, (name, kind)
 
 
+@pytest.mark.slow  # 8-28 s; the file's other tests keep the capability in the default run
 def test_a_wrong_wall_power_is_said_not_to_fit(smooth_decay):
     """The decay of n = 50 with 0.1 % noise fitted with n = 20 held: the second window, refitted
     in a quadratic valley, leaves a misfit with p below 1e-3 (with 1 % noise the predictable head

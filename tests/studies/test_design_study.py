@@ -130,6 +130,7 @@ IMPACT_BOX = [
 ]
 
 
+@pytest.mark.slow  # 8-28 s; the file's other tests keep the capability in the default run
 def test_an_impact_models_study_is_its_charts_and_resumes_from_its_stored_curves(tmp_path, capsys):
     """``--model impact``: each value's rows are those of ``chart --model impact`` run on its own
     at that value (the same orbits of (8), read the same way); a value whose stored curves were

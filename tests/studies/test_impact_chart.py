@@ -13,6 +13,7 @@ from slosh_bif.cli import main
 from slosh_bif.orbits.impact.branches import settled_orbit, trace_impact_orbits
 
 
+@pytest.mark.slow  # 8-28 s; the file's other tests keep the capability in the default run
 def test_the_impact_chart_from_a_fresh_folder(tmp_path):
     """One chart of (8) (about 40 s), read by the checks below (one test: pytest-xdist would draw
     a module-scoped chart once per worker)."""
