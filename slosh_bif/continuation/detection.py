@@ -71,9 +71,12 @@ TEST_MEANING = {
 
 
 def _changes(p0: Point, p1: Point, which, floor) -> bool:
-    """Whether test ``which`` changes sign from p0 to p1, beyond the problem's floor for it."""
+    """Whether test ``which`` changes sign from p0 to p1, beyond the problem's floor for it at both
+    ends: a value below the floor is zero to rounding and has no sign, so a test that rises from
+    rounding at one end to a value at the other has not crossed zero (a pair of multipliers that
+    nears the unit circle as the particle leaves the walls, and never reaches it)."""
     t0, t1 = p0.tests[which], p1.tests[which]
-    return np.sign(t0) * np.sign(t1) < 0 and max(abs(t0), abs(t1)) >= floor
+    return np.sign(t0) * np.sign(t1) < 0 and min(abs(t0), abs(t1)) >= floor
 
 
 def special_between(problem, a: Point, b: Point, h, opts, predict=None):

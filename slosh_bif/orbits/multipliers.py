@@ -12,11 +12,14 @@ __all__ = ["DOUBLE", "TEST_FLOOR", "multiplier_tests", "describe_crossing", "is_
 DOUBLE = 1e-5  # two multipliers this close to -1 (or a pair to +-1) are a double one, not a crossing
 JUMP = 0.5  # a multiplier farther than this from -1 at a located PD/BP: the map jumped, nothing crossed
 
-# A sign change of the NS test whose values at both ends of the step are below this is rounding,
-# not a crossing: a particle that stays off the walls is undamped to rounding (its damping
-# lam w' w^(2p) is ~|w|^(2p)), its pair of multipliers stays on the unit circle to 1e-15, and the
-# test (~1e-16 to 1e-14 along such a branch of the Fig. 13 set) flips sign from step to step.
-# A genuine crossing, |mu| through 1 at a finite rate, gives values of order the step.
+# An NS test value below this is zero to rounding, and a sign change with such a value at either
+# end of the step is no crossing: a particle that stays off the walls is undamped to rounding (its
+# damping lam w' w^(2p) is ~|w|^(2p)), its pair of multipliers stays on the unit circle to 1e-15,
+# and the test (~1e-16 to 1e-14 along such a branch of the Fig. 13 set) flips sign from step to
+# step. As the particle reaches the walls the pair moves inside, |mu| - 1 = -2e-11 to -2e-6 as the
+# forcing rises by a quarter on the tank's fitted set (n = 50), so a step from the walls back to
+# rounding "changed sign" with 1.5e-11 at its far end. A genuine crossing, |mu| through 1 at a
+# finite rate, gives values of order the step at both ends.
 TEST_FLOOR = {"NS": 1e-11}
 
 

@@ -118,13 +118,15 @@ def test_end_reasons_and_edge_names_are_fields_that_survive_save_and_load(tmp_pa
 
 
 class Line:
-    """x = p with two tests of its own: ``NOISE``, a value of 1e-15 whose sign flips with every
-    hundredth of p (rounding, below the problem's floor), and ``STOP``, p - 0.3, where the line ends
-    by nature; and stability and a diagnostic counted per call."""
+    """x = p with three tests of its own: ``NOISE``, a value of 1e-15 whose sign flips with every
+    hundredth of p (rounding, below the problem's floor), ``RISE``, -1e-15 (rounding) up to p = 0
+    and p^2 / 1000 beyond (a multiplier pair that nears the unit circle and never crosses it), and
+    ``STOP``, p - 0.3, where the line ends by nature; and stability and a diagnostic counted per
+    call."""
 
     names = ("x",)
-    test_kinds = ("NOISE", "STOP")
-    test_floor = {"NOISE": 1e-12}
+    test_kinds = ("NOISE", "RISE", "STOP")
+    test_floor = {"NOISE": 1e-12, "RISE": 1e-12}
     terminal_kinds = ("STOP",)
 
     def __init__(self):
@@ -137,7 +139,7 @@ class Line:
     dparam = staticmethod(lambda x, p: -np.ones(1))
 
     def test_functions(self, x, p):
-        return (1e-15 * (-1) ** int(np.floor(100 * p)), p - 0.3)
+        return (1e-15 * (-1) ** int(np.floor(100 * p)), p * p / 1000 if p > 0 else -1e-15, p - 0.3)
 
     def eigenvalues(self, x, p):
         self.asked += 1
@@ -154,7 +156,8 @@ def test_rounding_flips_are_no_crossings_and_a_terminal_point_ends_the_branch(tm
     branch = continuation(
         problem, [0.0], 0.0, options=ContinuationOptions(step=0.01, step_max=0.02, p_min=-1.0, p_max=1.0)
     )
-    assert not [s for s in branch.special if s.kind == "NOISE"]
+    # a sign change with rounding at either end is none, whatever the other end's value
+    assert not [s for s in branch.special if s.kind in ("NOISE", "RISE")]
     (stop,) = [s for s in branch.special if s.kind == "STOP"]
     assert (
         stop.p == pytest.approx(0.3, abs=1e-12)
