@@ -17,9 +17,10 @@ JUMP = 0.5  # a multiplier farther than this from -1 at a located PD/BP: the map
 # damping lam w' w^(2p) is ~|w|^(2p)), its pair of multipliers stays on the unit circle to 1e-15,
 # and the test (~1e-16 to 1e-14 along such a branch of the Fig. 13 set) flips sign from step to
 # step. As the particle reaches the walls the pair moves inside, |mu| - 1 = -2e-11 to -2e-6 as the
-# forcing rises by a quarter on the tank's fitted set (n = 50), so a step from the walls back to
-# rounding "changed sign" with 1.5e-11 at its far end. A genuine crossing, |mu| through 1 at a
-# finite rate, gives values of order the step at both ends.
+# forcing rises by a quarter on the tank's fitted set (n = 50): a step from there to orbits off
+# the walls can end on rounding of either sign (1.5e-11 at one end, -3e-16 at the other) without
+# the pair ever leaving the circle. A genuine crossing, |mu| through 1 at a finite rate, gives
+# values of order the step at both ends.
 TEST_FLOOR = {"NS": 1e-11}
 
 

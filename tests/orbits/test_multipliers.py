@@ -24,9 +24,10 @@ def test_a_period_doubling_has_a_multiplier_at_minus_one_and_a_jump_is_none():
 def test_a_pair_nearing_the_circle_as_the_particle_reaches_the_walls_is_no_neimark_sacker():
     """The tank's fitted set (n = 50, beta = 0.40), symmetric orbits at sigma = 0.141157: off the
     walls the particle is undamped and its pair sits on the unit circle to rounding; as the forcing
-    rises the walls pull the pair inside (|mu| - 1 = -2e-11 at Abar = 0.5575). A chart's seed once
-    stepped from there back to rounding of the other sign and reported an NS; a sign change with
-    rounding at one end is none (the engine's rule, tests/continuation/test_problem.py)."""
+    rises the walls pull the pair inside (|mu| - 1 = -2e-11 at Abar = 0.5575), and it never leaves
+    the circle. A step from there to rounding of either sign is no NS: a sign change with rounding
+    at one end is none (the engine's rule, failing without it in tests/continuation/test_problem.py;
+    here the rounding's sign depends on the run)."""
     from slosh_bif import Params
     from slosh_bif.continuation import ContinuationOptions, continuation
     from slosh_bif.continuation.corrector import newton_solve
@@ -44,7 +45,7 @@ def test_a_pair_nearing_the_circle_as_the_particle_reaches_the_walls_is_no_neima
         ns[a] = (problem.test_functions(run.x, a)[1], np.abs(problem.map_multipliers(run.x, a)))
     assert abs(ns[0.4379][0]) < 1e-13 and np.allclose(ns[0.4379][1][:2], 1, atol=1e-13)
     assert ns[0.5575][0] > 1e-11 and np.all(ns[0.5575][1] < 1 - 1e-11)
-    # continued down in two long steps from the walls to the undamped orbits: no special point
+    # continued down in long steps from the walls to the undamped orbits: no special point
     branch = continuation(
         problem,
         run.x,
