@@ -17,7 +17,8 @@ Special points are detected and located by :mod:`.detection`; the bordered corre
 :mod:`.corrector`, options and end reasons in :mod:`.options`.
 
 :func:`switch_branch` starts a new branch at a located branch point, along the direction of the
-two-dimensional null space of ``[F_x, F_p]`` that the old branch does not take.
+two-dimensional null space of ``[F_x, F_p]`` that the old branch does not take, with a sign fixed
+by the direction itself (:func:`canonical_sign`).
 
 Each direction ends at a parameter bound (the end is computed on the bound), at the domain's
 edge, on closing a loop, at a located special point of one of the problem's ``terminal_kinds``
@@ -71,6 +72,10 @@ CREEP, CREEP_STEPS = 1e3, 50
 # to rtol): a problem that offers ``refined()`` is resumed from the stall with that finer
 # version, at most this many times per direction, before the stall is reported.
 REFINEMENTS = 2
+
+# Components of a switching direction within this fraction of its largest in size count as tied
+# for :func:`canonical_sign` (mirror images give exact ties; rounding moves them by 1e-13 or so).
+TIE = 1e-6
 
 
 def _run(problem, start: Point, opts, loop_guard: bool, callback=None, stop=None):
@@ -259,9 +264,10 @@ def switch_branch(
     ``point`` is a :class:`SpecialPoint` (or an ``(x, p)`` pair) at a simple branch point of
     ``problem``: the null space of ``[F_x, F_p]`` there is two-dimensional. ``along`` is the old
     branch's tangent (or any vector in that null space to avoid); the new direction is the null
-    vector orthogonal to it. The first point is ``u_BP + step * t_new`` corrected on the
-    hyperplane through it normal to t_new; the branch is traced forward from there (away from
-    the branch point; the part behind it is, for a symmetry-breaking pitchfork, the mirror image).
+    vector orthogonal to it, signed by :func:`canonical_sign` (not by the SVD's rounding). The
+    first point is ``u_BP + step * t_new`` corrected on the hyperplane through it normal to t_new;
+    the branch is traced forward from there (away from the branch point; the part behind it is,
+    for a symmetry-breaking pitchfork, the mirror image).
     ``stop(kind, x, p, index)``, if given, ends the branch at the first located special point
     (at place ``index`` of the branch) for which it is true, as at a terminal kind: where the new
     branch meets its parent again, say, beyond which it is the image of what it traced.
@@ -275,8 +281,7 @@ def switch_branch(
     u = np.append(np.asarray(x, dtype=float), float(p))
     null = np.linalg.svd(top_rows(problem, u)[1])[2][-2:]  # the two smallest right singular vectors
     coef = null @ np.asarray(along, dtype=float)  # the old direction, in the null space's basis
-    t_new = null.T @ np.array([-coef[1], coef[0]])
-    t_new /= np.linalg.norm(t_new)
+    t_new = canonical_sign(null.T @ np.array([-coef[1], coef[0]]))
     h = step if step is not None else opts.step
     for _ in range(6):
         u_new, _ = correct(problem, u + h * t_new, t_new, opts)
@@ -287,6 +292,19 @@ def switch_branch(
     raise ConvergenceError(
         f"no new branch found at the branch point {param} = {p:.8g} (corrector failed or fell back)"
     )
+
+
+def canonical_sign(v):
+    """The unit vector along ``v`` whose largest component is positive, the first one of those
+    within ``TIE`` of the largest in size: a rule of the direction itself, where the sign that the
+    SVD gives depends on the LAPACK kernels (OpenBLAS picks them by the CPU). At a symmetry-breaking
+    pitchfork it picks the same one of the two mirror-image branches on every machine, and at a
+    period doubling the same one of the two copies a period apart (whose components are equal
+    and opposite, hence the first)."""
+    v = np.asarray(v, dtype=float) / np.linalg.norm(v)
+    size = np.abs(v)
+    first = int(np.flatnonzero(size >= (1.0 - TIE) * size.max())[0])
+    return v if v[first] > 0 else -v
 
 
 def _trace(problem, u0, param, opts, orient=None, callback=None, stop=None) -> Branch:

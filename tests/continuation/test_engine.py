@@ -240,6 +240,29 @@ def test_switch_branch_leaves_the_trivial_branch_onto_the_parabola():
     assert abs(new.x[1, 0]) > 0.01 and new.p.max() == pytest.approx(1.0)
 
 
+@pytest.mark.parametrize("flip", [(1.0, -1.0), (-1.0, 1.0), (-1.0, -1.0)])
+def test_the_switched_branch_does_not_depend_on_the_signs_the_svd_gives(monkeypatch, flip):
+    """Which of the pitchfork's two mirror branches is traced is a rule of the direction (its
+    largest component positive: x > 0 here), not the sign of the singular vectors, which LAPACK's
+    kernels pick by the CPU: with the two null vectors negated, the same branch, point for point."""
+    opts = ContinuationOptions(p_min=-1.0, p_max=1.0, step=0.07)
+    bp = continuation(Pitchfork(), [0.0], -0.5, options=opts).special_of("BP")[0]
+    plain = switch_branch(Pitchfork(), bp, options=opts, along=np.array([0.0, 1.0]))
+    svd = np.linalg.svd
+
+    def flipped(a, *args, **kwargs):
+        u, s, vh = svd(a, *args, **kwargs)
+        vh = vh.copy()
+        vh[-2:] *= np.array(flip)[:, None]
+        return u, s, vh
+
+    monkeypatch.setattr(np.linalg, "svd", flipped)
+    again = switch_branch(Pitchfork(), bp, options=opts, along=np.array([0.0, 1.0]))
+    assert plain.x[1, 0] > 0.01
+    np.testing.assert_array_equal(again.x, plain.x)
+    np.testing.assert_array_equal(again.p, plain.p)
+
+
 @pytest.mark.parametrize("x0", [-1.3, -1.1])
 def test_a_start_on_a_parameter_bound_is_the_end_and_appears_once(x0):
     bounds = [x**3 - x for x in (-1.3, -1.1)]  # the branch x < -1/sqrt 3 between these two points
