@@ -235,15 +235,19 @@ def stable_at(branch, s, sigma) -> bool:
     not by where the continuation happened to put its points, nor by the special point's own
     flag, whose critical multiplier is 1 to rounding (both made a stable state's verdict depend on
     the last bits of libm's cos and pow, which differ between CPUs: 4 of 48 trust rows). With no
-    special point the ends decide (unstable where they disagree, as before)."""
+    special point the ends decide (unstable where they disagree, as before). A special point of
+    another part of the branch at a parameter value inside the segment's does not count."""
     i = s.start
     lo, hi = branch.p[i], branch.p[i + 1]
     ends = ((lo, bool(branch.stable[i])), (hi, bool(branch.stable[i + 1])))
     tol = 1e-12 * (1 + abs(lo) + abs(hi))
-    inside = [
+    inside = [  # of this segment: a branch that turns back has others at the same parameter values
         sp.p
         for sp in branch.special
-        if sp.located and sp.kind in _STABILITY_CHANGES and min(lo, hi) - tol <= sp.p <= max(lo, hi) + tol
+        if sp.located
+        and sp.kind in _STABILITY_CHANGES
+        and i <= sp.index <= i + 1
+        and min(lo, hi) - tol <= sp.p <= max(lo, hi) + tol
     ]
     if len(inside) == 1:
         side = [

@@ -41,6 +41,19 @@ def test_a_special_point_inside_a_segment_splits_it():
     assert stable_at(_branch([0, 1], [True, False], []), slice(0, 2), 0.5) is False
 
 
+def test_a_special_point_of_another_part_of_the_branch_does_not_count():
+    # The Fig. 10 family's asymmetric branch: a segment from a stable orbit to a located PD point
+    # (its own flag unstable to rounding), and, further on, after the branch turned, a fold at a
+    # parameter value inside that segment's range. The PD alone decides the segment.
+    b = _branch(
+        [0, 1, 2, 3, 1.4, 0.5],
+        [True, True, False, False, False, True],
+        [("PD", 2, 2.0), ("LP", 4, 1.4)],
+    )
+    assert stable_at(b, slice(1, 3), 1.2) is True
+    assert stable_at(b, slice(4, 6), 1.0) is True
+
+
 _POINT = (
     "from slosh_bif import NO_SWITCHING, get_preset; from slosh_bif.studies.trust import trust_point; "
     "t = trust_point(get_preset('fig13').params.replace(eps=0.02, beta=0.0, n=50), "
