@@ -12,6 +12,7 @@ from slosh_bif.continuation import (
     switch_branch,
 )
 from slosh_bif.continuation.branch import Branch
+from slosh_bif.continuation.engine import canonical_sign
 
 
 @dataclasses.dataclass
@@ -261,6 +262,17 @@ def test_the_switched_branch_does_not_depend_on_the_signs_the_svd_gives(monkeypa
     assert plain.x[1, 0] > 0.01
     np.testing.assert_array_equal(again.x, plain.x)
     np.testing.assert_array_equal(again.p, plain.p)
+
+
+@pytest.mark.parametrize("sign", [1.0, -1.0])
+def test_the_direction_is_signed_by_its_first_largest_component_ties_within_rounding(sign):
+    """A period doubling's two copies have components equal and opposite; rounding makes either
+    the larger by 1e-13, and the rule must not follow it: the first of the tied ones is positive."""
+    v = sign * np.array([0.5, -(0.5 + 1e-13), 0.1])
+    t = canonical_sign(v)
+    assert t[0] > 0 and t[1] < 0
+    assert np.linalg.norm(t) == pytest.approx(1.0)
+    np.testing.assert_allclose(canonical_sign(-v), t)
 
 
 @pytest.mark.parametrize("x0", [-1.3, -1.1])
