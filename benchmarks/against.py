@@ -11,7 +11,9 @@ earlier tree's loops built ahead of time where it has them; and each tree's byte
 installed package has it). No absolute target: the ratio is
 what carries over between machines.
 
-Cases: the Fig. 10 symmetric branch (n = 50) and the n = 6 branch from its symmetric orbit, the
+Cases: the Fig. 10 symmetric branch (n = 50) and the n = 6 branch from its symmetric orbit (each
+also stopped after one continuation step, its fixed part, on both sides: that part over the base's
+whole command is the case's floor, the lowest ratio a faster continuation could give), the
 Fig. 10 chart with switching and the family scan (not in ``--quick``: about 7 and 12 minutes a
 run on one 2-core machine). The scan is not the same work on both sides from the commit on which a
 family stopped switching at the mirror twins of points it has dealt with (the speed page): 8ec52f9
@@ -39,16 +41,46 @@ __all__ = ["against_bench", "AGAINST_COLUMNS", "BASE"]
 
 BASE = "8ec52f9"
 ROOT = Path(__file__).resolve().parents[1]
-AGAINST_COLUMNS = ("case", "base", "base_seconds", "seconds", "ratio", "target", "rounds", "note")
+AGAINST_COLUMNS = (
+    "case",
+    "base",
+    "base_seconds",
+    "seconds",
+    "ratio",
+    "target",
+    "rounds",
+    "base_fixed_seconds",
+    "fixed_seconds",
+    "floor_ratio",
+    "note",
+)
 CHART = ["chart", "--preset", "fig10", "--sigma-min", "-6", "--sigma-max", "8", "--abar-min", "0.2"]
 CHART += ["--abar-max", "6"]
-# case -> (its arguments, or a function giving them; rounds; in --quick; the target ratio)
+# case -> (its arguments, or a function giving them; rounds; in --quick; the target ratio; whether
+# its fixed part is measured too)
 CASES = {
-    "Fig. 10 branch (n = 50)": (SHOOT, 5, True, 0.5),
-    "n = 6 branch from its symmetric orbit at sigma = -6": (lambda: [*SHOOT, *_n6_guess()], 5, True, 0.5),
-    "Fig. 10 chart with switching": (CHART, 1, False, 0.5),
-    "family scan (shoot --start scan)": (["shoot", "--preset", "fig10", "--start", "scan"], 1, False, 0.5),
+    "Fig. 10 branch (n = 50)": (SHOOT, 5, True, 0.5, True),
+    "n = 6 branch from its symmetric orbit at sigma = -6": (
+        lambda: [*SHOOT, *_n6_guess()],
+        5,
+        True,
+        0.5,
+        True,
+    ),
+    "Fig. 10 chart with switching": (CHART, 1, False, 0.5, False),
+    "family scan (shoot --start scan)": (
+        ["shoot", "--preset", "fig10", "--start", "scan"],
+        1,
+        False,
+        0.5,
+        False,
+    ),
 }
+# A branch's fixed part: the same command stopped after one continuation step (the interpreter, the
+# imports, the compiled loops' loading, the start orbit, the files and the figure), which no
+# speed-up of the continuation removes. Its time over the base's whole command is the lowest ratio
+# the case could reach by making everything after that step free: its floor.
+ONE_STEP = ["--max-steps", "1"]
 # a tree's command line, as its console entry runs it (the interpreter's teardown skipped)
 _ENTRY = "import sys; sys.argv[0] = 'slosh-bif'; from slosh_bif.cli import run; run()"
 
@@ -108,7 +140,7 @@ def against_bench(*, base: str = BASE, quick: bool = False, progress=None) -> li
         trees = {"base": unpack(base, Path(tmp)), "this": ROOT}
         for tree in trees.values():
             _prepare(tree)
-        for case, (arguments, rounds, in_quick, target) in CASES.items():
+        for case, (arguments, rounds, in_quick, target, fixed) in CASES.items():
             if quick and not in_quick:
                 continue
             arguments = arguments() if callable(arguments) else list(arguments)
@@ -116,13 +148,19 @@ def against_bench(*, base: str = BASE, quick: bool = False, progress=None) -> li
             for side, tree in trees.items():  # a warm run each: caches and the page cache
                 if rounds > 1:
                     timed_run(tree, arguments, Path(tmp) / f"warm-{side}")
-            seconds = {"base": [], "this": []}
+            runs = {"whole": arguments, "fixed": [*arguments, *ONE_STEP]} if fixed else {"whole": arguments}
+            seconds = {(part, side): [] for part in runs for side in trees}
             for r in range(rounds):
                 order = ("base", "this") if r % 2 == 0 else ("this", "base")
-                for side in order:
-                    say(f"against {base}: {case}, round {r + 1} of {rounds}, {side}")
-                    seconds[side].append(timed_run(trees[side], arguments, Path(tmp) / f"{side}-{r}"))
-            mine, theirs = statistics.median(seconds["this"]), statistics.median(seconds["base"])
+                for part, argv in runs.items():
+                    for side in order:
+                        what = case if part == "whole" else f"{case}, one step"
+                        say(f"against {base}: {what}, round {r + 1} of {rounds}, {side}")
+                        seconds[part, side].append(
+                            timed_run(trees[side], argv, Path(tmp) / f"{part}-{side}-{r}")
+                        )
+            median = {key: statistics.median(values) for key, values in seconds.items()}
+            mine, theirs = median["whole", "this"], median["whole", "base"]
             rows.append(
                 {
                     "case": case,
@@ -132,7 +170,11 @@ def against_bench(*, base: str = BASE, quick: bool = False, progress=None) -> li
                     "ratio": mine / theirs if theirs > 0 else np.nan,
                     "target": target,
                     "rounds": rounds,
-                    "note": "whole processes, medians, alternating order",
+                    "base_fixed_seconds": median.get(("fixed", "base"), np.nan),
+                    "fixed_seconds": median.get(("fixed", "this"), np.nan),
+                    "floor_ratio": median.get(("fixed", "this"), np.nan) / theirs if theirs > 0 else np.nan,
+                    "note": "whole processes, medians, alternating order"
+                    + ("; fixed part: the same command stopped after one continuation step" if fixed else ""),
                 }
             )
     return rows

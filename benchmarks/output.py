@@ -225,9 +225,15 @@ def write_growth(rows, out) -> list:
 def write_against(rows, out) -> list:
     """``against.csv`` and one line per case on stdout: its time over the earlier commit's."""
     for r in rows:
+        floor = (
+            f"; one step: {r['fixed_seconds']:.2f} s against {r['base_fixed_seconds']:.2f} s, floor "
+            f"{r['floor_ratio']:.3f}"
+            if np.isfinite(r["floor_ratio"])
+            else ""
+        )
         print(
             f"against {r['base']}: {r['case']}: {r['seconds']:.2f} s against {r['base_seconds']:.2f} s, "
-            f"ratio {r['ratio']:.3f} (target <= {r['target']:g})"
+            f"ratio {r['ratio']:.3f} (target <= {r['target']:g}){floor}"
         )
     Path(out).mkdir(parents=True, exist_ok=True)
     return [write_rows(rows, AGAINST_COLUMNS, Path(out) / "against.csv")]

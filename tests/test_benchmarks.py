@@ -154,3 +154,30 @@ def test_the_bench_against_an_earlier_commit_unpacks_its_tree_or_says_why_not(tm
     assert (tree / "slosh_bif" / "cli" / "__init__.py").is_file() and (tree / "pyproject.toml").is_file()
     with pytest.raises(ValueError, match="--base no-such-commit"):
         against.unpack("no-such-commit", tmp_path)
+
+
+def test_the_bench_against_an_earlier_commit_times_each_branch_whole_and_stopped_after_one_step(
+    tmp_path, monkeypatch
+):
+    """A branch case's floor is this tree's run stopped after one continuation step over the base's
+    whole run: the bookkeeping checked with made-up times (no process is started)."""
+    from benchmarks import against
+
+    times = {("base", False): 2.0, ("base", True): 1.0, ("this", False): 3.0, ("this", True): 1.5}
+    seen = []
+
+    def fake_run(tree, arguments, out, timeout=0.0):
+        one_step = arguments[-2:] == against.ONE_STEP
+        seen.append((tree.name, one_step))
+        return times["base" if tree.name == "base" else "this", one_step]
+
+    monkeypatch.setattr(against, "unpack", lambda commit, where: tmp_path / "base")
+    monkeypatch.setattr(against, "ROOT", tmp_path / "this")
+    monkeypatch.setattr(against, "_prepare", lambda tree: None)
+    monkeypatch.setattr(against, "timed_run", fake_run)
+    monkeypatch.setattr(against, "_n6_guess", lambda: ["--guess", "0,0,0,0"])
+    rows = {r["case"]: r for r in against.against_bench(quick=True)}
+    branch = rows["Fig. 10 branch (n = 50)"]
+    assert branch["ratio"] == pytest.approx(1.5) and branch["floor_ratio"] == pytest.approx(0.75)
+    assert (branch["fixed_seconds"], branch["base_fixed_seconds"]) == (1.5, 1.0)
+    assert len(rows) == 2 and {("base", True), ("this", True), ("base", False), ("this", False)} <= set(seen)
