@@ -46,8 +46,9 @@ class Noise:
 @dataclasses.dataclass(frozen=True)
 class Workers:
     """Where the cells of a sweep run: ``executor`` (any ``concurrent.futures.Executor``, e.g. a
-    Dask cluster's ``distributed.Client().get_executor()``), or by default ``max_workers`` local
-    processes (one per core when None)."""
+    Dask cluster's, :class:`~slosh_bif.simulation.sweep.ClusterExecutor` ``(client)``, whose tasks
+    hold their workers' BLAS to one thread), or by default ``max_workers`` local processes (one
+    per core when None)."""
 
     executor: object = None
     max_workers: int | None = None

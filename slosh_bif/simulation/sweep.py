@@ -2,7 +2,8 @@
 
 Every cell is an independent simulation, so any ``concurrent.futures.Executor`` can run them: a
 local ``ProcessPoolExecutor`` (the default, one worker per core, each with one BLAS thread), or a
-Dask cluster's ``distributed.Client(address).get_executor()`` (the CLI's ``--scheduler``). Results
+Dask cluster's ``distributed.Client(address).get_executor()`` (the CLI's ``--scheduler``, through
+:class:`ClusterExecutor`, whose tasks hold their worker's BLAS to one thread as well). Results
 are handed to the caller as they finish, so that a long sweep can store them on the way; an
 interruption (KeyboardInterrupt, or SIGTERM turned into one by the CLI) stops the local workers at
 once, cancels what a cluster has not started, and returns what was done.
@@ -19,6 +20,7 @@ from slosh_bif.simulation.settings import LOCAL, Workers
 __all__ = [
     "WorkerPool",
     "ClusterExecutor",
+    "OneBlasThread",
     "PendingCells",
     "local_pool",
     "run_cells",
@@ -114,11 +116,33 @@ def local_pool(workers: int):
     pool.close()
 
 
+class OneBlasThread:
+    """``OneBlasThread(function)(*arguments)``: ``function(*arguments)`` with this process's BLAS held
+    to one thread, as :func:`worker_setup` holds a local worker's. What a task sent to a cluster
+    runs, since a worker started by ``dask worker`` lets OpenBLAS start a thread per core on the
+    4x4 to 32x32 matrices here, where threads only cost (a Fig. 13 chart of (8) on two such workers
+    of a 2-core machine: 69.9 s of curve work against 13.2 s with one BLAS thread each). scipy's
+    own BLAS is loaded first, so that the limit reaches it; the limit stays for the worker's later
+    tasks (0.4 ms a call). Named as ``function``, which a cluster's task keys and dashboard show."""
+
+    def __init__(self, function):
+        self.function = function
+        self.__name__ = getattr(function, "__name__", type(function).__name__)
+
+    def __call__(self, *arguments):
+        import scipy.linalg  # noqa: F401 - loads scipy's BLAS, which would otherwise load unlimited later
+        from threadpoolctl import threadpool_limits
+
+        threadpool_limits(limits=1, user_api="blas")
+        return self.function(*arguments)
+
+
 class ClusterExecutor:
     """A dask cluster's executor (``distributed.Client.get_executor()``) with the cluster's thread
     count when it was reached: how many tasks a caller that keeps a bounded number in flight (a
-    chart's curves, each skipped when an earlier one covers it) submits at once. A worker lost
-    mid-task is dask's to handle: the scheduler runs the task again on another."""
+    chart's curves, each skipped when an earlier one covers it) submits at once. Each task runs
+    with one BLAS thread (:class:`OneBlasThread`). A worker lost mid-task is dask's to handle: the
+    scheduler runs the task again on another."""
 
     place = "the cluster"
 
@@ -127,7 +151,7 @@ class ClusterExecutor:
         self.threads = max(1, sum(client.nthreads().values()))
 
     def submit(self, function, *arguments):
-        return self.executor.submit(function, *arguments)
+        return self.executor.submit(OneBlasThread(function), *arguments)
 
 
 def run_cells(
