@@ -32,6 +32,7 @@ import tarfile
 import tempfile
 import time
 from pathlib import Path
+from typing import NamedTuple
 
 import numpy as np
 
@@ -56,24 +57,24 @@ AGAINST_COLUMNS = (
 )
 CHART = ["chart", "--preset", "fig10", "--sigma-min", "-6", "--sigma-max", "8", "--abar-min", "0.2"]
 CHART += ["--abar-max", "6"]
-# case -> (its arguments, or a function giving them; rounds; in --quick; the target ratio; whether
-# its fixed part is measured too)
+
+
+class Case(NamedTuple):
+    arguments: object  # the command's arguments, or a function giving them
+    rounds: int
+    quick: bool  # run by --quick
+    target: float  # the ratio the issue asks for
+    fixed: bool  # its fixed part measured too (a branch)
+
+
 CASES = {
-    "Fig. 10 branch (n = 50)": (SHOOT, 5, True, 0.5, True),
-    "n = 6 branch from its symmetric orbit at sigma = -6": (
-        lambda: [*SHOOT, *_n6_guess()],
-        5,
-        True,
-        0.5,
-        True,
+    "Fig. 10 branch (n = 50)": Case(SHOOT, 5, True, 0.5, True),
+    "n = 6 branch from its symmetric orbit at sigma = -6": Case(
+        lambda: [*SHOOT, *_n6_guess()], 5, True, 0.5, True
     ),
-    "Fig. 10 chart with switching": (CHART, 1, False, 0.5, False),
-    "family scan (shoot --start scan)": (
-        ["shoot", "--preset", "fig10", "--start", "scan"],
-        1,
-        False,
-        0.5,
-        False,
+    "Fig. 10 chart with switching": Case(CHART, 1, False, 0.5, False),
+    "family scan (shoot --start scan)": Case(
+        ["shoot", "--preset", "fig10", "--start", "scan"], 1, False, 0.5, False
     ),
 }
 # A branch's fixed part: the same command stopped after one continuation step (the interpreter, the
